@@ -1,0 +1,53 @@
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from ..equations import Equations, Measurement
+from ..params import Constants
+
+
+def _unchanged(x, p, k):
+    return x
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One candidate physical or measurement effect (``workflow.md``).
+
+    Attributes
+    ----------
+    name : str
+        Public name, e.g. ``"glauert"``.
+    physics : str
+        One sentence of physics, shown when the effect is ranked.
+    paper : str
+        Where it comes from (equation or section of the paper).
+    parameters : tuple of str
+        Canonical names of the parameters it adds.
+    theory : callable
+        ``Constants -> {name: value}``: a-priori values that make the effect neutral
+        or physical; used as starting values and for ``source="theory"``.
+    equations, measurement : callable
+        ``(Equations|Measurement, params, Constants) -> same``.
+    removes : tuple of str
+        Base parameters it supersedes (``tau`` for separate time constants).
+    uses_inplane : bool
+        Needs the in-plane velocity inputs ``mux, muy``.
+    second_order : bool
+        Keeps the multiblade flap second derivatives (nine states).
+    alternatives : tuple of str
+        Effects it may never be combined with (singular information matrix).
+    """
+
+    name: str
+    physics: str
+    paper: str
+    parameters: tuple
+    theory: Callable[[Constants], dict]
+    equations: Callable[[Equations, dict, Constants], Equations] = _unchanged
+    measurement: Callable[[Measurement, dict, Constants], Measurement] = _unchanged
+    removes: tuple = ()
+    uses_inplane: bool = False
+    second_order: bool = False
+    alternatives: tuple = ()

@@ -1,0 +1,91 @@
+"""The model's equations in structured form, before assembly into ``E x' = A x + B u``.
+
+Azimuth time, all ten candidate inputs (``INPUTS_AZ``); an effect edits these
+blocks and :func:`assemble` turns them into the descriptor matrices of Eq. (8)-(9)
+(first-order flapping) or the nine-state second-order form (``flap-inertia``).
+
+Flap (Eq. 1):   ``m2 beta'' + c beta' + d beta = h_lambda lambda + h_u u``
+Inflow (Eq. 2, 13, 19):
+``d_tau lambda' + lambda = p_dbeta beta' + p_beta beta + p_lambda lambda + p_u u``
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+#: Inputs in azimuth units, the order of ``model.md`` section 3.
+INPUTS_AZ = ("theta0", "theta1c", "theta1s", "muz", "qbar", "pbar",
+             "qbar_prime", "pbar_prime", "mux", "muy")
+#: The same inputs in SI units, named as the record columns.
+INPUTS = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot", "mux", "muy")
+INPUT_UNITS = ("rad", "rad", "rad", "-", "rad/s", "rad/s", "rad/s^2", "rad/s^2", "-", "-")
+FLAP = ("beta0", "beta1c", "beta1s")
+INFLOW = ("lambda0", "lambda1c", "lambda1s")
+FLAP_RATE = ("beta0_prime", "beta1c_prime", "beta1s_prime")
+OUTPUTS = FLAP + INFLOW
+N_BASE_INPUTS = 8   # mux, muy only where an effect uses them
+
+
+def input_scale(omega: float) -> np.ndarray:
+    """Factors turning SI inputs into azimuth-unit inputs: ``pbar = p/Omega``,
+    ``pbar' = pdot/Omega^2``."""
+    o = float(omega)
+    return np.array([1, 1, 1, 1, 1 / o, 1 / o, 1 / o**2, 1 / o**2, 1, 1], dtype=float)
+
+
+@dataclass(frozen=True)
+class Equations:
+    m2: np.ndarray
+    c: np.ndarray
+    d: np.ndarray
+    h_lambda: np.ndarray
+    h_u: np.ndarray
+    d_tau: np.ndarray
+    p_dbeta: np.ndarray
+    p_beta: np.ndarray
+    p_lambda: np.ndarray
+    p_u: np.ndarray
+
+    def with_(self, **blocks) -> "Equations":
+        return replace(self, **blocks)
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """How the recorded flap relates to the model's: azimuth bias and delays."""
+
+    azimuth_bias: float = 0.0                       # [rad]
+    delays: tuple = (0.0, 0.0, 0.0)                 # per flap channel [s]
+    extra: dict = field(default_factory=dict)
+
+    def with_(self, **kw) -> "Measurement":
+        return replace(self, **kw)
+
+
+def rotation(angle: float) -> np.ndarray:
+    """Maps true ``(c, s)`` cyclic components to those recorded with azimuth
+    offset ``angle`` (``model.md`` section 6)."""
+    ca, sa = np.cos(angle), np.sin(angle)
+    return np.array([[ca, -sa], [sa, ca]])
+
+
+def assemble(eq: Equations, second_order: bool):
+    """Descriptor matrices ``E, A, B`` (azimuth time, all ten inputs).
+
+    First order: ``x = (beta, lambda)``, Eq. (9)/(20).  Second order: ``x = (beta,
+    lambda, beta')`` with ``beta'`` appended so outputs stay the first six states.
+    """
+    z, i3 = np.zeros((3, 3)), np.eye(3)
+    zu = np.zeros_like(eq.h_u)
+    if not second_order:
+        e = np.block([[eq.c, z], [-eq.p_dbeta, eq.d_tau]])
+        a = np.block([[-eq.d, eq.h_lambda], [eq.p_beta, eq.p_lambda - i3]])
+        b = np.vstack([eq.h_u, eq.p_u])
+        return e, a, b
+    e = np.block([[i3, z, z], [z, eq.d_tau, z], [z, z, eq.m2]])
+    a = np.block([[z, z, i3],
+                  [eq.p_beta, eq.p_lambda - i3, eq.p_dbeta],
+                  [-eq.d, eq.h_lambda, -eq.c]])
+    b = np.vstack([zu, eq.p_u, eq.h_u])
+    return e, a, b

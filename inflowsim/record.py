@@ -1,0 +1,325 @@
+"""Flight-test records (``record-format.md``): reading, writing, trim.
+
+A :class:`Record` is immutable: arrays are read-only, and nothing here writes to
+the file a record was read from.  Every format error raises
+:class:`~inflowsim.errors.RecordError` with one line naming the file and what is
+wrong (channel, row, metadata key).
+"""
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Mapping
+
+import numpy as np
+
+from .errors import RecordError
+from .fileio import safe_write_text
+from .params import Constants
+
+REQUIRED_META = ("omega", "mu", "a0", "solidity")
+INPUT_COLUMNS = ("theta0", "theta1c", "theta1s", "muz", "p", "q", "pdot", "qdot",
+                 "mux", "muy")
+FLAP_COLUMNS = ("beta0", "beta1c", "beta1s")
+CONTROL_COLUMNS = ("theta0", "theta1c", "theta1s")
+#: Sampling jitter tolerated, as a fraction of the mean step.
+JITTER = 0.01
+
+
+def _ro(a):
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Record:
+    """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
+
+    t: np.ndarray
+    channels: Mapping[str, np.ndarray]
+    meta: Mapping[str, str]
+    source: str = "<memory>"
+    order: tuple = field(default=())
+
+    @classmethod
+    def from_arrays(cls, t, channels: Mapping, meta: Mapping, source="<memory>"):
+        ch = {k: _ro(v) for k, v in channels.items()}
+        rec = cls(_ro(t), MappingProxyType(ch), MappingProxyType(
+            {k: str(v) for k, v in meta.items()}), source, tuple(ch))
+        rec.check()
+        return rec
+
+    # -- metadata -----------------------------------------------------------
+    def _meta_float(self, key):
+        if key not in self.meta:
+            raise RecordError(f"{self.source}: missing required metadata '# {key}: ...'")
+        try:
+            v = float(self.meta[key])
+        except ValueError:
+            raise RecordError(f"{self.source}: metadata {key} = {self.meta[key]!r} "
+                              "is not a number") from None
+        if not math.isfinite(v):
+            raise RecordError(f"{self.source}: metadata {key} is not finite")
+        return v
+
+    @property
+    def constants(self) -> Constants:
+        from .errors import InputError
+        vals = {k: self._meta_float(k) for k in REQUIRED_META}
+        if "radius" in self.meta:
+            vals["radius"] = self._meta_float("radius")
+        try:
+            return Constants.from_mapping(vals)
+        except InputError as exc:
+            raise RecordError(f"{self.source}: metadata {exc}") from None
+
+    @property
+    def dt(self) -> float:
+        return float((self.t[-1] - self.t[0]) / (len(self.t) - 1))
+
+    @property
+    def duration(self) -> float:
+        """Length ``N dt`` [s]: the transform resolution is ``1/duration``."""
+        return len(self.t) * self.dt
+
+    def __len__(self):
+        return len(self.t)
+
+    def __getitem__(self, name) -> np.ndarray:
+        try:
+            return self.channels[name]
+        except KeyError:
+            raise RecordError(f"{self.source}: no column {name!r} "
+                              f"(has {', '.join(self.order)})") from None
+
+    # -- checks ---------------------------------------------------------------
+    def check(self):
+        src = self.source
+        for k in REQUIRED_META:
+            self._meta_float(k)
+        self.constants
+        t = self.t
+        if len(t) < 4:
+            raise RecordError(f"{src}: only {len(t)} samples; need at least 4")
+        for name, v in [("t", t), *self.channels.items()]:
+            if len(v) != len(t):
+                raise RecordError(f"{src}: column {name} has {len(v)} values, t has {len(t)}")
+            bad = np.flatnonzero(~np.isfinite(v))
+            if bad.size:
+                i = bad[0]
+                raise RecordError(f"{src}: column {name} has a NaN or infinite value "
+                                  f"at data row {i + 1} (t = {t[i] if name != 't' else 'n/a'})")
+        d = np.diff(t)
+        if np.any(d <= 0):
+            i = int(np.flatnonzero(d <= 0)[0])
+            raise RecordError(f"{src}: t is not strictly increasing at data row {i + 2} "
+                              f"(t = {t[i + 1]:.10g} after {t[i]:.10g})")
+        mean = (t[-1] - t[0]) / (len(t) - 1)
+        k = np.arange(len(t))
+        jit = np.abs(t - (t[0] + k * mean))
+        if np.max(np.abs(d - mean)) > JITTER * mean and np.max(jit) > JITTER * mean:
+            i = int(np.argmax(np.abs(d - mean)))
+            raise RecordError(f"{src}: t is not uniformly sampled: step {d[i]:.6g} s at "
+                              f"data row {i + 2} against mean {mean:.6g} s (tolerance "
+                              f"{JITTER:.0%}); resample it first")
+        return self
+
+    def require(self, columns):
+        """Raise naming the first of ``columns`` the record lacks."""
+        for c in columns:
+            if c not in self.channels:
+                raise RecordError(f"{self.source}: the model needs column {c!r}, "
+                                  "which the record lacks")
+        return self
+
+    def check_band(self, band_hz):
+        """Refuse a band the record cannot resolve (too short, beyond Nyquist)."""
+        f1, f2 = band_hz
+        df = 1.0 / self.duration
+        nyq = 0.5 / self.dt
+        if not (0 < f1 < f2):
+            raise RecordError(f"band {f1:g}-{f2:g} Hz: need 0 < f1 < f2")
+        if f2 > nyq:
+            raise RecordError(f"band upper limit {f2:g} Hz is above the Nyquist frequency "
+                              f"{nyq:g} Hz of {self.source}")
+        if f1 < df * 0.5 or (f2 - f1) < 2 * df:
+            raise RecordError(f"{self.source}: record too short ({self.duration:.4g} s, "
+                              f"resolution {df:.4g} Hz) for the band {f1:g}-{f2:g} Hz")
+        return self
+
+    # -- derived ----------------------------------------------------------------
+    def with_channels(self, **cols) -> "Record":
+        """A new record with channels replaced or added (never in place)."""
+        ch = dict(self.channels)
+        ch.update(cols)
+        order = self.order + tuple(k for k in cols if k not in self.order)
+        r = Record(self.t, MappingProxyType({k: _ro(v) for k, v in ch.items()}),
+                   self.meta, self.source, order)
+        return r.check()
+
+    def with_meta(self, **meta) -> "Record":
+        m = dict(self.meta)
+        m.update({k: str(v) for k, v in meta.items()})
+        return Record(self.t, self.channels, MappingProxyType(m), self.source, self.order)
+
+
+# -- trim ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Trim:
+    """Trim values subtracted from the channels, and how they were found."""
+
+    values: Mapping[str, float]
+    method: str
+    t_end: float
+    n_samples: int
+
+    def describe(self) -> str:
+        if self.method == "quiet":
+            return (f"mean of the {self.n_samples} samples before the first control "
+                    f"movement (t < {self.t_end:.4g} s)")
+        if self.method == "first":
+            return "first sample (no quiet lead-in before the first control movement)"
+        return f"mean of the {self.n_samples} samples with t < {self.t_end:.4g} s"
+
+
+def find_trim(rec: Record, t_end: float | None = None, threshold: float = 2e-3) -> Trim:
+    """Trim = mean of each channel over the lead-in before the first control movement.
+
+    The first control movement is the first sample where any of ``theta0,
+    theta1c, theta1s`` departs from its first value by more than ``threshold``
+    [rad] (or by 5x its lead-in noise, whichever is larger).  With fewer than
+    five quiet samples the first sample is the trim.  ``t_end`` fixes the
+    window instead.
+    """
+    t = rec.t
+    if t_end is not None:
+        n = int(np.searchsorted(t, t_end))
+        if n < 1:
+            raise RecordError(f"trim window ends at {t_end} s, before the first sample")
+        method = "window"
+    else:
+        n = len(t)
+        for c in CONTROL_COLUMNS:
+            if c not in rec.channels:
+                continue
+            v = rec[c]
+            lead = v[: max(5, len(v) // 100)]
+            tol = max(threshold, 5 * float(np.std(lead)))
+            moved = np.flatnonzero(np.abs(v - np.median(lead)) > tol)
+            if moved.size:
+                n = min(n, int(moved[0]))
+        method = "quiet"
+        if n < 5:
+            n, method = 1, "first"
+    vals = {k: float(np.mean(v[:n])) for k, v in rec.channels.items()}
+    return Trim(MappingProxyType(vals), method, float(t[min(n, len(t) - 1)]), n)
+
+
+def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
+    """Columns ``names`` minus trim, shape ``(N, len(names))``."""
+    rec.require(names)
+    return np.column_stack([rec[c] - trim.values[c] for c in names])
+
+
+def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
+    """SI perturbation inputs in ``model.inputs`` order (record names)."""
+    return perturbations(rec, trim, model.inputs)
+
+
+# -- I/O ---------------------------------------------------------------------------
+def read_record(path) -> Record:
+    """Read a CSV record; raise :class:`RecordError` (one line) on any format error."""
+    p = Path(path)
+    src = str(p)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise RecordError(f"{src}: no such file") from None
+    except IsADirectoryError:
+        raise RecordError(f"{src}: is a directory, not a record") from None
+    except OSError as exc:
+        raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise RecordError(f"{src}: not UTF-8 text (byte {exc.start})") from None
+    return parse_record(text, src)
+
+
+def parse_record(text: str, source: str = "<text>") -> Record:
+    lines = text.splitlines()
+    meta: dict[str, str] = {}
+    i = 0
+    while i < len(lines) and (lines[i].startswith("#") or not lines[i].strip()):
+        ln = lines[i]
+        if ln.startswith("#"):
+            body = ln[1:].strip()
+            if body:
+                if ":" not in body:
+                    raise RecordError(f"{source}: line {i + 1}: metadata must be "
+                                      f"'# key: value', got {ln!r}")
+                k, v = body.split(":", 1)
+                meta[k.strip()] = v.strip()
+        i += 1
+    if i >= len(lines):
+        raise RecordError(f"{source}: no header row (expected 't,theta0,...')")
+    header = [h.strip() for h in lines[i].split(",")]
+    if header[0] != "t":
+        raise RecordError(f"{source}: line {i + 1}: the header must start with 't', "
+                          f"got {header[0]!r}")
+    dup = {h for h in header if header.count(h) > 1}
+    if dup:
+        raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
+    if any(not h for h in header):
+        raise RecordError(f"{source}: line {i + 1}: empty column name in the header")
+    rows = []
+    for j in range(i + 1, len(lines)):
+        ln = lines[j]
+        if not ln.strip():
+            continue
+        cells = ln.split(",")
+        if len(cells) != len(header):
+            raise RecordError(f"{source}: line {j + 1}: {len(cells)} values, the header "
+                              f"has {len(header)} columns")
+        try:
+            rows.append([float(c) for c in cells])
+        except ValueError:
+            bad = next(k for k, c in enumerate(cells) if not _isfloat(c))
+            raise RecordError(f"{source}: line {j + 1}: column {header[bad]}: "
+                              f"{cells[bad].strip()!r} is not a number") from None
+    if not rows:
+        raise RecordError(f"{source}: no data rows")
+    data = np.array(rows)
+    for k in REQUIRED_META:
+        if k not in meta:
+            raise RecordError(f"{source}: missing required metadata '# {k}: ...'")
+    return Record.from_arrays(data[:, 0], {h: data[:, c] for c, h in enumerate(header)
+                                           if c > 0}, meta, source)
+
+
+def _isfloat(s):
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return False
+
+
+def format_record(rec: Record) -> str:
+    buf = io.StringIO()
+    for k, v in rec.meta.items():
+        buf.write(f"# {k}: {v}\n")
+    cols = list(rec.order)
+    buf.write(",".join(["t", *cols]) + "\n")
+    data = np.column_stack([rec.t, *[rec[c] for c in cols]])
+    np.savetxt(buf, data, delimiter=",", fmt="%.12g")
+    return buf.getvalue()
+
+
+def write_record(rec: Record, path, overwrite: bool = False, protect=()) -> Path:
+    """Write ``rec`` (12 significant digits) atomically; never over ``protect``."""
+    return safe_write_text(path, format_record(rec), overwrite, protect)
