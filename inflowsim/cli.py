@@ -1,0 +1,61 @@
+"""The ``inflowsim`` command: a thin dispatcher over ``inflowsim.commands.*``.
+
+Each command module defines ``HELP`` (one line), ``add_arguments(parser)`` and
+``run(args) -> int``.  User errors (:class:`InputError`, bad options, missing
+files) print one line on stderr and exit 2; ``--json`` output goes alone to stdout.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .errors import InputError
+
+COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "diagnose",
+            "ladder", "flighttest", "fmu")
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):          # one line, exit 2 (argparse prints usage too)
+        sys.stderr.write(f"inflowsim: error: {message}\n")
+        raise SystemExit(2)
+
+
+def build_parser():
+    parser = _Parser(prog="inflowsim", description="Rotor flap and dynamic inflow: "
+                     "simulate, validate, identify, diagnose, FMU.")
+    from . import __version__
+    parser.add_argument("--version", action="version", version=f"inflowsim {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            mod = importlib.import_module(f".commands.{name}", __package__)
+        except ModuleNotFoundError as exc:
+            if exc.name and exc.name.endswith(f"commands.{name}"):
+                continue                       # not built yet
+            raise
+        p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
+        mod.add_arguments(p)
+        p.set_defaults(_run=mod.run)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "_run", None):
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except InputError as exc:
+        sys.stderr.write(f"inflowsim {args.command}: error: {exc}\n")
+        return 2
+    except KeyboardInterrupt:
+        sys.stderr.write("inflowsim: interrupted\n")
+        return 130
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

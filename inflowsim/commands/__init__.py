@@ -1,0 +1,1 @@
+"""One module per ``inflowsim`` command (see :mod:`inflowsim.cli`)."""

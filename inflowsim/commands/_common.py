@@ -1,0 +1,52 @@
+"""Helpers shared by the command modules: loading models and records, JSON out."""
+from __future__ import annotations
+
+import json
+import sys
+
+from ..errors import InputError
+from ..params import PUMA
+from ..paramfile import read_parameters
+from ..presets import preset_parameters
+from ..structure import Structure
+
+
+def add_model_arguments(p, params=True):
+    p.add_argument("--model", "-m", required=True,
+                   help="structure: basic, empirical, glauert, then +effect terms")
+    if params:
+        p.add_argument("--params", "-p", metavar="FILE",
+                       help="parameter file (JSON; identify --out writes one); "
+                            "default: the paper's table values for the preset")
+
+
+def load_model(args, constants=None):
+    """The model named by ``--model`` / ``--params`` at ``constants`` (record's, or Puma)."""
+    from ..model import build_model
+    k = constants or PUMA
+    if getattr(args, "params", None):
+        ps = read_parameters(args.params)
+        s = Structure.parse(args.model)
+        if set(ps.structure.effects) != set(s.effects):
+            raise InputError(f"{args.params}: parameters are for structure "
+                             f"{ps.structure.name}, not {s.name}")
+        return build_model(s, ps.parameters, k)
+    return build_model(args.model, preset_parameters(args.model, k, "paper"), k)
+
+
+def print_json(doc):
+    sys.stdout.write(json.dumps(doc, indent=2, default=_default) + "\n")
+
+
+def _default(o):
+    import numpy as np
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    raise TypeError(type(o).__name__)
+
+
+def progress(msg):
+    sys.stderr.write(msg + "\n")
+    sys.stderr.flush()
