@@ -24,7 +24,7 @@ MU_MIN = 0.1
 MU_MAX = 0.5
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Constants:
     """Known aircraft data and flight condition.
 
@@ -40,6 +40,9 @@ class Constants:
         Rotor speed [rad/s].
     radius : float, optional
         Blade radius [m]; informative only.
+    trim : mapping, optional
+        Trim totals by record column name (``theta0``, ``beta0``, ``mux`` ...)
+        [rad, -]; only effects linearised about the trim state use them.
     """
 
     mu: float
@@ -47,6 +50,7 @@ class Constants:
     solidity: float
     omega: float
     radius: float | None = None
+    trim: Mapping[str, float] | None = None
 
     @property
     def a0s(self) -> float:
@@ -57,8 +61,14 @@ class Constants:
         return replace(self, mu=float(mu))
 
     def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)
-                if getattr(self, f.name) is not None}
+        d = {f.name: getattr(self, f.name) for f in fields(self)
+             if getattr(self, f.name) is not None}
+        if self.trim is not None:
+            d["trim"] = dict(self.trim)
+        return d
+
+    def with_trim(self, trim: Mapping[str, float]) -> "Constants":
+        return replace(self, trim={k: float(v) for k, v in trim.items()})
 
     def check(self) -> "Constants":
         """Raise :class:`InputError` naming the first bad constant."""
@@ -70,6 +80,8 @@ class Constants:
         _finite_in("omega", self.omega, 0.0, math.inf, lower_open=True)
         if self.radius is not None:
             _finite_in("radius", self.radius, 0.0, math.inf, lower_open=True)
+        for k, v in (self.trim or {}).items():
+            _finite_in(f"trim {k}", v, -math.inf, math.inf)
         return self
 
     @classmethod
@@ -85,7 +97,9 @@ class Constants:
         try:
             c = cls(mu=float(m["mu"]), a0=float(m["a0"]), solidity=float(m["solidity"]),
                     omega=float(m["omega"]),
-                    radius=None if m.get("radius") is None else float(m["radius"]))
+                    radius=None if m.get("radius") is None else float(m["radius"]),
+                    trim=None if m.get("trim") is None else
+                    {str(k): float(v) for k, v in dict(m["trim"]).items()})
         except (TypeError, ValueError) as exc:
             raise InputError(f"constants: not a number ({exc})") from None
         return c.check()
