@@ -24,7 +24,7 @@ MU_MIN = 0.1
 MU_MAX = 0.5
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Constants:
     """Known aircraft data and flight condition.
 
