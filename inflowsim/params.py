@@ -12,9 +12,33 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
-from typing import Mapping
+from typing import Iterator, Mapping
 
 from .errors import InputError
+
+
+class FrozenMap(Mapping):
+    """An immutable, hashable ``{name: float}`` (trim values inside frozen constants)."""
+
+    __slots__ = ("_d",)
+
+    def __init__(self, items=()):
+        object.__setattr__(self, "_d", {str(k): float(v) for k, v in dict(items).items()})
+
+    def __getitem__(self, k):
+        return self._d[k]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._d)
+
+    def __len__(self):
+        return len(self._d)
+
+    def __hash__(self):
+        return hash(tuple(sorted(self._d.items())))
+
+    def __repr__(self):
+        return f"FrozenMap({self._d!r})"
 
 #: Forward-flight local momentum theory (V ~ mu) is only meaningful above this
 #: advance ratio; the basic ``L`` matrix is singular at ``mu = 0``.
@@ -52,6 +76,10 @@ class Constants:
     radius: float | None = None
     trim: Mapping[str, float] | None = None
 
+    def __post_init__(self):
+        if self.trim is not None and not isinstance(self.trim, FrozenMap):
+            object.__setattr__(self, "trim", FrozenMap(self.trim))
+
     @property
     def a0s(self) -> float:
         """Lift slope times solidity ``a0 s`` [1/rad]."""
@@ -68,7 +96,7 @@ class Constants:
         return d
 
     def with_trim(self, trim: Mapping[str, float]) -> "Constants":
-        return replace(self, trim={k: float(v) for k, v in trim.items()})
+        return replace(self, trim=FrozenMap(trim))
 
     def check(self) -> "Constants":
         """Raise :class:`InputError` naming the first bad constant."""

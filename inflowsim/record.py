@@ -68,14 +68,17 @@ class Record:
 
     @property
     def constants(self) -> Constants:
+        """Aircraft constants from the metadata, with the record's trim totals
+        (:func:`find_trim`) for effects linearised about trim."""
         from .errors import InputError
         vals = {k: self._meta_float(k) for k in REQUIRED_META}
         if "radius" in self.meta:
             vals["radius"] = self._meta_float("radius")
         try:
-            return Constants.from_mapping(vals)
+            k = Constants.from_mapping(vals)
         except InputError as exc:
             raise RecordError(f"{self.source}: metadata {exc}") from None
+        return k.with_trim(find_trim(self).values)
 
     @property
     def dt(self) -> float:
@@ -101,7 +104,6 @@ class Record:
         src = self.source
         for k in REQUIRED_META:
             self._meta_float(k)
-        self.constants
         t = self.t
         if len(t) < 4:
             raise RecordError(f"{src}: only {len(t)} samples; need at least 4")
@@ -126,6 +128,7 @@ class Record:
             raise RecordError(f"{src}: t is not uniformly sampled: step {d[i]:.6g} s at "
                               f"data row {i + 2} against mean {mean:.6g} s (tolerance "
                               f"{JITTER:.0%}); resample it first")
+        self.constants
         return self
 
     def require(self, columns):
