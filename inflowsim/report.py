@@ -9,7 +9,8 @@ Usage::
     rep.figure(fig, "time", caption="Measured and predicted flap")   # a matplotlib Figure
     path = rep.write("report-dir")          # -> report-dir/index.html (+ time.png)
 
-``write`` creates the directory, writes ``index.html`` (self-contained except the
+``attach(name, text)`` adds a text file (a record, a fit) beside the page, with a
+link.  ``write`` creates the directory, writes ``index.html`` (self-contained except the
 PNG files beside it, or with ``embed=True`` nothing beside it) and returns its
 path.  It never replaces a file it did not write itself: the files of a report
 are listed in ``DIR/.inflowsim-report``, and an existing file not listed there
@@ -52,6 +53,13 @@ class _Figure:
     source: object          # matplotlib Figure or path of an existing PNG
     caption: str | None
     embed: bool
+
+
+@dataclass(frozen=True)
+class _Attachment:
+    name: str
+    text: str
+    caption: str | None
 
 
 def format_cell(v, digits: int = 4) -> str:
@@ -138,11 +146,22 @@ class Report:
         self._blocks.append(_Figure(name, fig, caption, bool(embed)))
         return self
 
+    def attach(self, filename: str, text: str, caption: str | None = None) -> "Report":
+        """A text file (a record, a parameter file) written beside ``index.html``
+        under the same ownership rules as the figures, with a link to it."""
+        name = str(filename)
+        if not name or not all(ch.isalnum() or ch in "-_." for ch in name) \
+                or name.startswith(".") or name in self.files():
+            raise InputError(f"attachment name {name!r}: use a new plain file name")
+        self._blocks.append(_Attachment(name, str(text), caption))
+        return self
+
     # -- output ---------------------------------------------------------------
     def files(self) -> list[str]:
         """Names of the files :meth:`write` puts in the directory."""
         return ["index.html"] + [f"{b.name}.png" for b in self._blocks
-                                 if isinstance(b, _Figure) and not b.embed]
+                                 if isinstance(b, _Figure) and not b.embed] + \
+            [b.name for b in self._blocks if isinstance(b, _Attachment)]
 
     def write(self, directory, protect=()) -> Path:
         """Write ``directory/index.html`` and its PNG files; return the HTML path.
@@ -186,6 +205,10 @@ class Report:
         return out
 
     def _render(self, block, d: Path) -> str:
+        if isinstance(block, _Attachment):
+            safe_write_text(d / block.name, block.text, overwrite=True)
+            label = html.escape(block.caption or block.name)
+            return f'<p><a href="{html.escape(block.name, quote=True)}">{label}</a></p>'
         if not isinstance(block, _Figure):
             return block
         png = _png_bytes(block.source)

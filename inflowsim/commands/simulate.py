@@ -1,0 +1,122 @@
+"""``inflowsim simulate``: replay a record's inputs through the fixed-step simulator.
+
+The record's input columns, as perturbations about its trim
+(:func:`inflowsim.record.find_trim`), drive :class:`inflowsim.simulator.Simulator`
+from a zero state.  With ``--dt`` other than the record's step the inputs are
+held (zero-order hold of the record samples): the simulator's step ``k`` at
+``t0 + k dt`` uses the last record sample at or before that time, and the run
+ends at the record's last sample time.  The output is a record (``record-format.md``):
+the record's metadata with a new description, ``t``, the model's inputs as
+totals (trim added back; what the simulator was fed), predicted
+``beta0 beta1c beta1s`` as totals and ``lambda0 lambda1c lambda1s`` as
+perturbations (the inflow has no measured trim).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
+from ..simulator import Simulator
+from ._common import add_model_arguments, load_model, print_json, progress
+
+HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
+
+
+def add_arguments(p):
+    p.add_argument("record", metavar="RECORD", help="flight-test record (CSV)")
+    add_model_arguments(p)
+    p.add_argument("--dt", type=float, metavar="S",
+                   help="simulator step [s] (default the record's; inputs are held)")
+    p.add_argument("--method", choices=("zoh", "rk4"), default="zoh",
+                   help="discretisation: exact zero-order hold (default) or RK4")
+    p.add_argument("--out", "-o", required=True, metavar="CSV", help="output record")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing output file (never the input record)")
+    p.add_argument("--json", action="store_true", help="one JSON summary on stdout")
+
+
+def held_inputs(t_record, u_record, dt: float):
+    """Sample times ``t0 + k dt`` up to the record's end and the held inputs there.
+
+    Step ``k`` takes the last record sample at or before its time (a tolerance of
+    1e-9 of a step absorbs rounding of ``k dt``).
+    """
+    t0, t1 = float(t_record[0]), float(t_record[-1])
+    n = int(np.floor((t1 - t0) / dt + 1e-9)) + 1
+    t = t0 + np.arange(n) * dt
+    idx = np.searchsorted(t_record, t + 1e-9 * dt, side="right") - 1
+    return t, u_record[np.clip(idx, 0, len(t_record) - 1)]
+
+
+def simulate_record(rec: Record, model, dt: float | None = None, method: str = "zoh",
+                    description: str | None = None) -> Record:
+    """Predicted record (totals for flap and inputs) from ``rec``'s inputs.
+
+    Parameters
+    ----------
+    rec : Record
+    model : Model
+    dt : float, optional
+        Simulator step [s]; default the record's.
+    method : {"zoh", "rk4"}
+    description : str, optional
+        The ``# description:`` of the result.
+    """
+    rec.require(model.inputs)
+    trim = find_trim(rec)
+    u = model_inputs(rec, model, trim)
+    if dt is None:
+        step, t, uh = rec.dt, rec.t, u
+    else:
+        if not (np.isfinite(dt) and dt > 0):
+            raise InputError(f"--dt {dt}: the step must be a finite number > 0 s")
+        step = float(dt)
+        t, uh = held_inputs(rec.t, u, step)
+        if len(t) < 4:
+            raise InputError(f"--dt {dt:g} s leaves {len(t)} steps in the "
+                             f"{rec.t[-1] - rec.t[0]:.4g} s record; need at least 4")
+    y = Simulator(model, step, method=method).replay(uh)
+    cols = {c: uh[:, j] + trim.values[c] for j, c in enumerate(model.inputs)}
+    for i, c in enumerate(FLAP_COLUMNS):
+        cols[c] = y[:, i] + trim.values.get(c, 0.0)
+    for i, c in enumerate(("lambda0", "lambda1c", "lambda1s")):
+        cols[c] = y[:, 3 + i]
+    meta = dict(rec.meta)
+    meta["description"] = description or f"simulated by inflowsim, model {model.structure.name}"
+    meta["synthetic"] = "true"
+    return Record.from_arrays(t, cols, meta)
+
+
+def run(args) -> int:
+    if args.dt is not None and not (np.isfinite(args.dt) and args.dt > 0):
+        raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
+    rec = read_record(args.record)
+    model = load_model(args, rec.constants)
+    out = Path(args.out)
+    for q in (args.record, args.params):
+        if q and out.exists() and Path(q).exists() and out.samefile(q):
+            raise InputError(f"{out}: refusing to write over the input file {q}")
+    if out.exists() and not args.force:
+        raise InputError(f"{out}: exists; choose another name or pass --force")
+    step = rec.dt if args.dt is None else args.dt
+    src = f" parameters {args.params}" if args.params else " (paper table values)"
+    orig = rec.meta.get("description")
+    desc = (f"simulated by inflowsim: model {model.structure.name}{src}, {args.method} "
+            f"step {step:g} s, inputs of {Path(args.record).name}"
+            + (f" ({orig})" if orig else ""))
+    progress(f"simulate: {model.structure.name} on {args.record}, {args.method}, "
+             f"dt {step:g} s")
+    sim = simulate_record(rec, model, args.dt, args.method, desc.replace("\n", " "))
+    path = write_record(sim, out, overwrite=args.force,
+                        protect=[q for q in (args.record, args.params) if q])
+    if args.json:
+        print_json({"out": str(path), "structure": model.structure.name,
+                    "method": args.method, "dt": step, "samples": len(sim),
+                    "columns": ["t", *sim.order]})
+    else:
+        print(f"wrote {path} ({len(sim)} samples, {model.structure.name}, "
+              f"{args.method}, dt {step:g} s)")
+    return 0
