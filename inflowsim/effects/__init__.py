@@ -14,6 +14,8 @@ from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_
 
 _MODULES = (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
             time_delay)
+from . import flap_inertia, skewed_wake, advance_ratio_perturbation  # noqa: E402
+_MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {m.EFFECT.name: m.EFFECT for m in _MODULES}
