@@ -16,7 +16,8 @@ from ..presets import preset_parameters
 from ..record import format_record, parse_record
 from ..validation import validate
 from ..virtual import VirtualTest, virtual_record
-from ._common import print_json, progress
+from ..errors import InputError
+from ._common import print_json
 from .validate import validation_report
 
 HELP = "the workflow on a virtual Puma doublet record: compare models, report with plots"
@@ -39,11 +40,12 @@ def demo_record():
 def run_demo(out_dir, structures=DEMO_STRUCTURES):
     """Write the demo into ``out_dir``; return ``(index.html path, results)``."""
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():    # refuse before any work
+        raise InputError(f"{out}: exists and is not a directory; choose a report folder")
     text = format_record(demo_record())
     rec = parse_record(text, str(out / "record.csv"))     # as a user would read it
     results = []
     for s in structures:
-        progress(f"demo: comparing {s} (paper table values) with the record")
         model = build_model(s, preset_parameters(s, rec.constants, "paper"), rec.constants)
         results.append(validate(rec, model))
     rep = validation_report(

@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import InputError
 from ..record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
 from ..simulator import Simulator
-from ._common import add_model_arguments, load_model, print_json, progress
+from ._common import add_model_arguments, load_model, print_json
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
 
@@ -107,8 +107,6 @@ def run(args) -> int:
     desc = (f"simulated by inflowsim: model {model.structure.name}{src}, {args.method} "
             f"step {step:g} s, inputs of {Path(args.record).name}"
             + (f" ({orig})" if orig else ""))
-    progress(f"simulate: {model.structure.name} on {args.record}, {args.method}, "
-             f"dt {step:g} s")
     sim = simulate_record(rec, model, args.dt, args.method, desc.replace("\n", " "))
     path = write_record(sim, out, overwrite=args.force,
                         protect=[q for q in (args.record, args.params) if q])
