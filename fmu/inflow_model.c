@@ -1,0 +1,343 @@
+/*
+ * Rotor flap and dynamic inflow: matrices from parameters (model.md Eq. 1-4, 13,
+ * 19-20, section 6), exact zero-order-hold discretisation, one step.  A
+ * re-implementation of inflowsim.model.build_model and inflowsim.discrete.zoh;
+ * the tests check the two agree to rounding.  Knows nothing of FMI.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "inflow_model.h"
+
+#define NX IFS_NX
+#define NU IFS_NU
+#define NA IFS_NA
+
+/* --- small dense linear algebra (row-major, fixed sizes, no allocation) --- */
+
+/* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
+ * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
+static int lu_solve(int n, double *A, int nrhs, double *B, double tol)
+{
+    double amax = 0.0;
+    int i, j, k;
+    for (i = 0; i < n * n; i++)
+        if (fabs(A[i]) > amax) amax = fabs(A[i]);
+    if (!(amax > 0.0) || !isfinite(amax)) return -1;
+    for (k = 0; k < n; k++) {
+        int p = k;
+        for (i = k + 1; i < n; i++)
+            if (fabs(A[i * n + k]) > fabs(A[p * n + k])) p = i;
+        if (!(fabs(A[p * n + k]) > tol * amax)) return -1;
+        if (p != k) {
+            for (j = 0; j < n; j++) { double t = A[k*n+j]; A[k*n+j] = A[p*n+j]; A[p*n+j] = t; }
+            for (j = 0; j < nrhs; j++) {
+                double t = B[k*nrhs+j]; B[k*nrhs+j] = B[p*nrhs+j]; B[p*nrhs+j] = t;
+            }
+        }
+        for (i = k + 1; i < n; i++) {
+            double f = A[i * n + k] / A[k * n + k];
+            if (f == 0.0) continue;
+            for (j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+            for (j = 0; j < nrhs; j++) B[i * nrhs + j] -= f * B[k * nrhs + j];
+        }
+    }
+    for (k = n - 1; k >= 0; k--)
+        for (j = 0; j < nrhs; j++) {
+            double s = B[k * nrhs + j];
+            for (i = k + 1; i < n; i++) s -= A[k * n + i] * B[i * nrhs + j];
+            B[k * nrhs + j] = s / A[k * n + k];
+        }
+    return 0;
+}
+
+static void matmul(const double *A, const double *B, double *C)   /* NA x NA */
+{
+    int i, j, k;
+    for (i = 0; i < NA; i++) {
+        double row[NA] = {0.0};
+        for (k = 0; k < NA; k++) {
+            double aik = A[i * NA + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < NA; j++) row[j] += aik * B[k * NA + j];
+        }
+        memcpy(C + i * NA, row, sizeof row);
+    }
+}
+
+/* exp(A) of an NA x NA matrix: scaling and squaring with the diagonal [6/6] Pade
+ * approximant, scaled to 1-norm <= 0.5 (backward error below the unit roundoff,
+ * Higham 2005).  A is overwritten by the result. */
+static int expm(double *A)
+{
+    static const double c[7] = {1.0, 0.5, 5.0 / 44.0, 1.0 / 66.0, 1.0 / 792.0,
+                                1.0 / 15840.0, 1.0 / 665280.0};
+    double X2[NA * NA], X4[NA * NA], X6[NA * NA], U[NA * NA], V[NA * NA], T[NA * NA];
+    double norm = 0.0, scale;
+    int i, j, s = 0;
+    for (j = 0; j < NA; j++) {
+        double col = 0.0;
+        for (i = 0; i < NA; i++) col += fabs(A[i * NA + j]);
+        if (col > norm) norm = col;
+    }
+    if (!isfinite(norm)) return -1;
+    while (norm > 0.5 && s < 64) { norm *= 0.5; s++; }
+    scale = ldexp(1.0, -s);
+    for (i = 0; i < NA * NA; i++) A[i] *= scale;
+    matmul(A, A, X2);
+    matmul(X2, X2, X4);
+    matmul(X4, X2, X6);
+    for (i = 0; i < NA * NA; i++) {
+        T[i] = c[3] * X2[i] + c[5] * X4[i];
+        V[i] = c[2] * X2[i] + c[4] * X4[i] + c[6] * X6[i];
+    }
+    for (i = 0; i < NA; i++) { T[i * NA + i] += c[1]; V[i * NA + i] += c[0]; }
+    matmul(A, T, U);                                 /* odd part */
+    for (i = 0; i < NA * NA; i++) { T[i] = V[i] - U[i]; A[i] = V[i] + U[i]; }
+    if (lu_solve(NA, T, NA, A, 1e-300) != 0) return -1;   /* (V - U)^-1 (V + U) */
+    for (; s > 0; s--) { matmul(A, A, T); memcpy(A, T, sizeof T); }
+    return 0;
+}
+
+/* --- the model's matrices --- */
+
+#define E_(i, j) e[(i) * NX + (j)]
+#define A_(i, j) a[(i) * NX + (j)]
+#define B_(i, j) b[(i) * NU + (j)]
+
+void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
+                    double b[NX * NU])
+{
+    const double mu = v->mu, nb = v->n_beta, lb2 = v->lambda_beta2, m2 = mu * mu;
+    const double a0s = v->a0 * v->solidity;
+    const int st = v->structure;
+    /* local momentum L = diag(a0s/(2 mu), -2 a0s/mu, -2 a0s/mu) (model.md section 3) */
+    const double L[3] = {a0s / (2.0 * mu), -2.0 * a0s / mu, -2.0 * a0s / mu};
+    /* flap, Eq. (1) */
+    const double C[3][3] = {{nb, 0.0, 2.0 / 3.0 * mu * nb}, {0.0, nb, 2.0},
+                            {4.0 / 3.0 * mu * nb, -2.0, nb}};
+    const double D[3][3] = {{lb2, 0.0, 0.0},
+                            {4.0 / 3.0 * mu * nb, lb2 - 1.0, nb * (1.0 + m2 / 2.0)},
+                            {0.0, -nb * (1.0 - m2 / 2.0), lb2 - 1.0}};
+    const double Hl[3][3] = {{-nb * 4.0 / 3.0, 0.0, -nb * 2.0 / 3.0 * mu},
+                             {0.0, -nb, 0.0}, {-nb * 2.0 * mu, 0.0, -nb}};
+    /* loads, Eq. (4) */
+    const double Gdb[3][3] = {{-1.0 / 6, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
+                              {mu / 12, 0.0, 1.0 / 16}};
+    const double Gb[3][3] = {{0.0, 0.0, 0.0}, {mu / 12, 0.0, 1.0 / 16 + m2 / 32},
+                             {0.0, -1.0 / 16 + m2 / 32, 0.0}};
+    const double Gl[3][3] = {{-1.0 / 4, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
+                             {mu / 8, 0.0, 1.0 / 16}};
+    /* input columns: theta0 theta1c theta1s muz qbar pbar qbar' pbar' mux muy */
+    double hu[3][NU] = {
+        {nb * (1 + m2), 0.0, nb * 4.0 / 3.0 * mu, 4.0 / 3.0 * nb, 0.0, 2.0 / 3.0 * mu * nb,
+         0.0, 0.0, 0.0, 0.0},
+        {0.0, nb * (1 + m2 / 2), 0.0, 0.0, nb, 2.0, 1.0, 0.0, 0.0, 0.0},
+        {nb * 8.0 / 3.0 * mu, 0.0, nb * (1 + 1.5 * m2), 2.0 * mu * nb, -2.0, nb, 0.0, 1.0,
+         0.0, 0.0}};
+    const double Gu[3][6] = {   /* G_theta | G_nu */
+        {1.0 / 6 + m2 / 4, 0.0, mu / 4, 1.0 / 4, 0.0, mu / 8},
+        {0.0, -1.0 / 16 - m2 / 32, 0.0, 0.0, -1.0 / 16, 0.0},
+        {-mu / 6, 0.0, -1.0 / 16 - 3 * m2 / 32, -mu / 8, 0.0, -1.0 / 16}};
+    double pdb[3][3], pb[3][3], pl[3][3], pu[3][NU], dtau[3];
+    int i, j;
+
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            pdb[i][j] = L[i] * Gdb[i][j];
+            pb[i][j] = L[i] * Gb[i][j];
+            pl[i][j] = L[i] * Gl[i][j];
+        }
+        for (j = 0; j < NU; j++) pu[i][j] = j < 6 ? L[i] * Gu[i][j] : 0.0;
+    }
+    if (st == IFS_BASIC) {
+        dtau[0] = dtau[1] = dtau[2] = v->tau;                  /* Eq. (2) */
+    } else {                                                   /* Eq. (13) */
+        dtau[0] = v->tau0;
+        dtau[1] = dtau[2] = v->tau_cs;
+    }
+    if (st == IFS_EMPIRICAL) {                                 /* K mu_xy, Eq. (13) */
+        const double K[3][2] = {{v->k01, v->k02}, {v->k11, v->k12}, {v->k21, v->k22}};
+        for (i = 0; i < 3; i++) { pu[i][8] += K[i][0]; pu[i][9] += K[i][1]; }
+    }
+    if (st == IFS_GLAUERT) {             /* F nu_lambda + G mu_xy, Eqs. (19)-(20) */
+        const double k0 = v->k0p - a0s / (8.0 * mu);
+        const double fp[3] = {v->ks, 0.0, k0};     /* multiplies p* - lambda1s */
+        const double fq[3] = {v->kc, k0, 0.0};     /* multiplies q* - lambda1c */
+        const double G[3][2] = {{v->c1, v->c2}, {-v->c3, v->c4}, {v->c4, v->c3}};
+        for (i = 0; i < 3; i++) {
+            /* p* = pbar + beta1c - beta1s' + theta1s, q* = qbar - beta1s - beta1c' + theta1c */
+            pdb[i][2] -= fp[i];
+            pdb[i][1] -= fq[i];
+            pb[i][1] += fp[i];
+            pb[i][2] -= fq[i];
+            pl[i][2] -= fp[i];
+            pl[i][1] -= fq[i];
+            pu[i][2] += fp[i];
+            pu[i][5] += fp[i];
+            pu[i][1] += fq[i];
+            pu[i][4] += fq[i];
+            pu[i][8] += G[i][0];
+            pu[i][9] += G[i][1];
+        }
+    }
+    if (st != IFS_BASIC) {
+        /* azimuth bias: the model takes recorded pitch, true = R(-bias) recorded */
+        const double cb = cos(v->azimuth_bias), sb = sin(v->azimuth_bias);
+        for (i = 0; i < 3; i++) {
+            double h1 = hu[i][1], h2 = hu[i][2], p1 = pu[i][1], p2 = pu[i][2];
+            hu[i][1] = h1 * cb - h2 * sb;
+            hu[i][2] = h1 * sb + h2 * cb;
+            pu[i][1] = p1 * cb - p2 * sb;
+            pu[i][2] = p1 * sb + p2 * cb;
+        }
+    }
+    /* E = [[C, 0], [-p_dbeta, D_tau]], A = [[-D, H_lambda], [p_beta, p_lambda - I]] */
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            E_(i, j) = C[i][j];
+            E_(i, j + 3) = 0.0;
+            E_(i + 3, j) = -pdb[i][j];
+            E_(i + 3, j + 3) = i == j ? dtau[i] : 0.0;
+            A_(i, j) = -D[i][j];
+            A_(i, j + 3) = Hl[i][j];
+            A_(i + 3, j) = pb[i][j];
+            A_(i + 3, j + 3) = pl[i][j] - (i == j ? 1.0 : 0.0);
+        }
+        for (j = 0; j < NU; j++) {
+            B_(i, j) = hu[i][j];
+            B_(i + 3, j) = pu[i][j];
+        }
+    }
+}
+
+int ifs_discretize(const IfsModel *m, double h, double pg[NX * NA])
+{
+    double M[NA * NA];
+    int i, j;
+    memset(M, 0, sizeof M);
+    for (i = 0; i < NX; i++) {
+        for (j = 0; j < NX; j++) M[i * NA + j] = m->a[i * NX + j] * h;
+        for (j = 0; j < NU; j++) M[i * NA + NX + j] = m->b[i * NU + j] * h;
+    }
+    if (expm(M) != 0) return -1;
+    for (i = 0; i < NX * NA; i++)
+        if (!isfinite(M[i])) return -1;
+    memcpy(pg, M, sizeof(double) * NX * NA);   /* top NX rows */
+    return 0;
+}
+
+int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
+{
+    IfsModel n = *m;
+    double e[NX * NX], a[NX * NX], b[NX * NU], rhs[NX * NA];
+    const double om = v->omega;
+    /* inputs in SI -> azimuth units: qbar = q/Omega, qbar' = qdot/Omega^2 */
+    const double in_scale[NU] = {1, 1, 1, 1, 1 / om, 1 / om, 1 / (om * om),
+                                 1 / (om * om), 1, 1};
+    int i, j;
+
+    if (!(v->mu >= 0.1 && v->mu <= 0.5)) {
+        snprintf(msg, msg_len, "mu = %g is outside the allowed range [0.1, 0.5]: "
+                 "forward-flight local momentum (V ~ mu) needs fast forward flight", v->mu);
+        return -1;
+    }
+    if (v->structure < IFS_BASIC || v->structure > IFS_GLAUERT) {
+        snprintf(msg, msg_len, "structure = %d is outside the allowed range [0, 2] "
+                 "(0 basic, 1 empirical, 2 glauert)", v->structure);
+        return -1;
+    }
+    ifs_descriptor(v, e, a, b);
+    for (i = 0; i < NX; i++) {
+        for (j = 0; j < NX; j++) rhs[i * NA + j] = a[i * NX + j];
+        for (j = 0; j < NU; j++) rhs[i * NA + NX + j] = b[i * NU + j];
+    }
+    if (lu_solve(NX, e, NA, rhs, 1e-12) != 0) {
+        snprintf(msg, msg_len, "the descriptor matrix E is singular for these parameters "
+                 "(n_beta, tau, tau0, tau_cs, k0p, kc, ks)");
+        return -1;
+    }
+    for (i = 0; i < NX; i++) {
+        for (j = 0; j < NX; j++) n.a[i * NX + j] = om * rhs[i * NA + j];
+        for (j = 0; j < NU; j++) n.b[i * NU + j] = om * rhs[i * NA + NX + j] * in_scale[j];
+    }
+    /* outputs: recorded flap is the true one rotated by the azimuth bias (section 6) */
+    memset(n.c, 0, sizeof n.c);
+    for (i = 0; i < NX; i++) n.c[i * NX + i] = 1.0;
+    if (v->structure != IFS_BASIC) {
+        const double cb = cos(v->azimuth_bias), sb = sin(v->azimuth_bias);
+        n.c[1 * NX + 1] = cb;
+        n.c[1 * NX + 2] = -sb;
+        n.c[2 * NX + 1] = sb;
+        n.c[2 * NX + 2] = cb;
+    }
+    n.dt = v->dt;
+    if (ifs_discretize(&n, n.dt, n.pg) != 0) {
+        snprintf(msg, msg_len, "the discretisation at dt = %g s failed (non-finite "
+                 "matrices)", n.dt);
+        return -1;
+    }
+    n.rem = 0.0;          /* remainder cache belongs to the old matrices */
+    n.h_last = -1.0;
+    *m = n;
+    return 0;
+}
+
+int ifs_advance(IfsModel *m, const double u[NU], double h)
+{
+    double gu[NX], x[NX];
+    long k;
+    int i, j;
+    if (h != m->h_last) {
+        /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding */
+        double r = h / m->dt;
+        long n = (long)floor(r + 1e-9);
+        double rem = h - (double)n * m->dt;
+        if (fabs(rem) <= 1e-9 * m->dt) rem = 0.0;
+        m->n_last = n;
+        m->rem_last = rem;
+        m->h_last = h;
+    }
+    if (m->rem_last > 0.0 && m->rem_last != m->rem) {
+        if (ifs_discretize(m, m->rem_last, m->pg_rem) != 0) return -1;
+        m->rem = m->rem_last;
+    }
+    /* the input is held over the whole step: gam u once */
+    for (i = 0; i < NX; i++) {
+        const double *row = m->pg + i * NA + NX;
+        double s = 0.0;
+        for (j = 0; j < NU; j++) s += row[j] * u[j];
+        gu[i] = s;
+    }
+    for (k = 0; k < m->n_last; k++) {
+        for (i = 0; i < NX; i++) {
+            const double *row = m->pg + i * NA;
+            double s = gu[i];
+            for (j = 0; j < NX; j++) s += row[j] * m->x[j];
+            x[i] = s;
+        }
+        memcpy(m->x, x, sizeof x);
+    }
+    if (m->rem_last > 0.0) {
+        for (i = 0; i < NX; i++) {
+            const double *row = m->pg_rem + i * NA;
+            double s = 0.0;
+            for (j = 0; j < NX; j++) s += row[j] * m->x[j];
+            for (j = 0; j < NU; j++) s += row[NX + j] * u[j];
+            x[i] = s;
+        }
+        memcpy(m->x, x, sizeof x);
+    }
+    return 0;
+}
+
+void ifs_outputs(const IfsModel *m, double y[NX])
+{
+    int i, j;
+    for (i = 0; i < NX; i++) {
+        double s = 0.0;
+        for (j = 0; j < NX; j++) s += m->c[i * NX + j] * m->x[j];
+        y[i] = s;
+    }
+}

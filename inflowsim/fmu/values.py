@@ -1,0 +1,96 @@
+"""Turn a model or an identified parameter file into the FMU's variable values.
+
+The C model knows three structures (``basic``, ``empirical``, ``glauert``); every
+structure made of ``separate-time-constants``, ``hub-velocity-coupling``,
+``glauert`` and ``azimuth-bias`` is one of them with the missing effects at their
+neutral values (``tau0 = tau_cs = tau``, ``K = 0``, ``azimuth_bias = 0``), which
+is exact, not an approximation.
+"""
+from __future__ import annotations
+
+from typing import Mapping
+
+from ..errors import InputError
+from ..structure import Structure
+from .variables import STRUCTURES, VR
+
+#: Effects the C model implements.
+SUPPORTED = ("separate-time-constants", "hub-velocity-coupling", "glauert", "azimuth-bias")
+_K = ("k01", "k02", "k11", "k12", "k21", "k22")
+
+
+def structure_code(structure) -> int:
+    """The FMU's integer ``structure`` for a structure, or :class:`InputError`."""
+    s = Structure.parse(structure)
+    extra = [e for e in s.effects if e not in SUPPORTED]
+    if extra:
+        raise InputError(f"the FMU does not implement effect {extra[0]} (it implements "
+                         f"{', '.join(SUPPORTED)})")
+    eff = set(s.effects)
+    if "glauert" in eff:
+        return STRUCTURES["glauert"]
+    if eff:
+        return STRUCTURES["empirical"]
+    return STRUCTURES["basic"]
+
+
+def start_values(source, constants=None) -> dict:
+    """FMU start values from a model or a parameter file, for one call.
+
+    Parameters
+    ----------
+    source : Model or ParameterSet
+        A :class:`inflowsim.model.Model`, or what
+        :func:`inflowsim.paramfile.read_parameters` returns (an ``identify`` fit).
+    constants : Constants, optional
+        Overrides the source's constants (``mu``, ``a0``, ``solidity``, ``omega``).
+
+    Returns
+    -------
+    dict
+        ``{variable name: value}`` with ``structure``, every parameter the structure
+        uses and the constants; pass it to ``fmpy.simulate_fmu(start_values=...)``
+        or :func:`apply_parameters`.
+    """
+    try:
+        structure, params = source.structure, dict(source.parameters)
+    except AttributeError:
+        raise InputError("start_values needs a Model or a ParameterSet "
+                         "(inflowsim.paramfile.read_parameters)") from None
+    k = constants if constants is not None else getattr(source, "constants", None)
+    s = Structure.parse(structure)
+    code = structure_code(s)
+    eff = set(s.effects)
+    vals = {name: float(v) for name, v in params.items()}
+    if code != STRUCTURES["basic"]:
+        if "separate-time-constants" not in eff:
+            vals["tau0"] = vals["tau_cs"] = vals.pop("tau")
+        if "azimuth-bias" not in eff:
+            vals["azimuth_bias"] = 0.0
+    if code == STRUCTURES["empirical"] and "hub-velocity-coupling" not in eff:
+        vals.update(dict.fromkeys(_K, 0.0))
+    unknown = sorted(set(vals) - set(VR))
+    if unknown:
+        raise InputError(f"parameter {unknown[0]} is not a variable of the FMU")
+    out = {"structure": code}
+    out.update(vals)
+    if k is not None:
+        k.check()
+        out.update(mu=float(k.mu), a0=float(k.a0), solidity=float(k.solidity),
+                   omega=float(k.omega))
+    return out
+
+
+def apply_parameters(fmu, source, constants=None) -> dict:
+    """Set :func:`start_values` on an instantiated fmpy ``FMU2Slave`` (before
+    ``exitInitializationMode`` for ``structure``; tunable values also between steps).
+
+    Returns the values set.
+    """
+    vals = source if isinstance(source, Mapping) else start_values(source, constants)
+    reals = {n: v for n, v in vals.items() if n != "structure"}
+    if "structure" in vals:
+        fmu.setInteger([VR["structure"]], [int(vals["structure"])])
+    if reals:
+        fmu.setReal([VR[n] for n in reals], [float(v) for v in reals.values()])
+    return dict(vals)

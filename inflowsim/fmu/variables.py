@@ -1,0 +1,132 @@
+"""The FMU's variables: the one description both ``modelDescription.xml`` and the
+C variable table (``fmu/inflow_vars.[ch]``) are generated from.
+
+Names are the project's one name per quantity (``interface.md``): inputs as the
+record columns, outputs as the model outputs, parameters and constants by their
+canonical names.  Inputs and outputs are PERTURBATIONS about trim in SI units,
+the convention of :class:`inflowsim.simulator.Simulator`; only ``mu`` (the trim
+advance ratio, the flight condition) is a total.
+
+Value references are the position in :data:`VARIABLES` (reals first, contiguous
+from 0, so the C side indexes its table directly), then the integer
+``structure``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..equations import INPUT_UNITS, INPUTS, OUTPUTS
+from ..params import MU_MAX, MU_MIN, PUMA, SPECS
+from ..presets import paper_table
+
+MODEL_IDENTIFIER = "inflowsim"
+MODEL_NAME = "inflowsim rotor flap and Glauert-augmented dynamic inflow"
+
+#: Values of the integer parameter ``structure``: the presets the C model knows.
+STRUCTURES = {"basic": 0, "empirical": 1, "glauert": 2}
+
+#: Default internal step [s] (the virtual records' sample period).
+DT = 0.01
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One FMI scalar variable.
+
+    ``lower``/``upper`` (and ``lower_open``) are the allowed range the C code
+    enforces when the variable is set; ``math.inf`` means unbounded.
+    """
+
+    name: str
+    type: str              # "Real" or "Integer"
+    causality: str         # "input", "output", "parameter"
+    variability: str       # "continuous", "tunable", "fixed"
+    start: float | None
+    unit: str
+    description: str
+    lower: float = -math.inf
+    upper: float = math.inf
+    lower_open: bool = False
+
+    @property
+    def initial(self) -> str | None:
+        if self.causality == "output":
+            return "calculated"
+        if self.causality == "parameter":
+            return "exact"
+        return None
+
+
+_INPUT_TEXT = {
+    "theta0": "collective pitch", "theta1c": "lateral cyclic pitch theta1cw",
+    "theta1s": "longitudinal cyclic pitch theta1sw", "muz": "hub velocity normal to the "
+    "disc over Omega R, down positive", "q": "pitch rate", "p": "roll rate",
+    "qdot": "pitch acceleration", "pdot": "roll acceleration",
+    "mux": "in-plane hub velocity x over Omega R (empirical and glauert only)",
+    "muy": "in-plane hub velocity y over Omega R (empirical and glauert only)",
+}
+_OUTPUT_TEXT = {
+    "beta0": "coning", "beta1c": "longitudinal flap (as recorded: azimuth bias included)",
+    "beta1s": "lateral flap (as recorded: azimuth bias included)",
+    "lambda0": "uniform induced inflow over Omega R",
+    "lambda1c": "cosine induced inflow over Omega R", "lambda1s": "sine induced inflow over "
+    "Omega R",
+}
+_UNITS = {"rad/s^2": "rad/s2", "azimuth rad": "rad"}
+_PARAMETERS = ("lambda_beta2", "n_beta", "tau", "tau0", "tau_cs",
+               "k01", "k02", "k11", "k12", "k21", "k22",
+               "c1", "c2", "c3", "c4", "k0p", "kc", "ks", "azimuth_bias")
+
+
+def _start_parameters() -> dict:
+    """Paper Table 3 (the default structure glauert), Table 1's ``tau``, neutral K."""
+    _, est, _ = paper_table(3)
+    start = dict(est)
+    start["tau"] = paper_table(1)[1]["tau"]
+    start.update(dict.fromkeys(("k01", "k02", "k11", "k12", "k21", "k22"), 0.0))
+    return start
+
+
+def _build() -> tuple:
+    v = []
+    for name, unit in zip(INPUTS, INPUT_UNITS):
+        v.append(Variable(name, "Real", "input", "continuous", 0.0, _UNITS.get(unit, unit),
+                          f"{_INPUT_TEXT[name]}: perturbation about trim [{unit}]"))
+    v.append(Variable("mu", "Real", "input", "continuous", PUMA.mu, "-",
+                      "trim advance ratio (a total, the flight condition); a change "
+                      "rebuilds the discrete matrices", MU_MIN, MU_MAX))
+    for name in OUTPUTS:
+        v.append(Variable(name, "Real", "output", "continuous", None, "rad" if
+                          name.startswith("beta") else "-",
+                          f"{_OUTPUT_TEXT[name]}: perturbation about trim"))
+    start = _start_parameters()
+    for name in _PARAMETERS:
+        s = SPECS[name]
+        v.append(Variable(name, "Real", "parameter", "tunable", start[name],
+                          _UNITS.get(s.unit, s.unit),
+                          f"{s.description} [{s.unit}]", s.lower, s.upper, s.lower_open))
+    v.append(Variable("a0", "Real", "parameter", "tunable", PUMA.a0, "1/rad",
+                      "blade lift-curve slope [1/rad]", 0.0, math.inf, True))
+    v.append(Variable("solidity", "Real", "parameter", "tunable", PUMA.solidity, "-",
+                      "rotor solidity s [-]", 0.0, 1.0, True))
+    v.append(Variable("omega", "Real", "parameter", "tunable", PUMA.omega, "rad/s",
+                      "rotor speed Omega [rad/s]", 0.0, math.inf, True))
+    v.append(Variable("dt", "Real", "parameter", "fixed", DT, "s",
+                      "internal fixed step (exact zero-order hold) [s]", 0.0, 10.0, True))
+    v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
+                      "", "model structure: 0 basic (tau), 1 empirical (tau0, tau_cs, K, "
+                      "azimuth_bias), 2 glauert (tau0, tau_cs, c1..c4, k0p, kc, ks, "
+                      "azimuth_bias)", 0, 2))
+    return tuple(v)
+
+
+#: Every variable, in value-reference order.
+VARIABLES: tuple = _build()
+#: Value reference by name.
+VR: dict = {v.name: i for i, v in enumerate(VARIABLES)}
+REALS = tuple(v for v in VARIABLES if v.type == "Real")
+INTEGERS = tuple(v for v in VARIABLES if v.type == "Integer")
+PARAMETER_NAMES = _PARAMETERS
+
+assert VARIABLES[: len(REALS)] == REALS, "reals must come first (the C table is indexed by vr)"
