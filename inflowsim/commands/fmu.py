@@ -1,0 +1,39 @@
+"""``inflowsim fmu build [--out FILE.fmu]``: the native FMI 2.0 co-simulation FMU.
+
+A thin layer over :func:`inflowsim.fmu.build_fmu`; the FMU runs without Python.
+To apply an ``identify`` fit, pass :func:`inflowsim.fmu.start_values` of it to the
+importer (e.g. ``fmpy.simulate_fmu(..., start_values=...)``).
+"""
+from __future__ import annotations
+
+from ..errors import InputError
+from ._common import print_json, progress
+
+HELP = "build the FMI 2.0 co-simulation FMU (native C, no Python inside)"
+
+
+def add_arguments(p):
+    sub = p.add_subparsers(dest="action", metavar="ACTION")
+    b = sub.add_parser("build", help="compile with the system C compiler and pack the FMU",
+                       description="Compile the C model with the system C compiler "
+                       "(cc/gcc or $CC) and pack modelDescription.xml, "
+                       "binaries/linux64, sources/ and documentation/.")
+    b.add_argument("--out", "-o", default="inflowsim.fmu", metavar="FILE.fmu",
+                   help="FMU file to write (default inflowsim.fmu)")
+    b.add_argument("--force", action="store_true", help="replace an existing file")
+    b.add_argument("--json", action="store_true",
+                   help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")
+
+
+def run(args) -> int:
+    if getattr(args, "action", None) != "build":
+        raise InputError("fmu: choose an action: build")
+    from ..fmu import MODEL_IDENTIFIER, build_fmu
+    from ..fmu.generate import guid
+    progress(f"building {args.out} ...")
+    path = build_fmu(args.out, overwrite=args.force)
+    if args.json:
+        print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER})
+    else:
+        print(f"wrote {path} (FMI 2.0 co-simulation, GUID {guid()})")
+    return 0

@@ -1,0 +1,472 @@
+"""The native FMI 2.0 co-simulation FMU against the Python model (issue #3).
+
+The FMU is built once per session into a temporary folder.  References are the
+Python model's SI state space discretised with ``scipy.linalg.expm`` (or the
+Simulator itself), never hard-coded numbers.
+"""
+from __future__ import annotations
+
+import ctypes
+import json
+import math
+import subprocess
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy import extract, read_model_description  # noqa: E402
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE,  # noqa: E402
+                       fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                       fmi2CallbackLoggerTYPE)
+
+from inflowsim.errors import InputError  # noqa: E402
+from inflowsim.fmu import VR, apply_parameters, build_fmu, start_values  # noqa: E402
+from inflowsim.fmu.generate import GENERATED, generated_files  # noqa: E402
+from inflowsim.fmu.build import source_dir  # noqa: E402
+from inflowsim.model import build_model  # noqa: E402
+from inflowsim.paramfile import read_parameters  # noqa: E402
+from inflowsim.params import PUMA  # noqa: E402
+from inflowsim.presets import preset_parameters  # noqa: E402
+from inflowsim.record import find_trim, model_inputs  # noqa: E402
+from inflowsim.simulator import Simulator  # noqa: E402
+from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record  # noqa: E402
+
+DT = 0.01
+OUTPUTS = ("beta0", "beta1c", "beta1s", "lambda0", "lambda1c", "lambda1s")
+ALL_INPUTS = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot", "mux", "muy")
+
+
+@pytest.fixture(scope="module")
+def fmu_path(tmp_path_factory):
+    return build_fmu(tmp_path_factory.mktemp("fmu") / "inflowsim.fmu")
+
+
+@pytest.fixture(scope="module")
+def unzipped(fmu_path, tmp_path_factory):
+    return extract(str(fmu_path), str(tmp_path_factory.mktemp("unzipped")))
+
+
+@pytest.fixture(scope="module")
+def guid(fmu_path):
+    return read_model_description(str(fmu_path)).guid
+
+
+@pytest.fixture(scope="module")
+def record():
+    return virtual_record(VirtualTest(duration=6.0, manoeuvres=(
+        Manoeuvre(channel="theta1s", shape="doublet", amplitude=math.radians(1.0),
+                  t_start=0.5, width=0.4),
+        Manoeuvre(channel="theta1c", shape="doublet", amplitude=math.radians(0.7),
+                  t_start=2.5, width=0.3))))
+
+
+def model_of(structure, **changes):
+    p = preset_parameters(structure, PUMA, "paper")
+    p.update(changes)
+    return build_model(structure, p, PUMA)
+
+
+def zoh_ref(model, h):
+    """[phi gam] of the Python model at step h, straight from scipy's expm."""
+    n, m = model.b.shape
+    aug = np.zeros((n + m, n + m))
+    aug[:n, :n], aug[:n, n:] = model.a, model.b
+    e = expm(aug * h)
+    return e[:n, :n], e[:n, n:]
+
+
+class Logger:
+    """fmi2 callbacks that keep the FMU's log messages (formatted by fmpy's proxy)."""
+
+    def __init__(self):
+        self.messages = []
+        lib = ctypes.CDLL(None)
+        lib.calloc.restype = ctypes.c_void_p
+        self.cb = fmi2CallbackFunctions()
+        self._log = fmi2CallbackLoggerTYPE(self._keep)
+        self.cb.logger = self._log
+        self.cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(("calloc", lib))
+        self.cb.freeMemory = fmi2CallbackFreeMemoryTYPE(("free", lib))
+        from fmpy.logging import addLoggerProxy
+        addLoggerProxy(ctypes.byref(self.cb))
+
+    def _keep(self, env, name, status, category, message):
+        self.messages.append((status, message.decode()))
+
+    def text(self):
+        return "\n".join(m for _, m in self.messages)
+
+
+def open_fmu(unzipped, guid, values=None, name="a", logger=None, start=0.0):
+    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName=name)
+    s.instantiate(callbacks=logger.cb if logger else None)
+    s.setupExperiment(startTime=start)
+    s.enterInitializationMode()
+    if values is not None:
+        apply_parameters(s, values)
+    s.exitInitializationMode()
+    return s
+
+
+def full_inputs(model, u):
+    """The FMU always has the ten inputs; a structure without mux, muy gets zeros."""
+    out = np.zeros((len(u), len(ALL_INPUTS)))
+    out[:, : u.shape[1]] = u
+    return out
+
+
+def fmu_replay(s, u, h=DT, t0=0.0):
+    """Importer convention: inputs at t_k, step, outputs at t_{k+1}; y[0] initial."""
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    y = [s.getReal(outs)]
+    for k in range(len(u) - 1):
+        s.setReal(ins, list(u[k]))
+        s.doStep(t0 + k * h, h)
+        y.append(s.getReal(outs))
+    return np.array(y)
+
+
+# -- generation, packaging, binary ------------------------------------------------
+
+def test_committed_generated_files_match_the_variable_description():
+    src = source_dir()
+    for name, text in generated_files().items():
+        committed = (src / name).read_text(encoding="utf-8")
+        assert committed == text, f"fmu/{name} is stale: run inflowsim.fmu.generate"
+    assert set(GENERATED) == set(generated_files())
+
+
+def test_fmpy_validation_reports_no_problem(fmu_path):
+    from fmpy.validation import validate_fmu
+    assert validate_fmu(str(fmu_path)) == []
+
+
+def test_fmu_contents(fmu_path):
+    names = set(zipfile.ZipFile(fmu_path).namelist())
+    for n in ("modelDescription.xml", "binaries/linux64/inflowsim.so",
+              "documentation/index.html", "sources/inflow_model.c", "sources/inflow_fmi2.c",
+              "sources/inflow_vars.c", "sources/inflow_vars.h", "sources/fmi2Functions.h",
+              "sources/fmi2FunctionTypes.h", "sources/fmi2TypesPlatform.h",
+              "sources/LICENSE-FMI.txt"):
+        assert n in names
+
+
+def test_binary_needs_no_python_and_exports_only_fmi(unzipped):
+    so = Path(unzipped) / "binaries" / "linux64" / "inflowsim.so"
+    dyn = subprocess.run(["readelf", "-d", str(so)], capture_output=True, text=True,
+                         check=True).stdout
+    needed = [line for line in dyn.splitlines() if "NEEDED" in line]
+    assert needed and not any("python" in line.lower() for line in needed)
+    syms = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True,
+                          text=True, check=True).stdout.split()
+    exported = {s for s in syms if s.startswith(("fmi", "ifs"))}
+    for f in ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal",
+              "fmi2GetFMUstate", "fmi2SerializeFMUstate", "fmi2Reset", "fmi2GetRealStatus"):
+        assert f in exported
+    assert not any(s.startswith("ifs") for s in exported), "model internals must be hidden"
+
+
+# -- equality with the Python simulator -----------------------------------------
+
+@pytest.mark.parametrize("structure", ["basic", "empirical", "glauert"])
+def test_replay_equals_simulator(structure, unzipped, guid, record):
+    m = model_of(structure)
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    s = open_fmu(unzipped, guid, start_values(m))
+    y_fmu = fmu_replay(s, full_inputs(m, u))
+    s.freeInstance()
+    assert np.abs(y_py).max() > 1e-3               # the doublets move the rotor
+    np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
+
+
+def test_parameter_file_applies_in_one_call(tmp_path, fmu_path, record):
+    """An identify-style file (estimate + sigma) for a non-preset structure."""
+    p = preset_parameters("glauert", PUMA, "paper")
+    p["tau"] = p.pop("tau0")
+    del p["tau_cs"]
+    doc = {"structure": "basic+glauert+azimuth-bias", "constants": PUMA.as_dict(),
+           "parameters": {k: {"estimate": v, "sigma": 0.01} for k, v in p.items()}}
+    f = tmp_path / "fit.json"
+    f.write_text(json.dumps(doc))
+    ps = read_parameters(f)
+    m = ps.model()
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    t = np.arange(len(u)) * DT
+    sig = np.zeros(len(u), dtype=[("time", float)] + [(n, float) for n in m.inputs])
+    sig["time"] = t
+    for i, n in enumerate(m.inputs):
+        sig[n] = u[:, i]
+    res = fmpy.simulate_fmu(str(fmu_path), start_values=start_values(ps), input=sig,
+                            output=list(OUTPUTS), step_size=DT, output_interval=DT,
+                            stop_time=t[-1])
+    y = np.column_stack([res[n] for n in OUTPUTS])
+    # fmpy records the initial outputs at t0, then the outputs after each step
+    assert len(y) == len(u)
+    np.testing.assert_allclose(y, y_py, rtol=0, atol=1e-10)
+
+
+def test_unsupported_effect_is_refused():
+    m = build_model("basic+time-delay", {**preset_parameters("basic", PUMA, "paper"),
+                                         "delay": 0.02}, PUMA)
+    with pytest.raises(InputError, match="time-delay"):
+        start_values(m)
+
+
+def test_communication_step_not_a_multiple_of_dt(unzipped, guid, record):
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    hs = [0.025, 0.025, 0.003, 0.05, 0.0137, 0.01, 0.025, 0.1] * 3
+    s = open_fmu(unzipped, guid, start_values(m))
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    x = np.zeros(6)
+    t = 0.0
+    for i, h in enumerate(hs):
+        uk = u[50 + 7 * i]
+        s.setReal(ins, list(uk))
+        s.doStep(t, h)
+        phi, gam = zoh_ref(m, h)
+        x = phi @ x + gam @ uk
+        t += h
+        np.testing.assert_allclose(s.getReal(outs), m.c @ x, rtol=0, atol=1e-12)
+    assert np.abs(x).max() > 1e-4
+    s.freeInstance()
+
+
+def test_time_is_a_step_counter(unzipped, guid):
+    s = open_fmu(unzipped, guid, start=1.0)
+    h = 0.1                     # 0.1 is inexact: a running sum drifts, a counter does not
+    for k in range(1000):
+        s.doStep(1.0 + k * h, h)
+    assert s.getRealStatus(2) == 1.0 + 1000 * h     # fmi2LastSuccessfulTime
+    s.freeInstance()
+
+
+def test_interleaved_instances_equal_separate_runs(unzipped, guid, record):
+    ma, mb = model_of("glauert"), model_of("empirical")
+    ua = full_inputs(ma, model_inputs(record, ma, find_trim(record)))
+    ub = full_inputs(mb, model_inputs(record, mb, find_trim(record)))
+    sep = []
+    for m, u in ((ma, ua), (mb, ub)):
+        s = open_fmu(unzipped, guid, start_values(m))
+        sep.append(fmu_replay(s, u))
+        s.freeInstance()
+    a = open_fmu(unzipped, guid, start_values(ma), name="a")
+    b = open_fmu(unzipped, guid, start_values(mb), name="b")
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    ya, yb = [a.getReal(outs)], [b.getReal(outs)]
+    for k in range(len(ua) - 1):
+        a.setReal(ins, list(ua[k]))
+        b.setReal(ins, list(ub[k]))
+        a.doStep(k * DT, DT)
+        b.doStep(k * DT, DT)
+        ya.append(a.getReal(outs))
+        yb.append(b.getReal(outs))
+    a.freeInstance()
+    b.freeInstance()
+    assert np.array_equal(np.array(ya), sep[0]) and np.array_equal(np.array(yb), sep[1])
+    assert not np.allclose(sep[0], sep[1])
+
+
+def test_fmu_state_get_set_and_serialize(unzipped, guid, record):
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    s = open_fmu(unzipped, guid, start_values(m))
+    fmu_replay(s, u[:100])
+    saved = s.getFMUstate()
+    blob = s.serializeFMUstate(saved)
+    tail = fmu_replay(s, u[99:200], t0=0.99)
+    s.setFMUstate(saved)
+    again = fmu_replay(s, u[99:200], t0=0.99)
+    s.setFMUstate(s.deSerializeFMUstate(blob))
+    third = fmu_replay(s, u[99:200], t0=0.99)
+    s.freeFMUstate(saved)
+    s.freeInstance()
+    assert np.array_equal(tail, again) and np.array_equal(tail, third)
+
+
+# -- one test body against the Python simulator and the FMU ---------------------
+
+class PythonAdapter:
+    def __init__(self, model, ctx):
+        self.sim = Simulator(model, DT)
+        self.model = model
+        self.m = model.b.shape[1]
+
+    def step(self, u):
+        return self.sim.step(np.asarray(u)[: self.m])
+
+    def set_parameters(self, **kw):
+        self.sim.set_model(self.sim.model.with_parameters(**kw))
+
+    def set_mu(self, mu):
+        self.sim.set_mu(mu)
+
+    def reset(self):
+        """Back to the first model and a zero state, like fmi2Reset + initialization."""
+        self.sim.set_model(self.model)
+        self.sim.reset()
+
+    def close(self):
+        pass
+
+
+class FmuAdapter:
+    def __init__(self, model, ctx):
+        self.s = open_fmu(*ctx, start_values(model))
+        self.values = start_values(model)
+        self.ctx = ctx
+        self.k = 0
+
+    def step(self, u):
+        self.s.setReal([VR[n] for n in ALL_INPUTS], list(u))
+        self.s.doStep(self.k * DT, DT)
+        self.k += 1
+        return np.array(self.s.getReal([VR[n] for n in OUTPUTS]))
+
+    def set_parameters(self, **kw):
+        self.s.setReal([VR[n] for n in kw], list(kw.values()))
+
+    def set_mu(self, mu):
+        self.s.setReal([VR["mu"]], [mu])
+
+    def reset(self):
+        self.s.reset()
+        self.s.setupExperiment(startTime=0.0)
+        self.s.enterInitializationMode()
+        apply_parameters(self.s, self.values)
+        self.s.exitInitializationMode()
+        self.k = 0
+
+    def close(self):
+        self.s.freeInstance()
+
+
+@pytest.mark.parametrize("adapter", [PythonAdapter, FmuAdapter], ids=["python", "fmu"])
+def test_stepping_contract(adapter, unzipped, guid, record):
+    """Steps, a parameter change, a mu change and a reset, each against a reference
+    built from the Python model with scipy's expm."""
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:240]
+    sim = adapter(m, (unzipped, guid))
+    ref_model, x, ys, refs = m, np.zeros(6), [], []
+    phi0, gam0 = zoh_ref(m, DT)
+    x_unchanged = np.zeros(6)
+    for k, uk in enumerate(u):
+        x_unchanged = phi0 @ x_unchanged + gam0 @ uk
+        if k == 80:
+            sim.set_parameters(tau_cs=15.0, kc=0.3)
+            ref_model = ref_model.with_parameters(tau_cs=15.0, kc=0.3)
+        if k == 160:
+            sim.set_mu(0.3)
+            ref_model = ref_model.with_mu(0.3)
+        phi, gam = zoh_ref(ref_model, DT)
+        x = phi @ x + gam @ uk
+        refs.append(ref_model.c @ x)
+        ys.append(sim.step(uk))
+    np.testing.assert_allclose(np.array(ys), np.array(refs), rtol=0, atol=1e-10)
+    # the changes matter: the unchanged model ends elsewhere
+    assert np.abs(refs[-1] - m.c @ x_unchanged).max() > 1e-5
+    sim.reset()
+    phi, gam = zoh_ref(m, DT)
+    x = np.zeros(6)
+    for uk in u[:60]:
+        x = phi @ x + gam @ uk
+        np.testing.assert_allclose(sim.step(uk), m.c @ x, rtol=0, atol=1e-10)
+    sim.close()
+
+
+# -- errors -----------------------------------------------------------------------
+
+def test_bad_parameter_is_refused_with_its_name_and_range(unzipped, guid):
+    log = Logger()
+    s = open_fmu(unzipped, guid, logger=log)
+    with pytest.raises(Exception, match="fmi2SetReal"):
+        s.setReal([VR["n_beta"]], [-1.0])
+    assert "n_beta" in log.text() and "(0, 10]" in log.text()
+    assert s.getReal([VR["n_beta"]])[0] > 0          # not stored
+    with pytest.raises(Exception):
+        s.setReal([VR["mu"]], [0.05])
+    assert "mu" in log.messages[-1][1] and "[0.1, 0.5]" in log.messages[-1][1]
+    with pytest.raises(Exception):
+        s.setReal([VR["dt"]], [0.02])                 # fixed after initialization
+    assert "dt" in log.messages[-1][1]
+    with pytest.raises(Exception):
+        s.setReal([VR["beta0"]], [0.1])               # an output
+    s.doStep(0.0, DT)                                  # the instance still works
+    s.freeInstance()
+
+
+def test_bad_structure_is_refused(unzipped, guid):
+    log = Logger()
+    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName="x")
+    s.instantiate(callbacks=log.cb)
+    with pytest.raises(Exception):
+        s.setInteger([VR["structure"]], [3])
+    assert "structure" in log.text() and "[0, 2]" in log.text()
+    s.freeInstance()
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_input_leaves_the_state(bad, unzipped, guid, record):
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:120]
+    clean = open_fmu(unzipped, guid, start_values(m))
+    y_clean = fmu_replay(clean, u)
+    clean.freeInstance()
+    log = Logger()
+    s = open_fmu(unzipped, guid, start_values(m), logger=log)
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    y = [s.getReal(outs)]
+    for k in range(len(u) - 1):
+        if k == 60:
+            before = s.getReal(outs)
+            with pytest.raises(Exception):
+                s.setReal([VR["theta1s"], VR["p"]], [0.5, bad])
+            assert s.getReal(outs) == before
+            assert "p = " in log.text() and "finite" in log.text()
+        s.setReal(ins, list(u[k]))
+        s.doStep(k * DT, DT)
+        y.append(s.getReal(outs))
+    s.freeInstance()
+    assert np.array_equal(np.array(y), y_clean)
+
+
+def test_wrong_guid_is_refused(unzipped, guid):
+    log = Logger()
+    s = FMU2Slave(guid="{00000000-0000-0000-0000-000000000000}", unzipDirectory=unzipped,
+                  modelIdentifier="inflowsim", instanceName="x")
+    with pytest.raises(Exception, match="instantiate"):
+        s.instantiate(callbacks=log.cb)
+    assert "GUID" in log.text()
+
+
+def test_do_step_before_initialization_is_an_error_not_a_crash(unzipped, guid):
+    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName="x")
+    s.instantiate(callbacks=Logger().cb)
+    with pytest.raises(Exception):
+        s.doStep(0.0, DT)
+    s.freeInstance()
+
+
+# -- command line -------------------------------------------------------------------
+
+def test_cli_builds_and_refuses_to_overwrite(tmp_path, capsys):
+    from inflowsim.cli import main
+    out = tmp_path / "x.fmu"
+    assert main(["fmu", "build", "--out", str(out)]) == 0
+    assert zipfile.is_zipfile(out)
+    before = out.read_bytes()
+    assert main(["fmu", "build", "--out", str(out)]) == 2
+    assert out.read_bytes() == before
+    err = capsys.readouterr().err
+    assert "exists" in err and len(err.strip().splitlines()[-1]) > 0
+    assert main(["fmu", "build", "--out", str(tmp_path / "x.zip")]) == 2
