@@ -29,13 +29,14 @@ CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
 
 
 def source_dir() -> Path:
-    """The folder holding the C sources: the installed package data
-    (``inflowsim._fmu_sources``) or, in a source checkout, the repository's ``fmu/``."""
-    try:
-        from .. import _fmu_sources            # installed (pip install .)
-        return Path(_fmu_sources.__file__).parent
-    except ImportError:
-        return Path(__file__).resolve().parents[2] / "fmu"
+    """The folder holding the C sources: ``inflowsim/fmu/csrc``, a link to the
+    repository's ``fmu/`` that setuptools follows, so an installed package ships
+    the sources as package data."""
+    here = Path(__file__).resolve().parent
+    for cand in (here / "csrc", here.parents[1] / "fmu"):
+        if (cand / "inflow_model.c").is_file():
+            return cand
+    raise InputError(f"FMU build: the C sources are missing from {here / 'csrc'}")
 
 
 def compiler() -> str:
