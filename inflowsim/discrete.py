@@ -46,37 +46,38 @@ def discretize(a, b, dt: float, method: str = "zoh"):
     raise ValueError(f"method must be one of {', '.join(METHODS)}, not {method!r}")
 
 
-def lifted_replay(phi, gam, u, x0, block: int = 24):
+def lifted_replay(phi, gam, u, x0, block: int | None = None):
     """All states ``x[0..N-1]`` of ``x[k+1] = phi x[k] + gam u[k]``.
 
-    Block-lifted recursion: a short Python loop over block starts, then every
-    state inside the blocks from one matrix product.  Same arithmetic as the
-    sample loop up to rounding (a few ulps times the block length).
+    Block-lifted recursion with blocks of ``block`` samples (default
+    ``sqrt(N)``): the block-end sums and then the states inside the blocks are
+    built by ``block`` steps of the plain recursion vectorised over all blocks,
+    and only the block starts (``x <- phi^block x + w``) loop over blocks, so
+    Python runs about ``2 sqrt(N)`` small iterations and the work is
+    ``O(N n (n + m))``.  Same arithmetic as the sample loop inside a block; the
+    block starts differ from it by rounding only (a few ulps).
     """
     u = np.asarray(u, dtype=float)
     nsamp, m = u.shape
     n = phi.shape[0]
-    L = max(1, min(block, nsamp))
+    L = max(1, min(int(block) if block else int(np.sqrt(nsamp)), nsamp))
     nb = -(-nsamp // L)
     pad = np.zeros((nb * L, m))
     pad[:nsamp] = u
-    ub = pad.reshape(nb, L * m).T                       # (L m, nb), block b in column b
-    powers = [np.eye(n)]
-    for _ in range(L):
-        powers.append(phi @ powers[-1])
-    # in-block response: x[bL + j] = phi^j x[bL] + sum_{i<j} phi^(j-1-i) gam u[bL+i]
-    P = np.vstack(powers[:L])                           # (L n, n)
-    T = np.zeros((L * n, L * m))
-    for j in range(1, L):
-        for i in range(j):
-            T[j * n:(j + 1) * n, i * m:(i + 1) * m] = powers[j - 1 - i] @ gam
-    gl = np.hstack([powers[L - 1 - i] @ gam for i in range(L)])   # (n, L m)
-    w = gl @ ub                                          # (n, nb)
-    phil = powers[L]
-    starts = np.empty((n, nb))
+    ub = pad.reshape(nb, L, m)                       # [block, step in block, input]
+    phit, gamt = phi.T, gam.T
+    w = np.zeros((nb, n))                            # sum_i phi^(L-1-i) gam u[bL+i]
+    for j in range(L):
+        w = w @ phit + ub[:, j, :] @ gamt
+    phil = np.linalg.matrix_power(phi, L)
+    starts = np.empty((nb, n))
     x = np.asarray(x0, dtype=float).copy()
     for k in range(nb):
-        starts[:, k] = x
-        x = phil @ x + w[:, k]
-    xs = P @ starts + T @ ub                             # (L n, nb)
-    return xs.T.reshape(nb * L, n)[:nsamp]
+        starts[k] = x
+        x = phil @ x + w[k]
+    xs = np.empty((nb, L, n))
+    xb = starts
+    for j in range(L):
+        xs[:, j, :] = xb
+        xb = xb @ phit + ub[:, j, :] @ gamt
+    return xs.reshape(nb * L, n)[:nsamp]
