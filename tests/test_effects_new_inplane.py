@@ -18,6 +18,7 @@ from test_quadrature import (COS, RR, SIN, avg, flap_residual_quad, loads_quad, 
 MUS = [0.1, 0.249, 0.4]
 EFFECT = "advance-ratio-perturbation"
 K = PUMA.with_trim(PUMA_TRIM)
+MU_PUMA = PUMA.mu
 
 
 def random_trim(seed):
@@ -238,3 +239,29 @@ def test_virtual_record_carries_the_trim_it_needs():
     m = build_model(s, preset_parameters(s, k, "paper"), k)
     assert m.is_stable()
     assert np.isclose(k.trim["theta0"], PUMA_TRIM["theta0"], atol=1e-9)
+
+
+def test_columns_match_the_nonlinear_individual_blade_truth():
+    # a third route: the team's individual-blade rotor (8 blades, speed = mu so the
+    # inflow has no Glauert terms), differentiated in the total mux, muy at trim
+    bladesim = pytest.importorskip("inflowsim.bladesim")
+    spec = bladesim.RotorSpec(n_blades=8, speed="mu")
+    rotor = bladesim.BladeRotor(spec)
+    theta = np.array([PUMA_TRIM[n] for n in ("theta0", "theta1c", "theta1s")])
+    beta = np.array([PUMA_TRIM[n] for n in ("beta0", "beta1c", "beta1s")])
+    lam = be.trim_inflow(MU_PUMA, PUMA.a0s, theta, beta, 0.0)
+    z = np.concatenate([beta, np.zeros(3), lam])
+
+    def rhs(psi, mx, my):
+        u = np.array([*theta, 0.0, 0, 0, 0, 0, MU_PUMA + mx, my])
+        return bladesim.multiblade_derivatives(rotor, psi, z, u)
+    h = 1e-4
+    jac = np.mean([np.column_stack([(rhs(psi, h, 0) - rhs(psi, -h, 0)) / (2 * h),
+                                    (rhs(psi, 0, h) - rhs(psi, 0, -h)) / (2 * h)])
+                   for psi in (0.0, 0.3)], axis=0)
+    want_flap = spec.n_beta * be.inplane_flap_derivatives(MU_PUMA, theta, beta, 0.0, lam)
+    d_tau = np.diag([spec.tau0, spec.tau_cs, spec.tau_cs])
+    want_inflow = np.linalg.solve(d_tau, ld.momentum_l(MU_PUMA, PUMA.a0s)
+                                  @ be.inplane_load_derivatives(MU_PUMA, theta, beta, 0.0, lam))
+    np.testing.assert_allclose(jac[:3], want_flap, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(jac[3:], want_inflow, rtol=1e-6, atol=1e-9)
