@@ -212,7 +212,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     }
 }
 
-int ifs_discretize(const IfsModel *m, double h, double pg[NX * NA])
+int ifs_discretize(const IfsModel *m, double h, double pg[NA * NX])
 {
     double M[NA * NA];
     int i, j;
@@ -224,7 +224,8 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NX * NA])
     if (expm(M) != 0) return -1;
     for (i = 0; i < NX * NA; i++)
         if (!isfinite(M[i])) return -1;
-    memcpy(pg, M, sizeof(double) * NX * NA);   /* top NX rows */
+    for (i = 0; i < NX; i++)                    /* top NX rows, by columns */
+        for (j = 0; j < NA; j++) pg[j * NX + i] = M[i * NA + j];
     return 0;
 }
 
@@ -263,15 +264,8 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         for (j = 0; j < NU; j++) n.b[i * NU + j] = om * rhs[i * NA + NX + j] * in_scale[j];
     }
     /* outputs: recorded flap is the true one rotated by the azimuth bias (section 6) */
-    memset(n.c, 0, sizeof n.c);
-    for (i = 0; i < NX; i++) n.c[i * NX + i] = 1.0;
-    if (v->structure != IFS_BASIC) {
-        const double cb = cos(v->azimuth_bias), sb = sin(v->azimuth_bias);
-        n.c[1 * NX + 1] = cb;
-        n.c[1 * NX + 2] = -sb;
-        n.c[2 * NX + 1] = sb;
-        n.c[2 * NX + 2] = cb;
-    }
+    n.cos_bias = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
+    n.sin_bias = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
     n.dt = v->dt;
     if (ifs_discretize(&n, n.dt, n.pg) != 0) {
         snprintf(msg, msg_len, "the discretisation at dt = %g s failed (non-finite "
@@ -284,11 +278,21 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     return 0;
 }
 
+/* acc += sum_j cols[j] v[j] over n columns of NX */
+static void add_columns(double acc[NX], const double *cols, const double *v, int n)
+{
+    int i, j;
+    for (j = 0; j < n; j++) {
+        const double vj = v[j];
+        const double *col = cols + j * NX;
+        for (i = 0; i < NX; i++) acc[i] += col[i] * vj;
+    }
+}
+
 int ifs_advance(IfsModel *m, const double u[NU], double h)
 {
-    double gu[NX], x[NX];
+    double gu[NX] = {0.0};
     long k;
-    int i, j;
     if (h != m->h_last) {
         /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding */
         double r = h / m->dt;
@@ -304,29 +308,17 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
         m->rem = m->rem_last;
     }
     /* the input is held over the whole step: gam u once */
-    for (i = 0; i < NX; i++) {
-        const double *row = m->pg + i * NA + NX;
-        double s = 0.0;
-        for (j = 0; j < NU; j++) s += row[j] * u[j];
-        gu[i] = s;
-    }
+    if (m->n_last > 0) add_columns(gu, m->pg + NX * NX, u, NU);
     for (k = 0; k < m->n_last; k++) {
-        for (i = 0; i < NX; i++) {
-            const double *row = m->pg + i * NA;
-            double s = gu[i];
-            for (j = 0; j < NX; j++) s += row[j] * m->x[j];
-            x[i] = s;
-        }
+        double x[NX];
+        memcpy(x, gu, sizeof x);
+        add_columns(x, m->pg, m->x, NX);
         memcpy(m->x, x, sizeof x);
     }
     if (m->rem_last > 0.0) {
-        for (i = 0; i < NX; i++) {
-            const double *row = m->pg_rem + i * NA;
-            double s = 0.0;
-            for (j = 0; j < NX; j++) s += row[j] * m->x[j];
-            for (j = 0; j < NU; j++) s += row[NX + j] * u[j];
-            x[i] = s;
-        }
+        double x[NX] = {0.0};
+        add_columns(x, m->pg_rem, m->x, NX);
+        add_columns(x, m->pg_rem + NX * NX, u, NU);
         memcpy(m->x, x, sizeof x);
     }
     return 0;
@@ -334,10 +326,11 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
 
 void ifs_outputs(const IfsModel *m, double y[NX])
 {
-    int i, j;
-    for (i = 0; i < NX; i++) {
-        double s = 0.0;
-        for (j = 0; j < NX; j++) s += m->c[i * NX + j] * m->x[j];
-        y[i] = s;
-    }
+    const double *x = m->x;
+    y[0] = x[0];
+    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
+    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
+    y[3] = x[3];
+    y[4] = x[4];
+    y[5] = x[5];
 }

@@ -27,12 +27,14 @@ typedef struct {
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
-    double c[IFS_NX * IFS_NX];
-    /* [phi gam] at the internal step dt: x <- pg [x; u] */
-    double pg[IFS_NX * IFS_NA];
+    /* outputs y = c x: identity but the recorded flap rotated by the azimuth bias */
+    double cos_bias, sin_bias;
+    /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
+     * IFS_NX) so one step is a sum of scaled columns the compiler vectorises */
+    double pg[IFS_NA * IFS_NX];
     double dt;
-    /* cached [phi gam] of the last remainder step (h not a multiple of dt) */
-    double pg_rem[IFS_NX * IFS_NA];
+    /* cached [phi gam] (by columns) of the last remainder step (h not n dt) */
+    double pg_rem[IFS_NA * IFS_NX];
     double rem;                    /* its length [s]; 0 = no cache */
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
@@ -52,8 +54,9 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len);
 void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
                     double a[IFS_NX * IFS_NX], double b[IFS_NX * IFS_NU]);
 
-/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows. */
-int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NX * IFS_NA]);
+/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
+ * (element (i, j) at pg[j * IFS_NX + i]). */
+int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_NX]);
 
 /* Advance the state over h [s] with u held: whole internal steps dt and one exact
  * remainder step.  Returns 0, or -1 if the remainder discretisation failed. */
