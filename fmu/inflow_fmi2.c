@@ -36,6 +36,7 @@ typedef struct {
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
     unsigned long long n_comm;
+    int warned_time;           /* the time-mismatch warning is given once */
 } Data;
 
 typedef struct {
@@ -490,7 +491,7 @@ IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
     if (!(h >= 0.0) || !isfinite(h))
         return ERR(c, "fmi2DoStep: communication step %g must be finite and >= 0", h);
     now = time_now(d);
-    if (fabs(t - now) > 1e-9 * (1.0 + fabs(now)))
+    if (fabs(t - now) > 1e-9 * (1.0 + fabs(now)) && !d->warned_time++)
         logf_(c, fmi2Warning, "logStatusWarning", "fmi2DoStep: communication point %.17g "
               "differs from the FMU's time %.17g", t, now);
     if (d->dirty && rebuild(c) != fmi2OK) return fmi2Error;

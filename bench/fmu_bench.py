@@ -1,0 +1,81 @@
+"""FMU step cost: the C driver on the native binary, and the cost through fmpy.
+
+    python bench/fmu_bench.py [--steps N]
+
+Builds the FMU (``inflowsim.fmu.build_fmu``) and the one-state reference
+(``bench/fmu_onestate.c``) with the same flags, compiles ``bench/fmu_driver.c``,
+runs it (best of 5 runs of N steps per case) and times an fmpy ``FMU2Slave`` loop
+(setReal inputs, doStep, getReal outputs).  Prints a Markdown table; results and
+method are kept in ``bench/fmu.md``.
+"""
+from __future__ import annotations
+
+import argparse
+import platform
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=2_000_000)
+    ap.add_argument("--fmpy-steps", type=int, default=20_000)
+    args = ap.parse_args(argv)
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    from inflowsim.fmu import VR, build_fmu
+    from inflowsim.fmu.build import CFLAGS, compiler, source_dir
+
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        fmu = build_fmu(tmp / "inflowsim.fmu")
+        guid = read_model_description(str(fmu)).guid
+        unz = extract(str(fmu), str(tmp / "x"))
+        so = Path(unz) / "binaries" / "linux64" / "inflowsim.so"
+        cc = compiler()
+        inc = f"-I{source_dir()}"
+        subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
+                        str(HERE / "fmu_onestate.c"), "-lm"], check=True)
+        subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
+                        str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+        out = subprocess.run([str(tmp / "driver"), str(so), guid, str(tmp / "onestate.so"),
+                              str(args.steps)], check=True, capture_output=True, text=True)
+        rows = dict(line.split() for line in out.stdout.splitlines())
+
+        s = FMU2Slave(guid=guid, unzipDirectory=unz, modelIdentifier="inflowsim",
+                      instanceName="bench")
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+        ins = [VR[n] for n in ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot",
+                               "pdot", "mux", "muy")]
+        outs = [VR[n] for n in ("beta0", "beta1c", "beta1s", "lambda0", "lambda1c",
+                                "lambda1s")]
+        u = [1e-3] * 10
+        best = float("inf")
+        for rep in range(3):
+            k0 = rep * args.fmpy_steps
+            t0 = time.perf_counter()
+            for k in range(k0, k0 + args.fmpy_steps):
+                s.setReal(ins, u)
+                s.doStep(k * 0.01, 0.01)
+                s.getReal(outs)
+            best = min(best, (time.perf_counter() - t0) / args.fmpy_steps)
+        s.freeInstance()
+    rows["glauert_through_fmpy_set_dostep_get"] = f"{best * 1e9:.0f}"
+    print(f"machine: {platform.processor() or platform.machine()}, "
+          f"{platform.system()} {platform.release()}, python {platform.python_version()}")
+    print("| case | ns per step |\n| --- | --- |")
+    for k, v in rows.items():
+        print(f"| {k} | {v} |")
+    ratio = float(rows["glauert_dostep"]) / float(rows["onestate_dostep"])
+    print(f"\nglauert / one-state fmi2DoStep: {ratio:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

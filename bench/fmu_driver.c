@@ -1,0 +1,146 @@
+/*
+ * Times fmi2DoStep of a co-simulation FMU binary directly (dlopen, no importer):
+ *
+ *   fmu_driver INFLOWSIM_SO GUID ONESTATE_SO [N]
+ *
+ * Prints one line per case: name, ns per step (best of REPEATS runs of N steps).
+ * Cases: the one-state reference (DoStep; SetReal + DoStep + GetReal), inflowsim
+ * glauert at fixed mu (the same two), and inflowsim with mu changed every step
+ * (SetReal mu + DoStep: each step rebuilds and rediscretises the matrices).
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <dlfcn.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "fmi2Functions.h"
+
+#define REPEATS 5
+
+typedef struct {
+    fmi2InstantiateTYPE *instantiate;
+    fmi2FreeInstanceTYPE *free_instance;
+    fmi2SetupExperimentTYPE *setup;
+    fmi2EnterInitializationModeTYPE *enter_init;
+    fmi2ExitInitializationModeTYPE *exit_init;
+    fmi2SetRealTYPE *set_real;
+    fmi2GetRealTYPE *get_real;
+    fmi2DoStepTYPE *do_step;
+} Api;
+
+static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st,
+                   fmi2String cat, fmi2String msg, ...)
+{
+    va_list ap;
+    (void)env; (void)cat;
+    va_start(ap, msg);
+    fprintf(stderr, "[%s %d] ", name, (int)st);
+    vfprintf(stderr, msg, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static void *sym(void *lib, const char *name)
+{
+    void *p = dlsym(lib, name);
+    if (!p) { fprintf(stderr, "missing %s\n", name); exit(1); }
+    return p;
+}
+
+static Api load(const char *path)
+{
+    Api a;
+    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) { fprintf(stderr, "%s\n", dlerror()); exit(1); }
+    *(void **)&a.instantiate = sym(lib, "fmi2Instantiate");
+    *(void **)&a.free_instance = sym(lib, "fmi2FreeInstance");
+    *(void **)&a.setup = sym(lib, "fmi2SetupExperiment");
+    *(void **)&a.enter_init = sym(lib, "fmi2EnterInitializationMode");
+    *(void **)&a.exit_init = sym(lib, "fmi2ExitInitializationMode");
+    *(void **)&a.set_real = sym(lib, "fmi2SetReal");
+    *(void **)&a.get_real = sym(lib, "fmi2GetReal");
+    *(void **)&a.do_step = sym(lib, "fmi2DoStep");
+    return a;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static fmi2Component start(const Api *a, const char *guid)
+{
+    static const fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
+    fmi2Component c = a->instantiate("bench", fmi2CoSimulation, guid, "", &cb, fmi2False,
+                                     fmi2False);
+    if (!c || a->setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK ||
+        a->enter_init(c) != fmi2OK || a->exit_init(c) != fmi2OK) {
+        fprintf(stderr, "initialisation failed\n");
+        exit(1);
+    }
+    return c;
+}
+
+/* mode 0: DoStep only; 1: SetReal inputs + DoStep + GetReal outputs; 2: SetReal mu + DoStep */
+static double run(const Api *a, const char *guid, long n, int mode, const fmi2ValueReference *in,
+                  size_t nin, const fmi2ValueReference *out, size_t nout, fmi2ValueReference mu)
+{
+    double best = 1e30, sink = 0.0;
+    int r;
+    for (r = 0; r < REPEATS; r++) {
+        fmi2Component c = start(a, guid);
+        double u[16] = {0.0}, y[16], t0, t1;
+        long k;
+        size_t i;
+        for (i = 0; i < nin; i++) u[i] = 1e-3 * (double)(i + 1);
+        a->set_real(c, in, nin, u);
+        t0 = now();
+        for (k = 0; k < n; k++) {
+            if (mode == 1) {
+                u[0] = 1e-3 * (double)(k & 7);
+                a->set_real(c, in, nin, u);
+            } else if (mode == 2) {
+                double m = 0.249 + 1e-4 * (double)(k & 1);
+                a->set_real(c, &mu, 1, &m);
+            }
+            if (a->do_step(c, (double)k * 0.01, 0.01, fmi2True) != fmi2OK) {
+                fprintf(stderr, "fmi2DoStep failed\n");
+                exit(1);
+            }
+            if (mode == 1) a->get_real(c, out, nout, y);
+        }
+        t1 = now();
+        a->get_real(c, out, nout, y);
+        sink += y[0];
+        a->free_instance(c);
+        if ((t1 - t0) / n < best) best = (t1 - t0) / n;
+    }
+    if (sink != sink) fprintf(stderr, "non-finite output\n");
+    return best * 1e9;
+}
+
+int main(int argc, char **argv)
+{
+    /* value references: see inflowsim/fmu/variables.py (inputs 0..9, mu 10, outputs 11..16) */
+    static const fmi2ValueReference in10[10] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    static const fmi2ValueReference out6[6] = {11, 12, 13, 14, 15, 16};
+    static const fmi2ValueReference in1[1] = {0}, out1[1] = {1};
+    long n = argc > 4 ? atol(argv[4]) : 2000000L;
+    Api fmu, one;
+    if (argc < 4) {
+        fprintf(stderr, "usage: %s INFLOWSIM_SO GUID ONESTATE_SO [N]\n", argv[0]);
+        return 2;
+    }
+    fmu = load(argv[1]);
+    one = load(argv[3]);
+    printf("onestate_dostep %.2f\n", run(&one, "", n, 0, in1, 1, out1, 1, 0));
+    printf("onestate_set_dostep_get %.2f\n", run(&one, "", n, 1, in1, 1, out1, 1, 0));
+    printf("glauert_dostep %.2f\n", run(&fmu, argv[2], n, 0, in10, 10, out6, 6, 10));
+    printf("glauert_set_dostep_get %.2f\n", run(&fmu, argv[2], n, 1, in10, 10, out6, 6, 10));
+    printf("glauert_mu_every_step %.2f\n", run(&fmu, argv[2], n / 100 + 1, 2, in10, 10, out6, 6, 10));
+    return 0;
+}
