@@ -1,0 +1,199 @@
+"""``inflowsim flighttest``: a virtual flight test that writes a record (CSV).
+
+Default truth: the nonlinear individual-blade rotor (:mod:`inflowsim.flighttest`,
+:mod:`inflowsim.bladesim`); its physics is built in, so ``--add`` takes only the
+measurement effects ``azimuth-bias`` and ``time-delay`` there.  ``--truth linear``
+generates from any structure plus effects (paper values for the preset's
+parameters, theory values for added effects, ``--set NAME=VALUE`` to change any).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..fileio import safe_write_text
+from ..params import PUMA
+from ..record import write_record
+from ._common import print_json, progress
+
+HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
+
+NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay")
+NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs")
+
+
+def add_arguments(p):
+    p.add_argument("--truth", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="nonlinear individual-blade rotor (default) or a linear model")
+    p.add_argument("--model", "-m", metavar="M",
+                   help="linear truth: structure (preset, then +effect terms); "
+                        "default glauert")
+    p.add_argument("--add", action="append", default=[], metavar="EFFECT",
+                   help="add an effect (repeatable); nonlinear truth: azimuth-bias, "
+                        "time-delay")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="a truth parameter value (repeatable), e.g. tau_cs=21.4")
+    p.add_argument("--input", choices=("doublet", "3211"), default="doublet",
+                   help="pilot input shape (default doublet)")
+    p.add_argument("--channel", choices=("theta0", "theta1c", "theta1s"),
+                   default="theta1s", help="control the pilot moves (default theta1s)")
+    p.add_argument("--amplitude-deg", type=float, default=1.0, metavar="A",
+                   help="input amplitude [deg] (default 1)")
+    p.add_argument("--start", type=float, default=2.0, metavar="S",
+                   help="time of the first control movement [s] (default 2)")
+    p.add_argument("--width", type=float, default=0.4, metavar="S",
+                   help="doublet half-width or 3211 unit [s] (default 0.4)")
+    p.add_argument("--duration", type=float, default=26.6, metavar="S",
+                   help="record length [s] (default 26.6: 0.0376 Hz resolution)")
+    p.add_argument("--dt", type=float, default=0.01, metavar="S",
+                   help="sample step [s] (default 0.01)")
+    p.add_argument("--noise", type=float, default=1e-4, metavar="R",
+                   help="flap sensor noise, standard deviation [rad] (default 1e-4)")
+    p.add_argument("--seed", type=int, default=0, metavar="N", help="noise seed")
+    p.add_argument("--azimuth-bias", type=float, metavar="RAD",
+                   help="offset of the recorded azimuth [rad] (adds azimuth-bias)")
+    p.add_argument("--delay", type=float, metavar="S",
+                   help="time delay of the recorded flap [s] (adds time-delay)")
+    p.add_argument("--blades", type=int, default=4, metavar="N",
+                   help="nonlinear truth: number of blades (default 4)")
+    p.add_argument("--speed", choices=("eq14", "mu"), default="eq14",
+                   help="nonlinear truth: speed through the disc, Eq. (14) (default) "
+                        "or the trim mu (then the inflow is the basic model)")
+    p.add_argument("--no-body", action="store_true",
+                   help="hold the hub fixed (no body motion)")
+    p.add_argument("--out", "-o", required=True, metavar="CSV", help="output record")
+    p.add_argument("--truth-json", metavar="FILE",
+                   help="also write the truth (parameters, trim, settings) as JSON")
+    p.add_argument("--force", action="store_true", help="replace existing output files")
+    p.add_argument("--json", action="store_true", help="print the truth JSON on stdout")
+
+
+def _settings(items) -> dict:
+    out = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"--set {item!r}: expected NAME=VALUE")
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise InputError(f"--set {name}: {value.strip()!r} is not a number") from None
+    return out
+
+
+def _check_outputs(args):
+    paths = [Path(args.out)] + ([Path(args.truth_json)] if args.truth_json else [])
+    if len(paths) == 2 and paths[0].resolve() == paths[1].resolve():
+        raise InputError(f"--truth-json {args.truth_json}: same file as --out")
+    for p in paths:
+        if p.exists() and not args.force:
+            raise InputError(f"{p}: exists; choose another name or pass --force")
+        parent = p.parent if str(p.parent) else Path(".")
+        if not parent.is_dir():
+            raise InputError(f"{p}: folder {parent} does not exist")
+
+
+def _manoeuvre(args):
+    from ..virtual import Manoeuvre
+    for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise"):
+        v = getattr(args, name)
+        if not math.isfinite(v):
+            raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
+    if args.width <= 0:
+        raise InputError(f"--width {args.width}: must be > 0 s")
+    return Manoeuvre(channel=args.channel, shape=args.input,
+                     amplitude=math.radians(args.amplitude_deg), t_start=args.start,
+                     width=args.width)
+
+
+def _nonlinear(args, man, values):
+    from ..bladesim import RotorSpec
+    from ..flighttest import FlightTest
+    if args.model:
+        raise InputError("--model selects a linear truth: add --truth linear")
+    bad = [e for e in args.add if e not in NONLINEAR_EFFECTS]
+    if bad:
+        raise InputError(f"--add {bad[0]}: the nonlinear truth has its physics built in "
+                         f"and takes only the measurement effects "
+                         f"{', '.join(NONLINEAR_EFFECTS)} (use --truth linear for {bad[0]})")
+    unknown = sorted(set(values) - set(NONLINEAR_SET))
+    if unknown:
+        raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
+                         f"{', '.join(NONLINEAR_SET)}")
+    rotor = RotorSpec(n_blades=args.blades, speed=args.speed, **values)
+    return FlightTest(rotor=rotor, manoeuvres=(man,), duration=args.duration, dt=args.dt,
+                      noise_flap=args.noise, seed=args.seed,
+                      azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
+                      body=None if args.no_body else FlightTest().body,
+                      description=f"{args.channel} {args.input}, nonlinear blade-element "
+                                  "truth")
+
+
+def _linear(args, man, values):
+    from ..flighttest import FlightTest
+    from ..model import build_model
+    from ..presets import preset_parameters
+    from ..structure import Structure
+    from ..virtual import VirtualTest
+    if args.blades != 4 or args.speed != "eq14":
+        raise InputError("--blades and --speed apply to --truth nonlinear only")
+    s = Structure.parse(args.model or "glauert")
+    for e in args.add:
+        s = s.with_effect(e)
+    if args.azimuth_bias is not None and "azimuth-bias" not in s.effects:
+        s = s.with_effect("azimuth-bias")
+    if args.delay is not None and "time-delay" not in s.effects:
+        s = s.with_effect("time-delay")
+    params = preset_parameters(s, PUMA, "paper")
+    if args.azimuth_bias is not None:
+        params["azimuth_bias"] = args.azimuth_bias
+    if args.delay is not None:
+        params["delay"] = args.delay
+    params.update(values)
+    build_model(s, params, PUMA)            # one-line refusal of unknown or bad values
+    FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
+    return VirtualTest(structure=s.name, parameters=params, manoeuvres=(man,),
+                       duration=args.duration, dt=args.dt, noise_flap=args.noise,
+                       seed=args.seed, body=FlightTest().body if not args.no_body
+                       else _still_body(),
+                       description=f"{args.channel} {args.input}, linear truth {s.name}")
+
+
+def _still_body():
+    from ..body import BodyModel
+    return BodyModel(m_theta=0.0, l_theta=0.0, z_theta=0.0)
+
+
+def run(args) -> int:
+    from ..flighttest import flighttest
+    _check_outputs(args)
+    man = _manoeuvre(args)
+    values = _settings(args.set)
+    test = (_nonlinear if args.truth == "nonlinear" else _linear)(args, man, values)
+    if hasattr(test, "check"):
+        test.check()                        # refuse before the progress line
+    progress(f"flighttest: generating {args.duration:g} s at {args.dt:g} s "
+             f"({args.truth} truth)")
+    res = flighttest(test)
+    write_record(res.record, args.out, overwrite=args.force)
+    truth = json.loads(json.dumps(res.truth, default=_plain))
+    if args.truth_json:
+        safe_write_text(args.truth_json, json.dumps(truth, indent=2) + "\n",
+                        overwrite=args.force, protect=(args.out,))
+    progress(f"flighttest: wrote {args.out} ({len(res.record)} samples)")
+    if args.json:
+        print_json(truth)
+    return 0
+
+
+def _plain(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    return str(o)

@@ -1,0 +1,62 @@
+"""``inflowsim flighttest`` on the command line."""
+import json
+
+import numpy as np
+import pytest
+
+from inflowsim.cli import main
+from inflowsim.record import find_trim, read_record
+
+
+def test_writes_a_record_and_the_truth(tmp_path, capsys):
+    out, tj = tmp_path / "ft.csv", tmp_path / "truth.json"
+    rc = main(["flighttest", "--duration", "2", "--seed", "3", "--azimuth-bias", "0.2",
+               "--delay", "0.02", "--out", str(out), "--truth-json", str(tj)])
+    assert rc == 0
+    rec = read_record(out)
+    assert len(rec) == 200 and rec.meta["seed"] == "3"
+    truth = json.loads(tj.read_text())
+    assert truth["truth"] == "nonlinear" and truth["rotor"]["n_blades"] == 4
+    assert truth["measurement"] == {"azimuth_bias": 0.2, "delay": 0.02,
+                                    "noise_flap": 1e-4, "noise_inputs": 0.0, "seed": 3}
+    assert "azimuth" not in "".join(rec.meta.values())   # hidden from the record
+    assert capsys.readouterr().out == ""                  # progress goes to stderr
+    before = out.read_bytes()
+    assert main(["flighttest", "--duration", "2", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "exists" in err and err.count("\n") == 1 and out.read_bytes() == before
+    assert main(["flighttest", "--duration", "2", "--seed", "4", "--out", str(out),
+                 "--force"]) == 0
+    assert out.read_bytes() != before
+
+
+@pytest.mark.parametrize("argv, text", [
+    (["--add", "glauert"], "--truth linear"),
+    (["--model", "basic"], "--truth linear"),
+    (["--set", "tau_cs"], "NAME=VALUE"),
+    (["--set", "k01=1"], "takes lambda_beta2"),
+    (["--truth", "linear", "--set", "k01=1"], "k01"),
+    (["--truth", "linear", "--add", "nonsense"], "unknown effect"),
+    (["--dt", "-1"], "dt"),
+    (["--blades", "2"], "n_blades"),
+    (["--truth", "linear", "--blades", "3"], "nonlinear only"),
+])
+def test_user_errors_exit_2_with_one_line(tmp_path, capsys, argv, text):
+    out = tmp_path / "x.csv"
+    assert main(["flighttest", "--duration", "1", *argv, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert text in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_linear_truth_with_added_effect(tmp_path, capsys):
+    out = tmp_path / "lin.csv"
+    rc = main(["flighttest", "--truth", "linear", "--model", "basic", "--add",
+               "time-delay", "--set", "delay=0.05", "--input", "3211", "--duration", "4",
+               "--out", str(out), "--json"])
+    assert rc == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["structure"] == "basic+time-delay" and doc["parameters"]["delay"] == 0.05
+    rec = read_record(out)
+    d = rec["theta1s"] - find_trim(rec).values["theta1s"]
+    assert np.isclose(d.max(), np.radians(1.0)) and rec.t[-1] == pytest.approx(3.99)
