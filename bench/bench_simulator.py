@@ -119,15 +119,17 @@ def _best(fn, number, repeat=7):
 
 
 def main():
+    import os
     import platform
 
     import control
     import scipy
     cpu = next((ln.split(":", 1)[1].strip() for ln in open("/proc/cpuinfo")
                 if ln.startswith("model name")), platform.processor())
-    import os
     print(f"machine: {os.cpu_count()} CPUs, {cpu}; Python {platform.python_version()}, "
           f"numpy {np.__version__}, scipy {scipy.__version__}, control {control.__version__}")
+    print(f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', '(unset)')}; "
+          f"load average {os.getloadavg()[0]:.2f}")
     print("timings: best of 7 repeats (timeit), per call\n")
     for structure, extra in (("glauert", {}), ("glauert+time-delay", {"delay": 0.0345})):
         sim = glauert_simulator(structure, **extra)
