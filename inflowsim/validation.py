@@ -157,9 +157,10 @@ class ValidationResult:
         return {
             "structure": self.structure,
             "record": self.source,
-            "channels": {c: {"rms": f.rms, "tic": f.tic, "fit_percent": f.fit_percent,
-                             "magnitude_rms_db": self.magnitude_rms_db[c],
-                             "phase_rms_deg": self.phase_rms_deg[c]}
+            "channels": {c: {"rms": _num(f.rms), "tic": _num(f.tic),
+                             "fit_percent": _num(f.fit_percent),
+                             "magnitude_rms_db": _num(self.magnitude_rms_db[c]),
+                             "phase_rms_deg": _num(self.phase_rms_deg[c])}
                          for c, f in self.channels.items()},
             "band_hz": list(self.band_hz),
             "n_frequencies": int(self.frequency.f_hz.size),
@@ -168,6 +169,11 @@ class ValidationResult:
                      "values": {c: self.trim.values[c]
                                 for c in (*self.inputs, *FLAP_COLUMNS)}},
         }
+
+
+def _num(x):
+    """JSON has no NaN: an undefined figure is ``null``."""
+    return float(x) if np.isfinite(x) else None
 
 
 def fit_metrics(measured, predicted) -> ChannelFit:

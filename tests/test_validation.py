@@ -125,3 +125,25 @@ def test_band_beyond_record(clean):
         validate(clean, m, band_hz=(0.005, 0.05))
     with pytest.raises(InputError):
         validate(clean, m, band_hz=(1.0, 0.5))
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+from hypothesis.extra.numpy import arrays  # noqa: E402
+
+_sig = arrays(np.float64, 16, elements=st.floats(-1e3, 1e3, allow_subnormal=False))
+
+
+@settings(max_examples=60, deadline=None)
+@given(_sig, _sig)
+def test_fit_metric_bounds(z, y):
+    f = fit_metrics(z, y)
+    assert f.rms >= 0
+    assert f.rms == pytest.approx(np.sqrt(np.mean((z - y) ** 2)))
+    if np.any(z) or np.any(y):
+        assert -1e-12 <= f.tic <= 1 + 1e-12          # triangle inequality
+        assert f.tic == pytest.approx(fit_metrics(y, z).tic)
+    if np.ptp(z) > 0:
+        assert f.fit_percent <= 100.0 + 1e-9
+        # predicting the mean of z scores exactly 0 %
+        assert fit_metrics(z, np.full_like(z, z.mean())).fit_percent == pytest.approx(
+            0.0, abs=1e-9)
