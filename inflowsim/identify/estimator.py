@@ -1,0 +1,455 @@
+"""Frequency-domain output-error estimation, Eqs. (10)-(12) (``model.md`` section 7).
+
+Cost (12): ``J = sum_w [eps^H S^-1 eps + ln|S|]`` over the band, ``eps`` the measured
+minus predicted flap transforms (three channels; the inflow states are not
+measured), summed over records.  ``S`` (3x3 Hermitian, one per record: records may
+differ in length, transform scaling and noise) is estimated with the parameters
+by relaxation: for fixed parameters ``S = mean eps eps^H``; for fixed ``S`` a
+Levenberg-Marquardt search on the ``S^-1/2``-weighted residuals; repeated until
+``J`` settles.  End effects are eliminated inside every evaluation
+(:mod:`.freqmodel`, :mod:`.problem`).
+
+Starting points: a user ``start`` where given, the theory values
+(:func:`inflowsim.presets.theory_parameters`), the paper's table for the matching
+preset, and theory with slow inflow (time constants 20 azimuth rad: from the
+apparent-mass values the search can fall into a quasi-static local minimum).
+Each start gets one short relaxation round (10 LM iterations); the lowest cost
+continues to convergence; every start's cost is reported (``FitResult.starts``).
+
+Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
+``cov = M^-1`` with ``M = 2 Re sum_w G^H S^-1 G`` (``G = d eps / d theta``; the 2
+because a circular complex residual of covariance ``S`` carries the information
+of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
+projection (the Schur complement of the joint information).  A second bound
+corrects for residuals correlated across frequency (Morelli and Klein's
+residual-correlation sandwich ``M^-1 V M^-1``, ``V = 2 Re sum_{k,l} G_k^H R(k-l) G_l``
+with ``R`` the residuals' sample correlation over the frequency index).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import build_model
+from ..presets import preset_parameters, theory_parameters
+from ..structure import Structure
+from .problem import Problem, unstack
+from .results import FitResult, RecordFit, channel_fit
+from .transform import DEFAULT_BAND, as_record, record_spectra
+
+#: A correlation this close to 1 is reported.
+CORRELATION_LIMIT = 0.98
+#: Relative eigenvalue of the scaled information matrix below which a direction
+#: is "not determined".
+RANK_TOL = 1e-9
+
+
+@dataclass
+class _State:
+    theta: np.ndarray
+    resp: list
+    nus: list
+    bases: list
+    r: list
+    S: list
+    weights: list
+
+    @property
+    def rr(self) -> float:
+        return float(sum(x @ x for x in self.r))
+
+
+def _state(prob, theta, S):
+    weights = [Problem.weight(s) for s in S]
+    resp = prob.responses(theta)
+    sol = prob.solve_nuisance(resp, weights)
+    return _State(theta, resp, [s[0] for s in sol], [s[1] for s in sol],
+                  [s[2] for s in sol], list(S), weights)
+
+
+def _relax_S(prob, theta, S=None, rounds=4):
+    """Nuisance and ``S`` for fixed parameters (a few alternations)."""
+    if S is None:
+        S = [np.eye(3) for _ in prob.spectra]
+    st = _state(prob, theta, S)
+    for _ in range(rounds):
+        S = prob.estimate_S(prob.eps(st.resp, st.nus))
+        st = _state(prob, theta, S)
+    return st
+
+
+def _lm(prob, st, max_iter, report=None):
+    """Levenberg-Marquardt on ``|r|^2`` with ``S`` fixed.  Returns
+    ``(state, iterations, converged)``.
+
+    Positive parameters (:meth:`Problem.log_mask`) step in ``log``; the others are
+    clipped to their ranges.  A step that makes the model invalid is rejected
+    like one that raises the cost.
+    """
+    lo, hi = prob.bounds()
+    logm = prob.log_mask()
+    lam = 1e-3
+    c = st.rr
+    for it in range(1, max_iter + 1):
+        J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases))
+        J = J * np.where(logm, st.theta, 1.0)          # d r / d log(theta)
+        r = np.concatenate(st.r)
+        g = J.T @ r
+        H = J.T @ J
+        d = np.diag(H).copy()
+        dmax = max(d.max(), 1e-300)
+        d = np.where(d > 1e-12 * dmax, d, dmax * 1e-12)
+        accepted = False
+        while lam < 1e12:
+            try:
+                delta = np.linalg.solve(H + lam * np.diag(d), -g)
+            except np.linalg.LinAlgError:
+                lam *= 10
+                continue
+            step = np.where(logm, 0.0, delta)
+            grow = np.exp(np.clip(np.where(logm, delta, 0.0), -5, 5))
+            tn = np.clip(np.where(logm, st.theta * grow, st.theta + step), lo, hi)
+            try:
+                sn = _state(prob, tn, st.S)
+            except InputError:            # outside a parameter's range / unstable build
+                lam *= 10
+                continue
+            cn = sn.rr
+            if cn < c:
+                accepted = True
+                break
+            lam *= 10
+        if not accepted:
+            return st, it, True          # no descent left: at a minimum to precision
+        small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
+        small_drop = (c - cn) <= 1e-9 * c
+        st, c = sn, cn
+        lam = max(lam / 10, 1e-9)
+        if report:
+            report(it, c)
+        if small_step or small_drop:
+            return st, it, True
+    return st, max_iter, False
+
+
+def _fit(prob, theta, max_outer=30, max_inner=60, report=None):
+    """Relaxation: ``S`` from the residuals, then LM for the parameters, repeated
+    until the cost (12) changes by less than ``1e-6`` per frequency."""
+    st = _relax_S(prob, theta, rounds=1)
+    j_old = prob.cost(st.r, st.S)
+    total, converged = 0, False
+    for outer in range(max_outer):
+        st, it, ok = _lm(prob, st, max_inner, report)
+        total += it
+        S = prob.estimate_S(prob.eps(st.resp, st.nus))
+        st = _state(prob, st.theta, S)
+        j = prob.cost(st.r, st.S)
+        if ok and abs(j_old - j) <= 1e-6 * max(1.0, prob.n_freq):
+            converged = True
+            break
+        j_old = j
+    return st, prob.cost(st.r, st.S), total, converged
+
+
+# -- bounds and failure modes ---------------------------------------------------------
+def _information(prob, st):
+    blocks = prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=True)
+    J = np.vstack(blocks)
+    return 2.0 * J.T @ J, blocks
+
+
+def _colored(prob, st, blocks, cov):
+    """Morelli-Klein sandwich for residuals correlated across frequency.
+
+    ``R(j)`` is the weighted residuals' sample correlation at lag ``j`` of the
+    frequency index, tapered (Bartlett) and truncated at ``|j| <= L``,
+    ``L = ceil(nf^(1/3))``: at the optimum the residuals are orthogonal to the
+    sensitivities, so summing every lag of the sample correlation would cancel
+    the very term being estimated.
+    """
+    V = np.zeros_like(cov)
+    for sp, blk, r in zip(prob.spectra, blocks, st.r):
+        nf = sp.f_hz.size
+        lmax = int(np.ceil(nf ** (1 / 3)))
+        h = blk.shape[0] // 2
+        G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
+        e = unstack(r, nf)
+        for j in range(-lmax, lmax + 1):
+            k = np.arange(max(j, 0), nf + min(j, 0))
+            R = (e[k].T @ e[k - j].conj()) / nf * (1 - abs(j) / (lmax + 1))
+            V += 2.0 * np.real(np.einsum("kip,ij,kjq->pq", G[k].conj(), R, G[k - j]))
+    return cov @ V @ cov
+
+
+def _bounds(prob, st):
+    """Covariance (determined directions), undetermined parameter indices."""
+    M, blocks = _information(prob, st)
+    p = M.shape[0]
+    dg = np.diag(M).copy()
+    scale = np.sqrt(np.where(dg > 0, dg, 1.0))
+    Mn = M / np.outer(scale, scale)
+    w, v = np.linalg.eigh(Mn)
+    dead = set(np.flatnonzero(dg <= 1e-14 * max(dg.max(), 1e-300)).tolist())
+    null_dirs = [v[:, i] for i in range(p) if w[i] < RANK_TOL * max(w.max(), 1e-300)]
+    for vec in null_dirs:
+        dead.update(np.flatnonzero(np.abs(vec) > 0.3).tolist())
+    ok = np.array([i for i in range(p) if i not in dead], dtype=int)
+    cov = np.full((p, p), np.nan)
+    cov_c = np.full((p, p), np.nan)
+    if ok.size:
+        # S is estimated from residuals that lost the fitted degrees of freedom
+        # (parameters and end-effect states): scale the bounds back up
+        n_data = sum(b.shape[0] for b in blocks)
+        lost = ok.size + sum(Q.shape[1] for Q in st.bases)
+        dof = n_data / max(n_data - lost, 1)
+        sub = np.linalg.inv(M[np.ix_(ok, ok)])
+        cov[np.ix_(ok, ok)] = sub * dof
+        blocks_ok = [b[:, ok] for b in blocks]
+        cov_c[np.ix_(ok, ok)] = _colored(prob, st, blocks_ok, sub) * dof
+    return cov, cov_c, sorted(dead), len(null_dirs)
+
+
+def _excitation_hint(prob):
+    quiet = []
+    for name in prob.structure.inputs:
+        idx = prob.structure.inputs.index(name)
+        if all(np.max(np.abs(sp.U[:, idx])) == 0 for sp in prob.spectra):
+            quiet.append(name)
+    return (f"; the records do not excite {', '.join(quiet)} in the band" if quiet else "")
+
+
+def _warnings(prob, theta, cov, dead, n_null, converged, iterations):
+    names = prob.free_names
+    out = []
+    if not converged:
+        out.append(f"not converged after {iterations} iterations: try a start closer to "
+                   "the answer (start=...), fit a simpler structure first, or fix the "
+                   "poorly determined parameters")
+    if dead:
+        dn = ", ".join(names[i] for i in dead)
+        out.append(f"not determined by the data: {dn} (information matrix rank "
+                   f"{len(names) - n_null} of {len(names)}): fix them (--fix NAME) or tie "
+                   "them, widen the band, or add excitation" + _excitation_hint(prob))
+    sig = np.sqrt(np.diag(cov))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(sig, sig)
+    p = len(names)
+    for i in range(p):
+        for j in range(i + 1, p):
+            if np.isfinite(corr[i, j]) and abs(corr[i, j]) > CORRELATION_LIMIT:
+                out.append(f"{names[i]} and {names[j]} are correlated ({corr[i, j]:+.3f}): "
+                           "the data barely separate them; fix or tie one, or add "
+                           "excitation that moves them differently")
+    poor = [names[i] for i in range(p) if np.isfinite(sig[i]) and theta[i] != 0
+            and sig[i] > abs(theta[i])]
+    if poor:
+        out.append(f"poorly determined (1-sigma bound larger than the estimate): "
+                   f"{', '.join(poor)}")
+    lo, hi = prob.bounds()
+    for i in range(p):
+        at_lo = np.isfinite(lo[i]) and theta[i] <= lo[i] + 1e-12 * max(1.0, abs(lo[i]))
+        if at_lo or (np.isfinite(hi[i]) and theta[i] >= hi[i]):
+            out.append(f"{names[i]} = {theta[i]:g} is at the limit of its range: the data "
+                       "push it beyond; the structure may lack an effect")
+    return out, corr
+
+
+# -- public API -----------------------------------------------------------------------
+def _records(records):
+    if isinstance(records, (str, bytes)) or not hasattr(records, "__iter__"):
+        records = [records]
+    records = [as_record(r) for r in records]
+    if not records:
+        raise InputError("identify: give at least one record")
+    return records
+
+
+def _spectra(records, structure, band_hz, grid_hz):
+    if band_hz is None:
+        band_hz = DEFAULT_BAND
+    return [record_spectra(r, structure.inputs, band_hz, grid_hz) for r in records]
+
+
+def _band(spectra):
+    return (min(sp.band_hz[0] for sp in spectra), max(sp.band_hz[1] for sp in spectra))
+
+
+def _check_names(structure, names, what):
+    for n in names:
+        if n not in structure.parameters:
+            raise InputError(f"{what}: {n} is not a parameter of {structure.name} "
+                             f"(its parameters: {', '.join(structure.parameters)})")
+
+
+def _starts(structure, constants, start):
+    theory = theory_parameters(structure, constants)
+    cands = []
+    if start:
+        cands.append(("start", {**theory, **start}))
+    cands.append(("theory", dict(theory)))
+    try:
+        paper = preset_parameters(structure, constants, "paper")
+        cands.append(("paper", paper))
+    except (ValueError, KeyError):
+        pass
+    # identified inflow is often much slower than the apparent-mass theory
+    # (Tables 1-3: 16-32 azimuth rad): a slow-inflow start guards against the
+    # quasi-static local minimum
+    slow = {n: 20.0 for n in ("tau", "tau0", "tau_cs") if n in theory}
+    cands.append(("theory, slow inflow", {**theory, **slow, **(start or {})}))
+    uniq = []
+    for label, vals in cands:
+        if not any(all(np.isclose(vals[n], u[n], rtol=1e-12, atol=0) for n in vals)
+                   for _, u in uniq):
+            uniq.append((label, vals))
+    return uniq
+
+
+def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, ties=None,
+             progress=None, grid_hz=None, multistart=True) -> FitResult:
+    """Estimate a structure's parameters from flight records (Eqs. 10-12).
+
+    Parameters
+    ----------
+    records : Record, path, or a sequence of them
+        Fitted together (joint cost; each record keeps its own constants, step and
+        residual covariance ``S``).
+    structure : str or Structure
+        E.g. ``"glauert"``, ``"empirical+time-delay"``.
+    band_hz : (float, float)
+        Band [Hz]; snaps to each record's grid ``k / (N dt)``.  Default: the
+        paper's 0.2256-1.58 Hz.
+    start : dict, optional
+        Starting values (any subset; the rest from theory).
+    fixed : dict, optional
+        ``{name: value}`` held fixed; a value ``None`` fixes it at the user's
+        ``start`` value, or else at its theory value.
+    ties : sequence of tuples, optional
+        ``[("tau0", "tau_cs")]``: one estimated value for several parameters.
+    progress : callable, optional
+        Called with one-line progress messages.
+    grid_hz : array_like, optional
+        Chosen frequencies [Hz] instead of the record's grid (direct DFT, inside
+        ``band_hz``).  The transform relation stays exact (:mod:`.freqmodel`); the
+        bounds then assume independent residuals across frequency, which holds only
+        approximately off the record's grid (neighbouring frequencies closer than
+        ``1/duration`` are correlated: see ``sigma_colored``).
+    multistart : bool
+        Try the theory, paper and user starts and keep the lowest cost (default);
+        otherwise only the first of them.
+
+    Returns
+    -------
+    FitResult
+    """
+    s = Structure.parse(structure)
+    recs = _records(records)
+    spectra = _spectra(recs, s, band_hz, grid_hz)
+    start = dict(start or {})
+    fixed = dict(fixed or {})
+    ties = [tuple(t) for t in (ties or [])]
+    _check_names(s, start, "start")
+    _check_names(s, fixed, "fixed")
+    say = progress or (lambda msg: None)
+    theory = theory_parameters(s, spectra[0].constants)
+    fixed = {n: float(start.get(n, theory[n]) if v is None else v) for n, v in fixed.items()}
+    starts = _starts(s, spectra[0].constants, start)
+    if not multistart:
+        starts = starts[:1]
+    # every start gets a short run (one relaxation round); the best continues
+    trials = []
+    for label, vals in starts:
+        vals = dict(vals)
+        vals.update(fixed)
+        prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
+        if not prob.free:
+            raise InputError("identify: every parameter is fixed; nothing to estimate")
+        try:
+            build_model(s, prob.params(prob.theta0()), spectra[0].constants)
+        except InputError as exc:
+            raise InputError(f"start values ({label}): {exc}") from None
+        say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
+            f"{prob.n_freq} frequencies")
+        st, j, iters, _ = _fit(prob, prob.theta0(), max_outer=1, max_inner=10)
+        say(f"  start {label}: cost {j:.6f} after {iters} iterations")
+        trials.append((j, label, prob, st, iters))
+    j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
+    say(f"  continuing from start {label}")
+    st, j, iters, conv = _fit(prob, st.theta,
+                              report=lambda i, c: say(f"  iteration {i}: |r|^2 {c:.6g}"))
+    say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
+    return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
+
+
+def _result(prob, st, j, iters, conv, starts):
+    theta = st.theta
+    cov, cov_c, dead, n_null = _bounds(prob, st)
+    warns, corr = _warnings(prob, theta, cov, dead, n_null, conv, iters)
+    params = prob.params(theta)
+    sigma, sigma_c = {}, {}
+    for i, g in enumerate(prob.free):
+        sd = float(np.sqrt(cov[i, i])) if np.isfinite(cov[i, i]) else None
+        sc = float(np.sqrt(cov_c[i, i])) if np.isfinite(cov_c[i, i]) else None
+        for n in g:
+            sigma[n], sigma_c[n] = sd, sc
+    data = []
+    for sp, (y_u, y_nu), nu, S in zip(prob.spectra, st.resp, st.nus, st.S):
+        n = y_nu.shape[2] // 2
+        data.append(RecordFit(sp.source, sp.constants, sp.dt, sp.f_hz, sp.Z,
+                              y_u + y_nu @ nu, nu[:n], S, sp.trim, sp.trim_method,
+                              sp.u_time, sp.z_time))
+    Zall = np.vstack([d.Z for d in data])
+    Yall = np.vstack([d.Y for d in data])
+    model = build_model(prob.structure, params, prob.spectra[0].constants)
+    return FitResult(
+        structure=prob.structure, constants=tuple(sp.constants for sp in prob.spectra),
+        parameters=params, sigma=sigma, sigma_colored=sigma_c, free=prob.free_names,
+        correlation=corr, fixed=prob.fixed,
+        ties=tuple(g for g in prob.free if len(g) > 1), cost=float(j), S=tuple(st.S),
+        band_hz=_band(prob.spectra), n_freq=prob.n_freq,
+        records=tuple(sp.source for sp in prob.spectra), fit=channel_fit(Zall, Yall),
+        iterations=iters, converged=conv, warnings=tuple(warns), model=model,
+        data=tuple(data), starts=starts)
+
+
+@dataclass(frozen=True, eq=False)
+class Evaluation:
+    """Cost and residual spectra of a structure with given parameters.
+
+    ``residuals[r]`` is ``(nf, 3)`` complex (measured minus predicted flap transform,
+    end effects eliminated) at ``f_hz[r]``; ``S[r]`` the estimated covariance.
+    """
+
+    cost: float
+    residuals: tuple
+    f_hz: tuple
+    S: tuple
+    Z: tuple
+    Y: tuple
+    band_hz: tuple
+    n_freq: int
+    records: tuple
+    fit: dict
+
+
+def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None) -> Evaluation:
+    """Cost (12) and residual spectra for fixed parameters (no estimation).
+
+    ``S`` and the end-effect nuisance are still estimated (they are not model
+    parameters), so the cost is the one :func:`identify` minimises and costs of
+    nested structures on the same records and band compare as log-likelihoods.
+    """
+    s = Structure.parse(structure)
+    recs = _records(records)
+    spectra = _spectra(recs, s, band_hz, grid_hz)
+    prob = Problem(s, spectra, dict(params), fixed=tuple(s.parameters))
+    st = _relax_S(prob, np.zeros(0), rounds=4)
+    eps = prob.eps(st.resp, st.nus)
+    Y = tuple(sp.Z - e for sp, e in zip(spectra, eps))
+    return Evaluation(cost=prob.cost(st.r, st.S), residuals=tuple(eps),
+                      f_hz=tuple(sp.f_hz for sp in spectra), S=tuple(st.S),
+                      Z=tuple(sp.Z for sp in spectra), Y=Y, band_hz=_band(spectra),
+                      n_freq=prob.n_freq, records=tuple(sp.source for sp in spectra),
+                      fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)))

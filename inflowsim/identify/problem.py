@@ -1,0 +1,203 @@
+"""The fit problem: free-parameter vector, weighted residuals, nuisance elimination.
+
+Residuals of record ``r`` at frequency ``w``: ``eps = Z - (y_u + y_nu nu)``
+(:mod:`.freqmodel`), weighted by ``S^-1/2`` (``S = L L^H``, ``e = L^-1 eps``) and
+stacked as real numbers ``[Re e; Im e]`` so that ``|r|^2 = sum eps^H S^-1 eps``.
+The end-effect nuisance ``nu`` (real) is the weighted linear least-squares
+solution for the current parameters (variable projection); the residual is the
+part of the data orthogonal to the nuisance columns.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import build_model
+from ..params import SPECS
+from ..structure import Structure
+from .freqmodel import flap_response
+
+#: Typical magnitudes (finite-difference step scale and LM scaling floor).
+TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
+#: Relative floor on S (noise-free data would drive ln|S| to minus infinity).
+S_FLOOR = 1e-14
+
+
+class Problem:
+    """Structure, records and the free / fixed / tied parameter map.
+
+    ``theta`` (free values) -> full parameter dict: each free entry sets one
+    parameter or one tie group; fixed parameters keep their values.
+    """
+
+    def __init__(self, structure, spectra, values: dict, fixed=(), ties=()):
+        self.structure = Structure.parse(structure)
+        self.spectra = list(spectra)
+        names = self.structure.parameters
+        self.values = {n: float(values[n]) for n in names}
+        self.fixed = tuple(fixed)
+        groups, seen = [], set()
+        for tie in ties:
+            tie = tuple(tie)
+            if len(tie) < 2:
+                raise InputError(f"tie {tie}: name at least two parameters")
+            for n in tie:
+                if n not in names:
+                    raise InputError(f"tie: {n} is not a parameter of {self.structure.name} "
+                                     f"(its parameters: {', '.join(names)})")
+                if n in seen:
+                    raise InputError(f"tie: {n} appears in two ties; merge them")
+                if n in self.fixed:
+                    raise InputError(f"tie: {n} is also fixed; fix or tie it, not both")
+                seen.add(n)
+            groups.append(tie)
+        self.free = []          # list of tuples of parameter names
+        for n in names:
+            if n in self.fixed or n in seen and not any(g[0] == n for g in groups):
+                continue
+            self.free.append(next((g for g in groups if g[0] == n), (n,)))
+        self.free_names = tuple(g[0] if len(g) == 1 else "=".join(g) for g in self.free)
+        self.n_freq = sum(sp.f_hz.size for sp in self.spectra)
+
+    # -- parameter vector -------------------------------------------------------
+    def theta0(self) -> np.ndarray:
+        return np.array([self.values[g[0]] for g in self.free], dtype=float)
+
+    def params(self, theta) -> dict:
+        p = dict(self.values)
+        for g, v in zip(self.free, theta):
+            for n in g:
+                p[n] = float(v)
+        return p
+
+    def bounds(self):
+        lo, hi = [], []
+        for g in self.free:
+            s = SPECS[g[0]]
+            span = max(abs(s.lower), 1.0) if math.isfinite(s.lower) else 1.0
+            lo.append(s.lower + (1e-9 * span if s.lower_open else 0.0))
+            hi.append(s.upper)
+        return np.array(lo), np.array(hi)
+
+    def log_mask(self) -> np.ndarray:
+        """Free parameters searched in ``log`` (positive by definition: time
+        constants, ``lambda_beta2``, ``n_beta``), so a step can never cross zero."""
+        return np.array([SPECS[g[0]].lower == 0 and SPECS[g[0]].lower_open
+                         for g in self.free], dtype=bool)
+
+    def typical(self, theta) -> np.ndarray:
+        return np.array([max(abs(v), TYPICAL.get(g[0], 0.1))
+                         for g, v in zip(self.free, theta)])
+
+    # -- model evaluation -------------------------------------------------------
+    def responses(self, theta):
+        """Per record ``(y_u, y_nu)``; :class:`InputError` for invalid parameters."""
+        p = self.params(theta)
+        out = []
+        for sp in self.spectra:
+            m = build_model(self.structure, p, sp.constants)
+            y_u, y_nu, _ = flap_response(m, sp)
+            out.append((y_u, y_nu))
+        return out
+
+    @staticmethod
+    def weight(S):
+        """``L^-1`` with ``S = L L^H``."""
+        return np.linalg.inv(np.linalg.cholesky(S))
+
+    def solve_nuisance(self, resp, weights):
+        """Per record: nuisance ``nu``, orthonormal nuisance basis ``Q`` and the
+        projected weighted residual ``r``."""
+        out = []
+        for sp, (y_u, y_nu), W in zip(self.spectra, resp, weights):
+            b = _stack((sp.Z - y_u) @ W.T)
+            A = _stack(np.einsum("ij,fjk->fik", W, y_nu))
+            U, s, Vt = np.linalg.svd(A, full_matrices=False)
+            keep = s > s[0] * 1e-10 if s.size and s[0] > 0 else np.zeros(s.size, bool)
+            Uk, sk, Vk = U[:, keep], s[keep], Vt[keep]
+            c = Uk.T @ b
+            nu = Vk.T @ (c / sk)
+            out.append((nu, Uk, b - Uk @ c))
+        return out
+
+    def eps(self, resp, nus):
+        """Unweighted complex residuals ``(nf, 3)`` per record."""
+        return [sp.Z - y_u - y_nu @ nu for sp, (y_u, y_nu), nu in
+                zip(self.spectra, resp, nus)]
+
+    def estimate_S(self, eps):
+        out = []
+        for sp, e in zip(self.spectra, eps):
+            S = (e.T @ e.conj()) / e.shape[0]
+            power = np.real(np.trace(sp.Z.T @ sp.Z.conj())) / (3 * sp.Z.shape[0])
+            S = 0.5 * (S + S.conj().T) + S_FLOOR * power * np.eye(3)
+            out.append(S)
+        return out
+
+    def cost(self, r_list, S_list) -> float:
+        """Cost (12): ``sum_w eps^H S^-1 eps + n_freq ln|S|`` summed over records."""
+        j = 0.0
+        for sp, r, S in zip(self.spectra, r_list, S_list):
+            j += float(r @ r) + sp.f_hz.size * float(np.log(np.real(np.linalg.det(S))))
+        return j
+
+    def direct(self, theta, weights, nus):
+        """Weighted stacked residual at fixed nuisance (for the Kaufman Jacobian)."""
+        resp = self.responses(theta)
+        return [_stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
+                zip(self.spectra, resp, weights, nus)]
+
+    def jacobian(self, theta, weights, nus, bases, central=True):
+        """Sensitivities of the projected weighted residuals to ``theta``.
+
+        Central differences of the full model (discretisation, delays, end terms
+        included) with steps ``1e-6`` of each parameter's typical size, one-sided
+        at a range limit; then projected orthogonally to the nuisance columns
+        (Kaufman's variable-projection Jacobian).  Returns one block per record,
+        ``(2 nf 3, p)``.
+        """
+        lo, hi = self.bounds()
+        h = 1e-6 * self.typical(theta)
+        blocks = [np.empty((2 * 3 * sp.f_hz.size, theta.size)) for sp in self.spectra]
+        base = None
+        for i in range(theta.size):
+            tp, tm = theta.copy(), theta.copy()
+            up, dn = theta[i] + h[i] <= hi[i], theta[i] - h[i] >= lo[i]
+            if central and up and dn:
+                tp[i] += h[i]
+                tm[i] -= h[i]
+                rp, rm, step = (self.direct(tp, weights, nus),
+                                self.direct(tm, weights, nus), 2 * h[i])
+            else:
+                if base is None:
+                    base = self.direct(theta, weights, nus)
+                if up:
+                    tp[i] += h[i]
+                    rp, rm, step = self.direct(tp, weights, nus), base, h[i]
+                else:
+                    tm[i] -= h[i]
+                    rp, rm, step = base, self.direct(tm, weights, nus), h[i]
+            for blk, a, b in zip(blocks, rp, rm):
+                blk[:, i] = (a - b) / step
+        out = []
+        for blk, Q in zip(blocks, bases):
+            # the residual is data minus model: d r / d theta = -(d model)
+            out.append(blk - Q @ (Q.T @ blk))
+        return out
+
+
+def _stack(x):
+    """``(nf, 3)`` -> ``(2 nf 3,)``; ``(nf, 3, k)`` -> ``(2 nf 3, k)`` (real, imag)."""
+    x = np.asarray(x)
+    if x.ndim == 3:
+        x = x.reshape(-1, x.shape[2])
+        return np.vstack([x.real, x.imag])
+    return np.concatenate([x.real.ravel(), x.imag.ravel()])
+
+
+def unstack(r, nf):
+    """Inverse of the real stacking for one record: ``(nf, 3)`` complex."""
+    h = r.size // 2
+    return (r[:h] + 1j * r[h:]).reshape(nf, 3)

@@ -1,0 +1,167 @@
+"""Results of an identification: a small frozen :class:`FitResult` and its JSON."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from ..equations import FLAP
+from ..params import Constants
+from ..structure import Structure
+
+
+@dataclass(frozen=True, eq=False)
+class RecordFit:
+    """One record's frequency data for plotting and residual analysis.
+
+    ``Z`` measured and ``Y`` predicted flap transforms ``(nf, 3)`` (``beta0 beta1c
+    beta1s``) at ``f_hz``; ``x0`` the estimated initial state (end effects), used to
+    replay the record in time; ``S`` the record's residual covariance (3x3).
+    """
+
+    source: str
+    constants: Constants
+    dt: float
+    f_hz: np.ndarray
+    Z: np.ndarray
+    Y: np.ndarray
+    x0: np.ndarray
+    S: np.ndarray
+    trim: Mapping
+    trim_method: str
+    u_time: np.ndarray = field(repr=False)
+    z_time: np.ndarray = field(repr=False)
+
+    @property
+    def residuals(self) -> np.ndarray:
+        """``Z - Y`` ``(nf, 3)`` complex."""
+        return self.Z - self.Y
+
+
+def channel_fit(Z: np.ndarray, Y: np.ndarray) -> dict:
+    """Per flap channel: magnitude and phase errors over the band.
+
+    ``mag_rms_db`` RMS of ``20 log10(|Y|/|Z|)`` [dB]; ``phase_rms_deg`` RMS of the
+    wrapped phase of ``Y/Z`` [deg]; ``fit_percent = 100 (1 - |Z - Y| / |Z|)``
+    (norms over the band, 100 is perfect); ``residual_rms`` RMS ``|Z - Y|``.
+    """
+    out = {}
+    for i, ch in enumerate(FLAP):
+        z, y = Z[:, i], Y[:, i]
+        ok = (np.abs(z) > 0) & (np.abs(y) > 0)
+        ratio = y[ok] / z[ok]
+        nz = float(np.linalg.norm(z))
+        out[ch] = {
+            "mag_rms_db": float(np.sqrt(np.mean((20 * np.log10(np.abs(ratio))) ** 2)))
+            if ok.any() else None,
+            "phase_rms_deg": float(np.sqrt(np.mean(np.degrees(np.angle(ratio)) ** 2)))
+            if ok.any() else None,
+            "fit_percent": float(100 * (1 - np.linalg.norm(z - y) / nz)) if nz > 0 else None,
+            "residual_rms": float(np.sqrt(np.mean(np.abs(z - y) ** 2))),
+        }
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """An identified structure with its bounds and fit figures.
+
+    Attributes
+    ----------
+    structure : Structure
+    constants : tuple of Constants
+        Per record.
+    parameters : dict
+        Every parameter of the structure (estimated, fixed or tied) by name.
+    sigma : dict
+        1-sigma Cramer-Rao bound per estimated parameter (``None`` where the
+        data do not determine it); tied parameters share their bound; fixed
+        parameters are absent.
+    sigma_colored : dict
+        Bounds corrected for coloured residuals (Morelli & Klein), same keys.
+    free : tuple of str
+        Estimated quantities in ``correlation`` order (a tie group is ``a=b``).
+    correlation : ndarray ``(p, p)``
+    fixed : tuple of str
+    ties : tuple of tuples
+    cost : float
+        Cost (12) at the estimate, summed over records.
+    S : tuple of ndarray
+        Residual covariance (3x3 Hermitian) per record.
+    band_hz : (float, float)
+        Band as used (snapped to the grid).
+    n_freq : int
+        Frequencies used, summed over records.
+    records : tuple of str
+        Sources.
+    fit : dict
+        Per flap channel, pooled over records (:func:`channel_fit`).
+    iterations : int
+    converged : bool
+    warnings : tuple of str
+        One-line reports of failure modes, each with what to do.
+    model : Model
+        Built at the first record's constants.
+    data : tuple of RecordFit
+        Frequency data per record (plots, residual analysis).
+    starts : tuple
+        ``(label, cost)`` of every starting point tried.
+    """
+
+    structure: Structure
+    constants: tuple
+    parameters: dict
+    sigma: dict
+    sigma_colored: dict
+    free: tuple
+    correlation: np.ndarray
+    fixed: tuple
+    ties: tuple
+    cost: float
+    S: tuple
+    band_hz: tuple
+    n_freq: int
+    records: tuple
+    fit: dict
+    iterations: int
+    converged: bool
+    warnings: tuple
+    model: object = field(repr=False)
+    data: tuple = field(repr=False, default=())
+    starts: tuple = ()
+
+    @property
+    def residuals(self) -> list:
+        """Residual spectra ``Z - Y`` per record, ``(nf, 3)`` complex."""
+        return [d.residuals for d in self.data]
+
+    def to_json(self) -> dict:
+        """The ``interface.md`` identify document; also a parameter file."""
+        params = {}
+        for n, v in self.parameters.items():
+            entry = {"estimate": float(v), "sigma": self.sigma.get(n)}
+            if n in self.fixed:
+                entry["fixed"] = True
+            if n in self.sigma_colored:
+                entry["sigma_colored"] = self.sigma_colored[n]
+            params[n] = entry
+        consts = self.constants[0].as_dict()
+        return {
+            "structure": self.structure.name,
+            "effects": list(self.structure.effects),
+            "band_hz": [float(self.band_hz[0]), float(self.band_hz[1])],
+            "cost": float(self.cost),
+            "parameters": params,
+            "fit": self.fit,
+            "constants": consts,
+            "n_freq": int(self.n_freq),
+            "records": list(self.records),
+            "converged": bool(self.converged),
+            "iterations": int(self.iterations),
+            "warnings": list(self.warnings),
+            "correlation": {"names": list(self.free),
+                            "matrix": np.round(self.correlation, 6).tolist()},
+            "ties": [list(t) for t in self.ties],
+            "trim": [d.trim_method for d in self.data],
+        }

@@ -1,0 +1,166 @@
+"""Fourier transforms of a record's perturbations on a frequency grid.
+
+Convention (the DFT, no scaling): ``X(f) = sum_{n=0}^{N-1} x_n z^-n`` with
+``z = exp(j 2 pi f dt)``.  On the record's own grid ``f = k / (N dt)``
+(resolution ``1/duration``) this is ``numpy.fft.rfft``; any other chosen grid is
+a direct DFT at those frequencies (exact, no windowing or interpolation).
+
+Trim: the quiet lead-in mean of every channel (:func:`inflowsim.record.find_trim`)
+is subtracted before transforming, so the model sees perturbations about trim.
+The DC bin is never in a band (``f1 > 0``).  End effects (the record not starting
+and ending at rest) are not windowed away: they are modelled exactly by the
+frequency model's initial and final states (see :mod:`.freqmodel`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from ..errors import InputError, RecordError
+from ..params import Constants
+from ..record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
+
+#: The paper's band (model.md section 7), Hz.
+DEFAULT_BAND = (0.2256, 1.58)
+
+
+def snap_band(n_samples: int, dt: float, band_hz) -> tuple[np.ndarray, tuple]:
+    """Grid bins ``k`` of the band and the snapped band [Hz].
+
+    Each limit snaps to the nearest grid frequency ``k / (N dt)``; the band keeps
+    every bin between them, never the DC bin.
+
+    Returns
+    -------
+    k : ndarray of int
+    band : (float, float)
+        The snapped limits [Hz].
+    """
+    f1, f2 = (float(b) for b in band_hz)
+    df = 1.0 / (n_samples * dt)
+    k1 = max(1, int(np.floor(f1 / df + 0.5)))
+    k2 = min(n_samples // 2, int(np.floor(f2 / df + 0.5)))
+    if k2 - k1 < 2:
+        raise InputError(f"band {f1:g}-{f2:g} Hz holds fewer than 3 frequencies at the "
+                         f"record's resolution {df:.4g} Hz; widen it or use a longer record")
+    k = np.arange(k1, k2 + 1)
+    return k, (k1 * df, k2 * df)
+
+
+def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool) -> np.ndarray:
+    """``sum_n x_n exp(-j 2 pi f n dt)`` along axis 0 of ``x`` (``(N, c)``)."""
+    x = np.asarray(x, dtype=float)
+    n = x.shape[0]
+    if on_grid:
+        k = np.rint(np.asarray(f_hz) * n * dt).astype(int)
+        return np.fft.rfft(x, axis=0)[k]
+    e = np.exp(-2j * np.pi * np.outer(f_hz, np.arange(n)) * dt)
+    return e @ x
+
+
+@dataclass(frozen=True, eq=False)
+class Spectra:
+    """One record's transformed perturbations over the band.
+
+    Attributes
+    ----------
+    source : str
+    constants : Constants
+    dt : float
+        Sample step [s].
+    n_samples : int
+    f_hz : ndarray
+        Frequencies [Hz], shape ``(nf,)``.
+    on_grid : bool
+        ``f_hz`` are bins of the record's own grid ``k / (N dt)``.
+    inputs : tuple of str
+        Input names (record columns) of ``U``.
+    U : ndarray, complex ``(nf, m)``
+        Input transforms.
+    Z : ndarray, complex ``(nf, 3)``
+        Measured flap transforms ``beta0 beta1c beta1s``.
+    u_time : ndarray ``(N, m)``
+        Input perturbations in time (the exact end-effect terms need the last
+        few samples).
+    z_time : ndarray ``(N, 3)``
+        Flap perturbations in time (for the time-domain reconstruction).
+    trim : Mapping
+        Trim values subtracted [SI].
+    trim_method : str
+        How trim was found (one line).
+    """
+
+    source: str
+    constants: Constants
+    dt: float
+    n_samples: int
+    f_hz: np.ndarray
+    on_grid: bool
+    inputs: tuple
+    U: np.ndarray
+    Z: np.ndarray
+    u_time: np.ndarray
+    z_time: np.ndarray
+    trim: Mapping
+    trim_method: str
+
+    @property
+    def z(self) -> np.ndarray:
+        """``exp(j 2 pi f dt)`` per frequency."""
+        return np.exp(2j * np.pi * self.f_hz * self.dt)
+
+    @property
+    def band_hz(self) -> tuple:
+        return float(self.f_hz[0]), float(self.f_hz[-1])
+
+
+def as_record(rec) -> Record:
+    """A :class:`Record` from a record or a path."""
+    if isinstance(rec, Record):
+        return rec
+    return read_record(rec)
+
+
+def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None) -> Spectra:
+    """Transform a record's input and flap perturbations over a band.
+
+    Parameters
+    ----------
+    rec : Record or path
+    inputs : sequence of str
+        Model input names (record columns), e.g. ``Structure.inputs``.
+    band_hz : (float, float)
+        Band [Hz]; snaps to the record's grid ``k / (N dt)``.
+    grid_hz : array_like, optional
+        Chosen frequencies [Hz] instead (direct DFT); only those inside
+        ``band_hz`` are kept, ``band_hz`` is not snapped.
+    """
+    rec = as_record(rec)
+    rec.require(tuple(inputs) + FLAP_COLUMNS)
+    k_const = rec.constants
+    n, dt = len(rec), rec.dt
+    if grid_hz is None:
+        rec.check_band(band_hz)
+        k, _ = snap_band(n, dt, band_hz)
+        f = k / (n * dt)
+        on_grid = True
+    else:
+        f = np.sort(np.asarray(grid_hz, dtype=float).ravel())
+        f = f[(f >= band_hz[0]) & (f <= band_hz[1])]
+        if f.size < 3 or f[0] <= 0 or f[-1] > 0.5 / dt:
+            raise InputError(f"chosen grid: need at least 3 frequencies inside the band "
+                             f"{band_hz[0]:g}-{band_hz[1]:g} Hz, above 0 and below the "
+                             f"Nyquist frequency {0.5 / dt:g} Hz")
+        on_grid = False
+    trim = find_trim(rec)
+    u = perturbations(rec, trim, inputs)
+    y = perturbations(rec, trim, FLAP_COLUMNS)
+    U = dft(u, dt, f, on_grid)
+    Z = dft(y, dt, f, on_grid)
+    if not np.any(np.abs(Z) > 0):
+        raise RecordError(f"{rec.source}: the flap channels do not move in the band "
+                          f"{f[0]:.4g}-{f[-1]:.4g} Hz; nothing to fit")
+    return Spectra(rec.source, k_const, dt, n, f, on_grid, tuple(inputs), U, Z, u, y,
+                   trim.values, trim.describe())
