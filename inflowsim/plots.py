@@ -142,12 +142,15 @@ def error_spectrum_plot(results: Sequence, path=None, title=None):
     """Magnitude error [dB] and phase error [deg] against frequency per channel."""
     res = _as_list(results)
     fig, ax = new_figure(2, 1, size=(8.0, 5.5))
-    for r in res:
+    styles = ("-", "--", ":", "-.")
+    for k, r in enumerate(res):              # colour per channel, line style per model
         fr = r.frequency
+        ls = styles[k % len(styles)]
         for i, c in enumerate(FLAP_COLUMNS):
             lab = f"{c} ({r.structure})" if len(res) > 1 else c
-            ax[0, 0].plot(fr.f_hz, fr.magnitude_error_db[i], lw=1.2, label=lab)
-            ax[1, 0].plot(fr.f_hz, fr.phase_error_deg[i], lw=1.2, label=lab)
+            kw = dict(lw=1.2, ls=ls, color=f"C{i}", label=lab)
+            ax[0, 0].plot(fr.f_hz, fr.magnitude_error_db[i], **kw)
+            ax[1, 0].plot(fr.f_hz, fr.phase_error_deg[i], **kw)
     ax[0, 0].set_ylabel("magnitude error [dB]")
     ax[1, 0].set_ylabel("phase error [deg]")
     ax[1, 0].set_xlabel("frequency [Hz]")
