@@ -66,7 +66,7 @@ def test_small_amplitude_response_is_linear_in_the_amplitude():
         return (blade_response(test, ctrl, _fixed_hub(300))["beta_meas"]
                 - blade_response(test, 0 * ctrl, _fixed_hub(300))["beta_meas"])
     a, b = pert(np.radians(0.05)), pert(np.radians(0.1))
-    assert np.abs(b - 2 * a).max() < 0.02 * np.abs(b).max()
+    assert np.abs(b - 2 * a).max() < 1e-3 * np.abs(b).max()     # measured 8e-5
     # with the hub fixed only the Eq. (14) speed is nonlinear: measured 0.6 % at 4 deg
     big = pert(np.radians(4.0))
     assert 0.002 < np.abs(big - 80 * a).max() / np.abs(big).max() < 0.05
