@@ -194,13 +194,18 @@ def fit_metrics(measured, predicted) -> ChannelFit:
     """
     z = np.asarray(measured, dtype=float)
     y = np.asarray(predicted, dtype=float)
+    # TIC and fit are scale-free: work on scaled signals so squares never underflow
+    scale = float(max(np.max(np.abs(z), initial=0.0), np.max(np.abs(y), initial=0.0)))
+    if scale == 0.0:
+        return ChannelFit(0.0, float("nan"), float("nan"))
+    z, y = z / scale, y / scale
     e = z - y
     rms = float(np.sqrt(np.mean(e**2)))
     den = float(np.sqrt(np.mean(y**2)) + np.sqrt(np.mean(z**2)))
-    tic = rms / den if den > 0 else float("nan")
+    tic = rms / den
     spread = float(np.linalg.norm(z - np.mean(z)))
     fit = 100.0 * (1.0 - float(np.linalg.norm(e)) / spread) if spread > 0 else float("nan")
-    return ChannelFit(rms, tic, fit)
+    return ChannelFit(rms * scale, tic, fit)
 
 
 def dft_bins(record: Record, band_hz=None) -> np.ndarray:
