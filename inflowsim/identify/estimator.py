@@ -5,15 +5,15 @@ minus predicted flap transforms (three channels; the inflow states are not
 measured), summed over records.  ``S`` (3x3 Hermitian, one per record: records may
 differ in length, transform scaling and noise) is estimated with the parameters
 by relaxation: for fixed parameters ``S = mean eps eps^H``; for fixed ``S`` a
-Levenberg-Marquardt search on the ``S^-1/2``-weighted residuals; repeated until
-``J`` settles.  End effects are eliminated inside every evaluation
+Levenberg-Marquardt step on the ``S^-1/2``-weighted residuals; ``S`` is re-estimated
+after every accepted step (:func:`_lm`).  End effects are eliminated inside every evaluation
 (:mod:`.freqmodel`, :mod:`.problem`).
 
 Starting points: a user ``start`` where given, the theory values
 (:func:`inflowsim.presets.theory_parameters`), the paper's table for the matching
 preset, and theory with slow inflow (time constants 20 azimuth rad: from the
 apparent-mass values the search can fall into a quasi-static local minimum).
-Each start gets one short relaxation round (10 LM iterations); the lowest cost
+Each start gets a short run (10 iterations); the lowest cost
 continues to convergence; every start's cost is reported (``FitResult.starts``).
 
 Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
@@ -80,18 +80,37 @@ def _relax_S(prob, theta, S=None, rounds=4):
     return st
 
 
-def _lm(prob, st, max_iter, report=None):
-    """Levenberg-Marquardt on ``|r|^2`` with ``S`` fixed.  Returns
-    ``(state, iterations, converged)``.
+def _reweighted(prob, st):
+    """The state with ``S`` re-estimated from its own residuals (relaxation step)."""
+    S = prob.estimate_S(prob.eps(st.resp, st.nus))
+    return _state(prob, st.theta, S)
 
-    Positive parameters (:meth:`Problem.log_mask`) step in ``log``; the others are
-    clipped to their ranges.  A step that makes the model invalid is rejected
-    like one that raises the cost.
+
+def _concentrated(prob, st):
+    """Cost (12) with ``S`` at its optimum for these residuals: ``sum n_f ln|S|``
+    (plus the constant ``3 n_f``)."""
+    S = prob.estimate_S(prob.eps(st.resp, st.nus))
+    return 3 * prob.n_freq + sum(sp.f_hz.size * float(np.log(np.real(np.linalg.det(x))))
+                                 for sp, x in zip(prob.spectra, S))
+
+
+def _lm(prob, st, max_iter, report=None):
+    """Levenberg-Marquardt on the cost (12) with ``S`` relaxed at every step.
+
+    For fixed ``S`` the step is Gauss-Newton on the ``S^-1/2``-weighted residuals;
+    a step is accepted when the cost with ``S`` re-estimated (the concentrated
+    cost ``n_f ln|S|``) falls, and ``S`` is then updated: relaxation at every
+    iteration, which keeps its speed when ``S`` and the parameters are strongly
+    coupled (model error).  Positive parameters (:meth:`Problem.log_mask`) step in
+    ``log``; the others are clipped to their ranges; a step that makes the model
+    invalid is rejected like one that raises the cost.
+    Returns ``(state, cost, iterations, converged)``.
     """
     lo, hi = prob.bounds()
     logm = prob.log_mask()
     lam = 1e-3
-    c = st.rr
+    c = _concentrated(prob, st)
+    tol = 1e-7 * max(1.0, prob.n_freq)
     for it in range(1, max_iter + 1):
         J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases))
         J = J * np.where(logm, st.theta, 1.0)          # d r / d log(theta)
@@ -116,41 +135,29 @@ def _lm(prob, st, max_iter, report=None):
             except InputError:            # outside a parameter's range / unstable build
                 lam *= 10
                 continue
-            cn = sn.rr
+            cn = _concentrated(prob, sn)
             if cn < c:
                 accepted = True
                 break
             lam *= 10
         if not accepted:
-            return st, it, True          # no descent left: at a minimum to precision
+            return st, c, it, True       # no descent left: at a minimum to precision
         small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
-        small_drop = (c - cn) <= 1e-9 * c
-        st, c = sn, cn
+        small_drop = (c - cn) <= tol
+        st, c = _reweighted(prob, sn), cn
         lam = max(lam / 10, 1e-9)
         if report:
             report(it, c)
-        if small_step or small_drop:
-            return st, it, True
-    return st, max_iter, False
+        if small_step or (small_drop and lam <= 1e-2):
+            return st, c, it, True
+    return st, c, max_iter, False
 
 
-def _fit(prob, theta, max_outer=30, max_inner=60, report=None):
-    """Relaxation: ``S`` from the residuals, then LM for the parameters, repeated
-    until the cost (12) changes by less than ``1e-6`` per frequency."""
+def _fit(prob, theta, max_iter=100, report=None):
+    """Fit from ``theta``: ``S`` from the start's residuals, then :func:`_lm`."""
     st = _relax_S(prob, theta, rounds=1)
-    j_old = prob.cost(st.r, st.S)
-    total, converged = 0, False
-    for outer in range(max_outer):
-        st, it, ok = _lm(prob, st, max_inner, report)
-        total += it
-        S = prob.estimate_S(prob.eps(st.resp, st.nus))
-        st = _state(prob, st.theta, S)
-        j = prob.cost(st.r, st.S)
-        if ok and abs(j_old - j) <= 1e-6 * max(1.0, prob.n_freq):
-            converged = True
-            break
-        j_old = j
-    return st, prob.cost(st.r, st.S), total, converged
+    st, j, it, ok = _lm(prob, st, max_iter, report)
+    return st, prob.cost(st.r, st.S), it, ok
 
 
 # -- bounds and failure modes ---------------------------------------------------------
@@ -372,13 +379,13 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
             raise InputError(f"start values ({label}): {exc}") from None
         say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
             f"{prob.n_freq} frequencies")
-        st, j, iters, _ = _fit(prob, prob.theta0(), max_outer=1, max_inner=10)
+        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=10)
         say(f"  start {label}: cost {j:.6f} after {iters} iterations")
         trials.append((j, label, prob, st, iters))
     j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
     say(f"  continuing from start {label}")
     st, j, iters, conv = _fit(prob, st.theta,
-                              report=lambda i, c: say(f"  iteration {i}: |r|^2 {c:.6g}"))
+                              report=lambda i, c: say(f"  iteration {i}: cost {c:.6f}"))
     say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
     return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
 

@@ -1,0 +1,64 @@
+"""``inflowsim bandstudy``: estimates and bounds against the lower band limit
+(the paper's Figure 6), with a plot."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ..record import read_record
+from ._common import print_json, progress
+from .identify import parse_fix, structure_of
+
+HELP = "estimates and 1-sigma bounds against the lower frequency limit (Figure 6)"
+
+
+def add_arguments(p):
+    p.add_argument("record", metavar="RECORD", help="flight-test record (CSV)")
+    p.add_argument("--model", "-m", required=True,
+                   help="structure: basic, empirical, glauert, then +effect terms")
+    p.add_argument("--add", action="append", default=[], metavar="EFFECT",
+                   help="add an effect to the structure (repeatable)")
+    p.add_argument("--upper", type=float, default=1.58, metavar="F",
+                   help="upper band limit [Hz] (default 1.58)")
+    p.add_argument("--lower", nargs="+", type=float, metavar="F",
+                   help="lower limits [Hz] (default: ten from 2/T)")
+    p.add_argument("--fix", action="append", default=[], metavar="NAME[=VALUE]",
+                   help="hold a parameter fixed")
+    p.add_argument("--out", metavar="DIR", help="write bandstudy.png and bandstudy.json")
+    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    p.add_argument("--force", action="store_true", help="overwrite existing outputs")
+
+
+def run(args) -> int:
+    import json
+
+    from ..fileio import safe_write_text
+    from ..identify import band_study
+    from ..identify.plots import band_study_plot
+    s = structure_of(args)
+    if args.out:
+        d = Path(args.out)
+        if d.exists() and not d.is_dir():
+            raise InputError(f"{d}: exists and is not a folder")
+        for n in ("bandstudy.png", "bandstudy.json"):
+            if (d / n).exists() and not args.force:
+                raise InputError(f"{d / n}: exists; choose another folder or pass --force")
+    rec = read_record(args.record)
+    study = band_study(rec, s, upper_hz=args.upper, lowers_hz=args.lower,
+                       fixed=parse_fix(args.fix), progress=progress)
+    doc = study.to_json()
+    if args.out:
+        d.mkdir(parents=True, exist_ok=True)
+        safe_write_text(d / "bandstudy.json", json.dumps(doc, indent=2) + "\n", True,
+                        (args.record,))
+        band_study_plot(study, d / "bandstudy.png")
+        progress(f"wrote {d}/bandstudy.png and bandstudy.json")
+    if args.json:
+        print_json(doc)
+    else:
+        names = list(study.estimates)
+        print("lower [Hz]  cost        " + "  ".join(f"{n:>12}" for n in names))
+        for i, f in enumerate(study.lower_hz):
+            print(f"{f:9.4f}  {study.cost[i]:10.3f}  " + "  ".join(
+                f"{study.estimates[n][i]:12.5g}" for n in names))
+    return 0

@@ -1,0 +1,74 @@
+"""Parameter tables like the paper's Tables 1-3 (Markdown and HTML)."""
+from __future__ import annotations
+
+import html
+
+from ..presets import theory_parameters
+
+
+def _fmt(v, digits=4):
+    if v is None:
+        return "n/d"
+    return f"{v:.{digits}g}"
+
+
+def table_rows(result) -> list:
+    """``[(name, estimate, sigma, sigma_colored, theory, note)]`` per parameter."""
+    theory = theory_parameters(result.structure, result.constants[0])
+    rows = []
+    for n, v in result.parameters.items():
+        note = "fixed" if n in result.fixed else next(
+            ("tied " + "=".join(t) for t in result.ties if n in t), "")
+        rows.append((n, v, result.sigma.get(n), result.sigma_colored.get(n),
+                     theory.get(n), note))
+    return rows
+
+
+def _header(result):
+    return (f"Structure `{result.structure.name}`, band {result.band_hz[0]:.4g}-"
+            f"{result.band_hz[1]:.4g} Hz ({result.n_freq} frequencies, "
+            f"{len(result.records)} record(s)), cost {result.cost:.4f}, "
+            f"{'converged' if result.converged else 'NOT converged'} in "
+            f"{result.iterations} iterations.")
+
+
+def markdown_table(result) -> str:
+    """The parameter table (estimate, 1-sigma CR bound, coloured-residual bound,
+    theory value) and the per-channel fit, in Markdown."""
+    out = [_header(result), "",
+           "| parameter | estimate | 1-sigma | 1-sigma (coloured) | theory | note |",
+           "| --- | ---: | ---: | ---: | ---: | --- |"]
+    for n, v, s, sc, th, note in table_rows(result):
+        out.append(f"| `{n}` | {_fmt(v, 5)} | {_fmt(s, 3) if n not in result.fixed else ''} "
+                   f"| {_fmt(sc, 3) if n not in result.fixed else ''} | {_fmt(th)} | {note} |")
+    out += ["", "| channel | magnitude error (RMS dB) | phase error (RMS deg) | fit % |",
+            "| --- | ---: | ---: | ---: |"]
+    for ch, f in result.fit.items():
+        out.append(f"| `{ch}` | {_fmt(f['mag_rms_db'], 3)} | {_fmt(f['phase_rms_deg'], 3)} "
+                   f"| {_fmt(f['fit_percent'], 5)} |")
+    if result.warnings:
+        out += ["", "Warnings:", ""] + [f"- {w}" for w in result.warnings]
+    return "\n".join(out) + "\n"
+
+
+def html_table(result) -> str:
+    """The same tables as a standalone HTML fragment."""
+    e = html.escape
+    out = [f"<p>{e(_header(result).replace('`', ''))}</p>", "<table>",
+           "<tr><th>parameter</th><th>estimate</th><th>1-sigma</th>"
+           "<th>1-sigma (coloured)</th><th>theory</th><th>note</th></tr>"]
+    for n, v, s, sc, th, note in table_rows(result):
+        fx = n in result.fixed
+        out.append(f"<tr><td><code>{e(n)}</code></td><td>{_fmt(v, 5)}</td>"
+                   f"<td>{'' if fx else _fmt(s, 3)}</td><td>{'' if fx else _fmt(sc, 3)}"
+                   f"</td><td>{_fmt(th)}</td><td>{e(note)}</td></tr>")
+    out += ["</table>", "<table>", "<tr><th>channel</th><th>magnitude error (RMS dB)</th>"
+            "<th>phase error (RMS deg)</th><th>fit %</th></tr>"]
+    for ch, f in result.fit.items():
+        out.append(f"<tr><td><code>{ch}</code></td><td>{_fmt(f['mag_rms_db'], 3)}</td>"
+                   f"<td>{_fmt(f['phase_rms_deg'], 3)}</td>"
+                   f"<td>{_fmt(f['fit_percent'], 5)}</td></tr>")
+    out.append("</table>")
+    if result.warnings:
+        out.append("<ul>" + "".join(f"<li>{e(w)}</li>" for w in result.warnings) + "</ul>")
+    return "\n".join(out) + "\n"
