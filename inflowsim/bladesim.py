@@ -64,7 +64,7 @@ Integration: classical RK4 in azimuth, fixed step, inputs held per step.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -398,7 +398,6 @@ class RotorTrim:
     beta_ripple: np.ndarray
     inputs: np.ndarray
     periods: int = 0
-    extra: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         names = ("beta0", "beta1c", "beta1s")

@@ -6,7 +6,7 @@ from inflowsim.bladesim import BladeRotor, RotorSpec, multiblade_derivatives
 from inflowsim.equations import assemble
 from inflowsim.errors import InputError
 from inflowsim.model import equations
-from inflowsim.multiblade import blade_angles, multiblade
+from inflowsim.multiblade import multiblade
 from inflowsim.params import PUMA
 
 U_TRIM = np.array([0.17, 0.01, -0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.249, 0.0])
