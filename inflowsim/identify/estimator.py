@@ -13,7 +13,7 @@ Starting points: a user ``start`` where given, the theory values
 (:func:`inflowsim.presets.theory_parameters`), the paper's table for the matching
 preset, and theory with slow inflow (time constants 20 azimuth rad: from the
 apparent-mass values the search can fall into a quasi-static local minimum).
-Each start gets a short run (10 iterations); the lowest cost
+Each start gets a short run (``SHORT_RUN`` = 6 iterations); the lowest cost
 continues to convergence; every start's cost is reported (``FitResult.starts``).
 
 Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
@@ -39,6 +39,8 @@ from .problem import Problem, unstack
 from .results import FitResult, RecordFit, channel_fit
 from .transform import DEFAULT_BAND, as_record, record_spectra
 
+#: Iterations given to every starting point before the best one continues.
+SHORT_RUN = 6
 #: A correlation this close to 1 is reported.
 CORRELATION_LIMIT = 0.98
 #: Relative eigenvalue of the scaled information matrix below which a direction
@@ -112,7 +114,8 @@ def _lm(prob, st, max_iter, report=None):
     c = _concentrated(prob, st)
     tol = 1e-7 * max(1.0, prob.n_freq)
     for it in range(1, max_iter + 1):
-        J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases))
+        # forward differences suffice for the search; bounds use central ones
+        J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=False))
         J = J * np.where(logm, st.theta, 1.0)          # d r / d log(theta)
         r = np.concatenate(st.r)
         g = J.T @ r
@@ -379,7 +382,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
             raise InputError(f"start values ({label}): {exc}") from None
         say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
             f"{prob.n_freq} frequencies")
-        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=10)
+        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
         say(f"  start {label}: cost {j:.6f} after {iters} iterations")
         trials.append((j, label, prob, st, iters))
     j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
