@@ -206,15 +206,18 @@ class Simulator:
         x0 = np.zeros(self.n) if x0 is None else np.asarray(x0, dtype=float)
         xs = lifted_replay(self.phi, self.gam, u, x0)
         c = self.model.c
-        y = xs @ c.T
+        # einsum's own loop: a tall-skinny BLAS product can cost 100x more when
+        # multithreaded BLAS competes for a loaded machine's cores.
+        y = np.einsum("kn,on->ko", xs, c)
         if self._delay is not None:
             for rows, mm, f, phf, gaf in self._delay[0]:
                 if f == 0.0:
                     xd = np.vstack([np.tile(x0, (mm, 1)), xs])[: len(xs)]
                 else:
-                    xf = xs @ phf.T + u @ gaf.T           # state at t_j + (1-f) dt
+                    xf = (np.einsum("kn,on->ko", xs, phf)
+                          + np.einsum("km,om->ko", u, gaf))   # state at t_j + (1-f) dt
                     xd = np.vstack([np.tile(x0, (mm + 1, 1)), xf])[: len(xs)]
-                y[:, rows] = xd @ c[rows].T
+                y[:, rows] = np.einsum("kn,on->ko", xd, c[rows])
         return y
 
     def states(self, u, x0=None) -> np.ndarray:
