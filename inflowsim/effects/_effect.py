@@ -26,8 +26,12 @@ class Effect:
     parameters : tuple of str
         Canonical names of the parameters it adds.
     theory : callable
-        ``Constants -> {name: value}``: a-priori values that make the effect neutral
-        or physical; used as starting values and for ``source="theory"``.
+        ``Constants -> {name: value}``: a-priori (physical) values; used as
+        starting values and for ``source="theory"``.
+    neutral : callable, optional
+        ``Constants -> {name: value}``: values at which the effect changes nothing,
+        so that a structure with it reproduces one without it (the nested start of
+        a candidate refit).  Default: ``theory``, where the theory value is neutral.
     equations, measurement : callable
         ``(Equations|Measurement, params, Constants) -> same``.
     removes : tuple of str
@@ -51,3 +55,7 @@ class Effect:
     uses_inplane: bool = False
     second_order: bool = False
     alternatives: tuple = ()
+    neutral: Callable[[Constants], dict] | None = None
+
+    def neutral_values(self, constants: Constants) -> dict:
+        return (self.neutral or self.theory)(constants)

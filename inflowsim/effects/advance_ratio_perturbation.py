@@ -79,6 +79,7 @@ EFFECT = Effect(
     paper="extension: the paper holds mu constant",
     parameters=("k_mu",),
     theory=lambda k: {"k_mu": 1.0},
+    neutral=lambda k: {"k_mu": 0.0},
     equations=_equations,
     uses_inplane=True,
 )

@@ -93,5 +93,6 @@ EFFECT = Effect(
     paper="extension (Pitt-Peters gain matrix)",
     parameters=("k_skew",),
     theory=lambda k: {"k_skew": theory_skew(k)},
+    neutral=lambda k: {"k_skew": 0.0},
     equations=_equations,
 )
