@@ -6,7 +6,8 @@ spread of the estimates over seeds with the mean reported 1-sigma bound (plain a
 coloured-residual corrected).  Ratio spread / mean bound near 1 means honest bounds;
 above 1 optimistic.
 
-Usage: ``python bench/montecarlo.py [--structure glauert] [--seeds 100] [--json FILE]``
+Usage: ``python bench/montecarlo.py [--structure glauert] [--seeds 100] [--coloured]
+[--json FILE]``
 """
 from __future__ import annotations
 
@@ -33,14 +34,30 @@ def truth_of(structure):
     return p
 
 
-def run(structure="glauert", seeds=100, noise=1e-4, first_seed=1000):
+def coloured(rec, noise, seed, corner_hz=0.5):
+    """The record with first-order low-pass (corner ``corner_hz``) flap noise of RMS
+    ``noise`` added: residuals whose spectrum falls across the band."""
+    from scipy.signal import lfilter
+    rng = np.random.default_rng(seed)
+    a = np.exp(-2 * np.pi * corner_hz * rec.dt)
+    cols = {}
+    for c in ("beta0", "beta1c", "beta1s"):
+        w = lfilter([1 - a], [1, -a], rng.standard_normal(len(rec) + 2000))[2000:]
+        cols[c] = rec[c] + noise * w / np.std(w)
+    return rec.with_channels(**cols)
+
+
+def run(structure="glauert", seeds=100, noise=1e-4, first_seed=1000, colour=False):
     truth = truth_of(structure)
     est, sig, sigc, conv = [], [], [], 0
     t0 = time.perf_counter()
     for k in range(seeds):
         rec = virtual_record(VirtualTest(structure=structure, parameters=truth,
-                                         manoeuvres=MANOEUVRES, noise_flap=noise,
+                                         manoeuvres=MANOEUVRES,
+                                         noise_flap=0.0 if colour else noise,
                                          seed=first_seed + k))
+        if colour:
+            rec = coloured(rec, noise, first_seed + k)
         r = identify(rec, structure)
         names = list(r.parameters)
         est.append([r.parameters[n] for n in names])
@@ -64,12 +81,13 @@ def run(structure="glauert", seeds=100, noise=1e-4, first_seed=1000):
                 "within_3sigma": float(np.mean(np.abs(z[:, i]) <= 3))}
             for i, n in enumerate(names)}
     return {"structure": structure, "seeds": seeds, "noise_flap": noise,
+            "noise": "low-pass 0.5 Hz" if colour else "white",
             "converged": conv, "seconds": elapsed, "parameters": rows}
 
 
 def table(doc):
     lines = [f"structure {doc['structure']}, {doc['seeds']} seeds, noise "
-             f"{doc['noise_flap']:g} rad, {doc['converged']} converged, "
+             f"{doc['noise_flap']:g} rad {doc['noise']}, {doc['converged']} converged, "
              f"{doc['seconds']:.1f} s",
              "| parameter | truth | mean | spread (std) | mean CR sigma | spread/sigma "
              "| mean MK sigma | spread/MK | within 3 sigma |",
@@ -87,9 +105,11 @@ def main(argv=None):
     ap.add_argument("--structure", default="glauert")
     ap.add_argument("--seeds", type=int, default=100)
     ap.add_argument("--noise", type=float, default=1e-4)
+    ap.add_argument("--coloured", action="store_true",
+                    help="low-pass (0.5 Hz) flap noise instead of white")
     ap.add_argument("--json", metavar="FILE")
     a = ap.parse_args(argv)
-    doc = run(a.structure, a.seeds, a.noise)
+    doc = run(a.structure, a.seeds, a.noise, colour=a.coloured)
     print(table(doc))
     if a.json:
         with open(a.json, "w", encoding="utf-8") as f:

@@ -21,9 +21,9 @@ Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
 because a circular complex residual of covariance ``S`` carries the information
 of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
 projection (the Schur complement of the joint information).  A second bound
-corrects for residuals correlated across frequency (Morelli and Klein's
-residual-correlation sandwich ``M^-1 V M^-1``, ``V = 2 Re sum_{k,l} G_k^H R(k-l) G_l``
-with ``R`` the residuals' sample correlation over the frequency index).
+(``sigma_colored``) corrects for coloured residuals, after Morelli and Klein: the
+sandwich ``M^-1 V M^-1`` with ``V`` from the residuals' local spectrum and their
+correlation across neighbouring frequencies (:func:`_colored`).
 """
 from __future__ import annotations
 
@@ -41,6 +41,8 @@ from .transform import DEFAULT_BAND, as_record, record_spectra
 
 #: Iterations given to every starting point before the best one continues.
 SHORT_RUN = 6
+#: Half-width (frequencies) of the local residual spectrum in the coloured bound.
+HALF_WINDOW = 3
 #: A correlation this close to 1 is reported.
 CORRELATION_LIMIT = 0.98
 #: Relative eigenvalue of the scaled information matrix below which a direction
@@ -171,13 +173,16 @@ def _information(prob, st):
 
 
 def _colored(prob, st, blocks, cov):
-    """Morelli-Klein sandwich for residuals correlated across frequency.
+    """Residual-spectrum sandwich for coloured residuals (after Morelli and Klein).
 
-    ``R(j)`` is the weighted residuals' sample correlation at lag ``j`` of the
-    frequency index, tapered (Bartlett) and truncated at ``|j| <= L``,
-    ``L = ceil(nf^(1/3))``: at the optimum the residuals are orthogonal to the
-    sensitivities, so summing every lag of the sample correlation would cancel
-    the very term being estimated.
+    ``cov_c = M^-1 V M^-1`` with ``V = 2 Re sum_k sum_j w_j G_k^H R_k(j) G_{k-j}``:
+    ``R_k(j)`` the weighted residuals' correlation at lag ``j`` of the frequency
+    index, averaged over the ``2 HALF_WINDOW + 1`` frequencies around ``k`` (a local
+    residual spectrum, so noise whose level changes across the band is followed),
+    ``w_j`` a Bartlett taper truncated at ``|j| <= L = ceil(nf^(1/3))`` (summing every
+    lag of the sample correlation would cancel the term being estimated: at the
+    optimum the residuals are orthogonal to the sensitivities).  For white
+    residuals ``V = M`` and the bound is the Cramer-Rao one.
     """
     V = np.zeros_like(cov)
     for sp, blk, r in zip(prob.spectra, blocks, st.r):
@@ -188,8 +193,14 @@ def _colored(prob, st, blocks, cov):
         e = unstack(r, nf)
         for j in range(-lmax, lmax + 1):
             k = np.arange(max(j, 0), nf + min(j, 0))
-            R = (e[k].T @ e[k - j].conj()) / nf * (1 - abs(j) / (lmax + 1))
-            V += 2.0 * np.real(np.einsum("kip,ij,kjq->pq", G[k].conj(), R, G[k - j]))
+            prod = np.einsum("ki,kj->kij", e[k], e[k - j].conj())   # e_k e_{k-j}^H
+            # local mean over a window of frequencies (cumulative sums)
+            cs = np.concatenate([np.zeros((1, 3, 3), complex), np.cumsum(prod, axis=0)])
+            lo = np.clip(np.arange(k.size) - HALF_WINDOW, 0, k.size)
+            hi = np.clip(np.arange(k.size) + HALF_WINDOW + 1, 0, k.size)
+            R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
+            w = 1 - abs(j) / (lmax + 1)
+            V += 2.0 * w * np.real(np.einsum("kip,kij,kjq->pq", G[k].conj(), R, G[k - j]))
     return cov @ V @ cov
 
 
@@ -402,6 +413,8 @@ def _result(prob, st, j, iters, conv, starts):
     for i, g in enumerate(prob.free):
         sd = float(np.sqrt(cov[i, i])) if np.isfinite(cov[i, i]) else None
         sc = float(np.sqrt(cov_c[i, i])) if np.isfinite(cov_c[i, i]) else None
+        if sc is not None and sd is not None:
+            sc = max(sc, sd)     # a correction, never below the Cramer-Rao bound
         for n in g:
             sigma[n], sigma_c[n] = sd, sc
     data = []

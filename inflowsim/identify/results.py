@@ -79,7 +79,8 @@ class FitResult:
         data do not determine it); tied parameters share their bound; fixed
         parameters are absent.
     sigma_colored : dict
-        Bounds corrected for coloured residuals (Morelli & Klein), same keys.
+        Bounds corrected for coloured residuals (residual-spectrum sandwich after
+        Morelli & Klein), never below ``sigma``; same keys.
     free : tuple of str
         Estimated quantities in ``correlation`` order (a tie group is ``a=b``).
     correlation : ndarray ``(p, p)``
