@@ -70,6 +70,9 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
     reads them).
     """
     k = test.constants
+    trim = dict(PUMA_TRIM, mux=k.mu)
+    if k.trim is None:                 # effects linearised about trim see the record's trim
+        k = k.with_trim(trim)
     params = test.parameters or preset_parameters(test.structure, k, "paper")
     model = build_model(test.structure, params, k)
     n = int(round(test.duration / test.dt))
@@ -82,7 +85,6 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
     u = np.column_stack([pert[c] for c in model.inputs])
     y = Simulator(model, test.dt).replay(u)
     rng = np.random.default_rng(test.seed)
-    trim = dict(PUMA_TRIM, mux=k.mu)
     cols = {}
     for c in INPUT_COLUMNS:
         v = trim[c] + pert[c]
