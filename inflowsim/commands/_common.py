@@ -50,3 +50,15 @@ def _default(o):
 def progress(msg):
     sys.stderr.write(msg + "\n")
     sys.stderr.flush()
+
+
+def start_values(args):
+    """``--params`` as start values for a fit of ``--model`` (names it shares)."""
+    if not getattr(args, "params", None):
+        return None
+    ps = read_parameters(args.params)
+    s = Structure.parse(args.model)
+    shared = {n: v for n, v in ps.parameters.items() if n in s.parameters}
+    if not shared:
+        raise InputError(f"{args.params}: no parameter of structure {s.name} in it")
+    return shared
