@@ -220,17 +220,21 @@ def test_validate_user_errors(capsys, tmp_path, rec_path):
 
 # -- demo -------------------------------------------------------------------------
 def test_demo_writes_report(capsys, tmp_path):
+    """The demo finds the hidden glauert truth from basic and fits to the noise floor."""
     d = tmp_path / "demo"
     code, out, _ = run(capsys, "demo", "--out", d, "--json")
     assert code == 0
     doc = json.loads(out)
-    assert set(doc["models"]) == {"basic", "glauert"}
-    # the glauert truth fits to the noise floor, the basic model does not
+    assert doc["start"] == "basic" and doc["final"] == "glauert"
+    assert set(doc["missing_effects_found"]) == {"glauert", "azimuth-bias",
+                                                 "separate-time-constants"}
+    costs = [r["cost"] for r in doc["ladder"]]
+    assert costs == sorted(costs, reverse=True)           # the error falls rung by rung
     for c in FLAP_COLUMNS:
-        assert doc["models"]["glauert"][c]["rms"] < 1.3e-4
-        assert doc["models"]["basic"][c]["rms"] > doc["models"]["glauert"][c]["rms"]
-    assert (d / "index.html").exists() and read_record(d / "record.csv").dt == 0.01
-    assert run(capsys, "demo", "--out", d)[0] == 0       # rerun replaces its own files
+        assert doc["validation"]["final"][c]["rms"] < 1.3e-4     # noise is 1e-4 rad
+        assert doc["validation"]["start"][c]["rms"] > doc["validation"]["final"][c]["rms"]
+    assert (d / "index.html").exists() and (d / "ladder.png").exists()
+    assert read_record(d / "record.csv").dt == 0.01
 
 
 # -- the installed script -----------------------------------------------------------

@@ -104,6 +104,8 @@ def run_demo(out_dir, seed=0, say=None):
                            "fit_percent": {c: v["fit_percent"] for c, v in r.fit.fit.items()}}
                           for r in lad.rungs],
                "final": last.structure.name,
+               "validation": {"start": v_first.to_json()["channels"],
+                              "final": v_last.to_json()["channels"]},
                "missing_effects_found": [r.added for r in lad.rungs if r.added]}
     return path, summary, lad
 
