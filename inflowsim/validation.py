@@ -203,9 +203,19 @@ def fit_metrics(measured, predicted) -> ChannelFit:
     rms = float(np.sqrt(np.mean(e**2)))
     den = float(np.sqrt(np.mean(y**2)) + np.sqrt(np.mean(z**2)))
     tic = rms / den
-    spread = float(np.linalg.norm(z - np.mean(z)))
-    fit = 100.0 * (1.0 - float(np.linalg.norm(e)) / spread) if spread > 0 else float("nan")
+    fit = 100.0 * (1.0 - _norm_ratio(e, z - np.mean(z)))
     return ChannelFit(rms * scale, tic, fit)
+
+
+def _norm_ratio(a, b) -> float:
+    """``||a|| / ||b||`` without underflow when the two differ by hundreds of decades
+    (NaN when ``b`` is zero)."""
+    sa, sb = float(np.max(np.abs(a))), float(np.max(np.abs(b)))
+    if sb == 0.0:
+        return float("nan")
+    if sa == 0.0:
+        return 0.0
+    return (sa / sb) * float(np.linalg.norm(a / sa) / np.linalg.norm(b / sb))
 
 
 def dft_bins(record: Record, band_hz=None) -> np.ndarray:
