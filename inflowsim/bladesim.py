@@ -366,7 +366,7 @@ class BladeRotor:
     def _trim_summary(self, x, u, n_sub, h, periods):
         from .multiblade import multiblade
         nb = self.nb
-        xs, bl, cb = [x], [], []
+        xs, cb = [x], []
         xi = x
         for m in range(n_sub):
             xi = self.step(m * h, xi, u, h)

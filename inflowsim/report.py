@@ -25,13 +25,12 @@ import html
 import io
 import math
 import os
-import tempfile
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 
 from .errors import InputError
-from .fileio import safe_write_text
+from .fileio import safe_write_text, atomic_path
 
 MANIFEST = ".inflowsim-report"
 _CSS = """
@@ -255,15 +254,9 @@ def _publish(path: Path):
 
 
 def _write_bytes(path: Path, data: bytes):
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as f:
             f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 __all__ = ["Report", "format_cell", "MANIFEST"]

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..diagnose import ladder
 from ..errors import InputError
-from ..ladder_report import candidate_rows, CANDIDATE_HEADER, ladder_report, ladder_markdown
+from ..ladder_report import candidate_rows, CANDIDATE_HEADER, ladder_report
 from ..presets import preset_parameters
 from ..record import format_record, parse_record
 from ..report import Report

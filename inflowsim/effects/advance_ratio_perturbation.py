@@ -34,7 +34,6 @@ on the inflow rows only, while ``k_mu`` also scales the flap rows' ``mux, muy``
 columns, which no other effect touches; the information matrix of the combined
 structure stays regular (checked in the tests).
 """
-import numpy as np
 
 from ._effect import Effect
 from .. import bladeelement as be

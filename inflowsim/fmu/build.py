@@ -16,6 +16,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from ..fileio import atomic_path
 from ..errors import InputError
 from .generate import generated_files, guid
 from .variables import MODEL_IDENTIFIER, VARIABLES
@@ -182,16 +183,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=()) -> 
                                                            encoding="utf-8")
         (root / "modelDescription.xml").write_text(generated_files()["modelDescription.xml"],
                                                    encoding="utf-8")
-        fd, part = tempfile.mkstemp(prefix=f".{out.name}.", dir=parent)
-        os.close(fd)
-        try:
+        with atomic_path(out) as part:
             with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
                 for p in sorted(root.rglob("*")):
                     if p.is_file():
                         z.write(p, p.relative_to(root).as_posix())
-            os.replace(part, out)
-        except BaseException:
-            if os.path.exists(part):
-                os.unlink(part)
-            raise
     return out
