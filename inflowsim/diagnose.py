@@ -16,6 +16,7 @@ from .failures import (Failure, parameter_failures, residual_analysis, residual_
                        spectrum_failures)
 from .identify import identify
 from .identify.transform import DEFAULT_BAND
+from .model import build_model
 from .structure import Structure
 
 
@@ -55,7 +56,8 @@ def failures_of(records, fit, band_hz) -> list[Failure]:
     estimates)."""
     out: list[Failure] = []
     for rec in _as_list(records):
-        m = fit.model.with_mu(rec.constants.mu) if len(_as_list(records)) > 1 else fit.model
+        # each record's own flight condition and trim
+        m = build_model(fit.structure, fit.parameters, rec.constants)
         ra = residual_analysis(rec, m, band_hz)
         out += spectrum_failures(ra) + residual_tests(ra, rec, m)
     out += parameter_failures(fit.parameters, fit.sigma, fit.correlation, list(fit.free),

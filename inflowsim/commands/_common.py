@@ -62,3 +62,21 @@ def start_values(args):
     if not shared:
         raise InputError(f"{args.params}: no parameter of structure {s.name} in it")
     return shared
+
+
+def add_search_arguments(p):
+    """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
+    from ..candidates import ALPHA
+    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
+                   default=(0.2256, 1.58), help="band [Hz] (default 0.2256 1.58)")
+    p.add_argument("--candidates", nargs="+", metavar="EFFECT",
+                   help="effects to try (default: every applicable one)")
+    p.add_argument("--alpha", type=float, default=ALPHA,
+                   help=f"significance level per candidate (default {ALPHA:g})")
+    p.add_argument("--report", metavar="DIR", help="write DIR/index.html with plots")
+    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+
+
+def check_search_arguments(args):
+    if not 0 < args.alpha < 0.5:
+        raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")

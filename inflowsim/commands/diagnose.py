@@ -8,11 +8,11 @@ likelihood-ratio test (``inflowsim.candidates``).
 """
 from __future__ import annotations
 
-from ..candidates import ALPHA
 from ..diagnose import diagnose
 from ..ladder_report import diagnosis_report, format_diagnosis
 from ..record import read_record
-from ._common import add_model_arguments, print_json, progress, start_values
+from ._common import (add_model_arguments, add_search_arguments, check_search_arguments,
+                      print_json, progress, start_values)
 
 HELP = "where a model fails on a record, and the ranked candidate effects"
 
@@ -20,20 +20,11 @@ HELP = "where a model fails on a record, and the ranked candidate effects"
 def add_arguments(p):
     p.add_argument("record", nargs="+", metavar="RECORD", help="flight-test record(s) (CSV)")
     add_model_arguments(p)
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   default=(0.2256, 1.58), help="band [Hz] (default 0.2256 1.58)")
-    p.add_argument("--candidates", nargs="+", metavar="EFFECT",
-                   help="effects to try (default: every applicable one)")
-    p.add_argument("--alpha", type=float, default=ALPHA,
-                   help=f"significance level per candidate (default {ALPHA:g})")
-    p.add_argument("--report", metavar="DIR", help="write DIR/index.html")
-    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    add_search_arguments(p)
 
 
 def run(args) -> int:
-    from ..errors import InputError
-    if not 0 < args.alpha < 0.5:
-        raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")
+    check_search_arguments(args)
     recs = [read_record(r) for r in args.record]
     start = start_values(args)
     d = diagnose(recs, args.model, tuple(args.band), start=start, pool=args.candidates,

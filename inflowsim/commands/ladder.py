@@ -8,11 +8,10 @@ the plot of the error falling.
 """
 from __future__ import annotations
 
-from ..candidates import ALPHA
 from ..diagnose import explicit_ladder, ladder
 from ..ladder_report import ladder_markdown, ladder_report
 from ..record import read_record
-from ._common import print_json, progress
+from ._common import add_search_arguments, check_search_arguments, print_json, progress
 
 HELP = "add the missing effect and refit until none is left, or climb given structures"
 
@@ -22,18 +21,13 @@ def add_arguments(p):
     p.add_argument("--model", "-m", default="basic", help="starting structure (default basic)")
     p.add_argument("--structures", nargs="+", metavar="M",
                    help="climb these structures instead of searching")
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   default=(0.2256, 1.58), help="band [Hz] (default 0.2256 1.58)")
     p.add_argument("--max-steps", type=int, default=6, help="effects to add at most")
-    p.add_argument("--candidates", nargs="+", metavar="EFFECT",
-                   help="effects to try (default: every applicable one)")
-    p.add_argument("--alpha", type=float, default=ALPHA, help="significance per candidate")
-    p.add_argument("--report", metavar="DIR", help="write DIR/index.html with the plot")
-    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    add_search_arguments(p)
 
 
 def run(args) -> int:
     from ..errors import InputError
+    check_search_arguments(args)
     if args.max_steps < 0:
         raise InputError("--max-steps must be >= 0")
     recs = [read_record(r) for r in args.record]
