@@ -10,6 +10,7 @@
  * set before it over [t, t + h) and leaves the outputs at t + h.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,6 +22,26 @@
 #define IFS_EXPORT __attribute__((visibility("default")))
 #else
 #define IFS_EXPORT
+#endif
+
+/* fmi2DoStep is compiled twice where the loader can pick one at load time (GNU
+ * ifunc, glibc): for AVX2 and for the baseline.  The step does the same
+ * operations in the same order in both, so both give the same numbers (a test
+ * checks this bit for bit).  -DIFS_NO_CLONES turns it off. */
+#if defined(__has_attribute)
+#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
+    !defined(IFS_NO_CLONES)
+#define IFS_HOT __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef IFS_HOT
+#define IFS_HOT
+#endif
+
+#if defined(__GNUC__)
+#define IFS_COLD __attribute__((noinline, cold))
+#else
+#define IFS_COLD
 #endif
 
 #define MSG_LEN 512
@@ -35,7 +56,7 @@ typedef struct {
     int dirty;                 /* parameters or mu changed since the last build */
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
-    unsigned long long n_comm;
+    long long n_comm;
     int warned_time;           /* the time-mismatch warning is given once */
 } Data;
 
@@ -86,10 +107,14 @@ static void update_outputs(Data *d)
     d->v.lambda1s = y[5];
 }
 
-static void inputs(const Data *d, double u[IFS_NU])
+/* the inputs theta0 .. muy in order: the generated struct keeps them contiguous */
+typedef char ifs_inputs_are_contiguous[offsetof(IfsVariables, muy) -
+                                       offsetof(IfsVariables, theta0) ==
+                                       (IFS_NU - 1) * sizeof(double) ? 1 : -1];
+
+static const double *inputs(const Data *d)
 {
-    const double *p = &d->v.theta0;      /* the generated struct keeps them contiguous */
-    memcpy(u, p, sizeof(double) * IFS_NU);
+    return (const double *)((const char *)&d->v + offsetof(IfsVariables, theta0));
 }
 
 static void set_start(Data *d)
@@ -114,20 +139,27 @@ static fmi2Status rebuild(Instance *c)
     return fmi2OK;
 }
 
-static int check_real(Instance *c, const IfsRealVar *var, double x)
+static int real_ok(const IfsRealVar *var, double x)
 {
-    const char lo = var->lower_open ? '(' : '[';
-    if (!isfinite(x)) {
-        logf_(c, fmi2Error, "logStatusError", "%s = %g refused: must be finite%s", var->name,
-              x, var->kind == IFS_INPUT ? " (state untouched)" : "");
-        return -1;
-    }
-    if (x < var->lower || x > var->upper || (var->lower_open && x == var->lower)) {
-        logf_(c, fmi2Error, "logStatusError", "%s = %g is outside the allowed range %c%g, %g]",
-              var->name, x, lo, var->lower, var->upper);
-        return -1;
-    }
-    return 0;
+    return isfinite(x) && x >= var->lower && x <= var->upper &&
+           !(var->lower_open && x == var->lower);
+}
+
+/* Why fmi2SetReal refuses value x for value reference vr: logged, fmi2Error. */
+static IFS_COLD fmi2Status refuse_real(Instance *c, fmi2ValueReference vr, double x)
+{
+    const IfsRealVar *var;
+    if (vr >= IFS_N_REALS)
+        return ERR(c, "fmi2SetReal: %u is not the value reference of a Real", vr);
+    var = &ifs_real_vars[vr];
+    if (var->kind == IFS_OUTPUT) return ERR(c, "fmi2SetReal: %s is an output", var->name);
+    if (var->kind == IFS_FIXED && c->d.phase != PH_INSTANTIATED && c->d.phase != PH_INIT)
+        return ERR(c, "fmi2SetReal: %s is fixed after initialization", var->name);
+    if (!isfinite(x))
+        return ERR(c, "%s = %g refused: must be finite%s", var->name, x,
+                   var->kind == IFS_INPUT ? " (state untouched)" : "");
+    return ERR(c, "%s = %g is outside the allowed range %c%g, %g]", var->name, x,
+               var->lower_open ? '(' : '[', var->lower, var->upper);
 }
 
 /* --- common functions --- */
@@ -260,26 +292,23 @@ IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference v
                                   size_t nvr, const fmi2Real value[])
 {
     Instance *c = (Instance *)comp;
+    const int fixed_ok = c && (c->d.phase == PH_INSTANTIATED || c->d.phase == PH_INIT);
     size_t i;
     if (!c) return fmi2Error;
     if (nvr > 0 && (!vr || !value)) return ERR(c, "fmi2SetReal: null array");
     /* check everything first: a refused call changes nothing */
     for (i = 0; i < nvr; i++) {
-        const IfsRealVar *var;
-        if (vr[i] >= IFS_N_REALS)
-            return ERR(c, "fmi2SetReal: %u is not the value reference of a Real", vr[i]);
-        var = &ifs_real_vars[vr[i]];
-        if (var->kind == IFS_OUTPUT) return ERR(c, "fmi2SetReal: %s is an output", var->name);
-        if (var->kind == IFS_FIXED && c->d.phase != PH_INSTANTIATED && c->d.phase != PH_INIT)
-            return ERR(c, "fmi2SetReal: %s is fixed after initialization", var->name);
-        if (check_real(c, var, value[i]) != 0) return fmi2Error;
+        const IfsRealVar *var = &ifs_real_vars[vr[i] < IFS_N_REALS ? vr[i] : 0];
+        if (vr[i] >= IFS_N_REALS || var->kind == IFS_OUTPUT ||
+            (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
+            return refuse_real(c, vr[i], value[i]);
     }
     for (i = 0; i < nvr; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i]];
         double *slot = (double *)((char *)&c->d.v + var->offset);
-        if (var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) {
-            if (*slot != value[i]) c->d.dirty = 1;
-        }
+        /* inputs other than mu enter the step as they are; the rest rebuild */
+        if ((var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) && *slot != value[i])
+            c->d.dirty = 1;
         *slot = value[i];
     }
     return fmi2OK;
@@ -476,16 +505,11 @@ IFS_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp,
                "(maxOutputDerivativeOrder is 0)");
 }
 
-IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
-                                 fmi2Boolean no_set_prior)
+/* Any step but the loop's usual one: checks, rebuild, substeps and remainder. */
+static IFS_COLD fmi2Status do_step(Instance *c, double t, double h)
 {
-    Instance *c = (Instance *)comp;
-    Data *d;
-    double u[IFS_NU];
+    Data *d = &c->d;
     double now;
-    (void)no_set_prior;
-    if (!c) return fmi2Error;
-    d = &c->d;
     if (d->phase != PH_STEP)
         return ERR(c, "fmi2DoStep: not in step mode (call fmi2ExitInitializationMode)");
     if (!(h >= 0.0) || !isfinite(h))
@@ -495,8 +519,7 @@ IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
         logf_(c, fmi2Warning, "logStatusWarning", "fmi2DoStep: communication point %.17g "
               "differs from the FMU's time %.17g", t, now);
     if (d->dirty && rebuild(c) != fmi2OK) return fmi2Error;
-    inputs(d, u);
-    if (ifs_advance(&d->m, u, h) != 0)
+    if (ifs_advance(&d->m, inputs(d), h) != 0)
         return ERR(c, "fmi2DoStep: the discretisation of step %g s failed", h);
     if (h != d->h_comm) {           /* a new communication step: restart the counter */
         d->t_base = now;
@@ -506,6 +529,28 @@ IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
     d->n_comm++;
     update_outputs(d);
     return fmi2OK;
+}
+
+IFS_EXPORT IFS_HOT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
+                                         fmi2Boolean no_set_prior)
+{
+    Instance *c = (Instance *)comp;
+    Data *d;
+    (void)no_set_prior;
+    if (!c) return fmi2Error;
+    d = &c->d;
+    /* the simulator loop: same step as before, one internal step, nothing to
+     * rebuild, on time */
+    if (d->phase == PH_STEP && !d->dirty && h == d->h_comm && h == d->m.dt) {
+        const double now = time_now(d);
+        if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now))) {
+            ifs_step(d->m.pg, d->m.x, inputs(d));
+            d->n_comm++;
+            update_outputs(d);
+            return fmi2OK;
+        }
+    }
+    return do_step(c, t, h);
 }
 
 IFS_EXPORT fmi2Status fmi2CancelStep(fmi2Component comp)

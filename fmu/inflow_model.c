@@ -212,7 +212,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     }
 }
 
-int ifs_discretize(const IfsModel *m, double h, double pg[NA * NX])
+int ifs_discretize(const IfsModel *m, double h, double pg[NA * IFS_LD])
 {
     double M[NA * NA];
     int i, j;
@@ -224,8 +224,9 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NA * NX])
     if (expm(M) != 0) return -1;
     for (i = 0; i < NX * NA; i++)
         if (!isfinite(M[i])) return -1;
+    memset(pg, 0, sizeof(double) * NA * IFS_LD);
     for (i = 0; i < NX; i++)                    /* top NX rows, by columns */
-        for (j = 0; j < NA; j++) pg[j * NX + i] = M[i * NA + j];
+        for (j = 0; j < NA; j++) pg[j * IFS_LD + i] = M[i * NA + j];
     return 0;
 }
 
@@ -278,20 +279,8 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     return 0;
 }
 
-/* acc += sum_j cols[j] v[j] over n columns of NX */
-static void add_columns(double acc[NX], const double *cols, const double *v, int n)
-{
-    int i, j;
-    for (j = 0; j < n; j++) {
-        const double vj = v[j];
-        const double *col = cols + j * NX;
-        for (i = 0; i < NX; i++) acc[i] += col[i] * vj;
-    }
-}
-
 int ifs_advance(IfsModel *m, const double u[NU], double h)
 {
-    double gu[NX] = {0.0};
     long k;
     if (h != m->h_last) {
         /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding */
@@ -307,30 +296,7 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
         if (ifs_discretize(m, m->rem_last, m->pg_rem) != 0) return -1;
         m->rem = m->rem_last;
     }
-    /* the input is held over the whole step: gam u once */
-    if (m->n_last > 0) add_columns(gu, m->pg + NX * NX, u, NU);
-    for (k = 0; k < m->n_last; k++) {
-        double x[NX];
-        memcpy(x, gu, sizeof x);
-        add_columns(x, m->pg, m->x, NX);
-        memcpy(m->x, x, sizeof x);
-    }
-    if (m->rem_last > 0.0) {
-        double x[NX] = {0.0};
-        add_columns(x, m->pg_rem, m->x, NX);
-        add_columns(x, m->pg_rem + NX * NX, u, NU);
-        memcpy(m->x, x, sizeof x);
-    }
+    for (k = 0; k < m->n_last; k++) ifs_step(m->pg, m->x, u);
+    if (m->rem_last > 0.0) ifs_step(m->pg_rem, m->x, u);
     return 0;
-}
-
-void ifs_outputs(const IfsModel *m, double y[NX])
-{
-    const double *x = m->x;
-    y[0] = x[0];
-    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
-    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
-    y[3] = x[3];
-    y[4] = x[4];
-    y[5] = x[5];
 }

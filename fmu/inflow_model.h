@@ -15,11 +15,14 @@
 #ifndef INFLOW_MODEL_H
 #define INFLOW_MODEL_H
 
+#include <string.h>
+
 #include "inflow_vars.h"
 
 #define IFS_NX 6
 #define IFS_NU 10
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
+#define IFS_LD 8                   /* stored column length: NX padded to whole vectors */
 
 enum { IFS_BASIC = 0, IFS_EMPIRICAL = 1, IFS_GLAUERT = 2 };
 
@@ -30,11 +33,12 @@ typedef struct {
     /* outputs y = c x: identity but the recorded flap rotated by the azimuth bias */
     double cos_bias, sin_bias;
     /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
-     * IFS_NX) so one step is a sum of scaled columns the compiler vectorises */
-    double pg[IFS_NA * IFS_NX];
+     * IFS_LD, rows NX.. zero) so one step is a sum of scaled columns, four and
+     * two rows at a time (see ifs_step) */
+    double pg[IFS_NA * IFS_LD];
     double dt;
     /* cached [phi gam] (by columns) of the last remainder step (h not n dt) */
-    double pg_rem[IFS_NA * IFS_NX];
+    double pg_rem[IFS_NA * IFS_LD];
     double rem;                    /* its length [s]; 0 = no cache */
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
@@ -55,14 +59,72 @@ void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
                     double a[IFS_NX * IFS_NX], double b[IFS_NX * IFS_NU]);
 
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
- * (element (i, j) at pg[j * IFS_NX + i]). */
-int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_NX]);
+ * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
+int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_LD]);
 
 /* Advance the state over h [s] with u held: whole internal steps dt and one exact
  * remainder step.  Returns 0, or -1 if the remainder discretisation failed. */
 int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
 
-/* y = c x. */
-void ifs_outputs(const IfsModel *m, double y[IFS_NX]);
+/*
+ * x <- phi x + gam u with [phi gam] = pg: one step, the simulator loop's hot path,
+ * inline so that it is compiled for the caller's target (see IFS_HOT in
+ * inflow_fmi2.c).  The sum is a fixed tree: gam u (independent of x) first, then
+ * six products of x, so the chain from x to the new x is one multiply and three
+ * adds.  Rows 0-3 and 4-5 go as vectors of four and two where the compiler has
+ * GNU vector types; otherwise scalar, in the same order, so the rounding is the
+ * same on every path (no contraction to fused multiply-add under -std=c99).
+ */
+/* the new rows r.. of x as one value of type T (double, or a vector of doubles) */
+#define IFS_C(T, j) (*(const T *)(pg + (r_) + (j) * IFS_LD))
+#define IFS_STEP_ROWS(T, r, s)                                                         \
+    do {                                                                               \
+        const int r_ = (r);                                                            \
+        const T g_ = ((IFS_C(T, 6) * u[0] + IFS_C(T, 7) * u[1]) +                      \
+                      (IFS_C(T, 8) * u[2] + IFS_C(T, 9) * u[3])) +                     \
+                     ((IFS_C(T, 10) * u[4] + IFS_C(T, 11) * u[5]) +                    \
+                      (IFS_C(T, 12) * u[6] + IFS_C(T, 13) * u[7])) +                   \
+                     (IFS_C(T, 14) * u[8] + IFS_C(T, 15) * u[9]);                      \
+        s = ((g_ + IFS_C(T, 0) * x[0]) + (IFS_C(T, 1) * x[1] + IFS_C(T, 2) * x[2])) +  \
+            ((IFS_C(T, 3) * x[3] + IFS_C(T, 4) * x[4]) + IFS_C(T, 5) * x[5]);          \
+    } while (0)
+
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+/* unaligned, aliasing-safe views of 4 and 2 doubles */
+typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
+typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
+#define IFS_INLINE static inline __attribute__((always_inline))
+#else
+#define IFS_INLINE static inline
+#endif
+
+IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
+{
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    ifs_v4 top;
+    ifs_v2 bottom;
+    IFS_STEP_ROWS(ifs_v4, 0, top);
+    IFS_STEP_ROWS(ifs_v2, 4, bottom);
+    *(ifs_v4 *)x = top;
+    *(ifs_v2 *)(x + 4) = bottom;
+#else
+    double y[IFS_NX];
+    int i;
+    for (i = 0; i < IFS_NX; i++) IFS_STEP_ROWS(double, i, y[i]);
+    memcpy(x, y, sizeof y);
+#endif
+}
+
+/* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
+IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
+{
+    const double *x = m->x;
+    y[0] = x[0];
+    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
+    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
+    y[3] = x[3];
+    y[4] = x[4];
+    y[5] = x[5];
+}
 
 #endif

@@ -9,6 +9,7 @@ from __future__ import annotations
 import ctypes
 import json
 import math
+import shutil
 import subprocess
 import zipfile
 from pathlib import Path
@@ -26,7 +27,7 @@ from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE,  # noqa: E402
 from inflowsim.errors import InputError  # noqa: E402
 from inflowsim.fmu import VR, apply_parameters, build_fmu, start_values  # noqa: E402
 from inflowsim.fmu.generate import GENERATED, generated_files  # noqa: E402
-from inflowsim.fmu.build import source_dir  # noqa: E402
+from inflowsim.fmu.build import compile_library, source_dir  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
 from inflowsim.paramfile import read_parameters  # noqa: E402
 from inflowsim.params import PUMA  # noqa: E402
@@ -289,6 +290,31 @@ def test_fmu_state_get_set_and_serialize(unzipped, guid, record):
     s.freeFMUstate(saved)
     s.freeInstance()
     assert np.array_equal(tail, again) and np.array_equal(tail, third)
+
+
+@pytest.mark.parametrize("flags", [("-DIFS_NO_CLONES",),
+                                   ("-DIFS_NO_CLONES", "-DIFS_SCALAR_STEP")],
+                         ids=["baseline-only", "plain-c-step"])
+def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, record,
+                                                     tmp_path):
+    """The shipped binary steps with its AVX2 clone where the CPU has AVX2; built
+    without clones it steps with the baseline code, and with IFS_SCALAR_STEP with the
+    plain-C loop other compilers get.  All must agree bit for bit, on the loop's
+    fast path (h = dt) and on substeps with a remainder (h = 2.5 dt)."""
+    other = tmp_path / "unzipped"
+    shutil.copytree(unzipped, other)
+    compile_library(source_dir(), other / "binaries" / "linux64" / "inflowsim.so", flags)
+    m = model_of("glauert", azimuth_bias=0.05)
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:300]
+    runs = []
+    for d in (unzipped, str(other)):
+        s = open_fmu(d, guid, start_values(m))
+        y = fmu_replay(s, u)
+        y_long = fmu_replay(s, u[:40], h=2.5 * DT, t0=(len(u) - 1) * DT)
+        s.freeInstance()
+        runs.append(np.vstack([y, y_long]))
+    assert np.abs(runs[0]).max() > 1e-3
+    assert np.array_equal(runs[0], runs[1])
 
 
 # -- one test body against the Python simulator and the FMU ---------------------
