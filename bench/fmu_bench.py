@@ -2,11 +2,13 @@
 
     python bench/fmu_bench.py [--steps N]
 
-Builds the FMU (``inflowsim.fmu.build_fmu``) and the one-state reference
-(``bench/fmu_onestate.c``) with the same flags, compiles ``bench/fmu_driver.c``,
-runs it (best of 5 runs of N steps per case) and times an fmpy ``FMU2Slave`` loop
-(setReal inputs, doStep, getReal outputs).  Prints a Markdown table; results and
-method are kept in ``bench/fmu.md``.
+Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
+clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
+runs) and the one-state reference (``bench/fmu_onestate.c``) with the same flags,
+compiles ``bench/fmu_driver.c``, runs it (best of 5 runs of N steps per case) on
+both libraries and times an fmpy ``FMU2Slave`` loop (setReal inputs, doStep,
+getReal outputs).  Prints a Markdown table; results and method are kept in
+``bench/fmu.md``.
 """
 from __future__ import annotations
 
@@ -28,7 +30,7 @@ def main(argv=None):
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
     from inflowsim.fmu import VR, build_fmu
-    from inflowsim.fmu.build import CFLAGS, compiler, source_dir
+    from inflowsim.fmu.build import CFLAGS, compile_library, compiler, source_dir
 
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -42,9 +44,17 @@ def main(argv=None):
                         str(HERE / "fmu_onestate.c"), "-lm"], check=True)
         subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
                         str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
-        out = subprocess.run([str(tmp / "driver"), str(so), guid, str(tmp / "onestate.so"),
-                              str(args.steps)], check=True, capture_output=True, text=True)
-        rows = dict(line.split() for line in out.stdout.splitlines())
+        baseline = compile_library(source_dir(), tmp / "baseline.so", ("-DIFS_NO_CLONES",))
+        rows = {}
+        for lib, tag in ((so, ""), (baseline, "baseline_")):
+            out = subprocess.run([str(tmp / "driver"), str(lib), guid,
+                                  str(tmp / "onestate.so"), str(args.steps)],
+                                 check=True, capture_output=True, text=True)
+            for line in out.stdout.splitlines():
+                name, value = line.split()
+                if tag and name.startswith("onestate"):
+                    continue
+                rows[tag + name] = value
 
         s = FMU2Slave(guid=guid, unzipDirectory=unz, modelIdentifier="inflowsim",
                       instanceName="bench")
@@ -68,13 +78,17 @@ def main(argv=None):
             best = min(best, (time.perf_counter() - t0) / args.fmpy_steps)
         s.freeInstance()
     rows["glauert_through_fmpy_set_dostep_get"] = f"{best * 1e9:.0f}"
+    flags = Path("/proc/cpuinfo").read_text().split() if Path("/proc/cpuinfo").is_file() else []
     print(f"machine: {platform.processor() or platform.machine()}, "
-          f"{platform.system()} {platform.release()}, python {platform.python_version()}")
+          f"{platform.system()} {platform.release()}, python {platform.python_version()}, "
+          f"AVX2 {'yes' if 'avx2' in flags else 'no'}")
     print("| case | ns per step |\n| --- | --- |")
     for k, v in rows.items():
         print(f"| {k} | {v} |")
-    ratio = float(rows["glauert_dostep"]) / float(rows["onestate_dostep"])
-    print(f"\nglauert / one-state fmi2DoStep: {ratio:.1f}x")
+    one = float(rows["onestate_dostep"])
+    print(f"\nglauert / one-state fmi2DoStep: {float(rows['glauert_dostep']) / one:.1f}x "
+          f"(shipped binary), {float(rows['baseline_glauert_dostep']) / one:.1f}x "
+          f"(baseline code, no AVX2 clone)")
 
 
 if __name__ == "__main__":

@@ -132,6 +132,14 @@ logged message naming it; the state and the stored value are untouched.</li>
 <li>Apply an identified parameter file in one call:
 <code>fmpy.simulate_fmu(fmu, start_values=inflowsim.fmu.start_values(read_parameters(path)))</code>.</li>
 </ul>
+<h2>Building from <code>sources/</code></h2>
+<p><code>cc -std=c99 -O2 -fPIC -shared -fvisibility=hidden -o inflowsim.so
+inflow_model.c inflow_fmi2.c inflow_vars.c -lm</code>.
+On glibc x86-64, <code>fmi2DoStep</code> is compiled twice (AVX2 and baseline) and the
+loader picks one; both give the same numbers bit for bit.
+<code>-DIFS_NO_CLONES</code> builds the baseline only; <code>-DIFS_SCALAR_STEP</code>
+uses the plain-C step (what compilers without GNU vector types get), again with the
+same numbers.</p>
 <h2>Variables</h2>
 <table border="1" cellpadding="3">
 <tr><th>name</th><th>value reference</th><th>type</th><th>causality</th>
