@@ -22,8 +22,8 @@ from .generate import generated_files, guid
 from .variables import MODEL_IDENTIFIER, VARIABLES
 
 #: Hand-written sources (the generated ``inflow_vars.[ch]`` come from Python).
-C_SOURCES = ("inflow_model.c", "inflow_fmi2.c")
-HEADERS = ("inflow_model.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
+C_SOURCES = ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c")
+HEADERS = ("inflow_model.h", "inflow_slave.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
            "fmi2TypesPlatform.h")
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
           "-fvisibility=hidden")

@@ -1,0 +1,232 @@
+/*
+ * The co-simulation slave shared by the FMI 2.0 and 3.0 layers: checks, the
+ * variable table, rebuilds and the general step.  See inflow_slave.h.
+ */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "inflow_slave.h"
+
+#define MSG_LEN 512
+
+#if defined(__GNUC__)
+#define IFS_COLD __attribute__((noinline, cold))
+#else
+#define IFS_COLD
+#endif
+
+int ifs_log(const IfsLog *lg, int status, const char *fmt, ...)
+{
+    char buf[MSG_LEN];
+    va_list ap;
+    if (!lg || !lg->emit || (status == IFS_OK && !lg->debug)) return status;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    lg->emit(lg->env, status, status == IFS_ERROR     ? "logStatusError"
+                              : status == IFS_WARNING ? "logStatusWarning"
+                                                      : "logAll", buf);
+    return status;
+}
+
+void ifs_slave_init(IfsSlave *s)
+{
+    int i;
+    memset(s, 0, sizeof *s);
+    for (i = 0; i < IFS_N_REALS; i++)
+        *(double *)((char *)&s->v + ifs_real_vars[i].offset) = ifs_real_vars[i].start;
+    for (i = 0; i < IFS_N_INTEGERS; i++)
+        *(int *)((char *)&s->v + ifs_integer_vars[i].offset) = ifs_integer_vars[i].start;
+    s->phase = IFS_PH_INSTANTIATED;
+    s->dirty = 1;
+    s->m.h_last = -1.0;
+}
+
+int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start)
+{
+    if (s->phase != IFS_PH_INSTANTIATED)
+        return ifs_log(lg, IFS_ERROR, "%s: only allowed after instantiation or reset", fn);
+    if (!isfinite(start)) return ifs_log(lg, IFS_ERROR, "%s: start time must be finite", fn);
+    s->t_start = s->t_base = start;
+    return IFS_OK;
+}
+
+int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn)
+{
+    if (s->phase != IFS_PH_INSTANTIATED)
+        return ifs_log(lg, IFS_ERROR, "%s: only allowed after instantiation", fn);
+    s->phase = IFS_PH_INIT;
+    return IFS_OK;
+}
+
+static int rebuild(IfsSlave *s, const IfsLog *lg)
+{
+    char msg[MSG_LEN];
+    if (ifs_build(&s->m, &s->v, msg, sizeof msg) != 0)
+        return ifs_log(lg, IFS_ERROR, "%s", msg);
+    s->dirty = 0;
+    return IFS_OK;
+}
+
+int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
+{
+    if (s->phase != IFS_PH_INIT)
+        return ifs_log(lg, IFS_ERROR, "%s: not in initialization mode", fn);
+    if (rebuild(s, lg) != IFS_OK) return IFS_ERROR;
+    ifs_slave_update_outputs(s);
+    s->phase = IFS_PH_STEP;
+    return IFS_OK;
+}
+
+/* --- reals --- */
+
+static int real_ok(const IfsRealVar *var, double x)
+{
+    return isfinite(x) && x >= var->lower && x <= var->upper &&
+           !(var->lower_open && x == var->lower);
+}
+
+/* Why value x for value reference vr is refused. */
+static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                                unsigned int vr, double x)
+{
+    const IfsRealVar *var;
+    if (vr >= IFS_N_REALS)
+        return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of a Real", fn,
+                       vr);
+    var = &ifs_real_vars[vr];
+    if (var->kind == IFS_OUTPUT)
+        return ifs_log(lg, IFS_ERROR, "%s: %s is an output", fn, var->name);
+    if (var->kind == IFS_FIXED && s->phase != IFS_PH_INSTANTIATED && s->phase != IFS_PH_INIT)
+        return ifs_log(lg, IFS_ERROR, "%s: %s is fixed after initialization", fn, var->name);
+    if (!isfinite(x))
+        return ifs_log(lg, IFS_ERROR, "%s = %g refused: must be finite%s", var->name, x,
+                       var->kind == IFS_INPUT ? " (state untouched)" : "");
+    return ifs_log(lg, IFS_ERROR, "%s = %g is outside the allowed range %c%g, %g]",
+                   var->name, x, var->lower_open ? '(' : '[', var->lower, var->upper);
+}
+
+int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                        const unsigned int vr[], size_t n, double value[])
+{
+    size_t i;
+    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    for (i = 0; i < n; i++) {
+        if (vr[i] >= IFS_N_REALS)
+            return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of a Real", fn,
+                           vr[i]);
+        value[i] = *(const double *)((const char *)&s->v + ifs_real_vars[vr[i]].offset);
+    }
+    return IFS_OK;
+}
+
+int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
+                        const unsigned int vr[], size_t n, const double value[])
+{
+    const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
+    size_t i;
+    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    /* check everything first: a refused call changes nothing */
+    for (i = 0; i < n; i++) {
+        const IfsRealVar *var = &ifs_real_vars[vr[i] < IFS_N_REALS ? vr[i] : 0];
+        if (vr[i] >= IFS_N_REALS || var->kind == IFS_OUTPUT ||
+            (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
+            return refuse_real(s, lg, fn, vr[i], value[i]);
+    }
+    for (i = 0; i < n; i++) {
+        const IfsRealVar *var = &ifs_real_vars[vr[i]];
+        double *slot = (double *)((char *)&s->v + var->offset);
+        /* inputs other than mu enter the step as they are; the rest rebuild */
+        if ((var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) && *slot != value[i]) s->dirty = 1;
+        *slot = value[i];
+    }
+    return IFS_OK;
+}
+
+/* --- integers --- */
+
+static const IfsIntegerVar *integer_var(unsigned int vr)
+{
+    int k;
+    for (k = 0; k < IFS_N_INTEGERS; k++)
+        if (ifs_integer_vars[k].vr == vr) return &ifs_integer_vars[k];
+    return NULL;
+}
+
+int ifs_slave_get_ints(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                       const unsigned int vr[], size_t n, int value[])
+{
+    size_t i;
+    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    for (i = 0; i < n; i++) {
+        const IfsIntegerVar *var = integer_var(vr[i]);
+        if (!var)
+            return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of an Integer",
+                           fn, vr[i]);
+        value[i] = *(const int *)((const char *)&s->v + var->offset);
+    }
+    return IFS_OK;
+}
+
+int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
+                       const unsigned int vr[], size_t n, const int value[])
+{
+    size_t i;
+    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    for (i = 0; i < n; i++) {
+        const IfsIntegerVar *var = integer_var(vr[i]);
+        if (!var)
+            return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of an Integer",
+                           fn, vr[i]);
+        if (var->kind == IFS_FIXED && s->phase != IFS_PH_INSTANTIATED &&
+            s->phase != IFS_PH_INIT)
+            return ifs_log(lg, IFS_ERROR, "%s: %s is fixed after initialization", fn,
+                           var->name);
+        if (value[i] < var->lower || value[i] > var->upper)
+            return ifs_log(lg, IFS_ERROR, "%s = %d is outside the allowed range [%d, %d]",
+                           var->name, value[i], var->lower, var->upper);
+    }
+    for (i = 0; i < n; i++) {
+        *(int *)((char *)&s->v + integer_var(vr[i])->offset) = value[i];
+        s->dirty = 1;
+    }
+    return IFS_OK;
+}
+
+/* --- stepping --- */
+
+IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
+                            double h)
+{
+    double now;
+    if (s->phase != IFS_PH_STEP)
+        return ifs_log(lg, IFS_ERROR, "%s: not in step mode (initialization not finished)",
+                       fn);
+    if (!(h >= 0.0) || !isfinite(h))
+        return ifs_log(lg, IFS_ERROR, "%s: communication step %g must be finite and >= 0",
+                       fn, h);
+    now = ifs_slave_time(s);
+    if (fabs(t - now) > 1e-9 * (1.0 + fabs(now)) && !s->warned_time++)
+        ifs_log(lg, IFS_WARNING, "%s: communication point %.17g differs from the FMU's "
+                "time %.17g", fn, t, now);
+    if (s->dirty && rebuild(s, lg) != IFS_OK) return IFS_ERROR;
+    if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
+        return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn, h);
+    if (h != s->h_comm) {           /* a new communication step: restart the counter */
+        s->t_base = now;
+        s->h_comm = h;
+        s->n_comm = 0;
+    }
+    s->n_comm++;
+    ifs_slave_update_outputs(s);
+    return IFS_OK;
+}
+
+int ifs_check_state(const void *p, size_t n)
+{
+    IfsSavedState st;
+    if (!p || n != sizeof st) return -1;
+    memcpy(&st, p, sizeof st);
+    return st.magic == IFS_STATE_MAGIC && st.size == sizeof st ? 0 : -1;
+}

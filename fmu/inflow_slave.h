@@ -1,0 +1,128 @@
+/*
+ * The co-simulation slave behind both FMI layers (inflow_fmi2.c, inflow_fmi3.c):
+ * variables, model, phase and the step counter, with the checks and the stepping
+ * they share.  Knows no FMI types: statuses are the numbers FMI 2.0 and 3.0 share
+ * (0 OK, 1 warning, 3 error), value references are unsigned ints.
+ *
+ * IfsSlave is plain data (an FMU state is a copy of it).  Inputs and outputs are
+ * perturbations about trim (SI); mu is the total trim advance ratio.  A step holds
+ * the inputs set before it over [t, t + h) and leaves the outputs at t + h (the
+ * convention of inflowsim.Simulator.step).
+ */
+#ifndef INFLOW_SLAVE_H
+#define INFLOW_SLAVE_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "inflow_model.h"
+
+enum { IFS_OK = 0, IFS_WARNING = 1, IFS_ERROR = 3 };
+
+typedef enum { IFS_PH_INSTANTIATED, IFS_PH_INIT, IFS_PH_STEP, IFS_PH_TERMINATED } IfsPhase;
+
+typedef struct {
+    IfsVariables v;
+    IfsModel m;
+    IfsPhase phase;
+    int dirty;                 /* parameters or mu changed since the last build */
+    /* time = t_base + n_comm h_comm: a step counter, never a running sum */
+    double t_start, t_base, h_comm;
+    long long n_comm;
+    int warned_time;           /* the time-mismatch warning is given once */
+} IfsSlave;
+
+/* Where messages go: the FMI layer's logger behind one function.  Messages with
+ * status IFS_OK are dropped unless debug is set. */
+typedef struct {
+    void (*emit)(void *env, int status, const char *category, const char *message);
+    void *env;
+    int debug;
+} IfsLog;
+
+/* Log a printf-style message; returns status, so `return ifs_log(...)` works. */
+int ifs_log(const IfsLog *lg, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* Start values, phase "instantiated", state zero. */
+void ifs_slave_init(IfsSlave *s);
+/* The start time (only right after instantiation or reset). */
+int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start);
+int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn);
+/* Build the model from the variables and compute the initial outputs. */
+int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn);
+
+/* Reals by value reference.  A refused set changes nothing. */
+int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                        const unsigned int vr[], size_t n, double value[]);
+int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
+                        const unsigned int vr[], size_t n, const double value[]);
+/* Integers (the structure) by value reference. */
+int ifs_slave_get_ints(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                       const unsigned int vr[], size_t n, int value[]);
+int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
+                       const unsigned int vr[], size_t n, const int value[]);
+
+/* Any step: checks, rebuild, internal steps and an exact remainder. */
+int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);
+
+/* The current time, from the step counter. */
+static inline double ifs_slave_time(const IfsSlave *s)
+{
+    return s->t_base + (double)s->n_comm * s->h_comm;
+}
+
+/* the inputs theta0 .. muy in order: the generated struct keeps them contiguous */
+typedef char ifs_inputs_are_contiguous[offsetof(IfsVariables, muy) -
+                                       offsetof(IfsVariables, theta0) ==
+                                       (IFS_NU - 1) * sizeof(double) ? 1 : -1];
+
+static inline const double *ifs_slave_inputs(const IfsSlave *s)
+{
+    return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
+}
+
+IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
+{
+    double y[IFS_NX];
+    ifs_outputs(&s->m, y);
+    s->v.beta0 = y[0];
+    s->v.beta1c = y[1];
+    s->v.beta1s = y[2];
+    s->v.lambda0 = y[3];
+    s->v.lambda1c = y[4];
+    s->v.lambda1s = y[5];
+}
+
+/* The simulator loop's usual step, inline in the FMI layer's DoStep: the same
+ * step as last time, equal to the internal step, nothing to rebuild, on time.
+ * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step. */
+IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
+{
+    if (s->phase == IFS_PH_STEP && !s->dirty && h == s->h_comm && h == s->m.dt) {
+        const double now = ifs_slave_time(s);
+        if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now))) {
+            ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
+            s->n_comm++;
+            ifs_slave_update_outputs(s);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* What an FMU state holds: a tagged copy of the slave. */
+#define IFS_STATE_MAGIC 0x49465332u   /* "IFS2" */
+typedef struct {
+    unsigned int magic;
+    unsigned int size;
+    IfsSlave s;
+} IfsSavedState;
+
+/* 0 if p (n bytes) is a state of this FMU, else -1. */
+int ifs_check_state(const void *p, size_t n);
+
+#endif
