@@ -53,6 +53,7 @@ enum {
     IFS_VR_omega = 38,
     IFS_VR_dt = 39,
     IFS_VR_structure = 40,
+    IFS_VR_time = 41,  /* FMI 3.0 only: the independent variable */
     IFS_VR_END
 };
 

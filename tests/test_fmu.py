@@ -23,10 +23,11 @@ from fmpy import extract, read_model_description  # noqa: E402
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE,  # noqa: E402
                        fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE)
+from fmpy.fmi3 import FMU3Slave  # noqa: E402
 
 from inflowsim.errors import InputError  # noqa: E402
 from inflowsim.fmu import VR, apply_parameters, build_fmu, start_values  # noqa: E402
-from inflowsim.fmu.generate import GENERATED, generated_files  # noqa: E402
+from inflowsim.fmu.generate import GENERATED, TIME_VR, generated_files  # noqa: E402
 from inflowsim.fmu.build import compile_library, source_dir  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
 from inflowsim.paramfile import read_parameters  # noqa: E402
@@ -54,6 +55,16 @@ def unzipped(fmu_path, tmp_path_factory):
 @pytest.fixture(scope="module")
 def guid(fmu_path):
     return read_model_description(str(fmu_path)).guid
+
+
+@pytest.fixture(scope="module")
+def fmu3_path(tmp_path_factory):
+    return build_fmu(tmp_path_factory.mktemp("fmu3") / "inflowsim3.fmu", fmi_version=3)
+
+
+@pytest.fixture(scope="module")
+def unzipped3(fmu3_path, tmp_path_factory):
+    return extract(str(fmu3_path), str(tmp_path_factory.mktemp("unzipped3")))
 
 
 @pytest.fixture(scope="module")
@@ -112,6 +123,28 @@ def open_fmu(unzipped, guid, values=None, name="a", logger=None, start=0.0):
         apply_parameters(s, values)
     s.exitInitializationMode()
     return s
+
+
+def open_fmu3(unzipped, guid, values=None, name="a", log=None, start=0.0):
+    s = FMU3Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName=name)
+    s.instantiate(logMessage=log)
+    s.enterInitializationMode(startTime=start)
+    if values is not None:
+        apply_parameters(s, values)
+    s.exitInitializationMode()
+    return s
+
+
+def fmu3_replay(s, u, h=DT, t0=0.0):
+    """As fmu_replay, through FMI 3.0."""
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    y = [s.getFloat64(outs)]
+    for k in range(len(u) - 1):
+        s.setFloat64(ins, list(u[k]))
+        s.doStep(t0 + k * h, h)
+        y.append(s.getFloat64(outs))
+    return np.array(y)
 
 
 def full_inputs(model, u):
@@ -374,13 +407,43 @@ class FmuAdapter:
         self.s.freeInstance()
 
 
-@pytest.mark.parametrize("adapter", [PythonAdapter, FmuAdapter], ids=["python", "fmu"])
-def test_stepping_contract(adapter, unzipped, guid, record):
+class Fmu3Adapter(FmuAdapter):
+    """The same FMU through FMI 3.0."""
+
+    def __init__(self, model, ctx):
+        self.s = open_fmu3(*ctx, start_values(model))
+        self.values = start_values(model)
+        self.ctx = ctx
+        self.k = 0
+
+    def step(self, u):
+        self.s.setFloat64([VR[n] for n in ALL_INPUTS], list(u))
+        self.s.doStep(self.k * DT, DT)
+        self.k += 1
+        return np.array(self.s.getFloat64([VR[n] for n in OUTPUTS]))
+
+    def set_parameters(self, **kw):
+        self.s.setFloat64([VR[n] for n in kw], list(kw.values()))
+
+    def set_mu(self, mu):
+        self.s.setFloat64([VR["mu"]], [mu])
+
+    def reset(self):
+        self.s.reset()
+        self.s.enterInitializationMode(startTime=0.0)
+        apply_parameters(self.s, self.values)
+        self.s.exitInitializationMode()
+        self.k = 0
+
+
+@pytest.mark.parametrize("adapter", [PythonAdapter, FmuAdapter, Fmu3Adapter],
+                         ids=["python", "fmi2", "fmi3"])
+def test_stepping_contract(adapter, unzipped, unzipped3, guid, record):
     """Steps, a parameter change, a mu change and a reset, each against a reference
     built from the Python model with scipy's expm."""
     m = model_of("glauert")
     u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:240]
-    sim = adapter(m, (unzipped, guid))
+    sim = adapter(m, (unzipped3 if adapter is Fmu3Adapter else unzipped, guid))
     ref_model, x, ys, refs = m, np.zeros(6), [], []
     phi0, gam0 = zoh_ref(m, DT)
     x_unchanged = np.zeros(6)
@@ -496,3 +559,171 @@ def test_cli_builds_and_refuses_to_overwrite(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "exists" in err and len(err.strip().splitlines()[-1]) > 0
     assert main(["fmu", "build", "--out", str(tmp_path / "x.zip")]) == 2
+
+
+# -- FMI 3.0: the same slave and model behind the FMI 3.0 functions ------------------
+
+class Log3:
+    """An FMI 3.0 logMessage callback that keeps the messages."""
+
+    def __init__(self):
+        self.messages = []
+
+    def __call__(self, env, status, category, message):
+        self.messages.append((status, message.decode()))
+
+    def text(self):
+        return "\n".join(m for _, m in self.messages)
+
+
+def test_fmi3_validation_reports_no_problem(fmu3_path):
+    from fmpy.validation import validate_fmu
+    assert validate_fmu(str(fmu3_path)) == []
+    md = read_model_description(str(fmu3_path))
+    assert md.fmiVersion == "3.0" and md.coSimulation.modelIdentifier == "inflowsim"
+    by_name = {v.name: v for v in md.modelVariables}
+    assert by_name["time"].causality == "independent"
+    for name, vr in VR.items():          # the same value references as FMI 2.0
+        assert by_name[name].valueReference == vr
+    assert by_name["structure"].type == "Int32" and by_name["theta0"].type == "Float64"
+
+
+def test_fmi3_contents_and_exports(fmu3_path, unzipped3):
+    names = set(zipfile.ZipFile(fmu3_path).namelist())
+    for n in ("modelDescription.xml", "binaries/x86_64-linux/inflowsim.so",
+              "documentation/index.html", "sources/buildDescription.xml",
+              "sources/inflow_fmi3.c", "sources/inflow_slave.c", "sources/inflow_model.c",
+              "sources/fmi3Functions.h", "sources/fmi3FunctionTypes.h",
+              "sources/fmi3PlatformTypes.h", "sources/LICENSE-FMI.txt"):
+        assert n in names
+    assert not any("fmi2" in n for n in names)
+    so = Path(unzipped3) / "binaries" / "x86_64-linux" / "inflowsim.so"
+    syms = set(subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True,
+                              text=True, check=True).stdout.split())
+    header = (source_dir() / "fmi3Functions.h").read_text()
+    declared = {w.rstrip(";") for line in header.splitlines() if "FMI3_Export fmi3" in line
+                for w in line.split() if w.startswith("fmi3") and not w.endswith("TYPE")}
+    assert len(declared) > 70
+    assert declared <= syms, f"not exported: {sorted(declared - syms)}"
+    assert not any(x.startswith("ifs") for x in syms)
+
+
+@pytest.mark.parametrize("structure", ["basic", "empirical", "glauert"])
+def test_fmi3_replay_equals_simulator_and_fmi2(structure, unzipped, unzipped3, guid, record):
+    m = model_of(structure)
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    s3 = open_fmu3(unzipped3, guid, start_values(m))
+    y3 = fmu3_replay(s3, full_inputs(m, u))
+    s3.freeInstance()
+    s2 = open_fmu(unzipped, guid, start_values(m))
+    y2 = fmu_replay(s2, full_inputs(m, u))
+    s2.freeInstance()
+    np.testing.assert_allclose(y3, y_py, rtol=0, atol=1e-10)
+    assert np.array_equal(y3, y2)          # one slave behind both versions
+
+
+def test_fmi3_parameter_file_applies_in_one_call(fmu3_path, record):
+    m = model_of("empirical", k01=0.2, tau_cs=20.0)
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    t = np.arange(len(u)) * DT
+    sig = np.zeros(len(u), dtype=[("time", float)] + [(n, float) for n in m.inputs])
+    sig["time"] = t
+    for i, n in enumerate(m.inputs):
+        sig[n] = u[:, i]
+    res = fmpy.simulate_fmu(str(fmu3_path), start_values=start_values(m), input=sig,
+                            output=list(OUTPUTS), step_size=DT, output_interval=DT,
+                            stop_time=t[-1])
+    y = np.column_stack([res[n] for n in OUTPUTS])
+    np.testing.assert_allclose(y, y_py, rtol=0, atol=1e-10)
+
+
+def test_fmi3_time_substeps_state_and_reset(unzipped3, guid, record):
+    m = model_of("glauert", azimuth_bias=0.04)
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    s = open_fmu3(unzipped3, guid, start_values(m), start=2.0)
+    outs = [VR[n] for n in OUTPUTS]
+    x = np.zeros(6)
+    t = 2.0
+    for i, h in enumerate([0.025, 0.01, 0.0137, 0.1]):
+        s.setFloat64([VR[n] for n in ALL_INPUTS], list(u[50 + 9 * i]))
+        _, _, _, last = s.doStep(t, h)
+        phi, gam = zoh_ref(m, h)
+        x = phi @ x + gam @ u[50 + 9 * i]
+        t += h
+        assert last == s.getFloat64([TIME_VR])[0] == pytest.approx(t, abs=1e-12)
+        np.testing.assert_allclose(s.getFloat64(outs), m.c @ x, rtol=0, atol=1e-12)
+    state = s.getFMUState()
+    blob = s.serializeFMUState(state)
+    tail = fmu3_replay(s, u[100:160], t0=t)
+    s.setFMUState(s.deserializeFMUState(blob))
+    again = fmu3_replay(s, u[100:160], t0=t)
+    assert np.array_equal(tail, again)
+    s.freeFMUState(state)
+    s.reset()
+    s.enterInitializationMode(startTime=0.0)
+    s.exitInitializationMode()
+    assert s.getFloat64(outs) == [0.0] * 6
+    s.freeInstance()
+
+
+def test_fmi3_errors_name_what_is_wrong(unzipped3, guid, record):
+    log = Log3()
+    s = open_fmu3(unzipped3, guid, log=log)
+    outs = [VR[n] for n in OUTPUTS]
+    with pytest.raises(Exception):
+        s.setFloat64([VR["n_beta"]], [-1.0])
+    assert "n_beta" in log.text() and "(0, 10]" in log.text()
+    with pytest.raises(Exception):
+        s.setInt32([VR["structure"]], [1])          # fixed after initialization
+    assert "structure" in log.text()
+    with pytest.raises(Exception):
+        s.setFloat64([TIME_VR], [5.0])
+    assert "independent" in log.text()
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    for k in range(30):
+        s.setFloat64([VR[n] for n in ALL_INPUTS], list(u[40 + k]))
+        s.doStep(k * DT, DT)
+    before = s.getFloat64(outs)
+    with pytest.raises(Exception):
+        s.setFloat64([VR["theta1s"], VR["p"]], [0.5, math.nan])
+    assert "p = nan" in log.text() and "finite" in log.text()
+    assert s.getFloat64([VR["theta1s"]])[0] == u[69][2]     # nothing was set
+    assert s.getFloat64(outs) == before
+    with pytest.raises(Exception):
+        s.getFloat64([VR["beta0"], VR["beta1c"]], nValues=1)
+    assert "values for 2 value references" in log.text()
+    with pytest.raises(Exception):
+        s.getBoolean([0])
+    s.freeInstance()
+
+
+def test_fmi3_wrong_token_event_mode_and_early_step_are_refused(unzipped3, guid):
+    log = Log3()
+    s = FMU3Slave(guid="{00000000-0000-0000-0000-000000000000}", unzipDirectory=unzipped3,
+                  modelIdentifier="inflowsim", instanceName="x")
+    with pytest.raises(Exception, match="instantiate"):
+        s.instantiate(logMessage=log)
+    assert "instantiation token" in log.text()
+    s = FMU3Slave(guid=guid, unzipDirectory=unzipped3, modelIdentifier="inflowsim",
+                  instanceName="y")
+    with pytest.raises(Exception, match="instantiate"):
+        s.instantiate(logMessage=log, eventModeUsed=True)
+    assert "eventModeUsed" in log.text()
+    s = FMU3Slave(guid=guid, unzipDirectory=unzipped3, modelIdentifier="inflowsim",
+                  instanceName="z")
+    s.instantiate(logMessage=log)
+    with pytest.raises(Exception):
+        s.doStep(0.0, DT)
+    assert "not in step mode" in log.text()
+    s.freeInstance()
+
+
+def test_cli_builds_fmi3(tmp_path, capsys):
+    from inflowsim.cli import main
+    out = tmp_path / "x3.fmu"
+    assert main(["fmu", "build", "--out", str(out), "--fmi-version", "3", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["fmi_version"] == "3.0" and read_model_description(str(out)).fmiVersion == "3.0"

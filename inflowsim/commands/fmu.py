@@ -1,4 +1,5 @@
-"""``inflowsim fmu build [--out FILE.fmu]``: the native FMI 2.0 co-simulation FMU.
+"""``inflowsim fmu build [--out FILE.fmu] [--fmi-version {2,3}]``: the native FMI
+co-simulation FMU (FMI 2.0 by default, or FMI 3.0).
 
 A thin layer over :func:`inflowsim.fmu.build_fmu`; the FMU runs without Python.
 To apply an ``identify`` fit, pass :func:`inflowsim.fmu.start_values` of it to the
@@ -9,7 +10,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ._common import print_json, progress
 
-HELP = "build the FMI 2.0 co-simulation FMU (native C, no Python inside)"
+HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
 
 
 def add_arguments(p):
@@ -17,9 +18,12 @@ def add_arguments(p):
     b = sub.add_parser("build", help="compile with the system C compiler and pack the FMU",
                        description="Compile the C model with the system C compiler "
                        "(cc/gcc or $CC) and pack modelDescription.xml, "
-                       "binaries/linux64, sources/ and documentation/.")
+                       "binaries/linux64 (FMI 2.0) or binaries/x86_64-linux (FMI 3.0), "
+                       "sources/ and documentation/.")
     b.add_argument("--out", "-o", default="inflowsim.fmu", metavar="FILE.fmu",
                    help="FMU file to write (default inflowsim.fmu)")
+    b.add_argument("--fmi-version", type=int, choices=(2, 3), default=2,
+                   help="FMI 2.0 (default) or 3.0 co-simulation; the same model")
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
                    help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")
@@ -31,9 +35,11 @@ def run(args) -> int:
     from ..fmu import MODEL_IDENTIFIER, build_fmu
     from ..fmu.generate import guid
     progress(f"building {args.out} ...")
-    path = build_fmu(args.out, overwrite=args.force)
+    path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version)
     if args.json:
-        print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER})
+        print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER,
+                    "fmi_version": f"{args.fmi_version}.0"})
     else:
-        print(f"wrote {path} (FMI 2.0 co-simulation, GUID {guid()})")
+        print(f"wrote {path} (FMI {args.fmi_version}.0 co-simulation, "
+              f"{'GUID' if args.fmi_version == 2 else 'instantiation token'} {guid()})")
     return 0

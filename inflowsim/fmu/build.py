@@ -1,9 +1,11 @@
 """Compile the C sources with the system compiler and pack the FMU.
 
-The FMU holds ``modelDescription.xml``, ``binaries/linux64/inflowsim.so`` (no
-Python inside), ``sources/`` (every C source and the FMI headers) and
-``documentation/index.html``.  The variable table and ``modelDescription.xml``
-are regenerated from :mod:`.variables` for every build, so they always agree.
+The FMU holds ``modelDescription.xml``, the binary (``binaries/linux64/inflowsim.so``
+for FMI 2.0, ``binaries/x86_64-linux/inflowsim.so`` for FMI 3.0; no Python inside),
+``sources/`` (every C source and the FMI headers) and ``documentation/index.html``.
+The variable table and ``modelDescription.xml`` are regenerated from
+:mod:`.variables` for every build, so they always agree.  Both FMI versions are
+thin layers (``inflow_fmi2.c``, ``inflow_fmi3.c``) over the same slave and model.
 """
 from __future__ import annotations
 
@@ -18,13 +20,20 @@ from pathlib import Path
 
 from ..fileio import atomic_path
 from ..errors import InputError
-from .generate import generated_files, guid
+from .generate import TIME_VR, generated_files, guid
 from .variables import MODEL_IDENTIFIER, VARIABLES
 
-#: Hand-written sources (the generated ``inflow_vars.[ch]`` come from Python).
-C_SOURCES = ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c")
-HEADERS = ("inflow_model.h", "inflow_slave.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
-           "fmi2TypesPlatform.h")
+#: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
+#: come from Python), then each FMI version's layer and headers.
+CORE_SOURCES = ("inflow_model.c", "inflow_slave.c")
+CORE_HEADERS = ("inflow_model.h", "inflow_slave.h")
+LAYER = {2: ("inflow_fmi2.c", ("fmi2Functions.h", "fmi2FunctionTypes.h",
+                               "fmi2TypesPlatform.h")),
+         3: ("inflow_fmi3.c", ("fmi3Functions.h", "fmi3FunctionTypes.h",
+                               "fmi3PlatformTypes.h"))}
+#: The model description of each version among the generated files.
+DESCRIPTION = {2: "modelDescription.xml", 3: "modelDescription-fmi3.xml"}
+FMI_VERSIONS = (2, 3)
 CFLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
           "-fvisibility=hidden")
 
@@ -48,17 +57,30 @@ def compiler() -> str:
     raise InputError("no C compiler found: install cc or gcc, or set CC")
 
 
-def platform_folder() -> str:
+def _version(fmi_version) -> int:
+    if fmi_version not in FMI_VERSIONS:
+        raise InputError(f"FMU build: FMI version {fmi_version!r} is not one of 2, 3")
+    return int(fmi_version)
+
+
+def sources(fmi_version=2) -> tuple:
+    """The C sources compiled for ``fmi_version`` (2 or 3), generated table included."""
+    return CORE_SOURCES + (LAYER[_version(fmi_version)][0], "inflow_vars.c")
+
+
+def platform_folder(fmi_version=2) -> str:
+    """``binaries/`` folder name: FMI 2.0 ``linux64``, FMI 3.0 ``x86_64-linux``."""
     if platform.system() != "Linux" or platform.machine() not in ("x86_64", "AMD64"):
-        raise InputError(f"FMU build: only linux64 binaries are supported, not "
+        raise InputError(f"FMU build: only x86-64 Linux binaries are supported, not "
                          f"{platform.system()} {platform.machine()}")
-    return "linux64"
+    return "linux64" if _version(fmi_version) == 2 else "x86_64-linux"
 
 
-def compile_library(src: Path, out_so: Path, extra_flags=()) -> Path:
-    """Compile the model and FMI sources in ``src`` into the shared library ``out_so``."""
+def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2) -> Path:
+    """Compile the model, the slave and the FMI ``fmi_version`` layer in ``src`` into
+    the shared library ``out_so``."""
     cmd = [compiler(), *CFLAGS, *extra_flags, f"-I{src}", "-o", str(out_so),
-           *(str(src / f) for f in C_SOURCES + ("inflow_vars.c",)), "-lm"]
+           *(str(src / f) for f in sources(fmi_version)), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
@@ -66,24 +88,27 @@ def compile_library(src: Path, out_so: Path, extra_flags=()) -> Path:
     return out_so
 
 
-def _stage_sources(dest: Path) -> None:
+def _stage_sources(dest: Path, fmi_version: int) -> None:
     src = source_dir()
-    missing = [f for f in C_SOURCES + HEADERS if not (src / f).is_file()]
+    layer, headers = LAYER[fmi_version]
+    hand = CORE_SOURCES + (layer,) + CORE_HEADERS + headers
+    missing = [f for f in hand if not (src / f).is_file()]
     if missing:
         raise InputError(f"FMU build: {missing[0]} is missing from {src}")
     dest.mkdir(parents=True)
-    for f in C_SOURCES + HEADERS + ("LICENSE-FMI.txt",):
+    for f in hand + ("LICENSE-FMI.txt",):
         if (src / f).is_file():
             shutil.copyfile(src / f, dest / f)
     for name, text in generated_files().items():
         if name.endswith((".c", ".h")):
             (dest / name).write_text(text, encoding="utf-8")
-    (dest / "buildDescription.xml").write_text(_build_description(), encoding="utf-8")
+    # the FMI 3.0 build description; FMPy also reads it to compile an FMI 2.0 FMU
+    (dest / "buildDescription.xml").write_text(_build_description(fmi_version),
+                                               encoding="utf-8")
 
 
-def _build_description() -> str:
-    files = "\n".join(f'      <SourceFile name="{f}"/>'
-                      for f in C_SOURCES + ("inflow_vars.c",))
+def _build_description(fmi_version: int) -> str:
+    files = "\n".join(f'      <SourceFile name="{f}"/>' for f in sources(fmi_version))
     return ('<?xml version="1.0" encoding="UTF-8"?>\n'
             '<fmiBuildDescription fmiVersion="3.0">\n'
             f'  <BuildConfiguration modelIdentifier="{MODEL_IDENTIFIER}">\n'
@@ -95,21 +120,32 @@ def _build_description() -> str:
             "</fmiBuildDescription>\n")
 
 
-def documentation_html() -> str:
+def documentation_html(fmi_version=2) -> str:
     """``documentation/index.html``: conventions and the variable table."""
-    rows = "\n".join(
+    v_ = _version(fmi_version)
+    fmi = f"fmi{v_}"
+    status_error = f"{fmi}Error"
+    files = " ".join(sources(v_))
+    time_row = ("" if v_ == 2 else
+                f"<tr><td><code>time</code></td><td>{TIME_VR}</td><td>Float64</td>"
+                "<td>independent</td><td>continuous</td><td></td><td>s</td>"
+                "<td>simulation time (read-only)</td></tr>\n")
+    rows = time_row + "\n".join(
         f"<tr><td><code>{html.escape(v.name)}</code></td><td>{i}</td><td>{v.type}</td>"
         f"<td>{v.causality}</td><td>{v.variability}</td>"
         f"<td>{'' if v.start is None else v.start}</td><td>{html.escape(v.unit)}</td>"
         f"<td>{html.escape(v.description)}</td></tr>" for i, v in enumerate(VARIABLES))
+    if v_ == 3:
+        rows = rows.replace("<td>Real</td>", "<td>Float64</td>").replace(
+            "<td>Integer</td>", "<td>Int32</td>")
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>inflowsim FMU</title></head><body>
-<h1>inflowsim: rotor flap and Glauert-augmented dynamic inflow (FMI 2.0 co-simulation)</h1>
+<h1>inflowsim: rotor flap and Glauert-augmented dynamic inflow (FMI {v_}.0 co-simulation)</h1>
 <p>First-order multiblade flapping with dynamic inflow, after "Glauert augmentation of
 rotor inflow dynamics" (ERF 1989): basic momentum model (Eq. 1-4), empirical model
 (Eq. 13) and Glauert-augmented model (Eq. 19-20) with azimuth bias, selected by the
 integer parameter <code>structure</code> (0 basic, 1 empirical, 2 glauert).
-GUID {guid()}.</p>
+{"GUID" if v_ == 2 else "Instantiation token"} {guid()}.</p>
 <h2>Conventions</h2>
 <ul>
 <li><b>Inputs and outputs are perturbations about trim</b>, in SI units (rad, rad/s,
@@ -122,20 +158,20 @@ The recorded flap outputs include the azimuth bias rotation.</li>
 <code>Simulator.set_mu</code>.</li>
 <li>Time constants <code>tau, tau0, tau_cs</code> are in azimuth units (seconds times
 &Omega;), as in the paper.</li>
-<li><code>fmi2DoStep(t, h)</code> holds the inputs over [t, t+h) and leaves the outputs at
+<li><code>{fmi}DoStep(t, h)</code> holds the inputs over [t, t+h) and leaves the outputs at
 t+h: internal exact zero-order-hold steps of <code>dt</code> plus one exact remainder
 step, so any communication step is exact.  Time is counted in steps, never summed.</li>
 <li>Tunable parameters and constants may change between steps (the matrices are
 rebuilt); <code>dt</code> and <code>structure</code> are fixed after initialization.</li>
-<li>A value out of range or not finite is refused with <code>fmi2Error</code> and a
+<li>A value out of range or not finite is refused with <code>{status_error}</code> and a
 logged message naming it; the state and the stored value are untouched.</li>
 <li>Apply an identified parameter file in one call:
 <code>fmpy.simulate_fmu(fmu, start_values=inflowsim.fmu.start_values(read_parameters(path)))</code>.</li>
 </ul>
 <h2>Building from <code>sources/</code></h2>
 <p><code>cc -std=c99 -O2 -fPIC -shared -fvisibility=hidden -o inflowsim.so
-inflow_model.c inflow_fmi2.c inflow_vars.c -lm</code>.
-On glibc x86-64, <code>fmi2DoStep</code> is compiled twice (AVX2 and baseline) and the
+{files} -lm</code>.
+On glibc x86-64, <code>{fmi}DoStep</code> is compiled twice (AVX2 and baseline) and the
 loader picks one; both give the same numbers bit for bit.
 <code>-DIFS_NO_CLONES</code> builds the baseline only; <code>-DIFS_SCALAR_STEP</code>
 uses the plain-C step (what compilers without GNU vector types get), again with the
@@ -146,13 +182,14 @@ same numbers.</p>
 <th>variability</th><th>start</th><th>unit</th><th>description</th></tr>
 {rows}
 </table>
-<p>The FMI 2.0 headers in <code>sources/</code> are under the 2-clause BSD licence
+<p>The FMI {v_}.0 headers in <code>sources/</code> are under the 2-clause BSD licence
 (<code>sources/LICENSE-FMI.txt</code>).</p>
 </body></html>
 """
 
 
-def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=()) -> Path:
+def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
+              fmi_version=2) -> Path:
     """Build the co-simulation FMU with the system C compiler.
 
     Parameters
@@ -163,6 +200,8 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=()) -> 
         Replace an existing file (default: refuse).
     protect : iterable of paths
         Files never to write over.
+    fmi_version : {2, 3}
+        FMI 2.0 (default) or FMI 3.0 co-simulation; the same model and variables.
 
     Returns
     -------
@@ -180,17 +219,19 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=()) -> 
     parent = out.parent if str(out.parent) else Path(".")
     if not parent.is_dir():
         raise InputError(f"{out}: folder {parent} does not exist")
-    plat = platform_folder()
+    version = _version(fmi_version)
+    plat = platform_folder(version)
     with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp:
         root = Path(tmp) / "fmu"
-        _stage_sources(root / "sources")
+        _stage_sources(root / "sources", version)
         (root / "binaries" / plat).mkdir(parents=True)
-        compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so")
+        compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
+                        fmi_version=version)
         (root / "documentation").mkdir()
-        (root / "documentation" / "index.html").write_text(documentation_html(),
+        (root / "documentation" / "index.html").write_text(documentation_html(version),
                                                            encoding="utf-8")
-        (root / "modelDescription.xml").write_text(generated_files()["modelDescription.xml"],
-                                                   encoding="utf-8")
+        (root / "modelDescription.xml").write_text(
+            generated_files()[DESCRIPTION[version]], encoding="utf-8")
         with atomic_path(out) as part:
             with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
                 for p in sorted(root.rglob("*")):

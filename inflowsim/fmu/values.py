@@ -82,15 +82,19 @@ def start_values(source, constants=None) -> dict:
 
 
 def apply_parameters(fmu, source, constants=None) -> dict:
-    """Set :func:`start_values` on an instantiated fmpy ``FMU2Slave`` (before
-    ``exitInitializationMode`` for ``structure``; tunable values also between steps).
+    """Set :func:`start_values` on an instantiated fmpy ``FMU2Slave`` or ``FMU3Slave``
+    (before ``exitInitializationMode`` for ``structure``; tunable values also between
+    steps).
 
     Returns the values set.
     """
     vals = source if isinstance(source, Mapping) else start_values(source, constants)
     reals = {n: v for n, v in vals.items() if n != "structure"}
+    fmi3 = hasattr(fmu, "setFloat64")
+    set_real = fmu.setFloat64 if fmi3 else fmu.setReal
+    set_int = fmu.setInt32 if fmi3 else fmu.setInteger
     if "structure" in vals:
-        fmu.setInteger([VR["structure"]], [int(vals["structure"])])
+        set_int([VR["structure"]], [int(vals["structure"])])
     if reals:
-        fmu.setReal([VR[n] for n in reals], [float(v) for v in reals.values()])
+        set_real([VR[n] for n in reals], [float(v) for v in reals.values()])
     return dict(vals)
