@@ -10,26 +10,6 @@
 #include "fmi2Functions.h"
 #include "inflow_slave.h"
 
-#if defined(__GNUC__)
-#define IFS_EXPORT __attribute__((visibility("default")))
-#else
-#define IFS_EXPORT
-#endif
-
-/* fmi2DoStep is compiled twice where the loader can pick one at load time (GNU
- * ifunc, glibc): for AVX2 and for the baseline.  The step does the same
- * operations in the same order in both, so both give the same numbers (a test
- * checks this bit for bit).  -DIFS_NO_CLONES turns it off. */
-#if defined(__has_attribute)
-#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
-    !defined(IFS_NO_CLONES)
-#define IFS_HOT __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef IFS_HOT
-#define IFS_HOT
-#endif
-
 typedef struct {
     IfsSlave s;
     IfsLog log;
@@ -218,31 +198,23 @@ IFS_EXPORT fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference
 
 /* --- FMU state --- */
 
+static void *alloc(void *ctx, size_t n)
+{
+    return ((Instance *)ctx)->cb.allocateMemory(1, n);
+}
+
 IFS_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state)
 {
     Instance *c = (Instance *)comp;
-    IfsSavedState *st;
-    if (!c || !state) return fmi2Error;
-    st = (IfsSavedState *)*state;
-    if (!st) {
-        st = (IfsSavedState *)c->cb.allocateMemory(1, sizeof(IfsSavedState));
-        if (!st) return ERR(c, "fmi2GetFMUstate: out of memory");
-    }
-    st->magic = IFS_STATE_MAGIC;
-    st->size = (unsigned int)sizeof(IfsSavedState);
-    st->s = c->s;
-    *state = st;
-    return fmi2OK;
+    if (!c) return fmi2Error;
+    return (fmi2Status)ifs_state_get(&c->s, &c->log, "fmi2GetFMUstate", state, alloc, c);
 }
 
 IFS_EXPORT fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    if (ifs_check_state(state, sizeof(IfsSavedState)) != 0)
-        return ERR(c, "fmi2SetFMUstate: not a state of this FMU");
-    c->s = ((const IfsSavedState *)state)->s;
-    return fmi2OK;
+    return (fmi2Status)ifs_state_set(&c->s, &c->log, "fmi2SetFMUstate", state);
 }
 
 IFS_EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state)
@@ -268,27 +240,18 @@ IFS_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate sta
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    if (!state || !bytes || size < sizeof(IfsSavedState))
-        return ERR(c, "fmi2SerializeFMUstate: need %u bytes",
-                   (unsigned)sizeof(IfsSavedState));
-    memcpy(bytes, state, sizeof(IfsSavedState));
-    return fmi2OK;
+    return (fmi2Status)ifs_state_serialize(&c->log, "fmi2SerializeFMUstate", state,
+                                           (unsigned char *)bytes, size);
 }
 
 IFS_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte bytes[],
                                               size_t size, fmi2FMUstate *state)
 {
     Instance *c = (Instance *)comp;
-    if (!c || !state) return fmi2Error;
-    if (ifs_check_state(bytes, size) != 0)
-        return ERR(c, "fmi2DeSerializeFMUstate: %u bytes are not a state of this FMU",
-                   (unsigned)size);
-    if (!*state) {
-        *state = c->cb.allocateMemory(1, sizeof(IfsSavedState));
-        if (!*state) return ERR(c, "fmi2DeSerializeFMUstate: out of memory");
-    }
-    memcpy(*state, bytes, sizeof(IfsSavedState));
-    return fmi2OK;
+    if (!c) return fmi2Error;
+    return (fmi2Status)ifs_state_deserialize(&c->log, "fmi2DeSerializeFMUstate",
+                                             (const unsigned char *)bytes, size, state,
+                                             alloc, c);
 }
 
 IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(

@@ -12,24 +12,6 @@
 #include "fmi3Functions.h"
 #include "inflow_slave.h"
 
-#if defined(__GNUC__)
-#define IFS_EXPORT __attribute__((visibility("default")))
-#else
-#define IFS_EXPORT
-#endif
-
-/* fmi3DoStep is compiled for AVX2 and for the baseline where the loader can pick
- * one (GNU ifunc, glibc); the same numbers either way.  See inflow_fmi2.c. */
-#if defined(__has_attribute)
-#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
-    !defined(IFS_NO_CLONES)
-#define IFS_HOT __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef IFS_HOT
-#define IFS_HOT
-#endif
-
 typedef struct {
     IfsSlave s;
     IfsLog log;
@@ -361,31 +343,24 @@ IFS_EXPORT fmi3Status fmi3GetVariableDependencies(
 
 /* --- FMU state --- */
 
+static void *alloc(void *ctx, size_t n)
+{
+    (void)ctx;
+    return malloc(n);
+}
+
 IFS_EXPORT fmi3Status fmi3GetFMUState(fmi3Instance inst, fmi3FMUState *state)
 {
     Instance *c = (Instance *)inst;
-    IfsSavedState *st;
-    if (!c || !state) return fmi3Error;
-    st = (IfsSavedState *)*state;
-    if (!st) {
-        st = (IfsSavedState *)malloc(sizeof(IfsSavedState));
-        if (!st) return ERR(c, "fmi3GetFMUState: out of memory");
-    }
-    st->magic = IFS_STATE_MAGIC;
-    st->size = (unsigned int)sizeof(IfsSavedState);
-    st->s = c->s;
-    *state = st;
-    return fmi3OK;
+    if (!c) return fmi3Error;
+    return (fmi3Status)ifs_state_get(&c->s, &c->log, "fmi3GetFMUState", state, alloc, c);
 }
 
 IFS_EXPORT fmi3Status fmi3SetFMUState(fmi3Instance inst, fmi3FMUState state)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    if (ifs_check_state(state, sizeof(IfsSavedState)) != 0)
-        return ERR(c, "fmi3SetFMUState: not a state of this FMU");
-    c->s = ((const IfsSavedState *)state)->s;
-    return fmi3OK;
+    return (fmi3Status)ifs_state_set(&c->s, &c->log, "fmi3SetFMUState", state);
 }
 
 IFS_EXPORT fmi3Status fmi3FreeFMUState(fmi3Instance inst, fmi3FMUState *state)
@@ -410,26 +385,17 @@ IFS_EXPORT fmi3Status fmi3SerializeFMUState(fmi3Instance inst, fmi3FMUState stat
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    if (!state || !bytes || size < sizeof(IfsSavedState))
-        return ERR(c, "fmi3SerializeFMUState: need %u bytes", (unsigned)sizeof(IfsSavedState));
-    memcpy(bytes, state, sizeof(IfsSavedState));
-    return fmi3OK;
+    return (fmi3Status)ifs_state_serialize(&c->log, "fmi3SerializeFMUState", state, bytes,
+                                           size);
 }
 
 IFS_EXPORT fmi3Status fmi3DeserializeFMUState(fmi3Instance inst, const fmi3Byte bytes[],
                                               size_t size, fmi3FMUState *state)
 {
     Instance *c = (Instance *)inst;
-    if (!c || !state) return fmi3Error;
-    if (ifs_check_state(bytes, size) != 0)
-        return ERR(c, "fmi3DeserializeFMUState: %u bytes are not a state of this FMU",
-                   (unsigned)size);
-    if (!*state) {
-        *state = malloc(sizeof(IfsSavedState));
-        if (!*state) return ERR(c, "fmi3DeserializeFMUState: out of memory");
-    }
-    memcpy(*state, bytes, sizeof(IfsSavedState));
-    return fmi3OK;
+    if (!c) return fmi3Error;
+    return (fmi3Status)ifs_state_deserialize(&c->log, "fmi3DeserializeFMUState", bytes, size,
+                                             state, alloc, c);
 }
 
 /* --- not provided: derivatives, configuration, clocks, model exchange --- */

@@ -223,10 +223,62 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
     return IFS_OK;
 }
 
-int ifs_check_state(const void *p, size_t n)
+/* --- FMU state --- */
+
+static int is_state(const void *p, size_t n)
 {
     IfsSavedState st;
-    if (!p || n != sizeof st) return -1;
+    if (!p || n != sizeof st) return 0;
     memcpy(&st, p, sizeof st);
-    return st.magic == IFS_STATE_MAGIC && st.size == sizeof st ? 0 : -1;
+    return st.magic == IFS_STATE_MAGIC && st.size == sizeof st;
+}
+
+int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
+                  IfsAlloc alloc, void *ctx)
+{
+    IfsSavedState *st;
+    if (!state) return ifs_log(lg, IFS_ERROR, "%s: null state pointer", fn);
+    st = (IfsSavedState *)*state;
+    if (!st) {
+        st = (IfsSavedState *)alloc(ctx, sizeof(IfsSavedState));
+        if (!st) return ifs_log(lg, IFS_ERROR, "%s: out of memory", fn);
+    }
+    st->magic = IFS_STATE_MAGIC;
+    st->size = (unsigned int)sizeof(IfsSavedState);
+    st->s = *s;
+    *state = st;
+    return IFS_OK;
+}
+
+int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *state)
+{
+    if (!is_state(state, sizeof(IfsSavedState)))
+        return ifs_log(lg, IFS_ERROR, "%s: not a state of this FMU", fn);
+    *s = ((const IfsSavedState *)state)->s;
+    return IFS_OK;
+}
+
+int ifs_state_serialize(const IfsLog *lg, const char *fn, const void *state,
+                        unsigned char bytes[], size_t size)
+{
+    if (!state || !bytes || size < sizeof(IfsSavedState))
+        return ifs_log(lg, IFS_ERROR, "%s: need a state and %u bytes", fn,
+                       (unsigned)sizeof(IfsSavedState));
+    memcpy(bytes, state, sizeof(IfsSavedState));
+    return IFS_OK;
+}
+
+int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char bytes[],
+                          size_t size, void **state, IfsAlloc alloc, void *ctx)
+{
+    if (!state) return ifs_log(lg, IFS_ERROR, "%s: null state pointer", fn);
+    if (!is_state(bytes, size))
+        return ifs_log(lg, IFS_ERROR, "%s: %u bytes are not a state of this FMU", fn,
+                       (unsigned)size);
+    if (!*state) {
+        *state = alloc(ctx, sizeof(IfsSavedState));
+        if (!*state) return ifs_log(lg, IFS_ERROR, "%s: out of memory", fn);
+    }
+    memcpy(*state, bytes, sizeof(IfsSavedState));
+    return IFS_OK;
 }

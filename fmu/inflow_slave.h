@@ -114,7 +114,8 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
     return 0;
 }
 
-/* What an FMU state holds: a tagged copy of the slave. */
+/* --- FMU state: a tagged copy of the slave; the layers differ only in allocation --- */
+
 #define IFS_STATE_MAGIC 0x49465332u   /* "IFS2" */
 typedef struct {
     unsigned int magic;
@@ -122,7 +123,38 @@ typedef struct {
     IfsSlave s;
 } IfsSavedState;
 
-/* 0 if p (n bytes) is a state of this FMU, else -1. */
-int ifs_check_state(const void *p, size_t n);
+typedef void *(*IfsAlloc)(void *ctx, size_t n);
+
+/* Copy the slave into *state, allocating it with alloc(ctx, n) if it is NULL. */
+int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
+                  IfsAlloc alloc, void *ctx);
+/* Restore the slave from a state of this FMU. */
+int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *state);
+int ifs_state_serialize(const IfsLog *lg, const char *fn, const void *state,
+                        unsigned char bytes[], size_t size);
+int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char bytes[],
+                          size_t size, void **state, IfsAlloc alloc, void *ctx);
+
+/* --- what both FMI layers declare --- */
+
+#if defined(__GNUC__)
+#define IFS_EXPORT __attribute__((visibility("default")))
+#else
+#define IFS_EXPORT
+#endif
+
+/* The DoStep functions are compiled twice where the loader can pick one at load
+ * time (GNU ifunc, glibc): for AVX2 and for the baseline.  The step does the same
+ * operations in the same order in both, so both give the same numbers (a test
+ * checks this bit for bit).  -DIFS_NO_CLONES turns it off. */
+#if defined(__has_attribute)
+#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
+    !defined(IFS_NO_CLONES)
+#define IFS_HOT __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef IFS_HOT
+#define IFS_HOT
+#endif
 
 #endif

@@ -147,6 +147,19 @@ def fmu3_replay(s, u, h=DT, t0=0.0):
     return np.array(y)
 
 
+def simulate_with_fmpy(fmu_path, values, inputs, u):
+    """fmpy.simulate_fmu with the inputs u (columns named inputs) sampled at DT."""
+    t = np.arange(len(u)) * DT
+    sig = np.zeros(len(u), dtype=[("time", float)] + [(n, float) for n in inputs])
+    sig["time"] = t
+    for i, n in enumerate(inputs):
+        sig[n] = u[:, i]
+    res = fmpy.simulate_fmu(str(fmu_path), start_values=values, input=sig,
+                            output=list(OUTPUTS), step_size=DT, output_interval=DT,
+                            stop_time=t[-1])
+    return np.column_stack([res[n] for n in OUTPUTS])
+
+
 def full_inputs(model, u):
     """The FMU always has the ten inputs; a structure without mux, muy gets zeros."""
     out = np.zeros((len(u), len(ALL_INPUTS)))
@@ -232,15 +245,7 @@ def test_parameter_file_applies_in_one_call(tmp_path, fmu_path, record):
     m = ps.model()
     u = model_inputs(record, m, find_trim(record))
     y_py = Simulator(m, DT).replay(u)
-    t = np.arange(len(u)) * DT
-    sig = np.zeros(len(u), dtype=[("time", float)] + [(n, float) for n in m.inputs])
-    sig["time"] = t
-    for i, n in enumerate(m.inputs):
-        sig[n] = u[:, i]
-    res = fmpy.simulate_fmu(str(fmu_path), start_values=start_values(ps), input=sig,
-                            output=list(OUTPUTS), step_size=DT, output_interval=DT,
-                            stop_time=t[-1])
-    y = np.column_stack([res[n] for n in OUTPUTS])
+    y = simulate_with_fmpy(fmu_path, start_values(ps), m.inputs, u)
     # fmpy records the initial outputs at t0, then the outputs after each step
     assert len(y) == len(u)
     np.testing.assert_allclose(y, y_py, rtol=0, atol=1e-10)
@@ -627,15 +632,7 @@ def test_fmi3_parameter_file_applies_in_one_call(fmu3_path, record):
     m = model_of("empirical", k01=0.2, tau_cs=20.0)
     u = model_inputs(record, m, find_trim(record))
     y_py = Simulator(m, DT).replay(u)
-    t = np.arange(len(u)) * DT
-    sig = np.zeros(len(u), dtype=[("time", float)] + [(n, float) for n in m.inputs])
-    sig["time"] = t
-    for i, n in enumerate(m.inputs):
-        sig[n] = u[:, i]
-    res = fmpy.simulate_fmu(str(fmu3_path), start_values=start_values(m), input=sig,
-                            output=list(OUTPUTS), step_size=DT, output_interval=DT,
-                            stop_time=t[-1])
-    y = np.column_stack([res[n] for n in OUTPUTS])
+    y = simulate_with_fmpy(fmu3_path, start_values(m), m.inputs, u)
     np.testing.assert_allclose(y, y_py, rtol=0, atol=1e-10)
 
 

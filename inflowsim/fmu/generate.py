@@ -34,6 +34,20 @@ def guid() -> str:
     return "{" + str(uuid.UUID(bytes=h[:16], version=5)) + "}"
 
 
+def _units_categories_experiment(units) -> list:
+    """The lines both FMI versions share between the interface type and the variables."""
+    return (["  <UnitDefinitions>"] + [f'    <Unit name="{u}"/>' for u in units] +
+            ["  </UnitDefinitions>",
+             "  <LogCategories>",
+             '    <Category name="logStatusError" description="errors: refused values, '
+             'invalid parameters, wrong calls"/>',
+             '    <Category name="logStatusWarning" description="warnings"/>',
+             '    <Category name="logAll" description="informational messages"/>',
+             "  </LogCategories>",
+             f'  <DefaultExperiment startTime="0.0" stopTime="26.6" '
+             f'stepSize="{_num(DT)}"/>'])
+
+
 def _xml_variable(vr: int, v: Variable) -> str:
     attrs = [f"name={quoteattr(v.name)}", f'valueReference="{vr}"',
              f"description={quoteattr(v.description)}", f'causality="{v.causality}"',
@@ -72,17 +86,8 @@ def model_description() -> str:
            'canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" '
            'canSerializeFMUstate="true" canInterpolateInputs="false" '
            'maxOutputDerivativeOrder="0" canRunAsynchronuously="false"/>',
-           "  <UnitDefinitions>"]
-    out += [f'    <Unit name="{u}"/>' for u in units]
-    out += ["  </UnitDefinitions>",
-            "  <LogCategories>",
-            '    <Category name="logStatusError" description="errors: refused values, '
-            'invalid parameters, wrong calls"/>',
-            '    <Category name="logStatusWarning" description="warnings"/>',
-            '    <Category name="logAll" description="informational messages"/>',
-            "  </LogCategories>",
-            f'  <DefaultExperiment startTime="0.0" stopTime="26.6" stepSize="{_num(DT)}"/>',
-            "  <ModelVariables>"]
+           *_units_categories_experiment(units),
+           "  <ModelVariables>"]
     for vr, v in enumerate(VARIABLES):
         out.append(f"    <!-- index {vr + 1} -->")
         out.append(_xml_variable(vr, v))
@@ -133,17 +138,8 @@ def model_description_fmi3() -> str:
            'canSerializeFMUState="true" hasEventMode="false" '
            'providesIntermediateUpdate="false" canReturnEarlyAfterIntermediateUpdate="false" '
            'maxOutputDerivativeOrder="0"/>',
-           "  <UnitDefinitions>"]
-    out += [f'    <Unit name="{u}"/>' for u in units]
-    out += ["  </UnitDefinitions>",
-            "  <LogCategories>",
-            '    <Category name="logStatusError" description="errors: refused values, '
-            'invalid parameters, wrong calls"/>',
-            '    <Category name="logStatusWarning" description="warnings"/>',
-            '    <Category name="logAll" description="informational messages"/>',
-            "  </LogCategories>",
-            f'  <DefaultExperiment startTime="0.0" stopTime="26.6" stepSize="{_num(DT)}"/>',
-            "  <ModelVariables>",
+           *_units_categories_experiment(units),
+           "  <ModelVariables>",
             f'    <Float64 name="time" valueReference="{TIME_VR}" causality="independent" '
             'variability="continuous" unit="s" description="simulation time"/>']
     out += [_xml_variable_fmi3(vr, v) for vr, v in enumerate(VARIABLES)]
