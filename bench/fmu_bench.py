@@ -6,7 +6,8 @@ Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
 clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
 runs) and the one-state reference (``bench/fmu_onestate.c``) with the same flags,
 compiles ``bench/fmu_driver.c``, runs it (best of 5 runs of N steps per case) on
-both libraries and times an fmpy ``FMU2Slave`` loop (setReal inputs, doStep,
+both libraries (and on the FMI 3.0 library, built as ``inflowsim fmu build
+--fmi-version 3`` builds it) and times an fmpy ``FMU2Slave`` loop (setReal inputs, doStep,
 getReal outputs).  Prints a Markdown table; results and method are kept in
 ``bench/fmu.md``.
 """
@@ -45,10 +46,11 @@ def main(argv=None):
         subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
                         str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
         baseline = compile_library(source_dir(), tmp / "baseline.so", ("-DIFS_NO_CLONES",))
+        fmi3 = compile_library(source_dir(), tmp / "fmi3.so", fmi_version=3)
         rows = {}
-        for lib, tag in ((so, ""), (baseline, "baseline_")):
+        for lib, tag, extra in ((so, "", [str(fmi3)]), (baseline, "baseline_", [])):
             out = subprocess.run([str(tmp / "driver"), str(lib), guid,
-                                  str(tmp / "onestate.so"), str(args.steps)],
+                                  str(tmp / "onestate.so"), str(args.steps), *extra],
                                  check=True, capture_output=True, text=True)
             for line in out.stdout.splitlines():
                 name, value = line.split()
