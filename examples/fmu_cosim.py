@@ -1,8 +1,8 @@
 """Co-simulate the native FMU with fmpy on a virtual doublet record.
 
-    python examples/fmu_cosim.py [OUT_DIR]
+    python examples/fmu_cosim.py [OUT_DIR [FMI_VERSION]]
 
-Builds the FMU, replays the record's inputs (perturbations about the trim found in
+Builds the FMU (FMI 2.0, or 3.0 with FMI_VERSION 3), replays the record's inputs (perturbations about the trim found in
 the quiet lead-in) through it with fmpy, and plots the FMU's flap against the Python
 Simulator and the measurements (``OUT_DIR/fmu_cosim.png``, default ``.``).
 """
@@ -28,8 +28,9 @@ from inflowsim.virtual import VirtualTest, virtual_record  # noqa: E402
 FLAP = ("beta0", "beta1c", "beta1s")
 
 
-def main(out_dir="."):
+def main(out_dir=".", fmi_version="2"):
     out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
     rec = virtual_record(VirtualTest(structure="glauert", seed=0))
     k = rec.constants
     model = build_model("glauert", preset_parameters("glauert", k, "paper"), k)
@@ -38,7 +39,7 @@ def main(out_dir="."):
     y_py = Simulator(model, rec.dt).replay(u)
 
     with tempfile.TemporaryDirectory() as tmp:
-        fmu = build_fmu(Path(tmp) / "inflowsim.fmu")
+        fmu = build_fmu(Path(tmp) / "inflowsim.fmu", fmi_version=int(fmi_version))
         sig = np.zeros(len(u), dtype=[("time", float), ("mu", float)]
                        + [(n, float) for n in model.inputs])
         sig["time"] = rec.t - rec.t[0]
@@ -60,7 +61,8 @@ def main(out_dir="."):
         ax.set_ylabel(f"{n} [deg]")
     axes[0].legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle("inflowsim FMU co-simulation: glauert, Table 3, theta1s doublet")
+    fig.suptitle(f"inflowsim FMU (FMI {fmi_version}.0) co-simulation: glauert, Table 3, "
+                 "theta1s doublet")
     fig.tight_layout()
     png = out / "fmu_cosim.png"
     fig.savefig(png, dpi=100)
@@ -68,4 +70,4 @@ def main(out_dir="."):
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:2])
+    main(*sys.argv[1:3])
