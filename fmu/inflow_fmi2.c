@@ -27,6 +27,9 @@ static void emit(void *env, int status, const char *category, const char *messag
 
 #define ERR(c, ...) ((fmi2Status)ifs_log(&(c)->log, IFS_ERROR, __VA_ARGS__))
 
+/* An error for a call this FMU does not serve; a null component is an error too. */
+#define REFUSE(comp, ...) ((comp) ? ERR((Instance *)(comp), __VA_ARGS__) : fmi2Error)
+
 /* --- common functions --- */
 
 IFS_EXPORT const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -165,7 +168,7 @@ IFS_EXPORT fmi2Status fmi2GetBoolean(fmi2Component comp, const fmi2ValueReferenc
 {
     (void)value;
     if (nvr == 0) return fmi2OK;
-    return ERR((Instance *)comp, "fmi2GetBoolean: %u: this FMU has no Boolean variables",
+    return REFUSE(comp, "fmi2GetBoolean: %u: this FMU has no Boolean variables",
                vr ? vr[0] : 0u);
 }
 
@@ -174,7 +177,7 @@ IFS_EXPORT fmi2Status fmi2SetBoolean(fmi2Component comp, const fmi2ValueReferenc
 {
     (void)value;
     if (nvr == 0) return fmi2OK;
-    return ERR((Instance *)comp, "fmi2SetBoolean: %u: this FMU has no Boolean variables",
+    return REFUSE(comp, "fmi2SetBoolean: %u: this FMU has no Boolean variables",
                vr ? vr[0] : 0u);
 }
 
@@ -183,7 +186,7 @@ IFS_EXPORT fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference
 {
     (void)value;
     if (nvr == 0) return fmi2OK;
-    return ERR((Instance *)comp, "fmi2GetString: %u: this FMU has no String variables",
+    return REFUSE(comp, "fmi2GetString: %u: this FMU has no String variables",
                vr ? vr[0] : 0u);
 }
 
@@ -192,7 +195,7 @@ IFS_EXPORT fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference
 {
     (void)value;
     if (nvr == 0) return fmi2OK;
-    return ERR((Instance *)comp, "fmi2SetString: %u: this FMU has no String variables",
+    return REFUSE(comp, "fmi2SetString: %u: this FMU has no String variables",
                vr ? vr[0] : 0u);
 }
 
@@ -259,7 +262,7 @@ IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
     const fmi2ValueReference known[], size_t nk, const fmi2Real dknown[], fmi2Real dunknown[])
 {
     (void)unknown; (void)nu; (void)known; (void)nk; (void)dknown; (void)dunknown;
-    return ERR((Instance *)comp, "fmi2GetDirectionalDerivative: not provided "
+    return REFUSE(comp, "fmi2GetDirectionalDerivative: not provided "
                "(providesDirectionalDerivative is false)");
 }
 
@@ -271,7 +274,7 @@ IFS_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp,
                                                   const fmi2Real value[])
 {
     (void)vr; (void)nvr; (void)order; (void)value;
-    return ERR((Instance *)comp, "fmi2SetRealInputDerivatives: inputs are held over a "
+    return REFUSE(comp, "fmi2SetRealInputDerivatives: inputs are held over a "
                "step (canInterpolateInputs is false)");
 }
 
@@ -281,7 +284,7 @@ IFS_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp,
                                                    fmi2Real value[])
 {
     (void)vr; (void)nvr; (void)order; (void)value;
-    return ERR((Instance *)comp, "fmi2GetRealOutputDerivatives: not provided "
+    return REFUSE(comp, "fmi2GetRealOutputDerivatives: not provided "
                "(maxOutputDerivativeOrder is 0)");
 }
 
@@ -297,7 +300,7 @@ IFS_EXPORT IFS_HOT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Rea
 
 IFS_EXPORT fmi2Status fmi2CancelStep(fmi2Component comp)
 {
-    return ERR((Instance *)comp, "fmi2CancelStep: fmi2DoStep is synchronous");
+    return REFUSE(comp, "fmi2CancelStep: fmi2DoStep is synchronous");
 }
 
 IFS_EXPORT fmi2Status fmi2GetStatus(fmi2Component comp, const fmi2StatusKind s,
@@ -324,7 +327,7 @@ IFS_EXPORT fmi2Status fmi2GetIntegerStatus(fmi2Component comp, const fmi2StatusK
                                            fmi2Integer *value)
 {
     (void)s; (void)value;
-    return ERR((Instance *)comp, "fmi2GetIntegerStatus: no integer status is provided");
+    return REFUSE(comp, "fmi2GetIntegerStatus: no integer status is provided");
 }
 
 IFS_EXPORT fmi2Status fmi2GetBooleanStatus(fmi2Component comp, const fmi2StatusKind s,
@@ -342,5 +345,5 @@ IFS_EXPORT fmi2Status fmi2GetStringStatus(fmi2Component comp, const fmi2StatusKi
                                           fmi2String *value)
 {
     (void)s; (void)value;
-    return ERR((Instance *)comp, "fmi2GetStringStatus: no string status is provided");
+    return REFUSE(comp, "fmi2GetStringStatus: no string status is provided");
 }

@@ -188,12 +188,13 @@ IFS_EXPORT fmi3Status fmi3GetFloat64(fmi3Instance inst, const fmi3ValueReference
     size_t i;
     if (!c) return fmi3Error;
     if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
-    for (i = 0; i < nvr && vr && vr[i] != IFS_VR_time; i++) {}
-    if (!vr || i == nvr)
+    if (nvr > 0 && (!vr || !values)) return ERR(c, "%s: null array", fn);
+    for (i = 0; i < nvr && vr[i] != IFS_VR_time; i++) {}
+    if (i == nvr)
         return (fmi3Status)ifs_slave_get_reals(&c->s, &c->log, fn, vr, nvr, values);
     for (i = 0; i < nvr; i++) {       /* time among them: one at a time */
         if (vr[i] == IFS_VR_time) {
-            if (values) values[i] = ifs_slave_time(&c->s);
+            values[i] = ifs_slave_time(&c->s);
         } else if (ifs_slave_get_reals(&c->s, &c->log, fn, vr + i, 1, values + i) != IFS_OK) {
             return fmi3Error;
         }

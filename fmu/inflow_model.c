@@ -281,11 +281,12 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
 
 int ifs_advance(IfsModel *m, const double u[NU], double h)
 {
-    long k;
+    long long k;
     if (h != m->h_last) {
-        /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding */
+        /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding.  The
+         * caller keeps h / dt far below the range of long long. */
         double r = h / m->dt;
-        long n = (long)floor(r + 1e-9);
+        long long n = (long long)floor(r + 1e-9);
         double rem = h - (double)n * m->dt;
         if (fabs(rem) <= 1e-9 * m->dt) rem = 0.0;
         m->n_last = n;

@@ -42,7 +42,7 @@ typedef struct {
     double rem;                    /* its length [s]; 0 = no cache */
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
-    long n_last;
+    long long n_last;
     double rem_last;
     /* state */
     double x[IFS_NX];
@@ -69,12 +69,16 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
 /*
  * x <- phi x + gam u with [phi gam] = pg: one step, the simulator loop's hot path,
  * inline so that it is compiled for the caller's target (see IFS_HOT in
- * inflow_fmi2.c).  The sum is a fixed tree: gam u (independent of x) first, then
+ * inflow_slave.h).  The sum is a fixed tree: gam u (independent of x) first, then
  * six products of x, so the chain from x to the new x is one multiply and three
  * adds.  Rows 0-3 and 4-5 go as vectors of four and two where the compiler has
  * GNU vector types; otherwise scalar, in the same order, so the rounding is the
- * same on every path (no contraction to fused multiply-add under -std=c99).
+ * same on every path, provided the compiler does not contract a * b + c into a fused
+ * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
  */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
 /* the new rows r.. of x as one value of type T (double, or a vector of doubles) */
 #define IFS_C(T, j) (*(const T *)(pg + (r_) + (j) * IFS_LD))
 #define IFS_STEP_ROWS(T, r, s)                                                         \
@@ -114,6 +118,8 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
     memcpy(x, y, sizeof y);
 #endif
 }
+#undef IFS_C
+#undef IFS_STEP_ROWS
 
 /* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
 IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])

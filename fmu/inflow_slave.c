@@ -9,6 +9,7 @@
 #include "inflow_slave.h"
 
 #define MSG_LEN 512
+#define IFS_MAX_STEPS_PER_CALL 1e9
 
 #if defined(__GNUC__)
 #define IFS_COLD __attribute__((noinline, cold))
@@ -200,17 +201,27 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
                             double h)
 {
     double now;
+    int status = IFS_OK;
     if (s->phase != IFS_PH_STEP)
         return ifs_log(lg, IFS_ERROR, "%s: not in step mode (initialization not finished)",
                        fn);
     if (!(h >= 0.0) || !isfinite(h))
         return ifs_log(lg, IFS_ERROR, "%s: communication step %g must be finite and >= 0",
                        fn, h);
+    if (!isfinite(t))
+        return ifs_log(lg, IFS_ERROR, "%s: communication point %g must be finite", fn, t);
     now = ifs_slave_time(s);
-    if (fabs(t - now) > 1e-9 * (1.0 + fabs(now)) && !s->warned_time++)
-        ifs_log(lg, IFS_WARNING, "%s: communication point %.17g differs from the FMU's "
-                "time %.17g", fn, t, now);
+    if (fabs(t - now) > 1e-9 * (1.0 + fabs(now)) && !s->warned_time) {
+        s->warned_time = 1;
+        status = ifs_log(lg, IFS_WARNING, "%s: communication point %.17g differs from the "
+                         "FMU's time %.17g (the FMU keeps its own; warned once)", fn, t, now);
+    }
     if (s->dirty && rebuild(s, lg) != IFS_OK) return IFS_ERROR;
+    /* whole internal steps are counted in a long long and taken one by one */
+    if (h > IFS_MAX_STEPS_PER_CALL * s->m.dt)
+        return ifs_log(lg, IFS_ERROR, "%s: communication step %g s is more than %g internal "
+                       "steps dt = %g s: use a larger dt or shorter steps", fn, h,
+                       IFS_MAX_STEPS_PER_CALL, s->m.dt);
     if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
         return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn, h);
     if (h != s->h_comm) {           /* a new communication step: restart the counter */
@@ -220,7 +231,7 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
     }
     s->n_comm++;
     ifs_slave_update_outputs(s);
-    return IFS_OK;
+    return status;
 }
 
 /* --- FMU state --- */
@@ -230,7 +241,8 @@ static int is_state(const void *p, size_t n)
     IfsSavedState st;
     if (!p || n != sizeof st) return 0;
     memcpy(&st, p, sizeof st);
-    return st.magic == IFS_STATE_MAGIC && st.size == sizeof st;
+    return st.magic == IFS_STATE_MAGIC && st.size == sizeof st &&
+           strncmp(st.guid, IFS_GUID, sizeof st.guid) == 0;
 }
 
 int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
@@ -245,6 +257,8 @@ int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **st
     }
     st->magic = IFS_STATE_MAGIC;
     st->size = (unsigned int)sizeof(IfsSavedState);
+    memset(st->guid, 0, sizeof st->guid);
+    strncpy(st->guid, IFS_GUID, sizeof st->guid - 1);
     st->s = *s;
     *state = st;
     return IFS_OK;

@@ -29,7 +29,7 @@ typedef struct {
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
     long long n_comm;
-    int warned_time;           /* the time-mismatch warning is given once */
+    int warned_time;           /* the time-mismatch warning is given once (0 or 1) */
 } IfsSlave;
 
 /* Where messages go: the FMI layer's logger behind one function.  Messages with
@@ -120,6 +120,7 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 typedef struct {
     unsigned int magic;
     unsigned int size;
+    char guid[40];             /* IFS_GUID: a state of this model and variable layout */
     IfsSlave s;
 } IfsSavedState;
 
@@ -146,10 +147,12 @@ int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char 
 /* The DoStep functions are compiled twice where the loader can pick one at load
  * time (GNU ifunc, glibc): for AVX2 and for the baseline.  The step does the same
  * operations in the same order in both, so both give the same numbers (a test
- * checks this bit for bit).  -DIFS_NO_CLONES turns it off. */
+ * checks this bit for bit; build without floating-point contraction,
+ * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
 #if defined(__has_attribute)
 #if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
-    !defined(IFS_NO_CLONES)
+    !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
+/* (clang before 18 exports the clone dispatcher under another name) */
 #define IFS_HOT __attribute__((target_clones("avx2", "default")))
 #endif
 #endif

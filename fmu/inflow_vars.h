@@ -4,7 +4,7 @@
 
 #include <stddef.h>
 
-#define IFS_GUID "{8607e259-5427-548d-890b-f8a0dcf87ff2}"
+#define IFS_GUID "{3ae916d7-7f3e-5598-ad61-60115940b7dd}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
 #define IFS_N_REALS 40
 #define IFS_N_INTEGERS 1

@@ -91,10 +91,17 @@ def zoh_ref(model, h):
     return e[:n, :n], e[:n, n:]
 
 
+#: fmpy's native logger proxy forwards every fmi2 message, whoever's callbacks the FMU
+#: was given, to the callback registered last: a Logger must outlive the session or a
+#: later message calls freed memory.
+_LOGGERS = []
+
+
 class Logger:
     """fmi2 callbacks that keep the FMU's log messages (formatted by fmpy's proxy)."""
 
     def __init__(self):
+        _LOGGERS.append(self)
         self.messages = []
         lib = ctypes.CDLL(None)
         lib.calloc.restype = ctypes.c_void_p
@@ -724,3 +731,73 @@ def test_cli_builds_fmi3(tmp_path, capsys):
     assert main(["fmu", "build", "--out", str(out), "--fmi-version", "3", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["fmi_version"] == "3.0" and read_model_description(str(out)).fmiVersion == "3.0"
+
+
+# -- hardening (from review): null components, huge steps, bad time, foreign states ------
+
+def _lib(unzipped, folder):
+    return ctypes.CDLL(str(Path(unzipped) / "binaries" / folder / "inflowsim.so"))
+
+
+def test_null_component_is_an_error_never_a_crash(unzipped, unzipped3):
+    vr = (ctypes.c_uint * 1)(0)
+    buf = (ctypes.c_double * 4)()
+    lib2 = _lib(unzipped, "linux64")
+    for name, args in (("fmi2GetBoolean", (vr, 1, buf)), ("fmi2SetString", (vr, 1, buf)),
+                       ("fmi2CancelStep", ()), ("fmi2GetIntegerStatus", (0, buf)),
+                       ("fmi2GetStringStatus", (0, buf)),
+                       ("fmi2GetDirectionalDerivative", (vr, 1, vr, 1, buf, buf)),
+                       ("fmi2SetRealInputDerivatives", (vr, 1, vr, buf)),
+                       ("fmi2GetReal", (vr, 1, buf)), ("fmi2DoStep", (ctypes.c_double(0.0),
+                                                                       ctypes.c_double(0.01), 1))):
+        assert getattr(lib2, name)(None, *args) == 3, name          # fmi2Error
+    lib3 = _lib(unzipped3, "x86_64-linux")
+    for name, args in (("fmi3GetBoolean", (vr, 1, buf, 1)), ("fmi3EnterEventMode", ()),
+                       ("fmi3GetFloat64", (vr, 1, buf, 1)), ("fmi3SetTime",
+                                                             (ctypes.c_double(0.0),))):
+        assert getattr(lib3, name)(None, *args) == 3, name          # fmi3Error
+
+
+def test_huge_or_non_finite_steps_are_refused_and_leave_the_state(unzipped, guid, record):
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    log = Logger()
+    s = open_fmu(unzipped, guid, start_values(m), logger=log)
+    outs = [VR[n] for n in OUTPUTS]
+    for k in range(40):
+        s.setReal([VR[n] for n in ALL_INPUTS], list(u[40 + k]))
+        s.doStep(k * DT, DT)
+    before = s.getReal(outs)
+    with pytest.raises(Exception):
+        s.doStep(40 * DT, 1e12)                 # 1e14 internal steps: refused, not a hang
+    assert "more than 1e+09 internal steps" in log.text()
+    with pytest.raises(Exception):
+        s.doStep(math.nan, DT)
+    assert "communication point nan must be finite" in log.text()
+    assert s.getReal(outs) == before and s.getRealStatus(2) == pytest.approx(40 * DT)
+    s.freeInstance()
+
+
+def test_time_mismatch_warns_once_with_warning_status(unzipped, guid):
+    log = Logger()
+    s = open_fmu(unzipped, guid, logger=log)
+    lib = s.dll
+    comp = s.component
+    dostep = lib.fmi2DoStep
+    dostep.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int]
+    assert dostep(comp, 0.0, DT, 1) == 0
+    assert dostep(comp, 5.0, DT, 1) == 1          # fmi2Warning: the FMU keeps its own time
+    assert dostep(comp, 7.0, DT, 1) == 0          # warned once
+    assert sum("differs from the FMU's time" in m for _, m in log.messages) == 1
+    assert s.getRealStatus(2) == pytest.approx(3 * DT)
+    s.freeInstance()
+
+
+def test_a_state_of_another_model_is_refused(unzipped, guid):
+    s = open_fmu(unzipped, guid)
+    blob = bytearray(s.serializeFMUstate(s.getFMUstate()))
+    i = blob.index(guid.encode())
+    blob[i + 1] = ord("0") if blob[i + 1] != ord("0") else ord("1")   # another GUID
+    with pytest.raises(Exception):
+        s.deSerializeFMUstate(bytes(blob))
+    s.freeInstance()

@@ -154,7 +154,7 @@ def model_description_fmi3() -> str:
 
 def _c_num(x: float) -> str:
     if math.isinf(x):
-        return "HUGE_VAL" if x > 0 else "-HUGE_VAL"
+        return "DBL_MAX" if x > 0 else "-DBL_MAX"     # constant for every compiler
     return repr(float(x))
 
 
@@ -207,7 +207,7 @@ def vars_header() -> str:
 
 def vars_source() -> str:
     """``inflow_vars.c``: the variable table (names, offsets, starts, ranges)."""
-    lines = [_HEAD, '#include <math.h>', '#include "inflow_vars.h"', "",
+    lines = [_HEAD, '#include <float.h>', '#include "inflow_vars.h"', "",
              "const IfsRealVar ifs_real_vars[IFS_N_REALS] = {"]
     for v in REALS:
         lines.append(f'    {{"{v.name}", {_KIND[(v.causality, v.variability)]}, '

@@ -113,7 +113,7 @@ def _build() -> tuple:
     v.append(Variable("omega", "Real", "parameter", "tunable", PUMA.omega, "rad/s",
                       "rotor speed Omega [rad/s]", 0.0, math.inf, True))
     v.append(Variable("dt", "Real", "parameter", "fixed", DT, "s",
-                      "internal fixed step (exact zero-order hold) [s]", 0.0, 10.0, True))
+                      "internal fixed step (exact zero-order hold) [s]", 1e-6, 10.0))
     v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
                       "", "model structure: 0 basic (tau), 1 empirical (tau0, tau_cs, K, "
                       "azimuth_bias), 2 glauert (tau0, tau_cs, c1..c4, k0p, kc, ks, "
