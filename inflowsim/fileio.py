@@ -16,23 +16,31 @@ def _same(a: Path, b) -> bool:
         return False
 
 
-def safe_write_text(path, text: str, overwrite: bool = False, protect=()) -> Path:
-    """Write ``text`` to ``path`` via a temporary file and an atomic rename.
-
-    Refuses (``InputError``) to write onto any file in ``protect`` (the inputs of
-    the command), and onto an existing file unless ``overwrite``.
-    """
+def check_output(path, overwrite: bool = False, protect=()) -> Path:
+    """Refuse (``InputError``) an output ``path`` that is one of the inputs in
+    ``protect``, that exists unless ``overwrite``, or whose folder does not exist.
+    Commands call it before any work; every writer calls it again."""
     p = Path(path)
     for q in protect:
         if _same(p, q):
             raise InputError(f"{p}: refusing to write over the input file {q}")
     if p.exists() and not overwrite:
         raise InputError(f"{p}: exists; choose another name or pass --force")
-    if p.exists() and p.is_dir():
-        raise InputError(f"{p}: is a directory")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise InputError(f"{p}: folder {parent} does not exist")
+    return p
+
+
+def safe_write_text(path, text: str, overwrite: bool = False, protect=()) -> Path:
+    """Write ``text`` to ``path`` via a temporary file and an atomic rename.
+
+    Refuses (``InputError``) to write onto any file in ``protect`` (the inputs of
+    the command), and onto an existing file unless ``overwrite``.
+    """
+    p = check_output(path, overwrite, protect)
+    if p.is_dir():
+        raise InputError(f"{p}: is a directory")
     with atomic_path(p) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="\n") as f:
             f.write(text)

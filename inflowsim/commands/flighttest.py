@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..fileio import safe_write_text
+from ..fileio import check_output, safe_write_text
 from ..params import PUMA
 from ..record import write_record
 from ._common import print_json, progress
@@ -91,11 +91,7 @@ def _check_outputs(args):
     if len(paths) == 2 and paths[0].resolve() == paths[1].resolve():
         raise InputError(f"--truth-json {args.truth_json}: same file as --out")
     for p in paths:
-        if p.exists() and not args.force:
-            raise InputError(f"{p}: exists; choose another name or pass --force")
-        parent = p.parent if str(p.parent) else Path(".")
-        if not parent.is_dir():
-            raise InputError(f"{p}: folder {parent} does not exist")
+        check_output(p, args.force)
 
 
 def _manoeuvre(args):

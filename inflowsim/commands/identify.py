@@ -8,11 +8,10 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from ..errors import InputError
-from ..fileio import safe_write_text
+from ..fileio import check_output, safe_write_text
 from ..paramfile import write_json
 from ..record import read_record
 from ..structure import Structure
@@ -79,19 +78,8 @@ def structure_of(args) -> Structure:
 
 def check_outputs(out, inputs, force):
     """Refuse before any work: an existing ``out`` without ``force``, or an input."""
-    if out is None:
-        return
-    p = Path(out)
-    for q in inputs:
-        try:
-            if p.exists() and os.path.samefile(p, q):
-                raise InputError(f"{p}: refusing to write over the input file {q}")
-        except OSError:
-            pass
-    if p.exists() and not force:
-        raise InputError(f"{p}: exists; choose another name or pass --force")
-    if not p.parent.is_dir() and str(p.parent):
-        raise InputError(f"{p}: folder {p.parent} does not exist")
+    if out is not None:
+        check_output(out, force, inputs)
 
 
 def write_report(result, folder, force=False, protect=()):

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..fileio import check_output
 from ..record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
 from ..simulator import Simulator
 from ._common import add_model_arguments, load_model, print_json
@@ -95,12 +96,8 @@ def run(args) -> int:
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
     model = load_model(args, rec.constants)
-    out = Path(args.out)
-    for q in (args.record, args.params):
-        if q and out.exists() and Path(q).exists() and out.samefile(q):
-            raise InputError(f"{out}: refusing to write over the input file {q}")
-    if out.exists() and not args.force:
-        raise InputError(f"{out}: exists; choose another name or pass --force")
+    inputs = [q for q in (args.record, args.params) if q]
+    out = check_output(args.out, args.force, inputs)
     step = rec.dt if args.dt is None else args.dt
     src = f" parameters {args.params}" if args.params else " (paper table values)"
     orig = rec.meta.get("description")
@@ -108,8 +105,7 @@ def run(args) -> int:
             f"step {step:g} s, inputs of {Path(args.record).name}"
             + (f" ({orig})" if orig else ""))
     sim = simulate_record(rec, model, args.dt, args.method, desc.replace("\n", " "))
-    path = write_record(sim, out, overwrite=args.force,
-                        protect=[q for q in (args.record, args.params) if q])
+    path = write_record(sim, out, overwrite=args.force, protect=inputs)
     if args.json:
         print_json({"out": str(path), "structure": model.structure.name,
                     "method": args.method, "dt": step, "samples": len(sim),

@@ -18,7 +18,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from ..fileio import atomic_path
+from ..fileio import atomic_path, check_output
 from ..errors import InputError
 from .generate import TIME_VR, generated_files, guid
 from .variables import MODEL_IDENTIFIER, VARIABLES
@@ -214,14 +214,7 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     out = Path(out_path)
     if out.suffix != ".fmu":
         raise InputError(f"{out}: an FMU file name must end in .fmu")
-    for q in protect:
-        if out.exists() and Path(q).exists() and os.path.samefile(out, q):
-            raise InputError(f"{out}: refusing to write over the input file {q}")
-    if out.exists() and not overwrite:
-        raise InputError(f"{out}: exists; choose another name or pass --force")
-    parent = out.parent if str(out.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{out}: folder {parent} does not exist")
+    check_output(out, overwrite, protect)
     version = _version(fmi_version)
     plat = platform_folder(version)
     with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp:
