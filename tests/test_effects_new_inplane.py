@@ -66,7 +66,6 @@ def test_flap_derivatives_against_finite_difference_of_quadrature(mu, seed):
 def test_derivatives_against_quadrature_of_the_differentiated_integrand(mu):
     # the other route: d F/d mux = 2 theta U_T sin - beta cos U_T + U_P sin, etc.
     theta, beta, muz, lam = random_trim(7)
-    s = trim_dict(theta, beta, muz, lam)
     b, db, _ = single_blade(beta, np.zeros(3), np.zeros(3))
     th = theta[0] + theta[1] * COS + theta[2] * SIN
     ut = RR + mu * SIN

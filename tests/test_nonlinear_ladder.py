@@ -5,7 +5,6 @@ on the blades; the paper's candidates alone would credit that to the inflow.
 Measured (bench/README.md): the ladder adds flap-inertia, then
 advance-ratio-perturbation with k_mu near its theory value 1, and the error falls.
 """
-import numpy as np
 
 from inflowsim.diagnose import ladder
 from inflowsim.flighttest import FlightTest, nonlinear_flighttest

@@ -3,7 +3,6 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from inflowsim import PUMA, Structure, build_model, theory_parameters
-from inflowsim.effects import CATALOGUE
 from inflowsim.record import Record, format_record, parse_record
 
 PAPER_EFFECTS = ["separate-time-constants", "hub-velocity-coupling", "glauert",

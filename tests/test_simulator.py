@@ -103,7 +103,7 @@ def test_state_get_set_and_reset():
     u = np.zeros(m.b.shape[1]); u[2] = 0.01
     for _ in range(20):
         sim.step(u)
-    saved, k = sim.state, sim.step_count
+    saved = sim.state
     a = [sim.step(u) for _ in range(10)]
     sim.state = saved
     b = [sim.step(u) for _ in range(10)]
