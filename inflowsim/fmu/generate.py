@@ -48,25 +48,35 @@ def _units_categories_experiment(units) -> list:
              f'stepSize="{_num(DT)}"/>'])
 
 
-def _xml_variable(vr: int, v: Variable) -> str:
+def _common_attributes(vr: int, v: Variable) -> list:
+    """name ... initial: the same attributes in FMI 2.0 and 3.0."""
     attrs = [f"name={quoteattr(v.name)}", f'valueReference="{vr}"',
              f"description={quoteattr(v.description)}", f'causality="{v.causality}"',
              f'variability="{v.variability}"']
     if v.initial:
         attrs.append(f'initial="{v.initial}"')
-    inner = []
+    return attrs
+
+
+def _value_attributes(v: Variable) -> list:
+    """start, unit, min, max: on the type element in FMI 2.0, the variable in 3.0."""
+    out = []
+    integer = v.type == "Integer"
     if v.start is not None:
-        inner.append(f'start="{int(v.start)}"' if v.type == "Integer"
-                     else f'start="{_num(v.start)}"')
-    if v.type == "Real" and v.unit and v.unit != "-":
-        inner.append(f'unit="{v.unit}"')
-    fmt = (lambda x: str(int(x))) if v.type == "Integer" else _num
+        out.append(f'start="{int(v.start)}"' if integer else f'start="{_num(v.start)}"')
+    if not integer and v.unit and v.unit != "-":
+        out.append(f'unit="{v.unit}"')
+    fmt = (lambda x: str(int(x))) if integer else _num
     if math.isfinite(v.lower) and not v.lower_open:
-        inner.append(f'min="{fmt(v.lower)}"')
+        out.append(f'min="{fmt(v.lower)}"')
     if math.isfinite(v.upper):
-        inner.append(f'max="{fmt(v.upper)}"')
-    return (f"    <ScalarVariable {' '.join(attrs)}>\n"
-            f"      <{v.type} {' '.join(inner)}/>\n    </ScalarVariable>")
+        out.append(f'max="{fmt(v.upper)}"')
+    return out
+
+
+def _xml_variable(vr: int, v: Variable) -> str:
+    return (f"    <ScalarVariable {' '.join(_common_attributes(vr, v))}>\n"
+            f"      <{v.type} {' '.join(_value_attributes(v))}/>\n    </ScalarVariable>")
 
 
 def model_description() -> str:
@@ -103,21 +113,7 @@ def model_description() -> str:
 
 def _xml_variable_fmi3(vr: int, v: Variable) -> str:
     kind = "Float64" if v.type == "Real" else "Int32"
-    attrs = [f"name={quoteattr(v.name)}", f'valueReference="{vr}"',
-             f"description={quoteattr(v.description)}", f'causality="{v.causality}"',
-             f'variability="{v.variability}"']
-    if v.initial:
-        attrs.append(f'initial="{v.initial}"')
-    if v.start is not None:
-        attrs.append(f'start="{int(v.start)}"' if kind == "Int32" else f'start="{_num(v.start)}"')
-    if kind == "Float64" and v.unit and v.unit != "-":
-        attrs.append(f'unit="{v.unit}"')
-    fmt = (lambda x: str(int(x))) if kind == "Int32" else _num
-    if math.isfinite(v.lower) and not v.lower_open:
-        attrs.append(f'min="{fmt(v.lower)}"')
-    if math.isfinite(v.upper):
-        attrs.append(f'max="{fmt(v.upper)}"')
-    return f"    <{kind} {' '.join(attrs)}/>"
+    return f"    <{kind} {' '.join(_common_attributes(vr, v) + _value_attributes(v))}/>"
 
 
 def model_description_fmi3() -> str:
