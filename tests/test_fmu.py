@@ -143,15 +143,13 @@ def open_fmu3(unzipped, guid, values=None, name="a", log=None, start=0.0):
     return s
 
 
-def fmu3_replay(s, u, h=DT, t0=0.0):
-    """As fmu_replay, through FMI 3.0."""
-    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
-    y = [s.getFloat64(outs)]
-    for k in range(len(u) - 1):
-        s.setFloat64(ins, list(u[k]))
-        s.doStep(t0 + k * h, h)
-        y.append(s.getFloat64(outs))
-    return np.array(y)
+def set_reals(s, vrs, values):
+    """setReal (FMI 2.0) or setFloat64 (FMI 3.0)."""
+    (s.setFloat64 if hasattr(s, "setFloat64") else s.setReal)(vrs, list(values))
+
+
+def get_reals(s, vrs):
+    return (s.getFloat64 if hasattr(s, "getFloat64") else s.getReal)(vrs)
 
 
 def simulate_with_fmpy(fmu_path, values, inputs, u):
@@ -175,13 +173,14 @@ def full_inputs(model, u):
 
 
 def fmu_replay(s, u, h=DT, t0=0.0):
-    """Importer convention: inputs at t_k, step, outputs at t_{k+1}; y[0] initial."""
+    """Importer convention: inputs at t_k, step, outputs at t_{k+1}; y[0] initial.
+    s is an FMI 2.0 or 3.0 slave."""
     ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
-    y = [s.getReal(outs)]
+    y = [get_reals(s, outs)]
     for k in range(len(u) - 1):
-        s.setReal(ins, list(u[k]))
+        set_reals(s, ins, u[k])
         s.doStep(t0 + k * h, h)
-        y.append(s.getReal(outs))
+        y.append(get_reals(s, outs))
     return np.array(y)
 
 
@@ -389,31 +388,36 @@ class PythonAdapter:
 
 
 class FmuAdapter:
+    opener = staticmethod(open_fmu)
+
     def __init__(self, model, ctx):
-        self.s = open_fmu(*ctx, start_values(model))
+        self.s = self.opener(*ctx, start_values(model))
         self.values = start_values(model)
         self.ctx = ctx
         self.k = 0
 
     def step(self, u):
-        self.s.setReal([VR[n] for n in ALL_INPUTS], list(u))
+        set_reals(self.s, [VR[n] for n in ALL_INPUTS], u)
         self.s.doStep(self.k * DT, DT)
         self.k += 1
-        return np.array(self.s.getReal([VR[n] for n in OUTPUTS]))
+        return np.array(get_reals(self.s, [VR[n] for n in OUTPUTS]))
 
     def set_parameters(self, **kw):
-        self.s.setReal([VR[n] for n in kw], list(kw.values()))
+        set_reals(self.s, [VR[n] for n in kw], kw.values())
 
     def set_mu(self, mu):
-        self.s.setReal([VR["mu"]], [mu])
+        set_reals(self.s, [VR["mu"]], [mu])
 
     def reset(self):
         self.s.reset()
-        self.s.setupExperiment(startTime=0.0)
-        self.s.enterInitializationMode()
+        self.enter_initialization()
         apply_parameters(self.s, self.values)
         self.s.exitInitializationMode()
         self.k = 0
+
+    def enter_initialization(self):
+        self.s.setupExperiment(startTime=0.0)
+        self.s.enterInitializationMode()
 
     def close(self):
         self.s.freeInstance()
@@ -422,30 +426,10 @@ class FmuAdapter:
 class Fmu3Adapter(FmuAdapter):
     """The same FMU through FMI 3.0."""
 
-    def __init__(self, model, ctx):
-        self.s = open_fmu3(*ctx, start_values(model))
-        self.values = start_values(model)
-        self.ctx = ctx
-        self.k = 0
+    opener = staticmethod(open_fmu3)
 
-    def step(self, u):
-        self.s.setFloat64([VR[n] for n in ALL_INPUTS], list(u))
-        self.s.doStep(self.k * DT, DT)
-        self.k += 1
-        return np.array(self.s.getFloat64([VR[n] for n in OUTPUTS]))
-
-    def set_parameters(self, **kw):
-        self.s.setFloat64([VR[n] for n in kw], list(kw.values()))
-
-    def set_mu(self, mu):
-        self.s.setFloat64([VR["mu"]], [mu])
-
-    def reset(self):
-        self.s.reset()
+    def enter_initialization(self):
         self.s.enterInitializationMode(startTime=0.0)
-        apply_parameters(self.s, self.values)
-        self.s.exitInitializationMode()
-        self.k = 0
 
 
 @pytest.mark.parametrize("adapter", [PythonAdapter, FmuAdapter, Fmu3Adapter],
@@ -626,7 +610,7 @@ def test_fmi3_replay_equals_simulator_and_fmi2(structure, unzipped, unzipped3, g
     u = model_inputs(record, m, find_trim(record))
     y_py = Simulator(m, DT).replay(u)
     s3 = open_fmu3(unzipped3, guid, start_values(m))
-    y3 = fmu3_replay(s3, full_inputs(m, u))
+    y3 = fmu_replay(s3, full_inputs(m, u))
     s3.freeInstance()
     s2 = open_fmu(unzipped, guid, start_values(m))
     y2 = fmu_replay(s2, full_inputs(m, u))
@@ -660,9 +644,9 @@ def test_fmi3_time_substeps_state_and_reset(unzipped3, guid, record):
         np.testing.assert_allclose(s.getFloat64(outs), m.c @ x, rtol=0, atol=1e-12)
     state = s.getFMUState()
     blob = s.serializeFMUState(state)
-    tail = fmu3_replay(s, u[100:160], t0=t)
+    tail = fmu_replay(s, u[100:160], t0=t)
     s.setFMUState(s.deserializeFMUState(blob))
-    again = fmu3_replay(s, u[100:160], t0=t)
+    again = fmu_replay(s, u[100:160], t0=t)
     assert np.array_equal(tail, again)
     s.freeFMUState(state)
     s.reset()
