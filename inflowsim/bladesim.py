@@ -274,16 +274,21 @@ class BladeRotor:
         out[2 * nb:] = self.minv @ (c_blade - c_mom)
         return out
 
-    def step(self, psi, x, u, h) -> np.ndarray:
-        """One classical RK4 step of ``h`` [azimuth rad] with ``u`` held."""
+    def step(self, psi, x, u, h, u_mid=None, u_end=None) -> np.ndarray:
+        """One classical RK4 step of ``h`` [azimuth rad]: ``u`` held, or ``u`` at the
+        start, ``u_mid`` at the middle and ``u_end`` at the end of the step (inputs
+        that vary continuously: fourth order for smooth inputs)."""
         f = self.rhs
+        um = u if u_mid is None else u_mid
+        ue = u if u_end is None else u_end
         k1 = f(psi, x, u)
-        k2 = f(psi + 0.5 * h, x + 0.5 * h * k1, u)
-        k3 = f(psi + 0.5 * h, x + 0.5 * h * k2, u)
-        k4 = f(psi + h, x + h * k3, u)
+        k2 = f(psi + 0.5 * h, x + 0.5 * h * k1, um)
+        k3 = f(psi + 0.5 * h, x + 0.5 * h * k2, um)
+        k4 = f(psi + h, x + h * k3, ue)
         return x + h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4)
 
-    def integrate(self, x0, psi0: float, u_samples, dpsi: float, max_step: float = MAX_STEP):
+    def integrate(self, x0, psi0: float, u_samples, dpsi: float, max_step: float = MAX_STEP,
+                  u_fine=None):
         """States at every sample and every RK4 sub-step.
 
         Parameters
@@ -298,6 +303,10 @@ class BladeRotor:
             Azimuth per sample, ``Omega dt`` [rad].
         max_step : float
             Largest RK4 step [rad]; each sample is split in equal sub-steps.
+        u_fine : callable, optional
+            Continuously varying inputs: ``u_fine(n_sub)`` returns the inputs at
+            every half sub-step, shape ``(1 + 2 (N-1) n_sub, 10)`` (azimuth
+            ``psi0 + j h / 2``); ``u_samples`` are then not held.
 
         Returns
         -------
@@ -315,11 +324,16 @@ class BladeRotor:
         x = np.array(x0, dtype=float)
         sub[0] = x
         j = 0
+        fine = None if u_fine is None else np.asarray(u_fine(n_sub), dtype=float)
         for k in range(n - 1):
             uk = tuple(float(v) for v in u_samples[k])
             base = psi0 + k * dpsi
             for m in range(n_sub):
-                x = self.step(base + m * h, x, uk, h)
+                if fine is None:
+                    x = self.step(base + m * h, x, uk, h)
+                else:
+                    i = 2 * j
+                    x = self.step(base + m * h, x, fine[i], h, fine[i + 1], fine[i + 2])
                 j += 1
                 sub[j] = x
         if not np.all(np.isfinite(sub[j])):

@@ -3,8 +3,8 @@ and watch the error fall (``workflow.md``).
 
 :func:`diagnose` fits the structure (or evaluates given parameters), reports the
 failures of :mod:`inflowsim.failures`, and ranks every candidate effect with
-:mod:`inflowsim.candidates`.  :func:`ladder` adds the best significant effect and
-ranks again until nothing significant is left: one-shot ranking is not enough
+:mod:`inflowsim.candidates`.  :func:`ladder` adds the best accepted effect and
+ranks again until nothing is accepted: one-shot ranking is not enough
 when two effects explain similar residuals.
 """
 from __future__ import annotations
@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 
 from .candidates import ALPHA, Candidate, rank_candidates
 from .failures import (Failure, parameter_failures, residual_analysis, residual_tests,
-                       spectrum_failures)
+                       WHITE_DEVIANCE, floor_deviance, spectrum_failures,
+                       structure_statistic, unexplained)
 from .identify import identify
 from .identify.transform import DEFAULT_BAND
 from .model import build_model
@@ -24,9 +25,10 @@ from .structure import Structure
 class Diagnosis:
     """What :func:`diagnose` found.
 
-    ``failures`` where the fitted structure and the measurements part;
-    ``candidates`` ranked best first; ``missing_effect`` the best significant
-    candidate or ``None``.
+    ``failures`` where the fitted structure and the measurements part (with an
+    ``unexplained`` finding when the residual keeps structure no candidate
+    explains); ``candidates`` ranked best first; ``missing_effect`` the best
+    accepted candidate (:mod:`inflowsim.candidates`) or ``None``.
     """
 
     structure: Structure
@@ -51,23 +53,55 @@ def _as_list(records):
     return list(records) if isinstance(records, (list, tuple)) else [records]
 
 
-def failures_of(records, fit, band_hz) -> list[Failure]:
+def analyses_of(records, fit, band_hz):
+    """The fit's residual analysis on each record (its own residual and initial
+    state, each record's own flight condition and trim)."""
+    out = []
+    for rec, data in zip(_as_list(records), fit.data):
+        m = build_model(fit.structure, fit.parameters, rec.constants)
+        out.append(residual_analysis(rec, m, band_hz, fit=data))
+    return out
+
+
+def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
     """Failures of a fitted structure on each record (spectra, residual tests,
     estimates)."""
     out: list[Failure] = []
-    for rec in _as_list(records):
-        # each record's own flight condition and trim
-        m = build_model(fit.structure, fit.parameters, rec.constants)
-        ra = residual_analysis(rec, m, band_hz)
-        out += spectrum_failures(ra) + residual_tests(ra, rec, m)
+    for ra in analyses or analyses_of(records, fit, band_hz):
+        out += spectrum_failures(ra) + residual_tests(ra)
     out += parameter_failures(fit.parameters, fit.sigma, fit.correlation, list(fit.free),
                               omega=fit.constants[0].omega)
     out += [Failure("estimation", "fit", w) for w in fit.warnings]
     return out
 
 
+def _judge(records, band_hz, base_fit, base_analyses):
+    """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.candidates`):
+    the residual's deviance from white noise at the floor and its structure
+    across frequency, against the base fit's floors (the sensor noise does not
+    change with the model); ``judge(None)`` describes the base, with the
+    deviance expected of noise at the floor."""
+    floors = [ra.floor for ra in base_analyses]
+
+    def measure(analyses):
+        return {"deviance": sum(floor_deviance(ra, fl) for ra, fl in zip(analyses, floors)),
+                "structure": sum(structure_statistic(ra, fl)
+                                 for ra, fl in zip(analyses, floors))}
+    base = measure(base_analyses)
+    base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
+    cache = {id(base_fit): base}
+
+    def judge(fit):
+        if fit is None:
+            return base
+        if id(fit) not in cache:
+            cache[id(fit)] = measure(analyses_of(records, fit, band_hz))
+        return cache[id(fit)]
+    return judge
+
+
 def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
-             alpha=ALPHA, progress=None, base_fit=None) -> Diagnosis:
+             alpha=ALPHA, progress=None, base_fit=None, hold=None) -> Diagnosis:
     """Fit ``structure``, report where it fails, rank the missing effects.
 
     Parameters
@@ -82,14 +116,24 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         Candidate effects to try (default: the whole catalogue).
     alpha : float
         Significance level per candidate.
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
     """
     recs = _as_list(records)
     s = Structure.parse(structure)
-    fit = base_fit or identify(recs, s, band_hz=band_hz, start=start, progress=progress)
+    fit = base_fit or identify(recs, s, band_hz=band_hz, start=start, progress=progress,
+                               hold=hold)
     band = fit.band_hz
-    fails = failures_of(recs, fit, band_hz)
-    cands = rank_candidates(recs, fit, band_hz, identify, pool, alpha, progress)
-    best = next((c.effect for c in cands if c.significant), None)
+    analyses = analyses_of(recs, fit, band_hz)
+    fails = failures_of(recs, fit, band_hz, analyses)
+
+    def fit_fn(r, st, band_hz, start):
+        return identify(r, st, band_hz=band_hz, start=start, hold=hold)
+    judge = _judge(recs, band_hz, fit, analyses)
+    cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, alpha, progress, judge)
+    best = next((c.effect for c in cands if c.accepted), None)
+    if best is None:
+        fails += unexplained(analyses, alpha)
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band))
 
 
@@ -125,14 +169,15 @@ class Ladder:
 
 
 def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=ALPHA,
-           progress=None) -> Ladder:
-    """Add the best significant effect and rank again, until none is significant.
+           progress=None, hold=None) -> Ladder:
+    """Add the best accepted effect and rank again, until none is accepted.
 
     The next rung's fit is the winning candidate's own fit (already made while
     ranking), so each rung costs one ranking.
     """
     recs = _as_list(records)
-    d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress)
+    d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress,
+                 hold=hold)
     rungs = [Rung(d.structure, d.fit, None, d)]
     for _ in range(max_steps):
         if d.missing_effect is None:
@@ -141,18 +186,19 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         if progress:
             progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
         d = diagnose(recs, win.fit.structure, band_hz, pool=pool, alpha=alpha,
-                     progress=progress, base_fit=win.fit)
+                     progress=progress, base_fit=win.fit, hold=hold)
         rungs.append(Rung(d.structure, d.fit, win.effect, d))
     return Ladder(tuple(rungs), d.band_hz)
 
 
-def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None) -> Ladder:
+def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
+                    hold=None) -> Ladder:
     """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert)."""
     recs = _as_list(records)
     rungs, prev = [], None
     for s in structures:
         st = Structure.parse(s)
-        fit = identify(recs, st, band_hz=band_hz, progress=progress)
+        fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
         added = None if prev is None else "+".join(
             e for e in st.effects if e not in prev.effects) or None
         rungs.append(Rung(st, fit, added, None))

@@ -53,10 +53,19 @@ class Equations:
 
 @dataclass(frozen=True)
 class Measurement:
-    """How the recorded flap relates to the model's: azimuth bias and delays."""
+    """How the records relate to the model: azimuth bias and time shifts.
+
+    ``delays``: per flap channel, the recorded flap lags the model's by this time
+    [s] (negative: leads).  ``input_delays``: ``((input, d), ...)``, the recorded
+    input lags the true one by ``d`` [s] (negative: leads).
+    """
 
     azimuth_bias: float = 0.0                       # [rad]
     delays: tuple = (0.0, 0.0, 0.0)                 # per flap channel [s]
+    input_delays: tuple = ()                        # ((record column, s), ...)
+    #: flap channels sharing one delay *parameter* (structural: the sampled-data
+    #: model gives each group its own end states, whatever the values)
+    delay_groups: tuple = ((0, 1, 2),)
     extra: dict = field(default_factory=dict)
 
     def with_(self, **kw) -> "Measurement":

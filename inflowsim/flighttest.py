@@ -28,14 +28,16 @@ import time
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
+from scipy.integrate import solve_ivp
 
 from .bladesim import MAX_STEP, BladeRotor, RotorSpec
-from .body import BodyModel
+from .body import HUB, BodyModel
 from .equations import rotation
 from .errors import InputError
 from .multiblade import multiblade
 from .record import FLAP_COLUMNS, INPUT_COLUMNS, Record
-from .virtual import PUMA_TRIM, Manoeuvre, VirtualTest, pilot_controls, virtual_record
+from .virtual import (KINDS, PUMA_TRIM, Manoeuvre, VirtualTest, pilot_controls,
+                      sensor_noise, virtual_record)
 
 #: Given trim controls of the nonlinear truth (true pitch) [rad].
 TRIM_CONTROLS = {c: PUMA_TRIM[c] for c in ("theta0", "theta1c", "theta1s")}
@@ -60,6 +62,9 @@ class FlightTest:
         Record length and sample step [s].
     noise_flap, noise_inputs : float
         Standard deviation of Gaussian sensor noise on the flap [rad] and inputs.
+    noise_color_hz : float or None
+        White flap noise (``None``) or first-order low-pass with this corner [Hz]
+        (:func:`inflowsim.virtual.sensor_noise`).
     seed : int
         Noise seed.
     azimuth_bias : float
@@ -73,6 +78,11 @@ class FlightTest:
     include_truth : bool
         Add the true inflow perturbation columns ``lambda0, lambda1c, lambda1s``.
     description : str
+    hold : {"continuous", "zoh"}
+        ``continuous`` (default): smooth pilot inputs, the body integrated in
+        continuous time (DOP853) and the blades' RK4 fed the inputs at every stage
+        time, as in flight; ``zoh``: inputs held over each sample (a digital
+        controller's record, ``# hold: zoh``).
     """
 
     rotor: RotorSpec = field(default_factory=RotorSpec)
@@ -90,6 +100,8 @@ class FlightTest:
     max_step: float = MAX_STEP
     include_truth: bool = True
     description: str = "longitudinal cyclic doublet, 100 kt, nonlinear blade-element truth"
+    hold: str = "continuous"
+    noise_color_hz: float | None = None
 
     def check(self) -> "FlightTest":
         self.rotor.check()
@@ -113,6 +125,8 @@ class FlightTest:
             if m.channel not in TRIM_CONTROLS:
                 raise InputError(f"manoeuvre channel {m.channel!r}: choose theta0, "
                                  "theta1c or theta1s")
+        if self.hold not in KINDS:
+            raise InputError(f"hold {self.hold!r}: choose {', '.join(KINDS)}")
         return self
 
 
@@ -160,7 +174,7 @@ def _hermite(sub, n_sub, nb, dpsi, s):
             + (-2 * f3 + 3 * f2) * b1 + (f3 - f2) * d1)
 
 
-def blade_response(test: FlightTest, controls_true, hub: dict):
+def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
     """Integrate the blades for true control perturbations and hub motion.
 
     Parameters
@@ -170,6 +184,10 @@ def blade_response(test: FlightTest, controls_true, hub: dict):
         True pitch perturbations ``theta0, theta1c, theta1s`` [rad].
     hub : dict
         Perturbations ``muz, p, q, pdot, qdot, mux, muy`` (SI, arrays of N).
+    inputs_at : callable, optional
+        ``inputs_at(t) -> (len(t), 10)``: the inputs (azimuth units, totals) at any
+        times [s], for continuously varying inputs; without it the sampled inputs
+        are held over each sample.
 
     Returns
     -------
@@ -200,7 +218,12 @@ def blade_response(test: FlightTest, controls_true, hub: dict):
     n_pre = int(math.ceil(test.delay / test.dt - 1e-9)) + (1 if test.delay > 0 else 0)
     u_all = np.vstack([np.tile(u0, (n_pre, 1)), u])
     x0 = _advance(rotor, trim.x, u0, n_pre, dpsi, test.max_step)
-    x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step)
+    fine = None
+    if inputs_at is not None:
+        def fine(n_sub):
+            j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
+            return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
+    x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step, fine)
     x = x[n_pre:]
     t = np.arange(n) * test.dt
     psi = om * t
@@ -219,8 +242,37 @@ def blade_response(test: FlightTest, controls_true, hub: dict):
 def _hub(test: FlightTest, controls_true, omega_r, mu) -> dict:
     n = len(controls_true)
     if test.body is None:
-        return {c: np.zeros(n) for c in ("muz", "p", "q", "pdot", "qdot", "mux", "muy")}
+        return {c: np.zeros(n) for c in HUB}
     return test.body.response(controls_true, test.dt, omega_r, mu)
+
+
+def _true_controls(test: FlightTest, t):
+    """True pitch perturbations at times ``t`` (the recorded-frame pilot input
+    rotated back by the azimuth bias)."""
+    pilot = pilot_controls(t, test.manoeuvres)
+    pilot[:, 1:3] = pilot[:, 1:3] @ rotation(-test.azimuth_bias).T
+    return pilot
+
+
+def continuous_hub(test: FlightTest, omega_r, mu):
+    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls,
+    integrated in continuous time (DOP853, rtol 1e-12), at any times [s]."""
+    if test.body is None:
+        return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
+    a, b = test.body.matrices()
+    c, d = test.body.hub_matrices(omega_r, mu)
+    t_end = test.duration + test.dt
+    t0 = -max(test.delay, 0.0) - 2 * test.dt
+    rise = min([m.rise for m in test.manoeuvres if m.rise > 0] or [test.dt])
+    sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
+                    np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
+                    dense_output=True, max_step=rise / 4)
+
+    def hub_at(t):
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + _true_controls(test, t) @ d.T
+        return {name: h[:, i] for i, name in enumerate(HUB)}
+    return hub_at
 
 
 def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
@@ -232,10 +284,23 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
     n = int(round(test.duration / test.dt))
     t = np.arange(n) * test.dt
     pilot = pilot_controls(t, test.manoeuvres)            # recorded frame
-    true = pilot.copy()
-    true[:, 1:3] = pilot[:, 1:3] @ rotation(-test.azimuth_bias).T
-    hub = _hub(test, true, k.omega * radius, k.mu)
-    res = blade_response(test, true, hub)
+    true = _true_controls(test, t)
+    omega_r = k.omega * radius
+    if test.hold == "continuous":
+        hub_at = continuous_hub(test, omega_r, k.mu)
+        hub = hub_at(t)
+        u_trim = _trim_inputs(test)
+        om = k.omega
+
+        def inputs_at(tt):
+            h, c = hub_at(tt), _true_controls(test, tt)
+            return u_trim + np.column_stack([
+                c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
+                h["pdot"] / om**2, h["mux"], h["muy"]])
+        res = blade_response(test, true, hub, inputs_at)
+    else:
+        hub = _hub(test, true, omega_r, k.mu)
+        res = blade_response(test, true, hub)
     trim = res["trim"]
     rng = np.random.default_rng(test.seed)
     tc = test.trim_controls
@@ -252,13 +317,15 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
             v = v + test.noise_inputs * rng.standard_normal(n)
         cols[c] = v
     for i, c in enumerate(FLAP_COLUMNS):
-        cols[c] = res["beta_meas"][:, i] + test.noise_flap * rng.standard_normal(n)
+        cols[c] = res["beta_meas"][:, i] + sensor_noise(rng, n, test.noise_flap, test.dt,
+                                                        test.noise_color_hz)
     if test.include_truth:
         for i, c in enumerate(INFLOW_COLUMNS):
             cols[c] = res["lam"][:, i] - trim.lam[i]
     meta = {"omega": k.omega, "mu": k.mu, "a0": k.a0, "solidity": k.solidity,
             "radius": radius, "aircraft": "Puma (virtual, nonlinear blade-element truth)",
-            "description": test.description, "synthetic": "true", "seed": test.seed}
+            "description": test.description, "synthetic": "true", "seed": test.seed,
+            "hold": test.hold}
     rec = Record.from_arrays(t, cols, meta, source="<flighttest>")
     elapsed = time.perf_counter() - t_start
     truth = {"truth": "nonlinear",
@@ -274,9 +341,11 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
              "trim": trim.as_dict(),
              "measurement": {"azimuth_bias": test.azimuth_bias, "delay": test.delay,
                              "noise_flap": test.noise_flap,
+                             "noise_color_hz": test.noise_color_hz,
                              "noise_inputs": test.noise_inputs, "seed": test.seed},
              "body": None if test.body is None else asdict(test.body),
              "manoeuvres": [asdict(m) for m in test.manoeuvres],
+             "hold": test.hold,
              "integration": {"method": "rk4", "step_deg": math.degrees(
                  k.omega * test.dt / res["n_sub"]), "substeps_per_sample": res["n_sub"]},
              "generation_seconds": elapsed}
@@ -294,7 +363,9 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
              "effects": list(m.structure.effects), "parameters": dict(m.parameters),
              "constants": test.constants.as_dict(),
              "manoeuvres": [asdict(x) for x in test.manoeuvres],
+             "hold": test.hold,
              "measurement": {"noise_flap": test.noise_flap,
+                             "noise_color_hz": test.noise_color_hz,
                              "noise_inputs": test.noise_inputs, "seed": test.seed}}
     return FlightTestResult(rec, truth)
 

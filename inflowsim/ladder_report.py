@@ -78,13 +78,14 @@ def ladder_plot(ladder, path=None):
 
 
 def candidate_rows(diagnosis):
-    return [[c.effect, c.cost_reduction, c.dof, c.log10_p,
-             "yes" if c.significant else "no", c.physics if not c.error else c.error]
+    return [[c.effect, c.cost_reduction, c.dof, c.log10_p, 100 * c.share,
+             "yes" if c.accepted else "no",
+             c.physics if c.accepted else (c.error or c.reason)]
             for c in diagnosis.candidates]
 
 
 CANDIDATE_HEADER = ["effect", "cost reduction", "added parameters", "log10 p",
-                    "significant", "physics"]
+                    "share of excess [%]", "accepted", "physics, or why not"]
 
 
 def format_diagnosis(d) -> str:
@@ -93,18 +94,19 @@ def format_diagnosis(d) -> str:
              f"{d.band_hz[0]:.4g}-{d.band_hz[1]:.4g} Hz"]
     lines.append("where it fails:" if d.failures else "where it fails: nothing found")
     lines += [f"  - {f.message}" for f in d.failures]
-    lines.append("candidate effects (best first):")
+    lines.append("candidate effects (accepted first; * = accepted):")
     for c in d.candidates:
-        mark = "*" if c.significant else " "
+        mark = "*" if c.accepted else " "
         lines.append(f" {mark} {c.effect:<28} cost -{c.cost_reduction:9.2f}  "
-                     f"dof {c.dof}  log10 p {c.log10_p:8.1f}")
+                     f"dof {c.dof}  log10 p {c.log10_p:8.1f}  share {100 * c.share:5.1f} %"
+                     + ("" if c.accepted else f"  ({c.error or c.reason})"))
     if d.missing_effect:
         c = next(c for c in d.candidates if c.effect == d.missing_effect)
         lines.append(f"missing effect: {d.missing_effect}: {c.physics}")
         lines.append(f"  add it: inflowsim identify RECORD --model {d.structure.name} "
                      f"--add {d.missing_effect}")
     else:
-        lines.append("missing effect: none significant (no alarm)")
+        lines.append("missing effect: none accepted (no alarm)")
     return "\n".join(lines)
 
 
@@ -113,15 +115,19 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     rep.heading(f"Diagnosis of {d.structure.name}")
     rep.paragraph(f"Fitted over {d.band_hz[0]:.4g}-{d.band_hz[1]:.4g} Hz: cost "
                   f"{d.fit.cost:.2f}. Every candidate effect was added in turn and "
-                  "refitted from the base estimates; 2 (J_base - J_with) is tested as "
-                  "chi-square with the added parameters as degrees of freedom.")
+                  "refitted from the base estimates. A candidate is accepted when it is "
+                  "significant (2 (J_base - J_with) tested as chi-square with the added "
+                  "parameters as degrees of freedom, level 1e-3), its estimates are "
+                  "physically plausible, it explains at least 10 % of the residual's "
+                  "excess over the noise floor, and it leaves less structure across "
+                  "frequency; accepted candidates rank by the Schwarz gain.")
     if d.failures:
         rep.heading("Where it fails", 3)
         rep.table([[f.kind, f.subject, f.message] for f in d.failures],
                   ["kind", "subject", "finding"])
     rep.heading("Candidate effects, best first", 3)
     rep.table(candidate_rows(d), CANDIDATE_HEADER, digits=4)
-    rep.paragraph(f"Missing effect: {d.missing_effect or 'none significant'}.")
+    rep.paragraph(f"Missing effect: {d.missing_effect or 'none accepted'}.")
     return rep
 
 

@@ -51,8 +51,6 @@ def equations(structure, params: Mapping[str, float], constants: Constants):
         eff = CATALOGUE[name]
         eq = eff.equations(eq, p, constants)
         meas = eff.measurement(meas, p, constants)
-    if s.second_order:
-        eq = eq.with_(m2=np.eye(3))
     return s, p, eq, meas
 
 
@@ -76,7 +74,8 @@ class Model:
     ``x_dot = a x + b u``, ``y = c x`` with ``u`` the SI perturbation inputs
     (``inputs``, record column names) about trim, ``y`` the six ``outputs``
     (measured flap as recorded, i.e. including azimuth bias; true inflow), each
-    delayed by ``delays`` [s].  ``E, A, B`` are the azimuth-time descriptor of
+    delayed by ``delays`` [s] (negative: a lead); the recorded input ``j`` lags the
+    true one by ``input_delays[j]`` [s].  ``E, A, B`` are the azimuth-time descriptor of
     Eq. (8) with inputs in azimuth units.
     """
 
@@ -92,6 +91,21 @@ class Model:
     d: np.ndarray
     delays: np.ndarray
     measurement: Measurement = field(repr=False)
+    input_delays: np.ndarray = field(default=None, repr=False)
+    end_basis: np.ndarray = field(default=None, repr=False)
+    end_input: np.ndarray = field(default=None, repr=False)
+
+    def end_state(self, v, u):
+        """A record's end state from its slow coordinates ``v`` and the input ``u``
+        there: ``end_basis v + end_input u`` (the identity for first-order
+        flapping; with ``flap-inertia`` the flap rates are quasi-steady, see
+        :func:`slow_manifold`)."""
+        return self.end_basis @ v + self.end_input @ u
+
+    @property
+    def has_shifts(self) -> bool:
+        """Any time shift on an output or input."""
+        return bool(np.any(self.delays != 0) or np.any(self.input_delays != 0))
 
     @property
     def states(self):
@@ -127,13 +141,15 @@ class Model:
         return bool(np.all(self.eigenvalues().real < 0))
 
     def frequency_response(self, f_hz) -> np.ndarray:
-        """``H(j w)``, shape ``(n_outputs, n_inputs, n_freq)``, delays included."""
+        """``H(j w)``, shape ``(n_outputs, n_inputs, n_freq)``, time shifts included
+        (outputs recorded ``delays`` late, inputs ``input_delays`` late)."""
         w = 2 * np.pi * np.atleast_1d(np.asarray(f_hz, dtype=float))
         n = self.a.shape[0]
         out = np.empty((self.c.shape[0], self.b.shape[1], w.size), dtype=complex)
         for i, wi in enumerate(w):
             out[:, :, i] = self.c @ np.linalg.solve(1j * wi * np.eye(n) - self.a, self.b)
         out *= np.exp(-1j * np.outer(self.delays, w))[:, None, :]
+        out *= np.exp(1j * np.outer(self.input_delays, w))[None, :, :]
         return out
 
     def to_control(self):
@@ -141,6 +157,22 @@ class Model:
         import control
         return control.ss(self.a, self.b, self.c, self.d, inputs=list(self.inputs),
                           outputs=list(self.outputs), states=list(self.states))
+
+
+def slow_manifold(eq: Equations, n_inputs: int, scale: np.ndarray):
+    """``(P, q)``: states ``x = P v + q u`` with the flap rates quasi-steady.
+
+    For second-order flapping (``flap-inertia``), ``beta' = C^-1 (-D beta +
+    H_lambda lambda + h_u u)``: the first-order model's flap rate, where the fast
+    flap modes (``-C / flap_inertia``) have died out.  Records start and end in
+    steady flight, so their end states lie there; with them the first-order limit
+    of the structure is exact for the end effects too.  ``v = (beta, lambda)``;
+    ``u`` SI inputs, ``scale`` their azimuth scaling.
+    """
+    ci = np.linalg.inv(eq.c)
+    p = np.vstack([np.eye(6), ci @ np.hstack([-eq.d, eq.h_lambda])])
+    q = np.vstack([np.zeros((6, n_inputs)), ci @ eq.h_u[:, :n_inputs] * scale])
+    return p, q
 
 
 def build_model(structure, params: Mapping[str, float], constants: Constants) -> Model:
@@ -166,10 +198,19 @@ def build_model(structure, params: Mapping[str, float], constants: Constants) ->
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
     delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
+    scale = input_scale(om)[: s.n_inputs]
+    if s.second_order:
+        end_basis, end_input = slow_manifold(eq, s.n_inputs, scale)
+    else:
+        end_basis, end_input = np.eye(n), np.zeros((n, s.n_inputs))
+    in_delay = dict(meas.input_delays)
+    input_delays = np.array([in_delay.get(n, 0.0) for n in s.inputs], dtype=float)
     return Model(structure=s, parameters=MappingProxyType(dict(p)), constants=constants,
                  E=_frozen(e), A=_frozen(a_az), B=_frozen(b_az), a=_frozen(a_s),
                  b=_frozen(b_s), c=_frozen(c), d=_frozen(np.zeros((6, s.n_inputs))),
-                 delays=_frozen(delays), measurement=meas)
+                 delays=_frozen(delays), measurement=meas,
+                 input_delays=_frozen(input_delays), end_basis=_frozen(end_basis),
+                 end_input=_frozen(end_input))
 
 
 __all__ = ["Model", "build_model", "descriptor", "equations", "base_equations", "FLAP"]

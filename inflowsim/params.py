@@ -191,9 +191,12 @@ SPECS: dict[str, ParameterSpec] = {s.name: s for s in (
     _p("kc", "-", "Glauert F coefficient kc (Eq. 19)"),
     _p("ks", "-", "Glauert F coefficient ks (Eq. 19)"),
     _p("azimuth_bias", "rad", "offset of the recorded blade azimuth", -math.pi, math.pi),
-    _p("delay", "s", "output time delay shared by the flap channels", 0.0, 1.0),
-    *(_p(f"delay_{c}", "s", f"output time delay of {c}", 0.0, 1.0)
-      for c in ("beta0", "beta1c", "beta1s")),
+    _p("delay", "s", "time shift of the recorded flap channels (delay > 0, lead < 0)",
+       -1.0, 1.0),
+    *(_p(f"delay_{c}", "s", f"time shift of the recorded {c} (delay > 0, lead < 0)",
+         -1.0, 1.0)
+      for c in ("beta0", "beta1c", "beta1s", "theta0", "theta1c", "theta1s", "muz", "p",
+                "q", "pdot", "qdot", "mux", "muy")),
 )}
 
 

@@ -67,3 +67,37 @@ def preset_parameters(structure, constants: Constants = PUMA, source: str = "pap
     elif source != "theory":
         raise ValueError("source must be 'paper' or 'theory'")
     return vals
+
+
+#: Values a virtual truth gives an effect whose theory value is neutral and that no
+#: paper table estimates (a time shift of zero would not be a hidden effect).
+DEMONSTRATION = {"delay": 0.03}
+
+
+def truth_parameters(structure, constants: Constants = PUMA) -> dict:
+    """Parameters for a virtual truth of ``structure`` in which every effect acts.
+
+    :func:`preset_parameters` (``"paper"``), then for every parameter of an added
+    effect still at its neutral value (the theory value of ``glauert``,
+    ``hub-velocity-coupling``, ``azimuth-bias``, ``time-delay`` ... is "no
+    effect"): the paper's estimate from the table that has it (Tables 3, 2), else
+    :data:`DEMONSTRATION` (``delay`` 0.03 s; a per-channel ``delay_<c>`` 0.02 s).
+    """
+    s = Structure.parse(structure)
+    vals = preset_parameters(s, constants, "paper")
+    table = {}
+    for n in (3, 2, 1):
+        for k, v in paper_table(n)[1].items():
+            table.setdefault(k, v)
+    for e in s.effects:
+        neutral = CATALOGUE[e].neutral_values(constants)
+        for name in CATALOGUE[e].parameters:
+            if name in neutral and abs(vals[name] - neutral[name]) <= 1e-12 * max(
+                    1.0, abs(neutral[name])):
+                if name in table:
+                    vals[name] = table[name]
+                elif name in DEMONSTRATION:
+                    vals[name] = DEMONSTRATION[name]
+                elif name.startswith("delay_"):
+                    vals[name] = 0.02
+    return vals

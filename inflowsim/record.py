@@ -19,6 +19,7 @@ import numpy as np
 from .errors import RecordError
 from .fileio import safe_write_text
 from .params import Constants
+from .sampled import DEFAULT_HOLD, HOLDS
 
 REQUIRED_META = ("omega", "mu", "a0", "solidity")
 INPUT_COLUMNS = ("theta0", "theta1c", "theta1s", "muz", "p", "q", "pdot", "qdot",
@@ -66,19 +67,41 @@ class Record:
             raise RecordError(f"{self.source}: metadata {key} is not finite")
         return v
 
-    @property
-    def constants(self) -> Constants:
-        """Aircraft constants from the metadata, with the record's trim totals
-        (:func:`find_trim`) for effects linearised about trim."""
+    def base_constants(self) -> Constants:
+        """Aircraft constants from the metadata (no trim)."""
         from .errors import InputError
         vals = {k: self._meta_float(k) for k in REQUIRED_META}
         if "radius" in self.meta:
             vals["radius"] = self._meta_float("radius")
         try:
-            k = Constants.from_mapping(vals)
+            return Constants.from_mapping(vals)
         except InputError as exc:
             raise RecordError(f"{self.source}: metadata {exc}") from None
-        return k.with_trim(find_trim(self).values)
+
+    @property
+    def constants(self) -> Constants:
+        """Aircraft constants from the metadata, with the record's trim totals
+        (:func:`find_trim`) for effects linearised about trim."""
+        return self.base_constants().with_trim(find_trim(self).values)
+
+    @property
+    def hold(self) -> str:
+        """Intersample behaviour of the inputs (``# hold:``; ``record-format.md``):
+        ``continuous`` (samples of continuous signals, the default: measured
+        data), ``zoh`` (held over each sample) or ``foh`` (linear between samples)."""
+        v = self.meta.get("hold", DEFAULT_HOLD).strip().lower()
+        if v not in HOLDS:
+            raise RecordError(f"{self.source}: metadata hold = {self.meta['hold']!r}: "
+                              f"choose {', '.join(HOLDS)}")
+        return v
+
+    def hold_or(self, override=None) -> str:
+        """``override`` (a ``--hold`` option) if given, else :attr:`hold`."""
+        if override is None:
+            return self.hold
+        if override not in HOLDS:
+            raise RecordError(f"hold {override!r}: choose {', '.join(HOLDS)}")
+        return override
 
     @property
     def dt(self) -> float:
@@ -128,7 +151,9 @@ class Record:
             raise RecordError(f"{src}: t is not uniformly sampled: step {d[i]:.6g} s at "
                               f"data row {i + 2} against mean {mean:.6g} s (tolerance "
                               f"{JITTER:.0%}); resample it first")
-        self.constants
+        self.base_constants()
+        self.hold
+        _trim_window_meta(self)
         return self
 
     def require(self, columns):
@@ -171,55 +196,132 @@ class Record:
 
 
 # -- trim ---------------------------------------------------------------------------
+#: The quiet window ends this long before the first control movement [s]: a pilot's
+#: input is a smooth signal, so the rotor answers its onset before it is detectable.
+TRIM_MARGIN = 0.2
+#: Fewer quiet samples than this: no trim can be taken from the record itself.
+MIN_TRIM_SAMPLES = 5
+#: A quiet lead-in shorter than this [s] gives a trim, with a warning.
+SHORT_TRIM = 0.5
+
+
 @dataclass(frozen=True)
 class Trim:
-    """Trim values subtracted from the channels, and how they were found."""
+    """Trim values subtracted from the channels, and how they were found.
+
+    ``method``: ``"quiet"`` (the automatic quiet lead-in) or ``"window"`` (given);
+    ``t_start``, ``t_end`` [s] the window; ``n_samples`` in it; ``t_movement`` the
+    first control movement found [s] (``None`` for a given window); ``warning``
+    one line when the trim deserves the user's attention, else ``None``.
+    """
 
     values: Mapping[str, float]
     method: str
     t_end: float
     n_samples: int
+    t_start: float = 0.0
+    t_movement: float | None = None
+    warning: str | None = None
 
     def describe(self) -> str:
+        win = f"{self.t_start:.4g}-{self.t_end:.4g} s"
         if self.method == "quiet":
-            return (f"mean of the {self.n_samples} samples before the first control "
-                    f"movement (t < {self.t_end:.4g} s)")
-        if self.method == "first":
-            return "first sample (no quiet lead-in before the first control movement)"
-        return f"mean of the {self.n_samples} samples with t < {self.t_end:.4g} s"
+            return (f"mean over {win} ({self.n_samples} samples): the quiet lead-in, "
+                    f"ending {TRIM_MARGIN:g} s before the first control movement at "
+                    f"{self.t_movement:.4g} s")
+        return f"mean over the given window {win} ({self.n_samples} samples)"
+
+    def as_dict(self) -> dict:
+        return {"method": self.method, "window_s": [self.t_start, self.t_end],
+                "n_samples": self.n_samples, "first_movement_s": self.t_movement,
+                "description": self.describe(), "warning": self.warning}
 
 
-def find_trim(rec: Record, t_end: float | None = None, threshold: float = 2e-3) -> Trim:
-    """Trim = mean of each channel over the lead-in before the first control movement.
+def _trim_window_meta(rec: Record):
+    v = rec.meta.get("trim_window")
+    if v is None:
+        return None
+    try:
+        a, b = (float(x) for x in v.replace(",", " ").split())
+    except ValueError:
+        raise RecordError(f"{rec.source}: metadata trim_window = {v!r}: give two times "
+                          "in seconds, 'T0 T1'") from None
+    return a, b
 
-    The first control movement is the first sample where any of ``theta0,
-    theta1c, theta1s`` departs from its first value by more than ``threshold``
-    [rad] (or by 5x its lead-in noise, whichever is larger).  With fewer than
-    five quiet samples the first sample is the trim.  ``t_end`` fixes the
-    window instead.
+
+def first_movement(rec: Record) -> int | None:
+    """Index of the first sample where a pilot control has left its initial value.
+
+    Per control: baseline the median of the first 0.25 s, noise the robust spread
+    of the first differences over the first second; moved where the departure
+    exceeds ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth
+    input, at one ten-thousandth of its size).  ``None`` where no control moves.
     """
     t = rec.t
-    if t_end is not None:
-        n = int(np.searchsorted(t, t_end))
-        if n < 1:
-            raise RecordError(f"trim window ends at {t_end} s, before the first sample")
-        method = "window"
+    first = None
+    n_base = max(3, int(np.searchsorted(t, t[0] + 0.25)))
+    n_noise = max(8, int(np.searchsorted(t, t[0] + 1.0)))
+    for c in CONTROL_COLUMNS:
+        if c not in rec.channels:
+            continue
+        v = rec[c]
+        base = float(np.median(v[:n_base]))
+        d = np.diff(v[:n_noise])
+        noise = 1.4826 * float(np.median(np.abs(d - np.median(d)))) / np.sqrt(2.0)
+        dep = np.abs(v - base)
+        big = float(dep.max())
+        if big == 0.0:
+            continue
+        moved = np.flatnonzero(dep > max(6.0 * noise, 1e-4 * big))
+        if moved.size and (first is None or moved[0] < first):
+            first = int(moved[0])
+    return first
+
+
+def find_trim(rec: Record, window=None) -> Trim:
+    """Trim = the mean of each channel over a quiet window.
+
+    ``window = (t0, t1)`` [s] gives it; else the record's ``# trim_window: T0 T1``
+    metadata; else the quiet lead-in: from the first sample to ``TRIM_MARGIN``
+    before the first control movement (:func:`first_movement`).  A record whose
+    controls never move is all trim.  Fewer than ``MIN_TRIM_SAMPLES`` quiet samples
+    is an error naming the remedy; a lead-in shorter than ``SHORT_TRIM`` s is
+    used with a warning.
+    """
+    t = rec.t
+    window = window if window is not None else _trim_window_meta(rec)
+    if window is not None:
+        t0, t1 = (float(x) for x in window)
+        if not (np.isfinite(t0) and np.isfinite(t1) and t0 < t1):
+            raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s: need T0 < T1")
+        i0, i1 = int(np.searchsorted(t, t0)), int(np.searchsorted(t, t1, side="right"))
+        if i1 - i0 < MIN_TRIM_SAMPLES:
+            raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s holds "
+                              f"{max(i1 - i0, 0)} samples; need at least "
+                              f"{MIN_TRIM_SAMPLES} (the record spans {t[0]:g}-{t[-1]:g} s)")
+        method, move, warn = "window", None, None
     else:
-        n = len(t)
-        for c in CONTROL_COLUMNS:
-            if c not in rec.channels:
-                continue
-            v = rec[c]
-            lead = v[: max(5, len(v) // 100)]
-            tol = max(threshold, 5 * float(np.std(lead)))
-            moved = np.flatnonzero(np.abs(v - np.median(lead)) > tol)
-            if moved.size:
-                n = min(n, int(moved[0]))
+        k = first_movement(rec)
+        i0 = 0
+        if k is None:
+            i1, move = len(t), None
+        else:
+            move = float(t[k])
+            i1 = int(np.searchsorted(t, move - TRIM_MARGIN, side="right"))
+        if i1 < MIN_TRIM_SAMPLES:
+            raise RecordError(
+                f"{rec.source}: no quiet lead-in: a control moves at t = {move:.4g} s, "
+                f"leaving {i1} quiet samples; give the trim window (--trim-window T0 T1, "
+                "or '# trim_window: T0 T1' in the record)")
         method = "quiet"
-        if n < 5:
-            n, method = 1, "first"
-    vals = {k: float(np.mean(v[:n])) for k, v in rec.channels.items()}
-    return Trim(MappingProxyType(vals), method, float(t[min(n, len(t) - 1)]), n)
+        span = float(t[i1 - 1] - t[0])
+        warn = (None if span >= SHORT_TRIM else
+                f"{rec.source}: the quiet lead-in is only {span:.3g} s ({i1} samples) "
+                "before the first control movement: the trim is uncertain; give a "
+                "trim window if the record has a longer quiet part")
+    vals = {k: float(np.mean(v[i0:i1])) for k, v in rec.channels.items()}
+    return Trim(MappingProxyType(vals), method, float(t[i1 - 1]), i1 - i0,
+                float(t[i0]), move, warn)
 
 
 def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:

@@ -45,6 +45,14 @@ class Simulator:
 
     # -- model and discretisation ---------------------------------------
     def _set_model(self, model):
+        if np.any(model.delays < 0) or np.any(model.input_delays != 0):
+            raise InputError(
+                f"Simulator: the model {model.structure.name} has "
+                + ("a lead on a flap output" if np.any(model.delays < 0)
+                   else "time shifts on its inputs")
+                + ", which a step-by-step loop cannot apply causally; replay a whole "
+                  "record with inflowsim.replay.replay, or drop the time-shift effects "
+                  "(they describe the recording, not the rotor)")
         self.model = model
         a, b, c = model.a, model.b, model.c
         self.n, self.m = b.shape

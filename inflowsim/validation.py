@@ -10,9 +10,11 @@ Conventions
 * Trim is :func:`inflowsim.record.find_trim` (mean of the quiet lead-in before
   the first control movement) unless given; every channel is used as a
   perturbation about it, and ``ValidationResult.trim`` says how it was taken.
-* The prediction is :meth:`inflowsim.simulator.Simulator.replay` of the measured
-  input perturbations at the record's step ``dt`` (exact zero-order hold, the
-  model's output delays included), from a zero initial state.
+* The prediction is :func:`inflowsim.replay.replay` of the measured input
+  perturbations at the record's step ``dt`` with the record's intersample
+  behaviour (``# hold:``, or ``hold=``: exact for held or linear inputs, local
+  cubics for continuous records; the model's time shifts included), from rest
+  in trim.
 * Frequency responses are ratios of DFTs at the record's own transform
   frequencies ``k / (N dt)``: measured flap over the reference input, and the
   *predicted* flap over the same input DFT, so measured and model responses see
@@ -29,7 +31,7 @@ import numpy as np
 
 from .errors import InputError
 from .record import CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations
-from .simulator import Simulator
+from .replay import replay
 
 #: The paper's identification band [Hz]: 0.2256-1.58 Hz (bins 6..42 at 26.6 s).
 PAPER_BAND_HZ = (0.2256, 1.58)
@@ -115,6 +117,8 @@ class ValidationResult:
         The record's file (or ``<memory>``).
     trim : Trim
         Trim subtracted from every channel (``trim.describe()`` says how).
+    hold : str
+        Intersample behaviour the replay assumed (``continuous``, ``zoh``, ``foh``).
     t : ndarray, shape (N,)
         Time [s].
     inputs : tuple of str
@@ -136,6 +140,7 @@ class ValidationResult:
     structure: str
     source: str
     trim: Trim
+    hold: str
     t: np.ndarray
     inputs: tuple
     u: np.ndarray
@@ -157,6 +162,7 @@ class ValidationResult:
         return {
             "structure": self.structure,
             "record": self.source,
+            "hold": self.hold,
             "channels": {c: {"rms": _num(f.rms), "tic": _num(f.tic),
                              "fit_percent": _num(f.fit_percent),
                              "magnitude_rms_db": _num(self.magnitude_rms_db[c]),
@@ -258,7 +264,8 @@ def reference_input(u_dft, inputs) -> str:
 
 
 def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
-             reference_input: str | None = None) -> ValidationResult:
+             reference_input: str | None = None, hold: str | None = None
+             ) -> ValidationResult:
     """Compare ``model`` with the measured flap of ``record``.
 
     Parameters
@@ -276,6 +283,8 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     reference_input : str, optional
         Input column the responses are ratios to; default the pilot control
         with most in-band energy (:func:`reference_input`).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the inputs; default the record's (``# hold:``).
 
     Returns
     -------
@@ -292,7 +301,8 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     u = perturbations(record, trim, model.inputs)
     z = perturbations(record, trim, FLAP_COLUMNS)
     dt = record.dt
-    y = Simulator(model, dt).replay(u)[:, :3]
+    hold = record.hold_or(hold)
+    y = replay(model, u, dt, hold)[:, :3]
     fits = {c: fit_metrics(z[:, i], y[:, i]) for i, c in enumerate(FLAP_COLUMNS)}
 
     u_dft = _dft(u, bins, dt)
@@ -316,7 +326,8 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     mag_rms = {c: float(np.sqrt(np.mean(mag[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
     ph_rms = {c: float(np.sqrt(np.mean(ph[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
     return ValidationResult(
-        structure=model.structure.name, source=record.source, trim=trim, t=record.t,
+        structure=model.structure.name, source=record.source, trim=trim, hold=hold,
+        t=record.t,
         inputs=tuple(model.inputs), u=u, measured=z, predicted=y,
         channels=MappingProxyType(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
         frequency=fc, magnitude_rms_db=MappingProxyType(mag_rms),

@@ -17,8 +17,10 @@ from inflowsim.virtual import VirtualTest, virtual_record
 
 @pytest.fixture(scope="module")
 def rec_path(tmp_path_factory):
+    """A noise-free record of held inputs (``# hold: zoh``): the fixed-step
+    simulator reproduces it exactly."""
     p = tmp_path_factory.mktemp("rec") / "doublet.csv"
-    write_record(virtual_record(VirtualTest(noise_flap=0.0)), p)
+    write_record(virtual_record(VirtualTest(noise_flap=0.0, hold="zoh")), p)
     return p
 
 
@@ -121,6 +123,7 @@ def test_simulate_writes_a_readable_record(capsys, tmp_path, rec_path):
     assert doc["samples"] == 2660 and doc["out"] == str(out)
     sim, rec = read_record(out), read_record(rec_path)
     assert "glauert" in sim.meta["description"] and sim.meta["omega"] == "27.5"
+    assert sim.hold == "zoh"
     np.testing.assert_allclose(sim.t, rec.t)
     for c in ("theta1s", "q", "mux", "muy"):
         np.testing.assert_allclose(sim[c], rec[c], atol=1e-11)

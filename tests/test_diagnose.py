@@ -1,21 +1,31 @@
-"""Find the missing physics: hidden-effect records (issue: workflow.md, "Data with a
-hidden effect").  For each candidate effect, a record whose truth has it and whose
-starting model (basic) lacks it: diagnose must name it first, and after adding it the
+"""Find the missing physics (issue #9): hidden-effect records from the independent
+route, both kinds (continuous-time: smooth inputs and an adaptive ODE solver;
+held inputs: ``zoh``) and two sample rates (64 and 256 Hz).
+
+For each offered candidate, a record whose truth has it and whose starting
+model (basic) lacks it: diagnose must name it first, and after adding it the
 residual must fall to the noise floor with the true values inside 3 sigma.  The
 records excite both axes (a longitudinal then a lateral cyclic doublet) so that
-every candidate's parameters are determined; one fixed seed, not tuned.
+every candidate's parameters are determined; one fixed seed, not tuned.  Null
+records (the truth is the structure diagnosed), the paper's three-effect story
+and the wrong sampled-data convention are tested too; the study over many seeds
+and coloured noise is ``bench/detection.py`` (``bench/README.md``).
 """
 import json
+from functools import lru_cache
 
 import numpy as np
 import pytest
+from scipy import stats
 
 import inflowsim as ifs
+from inflowsim.candidates import lr_test
 from inflowsim.cli import main
 from inflowsim.diagnose import diagnose, explicit_ladder, ladder
-from inflowsim.presets import paper_table, theory_parameters
+from inflowsim.effects import CATALOGUE
+from inflowsim.presets import paper_table, theory_parameters, truth_parameters
 from inflowsim.record import write_record
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.virtual import Manoeuvre, VirtualTest, noise_psd, virtual_record
 
 SEED = 1
 NOISE = 1e-4
@@ -26,62 +36,164 @@ TRUE_VALUES = {
     "glauert": {k: v for k, v in paper_table(3)[1].items() if k[0] in "ck"},
     "azimuth-bias": {"azimuth_bias": 0.3},
     "time-delay": {"delay": 0.03},
-    "flap-inertia": {},
+    "flap-inertia": {"flap_inertia": 1.0},
     "skewed-wake": {},                      # its theory value for the Puma
     "advance-ratio-perturbation": {},       # k_mu = 1
 }
+KINDS = [("continuous", 64), ("continuous", 256), ("zoh", 64), ("zoh", 256)]
 
 
-def hidden(effect, seed=SEED):
+def test_every_offered_effect_is_tested():
+    assert set(TRUE_VALUES) == {n for n, e in CATALOGUE.items() if e.offered}
+
+
+@lru_cache(maxsize=None)
+def hidden(effect, hold="continuous", rate=64, seed=SEED, colour=None):
     s = ifs.Structure.parse("basic").with_effect(effect)
     k = virtual_record(VirtualTest(duration=1.0)).constants
     p = theory_parameters(s, k) | {"tau": 5.0} | TRUE_VALUES[effect]
     p = {n: v for n, v in p.items() if n in s.parameters}
-    rec = virtual_record(VirtualTest(structure=s, parameters=p, seed=seed,
-                                     noise_flap=NOISE, manoeuvres=TWO_AXES))
+    rec = virtual_record(VirtualTest(structure=s, parameters=p, seed=seed, dt=1 / rate,
+                                     noise_flap=NOISE, manoeuvres=TWO_AXES, hold=hold,
+                                     noise_color_hz=colour))
     return rec, s, p
 
 
-def floor_ratio(fit, rec):
-    """Residual power per flap channel over the white-noise level N sigma^2."""
-    return np.array([abs(fit.S[0][i, i]) for i in range(3)]) / (len(rec) * NOISE**2)
+def joint_distance(fit, truth):
+    """``(theta - truth)' C^-1 (theta - truth)`` with the fit's covariance (bounds
+    corrected for coloured residuals): chi-square with ``len(truth)`` degrees of
+    freedom when the bounds hold; with several parameters one of them beyond
+    3 sigma is not unusual, this joint test is the right one."""
+    names = list(truth)
+    idx = [fit.free.index(n) for n in names]
+    sig = np.array([fit.sigma_colored[n] for n in names])
+    cov = fit.correlation[np.ix_(idx, idx)] * np.outer(sig, sig)
+    d = np.array([fit.parameters[n] - truth[n] for n in names])
+    return float(d @ np.linalg.solve(cov, d))
 
 
+def floor_ratio(fit, rec, colour=None):
+    """Residual power per flap channel over the true noise level in the band."""
+    d = fit.data[0]
+    level = len(rec) * np.mean(noise_psd(NOISE, rec.dt, d.f_hz, colour))
+    return np.array([abs(fit.S[0][i, i]) for i in range(3)]) / level
+
+
+@pytest.mark.parametrize("hold, rate", KINDS)
 @pytest.mark.parametrize("effect", list(TRUE_VALUES))
-def test_hidden_effect_is_named_first_and_explains_the_data(effect):
-    rec, s, truth = hidden(effect)
+def test_hidden_effect_is_named_first_and_explains_the_data(effect, hold, rate):
+    rec, s, truth = hidden(effect, hold, rate)
+    assert rec.hold == hold
     d = diagnose(rec, "basic")
-    assert d.candidates[0].effect == effect, [(c.effect, c.log10_p) for c in d.candidates]
+    assert d.candidates[0].effect == effect, [(c.effect, c.reason) for c in d.candidates]
     assert d.missing_effect == effect
-    base_floor = floor_ratio(d.fit, rec)
-    fit = d.candidates[0].fit
+    win = d.candidates[0]
+    assert win.accepted and win.significant and win.plausible and win.whiter
+    fit = win.fit
     assert fit.structure == s
     ratio = floor_ratio(fit, rec)
-    assert np.all(ratio < 1.3) and np.all(ratio > 0.7), ratio     # at the noise floor
-    assert np.max(base_floor) > 3 * np.max(ratio)
+    # at the noise floor: pooled over the channels within 1.3x, none beyond 1.5x
+    # (one channel's power over 37 bins scatters by 16 %)
+    assert 0.7 < ratio.mean() < 1.3 and np.all(ratio < 1.5), ratio
+    # the base is above the floor (at 64 Hz the weakest effect, k_mu = 1, by 1.7x)
+    assert np.max(floor_ratio(d.fit, rec)) > 1.4 * np.max(ratio)
     for n, v in truth.items():
         assert abs(fit.parameters[n] - v) < 3 * fit.sigma[n], (n, fit.parameters[n], v)
 
 
-def test_no_missing_effect_no_alarm():
-    rec, s, truth = hidden("separate-time-constants")
-    d = diagnose(rec, s)
+@pytest.mark.parametrize("effect", ["glauert", "time-delay"])
+def test_hidden_effect_under_coloured_noise(effect):
+    """Flap noise through a 2 Hz first-order low-pass: above the (white) floor
+    measured at high frequency, yet the effect is found and nothing else."""
+    rec, s, truth = hidden(effect, colour=2.0)
+    d = diagnose(rec, "basic")
+    assert d.missing_effect == effect
+    fit = d.candidates[0].fit
+    assert floor_ratio(fit, rec, 2.0).mean() < 1.3
+    assert joint_distance(fit, truth) < stats.chi2.isf(1e-3, len(truth))
+    d2 = diagnose(rec, fit.structure, base_fit=fit)
+    assert d2.missing_effect is None, [(c.effect, c.reason) for c in d2.candidates]
+
+
+@pytest.mark.parametrize("hold, rate, colour", [("continuous", 64, None),
+                                                ("continuous", 256, None),
+                                                ("zoh", 64, None),
+                                                ("continuous", 64, 2.0),
+                                                ("zoh", 256, 2.0)])
+def test_no_missing_effect_no_alarm(hold, rate, colour):
+    rec = virtual_record(VirtualTest(structure="glauert", dt=1 / rate, seed=SEED,
+                                     noise_color_hz=colour, manoeuvres=TWO_AXES,
+                                     hold=hold))
+    d = diagnose(rec, "glauert")
     assert d.missing_effect is None
-    assert not any(c.significant for c in d.candidates)
-    assert not [f for f in d.failures if f.kind in ("spectrum", "whiteness")]
+    assert not any(c.accepted for c in d.candidates)
+    assert not [f for f in d.failures if f.kind in ("spectrum", "whiteness", "unexplained")]
 
 
-def test_three_missing_effects_resolved_step_by_step():
-    """The paper's own story: truth glauert (Table 3), start basic."""
-    rec = virtual_record(VirtualTest(structure="glauert", seed=SEED))
+def test_the_wrong_sampled_data_convention_raises_false_alarms():
+    """The issue's symptom: a continuous record analysed as held inputs lags by half
+    a sample, and the diagnosis 'finds' a time delay that is not there."""
+    rec = virtual_record(VirtualTest(structure="glauert", dt=1 / 64, seed=SEED,
+                                     manoeuvres=TWO_AXES))
+    assert diagnose(rec, "glauert").missing_effect is None
+    wrong = diagnose(rec, "glauert", hold="zoh")
+    assert wrong.missing_effect == "time-delay"
+
+
+@pytest.mark.parametrize("hold, rate", [("continuous", 64), ("zoh", 256)])
+def test_three_missing_effects_resolved_step_by_step(hold, rate):
+    """The paper's own story: truth glauert (Table 3), start basic: the three
+    effects, nothing else, the fit at the floor and the truth within 3 sigma."""
+    s = ifs.Structure.parse("glauert")
+    truth = truth_parameters(s, virtual_record(VirtualTest(duration=1.0)).constants)
+    rec = virtual_record(VirtualTest(structure=s, parameters=truth, seed=SEED, dt=1 / rate,
+                                     manoeuvres=TWO_AXES, hold=hold))
     lad = ladder(rec, "basic")
-    assert [r.structure.name for r in lad.rungs][-1] == "glauert"
-    assert {r.added for r in lad.rungs[1:]} == {"glauert", "azimuth-bias",
-                                                "separate-time-constants"}
+    assert lad.final.structure == s
+    assert sorted(r.added for r in lad.rungs[1:]) == sorted(
+        ["glauert", "azimuth-bias", "separate-time-constants"])
     costs = [r.fit.cost for r in lad.rungs]
     assert costs == sorted(costs, reverse=True)
     assert lad.final.diagnosis.missing_effect is None
-    assert np.all(floor_ratio(lad.final.fit, rec) < 1.3)
+    ratio = floor_ratio(lad.final.fit, rec)
+    assert ratio.mean() < 1.3 and np.all(ratio < 1.5)
+    for n, v in truth.items():
+        assert abs(lad.final.fit.parameters[n] - v) < 3 * lad.final.fit.sigma[n], n
+
+
+def test_structured_residual_outside_the_catalogue_is_said_plainly():
+    """A cross-coupling no candidate represents (lateral flap answering the
+    collective through a lag): no spurious effect is added; the diagnosis names
+    the channel and frequency of what is left."""
+    from scipy.signal import lfilter
+    man = TWO_AXES + (Manoeuvre(channel="theta0", t_start=18.0),)
+    rec = virtual_record(VirtualTest(structure="glauert", seed=SEED, manoeuvres=man,
+                                     dt=1 / 64))
+    th0 = rec["theta0"] - rec["theta0"][0]
+    a = np.exp(-2 * np.pi * 0.8 * rec.dt)
+    extra = 0.4 * lfilter([1 - a], [1, -a], th0)
+    rec = rec.with_channels(beta1c=rec["beta1c"] + extra)
+    d = diagnose(rec, "glauert")
+    assert d.missing_effect is None, [(c.effect, c.reason) for c in d.candidates]
+    un = [f for f in d.failures if f.kind == "unexplained"]
+    assert [f.subject for f in un] == ["beta1c"]
+    assert "outside the candidate catalogue" in un[0].message
+    assert "times the noise floor" in un[0].message and "Hz in beta1c" in un[0].message
+
+
+def test_flap_inertia_is_tested_on_the_boundary():
+    """flap_inertia = 0 is the edge of its range: the statistic is the 50:50
+    mixture of chi-square(0) and chi-square(1) (Self and Liang)."""
+    stat, d, lp = lr_test(10.0, 8.0, 1, boundary=1)
+    from scipy import stats
+    assert lp == pytest.approx(np.log10(0.5 * stats.chi2.sf(4.0, 1)))
+    assert lr_test(10.0, 10.0, 1, boundary=1)[2] == 0.0
+    assert lr_test(10.0, 8.0, 1)[2] == pytest.approx(np.log10(stats.chi2.sf(4.0, 1)))
+    rec, s, truth = hidden("flap-inertia")
+    d = diagnose(rec, "basic")
+    c = next(c for c in d.candidates if c.effect == "flap-inertia")
+    assert c.cost_reduction > 0 and c.fit.parameters["flap_inertia"] == pytest.approx(
+        1.0, abs=3 * c.fit.sigma["flap_inertia"])
 
 
 def test_explicit_ladder_tables_1_2_3(tmp_path, capsys):
@@ -106,7 +218,11 @@ def test_diagnose_command_json_shape(tmp_path, capsys):
     assert {"structure", "cost", "failures", "candidates", "missing_effect"} <= set(doc)
     assert doc["missing_effect"] == "azimuth-bias"
     c0 = doc["candidates"][0]
-    assert {"effect", "cost_reduction", "significant"} <= set(c0)
-    assert [c["cost_reduction"] for c in doc["candidates"] if c["significant"]] != []
+    assert {"effect", "cost_reduction", "significant", "accepted", "reason",
+            "share_of_excess"} <= set(c0)
+    assert c0["accepted"] and c0["reason"] == "accepted"
+    assert main(["diagnose", str(path), "--model", "basic", "--hold", "zoh", "--json"]) == 0
+    held = json.loads(capsys.readouterr().out)
+    assert held["cost"] != pytest.approx(doc["cost"], abs=1.0)     # --hold is honoured
     assert main(["diagnose", str(tmp_path / "none.csv"), "--model", "basic"]) == 2
     assert main(["diagnose", str(path), "--model", "basic", "--candidates", "bogus"]) == 2

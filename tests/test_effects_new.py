@@ -34,13 +34,15 @@ def _without(p, name):
 
 # -- flap-inertia -------------------------------------------------------------------
 
-def test_flap_inertia_nine_state_descriptor_entry_by_entry():
+@pytest.mark.parametrize("scale", [1.0, 0.37])
+def test_flap_inertia_nine_state_descriptor_entry_by_entry(scale):
     s = "basic+flap-inertia"
     nb, lb2, tau = 0.95, 1.08, 5.0
-    e, a, b = descriptor(s, {"lambda_beta2": lb2, "n_beta": nb, "tau": tau}, PUMA)
+    e, a, b = descriptor(s, {"lambda_beta2": lb2, "n_beta": nb, "tau": tau,
+                             "flap_inertia": scale}, PUMA)
     lm = ld.momentum_l(MU, PUMA.a0s)
     z, i3 = np.zeros((3, 3)), np.eye(3)
-    want_e = np.block([[i3, z, z], [z, tau * i3, z], [z, z, i3]])
+    want_e = np.block([[i3, z, z], [z, tau * i3, z], [z, z, scale * i3]])
     want_a = np.block([
         [z, z, i3],
         [lm @ ld.g_beta(MU), lm @ ld.g_lambda(MU) - i3, lm @ ld.g_dbeta(MU)],
@@ -57,7 +59,7 @@ def test_flap_inertia_nine_state_descriptor_entry_by_entry():
 def test_flap_inertia_moves_glauert_rate_terms_from_e21_to_a():
     p = preset_parameters("glauert", PUMA, "paper")
     e6, a6, b6 = descriptor("glauert", p, PUMA)
-    e9, a9, b9 = descriptor("glauert+flap-inertia", p, PUMA)
+    e9, a9, b9 = descriptor("glauert+flap-inertia", p | {"flap_inertia": 1.0}, PUMA)
     assert np.abs(e6[3:6, 0:3]).max() > 0.1       # Glauert beta' terms live in E21 ...
     np.testing.assert_array_equal(e9[3:6, 0:3], 0.0)   # ... and leave it
     np.testing.assert_array_equal(e9[3:6, 6:9], 0.0)
@@ -74,7 +76,7 @@ def test_flap_inertia_moves_glauert_rate_terms_from_e21_to_a():
 def test_flap_inertia_response_approaches_first_order_at_low_frequency(structure):
     p = preset_parameters(structure, PUMA, "paper")
     m6 = build_model(structure, p, PUMA)
-    m9 = build_model(structure + "+flap-inertia", p, PUMA)
+    m9 = build_model(structure + "+flap-inertia", p | {"flap_inertia": 1.0}, PUMA)
     f = np.array([0.0, 0.01, 0.1, 1.0, 3.0])
     h6, h9 = m6.frequency_response(f), m9.frequency_response(f)
     err = np.abs(h9[:3] - h6[:3]).max(axis=(0, 1)) / np.abs(h6[:3]).max(axis=(0, 1))
@@ -87,7 +89,7 @@ def test_flap_inertia_response_approaches_first_order_at_low_frequency(structure
 @pytest.mark.parametrize("base", ["basic", "empirical", "glauert"])
 def test_flap_inertia_stable_and_parsed(base):
     s = Structure.parse(base + "+flap-inertia")
-    assert s.parameters == Structure.parse(base).parameters
+    assert s.parameters == Structure.parse(base).parameters + ("flap_inertia",)
     assert s.second_order and len(s.states) == 9 and s.states[6:] == (
         "beta0_prime", "beta1c_prime", "beta1s_prime")
     for source in ("theory", "paper"):
@@ -97,8 +99,45 @@ def test_flap_inertia_stable_and_parsed(base):
         assert np.abs(m.eigenvalues()).max() > 0.5 * PUMA.omega
 
 
+@pytest.mark.parametrize("structure", ["basic", "glauert"])
+def test_flap_inertia_nests_the_first_order_model(structure):
+    """flap_inertia -> 0 is the first-order model: frequency responses (every
+    input, every band frequency) and the slow-manifold end states converge to
+    it linearly in the scale, the fast modes leave to -C/flap_inertia."""
+    p = preset_parameters(structure, PUMA, "paper")
+    m6 = build_model(structure, p, PUMA)
+    f = np.linspace(0.2, 1.6, 8)
+    h6 = m6.frequency_response(f)[:3]
+    errs = []
+    for scale in (1e-2, 1e-3, 1e-4):
+        m9 = build_model(structure + "+flap-inertia", p | {"flap_inertia": scale}, PUMA)
+        errs.append(np.abs(m9.frequency_response(f)[:3] - h6).max() / np.abs(h6).max())
+        assert np.abs(m9.eigenvalues()).max() > 0.5 * PUMA.omega / scale
+        # end states on the slow manifold: beta' is the first-order model's rate
+        x6 = np.linspace(0.01, 0.06, 6)
+        u = np.linspace(-0.02, 0.02, len(m6.inputs))
+        xdot6 = m6.a @ x6 + m6.b @ u
+        x9 = m9.end_state(x6, u)
+        np.testing.assert_allclose(x9[6:] * PUMA.omega, xdot6[:3], rtol=1e-10, atol=1e-14)
+    assert errs[0] < 0.05 and errs[1] < errs[0] / 5 and errs[2] < errs[1] / 5
+    assert errs[2] < 1e-3
+
+
+def test_flap_inertia_floor_is_the_neutral_start():
+    from inflowsim.effects import CATALOGUE
+    from inflowsim.effects.flap_inertia import FLOOR
+    eff = CATALOGUE["flap-inertia"]
+    assert eff.neutral_values(PUMA) == {"flap_inertia": FLOOR}
+    assert eff.theory(PUMA) == {"flap_inertia": 1.0}
+    assert eff.boundary == ("flap_inertia",)
+    with pytest.raises(Exception, match="flap_inertia"):
+        build_model("basic+flap-inertia", _theory("basic+flap-inertia", flap_inertia=0.0),
+                    PUMA)
+
+
 def test_flap_inertia_simulates():
-    m = build_model("glauert+flap-inertia", preset_parameters("glauert", PUMA, "paper"), PUMA)
+    m = build_model("glauert+flap-inertia", preset_parameters("glauert", PUMA, "paper")
+                    | {"flap_inertia": 1.0}, PUMA)
     u = np.zeros((200, len(m.inputs)))
     u[10:30, 2] = np.radians(1.0)
     y = Simulator(m, 0.01).replay(u)

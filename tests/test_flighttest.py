@@ -98,8 +98,8 @@ def test_record_is_seeded_has_totals_and_reads_back(tmp_path):
 
 
 def test_azimuth_bias_and_delay_are_measurement_only(tmp_path):
-    base = FlightTest(duration=2.0, body=None, noise_flap=0.0,
-                      manoeuvres=(Manoeuvre(t_start=0.3, width=0.2),))
+    base = FlightTest(duration=2.0, body=None, noise_flap=0.0, hold="zoh",
+                      manoeuvres=(Manoeuvre(t_start=0.3, width=0.2, rise=0.0),))
     n = 200
     ctrl = pilot_controls(np.arange(n) * base.dt, base.manoeuvres)
     ref = blade_response(base, ctrl, _fixed_hub(n))

@@ -18,7 +18,9 @@ def test_writes_a_record_and_the_truth(tmp_path, capsys):
     truth = json.loads(tj.read_text())
     assert truth["truth"] == "nonlinear" and truth["rotor"]["n_blades"] == 4
     assert truth["measurement"] == {"azimuth_bias": 0.2, "delay": 0.02,
-                                    "noise_flap": 1e-4, "noise_inputs": 0.0, "seed": 3}
+                                    "noise_flap": 1e-4, "noise_color_hz": None,
+                                    "noise_inputs": 0.0, "seed": 3}
+    assert truth["hold"] == "continuous"
     assert "azimuth" not in "".join(rec.meta.values())   # hidden from the record
     assert capsys.readouterr().out == ""                  # progress goes to stderr
     before = out.read_bytes()

@@ -1,24 +1,39 @@
-"""The ladder on a record from the nonlinear individual-blade truth (issue 5 part 7).
+"""The ladder on a record from the nonlinear individual-blade truth (issue #9).
 
 The truth keeps every blade's flap inertia and feels in-plane velocity directly
 on the blades; the paper's candidates alone would credit that to the inflow.
-Measured (bench/README.md): the ladder adds flap-inertia, then
-advance-ratio-perturbation with k_mu near its theory value 1, and the error falls.
+On the default virtual flight test (one longitudinal doublet, 100 Hz, 1e-4 rad
+white flap noise, continuous time) the ladder names flap inertia first and the
+direct in-plane forcing with ``k_mu`` near its theory value 1, and ends within
+1.5 times the sensor noise (``bench/README.md`` has other rates and seeds).
 """
+import numpy as np
 
 from inflowsim.diagnose import ladder
 from inflowsim.flighttest import FlightTest, nonlinear_flighttest
 
 
-def test_ladder_on_nonlinear_truth_lowers_the_error():
-    rec = nonlinear_flighttest(FlightTest(seed=1)).record
-    lad = ladder(rec, "basic", max_steps=2)
+def test_ladder_on_nonlinear_truth_names_flap_inertia_and_inplane_forcing():
+    test = FlightTest(seed=1)
+    rec = nonlinear_flighttest(test).record
+    assert rec.hold == "continuous"
+    lad = ladder(rec, "basic")
     added = [r.added for r in lad.rungs[1:]]
     assert added[0] == "flap-inertia"
     assert "advance-ratio-perturbation" in added
     costs = [r.fit.cost for r in lad.rungs]
     assert costs == sorted(costs, reverse=True)
-    first, last = lad.rungs[0].fit, lad.rungs[-1].fit
-    assert last.fit["beta1s"]["fit_percent"] > first.fit["beta1s"]["fit_percent"] + 10
-    k_mu, s = last.parameters["k_mu"], last.sigma["k_mu"]
+    final = lad.final.fit
+    ratio = np.array([abs(final.S[0][i, i]) for i in range(3)]) / (
+        len(rec) * test.noise_flap ** 2)
+    assert np.all(ratio < 1.5), ratio
+    assert final.parameters["flap_inertia"] == pytest_approx(1.0, 3 * final.sigma[
+        "flap_inertia"] + 0.05)
+    k_mu, s = final.parameters["k_mu"], final.sigma["k_mu"]
     assert abs(k_mu - 1.0) < 3 * s + 0.1           # theory value, up to nonlinearity
+    assert lad.final.diagnosis.missing_effect is None
+
+
+def pytest_approx(v, tol):
+    import pytest
+    return pytest.approx(v, abs=tol)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from inflowsim.errors import RecordError, InputError
-from inflowsim.record import find_trim, read_record, write_record, perturbations
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.record import TRIM_MARGIN, find_trim, read_record, write_record, perturbations
+from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
 
 HEADER = "t,theta0,theta1c,theta1s,muz,p,q,pdot,qdot,mux,muy,beta0,beta1c,beta1s"
 META = "# omega: 27.5\n# mu: 0.249\n# a0: 5.73\n# solidity: 0.0917\n"
@@ -165,11 +165,52 @@ def test_record_arrays_are_read_only():
 
 
 def test_trim_is_mean_of_quiet_lead_in():
+    """A smooth doublet at 2 s (10-90 % rise 0.1 s): its onset is found before
+    2 s, and the quiet window ends TRIM_MARGIN before it."""
     rec = virtual_record(VirtualTest(duration=5.0, noise_flap=1e-4, seed=3))
     trim = find_trim(rec)
-    assert trim.method == "quiet" and trim.n_samples == 200      # doublet at t = 2 s
+    assert trim.method == "quiet" and trim.warning is None
+    assert 1.75 < trim.t_movement < 2.0
+    assert trim.t_end <= trim.t_movement - TRIM_MARGIN + 1e-9
+    n = trim.n_samples
+    assert n == int(np.sum(rec.t <= trim.t_end)) and n > 150
     assert trim.values["theta1s"] == pytest.approx(-0.05, abs=1e-12)
-    assert trim.values["beta1c"] == pytest.approx(np.mean(rec["beta1c"][:200]))
+    assert trim.values["beta1c"] == pytest.approx(np.mean(rec["beta1c"][:n]))
     assert "before the first control movement" in trim.describe()
     pert = perturbations(rec, trim, ["theta1s"])
-    assert np.all(pert[:200] == 0) and pert[200, 0] == pytest.approx(np.radians(1))
+    assert np.max(np.abs(pert[:n])) < 1e-12
+    assert pert[rec.t.searchsorted(2.2), 0] == pytest.approx(np.radians(1), rel=1e-6)
+
+
+def test_trim_of_a_long_record_is_its_lead_in():
+    """Issue 11: 300 s records used to take the whole record's mean as trim."""
+    rec = virtual_record(VirtualTest(duration=300.0, dt=0.05, noise_flap=1e-4, seed=1,
+                                     manoeuvres=(Manoeuvre(), Manoeuvre(t_start=150.0))))
+    trim = find_trim(rec)
+    assert trim.method == "quiet" and trim.t_end < 2.0
+    assert trim.values["beta1s"] == pytest.approx(-0.002, abs=5e-5)
+    assert trim.values["mux"] == pytest.approx(0.249, abs=1e-12)
+
+
+def test_trim_window_given_or_in_the_metadata():
+    rec = virtual_record(VirtualTest(duration=5.0, noise_flap=1e-4, seed=3))
+    t = find_trim(rec, window=(0.5, 1.0))
+    sel = (rec.t >= 0.5) & (rec.t <= 1.0)
+    assert t.method == "window" and t.n_samples == sel.sum()
+    assert t.values["beta0"] == pytest.approx(np.mean(rec["beta0"][sel]))
+    assert "given window 0.5-1 s" in t.describe()
+    tm = find_trim(rec.with_meta(trim_window="0.5 1.0"))
+    assert tm.values == t.values
+    with pytest.raises(RecordError, match="trim_window"):
+        find_trim(rec.with_meta(trim_window="soon"))
+    with pytest.raises(RecordError, match="holds 0 samples"):
+        find_trim(rec, window=(10.0, 11.0))
+
+
+def test_no_quiet_lead_in_is_refused_and_a_short_one_warned():
+    late = virtual_record(VirtualTest(duration=5.0, manoeuvres=(Manoeuvre(t_start=0.3),)))
+    with pytest.raises(RecordError, match="no quiet lead-in.*--trim-window"):
+        find_trim(late)
+    short = virtual_record(VirtualTest(duration=5.0, manoeuvres=(Manoeuvre(t_start=0.6),)))
+    t = find_trim(short)
+    assert t.warning is not None and "only" in t.warning

@@ -34,6 +34,36 @@ def load_model(args, constants=None):
     return build_model(args.model, preset_parameters(args.model, k, "paper"), k)
 
 
+def add_record_arguments(p):
+    """``--hold`` and ``--trim-window``: how to read the records' samples."""
+    from ..sampled import HOLDS
+    p.add_argument("--hold", choices=HOLDS,
+                   help="intersample behaviour of the records' inputs: continuous "
+                        "(samples of continuous signals, measured data), zoh (held over "
+                        "each sample), foh (linear between samples); default each "
+                        "record's '# hold:' line, else continuous")
+    p.add_argument("--trim-window", nargs=2, type=float, metavar=("T0", "T1"),
+                   help="trim is the mean over T0-T1 s (default: the quiet lead-in "
+                        "before the first control movement)")
+
+
+def read_records(paths, args):
+    """Records from ``paths`` with ``--trim-window`` applied; trim problems are
+    reported on stderr (a warning) or refused (no quiet lead-in)."""
+    from ..record import find_trim, read_record
+    recs = []
+    for path in paths:
+        rec = read_record(path)
+        tw = getattr(args, "trim_window", None)
+        if tw:
+            rec = rec.with_meta(trim_window=f"{tw[0]!r} {tw[1]!r}")
+        trim = find_trim(rec)
+        if trim.warning:
+            progress(f"warning: {trim.warning}")
+        recs.append(rec)
+    return recs
+
+
 def print_json(doc):
     sys.stdout.write(json.dumps(doc, indent=2, default=_default) + "\n")
 

@@ -5,8 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ..record import read_record
-from ._common import print_json, progress
+from ._common import add_record_arguments, print_json, progress, read_records
 from .identify import parse_fix, structure_of
 
 HELP = "estimates and 1-sigma bounds against the lower frequency limit (Figure 6)"
@@ -24,6 +23,7 @@ def add_arguments(p):
                    help="lower limits [Hz] (default: ten from 2/T)")
     p.add_argument("--fix", action="append", default=[], metavar="NAME[=VALUE]",
                    help="hold a parameter fixed")
+    add_record_arguments(p)
     p.add_argument("--out", metavar="DIR", help="write bandstudy.png and bandstudy.json")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
     p.add_argument("--force", action="store_true", help="overwrite existing outputs")
@@ -43,9 +43,9 @@ def run(args) -> int:
         for n in ("bandstudy.png", "bandstudy.json"):
             if (d / n).exists() and not args.force:
                 raise InputError(f"{d / n}: exists; choose another folder or pass --force")
-    rec = read_record(args.record)
+    rec = read_records([args.record], args)[0]
     study = band_study(rec, s, upper_hz=args.upper, lowers_hz=args.lower,
-                       fixed=parse_fix(args.fix), progress=progress)
+                       fixed=parse_fix(args.fix), progress=progress, hold=args.hold)
     doc = study.to_json()
     if args.out:
         d.mkdir(parents=True, exist_ok=True)

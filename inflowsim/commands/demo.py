@@ -1,6 +1,6 @@
 """``inflowsim demo``: the whole story on a virtual Puma record with a hidden effect.
 
-1. A virtual Puma doublet record is made (truth: the paper's Glauert-augmented
+1. A virtual Puma record is made (two cyclic doublets; truth: the paper's Glauert-augmented
    model with its Table 3 values, i.e. ``basic`` plus three effects the user is not
    told about; flap noise 1e-4 rad, seed 0) and written to ``DIR/record.csv``.
 2. Compare: the ``basic`` model (the paper's Table 1 structure), fitted to the
@@ -23,7 +23,7 @@ from ..presets import preset_parameters
 from ..record import format_record, parse_record
 from ..report import Report
 from ..validation import validate
-from ..virtual import VirtualTest, virtual_record
+from ..virtual import Manoeuvre, VirtualTest, virtual_record
 from ._common import print_json, progress
 from .validate import FIT_HEADER, fit_rows
 
@@ -42,8 +42,12 @@ def add_arguments(p):
 
 
 def demo_record(seed=0):
-    """The embedded default: a virtual Puma doublet record, hidden glauert truth."""
-    return virtual_record(VirtualTest(structure=TRUTH, seed=seed))
+    """The embedded default: a virtual Puma record, a longitudinal then a lateral
+    cyclic doublet (both axes excited, so every Glauert term is determined),
+    hidden glauert truth, continuous-time as flight data are."""
+    return virtual_record(VirtualTest(structure=TRUTH, seed=seed, manoeuvres=(
+        Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)),
+        description="longitudinal then lateral cyclic doublet, 100 kt"))
 
 
 def run_demo(out_dir, seed=0, say=None):

@@ -10,8 +10,7 @@ from __future__ import annotations
 
 from ..diagnose import diagnose
 from ..ladder_report import diagnosis_report, format_diagnosis
-from ..record import read_record
-from ._common import (add_model_arguments, add_search_arguments, check_search_arguments,
+from ._common import (add_model_arguments, add_record_arguments, read_records, add_search_arguments, check_search_arguments,
                       print_json, progress, start_values)
 
 HELP = "where a model fails on a record, and the ranked candidate effects"
@@ -21,14 +20,15 @@ def add_arguments(p):
     p.add_argument("record", nargs="+", metavar="RECORD", help="flight-test record(s) (CSV)")
     add_model_arguments(p)
     add_search_arguments(p)
+    add_record_arguments(p)
 
 
 def run(args) -> int:
     check_search_arguments(args)
-    recs = [read_record(r) for r in args.record]
+    recs = read_records(args.record, args)
     start = start_values(args)
     d = diagnose(recs, args.model, tuple(args.band), start=start, pool=args.candidates,
-                 alpha=args.alpha, progress=progress)
+                 alpha=args.alpha, progress=progress, hold=args.hold)
     if args.report:
         path = diagnosis_report(d).write(args.report, protect=args.record)
         progress(f"report: {path}")

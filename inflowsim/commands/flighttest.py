@@ -4,7 +4,11 @@ Default truth: the nonlinear individual-blade rotor (:mod:`inflowsim.flighttest`
 :mod:`inflowsim.bladesim`); its physics is built in, so ``--add`` takes only the
 measurement effects ``azimuth-bias`` and ``time-delay`` there.  ``--truth linear``
 generates from any structure plus effects (paper values for the preset's
-parameters, theory values for added effects, ``--set NAME=VALUE`` to change any).
+parameters, theory values for added effects or, where theory means "no effect",
+the paper's estimates: :func:`inflowsim.presets.truth_parameters`; ``--set
+NAME=VALUE`` to change any).  Records are continuous-time by default (smooth pilot
+inputs, the truth integrated with them); ``--hold zoh`` holds the inputs over each
+sample instead.
 """
 from __future__ import annotations
 
@@ -53,6 +57,15 @@ def add_arguments(p):
                    help="sample step [s] (default 0.01)")
     p.add_argument("--noise", type=float, default=1e-4, metavar="R",
                    help="flap sensor noise, standard deviation [rad] (default 1e-4)")
+    p.add_argument("--noise-color-hz", type=float, metavar="F",
+                   help="colour the flap noise by a first-order low-pass with corner F "
+                        "[Hz] (default white)")
+    p.add_argument("--hold", choices=("continuous", "zoh"), default="continuous",
+                   help="continuous: smooth inputs, the truth integrated with them, as "
+                        "measured data (default); zoh: inputs held over each sample")
+    p.add_argument("--rise", type=float, default=0.1, metavar="S",
+                   help="10-90%% rise time of each switch of the pilot input [s] "
+                        "(default 0.1; 0 for sharp steps)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="noise seed")
     p.add_argument("--azimuth-bias", type=float, metavar="RAD",
                    help="offset of the recorded azimuth [rad] (adds azimuth-bias)")
@@ -96,15 +109,21 @@ def _check_outputs(args):
 
 def _manoeuvre(args):
     from ..virtual import Manoeuvre
-    for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise"):
+    for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
         v = getattr(args, name)
         if not math.isfinite(v):
             raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
+    if args.rise < 0 or args.rise > args.width:
+        raise InputError(f"--rise {args.rise}: must be in [0, --width {args.width:g}] s")
+    c = args.noise_color_hz
+    if c is not None and not (math.isfinite(c) and 0 < c < 0.5 / args.dt):
+        raise InputError(f"--noise-color-hz {c}: must be above 0 and below the Nyquist "
+                         f"frequency {0.5 / args.dt:g} Hz")
     return Manoeuvre(channel=args.channel, shape=args.input,
                      amplitude=math.radians(args.amplitude_deg), t_start=args.start,
-                     width=args.width)
+                     width=args.width, rise=args.rise)
 
 
 def _nonlinear(args, man, values):
@@ -126,6 +145,7 @@ def _nonlinear(args, man, values):
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
                       body=None if args.no_body else FlightTest().body,
+                      hold=args.hold, noise_color_hz=args.noise_color_hz,
                       description=f"{args.channel} {args.input}, nonlinear blade-element "
                                   "truth")
 
@@ -133,7 +153,7 @@ def _nonlinear(args, man, values):
 def _linear(args, man, values):
     from ..flighttest import FlightTest
     from ..model import build_model
-    from ..presets import preset_parameters
+    from ..presets import truth_parameters
     from ..structure import Structure
     from ..virtual import VirtualTest
     if args.blades != 4 or args.speed != "eq14":
@@ -145,7 +165,7 @@ def _linear(args, man, values):
         s = s.with_effect("azimuth-bias")
     if args.delay is not None and "time-delay" not in s.effects:
         s = s.with_effect("time-delay")
-    params = preset_parameters(s, PUMA, "paper")
+    params = truth_parameters(s, PUMA)
     if args.azimuth_bias is not None:
         params["azimuth_bias"] = args.azimuth_bias
     if args.delay is not None:
@@ -156,7 +176,8 @@ def _linear(args, man, values):
     return VirtualTest(structure=s.name, parameters=params, manoeuvres=(man,),
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,
                        seed=args.seed, body=FlightTest().body if not args.no_body
-                       else _still_body(),
+                       else _still_body(), hold=args.hold,
+                       noise_color_hz=args.noise_color_hz,
                        description=f"{args.channel} {args.input}, linear truth {s.name}")
 
 

@@ -13,9 +13,8 @@ from pathlib import Path
 from ..errors import InputError
 from ..fileio import check_output, safe_write_text
 from ..paramfile import write_json
-from ..record import read_record
 from ..structure import Structure
-from ._common import print_json, progress
+from ._common import add_record_arguments, print_json, progress, read_records
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
 
@@ -36,6 +35,7 @@ def add_arguments(p):
                    help="estimate one value for several parameters")
     p.add_argument("--start", metavar="FILE",
                    help="parameter file with starting values")
+    add_record_arguments(p)
     p.add_argument("--out", metavar="FIT.json", help="write the fit (a parameter file)")
     p.add_argument("--report", metavar="DIR", help="write tables and plots into DIR")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
@@ -120,14 +120,14 @@ def run(args) -> int:
     from ..paramfile import read_parameters
     s = structure_of(args)
     check_outputs(args.out, args.records, args.force)
-    recs = [read_record(r) for r in args.records]
+    recs = read_records(args.records, args)
     start = None
     if args.start:
         ps = read_parameters(args.start)
         start = {n: v for n, v in ps.parameters.items() if n in s.parameters}
     band = tuple(args.band) if args.band else DEFAULT_BAND
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),
-                      ties=parse_ties(args.tie), progress=progress)
+                      ties=parse_ties(args.tie), progress=progress, hold=args.hold)
     for w in result.warnings:
         progress(f"warning: {w}")
     doc = result.to_json()

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from ..diagnose import explicit_ladder, ladder
 from ..ladder_report import ladder_markdown, ladder_report
-from ..record import read_record
-from ._common import add_search_arguments, check_search_arguments, print_json, progress
+from ._common import (add_record_arguments, add_search_arguments, check_search_arguments,
+                      print_json, progress, read_records)
 
 HELP = "add the missing effect and refit until none is left, or climb given structures"
 
@@ -23,6 +23,7 @@ def add_arguments(p):
                    help="climb these structures instead of searching")
     p.add_argument("--max-steps", type=int, default=6, help="effects to add at most")
     add_search_arguments(p)
+    add_record_arguments(p)
 
 
 def run(args) -> int:
@@ -30,12 +31,14 @@ def run(args) -> int:
     check_search_arguments(args)
     if args.max_steps < 0:
         raise InputError("--max-steps must be >= 0")
-    recs = [read_record(r) for r in args.record]
+    recs = read_records(args.record, args)
     if args.structures:
-        lad = explicit_ladder(recs, args.structures, tuple(args.band), progress=progress)
+        lad = explicit_ladder(recs, args.structures, tuple(args.band), progress=progress,
+                              hold=args.hold)
     else:
         lad = ladder(recs, args.model, tuple(args.band), max_steps=args.max_steps,
-                     pool=args.candidates, alpha=args.alpha, progress=progress)
+                     pool=args.candidates, alpha=args.alpha, progress=progress,
+                     hold=args.hold)
     if args.report:
         path = ladder_report(lad).write(args.report, protect=args.record)
         progress(f"report: {path}")

@@ -6,7 +6,8 @@ from a zero state.  With ``--dt`` other than the record's step the inputs are
 held (zero-order hold of the record samples): the simulator's step ``k`` at
 ``t0 + k dt`` uses the last record sample at or before that time, and the run
 ends at the record's last sample time.  The output is a record (``record-format.md``):
-the record's metadata with a new description, ``t``, the model's inputs as
+the record's metadata with a new description and ``# hold: zoh`` (what the
+simulator did with the inputs, whatever the record's own hold), ``t``, the model's inputs as
 totals (trim added back; what the simulator was fed), predicted
 ``beta0 beta1c beta1s`` as totals and ``lambda0 lambda1c lambda1s`` as
 perturbations (the inflow has no measured trim).
@@ -88,6 +89,7 @@ def simulate_record(rec: Record, model, dt: float | None = None, method: str = "
     meta = dict(rec.meta)
     meta["description"] = description or f"simulated by inflowsim, model {model.structure.name}"
     meta["synthetic"] = "true"
+    meta["hold"] = "zoh"          # the fixed-step simulator holds its inputs
     return Record.from_arrays(t, cols, meta)
 
 

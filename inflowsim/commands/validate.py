@@ -10,9 +10,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..record import FLAP_COLUMNS, read_record
+from ..record import FLAP_COLUMNS
+from ..sampled import HOLD_TEXT
 from ..validation import PAPER_BAND_HZ, validate
-from ._common import add_model_arguments, load_model, print_json, progress
+from ._common import (add_model_arguments, add_record_arguments, load_model, print_json,
+                      progress, read_records)
 
 HELP = "compare a model with the measured flap: per-channel figures, plots, report"
 
@@ -23,6 +25,7 @@ def add_arguments(p):
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
                    help=f"frequency band [Hz] (default {PAPER_BAND_HZ[0]:g} "
                         f"{PAPER_BAND_HZ[1]:g}, snapped to the record's transform grid)")
+    add_record_arguments(p)
     p.add_argument("--report", metavar="DIR",
                    help="write plots and DIR/index.html (the folder is created)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
@@ -74,7 +77,8 @@ def validation_report(results, title=None, subtitle=None):
     rep = Report(title or f"Validation: {names}", subtitle or f"record {r0.source}")
     rep.paragraph(
         f"Measured inputs replayed through each model at the record's step "
-        f"({r0.t[1] - r0.t[0]:.4g} s, exact zero-order hold); flap compared as "
+        f"({r0.t[1] - r0.t[0]:.4g} s) with its intersample behaviour ({r0.hold}: "
+        f"{HOLD_TEXT[r0.hold]}); flap compared as "
         f"perturbations about trim, the {r0.trim.describe()}. Frequency responses are "
         f"DFT ratios to {r0.frequency.reference_input} over "
         f"{r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz ({r0.frequency.f_hz.size} "
@@ -92,9 +96,9 @@ def validation_report(results, title=None, subtitle=None):
 
 
 def run(args) -> int:
-    rec = read_record(args.record)
+    rec = read_records([args.record], args)[0]
     model = load_model(args, rec.constants)
-    result = validate(rec, model, band_hz=args.band)
+    result = validate(rec, model, band_hz=args.band, hold=args.hold)
     if args.report:
         path = validation_report(result).write(
             args.report, protect=[q for q in (args.record, args.params) if q])

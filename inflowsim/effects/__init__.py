@@ -15,10 +15,12 @@ from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_
 _MODULES = (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
             time_delay)
 from . import flap_inertia, skewed_wake, advance_ratio_perturbation  # noqa: E402
+from . import time_shifts  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {m.EFFECT.name: m.EFFECT for m in _MODULES}
+CATALOGUE.update({e.name: e for e in time_shifts.EFFECTS})
 
 
 def register(effect: Effect) -> Effect:

@@ -42,6 +42,16 @@ class Effect:
         Keeps the multiblade flap second derivatives (nine states).
     alternatives : tuple of str
         Effects it may never be combined with (singular information matrix).
+    boundary : tuple of str
+        Parameters whose neutral value is the boundary of their range (the
+        likelihood-ratio statistic is then a 50:50 mixture of chi-square laws).
+    plausible : callable, optional
+        ``Constants -> {name: (low, high, why)}``: the physically plausible range
+        of each parameter (sign, theory range), in its own unit; an estimate
+        whose 3-sigma interval misses it does not make the effect acceptable.
+    offered : bool
+        Tried by the diagnosis by default.  Per-channel time shifts are not: the
+        user asks for them by name.
     """
 
     name: str
@@ -56,6 +66,12 @@ class Effect:
     second_order: bool = False
     alternatives: tuple = ()
     neutral: Callable[[Constants], dict] | None = None
+    offered: bool = True
+    boundary: tuple = ()
+    plausible: Callable[[Constants], dict] | None = None
+
+    def plausible_ranges(self, constants: Constants) -> dict:
+        return self.plausible(constants) if self.plausible else {}
 
     def neutral_values(self, constants: Constants) -> dict:
         return (self.neutral or self.theory)(constants)

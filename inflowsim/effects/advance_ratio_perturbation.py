@@ -80,5 +80,7 @@ EFFECT = Effect(
     theory=lambda k: {"k_mu": 1.0},
     neutral=lambda k: {"k_mu": 0.0},
     equations=_equations,
+    plausible=lambda k: {"k_mu": (0.5, 1.5, "the blade-element linearisation is exact "
+                                  "for small perturbations: theory 1")},
     uses_inplane=True,
 )

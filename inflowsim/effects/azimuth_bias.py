@@ -30,5 +30,7 @@ EFFECT = Effect(
     parameters=("azimuth_bias",),
     theory=lambda k: {"azimuth_bias": 0.0},
     equations=_equations,
+    plausible=lambda k: {"azimuth_bias": (-0.5, 0.5, "an azimuth offset over 30 deg "
+                                          "points at a wiring or sign error")},
     measurement=_measurement,
 )

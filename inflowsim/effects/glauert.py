@@ -59,6 +59,9 @@ EFFECT = Effect(
     parameters=NAMES,
     theory=_theory,
     equations=_equations,
+    plausible=lambda k: {**{n: (-5.0, 5.0, "a Glauert gain this large is not physical")
+                            for n in ("c1", "c2", "c3", "c4", "kc", "ks")},
+                         "k0p": (-1.0, 2.0, "k0 + a0 s/(8 mu) lies near a0 s/(8 mu)")},
     uses_inplane=True,
     alternatives=("hub-velocity-coupling",),
 )

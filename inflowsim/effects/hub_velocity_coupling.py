@@ -20,6 +20,8 @@ EFFECT = Effect(
     parameters=NAMES,
     theory=lambda k: dict.fromkeys(NAMES, 0.0),
     equations=_equations,
+    plausible=lambda k: {n: (-5.0, 5.0, "an empirical inflow gain this large is not "
+                             "physical") for n in NAMES},
     uses_inplane=True,
     alternatives=("glauert",),
 )

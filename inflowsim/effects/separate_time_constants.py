@@ -22,5 +22,8 @@ EFFECT = Effect(
     parameters=("tau0", "tau_cs"),
     theory=_theory,
     equations=_equations,
+    plausible=lambda k: {n: (0.0, 2.0 * k.omega, "inflow time constants are below "
+                             "about 2 s (azimuth units: 2 s x omega)")
+                         for n in ("tau0", "tau_cs")},
     removes=("tau",),
 )

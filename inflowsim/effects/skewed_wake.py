@@ -95,4 +95,6 @@ EFFECT = Effect(
     theory=lambda k: {"k_skew": theory_skew(k)},
     neutral=lambda k: {"k_skew": 0.0},
     equations=_equations,
+    plausible=lambda k: {"k_skew": (0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is "
+                                    "positive and below 15 pi/64")},
 )

@@ -1,4 +1,10 @@
-"""``time-delay``: one pure delay shared by the recorded flap channels (section 2.2)."""
+"""``time-delay``: one time shift shared by the recorded flap channels (section 2.2).
+
+The paper's software estimated "time shifts in the input and output vectors"; a
+data system's skew can be a lag or a lead, so ``delay`` [s] takes either sign:
+the recorded flap is the model's at ``t - delay``.  Per-channel shifts of any
+output or input are the ``delay-<channel>`` effects (:mod:`.time_shifts`).
+"""
 from ._effect import Effect
 
 
@@ -8,10 +14,14 @@ def _measurement(m, p, k):
 
 EFFECT = Effect(
     name="time-delay",
-    physics="The measurement chain delays the recorded flap by a fixed time: a phase "
-            "lag growing linearly with frequency on every flap channel.",
+    physics="The measurement chain shifts the recorded flap in time (a lag, or a "
+            "lead): a phase error growing linearly with frequency on every flap "
+            "channel.",
     paper="Section 2.2",
     parameters=("delay",),
     theory=lambda k: {"delay": 0.0},
     measurement=_measurement,
+    plausible=lambda k: {"delay": (-0.1, 0.1, "measurement-chain time shifts are tens "
+                                   "of milliseconds")},
+    alternatives=("delay-beta0", "delay-beta1c", "delay-beta1s"),
 )

@@ -287,10 +287,10 @@ def _records(records):
     return records
 
 
-def _spectra(records, structure, band_hz, grid_hz):
+def _spectra(records, structure, band_hz, grid_hz, hold=None):
     if band_hz is None:
         band_hz = DEFAULT_BAND
-    return [record_spectra(r, structure.inputs, band_hz, grid_hz) for r in records]
+    return [record_spectra(r, structure.inputs, band_hz, grid_hz, hold) for r in records]
 
 
 def _band(spectra):
@@ -329,7 +329,7 @@ def _starts(structure, constants, start):
 
 
 def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, ties=None,
-             progress=None, grid_hz=None, multistart=True) -> FitResult:
+             progress=None, grid_hz=None, multistart=True, hold=None) -> FitResult:
     """Estimate a structure's parameters from flight records (Eqs. 10-12).
 
     Parameters
@@ -360,6 +360,10 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     multistart : bool
         Try the theory, paper and user starts and keep the lowest cost (default);
         otherwise only the first of them.
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of every record's inputs, overriding each record's
+        own (``# hold:``; absent means ``continuous``, measured data).  The
+        transform and the model use the exact relation for it (:mod:`.freqmodel`).
 
     Returns
     -------
@@ -367,7 +371,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     """
     s = Structure.parse(structure)
     recs = _records(records)
-    spectra = _spectra(recs, s, band_hz, grid_hz)
+    spectra = _spectra(recs, s, band_hz, grid_hz, hold)
     start = dict(start or {})
     fixed = dict(fixed or {})
     ties = [tuple(t) for t in (ties or [])]
@@ -419,10 +423,12 @@ def _result(prob, st, j, iters, conv, starts):
             sigma[n], sigma_c[n] = sd, sc
     data = []
     for sp, (y_u, y_nu), nu, S in zip(prob.spectra, st.resp, st.nus, st.S):
-        n = y_nu.shape[2] // 2
+        m = build_model(prob.structure, params, sp.constants)
+        k = m.end_basis.shape[1]
+        x0 = m.end_state(nu[:k], sp.u_time[0])
         data.append(RecordFit(sp.source, sp.constants, sp.dt, sp.f_hz, sp.Z,
-                              y_u + y_nu @ nu, nu[:n], S, sp.trim, sp.trim_method,
-                              sp.u_time, sp.z_time))
+                              y_u + y_nu @ nu, x0, S, sp.trim, sp.trim_method,
+                              sp.u_time, sp.z_time, sp.hold, nu))
     Zall = np.vstack([d.Z for d in data])
     Yall = np.vstack([d.Y for d in data])
     model = build_model(prob.structure, params, prob.spectra[0].constants)
@@ -455,9 +461,11 @@ class Evaluation:
     n_freq: int
     records: tuple
     fit: dict
+    nu: tuple = ()
 
 
-def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None) -> Evaluation:
+def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
+             hold=None) -> Evaluation:
     """Cost (12) and residual spectra for fixed parameters (no estimation).
 
     ``S`` and the end-effect nuisance are still estimated (they are not model
@@ -466,7 +474,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None) -> 
     """
     s = Structure.parse(structure)
     recs = _records(records)
-    spectra = _spectra(recs, s, band_hz, grid_hz)
+    spectra = _spectra(recs, s, band_hz, grid_hz, hold)
     prob = Problem(s, spectra, dict(params), fixed=tuple(s.parameters))
     st = _relax_S(prob, np.zeros(0), rounds=4)
     eps = prob.eps(st.resp, st.nus)
@@ -475,4 +483,5 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None) -> 
                       f_hz=tuple(sp.f_hz for sp in spectra), S=tuple(st.S),
                       Z=tuple(sp.Z for sp in spectra), Y=Y, band_hz=_band(spectra),
                       n_freq=prob.n_freq, records=tuple(sp.source for sp in spectra),
-                      fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)))
+                      fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)),
+                      nu=tuple(st.nus))

@@ -1,93 +1,150 @@
-"""Exact sampled-data frequency response of a model to a record's held inputs.
+"""The exact relation between a record's transforms and the model, for its hold.
 
-Virtual and simulated records are the zero-order-hold replay ``x_{n+1} = phi x_n +
-gam u_n`` of the linear model at the record's step ``dt`` (:mod:`inflowsim.simulator`).
-With the DFT ``X = sum_{n=0}^{N-1} x_n z^-n`` (:mod:`.transform`) this recursion
-gives, at ANY frequency,
+The record's transforms (:mod:`.transform`) are ``X = sum_n c_n x_n z^-n``,
+``z = exp(j w dt)``, with ``c_n = 1`` for held inputs and Gregory's end-corrected
+weights for continuous records.  Per intersample behaviour (:mod:`inflowsim.sampled`):
 
-    ``(z I - phi) X = gam U + z x_0 - z^(1-N) x_N``
+*Discrete (``zoh``, ``foh``).*  The state sampled at ``t_n - d`` obeys
+``xi_{n+1} = phi xi_n + sum_o G_o u_{n+o}`` exactly (:func:`inflowsim.sampled.shift_taps`),
+so at ANY frequency
 
-(on the record's own grid ``z^N = 1`` and the end terms reduce to ``z (x_0 - x_N)``).
-The initial state ``x_0`` and the state ``x_N`` one step after the end are the
-*end effects*: the record neither starts nor ends at rest.  They enter linearly,
-so they are nuisance parameters, eliminated by linear least squares inside every
-cost evaluation (variable projection, :mod:`.estimator`); with them the model of a
-noise-free ZOH record is exact, with no windowing.
+    ``(z I - phi) XI = sum_o G_o U_o + z xi_0 - z^(1-N) xi_N``,
 
-Flap outputs ``Y = C X`` (``C`` includes the azimuth-bias rotation).  A delay
-``(m + f) dt`` on a flap channel reads, as the simulator does, ``y_n = C s_{n-q}``
-with ``s_j = phi_f x_j + gam_f u_j`` (maps over ``(1 - f) dt``) and ``q = m + 1``
-for ``f > 0``, or ``s_j = x_j`` and ``q = m`` for ``f = 0``; before ``q`` samples
-the channel holds the initial output ``C x_0``.  Its transform is exactly
+``U_o = sum_{n<N} u_{n+o} z^-n`` (samples outside the record continue the first
+or last one).
 
-    ``Y = C [z^-q (S - sum_{j=N-q}^{N-1} s_j z^-j) + x_0 sum_{n<q} z^-n]``
+*Continuous.*  For ``x' = a x + b u`` on ``[0, T]``, ``T = (N-1) dt``, the finite
+Fourier integrals obey ``j w X = a X + b U + x(0) - x(T) e^{-j w T}``, and the
+Gregory-weighted sums are those integrals over ``dt`` to aliasing accuracy, so
 
-where the last ``q`` states come from ``x_{N-Q}`` (the state ``Q`` steps before the
-end, ``Q`` the largest ``q``) and the known last inputs.  The nuisance vector is
-therefore ``nu = (x_0, x_{N-Q})`` (``2 n`` real numbers per record); where the data
-determine only a combination of them (no delay, own grid: ``x_0 - x_N``) the
-least squares take the minimum-norm solution, which leaves the fit unchanged.
+    ``XI = (j w I - a)^-1 [b U^(d) + (xi(0) - xi(T) e^{-j w T}) / dt]``
+
+where ``U^(d)`` is the transform of the input shifted by ``d``: ``e^{-j w d}``
+times ``U`` plus the integrals over the two end windows the shift moves in and
+out (:func:`window_integral`; local-cubic interpolation inside the record, the
+first or last sample outside).
+
+*Time shifts.*  Flap channels with the same output delay ``tau`` form a group; the
+group sees recorded input ``j`` shifted by ``tau - input_delay_j`` and gets its
+own end states ``(xi_0, xi_end)``: the *end effects* (the record neither starts
+nor ends at rest), nuisance parameters eliminated by linear least squares inside
+every cost evaluation (:mod:`.problem`).  With one group (no shifts, or one shared
+flap delay) that is ``2 n`` real numbers per record.  Flap outputs are
+``Y = C XI`` (``C`` includes the azimuth-bias rotation).
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ..sampled import BASES, expm, shift_taps
 
-
-def _expm(x):
-    """Matrix exponential by scaling and squaring of a degree-16 Taylor series.
-
-    Equal to ``scipy.linalg.expm`` to rounding for the small, well-scaled
-    matrices of one sample step, and only matrix products: scipy's Pade solver
-    is tens of times slower on a loaded multi-core machine (threaded LAPACK on
-    16x16 matrices), and the fit evaluates it thousands of times.
-    """
-    nrm = np.abs(x).sum(axis=1).max()
-    s = max(0, int(np.ceil(np.log2(nrm / 0.5)))) if nrm > 0.5 else 0
-    y = x / 2.0 ** s
-    e = np.eye(x.shape[0])
-    t = np.eye(x.shape[0])
-    for k in range(1, 17):
-        t = t @ y / k
-        e = e + t
-    for _ in range(s):
-        e = e @ e
-    return e
+__all__ = ["flap_response", "shift_groups", "window_integral", "shifted_transform",
+           "zoh", "expm"]
 
 
 def zoh(a, b, dt):
     """``(phi, gam)`` of the zero-order hold over ``dt`` (as
-    :func:`inflowsim.discrete.zoh`)."""
+    :func:`inflowsim.discrete.zoh`, by :func:`inflowsim.sampled.expm`)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a
     aug[:n, n:] = b
-    e = _expm(aug * dt)
+    e = expm(aug * dt)
     return e[:n, :n], e[:n, n:]
 
 
-def delay_groups(delays, dt: float):
-    """``[(rows, q, f), ...]`` for the flap channels, the simulator's split of each
-    delay into whole steps and a fraction (``rows`` index ``beta0 beta1c beta1s``)."""
-    delays = np.asarray(delays, dtype=float)[:3]
-    out = []
-    for d in np.unique(delays):
-        rows = np.flatnonzero(delays == d)
-        if d <= 0:
-            out.append((rows, 0, 0.0))
-            continue
-        steps = d / dt
-        m = int(np.floor(steps + 1e-12))
-        f = steps - m
-        if f < 1e-12:
-            f = 0.0
-        out.append((rows, m + 1 if f > 0 else m, f))
+def shift_groups(model):
+    """``[(rows, tau), ...]``: flap channels (``rows`` of ``beta0 beta1c beta1s``)
+    sharing one output delay parameter, of value ``tau`` [s].  The partition is
+    the structure's (``Measurement.delay_groups``), not the values', so the
+    number of end states never changes with the parameters."""
+    d = np.asarray(model.delays, dtype=float)
+    return [(np.array(g), float(d[g[0]])) for g in model.measurement.delay_groups]
+
+
+def _powers(p, f_hz, dt):
+    """``z^p`` from the phase directly (no accumulated rounding)."""
+    return np.exp(2j * np.pi * np.asarray(f_hz) * dt * p)
+
+
+def shifted_transform(U, u, f_hz, dt, o):
+    """``sum_{n=0}^{N-1} u_{n+o} z^-n`` from ``U = sum u_n z^-n`` (plain DFT), the
+    samples beyond the record continuing the first or last one."""
+    if o == 0:
+        return U
+    N = len(u)
+    if o > 0:
+        corr = -sum(_powers(-j, f_hz, dt)[:, None] * u[j] for j in range(o))
+        corr = corr + sum(_powers(-j, f_hz, dt) for j in range(N, N + o))[:, None] * u[-1]
+    else:
+        corr = sum(_powers(-j, f_hz, dt) for j in range(o, 0))[:, None] * u[0]
+        corr = corr - sum(_powers(-j, f_hz, dt)[:, None] * u[j] for j in range(N + o, N))
+    return _powers(o, f_hz, dt)[:, None] * (U + corr)
+
+
+#: Gauss-Legendre nodes per sample interval for the end-window integrals.
+_GL = np.polynomial.legendre.leggauss(8)
+
+
+def _cubic(u, pos):
+    """Local-cubic interpolation of samples ``u`` (``(N, m)``) at fractional sample
+    positions ``pos`` inside ``[0, N-1]``; the first/last sample outside."""
+    N = len(u)
+    offs, coef = BASES["continuous"]
+    out = np.empty((pos.size, u.shape[1]))
+    inside = (pos >= 0) & (pos <= N - 1)
+    out[pos < 0] = u[0]
+    out[pos > N - 1] = u[-1]
+    p = pos[inside]
+    i = np.clip(np.floor(p).astype(int), 0, max(N - 2, 0))
+    s = p - i
+    acc = np.zeros((p.size, u.shape[1]))
+    for k, o in enumerate(offs):
+        ell = np.polyval(coef[k][::-1], s)
+        acc += ell[:, None] * u[np.clip(i + o, 0, N - 1)]
+    out[inside] = acc
     return out
 
 
-def _powers(z_exp, f_hz, dt):
-    """``z^p`` computed from the phase directly (no accumulated rounding)."""
-    return np.exp(2j * np.pi * np.asarray(f_hz) * dt * z_exp)
+def window_integral(u, dt, f_hz, alpha, beta):
+    """``(1/dt) int_alpha^beta u(t) e^{-j w t} dt`` (oriented) for every column of the
+    samples ``u`` (``u(n dt) = u_n``), ``(nf, m)``.
+
+    Local-cubic interpolation inside the record, the first or last sample
+    outside; Gauss-Legendre on every piece between sample times.
+    """
+    u = np.asarray(u, float)
+    nf = np.size(f_hz)
+    if alpha == beta:
+        return np.zeros((nf, u.shape[1]), dtype=complex)
+    sign = 1.0
+    if beta < alpha:
+        alpha, beta, sign = beta, alpha, -1.0
+    N = len(u)
+    edges = np.concatenate([[alpha], np.arange(np.ceil(alpha / dt), np.floor(beta / dt) + 1)
+                            * dt, [beta]])
+    edges = np.unique(np.clip(edges, alpha, beta))
+    if N > 1:
+        edges = np.unique(np.concatenate([edges, [x for x in (0.0, (N - 1) * dt)
+                                                  if alpha < x < beta]]))
+    x, w = _GL
+    lo, hi = edges[:-1], edges[1:]
+    t = (0.5 * (hi - lo)[:, None] * (x + 1) + lo[:, None]).ravel()
+    wt = (0.5 * (hi - lo)[:, None] * w).ravel()
+    vals = _cubic(u, t / dt)                                  # (nt, m)
+    ph = np.exp(-2j * np.pi * np.outer(f_hz, t)) * wt         # (nf, nt)
+    return sign * (ph @ vals) / dt
+
+
+def _continuous_input(sp, d):
+    """``U^(d)``: transform of the recorded inputs shifted by ``d`` [s] (delayed
+    for ``d > 0``), ``(nf, m)``."""
+    if d == 0:
+        return sp.U
+    T = (sp.n_samples - 1) * sp.dt
+    u, f = sp.u_time, sp.f_hz
+    ends = window_integral(u, sp.dt, f, -d, 0.0) - window_integral(u, sp.dt, f, T - d, T)
+    return np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
 
 
 def flap_response(model, sp):
@@ -96,65 +153,66 @@ def flap_response(model, sp):
     Parameters
     ----------
     model : Model
-        SI state space (``a, b, c, delays``).
+        SI state space (``a, b, c, delays, input_delays``, end-state map).
     sp : Spectra
-        The record's transforms and its time inputs (for the end terms).
+        The record's transforms, its hold and its time inputs.
 
     Returns
     -------
     y_u : ndarray, complex ``(nf, 3)``
-        Response to the record's inputs (with the input part of the end terms).
-    y_nu : ndarray, complex ``(nf, 3, 2 n)``
-        Response to ``nu = (x_0, x_{N-Q})``: the flap transforms are
+        Response to the record's inputs.
+    y_nu : ndarray, complex ``(nf, 3, 2 k G)``
+        Response to the slow coordinates of the start and end states (``k`` each,
+        :meth:`Model.end_state`) of the ``G`` shift groups: the flap transforms are
         ``y_u + y_nu @ nu``.
-    q_max : int
-        ``Q``, the delay depth (0 without delays).
+    groups : list
+        :func:`shift_groups`.
     """
-    a, b = model.a, model.b
+    a, b, C = model.a, model.b, model.c[:3]
     n = a.shape[0]
-    dt, N, f = sp.dt, sp.n_samples, sp.f_hz
+    P, q = model.end_basis, model.end_input
+    k = P.shape[1]
+    f = sp.f_hz
     nf = f.size
-    phi, gam = zoh(a, b, dt)
-    groups = delay_groups(model.delays, dt)
-    Q = max(q for _, q, _ in groups)
-    u = sp.u_time
-    # last Q states from x_{N-Q}: x_{N-Q+l} = phi^l x_tail + v_l
-    pw, v = [np.eye(n)], [np.zeros(n)]
-    for l in range(Q):
-        pw.append(phi @ pw[-1])
-        v.append(phi @ v[-1] + gam @ u[N - Q + l])
-    z = _powers(1, f, dt)
-    zend = _powers(1 - N, f, dt)
+    groups = shift_groups(model)
+    sigma = np.asarray(model.input_delays, float)
     eye = np.eye(n)
-    M = z[:, None, None] * eye - phi
-    rhs = np.empty((nf, n, 1 + 2 * n), dtype=complex)
-    rhs[:, :, 0] = sp.U @ gam.T - zend[:, None] * v[Q]
-    rhs[:, :, 1:1 + n] = z[:, None, None] * eye
-    rhs[:, :, 1 + n:] = -zend[:, None, None] * pw[Q]
-    sol = np.linalg.solve(M, rhs)                         # (nf, n, 1 + 2n)
-    C = model.c[:3]
+    G = len(groups)
+    u0, u1 = sp.u_time[0], sp.u_time[-1]
+    # one solve for every group's input term and the shared end-state basis
+    rhs = np.empty((nf, n, G + 2 * k), dtype=complex)
+    if sp.hold == "continuous":
+        w = 2 * np.pi * f
+        T = (sp.n_samples - 1) * sp.dt
+        M = 1j * w[:, None, None] * eye - a
+        zs, ze = np.ones(nf), -np.exp(-1j * w * T)        # start, end factors
+        for g, (_, tau) in enumerate(groups):
+            d = tau - sigma
+            ud = np.empty((nf, b.shape[1]), dtype=complex)
+            for v in np.unique(d):
+                cols = np.flatnonzero(d == v)
+                ud[:, cols] = _continuous_input(sp, v)[:, cols]
+            rhs[:, :, g] = ud @ b.T
+    else:
+        zs = _powers(1, f, sp.dt)
+        ze = -_powers(1 - sp.n_samples, f, sp.dt)
+        phi = None
+        for g, (_, tau) in enumerate(groups):
+            phi, taps = shift_taps(a, b, sp.dt, sp.hold, tau - sigma)
+            acc = np.zeros((nf, n), dtype=complex)
+            for o, Go in taps.items():
+                acc += shifted_transform(sp.U, sp.u_time, f, sp.dt, o) @ Go.T
+            rhs[:, :, g] = acc
+        M = zs[:, None, None] * eye - phi
+    # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping)
+    rhs[:, :, :G] += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[:, :, None]
+    rhs[:, :, G:G + k] = zs[:, None, None] * P
+    rhs[:, :, G + k:] = ze[:, None, None] * P
+    sol = np.linalg.solve(M, rhs)
     y_u = np.empty((nf, 3), dtype=complex)
-    y_nu = np.empty((nf, 3, 2 * n), dtype=complex)
-    for rows, q, frac in groups:
-        if frac > 0:
-            phf, gaf = zoh(a, b, (1 - frac) * dt)
-            s = np.einsum("ij,fjk->fik", phf, sol)
-            s[:, :, 0] += sp.U @ gaf.T
-        else:
-            phf, gaf = eye, np.zeros_like(gam)
-            s = sol.copy()
-        if q > 0:
-            # s_j, j = N-q .. N-1, affine in x_tail; subtract their transform
-            for j in range(N - q, N):
-                l = j - (N - Q)
-                zj = _powers(-j, f, dt)
-                s[:, :, 0] -= zj[:, None] * (phf @ v[l] + gaf @ u[j])
-                s[:, :, 1 + n:] -= zj[:, None, None] * (phf @ pw[l])
-            s *= _powers(-q, f, dt)[:, None, None]
-            head = sum(_powers(-k, f, dt) for k in range(q))
-            s[:, :, 1:1 + n] += head[:, None, None] * eye
+    y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
+    for g, (rows, _) in enumerate(groups):
         cr = C[rows]
-        y = np.einsum("ij,fjk->fik", cr, s)
-        y_u[:, rows] = y[:, :, 0]
-        y_nu[:, rows] = y[:, :, 1:]
-    return y_u, y_nu, Q
+        y_u[:, rows] = sol[:, :, g] @ cr.T
+        y_nu[:, rows, 2 * k * g:2 * k * (g + 1)] = np.einsum("ij,fjk->fik", cr, sol[:, :, G:])
+    return y_u, y_nu, groups

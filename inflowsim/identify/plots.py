@@ -10,7 +10,7 @@ import numpy as np
 
 from ..equations import FLAP
 from ..model import build_model
-from ..simulator import Simulator
+from ..replay import replay
 
 
 def _plt():
@@ -26,7 +26,7 @@ def reconstruction_response(result, index: int = 0):
     the estimated initial state (the end-effect ``x_0``)."""
     d = result.data[index]
     m = build_model(result.structure, result.parameters, d.constants)
-    y = Simulator(m, d.dt).replay(d.u_time, x0=d.x0)[:, :3]
+    y = replay(m, d.u_time, d.dt, d.hold, x0=d.x0)[:, :3]
     t = np.arange(len(d.u_time)) * d.dt
     return t, d.z_time, y
 

@@ -17,7 +17,9 @@ class RecordFit:
 
     ``Z`` measured and ``Y`` predicted flap transforms ``(nf, 3)`` (``beta0 beta1c
     beta1s``) at ``f_hz``; ``x0`` the estimated initial state (end effects), used to
-    replay the record in time; ``S`` the record's residual covariance (3x3).
+    replay the record in time with its ``hold``; ``nu`` all the end-effect nuisance
+    (:func:`inflowsim.identify.freqmodel.flap_response`); ``S`` the record's
+    residual covariance (3x3).
     """
 
     source: str
@@ -32,6 +34,8 @@ class RecordFit:
     trim_method: str
     u_time: np.ndarray = field(repr=False)
     z_time: np.ndarray = field(repr=False)
+    hold: str = "zoh"
+    nu: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def residuals(self) -> np.ndarray:

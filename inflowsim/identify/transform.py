@@ -1,9 +1,15 @@
 """Fourier transforms of a record's perturbations on a frequency grid.
 
-Convention (the DFT, no scaling): ``X(f) = sum_{n=0}^{N-1} x_n z^-n`` with
-``z = exp(j 2 pi f dt)``.  On the record's own grid ``f = k / (N dt)``
-(resolution ``1/duration``) this is ``numpy.fft.rfft``; any other chosen grid is
-a direct DFT at those frequencies (exact, no windowing or interpolation).
+Convention (no scaling): ``X(f) = sum_{n=0}^{N-1} c_n x_n z^-n`` with
+``z = exp(j 2 pi f dt)``.  For held inputs (``zoh``, ``foh``) ``c_n = 1``: the DFT,
+whose relation to the model is exact for the hold.  For continuous records
+``c_n`` are Gregory's end-corrected trapezoid weights
+(:func:`inflowsim.sampled.gregory_weights`): the sum is then the finite Fourier
+integral ``(1/dt) int_0^T x(t) e^{-j w t} dt`` of the continuous signals to
+aliasing accuracy, which the continuous transfer function relates exactly
+(:mod:`.freqmodel`).  On the record's own grid ``f = k / (N dt)`` (resolution
+``1/duration``) the sum is ``numpy.fft.rfft`` of ``c x``; any other chosen grid
+is a direct sum at those frequencies (no windowing or interpolation).
 
 Trim: the quiet lead-in mean of every channel (:func:`inflowsim.record.find_trim`)
 is subtracted before transforming, so the model sees perturbations about trim.
@@ -21,6 +27,7 @@ import numpy as np
 from ..errors import InputError, RecordError
 from ..params import Constants
 from ..record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
+from ..sampled import gregory_weights
 
 #: The paper's band (model.md section 7), Hz.
 DEFAULT_BAND = (0.2256, 1.58)
@@ -49,10 +56,14 @@ def snap_band(n_samples: int, dt: float, band_hz) -> tuple[np.ndarray, tuple]:
     return k, (k1 * df, k2 * df)
 
 
-def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool) -> np.ndarray:
-    """``sum_n x_n exp(-j 2 pi f n dt)`` along axis 0 of ``x`` (``(N, c)``)."""
+def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool,
+        weights=None) -> np.ndarray:
+    """``sum_n c_n x_n exp(-j 2 pi f n dt)`` along axis 0 of ``x`` (``(N, c)``);
+    ``c_n = weights`` (default 1)."""
     x = np.asarray(x, dtype=float)
     n = x.shape[0]
+    if weights is not None:
+        x = x * np.asarray(weights, dtype=float)[:, None]
     if on_grid:
         k = np.rint(np.asarray(f_hz) * n * dt).astype(int)
         return np.fft.rfft(x, axis=0)[k]
@@ -90,6 +101,9 @@ class Spectra:
         Trim values subtracted [SI].
     trim_method : str
         How trim was found (one line).
+    hold : str
+        Intersample behaviour the transforms and the model assume
+        (``continuous``, ``zoh``, ``foh``).
     """
 
     source: str
@@ -105,6 +119,7 @@ class Spectra:
     z_time: np.ndarray
     trim: Mapping
     trim_method: str
+    hold: str = "zoh"
 
     @property
     def z(self) -> np.ndarray:
@@ -123,7 +138,13 @@ def as_record(rec) -> Record:
     return read_record(rec)
 
 
-def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None) -> Spectra:
+def transform_weights(n_samples: int, hold: str):
+    """``c_n`` of the transform for a record's hold (``None``: all ones)."""
+    return gregory_weights(n_samples) if hold == "continuous" else None
+
+
+def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
+                   require_motion=True) -> Spectra:
     """Transform a record's input and flap perturbations over a band.
 
     Parameters
@@ -136,8 +157,11 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None) -> Spectra:
     grid_hz : array_like, optional
         Chosen frequencies [Hz] instead (direct DFT); only those inside
         ``band_hz`` are kept, ``band_hz`` is not snapped.
+    hold : str, optional
+        Overrides the record's intersample behaviour (``# hold:``).
     """
     rec = as_record(rec)
+    hold = rec.hold_or(hold)
     rec.require(tuple(inputs) + FLAP_COLUMNS)
     k_const = rec.constants
     n, dt = len(rec), rec.dt
@@ -157,10 +181,11 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None) -> Spectra:
     trim = find_trim(rec)
     u = perturbations(rec, trim, inputs)
     y = perturbations(rec, trim, FLAP_COLUMNS)
-    U = dft(u, dt, f, on_grid)
-    Z = dft(y, dt, f, on_grid)
-    if not np.any(np.abs(Z) > 0):
+    c = transform_weights(n, hold)
+    U = dft(u, dt, f, on_grid, c)
+    Z = dft(y, dt, f, on_grid, c)
+    if require_motion and not np.any(np.abs(Z) > 0):
         raise RecordError(f"{rec.source}: the flap channels do not move in the band "
                           f"{f[0]:.4g}-{f[-1]:.4g} Hz; nothing to fit")
     return Spectra(rec.source, k_const, dt, n, f, on_grid, tuple(inputs), U, Z, u, y,
-                   trim.values, trim.describe())
+                   trim.values, trim.describe(), hold)

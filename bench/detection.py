@@ -1,0 +1,214 @@
+"""Detection and false-alarm study of the diagnosis (issue #9): ``bench/README.md``.
+
+Records from the independent route (:func:`inflowsim.virtual.virtual_record`:
+the truth integrated by an adaptive ODE solver with smooth inputs, then
+sampled; or inputs held, ``zoh``) at two sample rates, with white or coloured
+(first-order low-pass, 2 Hz) flap noise of 1e-4 rad:
+
+* ``null``: the truth is the structure diagnosed (glauert, Table 3; basic with
+  slow inflow): any accepted candidate is a false alarm;
+* ``hidden``: basic plus one offered effect, diagnosed from basic: the effect must
+  be the missing one;
+* ``multi``: the paper's story, truth glauert, ladder from basic: the three
+  effects and nothing else;
+* ``nonlinear``: the individual-blade truth (:mod:`inflowsim.flighttest`), ladder
+  from basic.
+
+Every candidate's statistics are written, one JSON document a line, so the
+acceptance rule can be studied offline; a summary table is printed.
+
+    python bench/detection.py --kind null --seeds 50 --out bench/results/null.jsonl
+    python bench/detection.py --kind hidden --seeds 5 --out bench/results/hidden.jsonl
+    python bench/detection.py --summary bench/results/*.jsonl
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+TWO_AXES = None
+EFFECT_VALUES = {
+    "separate-time-constants": {"tau0": 2.0, "tau_cs": 20.0},
+    "azimuth-bias": {"azimuth_bias": 0.3},
+    "time-delay": {"delay": 0.03},
+}
+CONFIGS = [(hold, rate, noise) for hold in ("continuous", "zoh") for rate in (64, 256)
+           for noise in ("white", "coloured")]
+NOISE = 1e-4
+COLOUR_HZ = 2.0
+
+
+def _manoeuvres():
+    from inflowsim.virtual import Manoeuvre
+    return (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
+
+
+def truth_of(kind, effect):
+    """(truth structure, parameters, base structure)."""
+    import inflowsim as ifs
+    from inflowsim.presets import paper_table, theory_parameters, truth_parameters
+    from inflowsim.virtual import VirtualTest, virtual_record
+    k = virtual_record(VirtualTest(duration=1.0)).constants
+    if kind == "null":
+        if effect == "basic":
+            s = ifs.Structure.parse("basic")
+            return s, theory_parameters(s, k) | {"tau": 5.0}, s
+        s = ifs.Structure.parse("glauert")
+        return s, truth_parameters(s, k), s
+    if kind == "multi":
+        s = ifs.Structure.parse("glauert")
+        return s, truth_parameters(s, k), ifs.Structure.parse("basic")
+    s = ifs.Structure.parse("basic").with_effect(effect)
+    p = truth_parameters(s, k) | {"tau": 5.0} | EFFECT_VALUES.get(effect, {})
+    if effect == "hub-velocity-coupling":
+        p |= {n: v for n, v in paper_table(2)[1].items() if n[0] == "k"}
+    return s, {n: v for n, v in p.items() if n in s.parameters}, ifs.Structure.parse("basic")
+
+
+def record_for(kind, effect, hold, rate, noise, seed):
+    from inflowsim.virtual import VirtualTest, virtual_record
+    col = COLOUR_HZ if noise == "coloured" else None
+    if kind == "nonlinear":
+        from inflowsim.flighttest import FlightTest, nonlinear_flighttest
+        return nonlinear_flighttest(FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(),
+                                               seed=seed, hold=hold, noise_flap=NOISE,
+                                               noise_color_hz=col)).record, None
+    s, p, base = truth_of(kind, effect)
+    rec = virtual_record(VirtualTest(structure=s, parameters=p, dt=1 / rate, seed=seed,
+                                     noise_flap=NOISE, manoeuvres=_manoeuvres(),
+                                     hold=hold, noise_color_hz=col))
+    return rec, (s, p, base)
+
+
+def _floor_ratio(fit, rec, noise, rate):
+    """Residual power per flap channel over the true noise level in the band."""
+    from inflowsim.virtual import noise_psd
+    col = COLOUR_HZ if noise == "coloured" else None
+    d = fit.data[0]
+    level = len(rec) * np.mean(noise_psd(NOISE, 1 / rate, d.f_hz, col))
+    return [float(abs(fit.S[0][i, i]) / level) for i in range(3)]
+
+
+def run_one(job):
+    import os
+    from inflowsim import candidates
+    from inflowsim.diagnose import diagnose, ladder
+    if os.environ.get("INFLOWSIM_STUDY_RULE"):
+        candidates.RULE = tuple(os.environ["INFLOWSIM_STUDY_RULE"].split(","))
+    kind, effect, hold, rate, noise, seed = job
+    t0 = time.perf_counter()
+    rec, truth = record_for(kind, effect, hold, rate, noise, seed)
+    base = "basic" if truth is None else truth[2]
+    out = {"kind": kind, "effect": effect, "hold": hold, "rate": rate, "noise": noise,
+           "seed": seed}
+    if kind in ("null", "hidden"):
+        d = diagnose(rec, base)
+        out["missing_effect"] = d.missing_effect
+        out["candidates"] = [c.to_json() for c in d.candidates]
+        out["unexplained"] = [f.message for f in d.failures if f.kind == "unexplained"]
+        out["base_floor_ratio"] = _floor_ratio(d.fit, rec, noise, rate)
+        win = next((c for c in d.candidates if c.effect == effect), None)
+        if win is not None and win.fit is not None:
+            out["with_floor_ratio"] = _floor_ratio(win.fit, rec, noise, rate)
+            s, p, _ = truth
+            out["z"] = {n: (win.fit.parameters[n] - p[n]) / win.fit.sigma[n]
+                        for n in p if win.fit.sigma.get(n)}
+    else:
+        lad = ladder(rec, base)
+        out["added"] = [r.added for r in lad.rungs[1:]]
+        out["final"] = lad.final.structure.name
+        out["final_floor_ratio"] = _floor_ratio(lad.final.fit, rec, noise, rate)
+        out["final_parameters"] = {n: [v, lad.final.fit.sigma.get(n)]
+                                   for n, v in lad.final.fit.parameters.items()}
+        out["unexplained"] = [f.message for f in lad.final.diagnosis.failures
+                              if f.kind == "unexplained"]
+        out["rungs"] = [{"structure": r.structure.name, "added": r.added,
+                         "cost": r.fit.cost,
+                         "floor_ratio": _floor_ratio(r.fit, rec, noise, rate),
+                         "candidates": [c.to_json() for c in r.diagnosis.candidates]}
+                        for r in lad.rungs]
+        if truth is not None:
+            s, p, _ = truth
+            if lad.final.structure == s:
+                out["z"] = {n: (lad.final.fit.parameters[n] - p[n]) / lad.final.fit.sigma[n]
+                            for n in p if lad.final.fit.sigma.get(n)}
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def jobs(kind, seeds, configs):
+    from inflowsim.effects import CATALOGUE
+    if kind == "null":
+        effects = ["glauert", "basic"]
+    elif kind == "hidden":
+        effects = [n for n, e in CATALOGUE.items() if e.offered]
+    else:
+        effects = [kind]
+    return [(kind, e, h, r, nz, s) for e in effects for (h, r, nz) in configs
+            for s in range(seeds)]
+
+
+def summary(paths):
+    rows = [json.loads(line) for p in paths for line in Path(p).read_text().splitlines()
+            if line.strip()]
+    by = {}
+    for r in rows:
+        key = (r["kind"], r["effect"], r["hold"], r["rate"], r["noise"])
+        by.setdefault(key, []).append(r)
+    print("| kind | effect | hold | rate | noise | records | result |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for key in sorted(by):
+        rs = by[key]
+        kind, effect = key[0], key[1]
+        if kind == "null":
+            fa = sum(r["missing_effect"] is not None for r in rs)
+            un = sum(bool(r["unexplained"]) for r in rs)
+            res = f"false alarms {fa}/{len(rs)}, unexplained-residual claims {un}/{len(rs)}"
+        elif kind == "hidden":
+            ok = sum(r["missing_effect"] == effect for r in rs)
+            res = f"named first {ok}/{len(rs)}"
+        else:
+            finals = sorted({r["final"] for r in rs})
+            res = f"final {', '.join(finals)}; max floor ratio " + ", ".join(
+                f"{max(r['final_floor_ratio']):.2f}" for r in rs)
+        print(f"| {kind} | {effect} | {key[2]} | {key[3]} | {key[4]} | {len(rs)} | {res} |")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--kind", choices=("null", "hidden", "multi", "nonlinear"))
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--first-seed", type=int, default=0)
+    ap.add_argument("--configs", default="all",
+                    help="all, or hold:rate:noise[,...] e.g. continuous:64:white")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--out")
+    ap.add_argument("--rule", help="comma-separated tests of the acceptance rule to apply "
+                                   "(study only; default the library's)")
+    ap.add_argument("--summary", nargs="+")
+    a = ap.parse_args(argv)
+    if a.summary:
+        summary(a.summary)
+        return 0
+    configs = CONFIGS if a.configs == "all" else [
+        (h, int(r), n) for h, r, n in (c.split(":") for c in a.configs.split(","))]
+    todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs)]
+    if a.rule:
+        import os
+        os.environ["INFLOWSIM_STUDY_RULE"] = a.rule
+    out = open(a.out, "a") if a.out else sys.stdout
+    with ProcessPoolExecutor(a.workers) as ex:
+        for res in ex.map(run_one, todo):
+            out.write(json.dumps(res) + "\n")
+            out.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
