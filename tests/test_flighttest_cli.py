@@ -62,3 +62,33 @@ def test_linear_truth_with_added_effect(tmp_path, capsys):
     rec = read_record(out)
     d = rec["theta1s"] - find_trim(rec).values["theta1s"]
     assert np.isclose(d.max(), np.radians(1.0)) and rec.t[-1] == pytest.approx(3.99)
+
+
+def test_linear_truth_added_effect_acts(tmp_path, capsys):
+    """Issue 11: '--truth linear --add glauert' wrote a record whose Glauert terms
+    were all zero (theory values are 'no effect'); the truth now takes the paper's
+    estimates, and the record differs from the one without the effect."""
+    outs = {}
+    for add in ([], ["--add", "glauert"]):
+        out = tmp_path / f"lin{len(add)}.csv"
+        assert main(["flighttest", "--truth", "linear", "--model", "basic", *add,
+                     "--duration", "8", "--noise", "0", "--out", str(out), "--json"]) == 0
+        outs[len(add)] = (json.loads(capsys.readouterr().out), read_record(out))
+    doc, rec = outs[2]
+    from inflowsim.presets import paper_table
+    assert doc["parameters"]["c3"] == paper_table(3)[1]["c3"] != 0
+    assert doc["parameters"]["k0p"] == paper_table(3)[1]["k0p"]
+    assert np.max(np.abs(rec["beta1s"] - outs[0][1]["beta1s"])) > 1e-4
+
+
+def test_3211_body_motion_stays_bounded():
+    """Issue 11: with a 3-2-1-1 the speed used to run away (mux 0.25 -> 0.8 in
+    200 s): the body model now holds attitude, every mode is stable."""
+    from inflowsim.body import BodyModel
+    from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+    a, _ = BodyModel().matrices()
+    assert np.all(np.linalg.eigvals(a).real < 0)
+    rec = virtual_record(VirtualTest(duration=200.0, dt=0.05, noise_flap=0.0,
+                                     manoeuvres=(Manoeuvre(shape="3211"),)))
+    mux = rec["mux"] - 0.249
+    assert np.max(np.abs(mux)) < 0.02 and np.max(np.abs(mux[rec.t > 150])) < 1e-3
