@@ -5,10 +5,10 @@ import json
 import sys
 
 from ..errors import InputError
-from ..params import PUMA
-from ..paramfile import read_parameters
-from ..presets import preset_parameters
-from ..structure import Structure
+from ..model.params import PUMA
+from ..model.paramfile import read_parameters
+from ..model.presets import preset_parameters
+from ..model.structure import Structure
 
 
 def add_model_arguments(p, params=True):
@@ -22,7 +22,7 @@ def add_model_arguments(p, params=True):
 
 def load_model(args, constants=None):
     """The model named by ``--model`` / ``--params`` at ``constants`` (record's, or Puma)."""
-    from ..model import build_model
+    from ..model.build import build_model
     k = constants or PUMA
     if getattr(args, "params", None):
         ps = read_parameters(args.params)
@@ -36,7 +36,7 @@ def load_model(args, constants=None):
 
 def add_record_arguments(p):
     """``--hold`` and ``--trim-window``: how to read the records' samples."""
-    from ..sampled import HOLDS
+    from ..simulate.sampled import HOLDS
     p.add_argument("--hold", choices=HOLDS,
                    help="intersample behaviour of the records' inputs: continuous "
                         "(samples of continuous signals, measured data), zoh (held over "
@@ -50,7 +50,7 @@ def add_record_arguments(p):
 def read_records(paths, args):
     """Records from ``paths`` with ``--trim-window`` applied; trim problems are
     reported on stderr (a warning) or refused (no quiet lead-in)."""
-    from ..record import find_trim, read_record
+    from ..data.record import find_trim, read_record
     recs = []
     for path in paths:
         rec = read_record(path)
@@ -96,7 +96,7 @@ def start_values(args):
 
 def add_search_arguments(p):
     """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
-    from ..candidates import ALPHA
+    from ..diagnose.candidates import ALPHA
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
                    default=(0.2256, 1.58), help="band [Hz] (default 0.2256 1.58)")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",

@@ -34,7 +34,7 @@ def run(args) -> int:
 
     from ..fileio import safe_write_text
     from ..identify import band_study
-    from ..identify.plots import band_study_plot
+    from ..report.fit_plots import band_study_plot
     s = structure_of(args)
     if args.out:
         d = Path(args.out)

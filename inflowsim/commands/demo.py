@@ -16,14 +16,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnose import ladder
+from ..diagnose.search import ladder
 from ..errors import InputError
-from ..ladder_report import candidate_rows, CANDIDATE_HEADER, ladder_report
-from ..presets import preset_parameters
-from ..record import format_record, parse_record
-from ..report import Report
-from ..validation import validate
-from ..virtual import Manoeuvre, VirtualTest, virtual_record
+from ..report.ladder import candidate_rows, CANDIDATE_HEADER, ladder_report
+from ..model.presets import preset_parameters
+from ..data.record import format_record, parse_record
+from ..report.document import Report
+from ..diagnose.validation import validate
+from ..flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 from ._common import print_json, progress
 from .validate import FIT_HEADER, fit_rows
 
@@ -52,7 +52,7 @@ def demo_record(seed=0):
 
 def run_demo(out_dir, seed=0, say=None):
     """Write the demo into ``out_dir``; return ``(index.html path, summary dict)``."""
-    from ..plots import frequency_response_plot, time_response_plot
+    from ..report.plots import frequency_response_plot, time_response_plot
     say = say or (lambda m: None)
     out = Path(out_dir)
     if out.exists() and not out.is_dir():    # refuse before any work

@@ -8,8 +8,8 @@ likelihood-ratio test (``inflowsim.candidates``).
 """
 from __future__ import annotations
 
-from ..diagnose import diagnose
-from ..ladder_report import diagnosis_report, format_diagnosis
+from ..diagnose.search import diagnose
+from ..report.ladder import diagnosis_report, format_diagnosis
 from ._common import (add_model_arguments, add_record_arguments, read_records, add_search_arguments, check_search_arguments,
                       print_json, progress, start_values)
 

@@ -20,8 +20,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import check_output, safe_write_text
-from ..params import PUMA
-from ..record import write_record
+from ..model.params import PUMA
+from ..data.record import write_record
 from ._common import print_json, progress
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
@@ -108,7 +108,7 @@ def _check_outputs(args):
 
 
 def _manoeuvre(args):
-    from ..virtual import Manoeuvre
+    from ..flighttest.virtual import Manoeuvre
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
         v = getattr(args, name)
         if not math.isfinite(v):
@@ -127,8 +127,8 @@ def _manoeuvre(args):
 
 
 def _nonlinear(args, man, values):
-    from ..bladesim import RotorSpec
-    from ..flighttest import FlightTest
+    from ..flighttest.bladesim import RotorSpec
+    from ..flighttest.nonlinear import FlightTest
     if args.model:
         raise InputError("--model selects a linear truth: add --truth linear")
     bad = [e for e in args.add if e not in NONLINEAR_EFFECTS]
@@ -151,11 +151,11 @@ def _nonlinear(args, man, values):
 
 
 def _linear(args, man, values):
-    from ..flighttest import FlightTest
-    from ..model import build_model
-    from ..presets import truth_parameters
-    from ..structure import Structure
-    from ..virtual import VirtualTest
+    from ..flighttest.nonlinear import FlightTest
+    from ..model.build import build_model
+    from ..model.presets import truth_parameters
+    from ..model.structure import Structure
+    from ..flighttest.virtual import VirtualTest
     if args.blades != 4 or args.speed != "eq14":
         raise InputError("--blades and --speed apply to --truth nonlinear only")
     s = Structure.parse(args.model or "glauert")
@@ -182,12 +182,12 @@ def _linear(args, man, values):
 
 
 def _still_body():
-    from ..body import BodyModel
+    from ..flighttest.body import BodyModel
     return BodyModel(m_theta=0.0, l_theta=0.0, z_theta=0.0)
 
 
 def run(args) -> int:
-    from ..flighttest import flighttest
+    from ..flighttest.nonlinear import flighttest
     _check_outputs(args)
     man = _manoeuvre(args)
     values = _settings(args.set)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..fileio import check_output, safe_write_text
-from ..paramfile import write_json
-from ..structure import Structure
+from ..model.paramfile import write_json
+from ..model.structure import Structure
 from ._common import add_record_arguments, print_json, progress, read_records
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
@@ -87,7 +87,7 @@ def write_report(result, folder, force=False, protect=()):
     ``fit_time.png``) and ``fit.json`` into ``folder`` (created)."""
     import json
 
-    from ..identify.plots import fit_plot, reconstruction_plot
+    from ..report.fit_plots import fit_plot, reconstruction_plot
     from ..identify.tables import html_table, markdown_table
     d = Path(folder)
     if d.exists() and not d.is_dir():
@@ -117,7 +117,7 @@ def write_report(result, folder, force=False, protect=()):
 def run(args) -> int:
     from ..identify import DEFAULT_BAND, identify
     from ..identify.tables import markdown_table
-    from ..paramfile import read_parameters
+    from ..model.paramfile import read_parameters
     s = structure_of(args)
     check_outputs(args.out, args.records, args.force)
     recs = read_records(args.records, args)

@@ -8,8 +8,8 @@ the plot of the error falling.
 """
 from __future__ import annotations
 
-from ..diagnose import explicit_ladder, ladder
-from ..ladder_report import ladder_markdown, ladder_report
+from ..diagnose.search import explicit_ladder, ladder
+from ..report.ladder import ladder_markdown, ladder_report
 from ._common import (add_record_arguments, add_search_arguments, check_search_arguments,
                       print_json, progress, read_records)
 

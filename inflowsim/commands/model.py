@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..params import PUMA, SPECS
-from ..paramfile import read_parameters
-from ..presets import TABLE_OF_PRESET, paper_table
+from ..model.params import PUMA, SPECS
+from ..model.paramfile import read_parameters
+from ..model.presets import TABLE_OF_PRESET, paper_table
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "show a structure: states, inputs, parameters, E, A, B and eigenvalues"

@@ -20,8 +20,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import check_output
-from ..record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
-from ..simulator import Simulator
+from ..data.record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
+from ..simulate.simulator import Simulator
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..record import FLAP_COLUMNS
-from ..sampled import HOLD_TEXT
-from ..validation import PAPER_BAND_HZ, validate
+from ..data.record import FLAP_COLUMNS
+from ..simulate.sampled import HOLD_TEXT
+from ..diagnose.validation import PAPER_BAND_HZ, validate
 from ._common import (add_model_arguments, add_record_arguments, load_model, print_json,
                       progress, read_records)
 
@@ -69,8 +69,8 @@ def validation_report(results, title=None, subtitle=None):
         Fit table per model, the time-domain reconstruction, the frequency
         responses and the response errors; call ``.write(DIR)``.
     """
-    from ..plots import error_spectrum_plot, frequency_response_plot, time_response_plot
-    from ..report import Report
+    from ..report.plots import error_spectrum_plot, frequency_response_plot, time_response_plot
+    from ..report.document import Report
     res = list(results) if isinstance(results, (list, tuple)) else [results]
     r0 = res[0]
     names = ", ".join(r.structure for r in res)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Mapping
 
 from ..errors import InputError
-from ..structure import Structure
+from ..model.structure import Structure
 from .variables import STRUCTURES, VR
 
 #: Effects the C model implements.

@@ -16,9 +16,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..equations import INPUT_UNITS, INPUTS, OUTPUTS
-from ..params import MU_MAX, MU_MIN, PUMA, SPECS
-from ..presets import paper_table
+from ..model.equations import INPUT_UNITS, INPUTS, OUTPUTS
+from ..model.params import MU_MAX, MU_MIN, PUMA, SPECS
+from ..model.presets import paper_table
 
 MODEL_IDENTIFIER = "inflowsim"
 MODEL_NAME = "inflowsim rotor flap and Glauert-augmented dynamic inflow"

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..structure import Structure
+from ..model.structure import Structure
 from .estimator import _records, identify
 from .transform import DEFAULT_BAND
 

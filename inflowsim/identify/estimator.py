@@ -32,9 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model import build_model
-from ..presets import preset_parameters, theory_parameters
-from ..structure import Structure
+from ..model.build import build_model
+from ..model.presets import preset_parameters, theory_parameters
+from ..model.structure import Structure
 from .problem import Problem, unstack
 from .results import FitResult, RecordFit, channel_fit
 from .transform import DEFAULT_BAND, as_record, record_spectra

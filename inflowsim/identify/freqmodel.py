@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sampled import BASES, expm, shift_taps
+from ..simulate.sampled import BASES, expm, shift_taps
 
 __all__ = ["flap_response", "shift_groups", "window_integral", "shifted_transform",
            "zoh", "expm"]

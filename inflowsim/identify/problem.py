@@ -14,9 +14,9 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..model import build_model
-from ..params import SPECS
-from ..structure import Structure
+from ..model.build import build_model
+from ..model.params import SPECS
+from ..model.structure import Structure
 from .freqmodel import flap_response
 
 #: Typical magnitudes (finite-difference step scale and LM scaling floor).

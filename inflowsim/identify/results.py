@@ -6,9 +6,9 @@ from typing import Mapping
 
 import numpy as np
 
-from ..equations import FLAP
-from ..params import Constants
-from ..structure import Structure
+from ..model.equations import FLAP
+from ..model.params import Constants
+from ..model.structure import Structure
 
 
 @dataclass(frozen=True, eq=False)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import html
 
-from ..presets import theory_parameters
+from ..model.presets import theory_parameters
 
 
 def _fmt(v, digits=4):

@@ -25,9 +25,9 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import InputError, RecordError
-from ..params import Constants
-from ..record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
-from ..sampled import gregory_weights
+from ..model.params import Constants
+from ..data.record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
+from ..simulate.sampled import gregory_weights
 
 #: The paper's band (model.md section 7), Hz.
 DEFAULT_BAND = (0.2256, 1.58)

@@ -1,0 +1,430 @@
+"""Flight-test records (``record-format.md``): reading, writing, trim.
+
+A :class:`Record` is immutable: arrays are read-only, and nothing here writes to
+the file a record was read from.  Every format error raises
+:class:`~inflowsim.errors.RecordError` with one line naming the file and what is
+wrong (channel, row, metadata key).
+"""
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Mapping
+
+import numpy as np
+
+from ..errors import RecordError
+from ..fileio import safe_write_text
+from ..model.params import Constants
+from ..simulate.sampled import DEFAULT_HOLD, HOLDS
+
+REQUIRED_META = ("omega", "mu", "a0", "solidity")
+INPUT_COLUMNS = ("theta0", "theta1c", "theta1s", "muz", "p", "q", "pdot", "qdot",
+                 "mux", "muy")
+FLAP_COLUMNS = ("beta0", "beta1c", "beta1s")
+CONTROL_COLUMNS = ("theta0", "theta1c", "theta1s")
+#: Sampling jitter tolerated, as a fraction of the mean step.
+JITTER = 0.01
+
+
+def _ro(a):
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Record:
+    """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
+
+    t: np.ndarray
+    channels: Mapping[str, np.ndarray]
+    meta: Mapping[str, str]
+    source: str = "<memory>"
+    order: tuple = field(default=())
+
+    @classmethod
+    def from_arrays(cls, t, channels: Mapping, meta: Mapping, source="<memory>"):
+        ch = {k: _ro(v) for k, v in channels.items()}
+        rec = cls(_ro(t), MappingProxyType(ch), MappingProxyType(
+            {k: str(v) for k, v in meta.items()}), source, tuple(ch))
+        rec.check()
+        return rec
+
+    # -- metadata -----------------------------------------------------------
+    def _meta_float(self, key):
+        if key not in self.meta:
+            raise RecordError(f"{self.source}: missing required metadata '# {key}: ...'")
+        try:
+            v = float(self.meta[key])
+        except ValueError:
+            raise RecordError(f"{self.source}: metadata {key} = {self.meta[key]!r} "
+                              "is not a number") from None
+        if not math.isfinite(v):
+            raise RecordError(f"{self.source}: metadata {key} is not finite")
+        return v
+
+    def base_constants(self) -> Constants:
+        """Aircraft constants from the metadata (no trim)."""
+        from ..errors import InputError
+        vals = {k: self._meta_float(k) for k in REQUIRED_META}
+        if "radius" in self.meta:
+            vals["radius"] = self._meta_float("radius")
+        try:
+            return Constants.from_mapping(vals)
+        except InputError as exc:
+            raise RecordError(f"{self.source}: metadata {exc}") from None
+
+    @property
+    def constants(self) -> Constants:
+        """Aircraft constants from the metadata, with the record's trim totals
+        (:func:`find_trim`) for effects linearised about trim."""
+        return self.base_constants().with_trim(find_trim(self).values)
+
+    @property
+    def hold(self) -> str:
+        """Intersample behaviour of the inputs (``# hold:``; ``record-format.md``):
+        ``continuous`` (samples of continuous signals, the default: measured
+        data), ``zoh`` (held over each sample) or ``foh`` (linear between samples)."""
+        v = self.meta.get("hold", DEFAULT_HOLD).strip().lower()
+        if v not in HOLDS:
+            raise RecordError(f"{self.source}: metadata hold = {self.meta['hold']!r}: "
+                              f"choose {', '.join(HOLDS)}")
+        return v
+
+    def hold_or(self, override=None) -> str:
+        """``override`` (a ``--hold`` option) if given, else :attr:`hold`."""
+        if override is None:
+            return self.hold
+        if override not in HOLDS:
+            raise RecordError(f"hold {override!r}: choose {', '.join(HOLDS)}")
+        return override
+
+    @property
+    def dt(self) -> float:
+        return float((self.t[-1] - self.t[0]) / (len(self.t) - 1))
+
+    @property
+    def duration(self) -> float:
+        """Length ``N dt`` [s]: the transform resolution is ``1/duration``."""
+        return len(self.t) * self.dt
+
+    def __len__(self):
+        return len(self.t)
+
+    def __getitem__(self, name) -> np.ndarray:
+        try:
+            return self.channels[name]
+        except KeyError:
+            raise RecordError(f"{self.source}: no column {name!r} "
+                              f"(has {', '.join(self.order)})") from None
+
+    # -- checks ---------------------------------------------------------------
+    def check(self):
+        src = self.source
+        for k in REQUIRED_META:
+            self._meta_float(k)
+        t = self.t
+        if len(t) < 4:
+            raise RecordError(f"{src}: only {len(t)} samples; need at least 4")
+        for name, v in [("t", t), *self.channels.items()]:
+            if len(v) != len(t):
+                raise RecordError(f"{src}: column {name} has {len(v)} values, t has {len(t)}")
+            bad = np.flatnonzero(~np.isfinite(v))
+            if bad.size:
+                i = bad[0]
+                raise RecordError(f"{src}: column {name} has a NaN or infinite value "
+                                  f"at data row {i + 1} (t = {t[i] if name != 't' else 'n/a'})")
+        d = np.diff(t)
+        if np.any(d <= 0):
+            i = int(np.flatnonzero(d <= 0)[0])
+            raise RecordError(f"{src}: t is not strictly increasing at data row {i + 2} "
+                              f"(t = {t[i + 1]:.10g} after {t[i]:.10g})")
+        mean = (t[-1] - t[0]) / (len(t) - 1)
+        k = np.arange(len(t))
+        jit = np.abs(t - (t[0] + k * mean))
+        if np.max(np.abs(d - mean)) > JITTER * mean and np.max(jit) > JITTER * mean:
+            i = int(np.argmax(np.abs(d - mean)))
+            raise RecordError(f"{src}: t is not uniformly sampled: step {d[i]:.6g} s at "
+                              f"data row {i + 2} against mean {mean:.6g} s (tolerance "
+                              f"{JITTER:.0%}); resample it first")
+        self.base_constants()
+        self.hold
+        _trim_window_meta(self)
+        return self
+
+    def require(self, columns):
+        """Raise naming the first of ``columns`` the record lacks."""
+        for c in columns:
+            if c not in self.channels:
+                raise RecordError(f"{self.source}: the model needs column {c!r}, "
+                                  "which the record lacks")
+        return self
+
+    def check_band(self, band_hz):
+        """Refuse a band the record cannot resolve (too short, beyond Nyquist)."""
+        f1, f2 = band_hz
+        df = 1.0 / self.duration
+        nyq = 0.5 / self.dt
+        if not (0 < f1 < f2):
+            raise RecordError(f"band {f1:g}-{f2:g} Hz: need 0 < f1 < f2")
+        if f2 > nyq:
+            raise RecordError(f"band upper limit {f2:g} Hz is above the Nyquist frequency "
+                              f"{nyq:g} Hz of {self.source}")
+        if f1 < df * 0.5 or (f2 - f1) < 2 * df:
+            raise RecordError(f"{self.source}: record too short ({self.duration:.4g} s, "
+                              f"resolution {df:.4g} Hz) for the band {f1:g}-{f2:g} Hz")
+        return self
+
+    # -- derived ----------------------------------------------------------------
+    def with_channels(self, **cols) -> "Record":
+        """A new record with channels replaced or added (never in place)."""
+        ch = dict(self.channels)
+        ch.update(cols)
+        order = self.order + tuple(k for k in cols if k not in self.order)
+        r = Record(self.t, MappingProxyType({k: _ro(v) for k, v in ch.items()}),
+                   self.meta, self.source, order)
+        return r.check()
+
+    def with_meta(self, **meta) -> "Record":
+        m = dict(self.meta)
+        m.update({k: str(v) for k, v in meta.items()})
+        return Record(self.t, self.channels, MappingProxyType(m), self.source, self.order)
+
+
+# -- trim ---------------------------------------------------------------------------
+#: The quiet window ends this long before the first control movement [s]: a pilot's
+#: input is a smooth signal, so the rotor answers its onset before it is detectable.
+TRIM_MARGIN = 0.2
+#: Fewer quiet samples than this: no trim can be taken from the record itself.
+MIN_TRIM_SAMPLES = 5
+#: A quiet lead-in shorter than this [s] gives a trim, with a warning.
+SHORT_TRIM = 0.5
+
+
+@dataclass(frozen=True)
+class Trim:
+    """Trim values subtracted from the channels, and how they were found.
+
+    ``method``: ``"quiet"`` (the automatic quiet lead-in) or ``"window"`` (given);
+    ``t_start``, ``t_end`` [s] the window; ``n_samples`` in it; ``t_movement`` the
+    first control movement found [s] (``None`` for a given window); ``warning``
+    one line when the trim deserves the user's attention, else ``None``.
+    """
+
+    values: Mapping[str, float]
+    method: str
+    t_end: float
+    n_samples: int
+    t_start: float = 0.0
+    t_movement: float | None = None
+    warning: str | None = None
+
+    def describe(self) -> str:
+        win = f"{self.t_start:.4g}-{self.t_end:.4g} s"
+        if self.method == "quiet":
+            return (f"mean over {win} ({self.n_samples} samples): the quiet lead-in, "
+                    f"ending {TRIM_MARGIN:g} s before the first control movement at "
+                    f"{self.t_movement:.4g} s")
+        return f"mean over the given window {win} ({self.n_samples} samples)"
+
+    def as_dict(self) -> dict:
+        return {"method": self.method, "window_s": [self.t_start, self.t_end],
+                "n_samples": self.n_samples, "first_movement_s": self.t_movement,
+                "description": self.describe(), "warning": self.warning}
+
+
+def _trim_window_meta(rec: Record):
+    v = rec.meta.get("trim_window")
+    if v is None:
+        return None
+    try:
+        a, b = (float(x) for x in v.replace(",", " ").split())
+    except ValueError:
+        raise RecordError(f"{rec.source}: metadata trim_window = {v!r}: give two times "
+                          "in seconds, 'T0 T1'") from None
+    return a, b
+
+
+def first_movement(rec: Record) -> int | None:
+    """Index of the first sample where a pilot control has left its initial value.
+
+    Per control: baseline the median of the first 0.25 s, noise the robust spread
+    of the first differences over the first second; moved where the departure
+    exceeds ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth
+    input, at one ten-thousandth of its size).  ``None`` where no control moves.
+    """
+    t = rec.t
+    first = None
+    n_base = max(3, int(np.searchsorted(t, t[0] + 0.25)))
+    n_noise = max(8, int(np.searchsorted(t, t[0] + 1.0)))
+    for c in CONTROL_COLUMNS:
+        if c not in rec.channels:
+            continue
+        v = rec[c]
+        base = float(np.median(v[:n_base]))
+        d = np.diff(v[:n_noise])
+        noise = 1.4826 * float(np.median(np.abs(d - np.median(d)))) / np.sqrt(2.0)
+        dep = np.abs(v - base)
+        big = float(dep.max())
+        if big == 0.0:
+            continue
+        moved = np.flatnonzero(dep > max(6.0 * noise, 1e-4 * big))
+        if moved.size and (first is None or moved[0] < first):
+            first = int(moved[0])
+    return first
+
+
+def find_trim(rec: Record, window=None) -> Trim:
+    """Trim = the mean of each channel over a quiet window.
+
+    ``window = (t0, t1)`` [s] gives it; else the record's ``# trim_window: T0 T1``
+    metadata; else the quiet lead-in: from the first sample to ``TRIM_MARGIN``
+    before the first control movement (:func:`first_movement`).  A record whose
+    controls never move is all trim.  Fewer than ``MIN_TRIM_SAMPLES`` quiet samples
+    is an error naming the remedy; a lead-in shorter than ``SHORT_TRIM`` s is
+    used with a warning.
+    """
+    t = rec.t
+    window = window if window is not None else _trim_window_meta(rec)
+    if window is not None:
+        t0, t1 = (float(x) for x in window)
+        if not (np.isfinite(t0) and np.isfinite(t1) and t0 < t1):
+            raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s: need T0 < T1")
+        i0, i1 = int(np.searchsorted(t, t0)), int(np.searchsorted(t, t1, side="right"))
+        if i1 - i0 < MIN_TRIM_SAMPLES:
+            raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s holds "
+                              f"{max(i1 - i0, 0)} samples; need at least "
+                              f"{MIN_TRIM_SAMPLES} (the record spans {t[0]:g}-{t[-1]:g} s)")
+        method, move, warn = "window", None, None
+    else:
+        k = first_movement(rec)
+        i0 = 0
+        if k is None:
+            i1, move = len(t), None
+        else:
+            move = float(t[k])
+            i1 = int(np.searchsorted(t, move - TRIM_MARGIN, side="right"))
+        if i1 < MIN_TRIM_SAMPLES:
+            raise RecordError(
+                f"{rec.source}: no quiet lead-in: a control moves at t = {move:.4g} s, "
+                f"leaving {i1} quiet samples; give the trim window (--trim-window T0 T1, "
+                "or '# trim_window: T0 T1' in the record)")
+        method = "quiet"
+        span = float(t[i1 - 1] - t[0])
+        warn = (None if span >= SHORT_TRIM else
+                f"{rec.source}: the quiet lead-in is only {span:.3g} s ({i1} samples) "
+                "before the first control movement: the trim is uncertain; give a "
+                "trim window if the record has a longer quiet part")
+    vals = {k: float(np.mean(v[i0:i1])) for k, v in rec.channels.items()}
+    return Trim(MappingProxyType(vals), method, float(t[i1 - 1]), i1 - i0,
+                float(t[i0]), move, warn)
+
+
+def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
+    """Columns ``names`` minus trim, shape ``(N, len(names))``."""
+    rec.require(names)
+    return np.column_stack([rec[c] - trim.values[c] for c in names])
+
+
+def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
+    """SI perturbation inputs in ``model.inputs`` order (record names)."""
+    return perturbations(rec, trim, model.inputs)
+
+
+# -- I/O ---------------------------------------------------------------------------
+def read_record(path) -> Record:
+    """Read a CSV record; raise :class:`RecordError` (one line) on any format error."""
+    p = Path(path)
+    src = str(p)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise RecordError(f"{src}: no such file") from None
+    except IsADirectoryError:
+        raise RecordError(f"{src}: is a directory, not a record") from None
+    except OSError as exc:
+        raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise RecordError(f"{src}: not UTF-8 text (byte {exc.start})") from None
+    return parse_record(text, src)
+
+
+def parse_record(text: str, source: str = "<text>") -> Record:
+    lines = text.splitlines()
+    meta: dict[str, str] = {}
+    i = 0
+    while i < len(lines) and (lines[i].startswith("#") or not lines[i].strip()):
+        ln = lines[i]
+        if ln.startswith("#"):
+            body = ln[1:].strip()
+            if body:
+                if ":" not in body:
+                    raise RecordError(f"{source}: line {i + 1}: metadata must be "
+                                      f"'# key: value', got {ln!r}")
+                k, v = body.split(":", 1)
+                meta[k.strip()] = v.strip()
+        i += 1
+    if i >= len(lines):
+        raise RecordError(f"{source}: no header row (expected 't,theta0,...')")
+    header = [h.strip() for h in lines[i].split(",")]
+    if header[0] != "t":
+        raise RecordError(f"{source}: line {i + 1}: the header must start with 't', "
+                          f"got {header[0]!r}")
+    dup = {h for h in header if header.count(h) > 1}
+    if dup:
+        raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
+    if any(not h for h in header):
+        raise RecordError(f"{source}: line {i + 1}: empty column name in the header")
+    rows = []
+    for j in range(i + 1, len(lines)):
+        ln = lines[j]
+        if not ln.strip():
+            continue
+        cells = ln.split(",")
+        if len(cells) != len(header):
+            raise RecordError(f"{source}: line {j + 1}: {len(cells)} values, the header "
+                              f"has {len(header)} columns")
+        try:
+            rows.append([float(c) for c in cells])
+        except ValueError:
+            bad = next(k for k, c in enumerate(cells) if not _isfloat(c))
+            raise RecordError(f"{source}: line {j + 1}: column {header[bad]}: "
+                              f"{cells[bad].strip()!r} is not a number") from None
+    if not rows:
+        raise RecordError(f"{source}: no data rows")
+    data = np.array(rows)
+    for k in REQUIRED_META:
+        if k not in meta:
+            raise RecordError(f"{source}: missing required metadata '# {k}: ...'")
+    return Record.from_arrays(data[:, 0], {h: data[:, c] for c, h in enumerate(header)
+                                           if c > 0}, meta, source)
+
+
+def _isfloat(s):
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return False
+
+
+def format_record(rec: Record) -> str:
+    buf = io.StringIO()
+    for k, v in rec.meta.items():
+        buf.write(f"# {k}: {v}\n")
+    cols = list(rec.order)
+    buf.write(",".join(["t", *cols]) + "\n")
+    data = np.column_stack([rec.t, *[rec[c] for c in cols]])
+    np.savetxt(buf, data, delimiter=",", fmt="%.12g")
+    return buf.getvalue()
+
+
+def write_record(rec: Record, path, overwrite: bool = False, protect=()) -> Path:
+    """Write ``rec`` (12 significant digits) atomically; never over ``protect``."""
+    return safe_write_text(path, format_record(rec), overwrite, protect)

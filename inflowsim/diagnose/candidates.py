@@ -1,0 +1,252 @@
+"""Which effect is missing: refit with each candidate, accept only what is worth it.
+
+For each effect of the catalogue that the structure lacks and may take, the
+structure plus that effect is fitted to the same records and band, starting
+from the base estimates and the effect's neutral values (so the start
+reproduces the base fit: every candidate *nests* the base).  A candidate is
+**accepted** only when all four hold:
+
+1. **Significant.**  With the error covariance estimated, the cost (12) is the
+   negative log-likelihood of complex Gaussian residuals up to a constant, so
+   ``2 (J_base - J_with)`` is chi-square with as many degrees of freedom as the
+   effect adds (``model.md`` section 7); for a parameter whose neutral value is
+   the edge of its range (``flap_inertia = 0``, the first-order limit) the law
+   is the 50:50 mixture of chi-square with 0 and 1 degree of freedom (Self and
+   Liang, 1987).  Level ``alpha = 1e-3`` per candidate.
+2. **Plausible.**  Every added parameter is determined by the data and its
+   estimate, within 3 sigma, reaches its physical range (sign, theory range:
+   ``Effect.plausible``); an estimate the data do not determine cannot be shown
+   plausible.
+3. **Material.**  The candidate explains at least ``MATERIAL`` (10 %) of the
+   base residual's excess over the noise floor: of ``D_base - D_white``, where
+   ``D`` is the residual spectrum's deviance from white noise at the floor
+   (:func:`inflowsim.failures.floor_deviance`, ``sum r - 1 - ln r`` over the
+   bins, ``r`` the power over the floor) and ``D_white`` its mean for noise
+   alone; a base residual with no excess has nothing to explain.  An effect
+   that is significant only because the record is long is not what the
+   residual is made of.
+4. **Whiter.**  The refit's residual spectrum is closer to white noise at the
+   floor (``D`` falls): an effect that pushes the residual *below* the floor
+   fits the noise, not the physics.
+
+Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
+J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect
+with one parameter that explains nearly as much as one with seven comes first;
+the rest follow by p-value.  When nothing is accepted and the residual is still
+structured, the diagnosis says so (:func:`inflowsim.failures.unexplained`)
+instead of adding a small spurious effect.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import stats
+
+from ..model.effects import CATALOGUE
+from ..errors import InputError
+from ..model.presets import theory_parameters
+from ..model.structure import Structure
+
+ALPHA = 1e-3
+#: Share of the residual's excess over the noise floor an effect must explain.
+MATERIAL = 0.10
+#: Estimates within this many sigma of their plausible range count as plausible.
+PLAUSIBLE_SIGMAS = 3.0
+#: The tests a candidate must pass (the acceptance rule; a study may narrow it).
+RULE = ("significant", "plausible", "material", "whiter")
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One candidate effect tried on top of a base fit.
+
+    ``significant``, ``plausible``, ``share`` (of the excess over the floor
+    explained), ``whiter`` (residual structure fell) are the four tests;
+    ``accepted`` all of them; ``reason`` says which failed, in words.
+    """
+
+    effect: str
+    structure: str
+    cost_reduction: float
+    statistic: float
+    dof: int
+    log10_p: float
+    significant: bool
+    physics: str
+    added: dict                      # {name: (estimate, sigma)} of the effect's parameters
+    fit: object = field(repr=False, compare=False, default=None)
+    error: str | None = None
+    schwarz_gain: float = 0.0
+    plausible: bool = False
+    share: float = 0.0
+    structure_before: float = 0.0
+    structure_after: float = 0.0
+    whiteness_before: float = 0.0      # deviance from white noise at the floor
+    whiteness_after: float = 0.0
+    accepted: bool = False
+    reason: str = ""
+
+    @property
+    def whiter(self) -> bool:
+        return self.whiteness_after < self.whiteness_before
+
+    def to_json(self) -> dict:
+        return {"effect": self.effect, "cost_reduction": self.cost_reduction,
+                "significant": self.significant, "accepted": self.accepted,
+                "reason": self.reason, "statistic": self.statistic, "dof": self.dof,
+                "log10_p_value": self.log10_p, "schwarz_gain": self.schwarz_gain,
+                "plausible": self.plausible, "share_of_excess": self.share,
+                "structure_before": self.structure_before,
+                "structure_after": self.structure_after,
+                "deviance_before": self.whiteness_before,
+                "deviance_after": self.whiteness_after, "physics": self.physics,
+                "structure": self.structure,
+                "parameters": {n: {"estimate": e, "sigma": s} for n, (e, s) in self.added.items()},
+                **({"error": self.error} if self.error else {})}
+
+
+def applicable(structure: Structure, pool=None) -> list[str]:
+    """Effects not in ``structure`` that may be added to it (``pool``, default the
+    catalogue's offered effects)."""
+    out = []
+    for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
+        if name not in CATALOGUE:
+            raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+        if name in structure.effects:
+            continue
+        if any(a in structure.effects for a in CATALOGUE[name].alternatives):
+            continue
+        out.append(name)
+    return out
+
+
+def nested_start(base_fit, structure: Structure, constants) -> dict:
+    """Start values for ``structure`` reproducing ``base_fit`` where it nests:
+    base estimates, the new effects' neutral values, and a superseded ``tau``
+    copied into ``tau0`` and ``tau_cs``."""
+    start = theory_parameters(structure, constants)
+    for e in structure.effects:
+        start.update({n: v for n, v in CATALOGUE[e].neutral_values(constants).items()
+                      if n in start})
+    for n, v in base_fit.parameters.items():
+        if n in start:
+            start[n] = v
+    if "tau" in base_fit.parameters and "tau0" in start and "tau0" not in base_fit.parameters:
+        start["tau0"] = start["tau_cs"] = base_fit.parameters["tau"]
+    return start
+
+
+def lr_test(j_base, j_new, dof, boundary=0):
+    """``(statistic, dof, log10 p)`` of ``2 (J_base - J_new)``: chi-square with ``dof``
+    degrees of freedom, or for ``boundary`` parameters at the edge of their range
+    the mixture ``2^-b sum_i C(b, i) chi2(dof - b + i)`` (Self and Liang)."""
+    stat = max(0.0, 2.0 * (j_base - j_new))
+    d = max(dof, 1)
+    if not boundary:
+        return stat, d, float(stats.chi2.logsf(stat, d) / np.log(10))
+    b = min(boundary, d)
+    if stat == 0.0:
+        return stat, d, 0.0
+    p = sum(stats.binom.pmf(i, b, 0.5) * (stats.chi2.sf(stat, d - b + i) if d - b + i > 0
+                                         else 0.0) for i in range(b + 1))
+    return stat, d, float(np.log10(max(p, 1e-300)))
+
+
+def floor_cost(fit, floors) -> float:
+    """``J_floor - J_fit``: the cost (12) the fit would have if every record's
+    residual sat at its noise floor (``floors``: per record, per-bin noise power of
+    each flap channel, ``(3, nf)``), less its own (negative: how far above the
+    floor it is)."""
+    out = 0.0
+    for S, fl, d in zip(fit.S, floors, fit.data):
+        nf = d.f_hz.size
+        out += float(np.sum(np.log(fl))) - nf * float(np.log(np.real(np.linalg.det(S))))
+    return out
+
+
+def _plausible(eff, fit, constants):
+    """Every parameter of the effect is determined by the data and reaches its
+    plausible range within ``PLAUSIBLE_SIGMAS``: an estimate the data do not
+    determine cannot be shown plausible (fix or tie it, or add excitation, and
+    try the effect again)."""
+    ranges = eff.plausible_ranges(constants)
+    undetermined = [n for n in eff.parameters if fit.sigma.get(n) is None]
+    if undetermined:
+        return False, (f"{', '.join(undetermined)} not determined by the data (fix or "
+                       "tie, or add excitation)")
+    for n in eff.parameters:
+        est, sig = fit.parameters[n], fit.sigma[n]
+        if n not in ranges:
+            continue
+        lo, hi, why = ranges[n]
+        if est + PLAUSIBLE_SIGMAS * sig < lo or est - PLAUSIBLE_SIGMAS * sig > hi:
+            return False, (f"{n} = {est:.4g} +- {sig:.2g} is outside [{lo:g}, {hi:g}]: "
+                           f"{why}")
+    return True, ""
+
+
+def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
+               judge=None) -> Candidate:
+    """Fit ``base + effect`` and test it (``judge(fit) -> (structure, floors)``
+    gives the residual structure and the noise floors; without it only the
+    significance is known)."""
+    s = base_fit.structure.with_effect(effect)
+    eff = CATALOGUE[effect]
+    k = base_fit.constants[0]
+    start = nested_start(base_fit, s, k)
+    dof = len(s.parameters) - len(base_fit.structure.parameters)
+    try:
+        fit = fit_fn(records, s, band_hz=band_hz, start=start)
+    except InputError as exc:
+        return Candidate(effect, s.name, 0.0, 0.0, dof, 0.0, False, eff.physics, {},
+                         None, str(exc), reason=str(exc))
+    bnd = sum(1 for n in eff.boundary if n in s.parameters)
+    stat, d, lp = lr_test(base_fit.cost, fit.cost, dof, bnd)
+    added = {n: (float(fit.parameters[n]), fit.sigma.get(n)) for n in eff.parameters}
+    n_data = 6 * fit.n_freq
+    dj = float(base_fit.cost - fit.cost)
+    significant = bool(lp < np.log10(alpha))
+    plausible, why = _plausible(eff, fit, k)
+    share, q0, q1, d0, d1 = 0.0, 0.0, 0.0, 0.0, 0.0
+    reasons = []
+    if judge is not None:
+        base, new = judge(None), judge(fit)
+        q0, q1 = base["structure"], new["structure"]
+        d0, d1 = base["deviance"], new["deviance"]
+        excess = d0 - base["white_deviance"]
+        share = (d0 - d1) / excess if excess > 0 else 0.0
+    if not significant and "significant" in RULE:
+        reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
+    if not plausible and "plausible" in RULE:
+        reasons.append(f"implausible: {why}")
+    if judge is not None and "material" in RULE:
+        if excess <= 0:
+            reasons.append(f"the base residual is at the noise floor (deviance {d0:.1f} "
+                           f"<= {base['white_deviance']:.1f} for noise): nothing to explain")
+        elif share < MATERIAL:
+            reasons.append(f"explains {100 * share:.1f} % of the residual's excess over "
+                           f"the noise floor (< {100 * MATERIAL:g} %)")
+    if judge is not None and d1 >= d0 and "whiter" in RULE:
+        reasons.append(f"does not move the residual toward white noise at the floor "
+                       f"(deviance {d0:.1f} -> {d1:.1f})")
+    accepted = not reasons and judge is not None
+    return Candidate(effect, s.name, dj, stat, d, lp, significant, eff.physics, added, fit,
+                     schwarz_gain=float(2 * dj - d * np.log(n_data)), plausible=plausible,
+                     share=float(share), structure_before=q0, structure_after=q1,
+                     whiteness_before=d0, whiteness_after=d1,
+                     accepted=accepted, reason="; ".join(reasons) or "accepted")
+
+
+def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,
+                    progress=None, judge=None) -> list[Candidate]:
+    """Every applicable candidate tried and ranked: accepted ones first by Schwarz
+    gain, then the rest by p-value."""
+    out = []
+    for name in applicable(base_fit.structure, pool):
+        if progress:
+            progress(f"trying {base_fit.structure.name}+{name}")
+        out.append(try_effect(records, base_fit, name, band_hz, fit_fn, alpha, judge))
+    return sorted(out, key=lambda c: (c.error is not None, not c.accepted,
+                                      -c.schwarz_gain if c.accepted else c.log10_p,
+                                      -c.cost_reduction))

@@ -1,0 +1,455 @@
+"""Where a model fails on a record: residual spectra, structure across frequency,
+correlation with the inputs, implausible or poorly determined estimates
+(``workflow.md`` step 2).
+
+Everything works from the residual of the frequency-domain fit itself (measured
+minus predicted flap transform over the band, end effects eliminated, with the
+record's intersample behaviour), so the diagnosis judges exactly what the fit
+minimised, on the same frequencies:
+
+* **Level.**  Each bin's residual power over the sensor-noise floor.  The floor is
+  measured from the record, well above the rotor's response (from
+  ``max(5 f2, 5 Hz)`` to 0.8 Nyquist, where the model predicts essentially
+  nothing), on the same residual (the fitted model and end states) at those
+  frequencies; that assumes white sensor noise.  Coloured noise lies above
+  that floor in the band; the structure tests below tell it from model error.  For white noise each
+  bin's ratio is exponential with mean 1, so ``2 sum ratio ~ chi2(2 nf)``.
+* **Structure.**  Model error is smooth in frequency (a transfer function error
+  times the input spectrum), noise is not: a white or *coloured* noise gives
+  independent bins.  The correlation of the residual with itself across ``j``
+  neighbouring bins, ``rho_j``, is tested like Ljung-Box in the frequency index:
+  ``Q = 2 nf sum_{j<=L} |rho_j|^2 ~ chi2(2 L)`` for independent bins.
+* **Input dependence.**  The residual regressed on the inputs' transforms over
+  the band, an F test (:func:`input_regression`).
+
+A residual well above the floor that is not both smooth across frequency and
+correlated with an input is reported as coloured sensor noise, not as a model
+failure: the level test alone cannot tell the two apart.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import stats
+
+from ..data.record import FLAP_COLUMNS, find_trim, model_inputs, perturbations
+from ..simulate.replay import replay
+
+DEFAULT_BAND = (0.2256, 1.58)
+ALPHA = 1e-3
+#: Lags (bins) of the residual's correlation across frequency.
+MAX_LAG = 6
+
+#: Plausible ranges from physics, with the reason shown to the user.  Time
+#: constants in seconds (the paper judged tau0 = 0.59 s and tau_cs = 1.16 s
+#: "rather larger than might be expected", and tau_cs = 0.78 s satisfactory).
+PLAUSIBLE = {
+    "lambda_beta2": (0.95, 1.2, "flap frequency squared of articulated or hingeless "
+                                 "rotors lies near 1.0-1.2 (Puma theory 1.06)"),
+    "n_beta": (0.5, 1.5, "inertia number gamma/8 for Lock numbers 4-12 (Puma theory 0.987)"),
+    "tau": (0.0, 1.0, "an inflow time constant above 1 s is not physical for this rotor"),
+    "tau0": (0.0, 0.3, "the mean inflow settles within a few rotor revolutions"),
+    "tau_cs": (0.0, 1.0, "the cyclic inflow time constant should be below about 1 s"),
+    "azimuth_bias": (-0.5, 0.5, "an azimuth offset over 30 deg points at a wiring or "
+                                "sign error, not a bias"),
+    "delay": (-0.1, 0.1, "measurement-chain time shifts are tens of milliseconds"),
+}
+SECONDS = {"tau", "tau0", "tau_cs"}
+
+
+@dataclass(frozen=True)
+class Failure:
+    """One finding: ``kind`` is ``spectrum``, ``whiteness``, ``input-correlation``,
+    ``coloured-noise``, ``implausible``, ``undetermined``, ``correlated``,
+    ``unexplained`` or ``estimation``."""
+
+    kind: str
+    subject: str
+    message: str
+    detail: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return {"kind": self.kind, "subject": self.subject, "message": self.message,
+                **self.detail}
+
+
+@dataclass(frozen=True, eq=False)
+class ResidualAnalysis:
+    """A fit's residual over the band against the noise floor, per flap channel.
+
+    ``measured``, ``predicted`` ``(3, nf)`` flap transforms at ``f_hz``; ``floor``
+    ``(3, nf)`` noise power per bin; ``ratio`` ``(3, nf)`` residual power over it;
+    ``U`` ``(nf, m)`` the inputs' transforms (``inputs``); ``residual`` ``(N, 3)``
+    the time-domain residual of the replay from the fitted initial state.
+    """
+
+    f_hz: np.ndarray
+    measured: np.ndarray
+    predicted: np.ndarray
+    floor: np.ndarray
+    ratio: np.ndarray
+    residual: np.ndarray
+    floor_band_hz: tuple
+    inputs: tuple = ()
+    U: np.ndarray | None = None
+    hold: str = "continuous"
+
+    @property
+    def whitened(self) -> np.ndarray:
+        """The residual over the square root of the floor, ``(3, nf)``."""
+        return self.error / np.sqrt(self.floor)
+
+    @property
+    def error(self) -> np.ndarray:
+        """``measured - predicted`` ``(3, nf)``."""
+        return self.measured - self.predicted
+
+    @property
+    def excess(self) -> np.ndarray:
+        """Mean in-band residual power over the floor, per channel."""
+        return self.ratio.mean(axis=1)
+
+
+def floor_band(record, band_hz):
+    """The band [Hz] where the noise floor is measured: ``max(5 f2, 5 Hz)`` to 0.8
+    Nyquist, or ``None`` where it holds fewer than 20 transform bins."""
+    lo, hi = max(5.0 * band_hz[1], 5.0), 0.8 * 0.5 / record.dt
+    return (lo, hi) if (hi - lo) * record.duration >= 20 else None
+
+
+#: Sub-bands of the floor band: the floor is the median of their levels, so rotor
+#: harmonics (the N/rev ripple of a real rotor) in a few of them do not raise it.
+FLOOR_SUBBANDS = 8
+
+
+def noise_floor(record, model, band_hz, hold, f_band, in_band=None):
+    """Sensor-noise power per transform bin ``(3, nf)`` at the band's frequencies
+    ``f_band`` and the band it was measured in [Hz].
+
+    The residual of ``model`` (the frequency model, valid whether or not the
+    fitted model is stable) over :func:`floor_band`, where the rotor barely
+    answers, with its own end states there (those of the band fit are poorly
+    determined in directions that grow at high frequency).  Its level is the
+    median over :data:`FLOOR_SUBBANDS` sub-bands of each sub-band's median bin
+    power over ``ln 2``, carried into the band as white noise: the assumption
+    of a white sensor noise, stated in every report.  Without such a band, the
+    quietest quartile of the in-band residual ``in_band`` ``(nf, 3)``.
+    """
+    from ..identify.freqmodel import flap_response
+    from ..identify.transform import record_spectra
+    fb = floor_band(record, band_hz)
+    nf = np.size(f_band)
+    if fb is None:
+        p = np.abs(np.asarray(in_band)) ** 2
+        floor = np.quantile(p, 0.25, axis=0) / np.log(4 / 3)
+        floor = np.repeat(np.maximum(floor, np.finfo(float).tiny)[:, None], nf, axis=1)
+        return floor, (float(band_hz[0]), float(band_hz[1]))
+    sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False)
+    y_u, y_nu, _ = flap_response(model, sp)
+    e = sp.Z - y_u
+    a = y_nu.reshape(-1, y_nu.shape[2])
+    coef, *_ = np.linalg.lstsq(np.vstack([a.real, a.imag]),
+                               np.concatenate([e.ravel().real, e.ravel().imag]), rcond=None)
+    p = np.abs(e - y_nu @ coef) ** 2
+    chunks = np.array_split(np.arange(len(p)), FLOOR_SUBBANDS)
+    level = np.median([np.median(p[c], axis=0) for c in chunks], axis=0) / np.log(2)
+    floor = np.repeat(np.maximum(level, np.finfo(float).tiny)[:, None], nf, axis=1)
+    return floor, (float(fb[0]), float(fb[1]))
+
+
+def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
+                      fit=None) -> ResidualAnalysis:
+    """The residual of ``model`` on ``record`` over the band, against the floor.
+
+    ``fit``: the record's :class:`~inflowsim.identify.RecordFit` of an
+    identification with this model; its residual and initial state are used.
+    Without it the model is evaluated on the record (:func:`inflowsim.identify.evaluate`:
+    the same residual, end effects eliminated, for given parameters).
+    """
+    from ..identify import evaluate
+    from ..identify.transform import dft, transform_weights
+    record.check_band(band_hz)
+    trim = trim or find_trim(record)
+    hold = record.hold_or(hold) if fit is None else fit.hold
+    u = model_inputs(record, model, trim)
+    if fit is None:
+        ev = evaluate(record, model.structure, dict(model.parameters), band_hz, hold=hold)
+        f, Z, Y, x0 = ev.f_hz[0], ev.Z[0], ev.Y[0], None
+    else:
+        f, Z, Y, x0 = fit.f_hz, fit.Z, fit.Y, fit.x0
+    with np.errstate(all="ignore"):      # an unstable fitted model replays unbounded
+        y = replay(model, u, record.dt, hold, x0)[:, :3]
+    z = perturbations(record, trim, FLAP_COLUMNS)
+    e_t = z - y
+    floor, fb = noise_floor(record, model, band_hz, hold, f, Z - Y)
+    ratio = (np.abs(Z - Y) ** 2).T / floor
+    on_grid = np.allclose(f * len(record) * record.dt,
+                          np.rint(f * len(record) * record.dt), atol=1e-6)
+    U = dft(u, record.dt, f, on_grid, transform_weights(len(record), hold))
+    return ResidualAnalysis(f, Z.T, Y.T, floor, ratio, e_t, fb, tuple(model.inputs), U,
+                            hold)
+
+
+def _segments(f, mask):
+    out, start = [], None
+    for i, m in enumerate(mask):
+        if m and start is None:
+            start = i
+        if (not m or i == len(mask) - 1) and start is not None:
+            end = i if m else i - 1
+            out.append((start, end))
+            start = None
+    return [(float(f[a]), float(f[b]), a, b) for a, b in out]
+
+
+def frequency_whiteness(e: np.ndarray, max_lag: int = MAX_LAG):
+    """``(Q, p, rho_1)`` of one channel's complex residual across the band's bins:
+    ``Q = 2 nf sum_{j=1..L} |rho_j|^2``, chi-square with ``2 L`` degrees of freedom
+    for independent bins (white or coloured noise); model error, smooth in
+    frequency, makes neighbouring bins alike."""
+    e = np.asarray(e, dtype=complex)
+    nf = e.size
+    L = int(min(max_lag, max(1, nf // 4)))
+    den = float(np.sum(np.abs(e) ** 2))
+    if den == 0.0 or nf < 4:
+        return 0.0, 1.0, 0.0
+    rho = np.array([np.sum(e[j:] * np.conj(e[:nf - j])) / den for j in range(1, L + 1)])
+    q = float(2 * nf * np.sum(np.abs(rho) ** 2 * nf / (nf - np.arange(1, L + 1))))
+    return q, float(stats.chi2.sf(q, 2 * L)), float(np.abs(rho[0]))
+
+
+def structure_statistic(ra: ResidualAnalysis, floors=None, max_lag: int = MAX_LAG) -> float:
+    """How much structure across frequency the residual keeps, in units of the
+    noise: ``sum_c 2 nf sum_j |gamma_j|^2 nf / (nf - j)`` with ``gamma_j`` the
+    autocovariance over ``j`` bins of the residual divided by the root of the
+    noise floor (``floors`` ``(3, nf)``: default the analysis's own).  Unlike
+    :func:`frequency_whiteness` it is not normalised by the residual's own power,
+    so removing model error lowers it; for noise alone it is about ``2 L`` per
+    channel.  Smaller is whiter."""
+    fl = ra.floor if floors is None else np.asarray(floors)
+    total = 0.0
+    for c in range(3):
+        w = ra.error[c] / np.sqrt(fl[c])
+        nf = w.size
+        L = int(min(max_lag, max(1, nf // 4)))
+        g = np.array([np.sum(w[j:] * np.conj(w[:nf - j])) / nf for j in range(1, L + 1)])
+        total += float(2 * nf * np.sum(np.abs(g) ** 2 * nf / (nf - np.arange(1, L + 1))))
+    return total
+
+
+def floor_deviance(ra: ResidualAnalysis, floors=None) -> float:
+    """How far the residual spectrum is from white noise at the floor:
+    ``sum_c sum_k (r - 1 - ln r)``, ``r = |e_k|^2 / floor`` (``floors`` ``(3, nf)``,
+    default the analysis's own).  Zero only for a residual exactly at the floor;
+    for white noise at the floor its mean is ``0.5772`` a bin (Euler's constant),
+    and it grows with any excess (model error) and any deficit (a fit of the
+    noise).  :mod:`inflowsim.candidates` asks a candidate to lower it."""
+    fl = ra.floor if floors is None else np.asarray(floors)
+    r = np.maximum(np.abs(ra.error) ** 2 / fl, 1e-300)
+    return float(np.sum(r - 1.0 - np.log(r)))
+
+
+#: Mean of ``r - 1 - ln r`` for a bin of white noise at its floor (Euler's constant).
+WHITE_DEVIANCE = 0.5772156649015329
+
+
+def level_p_value(ra: ResidualAnalysis, c: int) -> float:
+    """p-value of channel ``c``'s in-band residual power against the floor
+    (``2 sum r ~ chi2(2 nf)`` for noise at the floor)."""
+    r = ra.ratio[c]
+    return float(stats.chi2.sf(2 * r.sum(), 2 * r.size))
+
+
+def input_regression(ra: ResidualAnalysis, c: int, rank_tol: float = 1e-6):
+    """Does channel ``c``'s residual depend on the inputs over the band?
+
+    The residual (over the root of the floor) is regressed on the inputs'
+    transforms, one complex gain each (the numerically independent ones: rank
+    ``r``); ``F = (|P e|^2 / r) / (|e - P e|^2 / (nf - r))`` is ``F(2r, 2(nf - r))``
+    for a residual independent of the inputs, whatever its colour.  Returns
+    ``(F, p, r, best)``: ``best`` the input most correlated with it alone.
+    """
+    e = ra.error[c] / np.sqrt(ra.floor[c])
+    nf = e.size
+    if ra.U is None or not np.any(e):
+        return 0.0, 1.0, 0, None
+    U = ra.U / np.sqrt(ra.floor[c])[:, None]
+    scale = np.abs(U).max(axis=0)
+    keep = scale > 0
+    if not keep.any():
+        return 0.0, 1.0, 0, None
+    U = U[:, keep] / scale[keep]
+    names = [n for n, k in zip(ra.inputs, keep) if k]
+    Q, s, _ = np.linalg.svd(U, full_matrices=False)
+    r = int(np.sum(s > rank_tol * s[0]))
+    if r == 0 or r >= nf:
+        return 0.0, 1.0, r, None
+    Q = Q[:, :r]
+    pe = Q @ (Q.conj().T @ e)
+    num = float(np.sum(np.abs(pe) ** 2)) / r
+    den = float(np.sum(np.abs(e - pe) ** 2)) / (nf - r)
+    F = num / den if den > 0 else np.inf
+    corr = [abs(np.sum(e * np.conj(U[:, j]))) ** 2 / float(np.sum(np.abs(U[:, j]) ** 2))
+            for j in range(U.shape[1])]
+    return F, float(stats.f.sf(F, 2 * r, 2 * (nf - r))), r, names[int(np.argmax(corr))]
+
+
+def channel_structure(ra: ResidualAnalysis, c: int, alpha=ALPHA) -> dict:
+    """Whether channel ``c``'s residual is structured: smooth across frequency
+    (:func:`frequency_whiteness`) *and* dependent on the inputs
+    (:func:`input_regression`).  Coloured noise can pass the first (leakage
+    makes neighbouring bins alike) but not the second; model error fails both."""
+    q, p, rho1 = frequency_whiteness(ra.whitened[c])
+    F, p_in, r, best = input_regression(ra, c)
+    return {"q": q, "p_value": p, "lag1": rho1, "input": best, "input_f": F,
+            "input_rank": r, "input_p_value": p_in,
+            "structured": bool(p < alpha and p_in < alpha)}
+
+
+def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
+    """Per channel: is the in-band residual above the noise floor, where, and is
+    the disagreement mostly magnitude or phase?  Unstructured excess is reported
+    as coloured noise."""
+    out = []
+    thr = -np.log(alpha)
+    for c, ch in enumerate(FLAP_COLUMNS):
+        r = ra.ratio[c]
+        nb = r.size
+        p = level_p_value(ra, c)
+        if p >= alpha:
+            continue
+        excess = float(r.mean())
+        st = channel_structure(ra, c, alpha)
+        if not st["structured"]:
+            out.append(Failure(
+                "coloured-noise", ch,
+                f"{ch}: in-band residual {excess:.3g}x the (white) noise floor, but not "
+                f"recognisably model error (structure across frequency p = "
+                f"{st['p_value']:.2g}, dependence on the inputs p = "
+                f"{st['input_p_value']:.2g}): coloured sensor noise, or an error no "
+                "input explains linearly",
+                {"p_value": p, "excess_power": excess, "structure_p_value": st["p_value"]}))
+            continue
+        Z, Y = ra.measured[c], ra.predicted[c]
+        mag_db = 20 * np.log10(np.maximum(np.abs(Z), 1e-300) / np.maximum(np.abs(Y), 1e-300))
+        ph_deg = np.degrees(np.angle(Z * np.conj(Y)))
+        mag_part = (np.abs(Z) - np.abs(Y)) ** 2
+        ph_part = 2 * np.abs(Z) * np.abs(Y) * (1 - np.cos(np.radians(ph_deg)))
+        flagged = r > thr
+        segs = _segments(ra.f_hz, flagged) or [(float(ra.f_hz[0]), float(ra.f_hz[-1]), 0, nb - 1)]
+        parts = []
+        for f1, f2, a, b in segs:
+            sl = slice(a, b + 1)
+            kind = "phase" if ph_part[sl].sum() > mag_part[sl].sum() else "magnitude"
+            parts.append({"f1_hz": f1, "f2_hz": f2, "mostly": kind,
+                          "magnitude_error_db": float(np.mean(mag_db[sl])),
+                          "phase_error_deg": float(np.mean(ph_deg[sl]))})
+        where = ", ".join(f"{s['f1_hz']:.3g}-{s['f2_hz']:.3g} Hz ({s['mostly']}: "
+                          f"{s['magnitude_error_db']:+.1f} dB, {s['phase_error_deg']:+.0f} deg)"
+                          for s in parts)
+        out.append(Failure("spectrum", ch,
+                           f"{ch}: model and measurement part at {where}; in-band residual "
+                           f"power {excess:.3g}x the noise floor",
+                           {"p_value": p, "excess_power": excess, "segments": parts,
+                            "peak_hz": float(ra.f_hz[int(np.argmax(r))]),
+                            "peak_excess": float(r.max())}))
+    return out
+
+
+def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=ALPHA
+                   ) -> list[Failure]:
+    """Structure left in each channel's residual over the band: correlation across
+    frequency (``whiteness``) and with the inputs (``input-correlation``).
+    ``record`` and ``model`` are accepted for compatibility and not needed."""
+    out = []
+    for c, ch in enumerate(FLAP_COLUMNS):
+        st = channel_structure(ra, c, alpha)
+        if st["p_value"] < alpha:
+            out.append(Failure("whiteness", ch,
+                               f"{ch}: residual is structured across frequency (Q = "
+                               f"{st['q']:.1f} over {min(MAX_LAG, ra.f_hz.size // 4)} bin "
+                               f"lags, p = {st['p_value']:.2g}, neighbour correlation "
+                               f"{st['lag1']:.2f}): a smooth model error left in the band",
+                               {"q": st["q"], "p_value": st["p_value"], "lag1": st["lag1"]}))
+        if st["input_p_value"] < alpha:
+            out.append(Failure("input-correlation", f"{ch}~{st['input']}",
+                               f"{ch}: residual depends on the inputs over the band (F = "
+                               f"{st['input_f']:.3g} on {st['input_rank']} inputs, p = "
+                               f"{st['input_p_value']:.2g}; most on {st['input']}): the "
+                               f"model misses part of the response to them",
+                               {"input": st["input"], "f": st["input_f"],
+                                "p_value": st["input_p_value"]}))
+    return out
+
+
+def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
+    """The structured excess no candidate explains, in one line per channel:
+    ``unexplained residual: X times the noise floor at F Hz in beta1s``."""
+    out = []
+    for ra in analyses:
+        for c, ch in enumerate(FLAP_COLUMNS):
+            r = ra.ratio[c]
+            if level_p_value(ra, c) >= alpha:
+                continue
+            if not channel_structure(ra, c, alpha)["structured"]:
+                continue
+            k = int(np.argmax(r))
+            out.append(Failure(
+                "unexplained", ch,
+                f"unexplained residual: {r.mean():.3g} times the noise floor over the band, "
+                f"{r[k]:.3g} at {ra.f_hz[k]:.3g} Hz in {ch}; outside the candidate "
+                "catalogue (no candidate is significant, plausible and material)",
+                {"excess_power": float(r.mean()), "peak_hz": float(ra.f_hz[k]),
+                 "peak_excess": float(r[k])}))
+    return out
+
+
+def parameter_failures(parameters, sigma, correlation=None, names=None, omega=None,
+                       rel_sigma=0.5, corr_limit=0.95) -> list[Failure]:
+    """Estimates outside the physical range by more than 1 sigma, poorly determined
+    (``sigma/|estimate| > rel_sigma``) or undetermined (no bound), or strongly
+    correlated pairs."""
+    out = []
+    for name, est in parameters.items():
+        s = sigma.get(name)
+        if name in PLAUSIBLE:
+            lo, hi, why = PLAUSIBLE[name]
+            scale = 1.0 / omega if (name in SECONDS and omega) else 1.0
+            v, sv = est * scale, (s or 0.0) * scale
+            if v - sv > hi or v + sv < lo:
+                unit = " s" if scale != 1.0 else ""
+                out.append(Failure("implausible", name,
+                                   f"{name} = {v:.4g}{unit} (1-sigma {sv:.2g}) is outside "
+                                   f"[{lo:g}, {hi:g}]{unit}: {why}; the structure is "
+                                   "probably missing an effect that this parameter absorbs",
+                                   {"estimate": est, "sigma": s, "range": [lo, hi]}))
+        if name in sigma and s is None:
+            out.append(Failure("undetermined", name,
+                               f"{name} = {est:.4g} is not determined by the data (no "
+                               "bound): fix it at a theory value, tie it, widen the band "
+                               "or add excitation", {"estimate": est, "sigma": None}))
+        elif s is not None and est != 0 and s / abs(est) > rel_sigma:
+            out.append(Failure("undetermined", name,
+                               f"{name} = {est:.4g} +- {s:.2g} ({100 * s / abs(est):.0f} %) "
+                               "is poorly determined: fix it at a theory value, tie it, "
+                               "widen the band or add excitation",
+                               {"estimate": est, "sigma": s}))
+    if correlation is not None and names is not None:
+        c = np.asarray(correlation)
+        for i in range(len(names)):
+            for j in range(i + 1, len(names)):
+                if abs(c[i, j]) > corr_limit:
+                    out.append(Failure("correlated", f"{names[i]}~{names[j]}",
+                                       f"{names[i]} and {names[j]} are correlated "
+                                       f"({c[i, j]:+.3f}): the data cannot separate them; "
+                                       "fix or tie one of them",
+                                       {"correlation": float(c[i, j])}))
+    return out
+
+
+__all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "spectrum_failures",
+           "residual_tests", "parameter_failures", "unexplained", "noise_floor",
+           "frequency_whiteness", "structure_statistic", "channel_structure",
+           "floor_deviance", "level_p_value", "WHITE_DEVIANCE",
+           "PLAUSIBLE"]

@@ -1,0 +1,206 @@
+"""``diagnose`` and the ladder: where a model fails, which effect is missing, add it
+and watch the error fall (``workflow.md``).
+
+:func:`diagnose` fits the structure (or evaluates given parameters), reports the
+failures of :mod:`inflowsim.failures`, and ranks every candidate effect with
+:mod:`inflowsim.candidates`.  :func:`ladder` adds the best accepted effect and
+ranks again until nothing is accepted: one-shot ranking is not enough
+when two effects explain similar residuals.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .candidates import ALPHA, Candidate, rank_candidates
+from .failures import (Failure, parameter_failures, residual_analysis, residual_tests,
+                       WHITE_DEVIANCE, floor_deviance, spectrum_failures,
+                       structure_statistic, unexplained)
+from ..identify import identify
+from ..identify.transform import DEFAULT_BAND
+from ..model.build import build_model
+from ..model.structure import Structure
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """What :func:`diagnose` found.
+
+    ``failures`` where the fitted structure and the measurements part (with an
+    ``unexplained`` finding when the residual keeps structure no candidate
+    explains); ``candidates`` ranked best first; ``missing_effect`` the best
+    accepted candidate (:mod:`inflowsim.candidates`) or ``None``.
+    """
+
+    structure: Structure
+    fit: object = field(repr=False)
+    failures: tuple
+    candidates: tuple
+    missing_effect: str | None
+    band_hz: tuple
+
+    def to_json(self) -> dict:
+        return {"structure": self.structure.name, "effects": list(self.structure.effects),
+                "cost": float(self.fit.cost), "band_hz": list(self.band_hz),
+                "failures": [f.to_json() for f in self.failures],
+                "candidates": [c.to_json() for c in self.candidates],
+                "missing_effect": self.missing_effect,
+                "parameters": {n: {"estimate": float(v), "sigma": self.fit.sigma.get(n)}
+                               for n, v in self.fit.parameters.items()},
+                "fit": self.fit.fit}
+
+
+def _as_list(records):
+    return list(records) if isinstance(records, (list, tuple)) else [records]
+
+
+def analyses_of(records, fit, band_hz):
+    """The fit's residual analysis on each record (its own residual and initial
+    state, each record's own flight condition and trim)."""
+    out = []
+    for rec, data in zip(_as_list(records), fit.data):
+        m = build_model(fit.structure, fit.parameters, rec.constants)
+        out.append(residual_analysis(rec, m, band_hz, fit=data))
+    return out
+
+
+def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
+    """Failures of a fitted structure on each record (spectra, residual tests,
+    estimates)."""
+    out: list[Failure] = []
+    for ra in analyses or analyses_of(records, fit, band_hz):
+        out += spectrum_failures(ra) + residual_tests(ra)
+    out += parameter_failures(fit.parameters, fit.sigma, fit.correlation, list(fit.free),
+                              omega=fit.constants[0].omega)
+    out += [Failure("estimation", "fit", w) for w in fit.warnings]
+    return out
+
+
+def _judge(records, band_hz, base_fit, base_analyses):
+    """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.candidates`):
+    the residual's deviance from white noise at the floor and its structure
+    across frequency, against the base fit's floors (the sensor noise does not
+    change with the model); ``judge(None)`` describes the base, with the
+    deviance expected of noise at the floor."""
+    floors = [ra.floor for ra in base_analyses]
+
+    def measure(analyses):
+        return {"deviance": sum(floor_deviance(ra, fl) for ra, fl in zip(analyses, floors)),
+                "structure": sum(structure_statistic(ra, fl)
+                                 for ra, fl in zip(analyses, floors))}
+    base = measure(base_analyses)
+    base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
+    cache = {id(base_fit): base}
+
+    def judge(fit):
+        if fit is None:
+            return base
+        if id(fit) not in cache:
+            cache[id(fit)] = measure(analyses_of(records, fit, band_hz))
+        return cache[id(fit)]
+    return judge
+
+
+def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
+             alpha=ALPHA, progress=None, base_fit=None, hold=None) -> Diagnosis:
+    """Fit ``structure``, report where it fails, rank the missing effects.
+
+    Parameters
+    ----------
+    records : Record or list of Record
+    structure : str or Structure
+    band_hz : (float, float)
+        Analysis band [Hz], snapped to the records' grids.
+    start : dict, optional
+        Start values (e.g. a parameter file); default theory and paper values.
+    pool : list of str, optional
+        Candidate effects to try (default: the whole catalogue).
+    alpha : float
+        Significance level per candidate.
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
+    """
+    recs = _as_list(records)
+    s = Structure.parse(structure)
+    fit = base_fit or identify(recs, s, band_hz=band_hz, start=start, progress=progress,
+                               hold=hold)
+    band = fit.band_hz
+    analyses = analyses_of(recs, fit, band_hz)
+    fails = failures_of(recs, fit, band_hz, analyses)
+
+    def fit_fn(r, st, band_hz, start):
+        return identify(r, st, band_hz=band_hz, start=start, hold=hold)
+    judge = _judge(recs, band_hz, fit, analyses)
+    cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, alpha, progress, judge)
+    best = next((c.effect for c in cands if c.accepted), None)
+    if best is None:
+        fails += unexplained(analyses, alpha)
+    return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band))
+
+
+@dataclass(frozen=True)
+class Rung:
+    """One structure tried on the ladder, with the diagnosis made on it."""
+
+    structure: Structure
+    fit: object = field(repr=False)
+    added: str | None
+    diagnosis: Diagnosis | None = field(repr=False, default=None)
+
+
+@dataclass(frozen=True)
+class Ladder:
+    rungs: tuple
+    band_hz: tuple
+
+    @property
+    def final(self) -> Rung:
+        return self.rungs[-1]
+
+    def to_json(self) -> dict:
+        return {"band_hz": list(self.band_hz), "rungs": [
+            {"structure": r.structure.name, "effects": list(r.structure.effects),
+             "added": r.added, "cost": float(r.fit.cost), "fit": r.fit.fit,
+             "S_diag": [[float(v) for v in abs(S.diagonal())] for S in r.fit.S],
+             "parameters": {n: {"estimate": float(v), "sigma": r.fit.sigma.get(n)}
+                            for n, v in r.fit.parameters.items()},
+             "candidates": [c.to_json() for c in r.diagnosis.candidates] if r.diagnosis else [],
+             "missing_effect": r.diagnosis.missing_effect if r.diagnosis else None}
+            for r in self.rungs]}
+
+
+def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=ALPHA,
+           progress=None, hold=None) -> Ladder:
+    """Add the best accepted effect and rank again, until none is accepted.
+
+    The next rung's fit is the winning candidate's own fit (already made while
+    ranking), so each rung costs one ranking.
+    """
+    recs = _as_list(records)
+    d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress,
+                 hold=hold)
+    rungs = [Rung(d.structure, d.fit, None, d)]
+    for _ in range(max_steps):
+        if d.missing_effect is None:
+            break
+        win: Candidate = next(c for c in d.candidates if c.effect == d.missing_effect)
+        if progress:
+            progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
+        d = diagnose(recs, win.fit.structure, band_hz, pool=pool, alpha=alpha,
+                     progress=progress, base_fit=win.fit, hold=hold)
+        rungs.append(Rung(d.structure, d.fit, win.effect, d))
+    return Ladder(tuple(rungs), d.band_hz)
+
+
+def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
+                    hold=None) -> Ladder:
+    """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert)."""
+    recs = _as_list(records)
+    rungs, prev = [], None
+    for s in structures:
+        st = Structure.parse(s)
+        fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
+        added = None if prev is None else "+".join(
+            e for e in st.effects if e not in prev.effects) or None
+        rungs.append(Rung(st, fit, added, None))
+        prev = st
+    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz))

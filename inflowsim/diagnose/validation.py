@@ -1,0 +1,340 @@
+"""Validation: replay a record's measured inputs through a model and compare flap.
+
+Workflow step 1 of ``workflow.md`` (the paper's Figures 1-5): time-domain
+reconstruction of the measured multiblade flap, per-channel fit figures, and
+frequency responses estimated from the record compared with the model's over a
+band.
+
+Conventions
+-----------
+* Trim is :func:`inflowsim.record.find_trim` (mean of the quiet lead-in before
+  the first control movement) unless given; every channel is used as a
+  perturbation about it, and ``ValidationResult.trim`` says how it was taken.
+* The prediction is :func:`inflowsim.replay.replay` of the measured input
+  perturbations at the record's step ``dt`` with the record's intersample
+  behaviour (``# hold:``, or ``hold=``: exact for held or linear inputs, local
+  cubics for continuous records; the model's time shifts included), from rest
+  in trim.
+* Frequency responses are ratios of DFTs at the record's own transform
+  frequencies ``k / (N dt)``: measured flap over the reference input, and the
+  *predicted* flap over the same input DFT, so measured and model responses see
+  the same input spectrum (leakage and multi-input effects cancel in the
+  comparison).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Mapping
+
+import numpy as np
+
+from ..errors import InputError
+from ..data.record import CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations
+from ..simulate.replay import replay
+
+#: The paper's identification band [Hz]: 0.2256-1.58 Hz (bins 6..42 at 26.6 s).
+PAPER_BAND_HZ = (0.2256, 1.58)
+
+
+@dataclass(frozen=True)
+class ChannelFit:
+    """Time-domain fit figures of one flap channel.
+
+    Attributes
+    ----------
+    rms : float
+        RMS of the error ``z - y`` [rad].
+    tic : float
+        Theil inequality coefficient
+        ``sqrt(mean(e^2)) / (sqrt(mean(y^2)) + sqrt(mean(z^2)))`` [-]; 0 is a
+        perfect fit, 1 the worst.
+    fit_percent : float
+        ``100 (1 - ||z - y|| / ||z - mean(z)||)`` [%]; 100 is a perfect fit.
+    """
+
+    rms: float
+    tic: float
+    fit_percent: float
+
+
+@dataclass(frozen=True, eq=False)
+class FrequencyComparison:
+    """Measured and model frequency responses of the flap to one reference input.
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Transform frequencies in the band [Hz].
+    reference_input : str
+        Input column the responses are ratios to.
+    input_dft : ndarray, shape (nf,)
+        DFT of the reference input perturbation (``dt`` times the FFT) [unit s].
+    measured_dft, predicted_dft : ndarray, shape (3, nf)
+        DFT of measured and predicted flap perturbations [rad s].
+    measured, model : ndarray, shape (3, nf)
+        Responses ``measured_dft / input_dft`` and ``predicted_dft / input_dft``.
+    """
+
+    f_hz: np.ndarray
+    reference_input: str
+    input_dft: np.ndarray
+    measured_dft: np.ndarray
+    predicted_dft: np.ndarray
+    measured: np.ndarray
+    model: np.ndarray
+
+    @staticmethod
+    def magnitude_db(h) -> np.ndarray:
+        """``20 log10 |h|`` [dB]."""
+        return 20.0 * np.log10(np.abs(h))
+
+    @staticmethod
+    def phase_deg(h) -> np.ndarray:
+        """Phase unwrapped along frequency [deg]."""
+        return np.degrees(np.unwrap(np.angle(h), axis=-1))
+
+    @property
+    def magnitude_error_db(self) -> np.ndarray:
+        """``20 log10 |measured / model|`` per channel and frequency [dB]."""
+        return 20.0 * np.log10(np.abs(self.measured) / np.abs(self.model))
+
+    @property
+    def phase_error_deg(self) -> np.ndarray:
+        """Phase of ``measured / model``, wrapped to (-180, 180] [deg]."""
+        return np.degrees(np.angle(self.measured / self.model))
+
+
+@dataclass(frozen=True, eq=False)
+class ValidationResult:
+    """Measured against predicted flap, in time and frequency.
+
+    Attributes
+    ----------
+    structure : str
+        Name of the model's structure.
+    source : str
+        The record's file (or ``<memory>``).
+    trim : Trim
+        Trim subtracted from every channel (``trim.describe()`` says how).
+    hold : str
+        Intersample behaviour the replay assumed (``continuous``, ``zoh``, ``foh``).
+    t : ndarray, shape (N,)
+        Time [s].
+    inputs : tuple of str
+        Model input columns, the order of ``u``.
+    u : ndarray, shape (N, m)
+        Measured input perturbations [SI].
+    measured, predicted : ndarray, shape (N, 3)
+        Flap perturbations ``beta0, beta1c, beta1s`` [rad].
+    channels : mapping
+        :class:`ChannelFit` by flap channel name.
+    band_hz : tuple of float
+        Band actually used: first and last transform frequency [Hz].
+    frequency : FrequencyComparison
+    magnitude_rms_db, phase_rms_deg : mapping
+        RMS over the band of the magnitude error [dB] and phase error [deg] per
+        channel.
+    """
+
+    structure: str
+    source: str
+    trim: Trim
+    hold: str
+    t: np.ndarray
+    inputs: tuple
+    u: np.ndarray
+    measured: np.ndarray
+    predicted: np.ndarray
+    channels: Mapping[str, ChannelFit]
+    band_hz: tuple
+    frequency: FrequencyComparison
+    magnitude_rms_db: Mapping[str, float]
+    phase_rms_deg: Mapping[str, float]
+
+    @property
+    def error(self) -> np.ndarray:
+        """Measured minus predicted flap [rad], shape (N, 3)."""
+        return self.measured - self.predicted
+
+    def to_json(self) -> dict:
+        """The ``validate --json`` document (``interface.md``), plus extras."""
+        return {
+            "structure": self.structure,
+            "record": self.source,
+            "hold": self.hold,
+            "channels": {c: {"rms": _num(f.rms), "tic": _num(f.tic),
+                             "fit_percent": _num(f.fit_percent),
+                             "magnitude_rms_db": _num(self.magnitude_rms_db[c]),
+                             "phase_rms_deg": _num(self.phase_rms_deg[c])}
+                         for c, f in self.channels.items()},
+            "band_hz": list(self.band_hz),
+            "n_frequencies": int(self.frequency.f_hz.size),
+            "reference_input": self.frequency.reference_input,
+            "trim": {"description": self.trim.describe(),
+                     "values": {c: self.trim.values[c]
+                                for c in (*self.inputs, *FLAP_COLUMNS)}},
+        }
+
+
+def _num(x):
+    """JSON has no NaN: an undefined figure is ``null``."""
+    return float(x) if np.isfinite(x) else None
+
+
+def fit_metrics(measured, predicted) -> ChannelFit:
+    """Time-domain fit figures of one channel.
+
+    Parameters
+    ----------
+    measured : array_like
+        Measured ``z`` [rad].
+    predicted : array_like
+        Predicted ``y`` [rad], same length.
+
+    Returns
+    -------
+    ChannelFit
+        ``tic`` is NaN when both signals are identically zero, ``fit_percent``
+        NaN when ``z`` is constant.
+    """
+    z = np.asarray(measured, dtype=float)
+    y = np.asarray(predicted, dtype=float)
+    # TIC and fit are scale-free: work on scaled signals so squares never underflow
+    scale = float(max(np.max(np.abs(z), initial=0.0), np.max(np.abs(y), initial=0.0)))
+    if scale == 0.0:
+        return ChannelFit(0.0, float("nan"), float("nan"))
+    z, y = z / scale, y / scale
+    e = z - y
+    rms = float(np.sqrt(np.mean(e**2)))
+    den = float(np.sqrt(np.mean(y**2)) + np.sqrt(np.mean(z**2)))
+    tic = rms / den
+    fit = 100.0 * (1.0 - _norm_ratio(e, z - np.mean(z)))
+    return ChannelFit(rms * scale, tic, fit)
+
+
+def _norm_ratio(a, b) -> float:
+    """``||a|| / ||b||`` without underflow when the two differ by hundreds of decades
+    (NaN when ``b`` is zero)."""
+    sa, sb = float(np.max(np.abs(a))), float(np.max(np.abs(b)))
+    if sb == 0.0:
+        return float("nan")
+    if sa == 0.0:
+        return 0.0
+    return (sa / sb) * float(np.linalg.norm(a / sa) / np.linalg.norm(b / sb))
+
+
+def dft_bins(record: Record, band_hz=None) -> np.ndarray:
+    """Transform bin indices ``k`` (frequency ``k / (N dt)``) nearest to the band.
+
+    ``band_hz`` defaults to :data:`PAPER_BAND_HZ`; the band is checked against the
+    record (:meth:`Record.check_band`) and snapped to the nearest bins.
+    """
+    band = PAPER_BAND_HZ if band_hz is None else tuple(float(f) for f in band_hz)
+    if len(band) != 2:
+        raise InputError(f"band {band}: give two frequencies F1 F2 in Hz")
+    record.check_band(band)
+    df = 1.0 / record.duration
+    k1 = max(1, int(round(band[0] / df)))
+    k2 = min(len(record) // 2, int(round(band[1] / df)))
+    if k2 - k1 < 1:
+        raise InputError(f"band {band[0]:g}-{band[1]:g} Hz holds fewer than two "
+                         f"transform frequencies at resolution {df:.4g} Hz")
+    return np.arange(k1, k2 + 1)
+
+
+def _dft(x, bins, dt):
+    """``dt * sum x_n exp(-2 pi j k n / N)`` at ``bins``, along axis 0."""
+    return dt * np.fft.rfft(x, axis=0)[bins]
+
+
+def reference_input(u_dft, inputs) -> str:
+    """The pilot control (``theta0, theta1c, theta1s``) with most in-band energy.
+
+    Controls share a unit (rad), so their energies compare; only when no control
+    moves in the band is the input with most in-band energy (in its own SI unit)
+    taken.
+    """
+    energy = np.sum(np.abs(u_dft) ** 2, axis=0)
+    ctl = [i for i, n in enumerate(inputs) if n in CONTROL_COLUMNS and energy[i] > 0]
+    pool = ctl or [i for i in range(len(inputs)) if energy[i] > 0]
+    if not pool:
+        raise InputError("no input moves in the band: nothing to compare responses to")
+    return inputs[max(pool, key=lambda i: energy[i])]
+
+
+def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
+             reference_input: str | None = None, hold: str | None = None
+             ) -> ValidationResult:
+    """Compare ``model`` with the measured flap of ``record``.
+
+    Parameters
+    ----------
+    record : Record
+        Totals as recorded (``record-format.md``); must hold the model's inputs
+        and ``beta0, beta1c, beta1s``.
+    model : Model
+        Built at the record's flight condition (``record.constants``).
+    trim : Trim, optional
+        Default :func:`~inflowsim.record.find_trim` of the record.
+    band_hz : (float, float), optional
+        Frequency band [Hz], default :data:`PAPER_BAND_HZ`, snapped to the
+        record's transform frequencies ``k / (N dt)``.
+    reference_input : str, optional
+        Input column the responses are ratios to; default the pilot control
+        with most in-band energy (:func:`reference_input`).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the inputs; default the record's (``# hold:``).
+
+    Returns
+    -------
+    ValidationResult
+
+    Raises
+    ------
+    RecordError
+        The record lacks a column the model needs, or is too short for the band.
+    """
+    record.require((*model.inputs, *FLAP_COLUMNS))
+    bins = dft_bins(record, band_hz)
+    trim = find_trim(record) if trim is None else trim
+    u = perturbations(record, trim, model.inputs)
+    z = perturbations(record, trim, FLAP_COLUMNS)
+    dt = record.dt
+    hold = record.hold_or(hold)
+    y = replay(model, u, dt, hold)[:, :3]
+    fits = {c: fit_metrics(z[:, i], y[:, i]) for i, c in enumerate(FLAP_COLUMNS)}
+
+    u_dft = _dft(u, bins, dt)
+    if reference_input is None:
+        ref = _reference(u_dft, model.inputs)
+    elif reference_input not in model.inputs:
+        raise InputError(f"reference input {reference_input!r} is not an input of the "
+                         f"model (inputs: {', '.join(model.inputs)})")
+    else:
+        ref = reference_input
+    x = u_dft[:, model.inputs.index(ref)]
+    if np.any(x == 0):
+        raise InputError(f"reference input {ref} has no energy at some band frequency")
+    z_dft = _dft(z, bins, dt).T
+    y_dft = _dft(y, bins, dt).T
+    fc = FrequencyComparison(f_hz=bins / record.duration, reference_input=ref,
+                             input_dft=x, measured_dft=z_dft, predicted_dft=y_dft,
+                             measured=z_dft / x, model=y_dft / x)
+    mag = fc.magnitude_error_db
+    ph = fc.phase_error_deg
+    mag_rms = {c: float(np.sqrt(np.mean(mag[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
+    ph_rms = {c: float(np.sqrt(np.mean(ph[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
+    return ValidationResult(
+        structure=model.structure.name, source=record.source, trim=trim, hold=hold,
+        t=record.t,
+        inputs=tuple(model.inputs), u=u, measured=z, predicted=y,
+        channels=MappingProxyType(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
+        frequency=fc, magnitude_rms_db=MappingProxyType(mag_rms),
+        phase_rms_deg=MappingProxyType(ph_rms))
+
+
+_reference = reference_input     # the parameter of validate() shadows the function
+
+__all__ = ["PAPER_BAND_HZ", "ChannelFit", "FrequencyComparison", "ValidationResult",
+           "fit_metrics", "dft_bins", "reference_input", "validate"]

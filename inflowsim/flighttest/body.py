@@ -1,0 +1,92 @@
+"""A simple, documented body-motion model for virtual flight tests.
+
+Not a flight model: decoupled low-order responses to the cyclic and collective
+perturbations, with the kinematics that turn attitude into in-plane speed, so
+that the rotor sees the hub motion (``p, q, pdot, qdot, muz, mux, muy``) a real
+doublet produces.  Per axis (perturbations, SI):
+
+- pitch: ``q_dot = M_q q + M_att th + M_th theta1s``, attitude ``th_dot = q``,
+  forward speed ``u_dot = X_u u - g th``;
+- roll:  ``p_dot = L_p p + L_att ph + L_th theta1c``, attitude ``ph_dot = p``,
+  side speed ``v_dot = Y_v v + g ph``;
+- heave: ``w_dot = Z_w w + Z_th theta0``.
+
+``M_att``, ``L_att`` stand for the attitude-holding of a stability augmentation
+system (or the pilot): without them a 3-2-1-1, whose pitch rate does not
+integrate to zero, would leave the aircraft at a new attitude and its speed
+would run away (``X_u`` alone is a phugoid of minutes).  Every mode is stable.
+
+``mux = u/(Omega R)``, ``muy = v/(Omega R)``, and
+``muz = (w - mu Omega R th)/(Omega R)`` (down positive: a nose-up attitude turns
+part of the trim speed into flow up through the disc).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..simulate.discrete import zoh
+
+G = 9.81
+#: Hub channels the body model produces, in the order of :meth:`BodyModel.hub_matrices`.
+HUB = ("muz", "p", "q", "pdot", "qdot", "mux", "muy")
+
+
+@dataclass(frozen=True)
+class BodyModel:
+    """Derivatives [1/s, 1/s^2] and control gains [m/s^2 or rad/s^2 per rad]."""
+
+    m_q: float = -1.2
+    m_att: float = -1.0
+    m_theta: float = -10.0
+    x_u: float = -0.05
+    l_p: float = -5.0
+    l_att: float = -2.0
+    l_theta: float = 25.0
+    y_v: float = -0.05
+    z_w: float = -0.7
+    z_theta: float = -60.0
+
+    def matrices(self):
+        """``x_dot = a x + b c``: states ``q th u p ph v w``, controls
+        ``theta0 theta1c theta1s``."""
+        a = np.zeros((7, 7))
+        b = np.zeros((7, 3))
+        a[0, 0], a[0, 1], b[0, 2] = self.m_q, self.m_att, self.m_theta
+        a[1, 0] = 1.0
+        a[2, 1], a[2, 2] = -G, self.x_u
+        a[3, 3], a[3, 4], b[3, 1] = self.l_p, self.l_att, self.l_theta
+        a[4, 3] = 1.0
+        a[5, 4], a[5, 5] = G, self.y_v
+        a[6, 6], b[6, 0] = self.z_w, self.z_theta
+        return a, b
+
+    def hub_matrices(self, omega_r: float, mu: float = 0.0):
+        """Hub motion ``h = C x + D c`` (channels :data:`HUB`) of the body state and
+        controls [SI]."""
+        a, b = self.matrices()
+        c = np.zeros((7, 7))
+        d = np.zeros((7, 3))
+        c[0, 6], c[0, 1] = 1.0 / omega_r, -mu          # muz
+        c[1, 3] = 1.0                                   # p
+        c[2, 0] = 1.0                                   # q
+        c[3], d[3] = a[3], b[3]                         # pdot
+        c[4], d[4] = a[0], b[0]                         # qdot
+        c[5, 2] = 1.0 / omega_r                         # mux
+        c[6, 5] = 1.0 / omega_r                         # muy
+        return c, d
+
+    def response(self, controls: np.ndarray, dt: float, omega_r: float,
+                 mu: float = 0.0) -> dict:
+        """Hub motion for control perturbations ``(N, 3)`` (theta0, theta1c,
+        theta1s) held over each sample (exact zero-order hold)."""
+        a, b = self.matrices()
+        phi, gam = zoh(a, b, dt)
+        n = len(controls)
+        x = np.zeros((n, 7))
+        for k in range(n - 1):
+            x[k + 1] = phi @ x[k] + gam @ controls[k]
+        c, d = self.hub_matrices(omega_r, mu)
+        h = x @ c.T + np.asarray(controls) @ d.T
+        return {name: h[:, i] for i, name in enumerate(HUB)}

@@ -1,0 +1,378 @@
+"""Virtual flight test: records (``record-format.md``) from a truth that is not fitted.
+
+Two truths:
+
+- ``"nonlinear"`` (default): the individual-blade rotor of :mod:`inflowsim.bladesim`
+  (4 blades, blade-element lift, each blade's flap integrated by RK4 in azimuth,
+  dynamic inflow driven by blade-element minus local-momentum loads with the
+  Eq. (14) speed through the disc), flap measured as a flight-test system does:
+  multiblade coordinates from the blades with the *recorded* azimuth
+  (:mod:`inflowsim.multiblade`), optional azimuth bias and time delay, noise.
+- ``"linear"``: any structure plus effects, delegated to
+  :func:`inflowsim.virtual.virtual_record` (the truth is then the linear model).
+
+Trim (nonlinear truth): the controls are *given* (``trim_controls``, true blade
+pitch; default the virtual Puma's ``theta0 0.17, theta1c 0.01, theta1s -0.05`` rad)
+with ``mux = mu``, ``muy = 0``, ``muz = trim_muz`` and no hub rates; the periodic
+flap and inflow for them is solved by marching blade passages to a fixed point
+(:meth:`BladeRotor.periodic_trim`).  The record then holds totals: trim plus
+perturbations.  The pilot input (doublet or 3-2-1-1) is added in the *recorded*
+control frame; the true pitch is the recorded one rotated back by the azimuth
+bias (``model.md`` section 6).  Hub motion: :class:`inflowsim.body.BodyModel`
+driven by the true control perturbations (``body=None``: hub fixed).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .bladesim import MAX_STEP, BladeRotor, RotorSpec
+from .body import HUB, BodyModel
+from ..model.equations import rotation
+from ..errors import InputError
+from ..physics.multiblade import multiblade
+from ..data.record import FLAP_COLUMNS, INPUT_COLUMNS, Record
+from .virtual import (KINDS, PUMA_TRIM, Manoeuvre, VirtualTest, pilot_controls,
+                      sensor_noise, virtual_record)
+
+#: Given trim controls of the nonlinear truth (true pitch) [rad].
+TRIM_CONTROLS = {c: PUMA_TRIM[c] for c in ("theta0", "theta1c", "theta1s")}
+INFLOW_COLUMNS = ("lambda0", "lambda1c", "lambda1s")
+
+
+@dataclass(frozen=True)
+class FlightTest:
+    """A virtual flight test with the nonlinear individual-blade truth.
+
+    Parameters
+    ----------
+    rotor : RotorSpec
+        The truth rotor (Puma defaults; constants give ``mu``, ``omega``, ``R``).
+    trim_controls : dict
+        ``theta0, theta1c, theta1s`` true trim pitch [rad].
+    trim_muz : float
+        Trim hub velocity normal to the disc over ``Omega R`` [-].
+    manoeuvres : tuple of Manoeuvre
+        Pilot inputs (recorded frame) [rad, s].
+    duration, dt : float
+        Record length and sample step [s].
+    noise_flap, noise_inputs : float
+        Standard deviation of Gaussian sensor noise on the flap [rad] and inputs.
+    noise_color_hz : float or None
+        White flap noise (``None``) or first-order low-pass with this corner [Hz]
+        (:func:`inflowsim.virtual.sensor_noise`).
+    seed : int
+        Noise seed.
+    azimuth_bias : float
+        Offset of the recorded azimuth [rad] (``model.md`` section 6).
+    delay : float
+        Time delay of the recorded flap [s].
+    body : BodyModel or None
+        Hub-motion model; ``None`` holds the hub fixed (no body motion).
+    max_step : float
+        Largest RK4 step in azimuth [rad].
+    include_truth : bool
+        Add the true inflow perturbation columns ``lambda0, lambda1c, lambda1s``.
+    description : str
+    hold : {"continuous", "zoh"}
+        ``continuous`` (default): smooth pilot inputs, the body integrated in
+        continuous time (DOP853) and the blades' RK4 fed the inputs at every stage
+        time, as in flight; ``zoh``: inputs held over each sample (a digital
+        controller's record, ``# hold: zoh``).
+    """
+
+    rotor: RotorSpec = field(default_factory=RotorSpec)
+    trim_controls: dict = field(default_factory=lambda: dict(TRIM_CONTROLS))
+    trim_muz: float = 0.0
+    manoeuvres: tuple = (Manoeuvre(),)
+    duration: float = 26.6
+    dt: float = 0.01
+    noise_flap: float = 1e-4
+    noise_inputs: float = 0.0
+    seed: int = 0
+    azimuth_bias: float = 0.0
+    delay: float = 0.0
+    body: BodyModel | None = field(default_factory=BodyModel)
+    max_step: float = MAX_STEP
+    include_truth: bool = True
+    description: str = "longitudinal cyclic doublet, 100 kt, nonlinear blade-element truth"
+    hold: str = "continuous"
+    noise_color_hz: float | None = None
+
+    def check(self) -> "FlightTest":
+        self.rotor.check()
+        for name in ("duration", "dt", "max_step"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise InputError(f"{name} = {v}: must be a finite number > 0")
+        if self.duration < 4 * self.dt:
+            raise InputError(f"duration = {self.duration:g} s: need at least 4 samples "
+                             f"of {self.dt:g} s")
+        for name in ("noise_flap", "noise_inputs", "delay"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise InputError(f"{name} = {v}: must be a finite number >= 0")
+        if not (np.isfinite(self.azimuth_bias) and abs(self.azimuth_bias) <= math.pi):
+            raise InputError(f"azimuth_bias = {self.azimuth_bias}: must be in [-pi, pi] rad")
+        missing = {"theta0", "theta1c", "theta1s"} - set(self.trim_controls)
+        if missing:
+            raise InputError(f"trim_controls: missing {sorted(missing)[0]}")
+        for m in self.manoeuvres:
+            if m.channel not in TRIM_CONTROLS:
+                raise InputError(f"manoeuvre channel {m.channel!r}: choose theta0, "
+                                 "theta1c or theta1s")
+        if self.hold not in KINDS:
+            raise InputError(f"hold {self.hold!r}: choose {', '.join(KINDS)}")
+        return self
+
+
+@dataclass(frozen=True, eq=False)
+class FlightTestResult:
+    """The record and a description of its truth (for ``--truth-json``)."""
+
+    record: Record
+    truth: dict
+
+
+def _trim_inputs(test: FlightTest) -> np.ndarray:
+    k = test.rotor.constants
+    tc = test.trim_controls
+    return np.array([tc["theta0"], tc["theta1c"], tc["theta1s"], test.trim_muz,
+                     0.0, 0.0, 0.0, 0.0, k.mu, 0.0])
+
+
+def _advance(rotor: BladeRotor, x_trim, u_trim, n_back: int, dpsi: float, max_step):
+    """Trim state at ``psi = -n_back dpsi`` (blade 0 there), from the state at 0."""
+    if n_back == 0:
+        return np.array(x_trim, float)
+    per = 2 * np.pi / rotor.nb
+    k = int(math.ceil(n_back * dpsi / per))
+    span = k * per - n_back * dpsi
+    x = np.array(x_trim, float)
+    if span > 0:
+        n = max(1, int(math.ceil(span / max_step)))
+        for m in range(n):
+            x = rotor.step(m * span / n, x, tuple(u_trim), span / n)
+    for _ in range(k):          # blade 0 now sits where blade -k was
+        x = rotor.relabel(x)
+    return x
+
+
+def _hermite(sub, n_sub, nb, dpsi, s):
+    """Blade flap at fractional sub-step positions ``s`` (cubic Hermite with rates)."""
+    h = dpsi / n_sub
+    j = np.clip(np.floor(s).astype(int), 0, len(sub) - 2)
+    f = (s - j)[:, None]
+    b0, b1 = sub[j, :nb], sub[j + 1, :nb]
+    d0, d1 = sub[j, nb:2 * nb] * h, sub[j + 1, nb:2 * nb] * h
+    f2, f3 = f * f, f * f * f
+    return ((2 * f3 - 3 * f2 + 1) * b0 + (f3 - 2 * f2 + f) * d0
+            + (-2 * f3 + 3 * f2) * b1 + (f3 - f2) * d1)
+
+
+def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
+    """Integrate the blades for true control perturbations and hub motion.
+
+    Parameters
+    ----------
+    test : FlightTest
+    controls_true : ndarray (N, 3)
+        True pitch perturbations ``theta0, theta1c, theta1s`` [rad].
+    hub : dict
+        Perturbations ``muz, p, q, pdot, qdot, mux, muy`` (SI, arrays of N).
+    inputs_at : callable, optional
+        ``inputs_at(t) -> (len(t), 10)``: the inputs (azimuth units, totals) at any
+        times [s], for continuously varying inputs; without it the sampled inputs
+        are held over each sample.
+
+    Returns
+    -------
+    dict
+        ``beta_meas`` (N, 3) as recorded (recorded azimuth, delay, no noise);
+        ``beta_true`` (N, 3) true multiblade flap; ``lam`` (N, 3) inflow;
+        ``beta_blades`` (N, Nb); ``trim`` (:class:`RotorTrim`); ``u`` (N, 10)
+        true inputs in azimuth units; ``n_sub``.
+    """
+    test.check()
+    rotor = BladeRotor(test.rotor)
+    k = test.rotor.constants
+    om = k.omega
+    nb = rotor.nb
+    dpsi = om * test.dt
+    u0 = _trim_inputs(test)
+    trim = rotor.periodic_trim(u0, max_step=test.max_step)
+    n = len(controls_true)
+    u = np.tile(u0, (n, 1))
+    u[:, 0:3] += controls_true
+    u[:, 3] += hub["muz"]
+    u[:, 4] += hub["q"] / om
+    u[:, 5] += hub["p"] / om
+    u[:, 6] += hub["qdot"] / om**2
+    u[:, 7] += hub["pdot"] / om**2
+    u[:, 8] += hub["mux"]
+    u[:, 9] += hub["muy"]
+    n_pre = int(math.ceil(test.delay / test.dt - 1e-9)) + (1 if test.delay > 0 else 0)
+    u_all = np.vstack([np.tile(u0, (n_pre, 1)), u])
+    x0 = _advance(rotor, trim.x, u0, n_pre, dpsi, test.max_step)
+    fine = None
+    if inputs_at is not None:
+        def fine(n_sub):
+            j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
+            return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
+    x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step, fine)
+    x = x[n_pre:]
+    t = np.arange(n) * test.dt
+    psi = om * t
+    beta_true = multiblade(x[:, :nb], psi)
+    if test.delay > 0:
+        s = (t - test.delay + n_pre * test.dt) / test.dt * n_sub
+        blades_m = _hermite(sub, n_sub, nb, dpsi, s)
+        psi_m = om * (t - test.delay)
+    else:
+        blades_m, psi_m = x[:, :nb], psi
+    beta_meas = multiblade(blades_m, psi_m + test.azimuth_bias)
+    return {"beta_meas": beta_meas, "beta_true": beta_true, "lam": x[:, 2 * nb:],
+            "beta_blades": x[:, :nb], "trim": trim, "u": u, "n_sub": n_sub}
+
+
+def _hub(test: FlightTest, controls_true, omega_r, mu) -> dict:
+    n = len(controls_true)
+    if test.body is None:
+        return {c: np.zeros(n) for c in HUB}
+    return test.body.response(controls_true, test.dt, omega_r, mu)
+
+
+def _true_controls(test: FlightTest, t):
+    """True pitch perturbations at times ``t`` (the recorded-frame pilot input
+    rotated back by the azimuth bias)."""
+    pilot = pilot_controls(t, test.manoeuvres)
+    pilot[:, 1:3] = pilot[:, 1:3] @ rotation(-test.azimuth_bias).T
+    return pilot
+
+
+def continuous_hub(test: FlightTest, omega_r, mu):
+    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls,
+    integrated in continuous time (DOP853, rtol 1e-12), at any times [s]."""
+    if test.body is None:
+        return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
+    a, b = test.body.matrices()
+    c, d = test.body.hub_matrices(omega_r, mu)
+    t_end = test.duration + test.dt
+    t0 = -max(test.delay, 0.0) - 2 * test.dt
+    rise = min([m.rise for m in test.manoeuvres if m.rise > 0] or [test.dt])
+    sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
+                    np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
+                    dense_output=True, max_step=rise / 4)
+
+    def hub_at(t):
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + _true_controls(test, t) @ d.T
+        return {name: h[:, i] for i, name in enumerate(HUB)}
+    return hub_at
+
+
+def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
+    """A record (totals) from the nonlinear individual-blade truth; see module doc."""
+    t_start = time.perf_counter()
+    test.check()
+    k = test.rotor.constants
+    radius = k.radius or 7.5
+    n = int(round(test.duration / test.dt))
+    t = np.arange(n) * test.dt
+    pilot = pilot_controls(t, test.manoeuvres)            # recorded frame
+    true = _true_controls(test, t)
+    omega_r = k.omega * radius
+    if test.hold == "continuous":
+        hub_at = continuous_hub(test, omega_r, k.mu)
+        hub = hub_at(t)
+        u_trim = _trim_inputs(test)
+        om = k.omega
+
+        def inputs_at(tt):
+            h, c = hub_at(tt), _true_controls(test, tt)
+            return u_trim + np.column_stack([
+                c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
+                h["pdot"] / om**2, h["mux"], h["muy"]])
+        res = blade_response(test, true, hub, inputs_at)
+    else:
+        hub = _hub(test, true, omega_r, k.mu)
+        res = blade_response(test, true, hub)
+    trim = res["trim"]
+    rng = np.random.default_rng(test.seed)
+    tc = test.trim_controls
+    rec_trim = rotation(test.azimuth_bias) @ np.array([tc["theta1c"], tc["theta1s"]])
+    totals = {"theta0": tc["theta0"] + pilot[:, 0],
+              "theta1c": rec_trim[0] + pilot[:, 1], "theta1s": rec_trim[1] + pilot[:, 2],
+              "muz": test.trim_muz + hub["muz"], "p": hub["p"], "q": hub["q"],
+              "pdot": hub["pdot"], "qdot": hub["qdot"], "mux": k.mu + hub["mux"],
+              "muy": hub["muy"]}
+    cols = {}
+    for c in INPUT_COLUMNS:
+        v = np.asarray(totals[c], dtype=float)
+        if test.noise_inputs:
+            v = v + test.noise_inputs * rng.standard_normal(n)
+        cols[c] = v
+    for i, c in enumerate(FLAP_COLUMNS):
+        cols[c] = res["beta_meas"][:, i] + sensor_noise(rng, n, test.noise_flap, test.dt,
+                                                        test.noise_color_hz)
+    if test.include_truth:
+        for i, c in enumerate(INFLOW_COLUMNS):
+            cols[c] = res["lam"][:, i] - trim.lam[i]
+    meta = {"omega": k.omega, "mu": k.mu, "a0": k.a0, "solidity": k.solidity,
+            "radius": radius, "aircraft": "Puma (virtual, nonlinear blade-element truth)",
+            "description": test.description, "synthetic": "true", "seed": test.seed,
+            "hold": test.hold}
+    rec = Record.from_arrays(t, cols, meta, source="<flighttest>")
+    elapsed = time.perf_counter() - t_start
+    truth = {"truth": "nonlinear",
+             "rotor": {"n_blades": test.rotor.n_blades,
+                       "lambda_beta2": test.rotor.lambda_beta2,
+                       "n_beta": test.rotor.n_beta, "gamma": 8 * test.rotor.n_beta,
+                       "tau0": test.rotor.tau0, "tau_cs": test.rotor.tau_cs,
+                       "speed": test.rotor.speed, "n_span": test.rotor.n_span,
+                       "n_disc_psi": test.rotor.n_disc_psi,
+                       "n_disc_r": test.rotor.n_disc_r},
+             "constants": k.as_dict(),
+             "trim_controls": dict(tc), "trim_muz": test.trim_muz,
+             "trim": trim.as_dict(),
+             "measurement": {"azimuth_bias": test.azimuth_bias, "delay": test.delay,
+                             "noise_flap": test.noise_flap,
+                             "noise_color_hz": test.noise_color_hz,
+                             "noise_inputs": test.noise_inputs, "seed": test.seed},
+             "body": None if test.body is None else asdict(test.body),
+             "manoeuvres": [asdict(m) for m in test.manoeuvres],
+             "hold": test.hold,
+             "integration": {"method": "rk4", "step_deg": math.degrees(
+                 k.omega * test.dt / res["n_sub"]), "substeps_per_sample": res["n_sub"]},
+             "generation_seconds": elapsed}
+    return FlightTestResult(rec, truth)
+
+
+def linear_flighttest(test: VirtualTest) -> FlightTestResult:
+    """A record from a linear structure plus effects (:func:`virtual_record`)."""
+    from ..model.build import build_model
+    from ..model.presets import preset_parameters
+    params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
+    m = build_model(test.structure, params, test.constants)   # validates
+    rec = virtual_record(replace(test, parameters=dict(params)))
+    truth = {"truth": "linear", "structure": m.structure.name,
+             "effects": list(m.structure.effects), "parameters": dict(m.parameters),
+             "constants": test.constants.as_dict(),
+             "manoeuvres": [asdict(x) for x in test.manoeuvres],
+             "hold": test.hold,
+             "measurement": {"noise_flap": test.noise_flap,
+                             "noise_color_hz": test.noise_color_hz,
+                             "noise_inputs": test.noise_inputs, "seed": test.seed}}
+    return FlightTestResult(rec, truth)
+
+
+def flighttest(test) -> FlightTestResult:
+    """Run a virtual flight test: :class:`FlightTest` (nonlinear truth) or
+    :class:`~inflowsim.virtual.VirtualTest` (linear truth)."""
+    if isinstance(test, VirtualTest):
+        return linear_flighttest(test)
+    return nonlinear_flighttest(test)

@@ -1,0 +1,86 @@
+"""``advance-ratio-perturbation``: in-plane velocity acts on the blades directly.
+
+The paper holds ``mu`` constant: in-plane velocity perturbations ``mux``, ``muy``
+reach the model only through the inflow (``hub-velocity-coupling``, ``glauert``).
+But they change the blade velocities themselves (``workflow.md``):
+``U_T = r + (mu + mux) sin psi + muy cos psi`` and ``- beta ((mu + mux) cos psi -
+muy sin psi)`` in ``U_P``.  Linearising the flap equation (1) and the loads (4)
+about the trim state gives new ``mux, muy`` input columns in BOTH
+
+* the flap rows: ``H_u[:, mux:muy] += k_mu n_beta H_mu`` with ``H_mu`` of
+  :func:`inflowsim.bladeelement.inplane_flap_derivatives`, and
+* the inflow forcing: ``P_u[:, mux:muy] += k_mu L dc/dmu_xy`` with ``dc/dmu_xy`` of
+  :func:`inflowsim.bladeelement.inplane_load_derivatives`.
+
+The coefficients depend on the trim state: pitch and flap totals and ``muz`` from
+the record (``Constants.trim``, record-column names; without them the model is
+refused with one line).  Where the structure has ``azimuth-bias`` the recorded
+cyclic trim is rotated to the true one (``R(-dpsi)``, as the effect does for the
+pitch inputs).  The trim inflow is not measured: it is the steady state of the
+basic inflow model (2) at that trim, whose first row is the momentum balance
+``lambda0 = C_T/(2 mu)`` with the blade-element ``C_T``
+(:func:`inflowsim.bladeelement.trim_inflow`).  The change of ``L`` itself with the
+speed (mass flow, ``V ~ mu``) is left out: that is inflow physics, what
+``glauert`` / ``hub-velocity-coupling`` describe.
+
+Parameter ``k_mu`` [-]: a scale on the whole set of terms, theory value 1 (the
+blade-element linearisation), neutral 0 (the paper's constant ``mu``).  The terms
+follow from theory, but the scale gives the significance test its one degree of
+freedom and lets identification say how much of the direct forcing the record
+supports.
+
+Not an alternative to ``glauert`` or ``hub-velocity-coupling``: they add free gains
+on the inflow rows only, while ``k_mu`` also scales the flap rows' ``mux, muy``
+columns, which no other effect touches; the information matrix of the combined
+structure stays regular (checked in the tests).
+"""
+
+from ._effect import Effect
+from ...physics import bladeelement as be
+from ...physics import loads as ld
+from ..equations import rotation
+from ..params import ParameterSpec, register
+
+NAME = "advance-ratio-perturbation"
+MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
+
+register(ParameterSpec("k_mu", "-", "scale of the direct in-plane velocity forcing of "
+                       "flap and loads (theory 1, neutral 0)", -10.0, 10.0))
+
+
+def true_trim(k, azimuth_bias: float = 0.0):
+    """Trim ``(theta, beta, muz, lam)`` of constants ``k``, cyclic components
+    rotated from recorded to true by ``R(-azimuth_bias)``."""
+    theta, beta, muz = be.trim_state(k.trim, NAME)
+    if azimuth_bias:
+        r = rotation(-azimuth_bias)
+        theta[1:3] = r @ theta[1:3]
+        beta[1:3] = r @ beta[1:3]
+    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz)
+    return theta, beta, muz, lam
+
+
+def _equations(eq, p, k):
+    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0))
+    h_u, p_u = eq.h_u.copy(), eq.p_u.copy()
+    h_u[:, MUX:MUX + 2] += p["k_mu"] * p["n_beta"] * be.inplane_flap_derivatives(
+        k.mu, theta, beta, muz, lam)
+    p_u[:, MUX:MUX + 2] += p["k_mu"] * ld.momentum_l(k.mu, k.a0s) @ \
+        be.inplane_load_derivatives(k.mu, theta, beta, muz, lam)
+    return eq.with_(h_u=h_u, p_u=p_u)
+
+
+EFFECT = Effect(
+    name=NAME,
+    physics="In-plane velocity perturbations change the blades' own airspeed and the "
+            "flap-induced normal velocity, forcing flap and rotor loads directly, not "
+            "only through the inflow.",
+    paper="extension: the paper holds mu constant",
+    parameters=("k_mu",),
+    theory=lambda k: {"k_mu": 1.0},
+    neutral=lambda k: {"k_mu": 0.0},
+    equations=_equations,
+    plausible=lambda k: {"k_mu": (0.5, 1.5, "the blade-element linearisation is exact "
+                                  "for small perturbations: theory 1")},
+    uses_inplane=True,
+)

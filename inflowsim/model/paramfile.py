@@ -1,0 +1,94 @@
+"""Parameter files (``interface.md``): ``{"structure", "constants", "parameters"}``.
+
+A parameter is a number or ``{"estimate": x, "sigma": s}``; ``identify`` writes
+the second form, and every reader takes both, so a fit feeds straight back into
+``simulate``, ``validate`` and the FMU.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import InputError
+from .params import Constants
+from .structure import Structure
+
+
+@dataclass(frozen=True)
+class ParameterSet:
+    structure: Structure
+    constants: Constants | None
+    parameters: dict
+    sigma: dict
+
+    def model(self, constants: Constants | None = None):
+        from .build import build_model
+        k = constants or self.constants
+        if k is None:
+            raise InputError("parameter file has no constants and none were given")
+        return build_model(self.structure, self.parameters, k)
+
+    def to_json(self, extra: dict | None = None) -> dict:
+        doc = {"structure": self.structure.name,
+               "effects": list(self.structure.effects)}
+        if self.constants is not None:
+            doc["constants"] = self.constants.as_dict()
+        doc["parameters"] = {
+            n: ({"estimate": v, "sigma": self.sigma[n]} if n in self.sigma else v)
+            for n, v in self.parameters.items()}
+        if extra:
+            doc.update(extra)
+        return doc
+
+
+def parse_parameter_doc(doc, where="parameter file") -> ParameterSet:
+    if not isinstance(doc, dict) or "parameters" not in doc or "structure" not in doc:
+        raise InputError(f"{where}: needs \"structure\" and \"parameters\"")
+    s = Structure.parse(doc["structure"])
+    if "effects" in doc and set(doc["effects"]) != set(s.effects):
+        s = Structure(tuple(doc["effects"]))
+    consts = Constants.from_mapping(doc["constants"]) if doc.get("constants") else None
+    params, sigma = {}, {}
+    if not isinstance(doc["parameters"], dict):
+        raise InputError(f"{where}: \"parameters\" must be an object")
+    for name, v in doc["parameters"].items():
+        if isinstance(v, dict):
+            if "estimate" not in v:
+                raise InputError(f"{where}: parameter {name} has no \"estimate\"")
+            params[name] = v["estimate"]
+            if v.get("sigma") is not None:
+                sigma[name] = float(v["sigma"])
+        else:
+            params[name] = v
+    from .params import check_parameters
+    params = check_parameters(params, s.parameters)
+    return ParameterSet(s, consts, params, sigma)
+
+
+def read_parameters(path) -> ParameterSet:
+    """Read and validate a parameter file; errors name the file and the problem."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such parameter file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: cannot read ({exc})") from None
+    try:
+        doc = json.loads(text, parse_constant=lambda c: math.nan)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{p}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    try:
+        return parse_parameter_doc(doc, str(p))
+    except InputError as exc:
+        msg = str(exc)
+        raise InputError(msg if msg.startswith(str(p)) else f"{p}: {msg}") from None
+
+
+def write_json(doc: dict, path, overwrite: bool = False, protect=()) -> Path:
+    """Write JSON atomically (temp file, then rename); refuse to replace an
+    existing file unless ``overwrite``, and never a path in ``protect``."""
+    from ..fileio import safe_write_text
+    return safe_write_text(path, json.dumps(doc, indent=2) + "\n", overwrite, protect)

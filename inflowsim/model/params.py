@@ -1,0 +1,222 @@
+"""Named parameters and constants of the flap / inflow model.
+
+Every quantity has one name used everywhere (code, C struct, FMI variable, CSV
+column, JSON); the names are those of ``shared/spec/interface.md``.
+
+Constants are aircraft data and the flight condition (never identified);
+parameters are what identification estimates.  Both are validated here so that
+every entry point refuses bad values with one line naming the quantity and the
+allowed range.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import Iterator, Mapping
+
+from ..errors import InputError
+
+
+class FrozenMap(Mapping):
+    """An immutable, hashable ``{name: float}`` (trim values inside frozen constants)."""
+
+    __slots__ = ("_d",)
+
+    def __init__(self, items=()):
+        object.__setattr__(self, "_d", {str(k): float(v) for k, v in dict(items).items()})
+
+    def __getitem__(self, k):
+        return self._d[k]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._d)
+
+    def __len__(self):
+        return len(self._d)
+
+    def __hash__(self):
+        return hash(tuple(sorted(self._d.items())))
+
+    def __repr__(self):
+        return f"FrozenMap({self._d!r})"
+
+#: Forward-flight local momentum theory (V ~ mu) is only meaningful above this
+#: advance ratio; the basic ``L`` matrix is singular at ``mu = 0``.
+MU_MIN = 0.1
+#: No reverse-flow modelling: blade-element integrals assume ``U_T > 0`` over
+#: most of the span.
+MU_MAX = 0.5
+
+
+@dataclass(frozen=True)
+class Constants:
+    """Known aircraft data and flight condition.
+
+    Parameters
+    ----------
+    mu : float
+        Trim in-plane advance ratio [-].
+    a0 : float
+        Blade lift-curve slope [1/rad].
+    solidity : float
+        Rotor solidity ``s`` [-].
+    omega : float
+        Rotor speed [rad/s].
+    radius : float, optional
+        Blade radius [m]; informative only.
+    trim : mapping, optional
+        Trim totals by record column name (``theta0``, ``beta0``, ``mux`` ...)
+        [rad, -]; only effects linearised about the trim state use them.
+    """
+
+    mu: float
+    a0: float
+    solidity: float
+    omega: float
+    radius: float | None = None
+    trim: Mapping[str, float] | None = None
+
+    def __post_init__(self):
+        if self.trim is not None and not isinstance(self.trim, FrozenMap):
+            object.__setattr__(self, "trim", FrozenMap(self.trim))
+
+    @property
+    def a0s(self) -> float:
+        """Lift slope times solidity ``a0 s`` [1/rad]."""
+        return self.a0 * self.solidity
+
+    def with_mu(self, mu: float) -> "Constants":
+        return replace(self, mu=float(mu))
+
+    def as_dict(self) -> dict:
+        d = {f.name: getattr(self, f.name) for f in fields(self)
+             if getattr(self, f.name) is not None}
+        if self.trim is not None:
+            d["trim"] = dict(self.trim)
+        return d
+
+    def with_trim(self, trim: Mapping[str, float]) -> "Constants":
+        return replace(self, trim=FrozenMap(trim))
+
+    def check(self) -> "Constants":
+        """Raise :class:`InputError` naming the first bad constant."""
+        _finite_in("mu", self.mu, MU_MIN, MU_MAX,
+                   why="forward-flight local momentum (V ~ mu) needs fast forward "
+                       "flight; the basic L matrix is singular at mu = 0")
+        _finite_in("a0", self.a0, 0.0, math.inf, lower_open=True)
+        _finite_in("solidity", self.solidity, 0.0, 1.0, lower_open=True)
+        _finite_in("omega", self.omega, 0.0, math.inf, lower_open=True)
+        if self.radius is not None:
+            _finite_in("radius", self.radius, 0.0, math.inf, lower_open=True)
+        for k, v in (self.trim or {}).items():
+            _finite_in(f"trim {k}", v, -math.inf, math.inf)
+        return self
+
+    @classmethod
+    def from_mapping(cls, m: Mapping) -> "Constants":
+        """Build from a mapping holding ``mu, a0, omega`` and ``solidity`` or ``a0s``."""
+        m = dict(m)
+        if "solidity" not in m and "a0s" in m and "a0" in m:
+            m["solidity"] = float(m["a0s"]) / float(m["a0"])
+        missing = [k for k in ("mu", "a0", "solidity", "omega") if k not in m]
+        if missing:
+            raise InputError(f"constants: missing {', '.join(missing)} "
+                             "(need mu, a0, solidity or a0s, omega)")
+        try:
+            c = cls(mu=float(m["mu"]), a0=float(m["a0"]), solidity=float(m["solidity"]),
+                    omega=float(m["omega"]),
+                    radius=None if m.get("radius") is None else float(m["radius"]),
+                    trim=None if m.get("trim") is None else
+                    {str(k): float(v) for k, v in dict(m["trim"]).items()})
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"constants: not a number ({exc})") from None
+        return c.check()
+
+
+#: Puma at 100 kt, rotor speed 27.5 rad/s (model.md section 8).
+PUMA = Constants(mu=0.249, a0=5.73, solidity=0.0917, omega=27.5, radius=7.5)
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """A model parameter: canonical name, unit, meaning and allowed range."""
+
+    name: str
+    unit: str
+    description: str
+    lower: float = -math.inf
+    upper: float = math.inf
+    lower_open: bool = False
+
+    def check(self, value) -> float:
+        return _finite_in(self.name, value, self.lower, self.upper, self.lower_open)
+
+    def range_text(self) -> str:
+        lo = "(" if self.lower_open else "["
+        return f"{lo}{self.lower:g}, {self.upper:g}]"
+
+
+def _finite_in(name, value, lower, upper, lower_open=False, why=None) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: {value!r} is not a number") from None
+    lo = "(" if lower_open else "["
+    rng = f"{lo}{lower:g}, {upper:g}]"
+    if not math.isfinite(v):
+        raise InputError(f"{name} = {v}: must be finite, in {rng}")
+    if v < lower or v > upper or (lower_open and v == lower):
+        msg = f"{name} = {v:g} is outside the allowed range {rng}"
+        if why:
+            msg += f": {why}"
+        raise InputError(msg)
+    return v
+
+
+def _p(name, unit, desc, lower=-math.inf, upper=math.inf, lower_open=False):
+    return ParameterSpec(name, unit, desc, lower, upper, lower_open)
+
+
+#: Every parameter the catalogue knows, by canonical name.
+SPECS: dict[str, ParameterSpec] = {s.name: s for s in (
+    _p("lambda_beta2", "-", "normalised flap frequency squared", 0.0, 10.0, True),
+    _p("n_beta", "-", "inertia number gamma/8", 0.0, 10.0, True),
+    _p("tau", "azimuth rad", "single inflow time constant", 0.0, 1e4, True),
+    _p("tau0", "azimuth rad", "time constant of lambda0", 0.0, 1e4, True),
+    _p("tau_cs", "azimuth rad", "time constant of lambda1c, lambda1s", 0.0, 1e4, True),
+    *(_p(f"k{i}{j}", "-", f"empirical K element ({i},{j}) (Eq. 13)")
+      for i in range(3) for j in (1, 2)),
+    *(_p(f"c{i}", "-", f"Glauert G coefficient c{i} (Eq. 19)") for i in range(1, 5)),
+    _p("k0p", "-", "k0 + a0 s/(8 mu), Glauert F (Eq. 19)"),
+    _p("kc", "-", "Glauert F coefficient kc (Eq. 19)"),
+    _p("ks", "-", "Glauert F coefficient ks (Eq. 19)"),
+    _p("azimuth_bias", "rad", "offset of the recorded blade azimuth", -math.pi, math.pi),
+    _p("delay", "s", "time shift of the recorded flap channels (delay > 0, lead < 0)",
+       -1.0, 1.0),
+    *(_p(f"delay_{c}", "s", f"time shift of the recorded {c} (delay > 0, lead < 0)",
+         -1.0, 1.0)
+      for c in ("beta0", "beta1c", "beta1s", "theta0", "theta1c", "theta1s", "muz", "p",
+                "q", "pdot", "qdot", "mux", "muy")),
+)}
+
+
+def register(spec: ParameterSpec) -> ParameterSpec:
+    """Add a parameter introduced by a new effect (idempotent)."""
+    old = SPECS.get(spec.name)
+    if old is not None and old != spec:
+        raise ValueError(f"parameter {spec.name} already registered differently")
+    SPECS[spec.name] = spec
+    return spec
+
+
+def check_parameters(values: Mapping[str, float], names) -> dict[str, float]:
+    """Return ``{name: float}`` for ``names``, refusing missing, unknown or bad values."""
+    names = list(names)
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise InputError(f"parameter {unknown[0]} is not a parameter of this structure "
+                         f"(its parameters: {', '.join(names)})")
+    missing = [n for n in names if n not in values]
+    if missing:
+        raise InputError(f"parameter {missing[0]} is missing")
+    return {n: SPECS[n].check(values[n]) for n in names}

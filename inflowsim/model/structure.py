@@ -1,0 +1,107 @@
+"""Model structures: the base momentum model plus a set of effects.
+
+Text form: a base or preset, then ``+effect`` terms, e.g. ``glauert``,
+``basic+separate-time-constants``, ``empirical+time-delay``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .effects import CATALOGUE
+from .equations import FLAP, FLAP_RATE, INFLOW, INPUTS, INPUTS_AZ, N_BASE_INPUTS
+from ..errors import InputError
+
+BASE_PARAMETERS = ("lambda_beta2", "n_beta", "tau")
+
+PRESETS = {
+    "basic": (),
+    "empirical": ("separate-time-constants", "hub-velocity-coupling", "azimuth-bias"),
+    "glauert": ("separate-time-constants", "glauert", "azimuth-bias"),
+}
+
+
+@dataclass(frozen=True)
+class Structure:
+    """A base model plus a set of effects (kept in catalogue order)."""
+
+    effects: tuple = ()
+
+    def __post_init__(self):
+        for name in self.effects:
+            if name not in CATALOGUE:
+                raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+        ordered = tuple(n for n in CATALOGUE if n in set(self.effects))
+        object.__setattr__(self, "effects", ordered)
+        for name in ordered:
+            for alt in CATALOGUE[name].alternatives:
+                if alt in ordered:
+                    raise InputError(f"effects {name} and {alt} are alternatives and "
+                                     "cannot be combined (the information matrix would "
+                                     "be singular)")
+
+    @classmethod
+    def parse(cls, text: "str | Structure") -> "Structure":
+        """``"glauert"``, ``"basic+time-delay"``, ``"empirical+time-delay"`` ..."""
+        if isinstance(text, Structure):
+            return text
+        parts = [p.strip() for p in str(text).split("+")]
+        base = parts[0]
+        if base not in PRESETS:
+            raise InputError(f"unknown model {base!r} (a preset: {', '.join(PRESETS)}; "
+                             "then +effect terms)")
+        return cls(PRESETS[base] + tuple(parts[1:]))
+
+    def with_effect(self, name: str) -> "Structure":
+        if name in self.effects:
+            raise InputError(f"effect {name} is already in the structure {self.name}")
+        return Structure(self.effects + (name,))
+
+    def without_effect(self, name: str) -> "Structure":
+        return Structure(tuple(e for e in self.effects if e != name))
+
+    @property
+    def name(self) -> str:
+        """Preset name where it is one, else ``basic+effect+...``."""
+        for preset, eff in PRESETS.items():
+            if set(eff) == set(self.effects):
+                return preset
+        best = max((p for p, e in PRESETS.items() if set(e) <= set(self.effects)),
+                   key=lambda p: len(PRESETS[p]))
+        extra = [e for e in self.effects if e not in PRESETS[best]]
+        return "+".join([best, *extra])
+
+    @property
+    def parameters(self) -> tuple:
+        removed = {r for e in self.effects for r in CATALOGUE[e].removes}
+        names = [p for p in BASE_PARAMETERS if p not in removed]
+        for e in self.effects:
+            names.extend(CATALOGUE[e].parameters)
+        return tuple(names)
+
+    @property
+    def uses_inplane(self) -> bool:
+        return any(CATALOGUE[e].uses_inplane for e in self.effects)
+
+    @property
+    def second_order(self) -> bool:
+        return any(CATALOGUE[e].second_order for e in self.effects)
+
+    @property
+    def n_inputs(self) -> int:
+        return len(INPUTS) if self.uses_inplane else N_BASE_INPUTS
+
+    @property
+    def inputs(self) -> tuple:
+        """Input names in SI units (record columns)."""
+        return INPUTS[: self.n_inputs]
+
+    @property
+    def inputs_az(self) -> tuple:
+        return INPUTS_AZ[: self.n_inputs]
+
+    @property
+    def states(self) -> tuple:
+        return FLAP + INFLOW + (FLAP_RATE if self.second_order else ())
+
+    def __str__(self) -> str:
+        return self.name

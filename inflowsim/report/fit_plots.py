@@ -1,0 +1,94 @@
+"""Plots of a fit (matplotlib, Agg): frequency-domain fit (the paper's Figures 1,
+2, 4) and time-domain reconstruction (Figures 3, 5); band study (Figure 6).
+
+Computing lives in :mod:`.estimator` and :mod:`.bandstudy`; these functions only
+draw and save PNG files.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.equations import FLAP
+from ..model.build import build_model
+from ..simulate.replay import replay
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def reconstruction_response(result, index: int = 0):
+    """Time-domain reconstruction of record ``index``: ``(t, measured, predicted)``
+    flap perturbations ``(N, 3)``; the model replayed with the record's inputs from
+    the estimated initial state (the end-effect ``x_0``)."""
+    d = result.data[index]
+    m = build_model(result.structure, result.parameters, d.constants)
+    y = replay(m, d.u_time, d.dt, d.hold, x0=d.x0)[:, :3]
+    t = np.arange(len(d.u_time)) * d.dt
+    return t, d.z_time, y
+
+
+def fit_plot(result, path, index: int = 0):
+    """Measured against predicted flap transforms, magnitude [dB] and phase [deg]."""
+    plt = _plt()
+    d = result.data[index]
+    fig, ax = plt.subplots(2, 3, figsize=(12, 6), sharex=True)
+    for i, ch in enumerate(FLAP):
+        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Z[:, i])), "k.", label="measured")
+        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Y[:, i])), "r-", label="model")
+        ax[1, i].plot(d.f_hz, np.degrees(np.angle(d.Z[:, i])), "k.")
+        ax[1, i].plot(d.f_hz, np.degrees(np.angle(d.Y[:, i])), "r-")
+        ax[0, i].set_title(ch)
+        ax[1, i].set_xlabel("frequency [Hz]")
+    ax[0, 0].set_ylabel("magnitude [dB rad]")
+    ax[1, 0].set_ylabel("phase [deg]")
+    ax[0, 0].legend()
+    fig.suptitle(f"{result.structure.name}: frequency-domain fit, {d.source}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def reconstruction_plot(result, path, index: int = 0):
+    """Measured and reconstructed flap perturbations against time."""
+    plt = _plt()
+    t, z, y = reconstruction_response(result, index)
+    fig, ax = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+    for i, ch in enumerate(FLAP):
+        ax[i].plot(t, np.degrees(z[:, i]), "k-", lw=0.8, label="measured")
+        ax[i].plot(t, np.degrees(y[:, i]), "r--", lw=1.0, label="model")
+        ax[i].set_ylabel(f"{ch} [deg]")
+    ax[0].legend()
+    ax[-1].set_xlabel("time [s]")
+    fig.suptitle(f"{result.structure.name}: time-domain reconstruction")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def band_study_plot(study, path):
+    """Estimates with 1-sigma bars against the lower band limit (Figure 6)."""
+    plt = _plt()
+    names = list(study.estimates)
+    ncol = 4
+    nrow = -(-len(names) // ncol)
+    fig, ax = plt.subplots(nrow, ncol, figsize=(3.2 * ncol, 2.4 * nrow), squeeze=False)
+    for k, n in enumerate(names):
+        a = ax[k // ncol, k % ncol]
+        s = np.array([np.nan if v is None else v for v in study.sigma[n]], dtype=float)
+        a.errorbar(study.lower_hz, study.estimates[n], yerr=s, fmt="o-", ms=3, capsize=2)
+        a.set_title(n, fontsize=9)
+        a.tick_params(labelsize=7)
+    for k in range(len(names), nrow * ncol):
+        ax[k // ncol, k % ncol].axis("off")
+    fig.supxlabel(f"lower band limit [Hz] (upper {study.upper_hz:.4g} Hz)")
+    fig.suptitle(f"{study.structure}: estimates against the lower frequency limit")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
