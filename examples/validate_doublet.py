@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from inflowsim import build_model, preset_parameters
-from inflowsim.commands.validate import format_table, validation_report
+from inflowsim.report.validation import format_table, validation_report
 from inflowsim.record import read_record, write_record
 from inflowsim.validation import validate
 from inflowsim.virtual import VirtualTest, virtual_record

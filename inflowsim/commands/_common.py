@@ -8,6 +8,7 @@ from ..errors import InputError
 from ..model.params import PUMA
 from ..model.paramfile import read_parameters
 from ..model.presets import preset_parameters
+from ..identify.transform import DEFAULT_BAND
 from ..model.structure import Structure
 
 
@@ -98,7 +99,8 @@ def add_search_arguments(p):
     """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
     from ..diagnose.candidates import ALPHA
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   default=(0.2256, 1.58), help="band [Hz] (default 0.2256 1.58)")
+                   default=DEFAULT_BAND, help=f"band [Hz] (default {DEFAULT_BAND[0]:g} "
+                                              f"{DEFAULT_BAND[1]:g})")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",
                    help="effects to try (default: every applicable one)")
     p.add_argument("--alpha", type=float, default=ALPHA,
@@ -110,3 +112,38 @@ def add_search_arguments(p):
 def check_search_arguments(args):
     if not 0 < args.alpha < 0.5:
         raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")
+
+
+def parse_fix(items) -> dict:
+    out = {}
+    for it in items:
+        name, _, val = it.partition("=")
+        name = name.strip()
+        if not name:
+            raise InputError(f"--fix {it!r}: give NAME or NAME=VALUE")
+        if val:
+            try:
+                out[name] = float(val)
+            except ValueError:
+                raise InputError(f"--fix {it!r}: {val!r} is not a number") from None
+        else:
+            out[name] = None
+    return out
+
+
+def parse_ties(items) -> list:
+    ties = []
+    for it in items:
+        names = [n.strip() for n in it.split("=")]
+        if len(names) < 2 or not all(names):
+            raise InputError(f"--tie {it!r}: give two or more names as A=B")
+        ties.append(tuple(names))
+    return ties
+
+
+def structure_of(args) -> Structure:
+    """``--model`` plus the ``--add`` effects."""
+    s = Structure.parse(args.model)
+    for e in args.add:
+        s = s.with_effect(e)
+    return s

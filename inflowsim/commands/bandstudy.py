@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ._common import add_record_arguments, print_json, progress, read_records
-from .identify import parse_fix, structure_of
+from ._common import (add_record_arguments, parse_fix, print_json, progress, read_records,
+                      structure_of)
 
 HELP = "estimates and 1-sigma bounds against the lower frequency limit (Figure 6)"
 

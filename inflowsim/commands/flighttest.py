@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..channels import CONTROLS
 from ..fileio import check_output, safe_write_text
 from ..model.params import PUMA
 from ..data.record import write_record
@@ -43,7 +44,7 @@ def add_arguments(p):
                    help="a truth parameter value (repeatable), e.g. tau_cs=21.4")
     p.add_argument("--input", choices=("doublet", "3211"), default="doublet",
                    help="pilot input shape (default doublet)")
-    p.add_argument("--channel", choices=("theta0", "theta1c", "theta1s"),
+    p.add_argument("--channel", choices=CONTROLS,
                    default="theta1s", help="control the pilot moves (default theta1s)")
     p.add_argument("--amplitude-deg", type=float, default=1.0, metavar="A",
                    help="input amplitude [deg] (default 1)")

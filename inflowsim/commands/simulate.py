@@ -20,8 +20,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import check_output
-from ..data.record import FLAP_COLUMNS, Record, find_trim, model_inputs, read_record, write_record
-from ..simulate.simulator import Simulator
+from ..data.record import read_record, write_record
+from ..simulate.records import simulate_record
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
@@ -38,59 +38,6 @@ def add_arguments(p):
     p.add_argument("--force", action="store_true",
                    help="replace an existing output file (never the input record)")
     p.add_argument("--json", action="store_true", help="one JSON summary on stdout")
-
-
-def held_inputs(t_record, u_record, dt: float):
-    """Sample times ``t0 + k dt`` up to the record's end and the held inputs there.
-
-    Step ``k`` takes the last record sample at or before its time (a tolerance of
-    1e-9 of a step absorbs rounding of ``k dt``).
-    """
-    t0, t1 = float(t_record[0]), float(t_record[-1])
-    n = int(np.floor((t1 - t0) / dt + 1e-9)) + 1
-    t = t0 + np.arange(n) * dt
-    idx = np.searchsorted(t_record, t + 1e-9 * dt, side="right") - 1
-    return t, u_record[np.clip(idx, 0, len(t_record) - 1)]
-
-
-def simulate_record(rec: Record, model, dt: float | None = None, method: str = "zoh",
-                    description: str | None = None) -> Record:
-    """Predicted record (totals for flap and inputs) from ``rec``'s inputs.
-
-    Parameters
-    ----------
-    rec : Record
-    model : Model
-    dt : float, optional
-        Simulator step [s]; default the record's.
-    method : {"zoh", "rk4"}
-    description : str, optional
-        The ``# description:`` of the result.
-    """
-    rec.require(model.inputs)
-    trim = find_trim(rec)
-    u = model_inputs(rec, model, trim)
-    if dt is None:
-        step, t, uh = rec.dt, rec.t, u
-    else:
-        if not (np.isfinite(dt) and dt > 0):
-            raise InputError(f"--dt {dt}: the step must be a finite number > 0 s")
-        step = float(dt)
-        t, uh = held_inputs(rec.t, u, step)
-        if len(t) < 4:
-            raise InputError(f"--dt {dt:g} s leaves {len(t)} steps in the "
-                             f"{rec.t[-1] - rec.t[0]:.4g} s record; need at least 4")
-    y = Simulator(model, step, method=method).replay(uh)
-    cols = {c: uh[:, j] + trim.values[c] for j, c in enumerate(model.inputs)}
-    for i, c in enumerate(FLAP_COLUMNS):
-        cols[c] = y[:, i] + trim.values.get(c, 0.0)
-    for i, c in enumerate(("lambda0", "lambda1c", "lambda1s")):
-        cols[c] = y[:, 3 + i]
-    meta = dict(rec.meta)
-    meta["description"] = description or f"simulated by inflowsim, model {model.structure.name}"
-    meta["synthetic"] = "true"
-    meta["hold"] = "zoh"          # the fixed-step simulator holds its inputs
-    return Record.from_arrays(t, cols, meta)
 
 
 def run(args) -> int:

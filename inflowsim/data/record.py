@@ -17,15 +17,17 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import RecordError
+from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
 from ..model.params import Constants
 from ..simulate.sampled import DEFAULT_HOLD, HOLDS
 
 REQUIRED_META = ("omega", "mu", "a0", "solidity")
-INPUT_COLUMNS = ("theta0", "theta1c", "theta1s", "muz", "p", "q", "pdot", "qdot",
-                 "mux", "muy")
-FLAP_COLUMNS = ("beta0", "beta1c", "beta1s")
-CONTROL_COLUMNS = ("theta0", "theta1c", "theta1s")
+#: Record columns (``record-format.md``): from the one channel table, inputs in the
+#: model's order (a file may hold them in any order).
+INPUT_COLUMNS = INPUTS
+FLAP_COLUMNS = FLAP
+CONTROL_COLUMNS = CONTROLS
 #: Sampling jitter tolerated, as a fraction of the mean step.
 JITTER = 0.01
 

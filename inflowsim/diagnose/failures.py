@@ -34,28 +34,14 @@ import numpy as np
 from scipy import stats
 
 from ..data.record import FLAP_COLUMNS, find_trim, model_inputs, perturbations
+from ..identify.transform import DEFAULT_BAND
+from ..model.params import SPECS
 from ..simulate.replay import replay
 
-DEFAULT_BAND = (0.2256, 1.58)
 ALPHA = 1e-3
 #: Lags (bins) of the residual's correlation across frequency.
 MAX_LAG = 6
 
-#: Plausible ranges from physics, with the reason shown to the user.  Time
-#: constants in seconds (the paper judged tau0 = 0.59 s and tau_cs = 1.16 s
-#: "rather larger than might be expected", and tau_cs = 0.78 s satisfactory).
-PLAUSIBLE = {
-    "lambda_beta2": (0.95, 1.2, "flap frequency squared of articulated or hingeless "
-                                 "rotors lies near 1.0-1.2 (Puma theory 1.06)"),
-    "n_beta": (0.5, 1.5, "inertia number gamma/8 for Lock numbers 4-12 (Puma theory 0.987)"),
-    "tau": (0.0, 1.0, "an inflow time constant above 1 s is not physical for this rotor"),
-    "tau0": (0.0, 0.3, "the mean inflow settles within a few rotor revolutions"),
-    "tau_cs": (0.0, 1.0, "the cyclic inflow time constant should be below about 1 s"),
-    "azimuth_bias": (-0.5, 0.5, "an azimuth offset over 30 deg points at a wiring or "
-                                "sign error, not a bias"),
-    "delay": (-0.1, 0.1, "measurement-chain time shifts are tens of milliseconds"),
-}
-SECONDS = {"tau", "tau0", "tau_cs"}
 
 
 @dataclass(frozen=True)
@@ -407,15 +393,19 @@ def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
 
 def parameter_failures(parameters, sigma, correlation=None, names=None, omega=None,
                        rel_sigma=0.5, corr_limit=0.95) -> list[Failure]:
-    """Estimates outside the physical range by more than 1 sigma, poorly determined
+    """Estimates outside their physically plausible range (``ParameterSpec.plausible``,
+    time constants judged in seconds) by more than 1 sigma, poorly determined
     (``sigma/|estimate| > rel_sigma``) or undetermined (no bound), or strongly
     correlated pairs."""
     out = []
     for name, est in parameters.items():
         s = sigma.get(name)
-        if name in PLAUSIBLE:
-            lo, hi, why = PLAUSIBLE[name]
-            scale = 1.0 / omega if (name in SECONDS and omega) else 1.0
+        spec = SPECS.get(name)
+        if spec is not None and spec.plausible is not None and (
+                omega or not spec.plausible_seconds):
+            # the parameter's own facts (inflowsim.model.params / each effect)
+            lo, hi, why = spec.plausible
+            scale = 1.0 / omega if spec.plausible_seconds else 1.0
             v, sv = est * scale, (s or 0.0) * scale
             if v - sv > hi or v + sv < lo:
                 unit = " s" if scale != 1.0 else ""
@@ -451,5 +441,4 @@ def parameter_failures(parameters, sigma, correlation=None, names=None, omega=No
 __all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "spectrum_failures",
            "residual_tests", "parameter_failures", "unexplained", "noise_floor",
            "frequency_whiteness", "structure_statistic", "channel_structure",
-           "floor_deviance", "level_p_value", "WHITE_DEVIANCE",
-           "PLAUSIBLE"]
+           "floor_deviance", "level_p_value", "WHITE_DEVIANCE", "input_regression"]

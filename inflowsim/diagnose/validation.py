@@ -30,11 +30,12 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import InputError
+from ..identify.transform import DEFAULT_BAND, dft, snap_band
 from ..data.record import CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations
 from ..simulate.replay import replay
 
-#: The paper's identification band [Hz]: 0.2256-1.58 Hz (bins 6..42 at 26.6 s).
-PAPER_BAND_HZ = (0.2256, 1.58)
+#: The paper's identification band [Hz] (the one default, :mod:`inflowsim.identify.transform`).
+PAPER_BAND_HZ = DEFAULT_BAND
 
 
 @dataclass(frozen=True)
@@ -225,27 +226,23 @@ def _norm_ratio(a, b) -> float:
 
 
 def dft_bins(record: Record, band_hz=None) -> np.ndarray:
-    """Transform bin indices ``k`` (frequency ``k / (N dt)``) nearest to the band.
+    """Transform bin indices ``k`` (frequency ``k / (N dt)``) of the band, snapped as
+    identification snaps it (:func:`inflowsim.identify.transform.snap_band`).
 
     ``band_hz`` defaults to :data:`PAPER_BAND_HZ`; the band is checked against the
-    record (:meth:`Record.check_band`) and snapped to the nearest bins.
+    record (:meth:`Record.check_band`).
     """
     band = PAPER_BAND_HZ if band_hz is None else tuple(float(f) for f in band_hz)
     if len(band) != 2:
         raise InputError(f"band {band}: give two frequencies F1 F2 in Hz")
     record.check_band(band)
-    df = 1.0 / record.duration
-    k1 = max(1, int(round(band[0] / df)))
-    k2 = min(len(record) // 2, int(round(band[1] / df)))
-    if k2 - k1 < 1:
-        raise InputError(f"band {band[0]:g}-{band[1]:g} Hz holds fewer than two "
-                         f"transform frequencies at resolution {df:.4g} Hz")
-    return np.arange(k1, k2 + 1)
+    return snap_band(len(record), record.dt, band)[0]
 
 
 def _dft(x, bins, dt):
-    """``dt * sum x_n exp(-2 pi j k n / N)`` at ``bins``, along axis 0."""
-    return dt * np.fft.rfft(x, axis=0)[bins]
+    """``dt * sum x_n exp(-2 pi j k n / N)`` at ``bins``, along axis 0 (the
+    identification's transform on the record's grid, scaled to [unit s])."""
+    return dt * dft(x, dt, bins / (len(x) * dt), True)
 
 
 def reference_input(u_dft, inputs) -> str:

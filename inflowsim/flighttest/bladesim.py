@@ -70,6 +70,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import InputError
+from ..channels import FLAP, INFLOW
 from ..model.params import PUMA, Constants
 from ..physics.theory import PUMA_LAMBDA_BETA2, PUMA_N_BETA, pitt_peters_time_constants
 
@@ -414,9 +415,9 @@ class RotorTrim:
     periods: int = 0
 
     def as_dict(self) -> dict:
-        names = ("beta0", "beta1c", "beta1s")
+        names = FLAP
         d = {n: float(v) for n, v in zip(names, self.beta)}
-        d.update({n: float(v) for n, v in zip(("lambda0", "lambda1c", "lambda1s"),
+        d.update({n: float(v) for n, v in zip(INFLOW,
                                               self.lam)})
         d.update({n: float(v) for n, v in zip(("cT", "cmc", "cms"), self.c)})
         d["beta_ripple"] = {n: float(v) for n, v in zip(names, self.beta_ripple)}

@@ -26,11 +26,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..channels import INPUTS
 from ..simulate.discrete import zoh
 
 G = 9.81
-#: Hub channels the body model produces, in the order of :meth:`BodyModel.hub_matrices`.
-HUB = ("muz", "p", "q", "pdot", "qdot", "mux", "muy")
+#: Hub channels the body model produces (the model inputs after the controls, in
+#: their order), the rows of :meth:`BodyModel.hub_matrices`.
+HUB = INPUTS[3:]
 
 
 @dataclass(frozen=True)
@@ -68,13 +70,14 @@ class BodyModel:
         a, b = self.matrices()
         c = np.zeros((7, 7))
         d = np.zeros((7, 3))
-        c[0, 6], c[0, 1] = 1.0 / omega_r, -mu          # muz
-        c[1, 3] = 1.0                                   # p
-        c[2, 0] = 1.0                                   # q
-        c[3], d[3] = a[3], b[3]                         # pdot
-        c[4], d[4] = a[0], b[0]                         # qdot
-        c[5, 2] = 1.0 / omega_r                         # mux
-        c[6, 5] = 1.0 / omega_r                         # muy
+        row = {h: i for i, h in enumerate(HUB)}
+        c[row["muz"], 6], c[row["muz"], 1] = 1.0 / omega_r, -mu
+        c[row["p"], 3] = 1.0
+        c[row["q"], 0] = 1.0
+        c[row["pdot"]], d[row["pdot"]] = a[3], b[3]
+        c[row["qdot"]], d[row["qdot"]] = a[0], b[0]
+        c[row["mux"], 2] = 1.0 / omega_r
+        c[row["muy"], 5] = 1.0 / omega_r
         return c, d
 
     def response(self, controls: np.ndarray, dt: float, omega_r: float,

@@ -31,6 +31,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .bladesim import MAX_STEP, BladeRotor, RotorSpec
+from ..channels import CONTROLS, INFLOW
 from .body import HUB, BodyModel
 from ..model.equations import rotation
 from ..errors import InputError
@@ -40,8 +41,8 @@ from .virtual import (KINDS, PUMA_TRIM, Manoeuvre, VirtualTest, pilot_controls,
                       sensor_noise, virtual_record)
 
 #: Given trim controls of the nonlinear truth (true pitch) [rad].
-TRIM_CONTROLS = {c: PUMA_TRIM[c] for c in ("theta0", "theta1c", "theta1s")}
-INFLOW_COLUMNS = ("lambda0", "lambda1c", "lambda1s")
+TRIM_CONTROLS = {c: PUMA_TRIM[c] for c in CONTROLS}
+INFLOW_COLUMNS = INFLOW
 
 
 @dataclass(frozen=True)
@@ -118,7 +119,7 @@ class FlightTest:
                 raise InputError(f"{name} = {v}: must be a finite number >= 0")
         if not (np.isfinite(self.azimuth_bias) and abs(self.azimuth_bias) <= math.pi):
             raise InputError(f"azimuth_bias = {self.azimuth_bias}: must be in [-pi, pi] rad")
-        missing = {"theta0", "theta1c", "theta1s"} - set(self.trim_controls)
+        missing = set(CONTROLS) - set(self.trim_controls)
         if missing:
             raise InputError(f"trim_controls: missing {sorted(missing)[0]}")
         for m in self.manoeuvres:
@@ -218,12 +219,12 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
     n_pre = int(math.ceil(test.delay / test.dt - 1e-9)) + (1 if test.delay > 0 else 0)
     u_all = np.vstack([np.tile(u0, (n_pre, 1)), u])
     x0 = _advance(rotor, trim.x, u0, n_pre, dpsi, test.max_step)
-    fine = None
-    if inputs_at is not None:
-        def fine(n_sub):
-            j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
-            return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
-    x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step, fine)
+
+    def fine(n_sub):            # the inputs at every half sub-step, from the pre-roll on
+        j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
+        return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
+    x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step,
+                                    None if inputs_at is None else fine)
     x = x[n_pre:]
     t = np.arange(n) * test.dt
     psi = om * t

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from ..channels import CONTROLS, INFLOW
 from .body import HUB, BodyModel
 from ..errors import InputError
 from ..data.inputs import SHAPES
@@ -132,13 +133,11 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
     ab, bb = test.body.matrices()
     ch, dh = test.body.hub_matrices(omega_r, k.mu)
     nb, n = ab.shape[0], model.a.shape[0]
-    # rotor inputs (SI, INPUT_COLUMNS order) = P_c controls + P_h hub
-    hub_rows = {c: i for i, c in enumerate(HUB)}
-    sel = np.zeros((len(INPUT_COLUMNS), 10))
-    for j, c in enumerate(INPUT_COLUMNS):
-        sel[j, CONTROL_INDEX[c] if c in CONTROL_INDEX else 3 + hub_rows[c]] = 1.0
-    cu = sel[:, 3:] @ ch                                   # from the body state
-    du = sel[:, :3] + sel[:, 3:] @ dh                      # from the controls
+    # rotor inputs (SI, the channel order: controls, then the hub) from the body
+    # state and the controls
+    assert CONTROLS + HUB == INPUT_COLUMNS
+    cu = np.vstack([np.zeros((3, nb)), ch])
+    du = np.vstack([np.eye(3), dh])
     cols = [INPUT_COLUMNS.index(c) for c in model.inputs]
     bm = model.b
     A = np.block([[ab, np.zeros((nb, n))], [bm @ cu[cols], model.a]])
@@ -202,7 +201,7 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
         cols[c] = trim[c] + y[:, i] + sensor_noise(rng, n, test.noise_flap, test.dt,
                                                    test.noise_color_hz)
     if include_truth:
-        for i, c in enumerate(("lambda0", "lambda1c", "lambda1s")):
+        for i, c in enumerate(INFLOW):
             cols[c] = y[:, 3 + i]
     meta = {"omega": k.omega, "mu": k.mu, "a0": k.a0, "solidity": k.solidity,
             "radius": k.radius or 7.5, "aircraft": "Puma (virtual)",

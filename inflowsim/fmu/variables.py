@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..model.equations import INPUT_UNITS, INPUTS, OUTPUTS
+from ..channels import BY_NAME, INPUT_CHANNELS, OUTPUTS
 from ..model.params import MU_MAX, MU_MIN, PUMA, SPECS
 from ..model.presets import paper_table
 
@@ -58,21 +58,6 @@ class Variable:
         return None
 
 
-_INPUT_TEXT = {
-    "theta0": "collective pitch", "theta1c": "lateral cyclic pitch theta1cw",
-    "theta1s": "longitudinal cyclic pitch theta1sw", "muz": "hub velocity normal to the "
-    "disc over Omega R, down positive", "q": "pitch rate", "p": "roll rate",
-    "qdot": "pitch acceleration", "pdot": "roll acceleration",
-    "mux": "in-plane hub velocity x over Omega R (empirical and glauert only)",
-    "muy": "in-plane hub velocity y over Omega R (empirical and glauert only)",
-}
-_OUTPUT_TEXT = {
-    "beta0": "coning", "beta1c": "longitudinal flap (as recorded: azimuth bias included)",
-    "beta1s": "lateral flap (as recorded: azimuth bias included)",
-    "lambda0": "uniform induced inflow over Omega R",
-    "lambda1c": "cosine induced inflow over Omega R", "lambda1s": "sine induced inflow over "
-    "Omega R",
-}
 _UNITS = {"rad/s^2": "rad/s2", "azimuth rad": "rad"}
 _PARAMETERS = ("lambda_beta2", "n_beta", "tau", "tau0", "tau_cs",
                "k01", "k02", "k11", "k12", "k21", "k22",
@@ -90,16 +75,17 @@ def _start_parameters() -> dict:
 
 def _build() -> tuple:
     v = []
-    for name, unit in zip(INPUTS, INPUT_UNITS):
-        v.append(Variable(name, "Real", "input", "continuous", 0.0, _UNITS.get(unit, unit),
-                          f"{_INPUT_TEXT[name]}: perturbation about trim [{unit}]"))
+    for ch in INPUT_CHANNELS:
+        v.append(Variable(ch.name, "Real", "input", "continuous", 0.0,
+                          _UNITS.get(ch.unit, ch.unit),
+                          f"{ch.description}: perturbation about trim [{ch.unit}]"))
     v.append(Variable("mu", "Real", "input", "continuous", PUMA.mu, "-",
                       "trim advance ratio (a total, the flight condition); a change "
                       "rebuilds the discrete matrices", MU_MIN, MU_MAX))
     for name in OUTPUTS:
         v.append(Variable(name, "Real", "output", "continuous", None, "rad" if
                           name.startswith("beta") else "-",
-                          f"{_OUTPUT_TEXT[name]}: perturbation about trim"))
+                          f"{BY_NAME[name].description}: perturbation about trim"))
     start = _start_parameters()
     for name in _PARAMETERS:
         s = SPECS[name]

@@ -29,15 +29,21 @@ from ..model.params import Constants
 from ..data.record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
 from ..simulate.sampled import gregory_weights
 
-#: The paper's band (model.md section 7), Hz.
+#: The paper's band (model.md section 7), Hz: the one default of identification,
+#: validation and diagnosis (bins 6..42 at 26.6 s).
 DEFAULT_BAND = (0.2256, 1.58)
+#: A band limit may sit this fraction of a bin outside the asked band (the paper
+#: quotes 0.2256 Hz for the bin at 6/26.6 = 0.22556 Hz); never more.
+SNAP_TOLERANCE = 0.01
 
 
 def snap_band(n_samples: int, dt: float, band_hz) -> tuple[np.ndarray, tuple]:
     """Grid bins ``k`` of the band and the snapped band [Hz].
 
-    Each limit snaps to the nearest grid frequency ``k / (N dt)``; the band keeps
-    every bin between them, never the DC bin.
+    Each limit snaps to the nearest grid frequency ``k / (N dt)`` that does not
+    widen the band (by more than ``SNAP_TOLERANCE`` of a bin: rounding of a quoted
+    limit), so a band never silently grows; it keeps every bin between them,
+    never the DC bin, and must hold at least 3.
 
     Returns
     -------
@@ -48,10 +54,16 @@ def snap_band(n_samples: int, dt: float, band_hz) -> tuple[np.ndarray, tuple]:
     f1, f2 = (float(b) for b in band_hz)
     df = 1.0 / (n_samples * dt)
     k1 = max(1, int(np.floor(f1 / df + 0.5)))
+    if k1 * df < f1 - SNAP_TOLERANCE * df:
+        k1 += 1
     k2 = min(n_samples // 2, int(np.floor(f2 / df + 0.5)))
+    if k2 * df > f2 + SNAP_TOLERANCE * df:
+        k2 -= 1
     if k2 - k1 < 2:
-        raise InputError(f"band {f1:g}-{f2:g} Hz holds fewer than 3 frequencies at the "
-                         f"record's resolution {df:.4g} Hz; widen it or use a longer record")
+        raise InputError(f"band {f1:g}-{f2:g} Hz holds {max(k2 - k1 + 1, 0)} transform "
+                         f"frequencies at the record's resolution {df:.4g} Hz (1/duration), "
+                         f"fewer than 3: widen the band to at least {3 * df:.3g} Hz or use "
+                         f"a record longer than {3 / max(f2 - f1, 1e-12):.3g} s")
     k = np.arange(k1, k2 + 1)
     return k, (k1 * df, k2 * df)
 

@@ -14,24 +14,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-#: Inputs in azimuth units, the order of ``model.md`` section 3.
-INPUTS_AZ = ("theta0", "theta1c", "theta1s", "muz", "qbar", "pbar",
-             "qbar_prime", "pbar_prime", "mux", "muy")
-#: The same inputs in SI units, named as the record columns.
-INPUTS = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot", "mux", "muy")
-INPUT_UNITS = ("rad", "rad", "rad", "-", "rad/s", "rad/s", "rad/s^2", "rad/s^2", "-", "-")
-FLAP = ("beta0", "beta1c", "beta1s")
-INFLOW = ("lambda0", "lambda1c", "lambda1s")
-FLAP_RATE = ("beta0_prime", "beta1c_prime", "beta1s_prime")
-OUTPUTS = FLAP + INFLOW
-N_BASE_INPUTS = 8   # mux, muy only where an effect uses them
+# the channel names, order and scaling: one table (inflowsim.channels), re-exported
+from ..channels import (FLAP, FLAP_RATE, INFLOW, INPUT_UNITS, INPUTS, INPUTS_AZ,
+                        N_BASE_INPUTS, OUTPUTS, input_scale)
 
-
-def input_scale(omega: float) -> np.ndarray:
-    """Factors turning SI inputs into azimuth-unit inputs: ``pbar = p/Omega``,
-    ``pbar' = pdot/Omega^2``."""
-    o = float(omega)
-    return np.array([1, 1, 1, 1, 1 / o, 1 / o, 1 / o**2, 1 / o**2, 1, 1], dtype=float)
+__all__ = ["FLAP", "FLAP_RATE", "INFLOW", "INPUT_UNITS", "INPUTS", "INPUTS_AZ",
+           "N_BASE_INPUTS", "OUTPUTS", "input_scale", "Equations", "Measurement",
+           "rotation", "assemble"]
 
 
 @dataclass(frozen=True)

@@ -139,7 +139,16 @@ PUMA = Constants(mu=0.249, a0=5.73, solidity=0.0917, omega=27.5, radius=7.5)
 
 @dataclass(frozen=True)
 class ParameterSpec:
-    """A model parameter: canonical name, unit, meaning and allowed range."""
+    """A model parameter: canonical name, unit, meaning, allowed range, and the
+    physically plausible range with its reason.
+
+    ``lower``/``upper``/``lower_open`` bound what a model may be built with (one-line
+    refusal outside); ``plausible = (low, high, why)`` is what physics expects
+    (the diagnosis flags estimates outside it; ``plausible_seconds``: the range is
+    in seconds for a time constant in azimuth units, to be divided by ``Omega``).
+    The base parameters are declared here; each effect declares its own
+    (``Effect.specs``), and the catalogue registers them.
+    """
 
     name: str
     unit: str
@@ -147,6 +156,19 @@ class ParameterSpec:
     lower: float = -math.inf
     upper: float = math.inf
     lower_open: bool = False
+    plausible: tuple | None = None
+    plausible_seconds: bool = False
+
+    def plausible_range(self, omega: float | None = None):
+        """``(low, high, why)`` in the parameter's own unit, or ``None``."""
+        if self.plausible is None:
+            return None
+        lo, hi, why = self.plausible
+        if self.plausible_seconds:
+            if not omega:
+                return None
+            lo, hi = lo * omega, hi * omega
+        return lo, hi, why
 
     def check(self, value) -> float:
         return _finite_in(self.name, value, self.lower, self.upper, self.lower_open)
@@ -173,30 +195,19 @@ def _finite_in(name, value, lower, upper, lower_open=False, why=None) -> float:
     return v
 
 
-def _p(name, unit, desc, lower=-math.inf, upper=math.inf, lower_open=False):
-    return ParameterSpec(name, unit, desc, lower, upper, lower_open)
-
-
-#: Every parameter the catalogue knows, by canonical name.
+#: The base model's parameters (Eqs. 1-2); every other parameter is declared by the
+#: effect that introduces it and registered here by the catalogue
+#: (:mod:`inflowsim.model.effects`).
 SPECS: dict[str, ParameterSpec] = {s.name: s for s in (
-    _p("lambda_beta2", "-", "normalised flap frequency squared", 0.0, 10.0, True),
-    _p("n_beta", "-", "inertia number gamma/8", 0.0, 10.0, True),
-    _p("tau", "azimuth rad", "single inflow time constant", 0.0, 1e4, True),
-    _p("tau0", "azimuth rad", "time constant of lambda0", 0.0, 1e4, True),
-    _p("tau_cs", "azimuth rad", "time constant of lambda1c, lambda1s", 0.0, 1e4, True),
-    *(_p(f"k{i}{j}", "-", f"empirical K element ({i},{j}) (Eq. 13)")
-      for i in range(3) for j in (1, 2)),
-    *(_p(f"c{i}", "-", f"Glauert G coefficient c{i} (Eq. 19)") for i in range(1, 5)),
-    _p("k0p", "-", "k0 + a0 s/(8 mu), Glauert F (Eq. 19)"),
-    _p("kc", "-", "Glauert F coefficient kc (Eq. 19)"),
-    _p("ks", "-", "Glauert F coefficient ks (Eq. 19)"),
-    _p("azimuth_bias", "rad", "offset of the recorded blade azimuth", -math.pi, math.pi),
-    _p("delay", "s", "time shift of the recorded flap channels (delay > 0, lead < 0)",
-       -1.0, 1.0),
-    *(_p(f"delay_{c}", "s", f"time shift of the recorded {c} (delay > 0, lead < 0)",
-         -1.0, 1.0)
-      for c in ("beta0", "beta1c", "beta1s", "theta0", "theta1c", "theta1s", "muz", "p",
-                "q", "pdot", "qdot", "mux", "muy")),
+    ParameterSpec("lambda_beta2", "-", "normalised flap frequency squared", 0.0, 10.0,
+                  True, (0.95, 1.2, "flap frequency squared of articulated or hingeless "
+                                     "rotors lies near 1.0-1.2 (Puma theory 1.06)")),
+    ParameterSpec("n_beta", "-", "inertia number gamma/8", 0.0, 10.0, True,
+                  (0.5, 1.5, "inertia number gamma/8 for Lock numbers 4-12 (Puma theory "
+                             "0.987)")),
+    ParameterSpec("tau", "azimuth rad", "single inflow time constant", 0.0, 1e4, True,
+                  (0.0, 1.0, "an inflow time constant above 1 s is not physical for this "
+                             "rotor"), plausible_seconds=True),
 )}
 
 

@@ -25,10 +25,11 @@ from typing import Mapping
 import numpy as np
 
 from . import loads as ld
+from ..channels import CONTROLS, FLAP
 from ..errors import InputError
 
 #: Trim totals (record columns) an effect linearised about trim needs.
-TRIM_KEYS = ("theta0", "theta1c", "theta1s", "beta0", "beta1c", "beta1s", "muz")
+TRIM_KEYS = CONTROLS + FLAP + ("muz",)
 
 
 def trim_state(trim: Mapping[str, float] | None, effect: str):

@@ -1,8 +1,10 @@
-"""Plots of a fit (matplotlib, Agg): frequency-domain fit (the paper's Figures 1,
-2, 4) and time-domain reconstruction (Figures 3, 5); band study (Figure 6).
+"""Plots of a fit: frequency-domain fit (the paper's Figures 1, 2, 4), time-domain
+reconstruction (Figures 3, 5), band study (Figure 6).
 
-Computing lives in :mod:`.estimator` and :mod:`.bandstudy`; these functions only
-draw and save PNG files.
+Computing lives in :mod:`inflowsim.identify`; these functions only draw.  The
+convention of every plot of the package (:mod:`.plots`): each returns its
+``Figure``, drawn on its own Agg canvas (no pyplot, no global backend switch),
+and saves a PNG when given a ``path``.
 """
 from __future__ import annotations
 
@@ -11,13 +13,7 @@ import numpy as np
 from ..model.equations import FLAP
 from ..model.build import build_model
 from ..simulate.replay import replay
-
-
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+from .plots import new_figure, save_png
 
 
 def reconstruction_response(result, index: int = 0):
@@ -31,11 +27,16 @@ def reconstruction_response(result, index: int = 0):
     return t, d.z_time, y
 
 
-def fit_plot(result, path, index: int = 0):
+def _done(fig, path):
+    if path is not None:
+        save_png(fig, path, dpi=100)
+    return fig
+
+
+def fit_plot(result, path=None, index: int = 0):
     """Measured against predicted flap transforms, magnitude [dB] and phase [deg]."""
-    plt = _plt()
     d = result.data[index]
-    fig, ax = plt.subplots(2, 3, figsize=(12, 6), sharex=True)
+    fig, ax = new_figure(2, 3, size=(12, 6))
     for i, ch in enumerate(FLAP):
         ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Z[:, i])), "k.", label="measured")
         ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Y[:, i])), "r-", label="model")
@@ -47,17 +48,14 @@ def fit_plot(result, path, index: int = 0):
     ax[1, 0].set_ylabel("phase [deg]")
     ax[0, 0].legend()
     fig.suptitle(f"{result.structure.name}: frequency-domain fit, {d.source}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return _done(fig, path)
 
 
-def reconstruction_plot(result, path, index: int = 0):
+def reconstruction_plot(result, path=None, index: int = 0):
     """Measured and reconstructed flap perturbations against time."""
-    plt = _plt()
     t, z, y = reconstruction_response(result, index)
-    fig, ax = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+    fig, axes = new_figure(3, 1, size=(10, 7))
+    ax = axes[:, 0]
     for i, ch in enumerate(FLAP):
         ax[i].plot(t, np.degrees(z[:, i]), "k-", lw=0.8, label="measured")
         ax[i].plot(t, np.degrees(y[:, i]), "r--", lw=1.0, label="model")
@@ -65,19 +63,15 @@ def reconstruction_plot(result, path, index: int = 0):
     ax[0].legend()
     ax[-1].set_xlabel("time [s]")
     fig.suptitle(f"{result.structure.name}: time-domain reconstruction")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return _done(fig, path)
 
 
-def band_study_plot(study, path):
+def band_study_plot(study, path=None):
     """Estimates with 1-sigma bars against the lower band limit (Figure 6)."""
-    plt = _plt()
     names = list(study.estimates)
     ncol = 4
     nrow = -(-len(names) // ncol)
-    fig, ax = plt.subplots(nrow, ncol, figsize=(3.2 * ncol, 2.4 * nrow), squeeze=False)
+    fig, ax = new_figure(nrow, ncol, size=(3.2 * ncol, 2.4 * nrow), sharex=False)
     for k, n in enumerate(names):
         a = ax[k // ncol, k % ncol]
         s = np.array([np.nan if v is None else v for v in study.sigma[n]], dtype=float)
@@ -88,7 +82,4 @@ def band_study_plot(study, path):
         ax[k // ncol, k % ncol].axis("off")
     fig.supxlabel(f"lower band limit [Hz] (upper {study.upper_hz:.4g} Hz)")
     fig.suptitle(f"{study.structure}: estimates against the lower frequency limit")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return _done(fig, path)

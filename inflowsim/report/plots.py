@@ -17,6 +17,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..data.record import FLAP_COLUMNS
+from ..channels import CONTROLS
 
 #: Axis labels of the flap channels (units: degrees on plots, radians inside).
 FLAP_LABELS = {"beta0": r"$\beta_0$", "beta1c": r"$\beta_{1c}$", "beta1s": r"$\beta_{1s}$"}
@@ -77,7 +78,7 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
     if show_inputs:
         a = ax[3, 0]
         for j, name in enumerate(r0.inputs):
-            if name in ("theta0", "theta1c", "theta1s") and np.ptp(r0.u[:, j]) > 1e-9:
+            if name in CONTROLS and np.ptp(r0.u[:, j]) > 1e-9:
                 a.plot(r0.t, np.degrees(r0.u[:, j]), lw=1.0, label=name)
         a.set_ylabel("pitch [deg]")
         a.grid(True, alpha=0.3)

@@ -9,6 +9,7 @@ defines ``EFFECT`` and append its import to ``_MODULES`` below.
 from __future__ import annotations
 
 from ._effect import Effect
+from ..params import register as register_spec
 from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
                time_delay)
 
@@ -19,14 +20,21 @@ from . import time_shifts  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation)
 
 #: Effects by name, in the order they are applied.
-CATALOGUE: dict[str, Effect] = {m.EFFECT.name: m.EFFECT for m in _MODULES}
-CATALOGUE.update({e.name: e for e in time_shifts.EFFECTS})
+CATALOGUE: dict[str, Effect] = {}
 
 
 def register(effect: Effect) -> Effect:
-    """Add an effect to the catalogue (used by effect modules outside this package)."""
+    """Add an effect to the catalogue, and its parameters' facts to
+    :data:`inflowsim.model.params.SPECS` (used by effect modules outside this
+    package too)."""
+    for spec in effect.specs:
+        register_spec(spec)
     CATALOGUE[effect.name] = effect
     return effect
+
+
+for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
+    register(_e)
 
 
 __all__ = ["Effect", "CATALOGUE", "register"]

@@ -4,7 +4,9 @@ from dataclasses import dataclass
 from typing import Callable
 
 from ..equations import Equations, Measurement
-from ..params import Constants
+from ..params import Constants, ParameterSpec
+
+__all__ = ["Effect", "ParameterSpec"]
 
 
 def _unchanged(x, p, k):
@@ -45,10 +47,9 @@ class Effect:
     boundary : tuple of str
         Parameters whose neutral value is the boundary of their range (the
         likelihood-ratio statistic is then a 50:50 mixture of chi-square laws).
-    plausible : callable, optional
-        ``Constants -> {name: (low, high, why)}``: the physically plausible range
-        of each parameter (sign, theory range), in its own unit; an estimate
-        whose 3-sigma interval misses it does not make the effect acceptable.
+    specs : tuple of ParameterSpec
+        Unit, allowed and plausible range and description of each parameter it
+        adds (registered in :data:`inflowsim.model.params.SPECS` by the catalogue).
     offered : bool
         Tried by the diagnosis by default.  Per-channel time shifts are not: the
         user asks for them by name.
@@ -68,10 +69,16 @@ class Effect:
     neutral: Callable[[Constants], dict] | None = None
     offered: bool = True
     boundary: tuple = ()
-    plausible: Callable[[Constants], dict] | None = None
+    specs: tuple = ()
 
     def plausible_ranges(self, constants: Constants) -> dict:
-        return self.plausible(constants) if self.plausible else {}
+        """``{name: (low, high, why)}`` of its parameters, in their own units."""
+        out = {}
+        for s in self.specs:
+            r = s.plausible_range(constants.omega)
+            if r is not None:
+                out[s.name] = r
+        return out
 
     def neutral_values(self, constants: Constants) -> dict:
         return (self.neutral or self.theory)(constants)

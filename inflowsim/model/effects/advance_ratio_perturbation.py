@@ -39,13 +39,11 @@ from ._effect import Effect
 from ...physics import bladeelement as be
 from ...physics import loads as ld
 from ..equations import rotation
-from ..params import ParameterSpec, register
+from ..params import ParameterSpec
 
 NAME = "advance-ratio-perturbation"
 MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
 
-register(ParameterSpec("k_mu", "-", "scale of the direct in-plane velocity forcing of "
-                       "flap and loads (theory 1, neutral 0)", -10.0, 10.0))
 
 
 def true_trim(k, azimuth_bias: float = 0.0):
@@ -80,7 +78,9 @@ EFFECT = Effect(
     theory=lambda k: {"k_mu": 1.0},
     neutral=lambda k: {"k_mu": 0.0},
     equations=_equations,
-    plausible=lambda k: {"k_mu": (0.5, 1.5, "the blade-element linearisation is exact "
-                                  "for small perturbations: theory 1")},
+    specs=(ParameterSpec("k_mu", "-", "scale of the direct in-plane velocity forcing of "
+                         "flap and loads (theory 1, neutral 0)", -10.0, 10.0,
+                         plausible=(0.5, 1.5, "the blade-element linearisation is exact "
+                                              "for small perturbations: theory 1")),),
     uses_inplane=True,
 )

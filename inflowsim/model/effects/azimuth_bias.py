@@ -5,7 +5,9 @@ the model takes recorded pitch, so the true pitch ``R(-dpsi) theta_m`` drives it
 and its flap output is rotated by ``R(dpsi)``.  One parameter, several matrix
 elements: the paper's "relationships between elements".
 """
-from ._effect import Effect
+import math
+
+from ._effect import Effect, ParameterSpec
 from ..equations import rotation
 
 
@@ -30,7 +32,9 @@ EFFECT = Effect(
     parameters=("azimuth_bias",),
     theory=lambda k: {"azimuth_bias": 0.0},
     equations=_equations,
-    plausible=lambda k: {"azimuth_bias": (-0.5, 0.5, "an azimuth offset over 30 deg "
-                                          "points at a wiring or sign error")},
+    specs=(ParameterSpec("azimuth_bias", "rad", "offset of the recorded blade azimuth",
+                         -math.pi, math.pi, plausible=(-0.5, 0.5, "an azimuth offset over "
+                                                       "30 deg points at a wiring or sign "
+                                                       "error, not a bias")),),
     measurement=_measurement,
 )

@@ -31,14 +31,10 @@ Self and Liang, 1987): :mod:`inflowsim.candidates` uses that.  The search keeps
 import numpy as np
 
 from ._effect import Effect
-from ..params import ParameterSpec, register
+from ..params import ParameterSpec
 
 #: The smallest flap_inertia a model is built with: the first-order limit.
 FLOOR = 1e-6
-
-register(ParameterSpec("flap_inertia", "-", "coefficient of the multiblade flap second "
-                       "derivatives (1: the blades' own inertia; 0: first-order "
-                       "flapping)", FLOOR, 10.0))
 
 
 def _equations(eq, p, k):
@@ -55,8 +51,10 @@ EFFECT = Effect(
     theory=lambda k: {"flap_inertia": 1.0},
     neutral=lambda k: {"flap_inertia": FLOOR},
     equations=_equations,
-    plausible=lambda k: {"flap_inertia": (0.5, 1.5, "the flap equation is normalised by "
-                                          "the blade's own inertia: theory 1")},
+    specs=(ParameterSpec("flap_inertia", "-", "coefficient of the multiblade flap second "
+                         "derivatives (1: the blades' own inertia; 0: first-order "
+                         "flapping)", FLOOR, 10.0, plausible=(0.5, 1.5, "the flap equation "
+                         "is normalised by the blade's own inertia: theory 1")),),
     second_order=True,
     boundary=("flap_inertia",),
 )

@@ -7,7 +7,9 @@
 """
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
+
+_LARGE = (-5.0, 5.0, "a Glauert gain this large is not physical")
 
 NAMES = ("c1", "c2", "c3", "c4", "k0p", "kc", "ks")
 # state / input column indices
@@ -59,9 +61,12 @@ EFFECT = Effect(
     parameters=NAMES,
     theory=_theory,
     equations=_equations,
-    plausible=lambda k: {**{n: (-5.0, 5.0, "a Glauert gain this large is not physical")
-                            for n in ("c1", "c2", "c3", "c4", "kc", "ks")},
-                         "k0p": (-1.0, 2.0, "k0 + a0 s/(8 mu) lies near a0 s/(8 mu)")},
+    specs=(*(ParameterSpec(f"c{i}", "-", f"Glauert G coefficient c{i} (Eq. 19)",
+                           plausible=_LARGE) for i in range(1, 5)),
+           ParameterSpec("k0p", "-", "k0 + a0 s/(8 mu), Glauert F (Eq. 19)",
+                         plausible=(-1.0, 2.0, "k0 + a0 s/(8 mu) lies near a0 s/(8 mu)")),
+           ParameterSpec("kc", "-", "Glauert F coefficient kc (Eq. 19)", plausible=_LARGE),
+           ParameterSpec("ks", "-", "Glauert F coefficient ks (Eq. 19)", plausible=_LARGE)),
     uses_inplane=True,
     alternatives=("hub-velocity-coupling",),
 )

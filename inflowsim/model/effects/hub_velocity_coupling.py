@@ -1,7 +1,7 @@
 """``hub-velocity-coupling``: empirical forcing ``K mu_xy`` of the inflow, Eq. (13)."""
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
 
 NAMES = ("k01", "k02", "k11", "k12", "k21", "k22")
 
@@ -20,8 +20,9 @@ EFFECT = Effect(
     parameters=NAMES,
     theory=lambda k: dict.fromkeys(NAMES, 0.0),
     equations=_equations,
-    plausible=lambda k: {n: (-5.0, 5.0, "an empirical inflow gain this large is not "
-                             "physical") for n in NAMES},
+    specs=tuple(ParameterSpec(n, "-", f"empirical K element ({n[1]},{n[2]}) (Eq. 13)",
+                              plausible=(-5.0, 5.0, "an empirical inflow gain this large "
+                                                    "is not physical")) for n in NAMES),
     uses_inplane=True,
     alternatives=("glauert",),
 )

@@ -1,7 +1,7 @@
 """``separate-time-constants``: ``D_tau* = diag(tau0, tau_cs, tau_cs)``, Eq. (13)."""
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
 from ...physics.theory import pitt_peters_time_constants
 
 
@@ -22,8 +22,12 @@ EFFECT = Effect(
     parameters=("tau0", "tau_cs"),
     theory=_theory,
     equations=_equations,
-    plausible=lambda k: {n: (0.0, 2.0 * k.omega, "inflow time constants are below "
-                             "about 2 s (azimuth units: 2 s x omega)")
-                         for n in ("tau0", "tau_cs")},
+    specs=(ParameterSpec("tau0", "azimuth rad", "time constant of lambda0", 0.0, 1e4, True,
+                         (0.0, 0.3, "the mean inflow settles within a few rotor "
+                                    "revolutions"), plausible_seconds=True),
+           ParameterSpec("tau_cs", "azimuth rad", "time constant of lambda1c, lambda1s",
+                         0.0, 1e4, True, (0.0, 1.0, "the cyclic inflow time constant should "
+                                                    "be below about 1 s"),
+                         plausible_seconds=True)),
     removes=("tau",),
 )

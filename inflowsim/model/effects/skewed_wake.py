@@ -46,10 +46,8 @@ from ._effect import Effect
 from ...physics import bladeelement as be
 from ...physics import loads as ld
 from ..equations import rotation
-from ..params import ParameterSpec, register
+from ..params import ParameterSpec
 
-register(ParameterSpec("k_skew", "-", "Pitt-Peters wake-skew coupling 15 pi/64 tan(chi/2) "
-                       "between lambda0 and lambda1c", -10.0, 10.0))
 
 #: Where the coupling sits in L: (lambda0, C_mc) and (lambda1c, C_T).
 SKEW = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
@@ -95,6 +93,8 @@ EFFECT = Effect(
     theory=lambda k: {"k_skew": theory_skew(k)},
     neutral=lambda k: {"k_skew": 0.0},
     equations=_equations,
-    plausible=lambda k: {"k_skew": (0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is "
-                                    "positive and below 15 pi/64")},
+    specs=(ParameterSpec("k_skew", "-", "Pitt-Peters wake-skew coupling 15 pi/64 "
+                         "tan(chi/2) between lambda0 and lambda1c", -10.0, 10.0,
+                         plausible=(0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is positive "
+                                              "and below 15 pi/64")),),
 )

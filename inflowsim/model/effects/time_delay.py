@@ -5,7 +5,7 @@ data system's skew can be a lag or a lead, so ``delay`` [s] takes either sign:
 the recorded flap is the model's at ``t - delay``.  Per-channel shifts of any
 output or input are the ``delay-<channel>`` effects (:mod:`.time_shifts`).
 """
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
 
 
 def _measurement(m, p, k):
@@ -21,7 +21,8 @@ EFFECT = Effect(
     parameters=("delay",),
     theory=lambda k: {"delay": 0.0},
     measurement=_measurement,
-    plausible=lambda k: {"delay": (-0.1, 0.1, "measurement-chain time shifts are tens "
-                                   "of milliseconds")},
+    specs=(ParameterSpec("delay", "s", "time shift of the recorded flap channels (delay > "
+                         "0, lead < 0)", -1.0, 1.0, plausible=(-0.1, 0.1, "measurement-"
+                         "chain time shifts are tens of milliseconds")),),
     alternatives=("delay-beta0", "delay-beta1c", "delay-beta1s"),
 )

@@ -12,7 +12,7 @@ Not offered to the diagnosis by default (13 more candidates, each one degree of
 freedom, would raise the chance of a false alarm over the catalogue and the
 run time); ask for them by name (``--add delay-theta1s``, ``--candidates``).
 """
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
 from ..equations import FLAP, INPUTS
 
 
@@ -48,8 +48,10 @@ def _effect(channel, output):
         uses_inplane=channel in ("mux", "muy"),
         alternatives=("time-delay",) if output else (),
         offered=False,
-        plausible=lambda k, c=channel: {f"delay_{c}": (-0.1, 0.1, "data-system skews "
-                                                      "are tens of milliseconds")},
+        specs=(ParameterSpec(f"delay_{channel}", "s", f"time shift of the recorded "
+                             f"{channel} (delay > 0, lead < 0)", -1.0, 1.0,
+                             plausible=(-0.1, 0.1, "data-system skews are tens of "
+                                                   "milliseconds")),),
     )
 
 

@@ -1,0 +1,92 @@
+"""The one table of channels: every quantity a record, the model, the simulator, the
+FMU and the plots exchange, with its name, unit, position and scaling.
+
+Names are the project's one name per quantity (``interface.md``): record column,
+model input or output, FMU variable, JSON key.  Inputs are in the model's order
+(``model.md`` section 3: ``theta``, then ``nu = (muz, qbar, pbar)``, then ``eta =
+(qbar', pbar')``, then the in-plane ``mux, muy`` where a structure uses them);
+records may hold their columns in any order.  Inside the descriptor matrices
+``E, A, B`` (azimuth time, as in the paper) rates are over ``Omega`` and
+accelerations over ``Omega^2``: ``omega_power`` says which.  Change a fact here
+and every layer follows.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One quantity.
+
+    ``name`` the record column / model / FMU name; ``unit`` its SI unit as written
+    in ``record-format.md`` (``-`` for a ratio); ``azimuth`` its name in azimuth
+    units inside ``E, A, B`` (``qbar`` for ``q``); ``omega_power`` ``k`` with
+    ``azimuth value = SI value / Omega^k``; ``description`` one phrase.
+    """
+
+    name: str
+    unit: str
+    description: str
+    azimuth: str = ""
+    omega_power: int = 0
+
+    @property
+    def azimuth_name(self) -> str:
+        return self.azimuth or self.name
+
+
+#: Model inputs, in the model's order.
+INPUT_CHANNELS = (
+    Channel("theta0", "rad", "collective pitch"),
+    Channel("theta1c", "rad", "lateral cyclic pitch theta1cw"),
+    Channel("theta1s", "rad", "longitudinal cyclic pitch theta1sw"),
+    Channel("muz", "-", "hub velocity normal to the disc over Omega R, down positive"),
+    Channel("q", "rad/s", "pitch rate", "qbar", 1),
+    Channel("p", "rad/s", "roll rate", "pbar", 1),
+    Channel("qdot", "rad/s^2", "pitch acceleration", "qbar_prime", 2),
+    Channel("pdot", "rad/s^2", "roll acceleration", "pbar_prime", 2),
+    Channel("mux", "-", "in-plane hub velocity x over Omega R (a total in records)"),
+    Channel("muy", "-", "in-plane hub velocity y over Omega R"),
+)
+#: Inputs every structure has; ``mux, muy`` only where an effect uses them.
+N_BASE_INPUTS = 8
+#: Multiblade flap, as measured (azimuth bias included).
+FLAP_CHANNELS = (
+    Channel("beta0", "rad", "coning"),
+    Channel("beta1c", "rad", "longitudinal flap (as recorded: azimuth bias included)"),
+    Channel("beta1s", "rad", "lateral flap (as recorded: azimuth bias included)"),
+)
+#: Induced inflow over Omega R (never measured; a virtual record may carry it).
+INFLOW_CHANNELS = (
+    Channel("lambda0", "-", "uniform induced inflow over Omega R"),
+    Channel("lambda1c", "-", "cosine induced inflow over Omega R"),
+    Channel("lambda1s", "-", "sine induced inflow over Omega R"),
+)
+#: The flap rates, the extra states of second-order flapping (azimuth time).
+FLAP_RATE_CHANNELS = tuple(Channel(f"{c.name}_prime", "rad/azimuth rad",
+                                   f"azimuth rate of {c.name}") for c in FLAP_CHANNELS)
+
+INPUTS = tuple(c.name for c in INPUT_CHANNELS)
+INPUTS_AZ = tuple(c.azimuth_name for c in INPUT_CHANNELS)
+INPUT_UNITS = tuple(c.unit for c in INPUT_CHANNELS)
+FLAP = tuple(c.name for c in FLAP_CHANNELS)
+INFLOW = tuple(c.name for c in INFLOW_CHANNELS)
+FLAP_RATE = tuple(c.name for c in FLAP_RATE_CHANNELS)
+OUTPUTS = FLAP + INFLOW
+CONTROLS = INPUTS[:3]
+#: Every channel by name.
+BY_NAME = {c.name: c for c in INPUT_CHANNELS + FLAP_CHANNELS + INFLOW_CHANNELS}
+
+
+def input_scale(omega: float, names=INPUTS) -> np.ndarray:
+    """Factors turning SI inputs ``names`` into azimuth-unit inputs (``pbar = p /
+    Omega``, ``pbar' = pdot / Omega^2``)."""
+    o = float(omega)
+    return np.array([o ** -BY_NAME[n].omega_power for n in names], dtype=float)
+
+
+def unit_of(name: str) -> str:
+    return BY_NAME[name].unit
