@@ -19,6 +19,7 @@ import pytest
 from scipy import stats
 
 import inflowsim as ifs
+from conftest import TWO_AXES
 from inflowsim.candidates import lr_test
 from inflowsim.cli import main
 from inflowsim.diagnose import diagnose, explicit_ladder, ladder
@@ -29,7 +30,6 @@ from inflowsim.virtual import Manoeuvre, VirtualTest, noise_psd, virtual_record
 
 SEED = 1
 NOISE = 1e-4
-TWO_AXES = (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
 TRUE_VALUES = {
     "separate-time-constants": {"tau0": 2.0, "tau_cs": 20.0},
     "hub-velocity-coupling": {k: v for k, v in paper_table(2)[1].items() if k[0] == "k"},

@@ -6,12 +6,12 @@ import inflowsim as ifs
 from inflowsim.failures import (parameter_failures, residual_analysis, residual_tests,
                                 spectrum_failures)
 from inflowsim.presets import paper_table
-from inflowsim.virtual import VirtualTest, virtual_record
+from conftest import virtual
 
 
 @pytest.fixture(scope="module")
 def glauert_record():
-    return virtual_record(VirtualTest(structure="glauert", seed=5))
+    return virtual(structure="glauert", seed=5)
 
 
 def model_for(rec, s):

@@ -12,13 +12,13 @@ import pytest
 from scipy import signal
 
 import inflowsim as ifs
+from conftest import TWO_AXES
 from inflowsim import PUMA, build_model, preset_parameters
 from inflowsim.identify import identify
 from inflowsim.record import FLAP_COLUMNS, INPUT_COLUMNS, Record
 from inflowsim.sampled import HOLDS, gregory_weights, shift_taps
 from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
 
-TWO_AXES = (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
 THREE = TWO_AXES + (Manoeuvre(channel="theta0", t_start=18.0),)
 
 

@@ -19,8 +19,8 @@ def _model(structure, rec=None, **changes):
 
 
 @pytest.fixture(scope="module")
-def clean():
-    return virtual_record(VirtualTest(noise_flap=0.0))
+def clean(noise_free_glauert):
+    return noise_free_glauert
 
 
 @pytest.mark.parametrize("structure, extra", [

@@ -42,7 +42,7 @@ def add_arguments(p):
     p.add_argument("--force", action="store_true", help="overwrite existing outputs")
 
 
-def check_outputs(out, inputs, force):
+def _check_outputs(out, inputs, force):
     """Refuse before any work: an existing ``out`` without ``force``, or an input."""
     if out is not None:
         check_output(out, force, inputs)
@@ -53,7 +53,7 @@ def run(args) -> int:
     from ..identify.tables import markdown_table
     from ..model.paramfile import read_parameters
     s = structure_of(args)
-    check_outputs(args.out, args.records, args.force)
+    _check_outputs(args.out, args.records, args.force)
     recs = read_records(args.records, args)
     start = None
     if args.start:

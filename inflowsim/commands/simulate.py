@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import InputError
 from ..fileio import check_output
 from ..data.record import read_record, write_record
-from ..simulate.records import simulate_record
+from ..data.simulated import simulate_record
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"

@@ -40,9 +40,7 @@ class FrozenMap(Mapping):
     def __repr__(self):
         return f"FrozenMap({self._d!r})"
 
-#: Forward-flight local momentum theory (V ~ mu) is only meaningful above this
-#: advance ratio; the basic ``L`` matrix is singular at ``mu = 0``.
-MU_MIN = 0.1
+from ..physics.loads import MU_MIN  # noqa: E402  (a fact of the momentum theory)
 #: No reverse-flow modelling: blade-element integrals assume ``U_T > 0`` over
 #: most of the span.
 MU_MAX = 0.5

@@ -12,7 +12,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..model.params import MU_MIN
+
+#: Forward-flight local momentum theory (V ~ mu) is only meaningful above this
+#: advance ratio; the basic ``L`` matrix is singular at ``mu = 0``.
+MU_MIN = 0.1
 
 
 def g_dbeta(mu: float) -> np.ndarray:

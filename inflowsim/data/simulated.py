@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..channels import INFLOW
-from ..data.record import FLAP_COLUMNS, Record, find_trim, model_inputs
+from .record import FLAP_COLUMNS, Record, find_trim, model_inputs
 from ..errors import InputError
-from .simulator import Simulator
+from ..simulate.simulator import Simulator
 
 
 def held_inputs(t_record, u_record, dt: float):
