@@ -7,7 +7,8 @@ import pytest
 from inflowsim import build_model
 from inflowsim.cli import main
 from inflowsim.identify import band_study
-from inflowsim.identify.tables import html_table, markdown_table
+from inflowsim.identify.tables import markdown_table
+from inflowsim.report.fit import fit_report
 from inflowsim.paramfile import read_parameters
 from inflowsim.record import write_record
 from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
@@ -50,7 +51,7 @@ def test_add_fix_tie_and_report(rec_path, tmp_path, capsys):
     p = doc["parameters"]
     assert p["n_beta"]["estimate"] == 0.9 and p["n_beta"]["fixed"] is True
     assert p["tau0"]["estimate"] == p["tau_cs"]["estimate"]
-    for name in ("table.md", "table.html", "fit.json", "fit_frequency.png", "fit_time.png"):
+    for name in ("index.html", "table.md", "fit.json", "fit_frequency.png", "fit_time.png"):
         assert (rep / name).stat().st_size > 0
 
 
@@ -89,12 +90,13 @@ def test_record_lacking_a_channel(tmp_path, capsys):
     assert "muy" in capsys.readouterr().err
 
 
-def test_tables_name_every_parameter(rec_path):
+def test_tables_name_every_parameter(rec_path, tmp_path):
     from inflowsim.identify import identify
     r = identify(rec_path, "empirical")
-    md, ht = markdown_table(r), html_table(r)
+    md = markdown_table(r)
+    page = fit_report(r).write(tmp_path / "rep").read_text()
     for n in r.parameters:
-        assert f"`{n}`" in md and f"<code>{n}</code>" in ht
+        assert f"`{n}`" in md and f"<td>{n}</td>" in page
 
 
 def test_band_study_and_command(rec_path, tmp_path, capsys):

@@ -2,9 +2,6 @@
 (the paper's Figure 6), with a plot."""
 from __future__ import annotations
 
-from pathlib import Path
-
-from ..errors import InputError
 from ._common import (add_record_arguments, parse_fix, print_json, progress, read_records,
                       structure_of)
 
@@ -30,29 +27,19 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    import json
-
-    from ..fileio import safe_write_text
     from ..identify import band_study
-    from ..report.fit_plots import band_study_plot
+    from ..report.document import check_report_folder
+    from ..report.fit import band_study_report
     s = structure_of(args)
-    if args.out:
-        d = Path(args.out)
-        if d.exists() and not d.is_dir():
-            raise InputError(f"{d}: exists and is not a folder")
-        for n in ("bandstudy.png", "bandstudy.json"):
-            if (d / n).exists() and not args.force:
-                raise InputError(f"{d / n}: exists; choose another folder or pass --force")
+    if args.out:                     # refuse before the fits
+        check_report_folder(args.out, ("bandstudy.png", "bandstudy.json"), (args.record,))
     rec = read_records([args.record], args)[0]
     study = band_study(rec, s, upper_hz=args.upper, lowers_hz=args.lower,
                        fixed=parse_fix(args.fix), progress=progress, hold=args.hold)
     doc = study.to_json()
     if args.out:
-        d.mkdir(parents=True, exist_ok=True)
-        safe_write_text(d / "bandstudy.json", json.dumps(doc, indent=2) + "\n", True,
-                        (args.record,))
-        band_study_plot(study, d / "bandstudy.png")
-        progress(f"wrote {d}/bandstudy.png and bandstudy.json")
+        path = band_study_report(study).write(args.out, protect=(args.record,))
+        progress(f"wrote {path} with bandstudy.png and bandstudy.json")
     if args.json:
         print_json(doc)
     else:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from ..fileio import check_output
 from ..identify.transform import DEFAULT_BAND
 from ..model.paramfile import write_json
+from ..report.document import check_report_folder
 from ..report.fit import write_report
 from ._common import (add_record_arguments, parse_fix, parse_ties, print_json, progress,
                       read_records, structure_of)
@@ -54,6 +55,8 @@ def run(args) -> int:
     from ..model.paramfile import read_parameters
     s = structure_of(args)
     _check_outputs(args.out, args.records, args.force)
+    if args.report:
+        check_report_folder(args.report, ("table.md", "fit.json"), args.records)
     recs = read_records(args.records, args)
     start = None
     if args.start:
@@ -70,7 +73,7 @@ def run(args) -> int:
         progress(f"wrote {args.out}")
     if args.report:
         write_report(result, args.report, args.force, protect=args.records)
-        progress(f"wrote {args.report}/table.md, table.html and plots")
+        progress(f"wrote {args.report}/index.html, table.md, fit.json and plots")
     if args.json:
         print_json(doc)
     else:

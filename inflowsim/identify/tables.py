@@ -1,7 +1,5 @@
-"""Parameter tables like the paper's Tables 1-3 (Markdown and HTML)."""
+"""Parameter tables like the paper's Tables 1-3: rows, and Markdown."""
 from __future__ import annotations
-
-import html
 
 from ..model.presets import theory_parameters
 
@@ -48,27 +46,4 @@ def markdown_table(result) -> str:
                    f"| {_fmt(f['fit_percent'], 5)} |")
     if result.warnings:
         out += ["", "Warnings:", ""] + [f"- {w}" for w in result.warnings]
-    return "\n".join(out) + "\n"
-
-
-def html_table(result) -> str:
-    """The same tables as a standalone HTML fragment."""
-    e = html.escape
-    out = [f"<p>{e(_header(result).replace('`', ''))}</p>", "<table>",
-           "<tr><th>parameter</th><th>estimate</th><th>1-sigma</th>"
-           "<th>1-sigma (coloured)</th><th>theory</th><th>note</th></tr>"]
-    for n, v, s, sc, th, note in table_rows(result):
-        fx = n in result.fixed
-        out.append(f"<tr><td><code>{e(n)}</code></td><td>{_fmt(v, 5)}</td>"
-                   f"<td>{'' if fx else _fmt(s, 3)}</td><td>{'' if fx else _fmt(sc, 3)}"
-                   f"</td><td>{_fmt(th)}</td><td>{e(note)}</td></tr>")
-    out += ["</table>", "<table>", "<tr><th>channel</th><th>magnitude error (RMS dB)</th>"
-            "<th>phase error (RMS deg)</th><th>fit %</th></tr>"]
-    for ch, f in result.fit.items():
-        out.append(f"<tr><td><code>{ch}</code></td><td>{_fmt(f['mag_rms_db'], 3)}</td>"
-                   f"<td>{_fmt(f['phase_rms_deg'], 3)}</td>"
-                   f"<td>{_fmt(f['fit_percent'], 5)}</td></tr>")
-    out.append("</table>")
-    if result.warnings:
-        out.append("<ul>" + "".join(f"<li>{e(w)}</li>" for w in result.warnings) + "</ul>")
     return "\n".join(out) + "\n"

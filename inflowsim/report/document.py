@@ -170,19 +170,9 @@ class Report:
         or a file in ``protect`` (the command's inputs).
         """
         d = Path(directory)
-        if d.exists() and not d.is_dir():
-            raise InputError(f"{d}: exists and is not a directory; choose a report folder")
-        owned = _manifest(d)
         names = self.files()
-        for n in names:
-            p = d / n
-            for q in protect:
-                if p.exists() and Path(q).exists() and os.path.samefile(p, q):
-                    raise InputError(f"{p}: refusing to write a report over the input "
-                                     f"file {q}")
-            if p.exists() and n not in owned:
-                raise InputError(f"{p}: exists and is not part of an earlier inflowsim "
-                                 "report; choose another folder")
+        check_report_folder(d, names, protect)
+        owned = _manifest(d)
         try:
             d.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -220,6 +210,26 @@ class Report:
                if block.caption else "")
         alt = html.escape(block.caption or block.name, quote=True)
         return f'<figure><img src="{src}" alt="{alt}">{cap}</figure>'
+
+
+def check_report_folder(directory, names=("index.html",), protect=()) -> Path:
+    """Refuse (``InputError``) a report folder that :meth:`Report.write` would refuse:
+    a regular file, a file of ``names`` there that no earlier report wrote, or one
+    of the ``protect`` files.  Commands call it before long work."""
+    d = Path(directory)
+    if d.exists() and not d.is_dir():
+        raise InputError(f"{d}: exists and is not a directory; choose a report folder")
+    owned = _manifest(d)
+    for n in set(names) | {"index.html"}:
+        p = d / n
+        for q in protect:
+            if p.exists() and Path(q).exists() and os.path.samefile(p, q):
+                raise InputError(f"{p}: refusing to write a report over the input "
+                                 f"file {q}")
+        if p.exists() and n not in owned:
+            raise InputError(f"{p}: exists and is not part of an earlier inflowsim "
+                             "report; choose another folder")
+    return d
 
 
 def _manifest(d: Path) -> set:

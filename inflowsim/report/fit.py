@@ -1,40 +1,67 @@
-"""The report of an identification: tables (Markdown, HTML) and plots of the fit
-(what ``inflowsim identify --report`` writes)."""
+"""The report of an identification (``inflowsim identify --report``): one
+:class:`~.document.Report`, like every report of the package: ``index.html`` with
+the parameter table (the paper's Tables 1-3: estimate, Cramer-Rao and
+coloured-residual bounds, theory value), the per-channel fit, the warnings, the
+frequency-domain fit and the time-domain reconstruction of every record, and
+``table.md`` and ``fit.json`` beside it."""
 from __future__ import annotations
 
-from pathlib import Path
+import json
 
-from ..errors import InputError
-from ..fileio import safe_write_text
+from ..identify.tables import markdown_table, table_rows
+from .document import Report
+from .fit_plots import band_study_plot, fit_plot, reconstruction_plot
+
+PARAMETER_HEADER = ["parameter", "estimate", "1-sigma", "1-sigma (coloured)", "theory",
+                    "note"]
+FIT_HEADER = ["channel", "magnitude error (RMS dB)", "phase error (RMS deg)", "fit [%]"]
+
+
+def fit_report(result, rep: Report | None = None) -> Report:
+    """The :class:`Report` of a :class:`~inflowsim.identify.FitResult`."""
+    rep = rep or Report(f"Identification of {result.structure.name}",
+                        ", ".join(result.records))
+    rep.paragraph(f"Band {result.band_hz[0]:.4g}-{result.band_hz[1]:.4g} Hz "
+                  f"({result.n_freq} frequencies), cost (12) {result.cost:.4f}, "
+                  f"{'converged' if result.converged else 'NOT converged'} in "
+                  f"{result.iterations} iterations.")
+    rows = []
+    for n, v, s, sc, th, note in table_rows(result):
+        free = n not in result.fixed
+        rows.append([n, v, s if free else "", sc if free else "", th,
+                     note or ("not determined" if free and s is None else "")])
+    rep.table(rows, PARAMETER_HEADER, caption="Estimates with 1-sigma bounds (time "
+              "constants in azimuth units)")
+    rep.table([[ch, f["mag_rms_db"], f["phase_rms_deg"], f["fit_percent"]]
+               for ch, f in result.fit.items()], FIT_HEADER, caption="Fit per channel")
+    for w in result.warnings:
+        rep.paragraph(f"Warning: {w}")
+    for i, d in enumerate(result.data):
+        k = i or ""
+        rep.figure(fit_plot(result, None, i), f"fit_frequency{k}",
+                   f"{d.source}: measured and predicted flap transforms.")
+        rep.figure(reconstruction_plot(result, None, i), f"fit_time{k}",
+                   f"{d.source}: time-domain reconstruction from the estimated initial "
+                   "state.")
+    rep.attach("table.md", markdown_table(result), "the tables in Markdown")
+    rep.attach("fit.json", json.dumps(result.to_json(), indent=2) + "\n",
+               "the fit: a parameter file simulate, validate and the FMU read")
+    return rep
 
 
 def write_report(result, folder, force=False, protect=()):
-    """Tables (``table.md``, ``table.html``), plots (``fit_frequency.png``,
-    ``fit_time.png``) and ``fit.json`` into ``folder`` (created)."""
-    import json
+    """Write :func:`fit_report` into ``folder``; return the ``index.html`` path.
+    (``force`` is kept for callers; a report replaces only its own earlier files.)"""
+    return fit_report(result).write(folder, protect=protect)
 
-    from ..identify.tables import html_table, markdown_table
-    from .fit_plots import fit_plot, reconstruction_plot
-    d = Path(folder)
-    if d.exists() and not d.is_dir():
-        raise InputError(f"{d}: exists and is not a folder")
-    d.mkdir(parents=True, exist_ok=True)
-    names = ["table.md", "table.html", "fit.json"]
-    names += [f"fit_frequency{i or ''}.png" for i in range(len(result.data))]
-    names += [f"fit_time{i or ''}.png" for i in range(len(result.data))]
-    if not force:
-        for n in names:
-            if (d / n).exists():
-                raise InputError(f"{d / n}: exists; choose another folder or pass --force")
-    safe_write_text(d / "table.md", markdown_table(result), True, protect)
-    safe_write_text(d / "table.html", "<!doctype html><meta charset='utf-8'>"
-                    "<title>identify</title>\n" + html_table(result)
-                    + "".join(f"<img src='fit_frequency{i or ''}.png'><img src='fit_time"
-                              f"{i or ''}.png'>\n" for i in range(len(result.data))),
-                    True, protect)
-    safe_write_text(d / "fit.json", json.dumps(result.to_json(), indent=2) + "\n", True,
-                    protect)
-    for i in range(len(result.data)):
-        fit_plot(result, d / f"fit_frequency{i or ''}.png", i)
-        reconstruction_plot(result, d / f"fit_time{i or ''}.png", i)
-    return d
+
+def band_study_report(study, rep: Report | None = None) -> Report:
+    """The :class:`Report` of a band study (the paper's Figure 6): estimates with
+    1-sigma bars against the lower band limit, and ``bandstudy.json``."""
+    rep = rep or Report(f"Band study of {study.structure}",
+                        f"upper band limit {study.upper_hz:.4g} Hz")
+    rep.figure(band_study_plot(study), "bandstudy",
+               "Estimates with 1-sigma bounds against the lower frequency limit.")
+    rep.attach("bandstudy.json", json.dumps(study.to_json(), indent=2) + "\n",
+               "the estimates and bounds")
+    return rep
