@@ -118,6 +118,39 @@ def _best(fn, number, repeat=7):
     return min(timeit.repeat(fn, number=number, repeat=repeat)) / number
 
 
+def unguarded_step(sim, u):
+    """``Simulator.step`` as it was before its input checks (issue #11 item 5): the
+    reference the guarded step is timed against, interleaved in one run."""
+    xu = sim._xu
+    n = sim.n
+    if sim._delay is not None:
+        sim._push(xu[:n].copy(), np.asarray(u, dtype=float))
+    xu[n:] = u
+    out = sim._M @ xu
+    xu[:n] = out[:n]
+    sim._k += 1
+    y = out[n:-1]
+    if sim._delay is not None:
+        y = sim._apply_delays(y, sim._k)
+    return y
+
+
+def guard_cost(rounds=7, number=20000):
+    """Guarded against unguarded step, alternated round by round so both see the same
+    machine load; prints the best of each and the difference."""
+    sim = glauert_simulator()
+    u0 = doublet_inputs(1, sim.m)[0]
+    best = {"guarded": np.inf, "unguarded": np.inf}
+    for _ in range(rounds):
+        best["guarded"] = min(best["guarded"], _best(lambda: sim.step(u0), number, 1))
+        best["unguarded"] = min(best["unguarded"],
+                                _best(lambda: unguarded_step(sim, u0), number, 1))
+    g, r = best["guarded"], best["unguarded"]
+    print(f"step glauert, input checks   {g * 1e9:8.0f} ns/call; without "
+          f"{r * 1e9:8.0f} ns/call; checks cost {(g - r) * 1e9:+6.0f} ns "
+          f"({(g / r - 1) * 100:+.1f} %)")
+
+
 def main():
     import os
     import platform
@@ -136,6 +169,7 @@ def main():
         u0 = doublet_inputs(1, sim.m)[0]
         t = _best(lambda: sim.step(u0), number=20000)
         print(f"step {structure:<20} {t * 1e6:8.2f} us/call")
+    guard_cost()
     sim = glauert_simulator()
     u = doublet_inputs(N_RECORD, sim.m)
     run_dlsim, run_control = peers(sim)

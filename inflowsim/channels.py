@@ -24,7 +24,9 @@ class Channel:
     ``name`` the record column / model / FMU name; ``unit`` its SI unit as written
     in ``record-format.md`` (``-`` for a ratio); ``azimuth`` its name in azimuth
     units inside ``E, A, B`` (``qbar`` for ``q``); ``omega_power`` ``k`` with
-    ``azimuth value = SI value / Omega^k``; ``description`` one phrase.
+    ``azimuth value = SI value / Omega^k``; ``description`` one phrase;
+    ``plausible`` the largest magnitude a rotor in flight gives (a record beyond it
+    draws a warning: a wrong unit, or a wrong column).
     """
 
     name: str
@@ -32,6 +34,7 @@ class Channel:
     description: str
     azimuth: str = ""
     omega_power: int = 0
+    plausible: float = 1.0
 
     @property
     def azimuth_name(self) -> str:
@@ -40,14 +43,14 @@ class Channel:
 
 #: Model inputs, in the model's order.
 INPUT_CHANNELS = (
-    Channel("theta0", "rad", "collective pitch"),
-    Channel("theta1c", "rad", "lateral cyclic pitch theta1cw"),
-    Channel("theta1s", "rad", "longitudinal cyclic pitch theta1sw"),
+    Channel("theta0", "rad", "collective pitch", plausible=0.6),
+    Channel("theta1c", "rad", "lateral cyclic pitch theta1cw", plausible=0.6),
+    Channel("theta1s", "rad", "longitudinal cyclic pitch theta1sw", plausible=0.6),
     Channel("muz", "-", "hub velocity normal to the disc over Omega R, down positive"),
-    Channel("q", "rad/s", "pitch rate", "qbar", 1),
-    Channel("p", "rad/s", "roll rate", "pbar", 1),
-    Channel("qdot", "rad/s^2", "pitch acceleration", "qbar_prime", 2),
-    Channel("pdot", "rad/s^2", "roll acceleration", "pbar_prime", 2),
+    Channel("q", "rad/s", "pitch rate", "qbar", 1, plausible=5.0),
+    Channel("p", "rad/s", "roll rate", "pbar", 1, plausible=5.0),
+    Channel("qdot", "rad/s^2", "pitch acceleration", "qbar_prime", 2, plausible=50.0),
+    Channel("pdot", "rad/s^2", "roll acceleration", "pbar_prime", 2, plausible=50.0),
     Channel("mux", "-", "in-plane hub velocity x over Omega R (a total in records)"),
     Channel("muy", "-", "in-plane hub velocity y over Omega R"),
 )
@@ -55,9 +58,11 @@ INPUT_CHANNELS = (
 N_BASE_INPUTS = 8
 #: Multiblade flap, as measured (azimuth bias included).
 FLAP_CHANNELS = (
-    Channel("beta0", "rad", "coning"),
-    Channel("beta1c", "rad", "longitudinal flap (as recorded: azimuth bias included)"),
-    Channel("beta1s", "rad", "lateral flap (as recorded: azimuth bias included)"),
+    Channel("beta0", "rad", "coning", plausible=0.6),
+    Channel("beta1c", "rad", "longitudinal flap (as recorded: azimuth bias included)",
+            plausible=0.6),
+    Channel("beta1s", "rad", "lateral flap (as recorded: azimuth bias included)",
+            plausible=0.6),
 )
 #: Induced inflow over Omega R (never measured; a virtual record may carry it).
 INFLOW_CHANNELS = (
@@ -79,6 +84,11 @@ OUTPUTS = FLAP + INFLOW
 CONTROLS = INPUTS[:3]
 #: Every channel by name.
 BY_NAME = {c.name: c for c in INPUT_CHANNELS + FLAP_CHANNELS + INFLOW_CHANNELS}
+
+
+#: No channel of any record comes near this magnitude in SI units; beyond it a value is
+#: refused (squares of it would overflow the fits) rather than warned about.
+LIMIT = 1e6
 
 
 def input_scale(omega: float, names=INPUTS) -> np.ndarray:

@@ -50,11 +50,20 @@ def main(argv=None) -> int:
     try:
         return int(args._run(args) or 0)
     except InputError as exc:
-        sys.stderr.write(f"inflowsim {args.command}: error: {exc}\n")
+        sys.stderr.write(f"inflowsim {args.command}: error: {_one_line(exc)}\n")
+        return 2
+    except OSError as exc:            # a file the checks could not foresee (disk full, ...)
+        where = f"{exc.filename}: " if exc.filename else ""
+        sys.stderr.write(f"inflowsim {args.command}: error: {where}"
+                         f"{exc.strerror or exc}\n")
         return 2
     except KeyboardInterrupt:
         sys.stderr.write("inflowsim: interrupted\n")
         return 130
+
+
+def _one_line(exc) -> str:
+    return " ".join(str(exc).split())
 
 
 if __name__ == "__main__":

@@ -26,10 +26,52 @@ def check_output(path, overwrite: bool = False, protect=()) -> Path:
             raise InputError(f"{p}: refusing to write over the input file {q}")
     if p.exists() and not overwrite:
         raise InputError(f"{p}: exists; choose another name or pass --force")
+    if p.is_dir():
+        raise InputError(f"{p}: is a folder; give a file name")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise InputError(f"{p}: folder {parent} does not exist")
+    check_writable(parent)
     return p
+
+
+def check_folder(path) -> Path:
+    """Refuse (``InputError``) an output folder that cannot be made or written:
+    a regular file, a missing parent, no write permission."""
+    d = Path(path)
+    if d.exists():
+        if not d.is_dir():
+            raise InputError(f"{d}: exists and is not a folder")
+        check_writable(d)
+        return d
+    parent = d.parent if str(d.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{d}: folder {parent} does not exist")
+    check_writable(parent)
+    return d
+
+
+def check_writable(folder) -> Path:
+    """Refuse (``InputError``) a folder this process cannot create files in.
+
+    Tries it (a probe file, removed at once) rather than reading permission bits:
+    that is the only answer that holds for ACLs, read-only mounts and root."""
+    f = Path(folder)
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".inflowsim-probe.", dir=f)
+    except OSError as exc:
+        raise InputError(f"{f}: cannot write in this folder "
+                         f"({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(probe)
+    return f
+
+
+def umask() -> int:
+    """The process's file-creation mask (read without changing it for long)."""
+    m = os.umask(0o022)
+    os.umask(m)
+    return m
 
 
 def safe_write_text(path, text: str, overwrite: bool = False, protect=()) -> Path:
@@ -52,12 +94,51 @@ def atomic_path(path):
     """Yield a temporary path beside ``path``; on success it replaces ``path`` in one
     rename, on any error it is removed, so ``path`` is never left half-written."""
     p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
+    if p.is_dir():
+        raise InputError(f"{p}: is a folder; give a file name")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
+    except OSError as exc:
+        raise InputError(f"{p}: cannot write ({exc.strerror or exc})") from None
     os.close(fd)
     try:
         yield tmp
+        # mkstemp makes the file 0600; a written file gets the mode open() would give
+        os.chmod(tmp, 0o666 & ~umask())
         os.replace(tmp, p)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def json_text(doc) -> str:
+    """``doc`` as JSON text (indented, newline-terminated) that every parser reads:
+    NaN and infinities become ``null`` (JSON has no such numbers), NumPy arrays and
+    scalars become lists and numbers."""
+    import json
+    return json.dumps(_plain(doc), indent=2, allow_nan=False) + "\n"
+
+
+def _plain(o):
+    import math
+
+    import numpy as np
+    if isinstance(o, dict):
+        return {str(k): _plain(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_plain(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return [_plain(v) for v in o.tolist()]
+    if isinstance(o, (np.bool_,)):
+        return bool(o)
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (float, np.floating)):
+        x = float(o)
+        return x if math.isfinite(x) else None
+    if o is None or isinstance(o, (str, int, bool)):
+        return o
+    if hasattr(o, "to_json"):
+        return _plain(o.to_json())
+    raise TypeError(f"cannot write {type(o).__name__} as JSON")

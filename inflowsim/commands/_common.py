@@ -1,10 +1,10 @@
 """Helpers shared by the command modules: loading models and records, JSON out."""
 from __future__ import annotations
 
-import json
 import sys
 
 from ..errors import InputError
+from ..fileio import json_text
 from ..model.params import PUMA
 from ..model.paramfile import read_parameters
 from ..model.presets import preset_parameters
@@ -58,6 +58,8 @@ def read_records(paths, args):
         tw = getattr(args, "trim_window", None)
         if tw:
             rec = rec.with_meta(trim_window=f"{tw[0]!r} {tw[1]!r}")
+        for w in rec.warnings():
+            progress(f"warning: {w}")
         trim = find_trim(rec)
         if trim.warning:
             progress(f"warning: {trim.warning}")
@@ -66,16 +68,7 @@ def read_records(paths, args):
 
 
 def print_json(doc):
-    sys.stdout.write(json.dumps(doc, indent=2, default=_default) + "\n")
-
-
-def _default(o):
-    import numpy as np
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    raise TypeError(type(o).__name__)
+    sys.stdout.write(json_text(doc))
 
 
 def progress(msg):
@@ -110,8 +103,12 @@ def add_search_arguments(p):
 
 
 def check_search_arguments(args):
+    """Refuse bad search options and an unusable ``--report`` folder before the work."""
     if not 0 < args.alpha < 0.5:
         raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")
+    if args.report:
+        from ..report.document import check_report_folder
+        check_report_folder(args.report, protect=args.record)
 
 
 def parse_fix(items) -> dict:

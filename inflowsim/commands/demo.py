@@ -2,7 +2,7 @@
 (:mod:`inflowsim.report.demo`); a summary on stdout, everything in ``DIR/index.html``."""
 from __future__ import annotations
 
-
+from ..errors import InputError
 from ..report.demo import run_demo
 from ._common import print_json, progress
 
@@ -19,6 +19,8 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    if not 0 <= args.seed < 2 ** 32:
+        raise InputError(f"--seed {args.seed}: must be an integer in [0, 2**32)")
     path, summary, lad = run_demo(args.out, args.seed, progress)
     if args.json:
         print_json(summary)

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..channels import CONTROLS
-from ..fileio import check_output, safe_write_text
+from ..fileio import check_output, json_text, safe_write_text
 from ..model.params import PUMA
 from ..data.record import write_record
 from ._common import print_json, progress
@@ -114,6 +114,8 @@ def _manoeuvre(args):
         v = getattr(args, name)
         if not math.isfinite(v):
             raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
+    if not 0 <= args.seed < 2 ** 32:
+        raise InputError(f"--seed {args.seed}: must be an integer in [0, 2**32)")
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
     if args.rise < 0 or args.rise > args.width:
@@ -201,7 +203,7 @@ def run(args) -> int:
     write_record(res.record, args.out, overwrite=args.force)
     truth = json.loads(json.dumps(res.truth, default=_plain))
     if args.truth_json:
-        safe_write_text(args.truth_json, json.dumps(truth, indent=2) + "\n",
+        safe_write_text(args.truth_json, json_text(truth),
                         overwrite=args.force, protect=(args.out,))
     progress(f"flighttest: wrote {args.out} ({len(res.record)} samples)")
     if args.json:

@@ -7,7 +7,10 @@ importer (e.g. ``fmpy.simulate_fmu(..., start_values=...)``).
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..errors import InputError
+from ..fileio import check_output
 from ._common import print_json, progress
 
 HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
@@ -34,6 +37,10 @@ def run(args) -> int:
         raise InputError("fmu: choose an action: build")
     from ..fmu import MODEL_IDENTIFIER, build_fmu
     from ..fmu.generate import guid
+    out = Path(args.out)
+    if out.suffix != ".fmu":
+        raise InputError(f"{out}: an FMU file name must end in .fmu")
+    check_output(out, args.force)
     progress(f"building {args.out} ...")
     path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version)
     if args.json:

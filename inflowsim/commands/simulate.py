@@ -22,7 +22,7 @@ from ..errors import InputError
 from ..fileio import check_output
 from ..data.record import read_record, write_record
 from ..data.simulated import simulate_record
-from ._common import add_model_arguments, load_model, print_json
+from ._common import add_model_arguments, load_model, print_json, progress
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
 
@@ -44,6 +44,8 @@ def run(args) -> int:
     if args.dt is not None and not (np.isfinite(args.dt) and args.dt > 0):
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
+    for w in rec.warnings():
+        progress(f"warning: {w}")
     model = load_model(args, rec.constants)
     inputs = [q for q in (args.record, args.params) if q]
     out = check_output(args.out, args.force, inputs)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..report.document import check_report_folder
 from ..report.validation import format_table, validation_report
 from ..diagnose.validation import PAPER_BAND_HZ, validate
 from ._common import (add_model_arguments, add_record_arguments, load_model, print_json,
@@ -31,6 +32,8 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    if args.report:
+        check_report_folder(args.report, protect=[q for q in (args.record, args.params) if q])
     rec = read_records([args.record], args)[0]
     model = load_model(args, rec.constants)
     result = validate(rec, model, band_hz=args.band, hold=args.hold)

@@ -17,6 +17,7 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import RecordError
+from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
 from ..model.params import Constants
@@ -140,6 +141,12 @@ class Record:
                 i = bad[0]
                 raise RecordError(f"{src}: column {name} has a NaN or infinite value "
                                   f"at data row {i + 1} (t = {t[i] if name != 't' else 'n/a'})")
+            big = np.flatnonzero(np.abs(v) > chan.LIMIT)
+            if big.size:
+                i = big[0]
+                raise RecordError(f"{src}: column {name} = {v[i]:.6g} at data row {i + 1} "
+                                  f"is beyond any physical value (|x| > {chan.LIMIT:g}); "
+                                  "check the column's unit")
         d = np.diff(t)
         if np.any(d <= 0):
             i = int(np.flatnonzero(d <= 0)[0])
@@ -158,12 +165,41 @@ class Record:
         _trim_window_meta(self)
         return self
 
+    def warnings(self) -> list[str]:
+        """Plausibility warnings (a wrong unit, a wrong column): values no rotor in
+        flight gives, constants outside the usual range.  Empty for a sane record."""
+        out = [f"{self.source}: {w}" for w in self.base_constants().warnings()]
+        for name, v in self.channels.items():
+            ch = chan.BY_NAME.get(name)
+            if ch is None or not len(v):
+                continue
+            m = float(np.max(np.abs(v)))
+            if m > ch.plausible:
+                hint = " (degrees instead of radians?)" if ch.unit == "rad" and \
+                    m < 100 * ch.plausible else ""
+                out.append(f"{self.source}: {name} reaches {m:.4g} {ch.unit}, beyond what "
+                           f"a rotor in flight gives (|{name}| < {ch.plausible:g} "
+                           f"{ch.unit}){hint}")
+        return out
+
     def require(self, columns):
         """Raise naming the first of ``columns`` the record lacks."""
         for c in columns:
             if c not in self.channels:
                 raise RecordError(f"{self.source}: the model needs column {c!r}, "
                                   "which the record lacks")
+        return self
+
+    def require_measured(self, columns=FLAP):
+        """Raise naming the first of ``columns`` that is missing or constant over the
+        whole record (a dead sensor): there is nothing to compare a model with."""
+        self.require(columns)
+        for c in columns:
+            v = self.channels[c]
+            if np.ptp(v) == 0.0:
+                raise RecordError(f"{self.source}: column {c} is constant ({v[0]:g}) over "
+                                  "the whole record: a dead or unconnected sensor, "
+                                  "nothing to compare the model with")
         return self
 
     def check_band(self, band_hz):
@@ -360,6 +396,7 @@ def read_record(path) -> Record:
 def parse_record(text: str, source: str = "<text>") -> Record:
     lines = text.splitlines()
     meta: dict[str, str] = {}
+    seen: dict[str, int] = {}
     i = 0
     while i < len(lines) and (lines[i].startswith("#") or not lines[i].strip()):
         ln = lines[i]
@@ -370,7 +407,12 @@ def parse_record(text: str, source: str = "<text>") -> Record:
                     raise RecordError(f"{source}: line {i + 1}: metadata must be "
                                       f"'# key: value', got {ln!r}")
                 k, v = body.split(":", 1)
-                meta[k.strip()] = v.strip()
+                k = k.strip()
+                if k in meta:
+                    raise RecordError(f"{source}: line {i + 1}: metadata {k!r} given "
+                                      f"twice (first on line {seen[k]}); keep one")
+                meta[k] = v.strip()
+                seen[k] = i + 1
         i += 1
     if i >= len(lines):
         raise RecordError(f"{source}: no header row (expected 't,theta0,...')")

@@ -293,6 +293,7 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
         The record lacks a column the model needs, or is too short for the band.
     """
     record.require((*model.inputs, *FLAP_COLUMNS))
+    record.require_measured(FLAP_COLUMNS)
     bins = dft_bins(record, band_hz)
     trim = find_trim(record) if trim is None else trim
     u = perturbations(record, trim, model.inputs)

@@ -175,6 +175,7 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
     rec = as_record(rec)
     hold = rec.hold_or(hold)
     rec.require(tuple(inputs) + FLAP_COLUMNS)
+    rec.require_measured(FLAP_COLUMNS)
     k_const = rec.constants
     n, dt = len(rec), rec.dt
     if grid_hz is None:

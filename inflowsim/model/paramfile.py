@@ -46,9 +46,16 @@ class ParameterSet:
 def parse_parameter_doc(doc, where="parameter file") -> ParameterSet:
     if not isinstance(doc, dict) or "parameters" not in doc or "structure" not in doc:
         raise InputError(f"{where}: needs \"structure\" and \"parameters\"")
+    if not isinstance(doc["structure"], str):
+        raise InputError(f"{where}: \"structure\" must be a string such as "
+                         "\"glauert+time-delay\"")
     s = Structure.parse(doc["structure"])
-    if "effects" in doc and set(doc["effects"]) != set(s.effects):
-        s = Structure(tuple(doc["effects"]))
+    if "effects" in doc:
+        eff = doc["effects"]
+        if not isinstance(eff, list) or not all(isinstance(e, str) for e in eff):
+            raise InputError(f"{where}: \"effects\" must be a list of effect names")
+        if set(eff) != set(s.effects):
+            s = Structure(tuple(eff))
     consts = Constants.from_mapping(doc["constants"]) if doc.get("constants") else None
     params, sigma = {}, {}
     if not isinstance(doc["parameters"], dict):
@@ -59,12 +66,21 @@ def parse_parameter_doc(doc, where="parameter file") -> ParameterSet:
                 raise InputError(f"{where}: parameter {name} has no \"estimate\"")
             params[name] = v["estimate"]
             if v.get("sigma") is not None:
-                sigma[name] = float(v["sigma"])
+                sigma[name] = _number(v["sigma"], f"{where}: parameter {name} sigma")
         else:
             params[name] = v
     from .params import check_parameters
     params = check_parameters(params, s.parameters)
     return ParameterSet(s, consts, params, sigma)
+
+
+def _number(v, what) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise InputError(f"{what}: {v!r} is not a number")
+    x = float(v)
+    if not math.isfinite(x) or x < 0:
+        raise InputError(f"{what}: {v!r} must be a finite number >= 0")
+    return x
 
 
 def read_parameters(path) -> ParameterSet:
@@ -90,5 +106,5 @@ def read_parameters(path) -> ParameterSet:
 def write_json(doc: dict, path, overwrite: bool = False, protect=()) -> Path:
     """Write JSON atomically (temp file, then rename); refuse to replace an
     existing file unless ``overwrite``, and never a path in ``protect``."""
-    from ..fileio import safe_write_text
-    return safe_write_text(path, json.dumps(doc, indent=2) + "\n", overwrite, protect)
+    from ..fileio import json_text, safe_write_text
+    return safe_write_text(path, json_text(doc), overwrite, protect)

@@ -44,6 +44,11 @@ from ..physics.loads import MU_MIN  # noqa: E402  (a fact of the momentum theory
 #: No reverse-flow modelling: blade-element integrals assume ``U_T > 0`` over
 #: most of the span.
 MU_MAX = 0.5
+#: Rotor speeds the model is built for [rad/s]: refused outside (a speed near zero
+#: or 1e150 makes the azimuth-time scaling overflow), warned outside the plausible
+#: range (full-scale main rotors 20-45 rad/s, tail and model rotors up to ~200).
+OMEGA_RANGE = (0.5, 5000.0)
+OMEGA_PLAUSIBLE = (5.0, 200.0)
 
 
 @dataclass(frozen=True)
@@ -103,16 +108,40 @@ class Constants:
                        "flight; the basic L matrix is singular at mu = 0")
         _finite_in("a0", self.a0, 0.0, math.inf, lower_open=True)
         _finite_in("solidity", self.solidity, 0.0, 1.0, lower_open=True)
-        _finite_in("omega", self.omega, 0.0, math.inf, lower_open=True)
+        _finite_in("omega", self.omega, OMEGA_RANGE[0], OMEGA_RANGE[1],
+                   why="rotor speed in rad/s")
         if self.radius is not None:
             _finite_in("radius", self.radius, 0.0, math.inf, lower_open=True)
         for k, v in (self.trim or {}).items():
             _finite_in(f"trim {k}", v, -math.inf, math.inf)
         return self
 
+    def warnings(self) -> list[str]:
+        """Constants allowed but unusual for a rotor (a wrong unit, most often)."""
+        out = []
+        lo, hi = OMEGA_PLAUSIBLE
+        if not lo <= self.omega <= hi:
+            hint = (f"; if it is in rpm, omega = {self.omega * math.pi / 30:.4g} rad/s"
+                    if self.omega > hi else "")
+            out.append(f"omega = {self.omega:g} rad/s is outside the usual {lo:g}-{hi:g} "
+                       f"rad/s of rotors{hint}")
+        if not 2.0 <= self.a0 <= 7.0:
+            out.append(f"a0 = {self.a0:g} /rad is outside the usual 2-7 /rad of lift "
+                       "curve slopes")
+        if not 0.01 <= self.solidity <= 0.3:
+            out.append(f"solidity = {self.solidity:g} is outside the usual 0.01-0.3")
+        if self.radius is not None and not 0.1 <= self.radius <= 30.0:
+            out.append(f"radius = {self.radius:g} m is outside the usual 0.1-30 m")
+        return out
+
     @classmethod
     def from_mapping(cls, m: Mapping) -> "Constants":
         """Build from a mapping holding ``mu, a0, omega`` and ``solidity`` or ``a0s``."""
+        if not isinstance(m, Mapping):
+            raise InputError(f"constants: must be an object of named numbers, not "
+                             f"{type(m).__name__}")
+        if m.get("trim") is not None and not isinstance(m["trim"], Mapping):
+            raise InputError("constants: \"trim\" must be an object of named numbers")
         m = dict(m)
         if "solidity" not in m and "a0s" in m and "a0" in m:
             m["solidity"] = float(m["a0s"]) / float(m["a0"])

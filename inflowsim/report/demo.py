@@ -18,10 +18,9 @@ from pathlib import Path
 from ..data.record import format_record, parse_record
 from ..diagnose.search import ladder
 from ..diagnose.validation import validate
-from ..errors import InputError
 from ..flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 from ..model.presets import preset_parameters
-from .document import Report
+from .document import Report, check_report_folder
 from .ladder import CANDIDATE_HEADER, candidate_rows, ladder_report
 from .validation import FIT_HEADER, fit_rows
 
@@ -46,8 +45,7 @@ def run_demo(out_dir, seed=0, say=None):
     from .plots import frequency_response_plot, time_response_plot
     say = say or (lambda m: None)
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():    # refuse before any work
-        raise InputError(f"{out}: exists and is not a directory; choose a report folder")
+    check_report_folder(out, ("record.csv",))     # refuse before any work
     text = format_record(demo_record(seed))
     rec = parse_record(text, str(out / "record.csv"))     # as a user would read it
     say("demo: fitting basic, diagnosing, adding effects ...")

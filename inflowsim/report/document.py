@@ -30,7 +30,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from ..errors import InputError
-from ..fileio import safe_write_text, atomic_path
+from ..fileio import atomic_path, check_folder, safe_write_text
 
 MANIFEST = ".inflowsim-report"
 _CSS = """
@@ -188,10 +188,7 @@ class Report:
                 f"<title>{html.escape(self.title)}</title><style>{_CSS}</style></head>\n"
                 f"<body>\n<h1>{html.escape(self.title)}</h1>{sub}\n" + "\n".join(body)
                 + f"\n<footer>Written by inflowsim, {stamp}.</footer>\n</body></html>\n")
-        out = safe_write_text(d / "index.html", page, overwrite=True)
-        for n in names:                  # temporary files are private; a report is not
-            _publish(d / n)
-        return out
+        return safe_write_text(d / "index.html", page, overwrite=True)
 
     def _render(self, block, d: Path) -> str:
         if isinstance(block, _Attachment):
@@ -219,6 +216,7 @@ def check_report_folder(directory, names=("index.html",), protect=()) -> Path:
     d = Path(directory)
     if d.exists() and not d.is_dir():
         raise InputError(f"{d}: exists and is not a directory; choose a report folder")
+    check_folder(d)
     owned = _manifest(d)
     for n in set(names) | {"index.html"}:
         p = d / n
@@ -252,15 +250,6 @@ def _png_bytes(source) -> bytes:
     if not data.startswith(b"\x89PNG"):
         raise InputError(f"{p}: not a PNG file")
     return data
-
-
-def _publish(path: Path):
-    umask = os.umask(0)
-    os.umask(umask)
-    try:
-        os.chmod(path, 0o666 & ~umask)
-    except OSError:
-        pass
 
 
 def _write_bytes(path: Path, data: bytes):

@@ -6,9 +6,8 @@ frequency-domain fit and the time-domain reconstruction of every record, and
 ``table.md`` and ``fit.json`` beside it."""
 from __future__ import annotations
 
-import json
-
 from ..identify.tables import markdown_table, table_rows
+from ..fileio import json_text
 from .document import Report
 from .fit_plots import band_study_plot, fit_plot, reconstruction_plot
 
@@ -44,7 +43,7 @@ def fit_report(result, rep: Report | None = None) -> Report:
                    f"{d.source}: time-domain reconstruction from the estimated initial "
                    "state.")
     rep.attach("table.md", markdown_table(result), "the tables in Markdown")
-    rep.attach("fit.json", json.dumps(result.to_json(), indent=2) + "\n",
+    rep.attach("fit.json", json_text(result.to_json()),
                "the fit: a parameter file simulate, validate and the FMU read")
     return rep
 
@@ -62,6 +61,6 @@ def band_study_report(study, rep: Report | None = None) -> Report:
                         f"upper band limit {study.upper_hz:.4g} Hz")
     rep.figure(band_study_plot(study), "bandstudy",
                "Estimates with 1-sigma bounds against the lower frequency limit.")
-    rep.attach("bandstudy.json", json.dumps(study.to_json(), indent=2) + "\n",
+    rep.attach("bandstudy.json", json_text(study.to_json()),
                "the estimates and bounds")
     return rep

@@ -56,10 +56,13 @@ class Simulator:
         self.model = model
         a, b, c = model.a, model.b, model.c
         self.n, self.m = b.shape
+        self._ushape = (self.m,)
         phi, gam = discretize(a, b, self.dt, self.method)
         self.phi, self.gam = phi, gam
         pg = np.hstack([phi, gam])
-        self._M = np.vstack([pg, c @ pg])
+        # [x+; y+; check]: the last row sums [x; u], so a NaN or infinite input (or
+        # state) shows in one number the step reads without another array operation
+        self._M = np.vstack([pg, c @ pg, np.ones((1, pg.shape[1]))])
         self._delay = self._delay_tables(model.delays)
 
     def _delay_tables(self, delays):
@@ -144,18 +147,42 @@ class Simulator:
     def step(self, u) -> np.ndarray:
         """Hold ``u`` (``model.inputs`` order, SI perturbations) over one step;
         return the six outputs at the new time."""
+        if type(u) is not np.ndarray or u.shape != self._ushape:
+            u = self._inputs(u)
         xu = self._xu
         n = self.n
-        if self._delay is not None:
-            self._push(xu[:n].copy(), np.asarray(u, dtype=float))
-        xu[n:] = u
+        try:
+            xu[n:] = u
+        except (TypeError, ValueError):
+            raise InputError(f"step: inputs must be {self.m} numbers") from None
         out = self._M @ xu
+        check = out.item(-1)
+        if check - check != 0.0:            # NaN or infinite (0 * NaN is NaN)
+            raise InputError("step: inputs must be finite (a NaN or infinite value); "
+                             "the state is unchanged")
+        if self._delay is not None:
+            self._push(xu[:n].copy(), np.array(u, dtype=float))
         xu[:n] = out[:n]
         self._k += 1
-        y = out[n:]
+        y = out[n:-1]
         if self._delay is not None:
             y = self._apply_delays(y, self._k)
         return y
+
+    def _inputs(self, u) -> np.ndarray:
+        """``u`` as ``m`` floats, or one line saying what is wrong with it."""
+        names = ", ".join(self.model.inputs)
+        if u is None:
+            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got None")
+        try:
+            a = np.asarray(u, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got "
+                             f"{type(u).__name__}") from None
+        if a.shape != (self.m,):
+            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got shape "
+                             f"{a.shape}")
+        return a
 
     def _push(self, x, u):
         hx, hu, hk = self._hist
