@@ -15,6 +15,8 @@ import numpy as np
 from .discrete import discretize, lifted_replay
 from ..errors import InputError
 
+_ndarray = np.ndarray          # a module global: the cheapest lookup in step()
+
 
 class Simulator:
     """Step a :class:`~inflowsim.model.Model` with a fixed step ``dt`` [s].
@@ -147,7 +149,7 @@ class Simulator:
     def step(self, u) -> np.ndarray:
         """Hold ``u`` (``model.inputs`` order, SI perturbations) over one step;
         return the six outputs at the new time."""
-        if type(u) is not np.ndarray or u.shape != self._ushape:
+        if u.__class__ is not _ndarray or u.shape != self._ushape:
             u = self._inputs(u)
         xu = self._xu
         n = self.n
