@@ -108,6 +108,13 @@ def _check_outputs(args):
         check_output(p, args.force)
 
 
+#: Limits checked before generating (a mistyped option must not run for hours):
+#: 100 kHz at most, 2 million samples at most (5.5 h at 100 Hz), 20 deg inputs.
+MIN_DT = 1e-5
+MAX_SAMPLES = 2_000_000
+MAX_AMPLITUDE_DEG = 20.0
+
+
 def _manoeuvre(args):
     from ..flighttest.virtual import Manoeuvre
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
@@ -116,6 +123,16 @@ def _manoeuvre(args):
             raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
     if not 0 <= args.seed < 2 ** 32:
         raise InputError(f"--seed {args.seed}: must be an integer in [0, 2**32)")
+    if not MIN_DT <= args.dt <= 1.0:
+        raise InputError(f"--dt {args.dt:g}: the sample step must be in [{MIN_DT:g}, 1] s")
+    if not 4 * args.dt <= args.duration or args.duration / args.dt > MAX_SAMPLES:
+        raise InputError(f"--duration {args.duration:g}: must hold 4 to {MAX_SAMPLES:,} "
+                         f"samples of --dt {args.dt:g} s")
+    if args.noise < 0:
+        raise InputError(f"--noise {args.noise:g}: a standard deviation is >= 0")
+    if abs(args.amplitude_deg) > MAX_AMPLITUDE_DEG:
+        raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: a pilot input beyond "
+                         f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range")
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
     if args.rise < 0 or args.rise > args.width:
