@@ -44,13 +44,19 @@ def mutated_record(draw):
         if kind == "nudge":              # a plausible measurement: should still run
             row = draw(st.integers(h + 1, len(lines) - 1))
             cells = lines[row].split(",")
+            if len(cells) < 2:
+                continue
             col = draw(st.integers(1, len(cells) - 1))
-            cells[col] = repr(float(cells[col]) + draw(st.floats(-1e-3, 1e-3)))
+            try:
+                cells[col] = repr(float(cells[col]) + draw(st.floats(-1e-3, 1e-3)))
+            except ValueError:           # an earlier mutation left text there
+                continue
             lines[row] = ",".join(cells)
         elif kind == "permute":          # columns in another order: allowed
-            order = draw(st.permutations(range(1, len(lines[h].split(",")))))
-            lines[h:] = [",".join([c[0]] + [c[k] for k in order])
-                         for c in (ln.split(",") for ln in lines[h:])]
+            width = len(lines[h].split(","))
+            order = draw(st.permutations(range(1, width)))
+            lines[h:] = [",".join([c[0]] + [c[k] for k in order]) if len(c) == width
+                         else ",".join(c) for c in (ln.split(",") for ln in lines[h:])]
         elif kind == "blank":            # blank lines anywhere are skipped
             lines.insert(draw(st.integers(0, len(lines))), "")
         elif kind == "cell":

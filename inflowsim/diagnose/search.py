@@ -37,6 +37,8 @@ class Diagnosis:
     candidates: tuple
     missing_effect: str | None
     band_hz: tuple
+    #: the base fit's :class:`~inflowsim.failures.ResidualAnalysis` per record
+    analyses: tuple = field(repr=False, default=())
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -134,7 +136,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     best = next((c.effect for c in cands if c.accepted), None)
     if best is None:
         fails += unexplained(analyses, alpha)
-    return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band))
+    return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
+                     tuple(analyses))
 
 
 @dataclass(frozen=True)
@@ -145,6 +148,8 @@ class Rung:
     fit: object = field(repr=False)
     added: str | None
     diagnosis: Diagnosis | None = field(repr=False, default=None)
+    #: the fit's residual analyses per record (its diagnosis's, when it has one)
+    analyses: tuple = field(repr=False, default=())
 
 
 @dataclass(frozen=True)
@@ -178,7 +183,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     recs = _as_list(records)
     d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress,
                  hold=hold)
-    rungs = [Rung(d.structure, d.fit, None, d)]
+    rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     for _ in range(max_steps):
         if d.missing_effect is None:
             break
@@ -187,7 +192,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
             progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
         d = diagnose(recs, win.fit.structure, band_hz, pool=pool, alpha=alpha,
                      progress=progress, base_fit=win.fit, hold=hold)
-        rungs.append(Rung(d.structure, d.fit, win.effect, d))
+        rungs.append(Rung(d.structure, d.fit, win.effect, d, d.analyses))
     return Ladder(tuple(rungs), d.band_hz)
 
 
@@ -201,6 +206,7 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
         added = None if prev is None else "+".join(
             e for e in st.effects if e not in prev.effects) or None
-        rungs.append(Rung(st, fit, added, None))
+        rungs.append(Rung(st, fit, added, None,
+                          tuple(analyses_of(recs, fit, band_hz))))
         prev = st
     return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz))

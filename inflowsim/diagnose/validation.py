@@ -30,6 +30,7 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import InputError
+from ..identify.results import fit_percent
 from ..identify.transform import DEFAULT_BAND, dft, snap_band
 from ..data.record import CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations
 from ..simulate.replay import replay
@@ -40,7 +41,7 @@ PAPER_BAND_HZ = DEFAULT_BAND
 
 @dataclass(frozen=True)
 class ChannelFit:
-    """Time-domain fit figures of one flap channel.
+    """Fit figures of one flap channel.
 
     Attributes
     ----------
@@ -51,7 +52,10 @@ class ChannelFit:
         ``sqrt(mean(e^2)) / (sqrt(mean(y^2)) + sqrt(mean(z^2)))`` [-]; 0 is a
         perfect fit, 1 the worst.
     fit_percent : float
-        ``100 (1 - ||z - y|| / ||z - mean(z)||)`` [%]; 100 is a perfect fit.
+        :func:`inflowsim.identify.results.fit_percent` [%]: in :func:`validate`,
+        over the band's transforms, the figure ``identify`` reports; from
+        :func:`fit_metrics` on time series alone, over the whole record about its
+        mean.  100 is a perfect fit.
     """
 
     rms: float
@@ -197,7 +201,8 @@ def fit_metrics(measured, predicted) -> ChannelFit:
     -------
     ChannelFit
         ``tic`` is NaN when both signals are identically zero, ``fit_percent``
-        NaN when ``z`` is constant.
+        (:func:`~inflowsim.identify.results.fit_percent` of ``z - mean(z)`` and
+        ``y - mean(z)``) NaN when ``z`` is constant.
     """
     z = np.asarray(measured, dtype=float)
     y = np.asarray(predicted, dtype=float)
@@ -301,7 +306,6 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     dt = record.dt
     hold = record.hold_or(hold)
     y = replay(model, u, dt, hold)[:, :3]
-    fits = {c: fit_metrics(z[:, i], y[:, i]) for i, c in enumerate(FLAP_COLUMNS)}
 
     u_dft = _dft(u, bins, dt)
     if reference_input is None:
@@ -319,6 +323,12 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     fc = FrequencyComparison(f_hz=bins / record.duration, reference_input=ref,
                              input_dft=x, measured_dft=z_dft, predicted_dft=y_dft,
                              measured=z_dft / x, model=y_dft / x)
+    # one definition of fit everywhere: over the band, as identify reports it
+    fits = {}
+    for i, c in enumerate(FLAP_COLUMNS):
+        f = fit_metrics(z[:, i], y[:, i])
+        band = fit_percent(z_dft[i], y_dft[i])
+        fits[c] = ChannelFit(f.rms, f.tic, float("nan") if band is None else band)
     mag = fc.magnitude_error_db
     ph = fc.phase_error_deg
     mag_rms = {c: float(np.sqrt(np.mean(mag[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}

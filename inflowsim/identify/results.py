@@ -43,12 +43,30 @@ class RecordFit:
         return self.Z - self.Y
 
 
+def fit_percent(z, y):
+    """The one fit figure of inflowsim [%]: ``100 (1 - ||z - y|| / ||z||)``.
+
+    ``z`` measured and ``y`` predicted transforms over the analysis band (complex, one
+    channel); 100 is a perfect fit, 0 no better than predicting nothing, negative
+    worse than that.  ``identify``, ``validate``, the ladder and every report use it on
+    the band's frequencies, so one model on one record reads the same everywhere.
+    ``None`` when ``z`` is zero (nothing measured in the band).
+    """
+    z = np.asarray(z)
+    y = np.asarray(y)
+    scale = float(np.max(np.abs(z), initial=0.0))
+    if scale == 0.0 or not np.isfinite(scale):
+        return None
+    return float(100.0 * (1.0 - np.linalg.norm((z - y) / scale)
+                          / np.linalg.norm(z / scale)))
+
+
 def channel_fit(Z: np.ndarray, Y: np.ndarray) -> dict:
     """Per flap channel: magnitude and phase errors over the band.
 
     ``mag_rms_db`` RMS of ``20 log10(|Y|/|Z|)`` [dB]; ``phase_rms_deg`` RMS of the
-    wrapped phase of ``Y/Z`` [deg]; ``fit_percent = 100 (1 - |Z - Y| / |Z|)``
-    (norms over the band, 100 is perfect); ``residual_rms`` RMS ``|Z - Y|``.
+    wrapped phase of ``Y/Z`` [deg]; ``fit_percent`` :func:`fit_percent` over the
+    band; ``residual_rms`` RMS ``|Z - Y|``.
     """
     out = {}
     for i, ch in enumerate(FLAP):
@@ -61,7 +79,7 @@ def channel_fit(Z: np.ndarray, Y: np.ndarray) -> dict:
             if ok.any() else None,
             "phase_rms_deg": float(np.sqrt(np.mean(np.degrees(np.angle(ratio)) ** 2)))
             if ok.any() else None,
-            "fit_percent": float(100 * (1 - np.linalg.norm(z - y) / nz)) if nz > 0 else None,
+            "fit_percent": fit_percent(z, y) if nz > 0 else None,
             "residual_rms": float(np.sqrt(np.mean(np.abs(z - y) ** 2))),
         }
     return out

@@ -17,6 +17,8 @@ def table_rows(result) -> list:
     for n, v in result.parameters.items():
         note = "fixed" if n in result.fixed else next(
             ("tied " + "=".join(t) for t in result.ties if n in t), "")
+        if n not in result.fixed and result.sigma.get(n) is None:
+            note = (note + "; " if note else "") + "not determined by the data: no bound"
         rows.append((n, v, result.sigma.get(n), result.sigma_colored.get(n),
                      theory.get(n), note))
     return rows

@@ -31,8 +31,9 @@ def ladder_rows(ladder) -> tuple[list, list]:
         for r in rungs:
             if n in r.fit.parameters:
                 s = r.fit.sigma.get(n)
+                why = "fixed" if n in getattr(r.fit, "fixed", ()) else "not determined"
                 row.append(f"{r.fit.parameters[n]:.4g} ({s:.2g})" if s is not None
-                           else f"{r.fit.parameters[n]:.4g} (fixed/undetermined)")
+                           else f"{r.fit.parameters[n]:.4g} ({why})")
             else:
                 row.append("")
         rows.append(row)
@@ -53,8 +54,16 @@ def ladder_markdown(ladder) -> str:
     return "\n".join(out)
 
 
+def floor_ratios(rung):
+    """Per flap channel: the rung's mean residual power over the noise floor (1 is the
+    floor: nothing left but noise), over its records; ``None`` without analyses."""
+    if not rung.analyses:
+        return None
+    return np.mean([ra.ratio.mean(axis=1) for ra in rung.analyses], axis=0)
+
+
 def ladder_plot(ladder, path=None):
-    """Cost and per-channel residual power against the rungs of the ladder."""
+    """Cost, and per-channel residual power over the noise floor, rung by rung."""
     from .plots import new_figure, save_png
     fig, ax2 = new_figure(2, 1, size=(8.0, 6.5), sharex=True)
     axes = ax2[:, 0]
@@ -63,15 +72,61 @@ def ladder_plot(ladder, path=None):
     axes[0].plot(x, [r.fit.cost for r in ladder.rungs], "o-", color="k")
     axes[0].set_ylabel("cost J (Eq. 12)")
     axes[0].set_title("Add the missing effect, watch the error fall")
-    pw = np.array([_noise_ratio(r.fit) for r in ladder.rungs])
-    for i, ch in enumerate(FLAP):
-        axes[1].semilogy(x, pw[:, i] / pw[-1, i], "o-", label=ch)
-    axes[1].axhline(1.0, color="grey", ls=":", lw=1)
-    axes[1].set_ylabel("residual power / final")
+    ratios = [floor_ratios(r) for r in ladder.rungs]
+    if all(q is not None for q in ratios):
+        pw = np.array(ratios)
+        for i, ch in enumerate(FLAP):
+            axes[1].semilogy(x, pw[:, i], "o-", label=ch)
+        axes[1].axhline(1.0, color="k", ls="--", lw=1.2, label="noise floor")
+        axes[1].set_ylabel("residual power / noise floor")
+    else:                                   # rungs fitted without residual analyses
+        pw = np.array([_noise_ratio(r.fit) for r in ladder.rungs])
+        for i, ch in enumerate(FLAP):
+            axes[1].semilogy(x, pw[:, i] / pw[-1, i], "o-", label=ch)
+        axes[1].axhline(1.0, color="grey", ls=":", lw=1)
+        axes[1].set_ylabel("residual power / final rung's")
     axes[1].set_xticks(x, labels, rotation=15)
     axes[1].legend()
     axes[1].grid(True, which="both", alpha=0.3)
     axes[0].grid(True, alpha=0.3)
+    if path:
+        save_png(fig, path)
+    return fig
+
+
+def worse_channels(ladder, tolerance=0.5):
+    """Comments on steps that made a channel's fit worse by more than ``tolerance``
+    percentage points while the cost fell: the effect traded one channel for others."""
+    out = []
+    rungs = ladder.rungs
+    for prev, r in zip(rungs, rungs[1:]):
+        for ch in FLAP:
+            a, b = prev.fit.fit[ch]["fit_percent"], r.fit.fit[ch]["fit_percent"]
+            if a is not None and b is not None and b < a - tolerance:
+                out.append(f"Adding {r.added} made {ch} worse (fit {a:.1f} % -> "
+                           f"{b:.1f} %) while the cost fell {prev.fit.cost - r.fit.cost:.1f}:"
+                           f" the effect trades {ch} for the other channels; look at "
+                           f"{ch}'s residual before trusting its new parameters.")
+    return out
+
+
+def candidate_plot(diagnosis, path=None):
+    """Cost reduction of every candidate effect, accepted ones filled, with the
+    chi-square threshold of its significance level."""
+    from .plots import new_figure, save_png
+    cands = list(diagnosis.candidates)
+    fig, ax = new_figure(1, 1, size=(8.0, 0.45 * max(len(cands), 3) + 1.5))
+    a = ax[0, 0]
+    y = np.arange(len(cands))[::-1]
+    red = [max(c.cost_reduction, 1e-3) if np.isfinite(c.cost_reduction) else 1e-3
+           for c in cands]
+    colors = ["C2" if c.accepted else "0.6" for c in cands]
+    a.barh(y, red, color=colors)
+    a.set_yticks(y, [c.effect for c in cands])
+    a.set_xscale("log")
+    a.set_xlabel("cost reduction when added (green: accepted)")
+    a.grid(True, axis="x", which="both", alpha=0.3)
+    fig.suptitle(f"Candidate effects on {diagnosis.structure.name}")
     if path:
         save_png(fig, path)
     return fig
@@ -128,6 +183,17 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     rep.heading("Candidate effects, best first", 3)
     rep.table(candidate_rows(d), CANDIDATE_HEADER, digits=4)
     rep.paragraph(f"Missing effect: {d.missing_effect or 'none accepted'}.")
+    from .fit_plots import fit_plot
+    from .plots import residual_spectrum_plot
+    rep.figure(candidate_plot(d), f"{prefix}-candidates",
+               "Cost reduction of each candidate effect (accepted in green).")
+    if d.analyses:
+        rep.figure(residual_spectrum_plot(d.analyses), f"{prefix}-residual",
+                   f"Residual power of {d.structure.name} against the noise floor: where "
+                   "it stands above the floor, the model misses something.")
+    for k in range(len(d.fit.data)):
+        rep.figure(fit_plot(d.fit, index=k), f"{prefix}-fit-{k + 1}",
+                   f"Frequency-domain fit of {d.structure.name}, record {k + 1}.")
     return rep
 
 
@@ -139,5 +205,14 @@ def ladder_report(ladder, rep: Report | None = None) -> Report:
                   "in azimuth units), the cost (12), the per-channel fit and the "
                   "residual power per flap channel (S diagonal) as each effect is added.")
     rep.table(rows, header)
-    rep.figure(ladder_plot(ladder), "ladder", "The error falling as effects are added.")
+    for note in worse_channels(ladder):
+        rep.paragraph(note)
+    rep.figure(ladder_plot(ladder), "ladder",
+               "The error falling as effects are added, down to the noise floor (1).")
+    final = ladder.rungs[-1]
+    if final.analyses:
+        from .plots import residual_spectrum_plot
+        rep.figure(residual_spectrum_plot(final.analyses), "ladder-final-residual",
+                   f"Residual power of the final structure {final.structure.name} "
+                   "against the noise floor.")
     return rep

@@ -71,7 +71,8 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
         a.plot(r0.t, np.degrees(r0.measured[:, i]), color="k", lw=1.0, label="measured")
         for r in res:
             a.plot(r.t, np.degrees(r.predicted[:, i]), lw=1.2, label=f"{r.structure} "
-                   f"(fit {r.channels[c].fit_percent:.1f} %)")
+                   f"(fit {r.channels[c].fit_percent:.1f} % over {r.band_hz[0]:.3g}-"
+                   f"{r.band_hz[1]:.3g} Hz)")
         a.set_ylabel(f"{FLAP_LABELS[c]} [deg]")
         a.grid(True, alpha=0.3)
         a.legend(loc="upper right", fontsize="small")
@@ -165,5 +166,80 @@ def error_spectrum_plot(results: Sequence, path=None, title=None):
     return fig
 
 
+def residual_spectrum_plot(analyses, path=None, title=None):
+    """The fit's residual power against the noise floor, per flap channel and record.
+
+    Parameters
+    ----------
+    analyses : ResidualAnalysis or sequence of them
+        :func:`inflowsim.diagnose.failures.residual_analysis` results (one per record),
+        e.g. ``Diagnosis.analyses``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``|Z - Y|^2`` (residual power) and the floor estimated above the band
+        (:func:`~inflowsim.diagnose.failures.noise_floor`) [rad^2 s^2]; a residual
+        at the floor is noise, one well above it is model error.
+    """
+    ras = _as_list(analyses)
+    fig, ax = new_figure(3, 1, size=(8.0, 7.5))
+    for k, ra in enumerate(ras):
+        for i, c in enumerate(FLAP_COLUMNS):
+            a = ax[i, 0]
+            res = np.abs(ra.measured[i] - ra.predicted[i]) ** 2
+            lab = f"record {k + 1}: " if len(ras) > 1 else ""
+            a.semilogy(ra.f_hz, res, "o-", ms=3, lw=1, color=f"C{k}",
+                       label=f"{lab}residual (mean {np.mean(ra.ratio[i]):.2g} x floor)")
+            a.semilogy(ra.f_hz, np.broadcast_to(ra.floor[i], ra.f_hz.shape), "--",
+                       color=f"C{k}", lw=1,
+                       label=f"{lab}noise floor (from {ra.floor_band_hz[0]:.3g}-"
+                             f"{ra.floor_band_hz[1]:.3g} Hz)")
+            a.set_ylabel(f"{FLAP_LABELS[c]} [rad² s²]")
+            a.grid(True, which="both", alpha=0.3)
+            a.legend(fontsize="x-small")
+    ax[-1, 0].set_xlabel("frequency [Hz]")
+    fig.suptitle(title or "Residual power of the fit against the noise floor")
+    if path is not None:
+        save_png(fig, path)
+    return fig
+
+
+def coherence_plot(results, path=None, title=None, segment_s=None):
+    """Coherence of each measured flap channel with the reference input.
+
+    Where it is near 1 the flap is a linear response to that input; where it falls,
+    noise, other inputs or nonlinearity dominate, and no model can match those
+    frequencies. Welch estimate (``scipy.signal.coherence``, Hann windows of
+    ``segment_s`` seconds, default a quarter of the record, 50 % overlap); the
+    analysis band is shaded.
+    """
+    from scipy.signal import coherence
+    r0 = _as_list(results)[0]
+    fs = 1.0 / float(r0.t[1] - r0.t[0])
+    n = len(r0.t)
+    nper = int(min(n, max(16, round((segment_s or n / fs / 4) * fs))))
+    ref = r0.frequency.reference_input
+    x = r0.u[:, r0.inputs.index(ref)]
+    fig, ax = new_figure(1, 1, size=(8.0, 3.8))
+    a = ax[0, 0]
+    for i, c in enumerate(FLAP_COLUMNS):
+        f, g = coherence(x, r0.measured[:, i], fs=fs, nperseg=nper)
+        keep = f <= max(3 * r0.band_hz[1], 2.0)
+        a.plot(f[keep], g[keep], lw=1.2, label=c)
+    a.axvspan(*r0.band_hz, color="0.85", zorder=0, label="analysis band")
+    a.set_ylim(0, 1.02)
+    a.set_xlabel("frequency [Hz]")
+    a.set_ylabel(f"coherence with {ref}")
+    a.grid(True, alpha=0.3)
+    a.legend(fontsize="small")
+    fig.suptitle(title or f"Measured flap against {ref}: coherence "
+                          f"({nper / fs:.3g} s segments)")
+    if path is not None:
+        save_png(fig, path)
+    return fig
+
+
 __all__ = ["new_figure", "save_png", "time_response_plot", "frequency_response_plot",
-           "error_spectrum_plot", "FLAP_LABELS"]
+           "error_spectrum_plot", "residual_spectrum_plot", "coherence_plot",
+           "FLAP_LABELS"]

@@ -44,7 +44,8 @@ def validation_report(results, title=None, subtitle=None):
         Fit table per model, the time-domain reconstruction, the frequency
         responses and the response errors; call ``.write(DIR)``.
     """
-    from ..report.plots import error_spectrum_plot, frequency_response_plot, time_response_plot
+    from ..report.plots import (coherence_plot, error_spectrum_plot,
+                                frequency_response_plot, time_response_plot)
     from ..report.document import Report
     res = list(results) if isinstance(results, (list, tuple)) else [results]
     r0 = res[0]
@@ -61,8 +62,16 @@ def validation_report(results, title=None, subtitle=None):
         "input DFT.")
     for r in res:
         rep.table(fit_rows(r), header=FIT_HEADER, caption=f"Fit of {r.structure}")
+    rep.paragraph(f"Fit [%] is 100 (1 - |Z - Y| / |Z|) over the band's transforms "
+                  f"({r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz), the figure identify "
+                  "and the ladder report; the time plots show the whole record, "
+                  "including what lies outside the band (trim drift, slow modes).")
     rep.figure(time_response_plot(res, show_inputs=True), "time",
-               "Time-domain reconstruction: measured and predicted multiblade flap.")
+               "Time-domain reconstruction: measured and predicted multiblade flap, "
+               "and the pilot inputs that drove them.")
+    rep.figure(coherence_plot(res), "coherence",
+               "Coherence of the measured flap with the reference input: frequencies "
+               "where it is low carry noise or other inputs, not this response.")
     rep.figure(frequency_response_plot(res), "frequency",
                "Frequency responses: measured (markers) and model (lines).")
     rep.figure(error_spectrum_plot(res), "errors",
