@@ -74,6 +74,16 @@ INFLOW_CHANNELS = (
 FLAP_RATE_CHANNELS = tuple(Channel(f"{c.name}_prime", "rad/azimuth rad",
                                    f"azimuth rate of {c.name}") for c in FLAP_CHANNELS)
 
+#: Rotor loads, perturbations about trim (``inflowsim.model.loads``): the aerodynamic
+#: thrust and hub moments of Eq. (4) and the hub moments the flap springs pass on.
+LOAD_CHANNELS = (
+    Channel("CT", "-", "thrust coefficient T / (rho pi R^2 (Omega R)^2), Eq. (4)"),
+    Channel("C_mc", "-", "aerodynamic pitch moment coefficient, nose up, Eq. (4)"),
+    Channel("C_ms", "-", "aerodynamic roll moment coefficient, starboard down, Eq. (4)"),
+    Channel("C_mc_hub", "-", "hub pitch moment coefficient from the flap springs"),
+    Channel("C_ms_hub", "-", "hub roll moment coefficient from the flap springs"),
+)
+
 INPUTS = tuple(c.name for c in INPUT_CHANNELS)
 INPUTS_AZ = tuple(c.azimuth_name for c in INPUT_CHANNELS)
 INPUT_UNITS = tuple(c.unit for c in INPUT_CHANNELS)
@@ -81,9 +91,11 @@ FLAP = tuple(c.name for c in FLAP_CHANNELS)
 INFLOW = tuple(c.name for c in INFLOW_CHANNELS)
 FLAP_RATE = tuple(c.name for c in FLAP_RATE_CHANNELS)
 OUTPUTS = FLAP + INFLOW
+LOADS = tuple(c.name for c in LOAD_CHANNELS)
 CONTROLS = INPUTS[:3]
 #: Every channel by name.
-BY_NAME = {c.name: c for c in INPUT_CHANNELS + FLAP_CHANNELS + INFLOW_CHANNELS}
+BY_NAME = {c.name: c for c in INPUT_CHANNELS + FLAP_CHANNELS + INFLOW_CHANNELS
+           + LOAD_CHANNELS}
 
 
 #: No channel of any record comes near this magnitude in SI units; beyond it a value is

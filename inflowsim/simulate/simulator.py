@@ -56,6 +56,7 @@ class Simulator:
                   "record with inflowsim.replay.replay, or drop the time-shift effects "
                   "(they describe the recording, not the rotor)")
         self.model = model
+        self._load_matrices = None          # built on the first loads() call
         a, b, c = model.a, model.b, model.c
         self.n, self.m = b.shape
         self._ushape = (self.m,)
@@ -144,6 +145,19 @@ class Simulator:
         if self._delay is not None:
             y = self._apply_delays(y, self._k)
         return y
+
+    def loads(self) -> np.ndarray:
+        """Rotor load coefficients now: ``CT, C_mc, C_ms`` (Eq. (4)) and the flap
+        springs' hub moments ``C_mc_hub, C_ms_hub`` [-], perturbations about trim
+        (:mod:`inflowsim.model.loads`; ``dimensional_loads`` turns them into newtons
+        and newton-metres).  From the current state and the input held over the last
+        step (zero before the first)."""
+        lm = self._load_matrices
+        if lm is None:
+            from ..model.loads import load_matrices
+            lm = self._load_matrices = load_matrices(self.model)
+        xu = self._xu
+        return lm.c @ xu[: self.n] + lm.d @ xu[self.n:]
 
     # -- stepping -----------------------------------------------------------
     def step(self, u) -> np.ndarray:

@@ -1,0 +1,128 @@
+"""Rotor loads out of a model (issue #10 part 1): the aerodynamic thrust and hub moment
+coefficients of Eq. (4) and the hub moments the flap springs pass to the shaft.
+
+Both are linear in the model's state and input, so they are output matrices beside the
+flap and inflow outputs: ``loads = c_loads x + d_loads u`` (SI inputs, as ``Model.b``).
+
+- Aerodynamic (``model.md`` section 3): ``(C_T, C_mc, C_ms) = a0 s (G_dbeta beta' +
+  G_beta beta + G_theta theta + G_nu nu + G_lambda lambda)``, with the multiblade flap
+  rate ``beta'`` taken from the model's own dynamics (``x' = (a x + b u) / Omega``), so
+  every structure's flap equation is honoured; with ``azimuth-bias`` the true (not the
+  recorded) cyclic pitch. ``C_mc`` pitch nose up, ``C_ms`` roll starboard down, as in
+  Eq. (4).
+- Hub moments from flap, centre-spring form: the spring stiffness that makes the
+  normalised flap frequency ``lambda_beta2`` gives, over the ``N_b`` blades,
+  ``(C_mc_hub, C_ms_hub) = -a0 s (lambda_beta2 - 1) / (16 n_beta) (beta1c, beta1s)``
+  (``C_M = M / (rho pi R^2 (Omega R)^2 R)``, ``n_beta = gamma/8``); in steady flight it
+  equals the aerodynamic moment (the flap equation's moment balance, tested).
+
+Coefficients are perturbations about trim, like every model output. Not included: the
+in-plane velocity terms (``mux, muy``) of the loads, which the paper's Eq. (4) does not
+carry; structures that add them to the flap equation still give their flap rates here.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..channels import CONTROLS, FLAP, INFLOW, LOADS, input_scale
+from ..errors import InputError
+from ..physics import loads as ld
+from .equations import rotation
+
+#: The aerodynamic loads, then the flap-spring hub moments (``channels.LOADS``).
+AERO = LOADS[:3]
+HUB = LOADS[3:]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadMatrices:
+    """``loads = c x + d u`` for a model's SI state ``x`` and SI inputs ``u``.
+
+    Attributes
+    ----------
+    names : tuple of str
+        ``CT, C_mc, C_ms, C_mc_hub, C_ms_hub`` (``channels.LOADS``).
+    c : ndarray, shape (5, n)
+    d : ndarray, shape (5, m)
+    """
+
+    names: tuple
+    c: np.ndarray
+    d: np.ndarray
+
+    def __call__(self, x, u) -> np.ndarray:
+        return self.c @ np.asarray(x, float) + self.d @ np.asarray(u, float)
+
+
+def load_matrices(model) -> LoadMatrices:
+    """The load output matrices of ``model`` (a :class:`~inflowsim.model.Model`).
+
+    Returns
+    -------
+    LoadMatrices
+        Rows ``CT, C_mc, C_ms`` (Eq. (4), times ``a0 s``) and ``C_mc_hub, C_ms_hub``
+        (centre-spring hub moments from flap) [-].
+    """
+    k = model.constants
+    mu, om, a0s = k.mu, k.omega, k.a0 * k.solidity
+    states, inputs = list(model.states), list(model.inputs)
+    n, m = model.a.shape[0], model.b.shape[1]
+    pb = _select(states, FLAP, n)
+    pl = _select(states, INFLOW, n)
+    # azimuth-time flap rates from the model's own dynamics
+    dbeta_x = pb @ model.a / om
+    dbeta_u = pb @ model.b / om
+    scale = input_scale(om, inputs)
+    th = _select(inputs, CONTROLS, m)
+    # recorded cyclic pitch is the true one rotated by the azimuth bias (model.md 6);
+    # the loads, like the flap dynamics, follow the true pitch
+    th[1:3] = rotation(-model.measurement.azimuth_bias) @ th[1:3]
+    nu = _select(inputs, ("muz", "q", "p"), m) * scale
+    c = a0s * (ld.g_dbeta(mu) @ dbeta_x + ld.g_beta(mu) @ pb + ld.g_lambda(mu) @ pl)
+    d = a0s * (ld.g_dbeta(mu) @ dbeta_u + ld.g_theta(mu) @ th + ld.g_nu(mu) @ nu)
+    p = model.parameters
+    spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
+    c_hub = spring * pb[1:3]
+    return LoadMatrices(tuple(LOADS), _ro(np.vstack([c, c_hub])),
+                        _ro(np.vstack([d, np.zeros((2, m))])))
+
+
+def dimensional_loads(coefficients, constants, density: float) -> dict:
+    """Thrust [N] and hub moments [N m] from load coefficients.
+
+    ``T = C_T rho pi R^2 (Omega R)^2`` and ``M = C_M rho pi R^2 (Omega R)^2 R`` with the
+    rotor radius ``constants.radius`` [m] and air ``density`` [kg/m^3]. Keys ``T,
+    M_pitch, M_roll, M_pitch_hub, M_roll_hub`` (pitch nose up, roll starboard down).
+    """
+    r = constants.radius
+    if r is None:
+        raise InputError("dimensional loads need the rotor radius (constants radius, "
+                         "'# radius:' in a record)")
+    if not (math.isfinite(density) and 0.01 <= density <= 2.0):
+        raise InputError(f"density = {density:g} kg/m^3: need an air density in "
+                         "[0.01, 2] kg/m^3")
+    q = density * math.pi * r**2 * (constants.omega * r) ** 2
+    cf = np.asarray(coefficients, float)
+    return {"T": cf[..., 0] * q, "M_pitch": cf[..., 1] * q * r,
+            "M_roll": cf[..., 2] * q * r, "M_pitch_hub": cf[..., 3] * q * r,
+            "M_roll_hub": cf[..., 4] * q * r}
+
+
+def _select(names, wanted, n) -> np.ndarray:
+    s = np.zeros((len(wanted), n))
+    for i, w in enumerate(wanted):
+        if w in names:
+            s[i, list(names).index(w)] = 1.0
+    return s
+
+
+def _ro(a):
+    a = np.array(a, float)
+    a.flags.writeable = False
+    return a
+
+
+__all__ = ["AERO", "HUB", "LoadMatrices", "load_matrices", "dimensional_loads"]
