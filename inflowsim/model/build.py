@@ -24,7 +24,7 @@ from .structure import Structure
 def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
     """The basic momentum model, Eqs. (1)-(4), with all ten input columns."""
     mu, nb = k.mu, p["n_beta"]
-    lm = ld.momentum_l(mu, k.a0s)
+    lm = ld.momentum_l(mu, k.a0s, k.flow_speed)
     h_u = np.zeros((3, 10))
     h_u[:, 0:3] = fl.flap_h_theta(mu, nb)
     h_u[:, 3:6] = fl.flap_h_nu(mu, nb)

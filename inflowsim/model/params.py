@@ -48,6 +48,7 @@ MU_MAX = 0.5
 #: or 1e150 makes the azimuth-time scaling overflow), warned outside the plausible
 #: range (full-scale main rotors 20-45 rad/s, tail and model rotors up to ~200).
 OMEGA_RANGE = (0.5, 5000.0)
+INFLOW_SPEEDS = ("mu", "mass-flow")
 OMEGA_PLAUSIBLE = (5.0, 200.0)
 
 
@@ -70,6 +71,15 @@ class Constants:
     trim : mapping, optional
         Trim totals by record column name (``theta0``, ``beta0``, ``mux`` ...)
         [rad, -]; only effects linearised about the trim state use them.
+    ct : float, optional
+        Trim thrust coefficient ``T / (rho pi R^2 (Omega R)^2)`` [-]; needed by the
+        mass-flow speed.
+    inflow_speed : {"mu", "mass-flow"}
+        The speed through the disc in the momentum gains: ``"mu"`` (default) the
+        paper's ``V ~ mu`` (forward flight, ``mu >= 0.1``, the presets bit for bit);
+        ``"mass-flow"`` the momentum mass-flow parameter with the trim inflow
+        (:func:`inflowsim.physics.loads.mass_flow_parameter`), finite from hover
+        (``mu = 0``) to ``mu = 0.5``.
     """
 
     mu: float
@@ -78,6 +88,8 @@ class Constants:
     omega: float
     radius: float | None = None
     trim: Mapping[str, float] | None = None
+    ct: float | None = None
+    inflow_speed: str = "mu"
 
     def __post_init__(self):
         if self.trim is not None and not isinstance(self.trim, FrozenMap):
@@ -91,9 +103,20 @@ class Constants:
     def with_mu(self, mu: float) -> "Constants":
         return replace(self, mu=float(mu))
 
+    @property
+    def flow_speed(self) -> float:
+        """Speed through the disc over ``Omega R`` in the momentum gains ``L`` and the
+        apparent-mass time constants: ``mu``, or the mass-flow parameter."""
+        if self.inflow_speed == "mass-flow":
+            from ..physics.loads import mass_flow_parameter
+            return mass_flow_parameter(self.mu, self.ct)
+        return self.mu
+
     def as_dict(self) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self)
              if getattr(self, f.name) is not None}
+        if self.inflow_speed == "mu":
+            d.pop("inflow_speed")           # the default: files stay as they were
         if self.trim is not None:
             d["trim"] = dict(self.trim)
         return d
@@ -103,9 +126,22 @@ class Constants:
 
     def check(self) -> "Constants":
         """Raise :class:`InputError` naming the first bad constant."""
-        _finite_in("mu", self.mu, MU_MIN, MU_MAX,
-                   why="forward-flight local momentum (V ~ mu) needs fast forward "
-                       "flight; the basic L matrix is singular at mu = 0")
+        if self.inflow_speed not in INFLOW_SPEEDS:
+            raise InputError(f"inflow_speed = {self.inflow_speed!r}: choose "
+                             f"{' or '.join(INFLOW_SPEEDS)}")
+        if self.ct is not None:
+            _finite_in("ct", self.ct, 0.0, 0.05, lower_open=True,
+                       why="trim thrust coefficient")
+        if self.inflow_speed == "mass-flow":
+            if self.ct is None:
+                raise InputError("inflow_speed 'mass-flow' needs the trim thrust "
+                                 "coefficient ct")
+            _finite_in("mu", self.mu, 0.0, MU_MAX)
+        else:
+            _finite_in("mu", self.mu, MU_MIN, MU_MAX,
+                       why="forward-flight local momentum (V ~ mu) needs fast forward "
+                           "flight; the basic L matrix is singular at mu = 0 (the "
+                           "mass-flow speed reaches hover)")
         _finite_in("a0", self.a0, 0.0, math.inf, lower_open=True)
         _finite_in("solidity", self.solidity, 0.0, 1.0, lower_open=True)
         _finite_in("omega", self.omega, OMEGA_RANGE[0], OMEGA_RANGE[1],
@@ -154,7 +190,9 @@ class Constants:
                     omega=float(m["omega"]),
                     radius=None if m.get("radius") is None else float(m["radius"]),
                     trim=None if m.get("trim") is None else
-                    {str(k): float(v) for k, v in dict(m["trim"]).items()})
+                    {str(k): float(v) for k, v in dict(m["trim"]).items()},
+                    ct=None if m.get("ct") is None else float(m["ct"]),
+                    inflow_speed=str(m.get("inflow_speed", "mu")))
         except (TypeError, ValueError) as exc:
             raise InputError(f"constants: not a number ({exc})") from None
         return c.check()

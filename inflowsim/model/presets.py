@@ -45,7 +45,7 @@ def theory_parameters(structure, constants: Constants = PUMA) -> dict:
     neutral values (``k0p = a0 s/(8 mu)``, all other augmentation zero).
     """
     s = Structure.parse(structure)
-    tau0, _ = pitt_peters_time_constants(constants.mu)
+    tau0, _ = pitt_peters_time_constants(constants.flow_speed)
     vals = {"lambda_beta2": PUMA_LAMBDA_BETA2, "n_beta": PUMA_N_BETA, "tau": tau0}
     for e in s.effects:
         vals.update(CATALOGUE[e].theory(constants))

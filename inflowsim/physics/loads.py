@@ -53,13 +53,48 @@ def g_lambda(mu: float) -> np.ndarray:
                      [mu / 8, 0.0, 1 / 16]])
 
 
-def momentum_l(mu: float, a0s: float) -> np.ndarray:
-    """Local-momentum gain ``L`` with ``V/(Omega R) ~ mu`` (Eq. 19).
+def momentum_l(mu: float, a0s: float, v: float | None = None) -> np.ndarray:
+    """Local-momentum gain ``L`` (Eq. 19): ``diag(a0 s/(2 V), -2 a0 s/V, -2 a0 s/V)``.
 
-    ``L = diag(a0 s/(2 mu), -2 a0 s/mu, -2 a0 s/mu)``.  Singular at ``mu = 0``:
-    refused below ``MU_MIN`` rather than returning infinities.
+    ``v`` the speed through the disc over ``Omega R``; default the paper's forward-
+    flight ``V ~ mu``, singular at ``mu = 0`` and refused below ``MU_MIN`` rather than
+    returning infinities.  :func:`mass_flow_parameter` gives a ``V`` that stays finite
+    down to hover.
     """
-    if not np.isfinite(mu) or mu < MU_MIN:
-        raise InputError(f"mu = {mu:g} is too small for the forward-flight momentum L "
-                         f"(V ~ mu): need mu >= {MU_MIN:g}")
-    return np.diag([a0s / (2 * mu), -2 * a0s / mu, -2 * a0s / mu])
+    if v is None:
+        if not np.isfinite(mu) or mu < MU_MIN:
+            raise InputError(f"mu = {mu:g} is too small for the forward-flight momentum "
+                             f"L (V ~ mu): need mu >= {MU_MIN:g}, or the mass-flow "
+                             "speed (inflow_speed='mass-flow' with a trim ct)")
+        v = mu
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(f"speed through the disc V = {v:g}: must be finite and > 0")
+    return np.diag([a0s / (2 * v), -2 * a0s / v, -2 * a0s / v])
+
+
+def momentum_inflow(mu: float, ct: float) -> float:
+    """Trim induced inflow ``lambda_m`` over ``Omega R`` of momentum theory in level
+    flight: ``lambda_m = C_T / (2 sqrt(mu^2 + lambda_m^2))`` (Glauert's formula; hover
+    ``sqrt(C_T / 2)``, fast flight ``C_T / (2 mu)``).  Solved by Newton's method on
+    ``f(l) = 4 l^2 (mu^2 + l^2) - C_T^2`` from above, where it converges monotonically.
+    """
+    if not (np.isfinite(ct) and ct > 0):
+        raise InputError(f"ct = {ct:g}: the trim thrust coefficient must be > 0")
+    lam = float(np.sqrt(ct / 2.0))   # the hover root, never below the root at any mu
+    for _ in range(100):
+        f = 4 * lam**2 * (mu**2 + lam**2) - ct**2
+        step = f / (8 * lam * mu**2 + 16 * lam**3)
+        lam -= step
+        if abs(step) <= 1e-15 * lam:
+            break
+    return float(lam)
+
+
+def mass_flow_parameter(mu: float, ct: float) -> float:
+    """Momentum mass-flow parameter ``V = (mu^2 + lambda (lambda + lambda_m)) / V_T``,
+    ``V_T = sqrt(mu^2 + lambda^2)``, with the trim inflow ``lambda = lambda_m``
+    (:func:`momentum_inflow`, level flight): the speed that linearised momentum
+    theory gives perturbations (Pitt and Peters 1981; Peters and HaQuang 1988).
+    ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight."""
+    lam = momentum_inflow(mu, ct)
+    return float((mu**2 + 2 * lam**2) / np.hypot(mu, lam))

@@ -9,7 +9,8 @@ PUMA_N_BETA = 0.987
 
 
 def pitt_peters_time_constants(mu: float) -> tuple[float, float]:
-    """Inflow time constants from the Pitt-Peters apparent mass with ``V ~ mu``.
+    """Inflow time constants from the Pitt-Peters apparent mass at speed ``mu``
+    through the disc (``V ~ mu``, or a mass-flow parameter passed in its place).
 
     ``tau0 = (8/(3 pi)) / (2 V)`` and ``tau_cs = (16/(45 pi)) (2/V)`` [azimuth rad]:
     the apparent-mass matrix ``diag(8/(3 pi), 16/(45 pi), 16/(45 pi))`` times the

@@ -17,8 +17,9 @@ B1C, B1S, L1C, L1S = 1, 2, 1, 2
 TH1C, TH1S, QBAR, PBAR, MUX, MUY = 1, 2, 4, 5, 8, 9
 
 
-def f_matrix(p, a0s, mu):
-    k0 = p["k0p"] - a0s / (8 * mu)
+def f_matrix(p, a0s, v):
+    """``F`` of Eq. (19); ``v`` the speed through the disc of the momentum gains."""
+    k0 = p["k0p"] - a0s / (8 * v)
     return np.array([[p["ks"], p["kc"]], [0.0, k0], [k0, 0.0]])
 
 
@@ -27,7 +28,7 @@ def g_matrix(p):
 
 
 def _equations(eq, p, k):
-    f = f_matrix(p, k.a0s, k.mu)
+    f = f_matrix(p, k.a0s, k.flow_speed)
     fp, fq = f[:, 0], f[:, 1]          # columns multiplying p* - l1s and q* - l1c
     p_dbeta, p_beta, p_lambda, p_u = (eq.p_dbeta.copy(), eq.p_beta.copy(),
                                       eq.p_lambda.copy(), eq.p_u.copy())
@@ -48,7 +49,7 @@ def _equations(eq, p, k):
 
 def _theory(k):
     t = dict.fromkeys(NAMES, 0.0)
-    t["k0p"] = k.a0s / (8 * k.mu)      # neutral: k0 = 0, not k0p = 0
+    t["k0p"] = k.a0s / (8 * k.flow_speed)      # neutral: k0 = 0, not k0p = 0
     return t
 
 

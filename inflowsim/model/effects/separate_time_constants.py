@@ -10,7 +10,7 @@ def _equations(eq, p, k):
 
 
 def _theory(k):
-    tau0, tau_cs = pitt_peters_time_constants(k.mu)
+    tau0, tau_cs = pitt_peters_time_constants(k.flow_speed)
     return {"tau0": tau0, "tau_cs": tau_cs}
 
 
