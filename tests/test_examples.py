@@ -37,3 +37,17 @@ def test_fmu_cosim_matches_the_simulator(version, tmp_path):
     line = next(x for x in res.stdout.splitlines() if x.startswith("max |FMU - Simulator|"))
     assert float(line.split(":")[1].split()[0]) < 1e-10
     assert (tmp_path / "out" / "fmu_cosim.png").stat().st_size > 0
+
+
+def test_simulator_loop_flies_from_hover_to_forward_flight(tmp_path):
+    """The airframe example (issue #10 part 6, Python): the autopilot takes it from
+    hover to about 50 m/s on the rotor's loads, holding height and wings level."""
+    res = run("simulator_loop.py", tmp_path / "out")
+    assert res.returncode == 0, res.stderr
+    line = next(x for x in res.stdout.splitlines() if x.startswith("final airspeed"))
+    speed = float(line.split()[2])
+    mu = float(line.split("(mu ")[1].split(")")[0])
+    assert speed > 45.0 and mu == pytest.approx(speed / (27.5 * 7.5), abs=1e-3)
+    line = next(x for x in res.stdout.splitlines() if x.startswith("largest height"))
+    assert float(line.split()[3]) < 5.0
+    assert (tmp_path / "out" / "simulator_loop.png").stat().st_size > 0
