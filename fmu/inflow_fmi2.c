@@ -92,11 +92,9 @@ IFS_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tol_de
     Instance *c = (Instance *)comp;
     (void)tol_defined;
     (void)tol;
-    (void)stop_defined;
-    (void)stop;
     if (!c) return fmi2Error;
     return (fmi2Status)ifs_slave_set_start_time(&c->s, &c->log, "fmi2SetupExperiment",
-                                                start);
+                                                start, stop_defined != fmi2False, stop);
 }
 
 IFS_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component comp)

@@ -135,10 +135,10 @@ IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean
     const char *fn = "fmi3EnterInitializationMode";
     (void)tol_defined;
     (void)tol;
-    (void)stop_defined;
-    (void)stop;
     if (!c) return fmi3Error;
-    if (ifs_slave_set_start_time(&c->s, &c->log, fn, start) != IFS_OK) return fmi3Error;
+    if (ifs_slave_set_start_time(&c->s, &c->log, fn, start, stop_defined != fmi3False,
+                                 stop) != IFS_OK)
+        return fmi3Error;
     return (fmi3Status)ifs_slave_enter_init(&c->s, &c->log, fn);
 }
 

@@ -42,14 +42,21 @@ void ifs_slave_init(IfsSlave *s)
     s->phase = IFS_PH_INSTANTIATED;
     s->dirty = 1;
     s->m.h_last = -1.0;
+    s->t_stop = INFINITY;
 }
 
-int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start)
+int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start,
+                             int stop_defined, double stop)
 {
     if (s->phase != IFS_PH_INSTANTIATED)
         return ifs_log(lg, IFS_ERROR, "%s: only allowed after instantiation or reset", fn);
     if (!isfinite(start)) return ifs_log(lg, IFS_ERROR, "%s: start time must be finite", fn);
+    if (stop_defined && !(isfinite(stop) && stop >= start))
+        return ifs_log(lg, IFS_ERROR, "%s: stop time %g must be finite and not before the "
+                       "start time %g", fn, stop, start);
     s->t_start = s->t_base = start;
+    /* the same relative tolerance as the communication points */
+    s->t_stop = stop_defined ? stop + 1e-9 * (1.0 + fabs(stop)) : INFINITY;
     return IFS_OK;
 }
 
@@ -216,6 +223,11 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         status = ifs_log(lg, IFS_WARNING, "%s: communication point %.17g differs from the "
                          "FMU's time %.17g (the FMU keeps its own; warned once)", fn, t, now);
     }
+    if (now + h > s->t_stop)
+        return ifs_log(lg, IFS_ERROR, "%s: the step from %.17g s by %g s ends after the "
+                       "experiment's stop time %.17g s (fmi2SetupExperiment / "
+                       "fmi3EnterInitializationMode)", fn, now, h,
+                       s->t_stop - 1e-9 * (1.0 + fabs(s->t_stop)));
     if (s->dirty && rebuild(s, lg) != IFS_OK) return IFS_ERROR;
     /* whole internal steps are counted in a long long and taken one by one */
     if (h > IFS_MAX_STEPS_PER_CALL * s->m.dt)

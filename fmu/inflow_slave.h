@@ -29,6 +29,8 @@ typedef struct {
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
     long long n_comm;
+    /* the experiment's stop time with the time tolerance added; +inf when none given */
+    double t_stop;
     int warned_time;           /* the time-mismatch warning is given once (0 or 1) */
 } IfsSlave;
 
@@ -49,8 +51,10 @@ int ifs_log(const IfsLog *lg, int status, const char *fmt, ...)
 
 /* Start values, phase "instantiated", state zero. */
 void ifs_slave_init(IfsSlave *s);
-/* The start time (only right after instantiation or reset). */
-int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start);
+/* The start and stop time (only right after instantiation or reset); stop_defined
+ * false leaves the run open-ended.  A step past the stop time is refused. */
+int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start,
+                             int stop_defined, double stop);
 int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn);
 /* Build the model from the variables and compute the initial outputs. */
 int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn);
@@ -104,7 +108,7 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 {
     if (s->phase == IFS_PH_STEP && !s->dirty && h == s->h_comm && h == s->m.dt) {
         const double now = ifs_slave_time(s);
-        if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now))) {
+        if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now)) && now + h <= s->t_stop) {
             ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
             s->n_comm++;
             ifs_slave_update_outputs(s);

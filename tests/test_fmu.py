@@ -785,3 +785,75 @@ def test_a_state_of_another_model_is_refused(unzipped, guid):
     with pytest.raises(Exception):
         s.deSerializeFMUstate(bytes(blob))
     s.freeInstance()
+
+
+def test_an_importer_builds_the_binary_from_the_listed_sources(fmu_path, guid, record,
+                                                               tmp_path):
+    """FMI 2.0 ``<SourceFiles>`` (issue #10 part 5): fmpy's ``build_platform_binary``
+    compiles the FMU from its sources alone (binaries removed), with its own CMake
+    settings, and that binary gives the Simulator's trajectory."""
+    if shutil.which("cmake") is None:
+        pytest.skip("cmake is not installed: fmpy cannot build from sources")
+    from fmpy.build import build_platform_binary
+    d = tmp_path / "fromsources"
+    with zipfile.ZipFile(fmu_path) as z:
+        z.extractall(d)
+    shutil.rmtree(d / "binaries")
+    md = read_model_description(str(d))
+    files = md.buildConfigurations[0].sourceFileSets[0].sourceFiles
+    assert files and all((d / "sources" / f).is_file() for f in files)
+    (tmp_path / "build").mkdir()
+    build_platform_binary(str(d.resolve()), build_dir=str(tmp_path / "build"))
+    assert (d / "binaries" / "linux64" / "inflowsim.so").is_file()
+    m = model_of("glauert")
+    u = model_inputs(record, m, find_trim(record))
+    s = open_fmu(str(d), guid, start_values(m))
+    y_fmu = fmu_replay(s, full_inputs(m, u))
+    s.freeInstance()
+    np.testing.assert_allclose(y_fmu, Simulator(m, DT).replay(u), rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_stop_time_is_enforced(version, unzipped, unzipped3, guid):
+    """A step that ends after the experiment's stop time is refused, the state kept;
+    steps up to it (within the time tolerance) are taken (issue #10 part 5)."""
+    log = Logger()
+    stop = 0.05
+    if version == 2:
+        s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                      instanceName="stop")
+        s.instantiate(callbacks=log.cb)
+        s.setupExperiment(startTime=0.0, stopTime=stop)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+        setr, getr = s.setReal, s.getReal
+    else:
+        s = FMU3Slave(guid=guid, unzipDirectory=unzipped3, modelIdentifier="inflowsim",
+                      instanceName="stop")
+        s.instantiate()
+        s.enterInitializationMode(startTime=0.0, stopTime=stop)
+        s.exitInitializationMode()
+        setr, getr = s.setFloat64, s.getFloat64
+    setr([VR["theta1s"]], [0.01])
+    for k in range(5):                       # 5 x 0.01 lands on 0.05 within rounding
+        s.doStep(k * DT, DT)
+    outs = [VR[n] for n in OUTPUTS]
+    before = getr(outs)
+    with pytest.raises(Exception):
+        s.doStep(5 * DT, DT)
+    assert getr(outs) == before
+    if version == 2:
+        assert "after the experiment's stop time" in log.text()
+    s.terminate()
+    s.freeInstance()
+
+
+def test_stop_time_before_start_is_refused(unzipped, guid):
+    log = Logger()
+    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName="stop")
+    s.instantiate(callbacks=log.cb)
+    with pytest.raises(Exception):
+        s.setupExperiment(startTime=1.0, stopTime=0.5)
+    assert "stop time 0.5 must be finite and not before the start time 1" in log.text()
+    s.freeInstance()

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
-from .generate import TIME_VR, generated_files, guid
+from .generate import SOURCES, TIME_VR, generated_files, guid
 from .variables import MODEL_IDENTIFIER, VARIABLES
 
 #: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
@@ -66,8 +66,9 @@ def _version(fmi_version) -> int:
 
 
 def sources(fmi_version=2) -> tuple:
-    """The C sources compiled for ``fmi_version`` (2 or 3), generated table included."""
-    return CORE_SOURCES + (LAYER[_version(fmi_version)][0], "inflow_vars.c")
+    """The C sources compiled for ``fmi_version`` (2 or 3), generated table included
+    (``generate.SOURCES``: the model description lists the same)."""
+    return SOURCES[_version(fmi_version)]
 
 
 def platform_folder(fmi_version=2) -> str:

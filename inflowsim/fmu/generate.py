@@ -27,6 +27,13 @@ def _num(x) -> str:
     return repr(float(x))
 
 
+#: The C sources compiled for each FMI version (the generated variable table included):
+#: ``inflowsim fmu build`` compiles them, FMI 2.0's ``<SourceFiles>`` and the build
+#: description list them, so an importer can build the binary itself.
+SOURCES = {2: ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c", "inflow_vars.c"),
+           3: ("inflow_model.c", "inflow_slave.c", "inflow_fmi3.c", "inflow_vars.c")}
+
+
 def guid() -> str:
     """A GUID that changes whenever a variable or the model version changes."""
     text = MODEL_VERSION + "\n" + "\n".join(repr(v) for v in VARIABLES)
@@ -95,7 +102,11 @@ def model_description() -> str:
            f'  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" '
            'canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" '
            'canSerializeFMUstate="true" canInterpolateInputs="false" '
-           'maxOutputDerivativeOrder="0" canRunAsynchronuously="false"/>',
+           'maxOutputDerivativeOrder="0" canRunAsynchronuously="false">',
+           "    <SourceFiles>",
+           *[f'      <File name="{f}"/>' for f in SOURCES[2]],
+           "    </SourceFiles>",
+           "  </CoSimulation>",
            *_units_categories_experiment(units),
            "  <ModelVariables>"]
     for vr, v in enumerate(VARIABLES):
