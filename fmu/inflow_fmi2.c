@@ -259,9 +259,11 @@ IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
     fmi2Component comp, const fmi2ValueReference unknown[], size_t nu,
     const fmi2ValueReference known[], size_t nk, const fmi2Real dknown[], fmi2Real dunknown[])
 {
-    (void)unknown; (void)nu; (void)known; (void)nk; (void)dknown; (void)dunknown;
-    return REFUSE(comp, "fmi2GetDirectionalDerivative: not provided "
-               "(providesDirectionalDerivative is false)");
+    Instance *c = (Instance *)comp;
+    (void)dknown;
+    if (!c) return fmi2Error;
+    return (fmi2Status)ifs_slave_directional(&c->s, &c->log, "fmi2GetDirectionalDerivative",
+                                             unknown, nu, known, nk, dunknown);
 }
 
 /* --- co-simulation --- */

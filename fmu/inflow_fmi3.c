@@ -399,17 +399,23 @@ IFS_EXPORT fmi3Status fmi3DeserializeFMUState(fmi3Instance inst, const fmi3Byte 
                                              state, alloc, c);
 }
 
-/* --- not provided: derivatives, configuration, clocks, model exchange --- */
+/* --- derivatives (exact zeros: no direct feedthrough); not provided: adjoints,
+ * configuration, clocks, model exchange --- */
 
 IFS_EXPORT fmi3Status fmi3GetDirectionalDerivative(
     fmi3Instance inst, const fmi3ValueReference unknowns[], size_t nu,
     const fmi3ValueReference knowns[], size_t nk, const fmi3Float64 seed[], size_t ns,
     fmi3Float64 sensitivity[], size_t nsens)
 {
-    (void)unknowns; (void)nu; (void)knowns; (void)nk; (void)seed; (void)ns;
-    (void)sensitivity; (void)nsens;
-    return refuse(inst, "fmi3GetDirectionalDerivative: not provided "
-                  "(providesDirectionalDerivatives is false)");
+    Instance *c = (Instance *)inst;
+    const char *fn = "fmi3GetDirectionalDerivative";
+    (void)seed;
+    if (!c) return fmi3Error;
+    if (ns != nk || nsens != nu)
+        return (fmi3Status)ifs_log(&c->log, IFS_ERROR, "%s: %zu seeds for %zu knowns, %zu "
+                                   "sensitivities for %zu unknowns", fn, ns, nk, nsens, nu);
+    return (fmi3Status)ifs_slave_directional(&c->s, &c->log, fn, unknowns, nu, knowns, nk,
+                                             sensitivity);
 }
 
 IFS_EXPORT fmi3Status fmi3GetAdjointDerivative(

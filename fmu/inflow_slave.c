@@ -133,6 +133,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[])
 {
     const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
+    int bias_changed = 0;
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     /* check everything first: a refused call changes nothing */
@@ -147,7 +148,16 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
         double *slot = (double *)((char *)&s->v + var->offset);
         /* inputs other than mu enter the step as they are; the rest rebuild */
         if ((var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) && *slot != value[i]) s->dirty = 1;
+        if (vr[i] == IFS_VR_azimuth_bias && *slot != value[i]) bias_changed = 1;
         *slot = value[i];
+    }
+    /* the outputs are the state seen through the azimuth bias: a new bias shows at
+     * once, not only after the next step (the other parameters act through the
+     * dynamics, on the next step) */
+    if (bias_changed && s->phase == IFS_PH_STEP && s->v.structure != IFS_BASIC) {
+        s->m.cos_bias = cos(s->v.azimuth_bias);
+        s->m.sin_bias = sin(s->v.azimuth_bias);
+        ifs_slave_update_outputs(s);
     }
     return IFS_OK;
 }
@@ -199,6 +209,27 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
         *(int *)((char *)&s->v + integer_var(vr[i])->offset) = value[i];
         s->dirty = 1;
     }
+    return IFS_OK;
+}
+
+/* --- directional derivatives --- */
+
+int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
+                          const unsigned int unknown[], size_t nu,
+                          const unsigned int known[], size_t nk, double dunknown[])
+{
+    size_t i;
+    if (s->phase != IFS_PH_INIT && s->phase != IFS_PH_STEP)
+        return ifs_log(lg, IFS_ERROR, "%s: only in initialization or step mode", fn);
+    if ((nu > 0 && (!unknown || !dunknown)) || (nk > 0 && !known))
+        return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    for (i = 0; i < nu; i++)
+        if (unknown[i] >= IFS_N_REALS || ifs_real_vars[unknown[i]].kind != IFS_OUTPUT)
+            return ifs_log(lg, IFS_ERROR, "%s: unknown %u is not an output", fn, unknown[i]);
+    for (i = 0; i < nk; i++)
+        if (known[i] >= IFS_N_REALS || ifs_real_vars[known[i]].kind != IFS_INPUT)
+            return ifs_log(lg, IFS_ERROR, "%s: known %u is not an input", fn, known[i]);
+    for (i = 0; i < nu; i++) dunknown[i] = 0.0;
     return IFS_OK;
 }
 

@@ -3,16 +3,16 @@
 #include "inflow_vars.h"
 
 const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
-    {"theta0", IFS_INPUT, offsetof(IfsVariables, theta0), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"theta1c", IFS_INPUT, offsetof(IfsVariables, theta1c), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"theta1s", IFS_INPUT, offsetof(IfsVariables, theta1s), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"muz", IFS_INPUT, offsetof(IfsVariables, muz), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"q", IFS_INPUT, offsetof(IfsVariables, q), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"p", IFS_INPUT, offsetof(IfsVariables, p), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"qdot", IFS_INPUT, offsetof(IfsVariables, qdot), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"pdot", IFS_INPUT, offsetof(IfsVariables, pdot), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"mux", IFS_INPUT, offsetof(IfsVariables, mux), 0.0, -DBL_MAX, DBL_MAX, 0},
-    {"muy", IFS_INPUT, offsetof(IfsVariables, muy), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"theta0", IFS_INPUT, offsetof(IfsVariables, theta0), 0.0, -1000000.0, 1000000.0, 0},
+    {"theta1c", IFS_INPUT, offsetof(IfsVariables, theta1c), 0.0, -1000000.0, 1000000.0, 0},
+    {"theta1s", IFS_INPUT, offsetof(IfsVariables, theta1s), 0.0, -1000000.0, 1000000.0, 0},
+    {"muz", IFS_INPUT, offsetof(IfsVariables, muz), 0.0, -1000000.0, 1000000.0, 0},
+    {"q", IFS_INPUT, offsetof(IfsVariables, q), 0.0, -1000000.0, 1000000.0, 0},
+    {"p", IFS_INPUT, offsetof(IfsVariables, p), 0.0, -1000000.0, 1000000.0, 0},
+    {"qdot", IFS_INPUT, offsetof(IfsVariables, qdot), 0.0, -1000000.0, 1000000.0, 0},
+    {"pdot", IFS_INPUT, offsetof(IfsVariables, pdot), 0.0, -1000000.0, 1000000.0, 0},
+    {"mux", IFS_INPUT, offsetof(IfsVariables, mux), 0.0, -1000000.0, 1000000.0, 0},
+    {"muy", IFS_INPUT, offsetof(IfsVariables, muy), 0.0, -1000000.0, 1000000.0, 0},
     {"mu", IFS_INPUT, offsetof(IfsVariables, mu), 0.249, 0.1, 0.5, 0},
     {"beta0", IFS_OUTPUT, offsetof(IfsVariables, beta0), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"beta1c", IFS_OUTPUT, offsetof(IfsVariables, beta1c), 0.0, -DBL_MAX, DBL_MAX, 0},
@@ -41,7 +41,7 @@ const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
     {"azimuth_bias", IFS_TUNABLE, offsetof(IfsVariables, azimuth_bias), 0.392, -3.141592653589793, 3.141592653589793, 0},
     {"a0", IFS_TUNABLE, offsetof(IfsVariables, a0), 5.73, 0.0, DBL_MAX, 1},
     {"solidity", IFS_TUNABLE, offsetof(IfsVariables, solidity), 0.0917, 0.0, 1.0, 1},
-    {"omega", IFS_TUNABLE, offsetof(IfsVariables, omega), 27.5, 0.0, DBL_MAX, 1},
+    {"omega", IFS_TUNABLE, offsetof(IfsVariables, omega), 27.5, 0.5, 5000.0, 0},
     {"dt", IFS_FIXED, offsetof(IfsVariables, dt), 0.01, 1e-06, 10.0, 0},
 };
 

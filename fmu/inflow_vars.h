@@ -4,7 +4,7 @@
 
 #include <stddef.h>
 
-#define IFS_GUID "{13481338-da2e-5945-acb3-89ad3b8dc6c2}"
+#define IFS_GUID "{6b8ef1eb-6462-5ffe-ae82-fb4c065a95a4}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
 #define IFS_N_REALS 40
 #define IFS_N_INTEGERS 1

@@ -857,3 +857,92 @@ def test_stop_time_before_start_is_refused(unzipped, guid):
         s.setupExperiment(startTime=1.0, stopTime=0.5)
     assert "stop time 0.5 must be finite and not before the start time 1" in log.text()
     s.freeInstance()
+
+
+@pytest.mark.parametrize("bad", [1e7, -1e300, 2e6])
+def test_absurd_finite_input_is_refused_and_leaves_the_state(bad, unzipped, guid):
+    """Inputs beyond the channel table's limit (1e6 in SI) are refused like a NaN."""
+    log = Logger()
+    s = open_fmu(unzipped, guid, start_values(model_of("glauert")), logger=log)
+    s.setReal([VR["theta1s"]], [0.01])
+    s.doStep(0.0, DT)
+    outs = [VR[n] for n in OUTPUTS]
+    before = s.getReal(outs)
+    with pytest.raises(Exception):
+        s.setReal([VR["q"]], [bad])
+    assert "q = " in log.text() and "outside the allowed range [-1e+06, 1e+06]" in log.text()
+    s.doStep(DT, DT)
+    after = s.getReal(outs)
+    ref = open_fmu(unzipped, guid, start_values(model_of("glauert")))
+    ref.setReal([VR["theta1s"]], [0.01])
+    ref.doStep(0.0, DT)
+    assert ref.getReal(outs) == before
+    ref.doStep(DT, DT)
+    assert ref.getReal(outs) == after           # the refused value never entered
+    s.freeInstance()
+    ref.freeInstance()
+
+
+def test_outputs_follow_a_new_azimuth_bias_at_once(unzipped, guid):
+    """Outputs are the state seen through the azimuth bias: setting the bias between
+    steps shows in the outputs at once (issue #10 part 5)."""
+    m = model_of("glauert")
+    s = open_fmu(unzipped, guid, start_values(m))
+    s.setReal([VR["theta1s"]], [0.02])
+    for k in range(30):
+        s.doStep(k * DT, DT)
+    outs = [VR[n] for n in OUTPUTS]
+    y0 = np.array(s.getReal(outs))
+    b0 = m.parameters["azimuth_bias"]
+    s.setReal([VR["azimuth_bias"]], [b0 + 0.3])
+    y1 = np.array(s.getReal(outs))
+    rot = np.array([[math.cos(0.3), -math.sin(0.3)], [math.sin(0.3), math.cos(0.3)]])
+    np.testing.assert_allclose(y1[1:3], rot @ y0[1:3], rtol=1e-13, atol=1e-17)
+    assert y1[0] == y0[0] and np.array_equal(y1[3:], y0[3:])
+    s.freeInstance()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_units_have_base_units_and_degrees_to_show(version, fmu_path, fmu3_path):
+    """BaseUnit exponents and a deg display unit as an importer reads them (fmpy)."""
+    md = read_model_description(str(fmu_path if version == 2 else fmu3_path))
+    units = {u.name: u for u in md.unitDefinitions}
+    rad = units["rad"]
+    assert rad.baseUnit.rad == 1 and rad.baseUnit.s == 0
+    deg = {d.name: d for d in rad.displayUnits}["deg"]
+    assert float(deg.factor) == pytest.approx(180 / math.pi, rel=1e-15)
+    assert units["rad/s2"].baseUnit.s == -2 and units["1/rad"].baseUnit.rad == -1
+    theta = next(v for v in md.modelVariables if v.name == "theta1s")
+    assert theta.unit == "rad" and theta.displayUnit == "deg"
+    assert (float(theta.min), float(theta.max)) == (-1e6, 1e6)
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_directional_derivatives_are_exact(version, unzipped, unzipped3, guid, record):
+    """Outputs depend on the state only (no direct feedthrough): d y / d u within a
+    communication point is exactly zero, which a finite difference confirms; wrong
+    kinds of value reference are refused."""
+    m = model_of("glauert")
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    if version == 2:
+        s = open_fmu(unzipped, guid, start_values(m))
+        setr, getr = s.setReal, s.getReal
+    else:
+        s = open_fmu3(unzipped3, guid, start_values(m))
+        setr, getr = s.setFloat64, s.getFloat64
+    for k in range(60):
+        setr(ins, list(u[k]))
+        s.doStep(k * DT, DT)
+    seed = [1.0] * len(ins)
+    dy = (s.getDirectionalDerivative(outs, ins, seed) if version == 2 else
+          s.getDirectionalDerivative(outs, ins, seed, len(outs)))
+    assert list(dy) == [0.0] * len(outs)
+    y0 = getr(outs)
+    setr(ins, list(u[60] + 1e-3))                 # finite difference at the same point
+    assert getr(outs) == y0
+    with pytest.raises(Exception):                # an input is not an unknown
+        (s.getDirectionalDerivative([VR["theta0"]], ins, seed) if version == 2 else
+         s.getDirectionalDerivative([VR["theta0"]], ins, seed, 1))
+    s.terminate()
+    s.freeInstance()

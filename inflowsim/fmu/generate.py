@@ -41,9 +41,27 @@ def guid() -> str:
     return "{" + str(uuid.UUID(bytes=h[:16], version=5)) + "}"
 
 
+#: SI base-unit exponents of every unit the variables use (FMI ``BaseUnit``), and the
+#: display unit an importer may show instead: degrees for angles.
+BASE_UNITS = {"rad": {"rad": 1}, "rad/s": {"s": -1, "rad": 1},
+              "rad/s2": {"s": -2, "rad": 1}, "s": {"s": 1}, "1/rad": {"rad": -1}}
+_DEG = 180.0 / math.pi
+DISPLAY_UNITS = {"rad": ("deg", _DEG), "rad/s": ("deg/s", _DEG),
+                 "rad/s2": ("deg/s2", _DEG), "1/rad": ("1/deg", 1.0 / _DEG)}
+
+
+def _unit_xml(u: str) -> list:
+    base = " ".join(f'{k}="{e}"' for k, e in BASE_UNITS[u].items())
+    lines = [f'    <Unit name="{u}">', f"      <BaseUnit {base}/>"]
+    if u in DISPLAY_UNITS:
+        name, factor = DISPLAY_UNITS[u]
+        lines.append(f'      <DisplayUnit name="{name}" factor="{_num(factor)}"/>')
+    return lines + ["    </Unit>"]
+
+
 def _units_categories_experiment(units) -> list:
     """The lines both FMI versions share between the interface type and the variables."""
-    return (["  <UnitDefinitions>"] + [f'    <Unit name="{u}"/>' for u in units] +
+    return (["  <UnitDefinitions>"] + [ln for u in units for ln in _unit_xml(u)] +
             ["  </UnitDefinitions>",
              "  <LogCategories>",
              '    <Category name="logStatusError" description="errors: refused values, '
@@ -73,6 +91,8 @@ def _value_attributes(v: Variable) -> list:
         out.append(f'start="{int(v.start)}"' if integer else f'start="{_num(v.start)}"')
     if not integer and v.unit and v.unit != "-":
         out.append(f'unit="{v.unit}"')
+        if v.unit in DISPLAY_UNITS:
+            out.append(f'displayUnit="{DISPLAY_UNITS[v.unit][0]}"')
     fmt = (lambda x: str(int(x))) if integer else _num
     if math.isfinite(v.lower) and not v.lower_open:
         out.append(f'min="{fmt(v.lower)}"')
@@ -102,7 +122,8 @@ def model_description() -> str:
            f'  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" '
            'canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" '
            'canSerializeFMUstate="true" canInterpolateInputs="false" '
-           'maxOutputDerivativeOrder="0" canRunAsynchronuously="false">',
+           'maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
+           'providesDirectionalDerivative="true">',
            "    <SourceFiles>",
            *[f'      <File name="{f}"/>' for f in SOURCES[2]],
            "    </SourceFiles>",
@@ -144,7 +165,7 @@ def model_description_fmi3() -> str:
            'canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" '
            'canSerializeFMUState="true" hasEventMode="false" '
            'providesIntermediateUpdate="false" canReturnEarlyAfterIntermediateUpdate="false" '
-           'maxOutputDerivativeOrder="0"/>',
+           'maxOutputDerivativeOrder="0" providesDirectionalDerivatives="true"/>',
            *_units_categories_experiment(units),
            "  <ModelVariables>",
             f'    <Float64 name="time" valueReference="{TIME_VR}" causality="independent" '

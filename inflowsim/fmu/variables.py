@@ -16,8 +16,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..channels import BY_NAME, INPUT_CHANNELS, OUTPUTS
-from ..model.params import MU_MAX, MU_MIN, PUMA, SPECS
+from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, OUTPUTS
+from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
 
 MODEL_IDENTIFIER = "inflowsim"
@@ -76,9 +76,12 @@ def _start_parameters() -> dict:
 def _build() -> tuple:
     v = []
     for ch in INPUT_CHANNELS:
+        # no rotor quantity comes near LIMIT: beyond it a value is a unit or wiring
+        # error, refused like a NaN rather than let overflow the state
         v.append(Variable(ch.name, "Real", "input", "continuous", 0.0,
                           _UNITS.get(ch.unit, ch.unit),
-                          f"{ch.description}: perturbation about trim [{ch.unit}]"))
+                          f"{ch.description}: perturbation about trim [{ch.unit}]",
+                          -LIMIT, LIMIT))
     v.append(Variable("mu", "Real", "input", "continuous", PUMA.mu, "-",
                       "trim advance ratio (a total, the flight condition); a change "
                       "rebuilds the discrete matrices", MU_MIN, MU_MAX))
@@ -97,7 +100,7 @@ def _build() -> tuple:
     v.append(Variable("solidity", "Real", "parameter", "tunable", PUMA.solidity, "-",
                       "rotor solidity s [-]", 0.0, 1.0, True))
     v.append(Variable("omega", "Real", "parameter", "tunable", PUMA.omega, "rad/s",
-                      "rotor speed Omega [rad/s]", 0.0, math.inf, True))
+                      "rotor speed Omega [rad/s]", *OMEGA_RANGE))
     v.append(Variable("dt", "Real", "parameter", "fixed", DT, "s",
                       "internal fixed step (exact zero-order hold) [s]", 1e-6, 10.0))
     v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
