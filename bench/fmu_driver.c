@@ -87,7 +87,9 @@ static fmi2Component start(const Api *a, const char *guid)
     return c;
 }
 
-/* mode 0: DoStep only; 1: SetReal inputs + DoStep + GetReal outputs; 2: SetReal mu + DoStep */
+/* mode 0: DoStep only; 1: SetReal inputs + DoStep + GetReal outputs; 2: SetReal mu + DoStep;
+ * 3: DoStep with h = 1/60 s +- 2 % varying every frame (internal dt 0.01 s: one whole
+ * step and a new remainder each frame); 4: DoStep with a constant h = 1/60 s */
 static double run(const Api *a, const char *guid, long n, int mode, const fmi2ValueReference *in,
                   size_t nin, const fmi2ValueReference *out, size_t nout, fmi2ValueReference mu)
 {
@@ -100,8 +102,13 @@ static double run(const Api *a, const char *guid, long n, int mode, const fmi2Va
         size_t i;
         for (i = 0; i < nin; i++) u[i] = 1e-3 * (double)(i + 1);
         a->set_real(c, in, nin, u);
+        double t = 0.0;
         t0 = now();
         for (k = 0; k < n; k++) {
+            double h = 0.01;
+            if (mode == 3) h = (1.0 / 60.0) * (1.0 + 0.02 * (double)((k * 7919L) % 201 - 100)
+                                                        / 100.0);
+            else if (mode == 4) h = 1.0 / 60.0;
             if (mode == 1) {
                 u[0] = 1e-3 * (double)(k & 7);
                 a->set_real(c, in, nin, u);
@@ -109,10 +116,11 @@ static double run(const Api *a, const char *guid, long n, int mode, const fmi2Va
                 double m = 0.249 + 1e-4 * (double)(k & 1);
                 a->set_real(c, &mu, 1, &m);
             }
-            if (a->do_step(c, (double)k * 0.01, 0.01, fmi2True) != fmi2OK) {
+            if (a->do_step(c, mode >= 3 ? t : (double)k * 0.01, h, fmi2True) != fmi2OK) {
                 fprintf(stderr, "fmi2DoStep failed\n");
                 exit(1);
             }
+            t += h;
             if (mode == 1) a->get_real(c, out, nout, y);
         }
         t1 = now();
@@ -212,6 +220,8 @@ int main(int argc, char **argv)
     printf("glauert_dostep %.2f\n", run(&fmu, argv[2], n, 0, in10, 10, out6, 6, 10));
     printf("glauert_set_dostep_get %.2f\n", run(&fmu, argv[2], n, 1, in10, 10, out6, 6, 10));
     printf("glauert_mu_every_step %.2f\n", run(&fmu, argv[2], n / 100 + 1, 2, in10, 10, out6, 6, 10));
+    printf("glauert_varying_step %.2f\n", run(&fmu, argv[2], n / 10 + 1, 3, in10, 10, out6, 6, 10));
+    printf("glauert_constant_step_1_60 %.2f\n", run(&fmu, argv[2], n / 10 + 1, 4, in10, 10, out6, 6, 10));
     if (argc > 5) {
         printf("fmi3_glauert_dostep %.2f\n", run3(argv[5], argv[2], n, 0));
         printf("fmi3_glauert_set_dostep_get %.2f\n", run3(argv[5], argv[2], n, 1));

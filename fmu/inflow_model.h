@@ -23,6 +23,7 @@
 #define IFS_NU 10
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_LD 8                   /* stored column length: NX padded to whole vectors */
+#define IFS_KMAX 30                /* most Taylor terms of a remainder step */
 
 enum { IFS_BASIC = 0, IFS_EMPIRICAL = 1, IFS_GLAUERT = 2 };
 
@@ -40,6 +41,12 @@ typedef struct {
     /* cached [phi gam] (by columns) of the last remainder step (h not n dt) */
     double pg_rem[IFS_NA * IFS_LD];
     double rem;                    /* its length [s]; 0 = no cache */
+    /* the remainder asked for by the previous call: a remainder asked for twice in a
+     * row is cached (a constant communication step); one that changes from frame to
+     * frame is stepped by the Taylor series of the state (ifs_advance) */
+    double rem_prev;
+    /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
+    double norm_a, norm_ab;
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
     long long n_last;
