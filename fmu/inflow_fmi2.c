@@ -260,10 +260,9 @@ IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
     const fmi2ValueReference known[], size_t nk, const fmi2Real dknown[], fmi2Real dunknown[])
 {
     Instance *c = (Instance *)comp;
-    (void)dknown;
     if (!c) return fmi2Error;
     return (fmi2Status)ifs_slave_directional(&c->s, &c->log, "fmi2GetDirectionalDerivative",
-                                             unknown, nu, known, nk, dunknown);
+                                             unknown, nu, known, nk, dknown, dunknown);
 }
 
 /* --- co-simulation --- */

@@ -409,13 +409,12 @@ IFS_EXPORT fmi3Status fmi3GetDirectionalDerivative(
 {
     Instance *c = (Instance *)inst;
     const char *fn = "fmi3GetDirectionalDerivative";
-    (void)seed;
     if (!c) return fmi3Error;
     if (ns != nk || nsens != nu)
         return (fmi3Status)ifs_log(&c->log, IFS_ERROR, "%s: %zu seeds for %zu knowns, %zu "
                                    "sensitivities for %zu unknowns", fn, ns, nk, nsens, nu);
     return (fmi3Status)ifs_slave_directional(&c->s, &c->log, fn, unknowns, nu, knowns, nk,
-                                             sensitivity);
+                                             seed, sensitivity);
 }
 
 IFS_EXPORT fmi3Status fmi3GetAdjointDerivative(

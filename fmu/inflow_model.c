@@ -102,6 +102,68 @@ static int expm(double *A)
 
 /* --- the model's matrices --- */
 
+/* The blade-element loads of Eq. (4), (C_T, C_mc, C_ms)/(a0 s) per beta', beta,
+ * lambda and [theta | nu] (model.md section 3). */
+static void load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
+                          double Gu[3][6])
+{
+    const double m2 = mu * mu;
+    const double db[3][3] = {{-1.0 / 6, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
+                             {mu / 12, 0.0, 1.0 / 16}};
+    const double b[3][3] = {{0.0, 0.0, 0.0}, {mu / 12, 0.0, 1.0 / 16 + m2 / 32},
+                            {0.0, -1.0 / 16 + m2 / 32, 0.0}};
+    const double l[3][3] = {{-1.0 / 4, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
+                            {mu / 8, 0.0, 1.0 / 16}};
+    const double u[3][6] = {   /* G_theta | G_nu */
+        {1.0 / 6 + m2 / 4, 0.0, mu / 4, 1.0 / 4, 0.0, mu / 8},
+        {0.0, -1.0 / 16 - m2 / 32, 0.0, 0.0, -1.0 / 16, 0.0},
+        {-mu / 6, 0.0, -1.0 / 16 - 3 * m2 / 32, -mu / 8, 0.0, -1.0 / 16}};
+    memcpy(Gdb, db, sizeof db);
+    memcpy(Gb, b, sizeof b);
+    memcpy(Gl, l, sizeof l);
+    memcpy(Gu, u, sizeof u);
+}
+
+/* loads = lc x + ld u (SI state and inputs): Eq. (4) times a0 s with beta' from the
+ * dynamics (x' = (a x + b u)/Omega), the true pitch under an azimuth bias, and the
+ * centre-spring hub moments -a0 s (lambda_beta2 - 1)/(16 n_beta) (beta1c, beta1s);
+ * inflowsim.model.loads.load_matrices, which the tests compare. */
+static void build_loads(IfsModel *n, const IfsVariables *v)
+{
+    double Gdb[3][3], Gb[3][3], Gl[3][3], Gu[3][6];
+    const double a0s = v->a0 * v->solidity, om = v->omega;
+    const double cb = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
+    const double sb = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
+    int r, i, j;
+    load_matrices(v->mu, Gdb, Gb, Gl, Gu);
+    memset(n->lc, 0, sizeof n->lc);
+    memset(n->ld, 0, sizeof n->ld);
+    for (r = 0; r < 3; r++) {
+        for (j = 0; j < NX; j++) {
+            double s = 0.0;
+            for (i = 0; i < 3; i++) s += Gdb[r][i] * n->a[i * NX + j];
+            s /= om;
+            if (j < 3) s += Gb[r][j];
+            else s += Gl[r][j - 3];
+            n->lc[r * NX + j] = a0s * s;
+        }
+        for (j = 0; j < NU; j++) {
+            double s = 0.0;
+            for (i = 0; i < 3; i++) s += Gdb[r][i] * n->b[i * NU + j];
+            n->ld[r * NU + j] = a0s * s / om;
+        }
+        /* recorded pitch: true = R(-bias) recorded, as the flap equation takes it */
+        n->ld[r * NU + 0] += a0s * Gu[r][0];
+        n->ld[r * NU + 1] += a0s * (Gu[r][1] * cb - Gu[r][2] * sb);
+        n->ld[r * NU + 2] += a0s * (Gu[r][1] * sb + Gu[r][2] * cb);
+        n->ld[r * NU + 3] += a0s * Gu[r][3];               /* muz */
+        n->ld[r * NU + 4] += a0s * Gu[r][4] / om;          /* q: qbar = q / Omega */
+        n->ld[r * NU + 5] += a0s * Gu[r][5] / om;          /* p */
+    }
+    n->lc[3 * NX + 1] = -a0s * (v->lambda_beta2 - 1.0) / (16.0 * v->n_beta);
+    n->lc[4 * NX + 2] = n->lc[3 * NX + 1];
+}
+
 #define E_(i, j) e[(i) * NX + (j)]
 #define A_(i, j) a[(i) * NX + (j)]
 #define B_(i, j) b[(i) * NU + (j)]
@@ -123,12 +185,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     const double Hl[3][3] = {{-nb * 4.0 / 3.0, 0.0, -nb * 2.0 / 3.0 * mu},
                              {0.0, -nb, 0.0}, {-nb * 2.0 * mu, 0.0, -nb}};
     /* loads, Eq. (4) */
-    const double Gdb[3][3] = {{-1.0 / 6, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
-                              {mu / 12, 0.0, 1.0 / 16}};
-    const double Gb[3][3] = {{0.0, 0.0, 0.0}, {mu / 12, 0.0, 1.0 / 16 + m2 / 32},
-                             {0.0, -1.0 / 16 + m2 / 32, 0.0}};
-    const double Gl[3][3] = {{-1.0 / 4, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
-                             {mu / 8, 0.0, 1.0 / 16}};
+    double Gdb[3][3], Gb[3][3], Gl[3][3], Gu[3][6];
     /* input columns: theta0 theta1c theta1s muz qbar pbar qbar' pbar' mux muy */
     double hu[3][NU] = {
         {nb * (1 + m2), 0.0, nb * 4.0 / 3.0 * mu, 4.0 / 3.0 * nb, 0.0, 2.0 / 3.0 * mu * nb,
@@ -136,12 +193,10 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
         {0.0, nb * (1 + m2 / 2), 0.0, 0.0, nb, 2.0, 1.0, 0.0, 0.0, 0.0},
         {nb * 8.0 / 3.0 * mu, 0.0, nb * (1 + 1.5 * m2), 2.0 * mu * nb, -2.0, nb, 0.0, 1.0,
          0.0, 0.0}};
-    const double Gu[3][6] = {   /* G_theta | G_nu */
-        {1.0 / 6 + m2 / 4, 0.0, mu / 4, 1.0 / 4, 0.0, mu / 8},
-        {0.0, -1.0 / 16 - m2 / 32, 0.0, 0.0, -1.0 / 16, 0.0},
-        {-mu / 6, 0.0, -1.0 / 16 - 3 * m2 / 32, -mu / 8, 0.0, -1.0 / 16}};
     double pdb[3][3], pb[3][3], pl[3][3], pu[3][NU], dtau[3];
     int i, j;
+
+    load_matrices(mu, Gdb, Gb, Gl, Gu);
 
     for (i = 0; i < 3; i++) {
         for (j = 0; j < 3; j++) {
@@ -312,6 +367,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         for (j = 0; j < NX; j++) n.a[i * NX + j] = om * rhs[i * NA + j];
         for (j = 0; j < NU; j++) n.b[i * NU + j] = om * rhs[i * NA + NX + j] * in_scale[j];
     }
+    build_loads(&n, v);
     /* outputs: recorded flap is the true one rotated by the azimuth bias (section 6) */
     n.cos_bias = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
     n.sin_bias = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;

@@ -22,6 +22,7 @@
 #define IFS_NX 6
 #define IFS_NU 10
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
+#define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
 #define IFS_LD 8                   /* stored column length: NX padded to whole vectors */
 #define IFS_KMAX 30                /* most Taylor terms of a remainder step */
 
@@ -33,6 +34,10 @@ typedef struct {
     double b[IFS_NX * IFS_NU];
     /* outputs y = c x: identity but the recorded flap rotated by the azimuth bias */
     double cos_bias, sin_bias;
+    /* loads = lc x + ld u (inflowsim.model.loads: Eq. (4) times a0 s, the flap rate
+     * from the dynamics, the true pitch; the flap springs' hub moments), row-major */
+    double lc[IFS_NL * IFS_NX];
+    double ld[IFS_NL * IFS_NU];
     /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
      * IFS_LD, rows NX.. zero) so one step is a sum of scaled columns, four and
      * two rows at a time (see ifs_step) */
@@ -127,6 +132,17 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 }
 #undef IFS_C
 #undef IFS_STEP_ROWS
+
+/* Load i (0 CT, 1 C_mc, 2 C_ms, 3 C_mc_hub, 4 C_ms_hub) for the state and the inputs
+ * held now. */
+static inline double ifs_load(const IfsModel *m, int i, const double u[IFS_NU])
+{
+    double s = 0.0;
+    int j;
+    for (j = 0; j < IFS_NX; j++) s += m->lc[i * IFS_NX + j] * m->x[j];
+    for (j = 0; j < IFS_NU; j++) s += m->ld[i * IFS_NU + j] * u[j];
+    return s;
+}
 
 /* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
 IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])

@@ -124,7 +124,13 @@ int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
         if (vr[i] >= IFS_N_REALS)
             return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of a Real", fn,
                            vr[i]);
-        value[i] = *(const double *)((const char *)&s->v + ifs_real_vars[vr[i]].offset);
+        if (vr[i] >= IFS_VR_CT && vr[i] <= IFS_VR_C_ms_hub)
+            /* the loads depend on the inputs held now: computed when read */
+            value[i] = s->phase == IFS_PH_STEP
+                           ? ifs_load(&s->m, (int)(vr[i] - IFS_VR_CT), ifs_slave_inputs(s))
+                           : 0.0;
+        else
+            value[i] = *(const double *)((const char *)&s->v + ifs_real_vars[vr[i]].offset);
     }
     return IFS_OK;
 }
@@ -216,12 +222,13 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
 
 int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
                           const unsigned int unknown[], size_t nu,
-                          const unsigned int known[], size_t nk, double dunknown[])
+                          const unsigned int known[], size_t nk, const double dknown[],
+                          double dunknown[])
 {
     size_t i;
     if (s->phase != IFS_PH_INIT && s->phase != IFS_PH_STEP)
         return ifs_log(lg, IFS_ERROR, "%s: only in initialization or step mode", fn);
-    if ((nu > 0 && (!unknown || !dunknown)) || (nk > 0 && !known))
+    if ((nu > 0 && (!unknown || !dunknown)) || (nk > 0 && (!known || !dknown)))
         return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     for (i = 0; i < nu; i++)
         if (unknown[i] >= IFS_N_REALS || ifs_real_vars[unknown[i]].kind != IFS_OUTPUT)
@@ -229,7 +236,21 @@ int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
     for (i = 0; i < nk; i++)
         if (known[i] >= IFS_N_REALS || ifs_real_vars[known[i]].kind != IFS_INPUT)
             return ifs_log(lg, IFS_ERROR, "%s: known %u is not an input", fn, known[i]);
-    for (i = 0; i < nu; i++) dunknown[i] = 0.0;
+    for (i = 0; i < nu; i++) {
+        double d = 0.0;
+        if (unknown[i] >= IFS_VR_CT && unknown[i] <= IFS_VR_C_ms_hub) {
+            /* the loads: exactly ld (Eq. (4) is linear in the held inputs) */
+            const int row = (int)(unknown[i] - IFS_VR_CT);
+            size_t j;
+            for (j = 0; j < nk; j++) {
+                if (known[j] == IFS_VR_mu)
+                    return ifs_log(lg, IFS_ERROR, "%s: the loads' derivative with respect "
+                                   "to mu is not provided (mu enters nonlinearly)", fn);
+                d += s->m.ld[row * IFS_NU + known[j]] * dknown[j];
+            }
+        }
+        dunknown[i] = d;
+    }
     return IFS_OK;
 }
 

@@ -71,12 +71,14 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
                        const unsigned int vr[], size_t n, const int value[]);
 
 /* Partial derivatives of outputs (unknown) with respect to inputs (known) at the
- * current communication point: exact zeros, since no output depends on an input
- * within a communication point (y = c x: no direct feedthrough).  dunknown[i] =
- * sum_j d y_i / d u_j dknown[j] = 0; refuses value references of other kinds. */
+ * current communication point, exact: dunknown[i] = sum_j d y_i / d u_j dknown[j].
+ * Flap and inflow read the state only (zero); the loads are linear in the held
+ * inputs (their ld row).  Refuses value references of other kinds, and mu for the
+ * loads. */
 int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
                           const unsigned int unknown[], size_t nu,
-                          const unsigned int known[], size_t nk, double dunknown[]);
+                          const unsigned int known[], size_t nk, const double dknown[],
+                          double dunknown[]);
 
 /* Any step: checks, rebuild, internal steps and an exact remainder. */
 int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);

@@ -43,6 +43,11 @@ const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
     {"solidity", IFS_TUNABLE, offsetof(IfsVariables, solidity), 0.0917, 0.0, 1.0, 1},
     {"omega", IFS_TUNABLE, offsetof(IfsVariables, omega), 27.5, 0.5, 5000.0, 0},
     {"dt", IFS_FIXED, offsetof(IfsVariables, dt), 0.01, 1e-06, 10.0, 0},
+    {"CT", IFS_OUTPUT, offsetof(IfsVariables, CT), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"C_mc", IFS_OUTPUT, offsetof(IfsVariables, C_mc), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"C_ms", IFS_OUTPUT, offsetof(IfsVariables, C_ms), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"C_mc_hub", IFS_OUTPUT, offsetof(IfsVariables, C_mc_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"C_ms_hub", IFS_OUTPUT, offsetof(IfsVariables, C_ms_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
 };
 
 const IfsIntegerVar ifs_integer_vars[IFS_N_INTEGERS] = {

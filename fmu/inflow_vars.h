@@ -4,9 +4,9 @@
 
 #include <stddef.h>
 
-#define IFS_GUID "{6b8ef1eb-6462-5ffe-ae82-fb4c065a95a4}"
+#define IFS_GUID "{796dc548-f783-534a-9c3b-765b1d0ce4d9}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
-#define IFS_N_REALS 40
+#define IFS_N_REALS 45
 #define IFS_N_INTEGERS 1
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
 
@@ -52,8 +52,13 @@ enum {
     IFS_VR_solidity = 37,
     IFS_VR_omega = 38,
     IFS_VR_dt = 39,
-    IFS_VR_structure = 40,
-    IFS_VR_time = 41,  /* FMI 3.0 only: the independent variable */
+    IFS_VR_CT = 40,
+    IFS_VR_C_mc = 41,
+    IFS_VR_C_ms = 42,
+    IFS_VR_C_mc_hub = 43,
+    IFS_VR_C_ms_hub = 44,
+    IFS_VR_structure = 45,
+    IFS_VR_time = 46,  /* FMI 3.0 only: the independent variable */
     IFS_VR_END
 };
 
@@ -99,6 +104,11 @@ typedef struct {
     double solidity;  /* parameter [-] */
     double omega;  /* parameter [rad/s] */
     double dt;  /* parameter [s] */
+    double CT;  /* output [-] */
+    double C_mc;  /* output [-] */
+    double C_ms;  /* output [-] */
+    double C_mc_hub;  /* output [-] */
+    double C_ms_hub;  /* output [-] */
     int structure;  /* parameter [-] */
 } IfsVariables;
 

@@ -972,3 +972,48 @@ def test_frame_to_frame_varying_step_is_exact(unzipped, guid, record):
     assert np.abs(x).max() > 1e-4
     assert worst < 1e-13 * max(1.0, np.abs(x).max())
     s.freeInstance()
+
+
+LOADS = ("CT", "C_mc", "C_ms", "C_mc_hub", "C_ms_hub")
+
+
+@pytest.mark.parametrize("structure", ["basic", "empirical", "glauert"])
+@pytest.mark.parametrize("version", [2, 3])
+def test_loads_out_equal_the_python_loads(structure, version, unzipped, unzipped3, guid,
+                                         record):
+    """The FMU's load outputs (issue #10 part 1) are inflowsim.model.loads on the
+    Simulator's state and the inputs held now, at every step, FMI 2.0 and 3.0; and
+    their directional derivatives with respect to the inputs are the load matrix."""
+    from inflowsim.model.loads import load_matrices
+    m = model_of(structure)
+    u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:400]
+    lm = load_matrices(build_model(structure, dict(m.parameters), m.constants))
+    ins = [VR[n] for n in ALL_INPUTS]
+    lvr = [VR[n] for n in LOADS]
+    if version == 2:
+        s = open_fmu(unzipped, guid, start_values(m))
+        setr, getr = s.setReal, s.getReal
+    else:
+        s = open_fmu3(unzipped3, guid, start_values(m))
+        setr, getr = s.setFloat64, s.getFloat64
+    sim = Simulator(m, DT)
+    worst, peak = 0.0, 0.0
+    for k in range(len(u) - 1):
+        setr(ins, list(u[k]))
+        s.doStep(k * DT, DT)
+        sim.step(u[k][:sim.m])
+        want = lm(sim.state, u[k][:sim.m])
+        worst = max(worst, np.abs(np.array(getr(lvr)) - want).max())
+        peak = max(peak, np.abs(want).max())
+        # direct feedthrough: new inputs show in the loads before the next step
+        if k == 200:
+            setr(ins, list(u[k + 1]))
+            np.testing.assert_allclose(getr(lvr), lm(sim.state, u[k + 1][:sim.m]),
+                                       rtol=0, atol=1e-12 * peak)
+    assert peak > 1e-5 and worst < 1e-10 * peak
+    seed = [1.0] + [0.0] * (len(ins) - 1)
+    d = (s.getDirectionalDerivative(lvr, ins, seed) if version == 2 else
+         s.getDirectionalDerivative(lvr, ins, seed, len(lvr)))
+    np.testing.assert_allclose(d, lm.d[:, 0], rtol=1e-13, atol=1e-18)
+    s.terminate()
+    s.freeInstance()

@@ -106,6 +106,22 @@ def _xml_variable(vr: int, v: Variable) -> str:
             f"      <{v.type} {' '.join(_value_attributes(v))}/>\n    </ScalarVariable>")
 
 
+def _input_positions():
+    return [i for i, v in enumerate(VARIABLES) if v.causality == "input"]
+
+
+def _unknown2(i: int, v) -> str:
+    """FMI 2.0 ``<Unknown>``: flap and inflow read the state only (no inputs); the
+    loads depend on the inputs held now (Eq. (4)'s pitch and hub-motion terms)."""
+    deps = " ".join(str(k + 1) for k in _input_positions()) if v.feedthrough else ""
+    return f'      <Unknown index="{i + 1}" dependencies="{deps}"/>'
+
+
+def _deps3(v) -> str:
+    deps = " ".join(str(k) for k in _input_positions()) if v.feedthrough else ""
+    return f' dependencies="{deps}"'
+
+
 def model_description() -> str:
     """The text of ``modelDescription.xml`` (FMI 2.0 co-simulation)."""
     units = sorted({v.unit for v in REALS if v.unit and v.unit != "-"})
@@ -135,10 +151,9 @@ def model_description() -> str:
         out.append(_xml_variable(vr, v))
     out += ["  </ModelVariables>", "  <ModelStructure>", "    <Outputs>"]
     # outputs read the state only: no direct feedthrough of any input
-    idx = [i + 1 for i, v in enumerate(VARIABLES) if v.causality == "output"]
-    out += [f'      <Unknown index="{i}" dependencies=""/>' for i in idx]
+    out += [_unknown2(i, v) for i, v in enumerate(VARIABLES) if v.causality == "output"]
     out += ["    </Outputs>", "    <InitialUnknowns>"]
-    out += [f'      <Unknown index="{i}" dependencies=""/>' for i in idx]
+    out += [_unknown2(i, v) for i, v in enumerate(VARIABLES) if v.causality == "output"]
     out += ["    </InitialUnknowns>", "  </ModelStructure>", "</fmiModelDescription>", ""]
     return "\n".join(out)
 
@@ -172,10 +187,9 @@ def model_description_fmi3() -> str:
             'variability="continuous" unit="s" description="simulation time"/>']
     out += [_xml_variable_fmi3(vr, v) for vr, v in enumerate(VARIABLES)]
     out += ["  </ModelVariables>", "  <ModelStructure>"]
-    # outputs read the state only: no direct feedthrough of any input
-    vrs = [vr for vr, v in enumerate(VARIABLES) if v.causality == "output"]
-    out += [f'    <Output valueReference="{vr}" dependencies=""/>' for vr in vrs]
-    out += [f'    <InitialUnknown valueReference="{vr}" dependencies=""/>' for vr in vrs]
+    outs = [(vr, v) for vr, v in enumerate(VARIABLES) if v.causality == "output"]
+    out += [f'    <Output valueReference="{vr}"{_deps3(v)}/>' for vr, v in outs]
+    out += [f'    <InitialUnknown valueReference="{vr}"{_deps3(v)}/>' for vr, v in outs]
     out += ["  </ModelStructure>", "</fmiModelDescription>", ""]
     return "\n".join(out)
 

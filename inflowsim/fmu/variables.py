@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, OUTPUTS
+from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
 from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
 
@@ -48,6 +48,8 @@ class Variable:
     lower: float = -math.inf
     upper: float = math.inf
     lower_open: bool = False
+    #: an output that depends on the inputs at the same instant (the loads)
+    feedthrough: bool = False
 
     @property
     def initial(self) -> str | None:
@@ -103,6 +105,11 @@ def _build() -> tuple:
                       "rotor speed Omega [rad/s]", *OMEGA_RANGE))
     v.append(Variable("dt", "Real", "parameter", "fixed", DT, "s",
                       "internal fixed step (exact zero-order hold) [s]", 1e-6, 10.0))
+    # loads last among the reals, so the value references above stay as they were
+    for ch in LOAD_CHANNELS:
+        v.append(Variable(ch.name, "Real", "output", "continuous", None, "-",
+                          f"{ch.description}: perturbation about trim (inflowsim.model."
+                          "loads; depends on the inputs held now)", feedthrough=True))
     v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
                       "", "model structure: 0 basic (tau), 1 empirical (tau0, tau_cs, K, "
                       "azimuth_bias), 2 glauert (tau0, tau_cs, c1..c4, k0p, kc, ks, "
