@@ -76,13 +76,17 @@ IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2Str
     memcpy(c, &tmp, sizeof tmp);
     c->log.env = c;
     ifs_slave_init(&c->s);
+    /* the mu table lives apart (250 kB); without it mu changes rebuild exactly */
+    c->s.tab = (IfsMuTable *)cb->allocateMemory(1, sizeof(IfsMuTable));
     return c;
 }
 
 IFS_EXPORT void fmi2FreeInstance(fmi2Component comp)
 {
     Instance *c = (Instance *)comp;
-    if (c) c->cb.freeMemory(c);
+    if (!c) return;
+    if (c->s.tab) c->cb.freeMemory(c->s.tab);
+    c->cb.freeMemory(c);
 }
 
 IFS_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tol_defined,

@@ -79,6 +79,8 @@ static Instance *instantiate(fmi3String name, fmi3String token, fmi3Boolean logg
     memcpy(c, &tmp, sizeof tmp);
     c->log.env = c;
     ifs_slave_init(&c->s);
+    /* the mu table lives apart (250 kB); without it mu changes rebuild exactly */
+    c->s.tab = (IfsMuTable *)calloc(1, sizeof(IfsMuTable));
     return c;
 }
 
@@ -125,7 +127,13 @@ IFS_EXPORT fmi3Instance fmi3InstantiateScheduledExecution(
                        "only co-simulation is provided");
 }
 
-IFS_EXPORT void fmi3FreeInstance(fmi3Instance inst) { free(inst); }
+IFS_EXPORT void fmi3FreeInstance(fmi3Instance inst)
+{
+    Instance *c = (Instance *)inst;
+    if (!c) return;
+    free(c->s.tab);
+    free(c);
+}
 
 IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean tol_defined,
                                                   fmi3Float64 tol, fmi3Float64 start,

@@ -10,6 +10,10 @@
 
 #include "inflow_model.h"
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 #define NX IFS_NX
 #define NU IFS_NU
 #define NA IFS_NA
@@ -333,6 +337,20 @@ static void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
     for (i = 0; i < NX; i++) x[i] += acc[i];
 }
 
+/* 1-norms of a and [a b]: the bounds of the remainder's Taylor terms. */
+static void set_norms(IfsModel *n)
+{
+    int i, j;
+    n->norm_a = n->norm_ab = 0.0;
+    for (j = 0; j < NA; j++) {
+        double col = 0.0;
+        for (i = 0; i < NX; i++)
+            col += fabs(j < NX ? n->a[i * NX + j] : n->b[i * NU + j - NX]);
+        if (j < NX && col > n->norm_a) n->norm_a = col;
+        if (col > n->norm_ab) n->norm_ab = col;
+    }
+}
+
 int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
 {
     IfsModel n = *m;
@@ -379,15 +397,9 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     }
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
+    n.ab_stale = 0;
     n.h_last = -1.0;
-    n.norm_a = n.norm_ab = 0.0;
-    for (j = 0; j < NA; j++) {
-        double col = 0.0;
-        for (i = 0; i < NX; i++)
-            col += fabs(j < NX ? n.a[i * NX + j] : n.b[i * NU + j - NX]);
-        if (j < NX && col > n.norm_a) n.norm_a = col;
-        if (col > n.norm_ab) n.norm_ab = col;
-    }
+    set_norms(&n);
     *m = n;
     return 0;
 }
@@ -428,4 +440,138 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
         }
     }
     return 0;
+}
+
+/* --- mu table --- */
+
+static void mu_entries(const IfsModel *m, double out[IFS_MU_NTAB])
+{
+    int i, j;
+    for (i = 0; i < NX; i++)
+        for (j = 0; j < NA; j++) {
+            out[i * NA + j] = m->pg[j * IFS_LD + i];
+            out[NX * NA + i * NA + j] = j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
+        }
+}
+
+/* Segment s covers [lo q^s, lo q^(s+1)], q = (hi/lo)^(1/SEG). */
+static double mu_edge(int seg)
+{
+    return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
+}
+
+/* The table's interpolant at mu: [phi gam] (half 0) or [a b] (half 1), row-major
+ * (Horner; a fixed trip count of NX NA, so the compiler vectorises it). */
+static void mu_eval_half(const IfsMuTable *t, double mu, int half, double out[NX * NA])
+{
+    const int first = half * NX * NA;
+    enum { n = NX * NA };
+    int seg = (int)(IFS_MU_SEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
+    double lo, hi, x;
+    int k, e;
+    /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
+    if (seg < 0) seg = 0;
+    if (seg >= IFS_MU_SEG) seg = IFS_MU_SEG - 1;
+    while (seg > 0 && mu < t->edge[seg]) seg--;
+    while (seg < IFS_MU_SEG - 1 && mu >= t->edge[seg + 1]) seg++;
+    lo = t->edge[seg];
+    hi = t->edge[seg + 1];
+    x = (2.0 * mu - lo - hi) / (hi - lo);
+    {   /* a local accumulator: no aliasing with the table, so the loop vectorises */
+        double acc[NX * NA];
+        for (e = 0; e < n; e++) acc[e] = t->p[seg][IFS_MU_DEG][first + e];
+        for (k = IFS_MU_DEG - 1; k >= 0; k--) {
+            const double *pk = t->p[seg][k] + first;
+            for (e = 0; e < n; e++) acc[e] = acc[e] * x + pk[e];
+        }
+        memcpy(out, acc, sizeof acc);
+    }
+}
+
+int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
+{
+    const int N = IFS_MU_DEG + 1;
+    double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
+    double T[IFS_MU_DEG + 1][IFS_MU_DEG + 1];        /* T_k(x) = sum_i T[k][i] x^i */
+    IfsVariables vn = *v;
+    IfsModel m;
+    char msg[8];
+    int seg, j, k, i, e;
+    double worst = 0.0;
+    memset(&m, 0, sizeof m);
+    memset(T, 0, sizeof T);
+    T[0][0] = 1.0;
+    T[1][1] = 1.0;
+    for (k = 2; k < N; k++)
+        for (i = 0; i < N; i++)
+            T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
+    t->state = -1;
+    t->err = 0.0;
+    for (seg = 0; seg <= IFS_MU_SEG; seg++) t->edge[seg] = mu_edge(seg);
+    for (seg = 0; seg < IFS_MU_SEG; seg++) {
+        const double lo = t->edge[seg], hi = t->edge[seg + 1];
+        for (j = 0; j < N; j++) {
+            const double xj = cos(M_PI * (j + 0.5) / N);
+            vn.mu = 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj;
+            if (ifs_build(&m, &vn, msg, sizeof msg) != 0) return t->state;
+            mu_entries(&m, f[j]);
+        }
+        for (e = 0; e < IFS_MU_NTAB; e++) {
+            double c[IFS_MU_DEG + 1];
+            for (k = 0; k < N; k++) {             /* Chebyshev coefficients */
+                double acc = 0.0;
+                for (j = 0; j < N; j++) acc += f[j][e] * cos(M_PI * k * (j + 0.5) / N);
+                c[k] = (k == 0 ? 1.0 : 2.0) * acc / N;
+            }
+            for (i = 0; i < N; i++) {             /* to powers of x */
+                double acc = 0.0;
+                for (k = i; k < N; k++) acc += c[k] * T[k][i];
+                t->p[seg][i][e] = acc;
+            }
+        }
+    }
+    for (seg = 0; seg < IFS_MU_SEG; seg++) {       /* check between the nodes */
+        double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
+        vn.mu = 0.5 * (mu_edge(seg) + mu_edge(seg + 1));
+        if (ifs_build(&m, &vn, msg, sizeof msg) != 0) return t->state;
+        mu_entries(&m, want);
+        mu_eval_half(t, vn.mu, 0, got);
+        mu_eval_half(t, vn.mu, 1, got + NX * NA);
+        for (e = 0; e < IFS_MU_NTAB; e++)
+            if (fabs(want[e]) > scale[e >= NX * NA]) scale[e >= NX * NA] = fabs(want[e]);
+        for (e = 0; e < IFS_MU_NTAB; e++) {
+            const double r = fabs(got[e] - want[e]) / scale[e >= NX * NA];
+            if (!(r <= worst)) worst = r;       /* NaN-safe */
+        }
+    }
+    t->err = worst;
+    t->state = worst <= 1e-11 ? 1 : -1;
+    return t->state;
+}
+
+void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
+{
+    double f[NX * NA];
+    int i, j;
+    mu_eval_half(t, v->mu, 0, f);
+    for (i = 0; i < NX; i++)
+        for (j = 0; j < NA; j++) m->pg[j * IFS_LD + i] = f[i * NA + j];
+    m->rem = 0.0;          /* the remainder caches belong to the old matrices */
+    m->rem_prev = 0.0;
+    m->ab_stale = 1;
+}
+
+void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
+{
+    double f[NX * NA];
+    int i, j;
+    mu_eval_half(t, v->mu, 1, f);
+    for (i = 0; i < NX; i++)
+        for (j = 0; j < NA; j++) {
+            if (j < NX) m->a[i * NX + j] = f[i * NA + j];
+            else m->b[i * NU + j - NX] = f[i * NA + j];
+        }
+    build_loads(m, v);
+    set_norms(m);
+    m->ab_stale = 0;
 }

@@ -52,6 +52,9 @@ typedef struct {
     double rem_prev;
     /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
     double norm_a, norm_ab;
+    /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
+     * applied from the table updates [phi gam] first, the rest when asked) */
+    int ab_stale;
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
     long long n_last;
@@ -59,6 +62,40 @@ typedef struct {
     /* state */
     double x[IFS_NX];
 } IfsModel;
+
+/*
+ * The discrete matrices tabulated in mu for one set of parameters, so that a flight
+ * condition changing every step costs a polynomial evaluation instead of a rebuild
+ * and a matrix exponential.  [phi gam] (at dt) and [a b] are analytic in mu on
+ * [0.1, 0.5], their only singularity mu = 0 (L ~ 1/mu): so the segments grow
+ * geometrically with mu (each the same number of its widths away from 0), and on
+ * each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1],
+ * interpolating exact builds at the Chebyshev-Gauss nodes (stored as power
+ * coefficients: Horner's rule, one multiply-add a degree).  Built on the first mu
+ * change after a parameter change and checked at every segment's midpoint against an
+ * exact build; used only if it agrees to 1e-11 (of each block's largest entry), else
+ * mu changes rebuild exactly.
+ */
+#define IFS_MU_LO 0.1
+#define IFS_MU_HI 0.5
+#define IFS_MU_SEG 16
+#define IFS_MU_DEG 7
+#define IFS_MU_NTAB (2 * IFS_NX * IFS_NA)   /* [phi gam] then [a b], row-major */
+typedef struct {
+    int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
+    double err;                /* the largest relative error found by the check */
+    double edge[IFS_MU_SEG + 1];                         /* segment ends */
+    double p[IFS_MU_SEG][IFS_MU_DEG + 1][IFS_MU_NTAB];   /* power coefficients */
+} IfsMuTable;
+
+/* Build the table for the parameters in v (mu ignored); returns t->state. */
+int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
+/* Set m's [phi gam] at dt for v->mu from a valid table, and mark a, b and the loads
+ * stale (m->ab_stale): the step at dt needs only [phi gam]. */
+void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m);
+/* Bring a, b, the loads and the Taylor bounds up to date after ifs_mu_table_apply
+ * (a remainder step or a load read needs them). */
+void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel *m);
 
 /* Build a, b, c (and [phi gam] at v->dt) from the variables (parameters, constants,
  * mu, structure).  The state x is kept.  Returns 0, or -1 with a one-line reason in

@@ -33,8 +33,11 @@ int ifs_log(const IfsLog *lg, int status, const char *fmt, ...)
 
 void ifs_slave_init(IfsSlave *s)
 {
+    IfsMuTable *tab = s->tab;      /* the FMI layer's: kept across a reset */
     int i;
     memset(s, 0, sizeof *s);
+    s->tab = tab;
+    if (tab) tab->state = 0;
     for (i = 0; i < IFS_N_REALS; i++)
         *(double *)((char *)&s->v + ifs_real_vars[i].offset) = ifs_real_vars[i].start;
     for (i = 0; i < IFS_N_INTEGERS; i++)
@@ -71,8 +74,20 @@ int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn)
 static int rebuild(IfsSlave *s, const IfsLog *lg)
 {
     char msg[MSG_LEN];
+    if (s->tab && !s->params_changed && s->tab->state == 0 && s->phase == IFS_PH_STEP) {
+        /* only mu changed, after initialization: tabulate once for these parameters */
+        ifs_mu_table_build(s->tab, &s->v);
+    }
+    if (s->tab && !s->params_changed && s->tab->state == 1 && s->phase == IFS_PH_STEP &&
+        s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI) {
+        ifs_mu_table_apply(s->tab, &s->v, &s->m);
+        s->dirty = 0;
+        return IFS_OK;
+    }
     if (ifs_build(&s->m, &s->v, msg, sizeof msg) != 0)
         return ifs_log(lg, IFS_ERROR, "%s", msg);
+    if (s->params_changed && s->tab) s->tab->state = 0;   /* the table is for old ones */
+    s->params_changed = 0;
     s->dirty = 0;
     return IFS_OK;
 }
@@ -85,6 +100,20 @@ int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
     ifs_slave_update_outputs(s);
     s->phase = IFS_PH_STEP;
     return IFS_OK;
+}
+
+/* a, b and the loads for the current mu, after a mu change taken from the table
+ * (which updates [phi gam] only); from an exact build if the table is gone (a
+ * restored state).  Returns 1, for use inside conditions. */
+static int fresh_ab(IfsSlave *s)
+{
+    char msg[8];
+    if (!s->m.ab_stale) return 1;
+    if (s->tab && s->tab->state == 1)
+        ifs_mu_table_apply_ab(s->tab, &s->v, &s->m);
+    else if (ifs_build(&s->m, &s->v, msg, sizeof msg) == 0)
+        s->dirty = 0;
+    return 1;
 }
 
 /* --- reals --- */
@@ -115,7 +144,7 @@ static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char 
                    var->name, x, var->lower_open ? '(' : '[', var->lower, var->upper);
 }
 
-int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
+int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, double value[])
 {
     size_t i;
@@ -124,7 +153,7 @@ int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
         if (vr[i] >= IFS_N_REALS)
             return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of a Real", fn,
                            vr[i]);
-        if (vr[i] >= IFS_VR_CT && vr[i] <= IFS_VR_C_ms_hub)
+        if (vr[i] >= IFS_VR_CT && vr[i] <= IFS_VR_C_ms_hub && fresh_ab(s))
             /* the loads depend on the inputs held now: computed when read */
             value[i] = s->phase == IFS_PH_STEP
                            ? ifs_load(&s->m, (int)(vr[i] - IFS_VR_CT), ifs_slave_inputs(s))
@@ -153,7 +182,10 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
         const IfsRealVar *var = &ifs_real_vars[vr[i]];
         double *slot = (double *)((char *)&s->v + var->offset);
         /* inputs other than mu enter the step as they are; the rest rebuild */
-        if ((var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) && *slot != value[i]) s->dirty = 1;
+        if ((var->kind != IFS_INPUT || vr[i] == IFS_VR_mu) && *slot != value[i]) {
+            s->dirty = 1;
+            if (vr[i] != IFS_VR_mu) s->params_changed = 1;
+        }
         if (vr[i] == IFS_VR_azimuth_bias && *slot != value[i]) bias_changed = 1;
         *slot = value[i];
     }
@@ -214,13 +246,14 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
     for (i = 0; i < n; i++) {
         *(int *)((char *)&s->v + integer_var(vr[i])->offset) = value[i];
         s->dirty = 1;
+        s->params_changed = 1;
     }
     return IFS_OK;
 }
 
 /* --- directional derivatives --- */
 
-int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
+int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
                           const unsigned int unknown[], size_t nu,
                           const unsigned int known[], size_t nk, const double dknown[],
                           double dunknown[])
@@ -236,6 +269,7 @@ int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
     for (i = 0; i < nk; i++)
         if (known[i] >= IFS_N_REALS || ifs_real_vars[known[i]].kind != IFS_INPUT)
             return ifs_log(lg, IFS_ERROR, "%s: known %u is not an input", fn, known[i]);
+    fresh_ab(s);
     for (i = 0; i < nu; i++) {
         double d = 0.0;
         if (unknown[i] >= IFS_VR_CT && unknown[i] <= IFS_VR_C_ms_hub) {
@@ -286,6 +320,7 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         return ifs_log(lg, IFS_ERROR, "%s: communication step %g s is more than %g internal "
                        "steps dt = %g s: use a larger dt or shorter steps", fn, h,
                        IFS_MAX_STEPS_PER_CALL, s->m.dt);
+    if (h != s->m.dt) fresh_ab(s);
     if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
         return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn, h);
     if (h != s->h_comm) {           /* a new communication step: restart the counter */
@@ -332,7 +367,11 @@ int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *sta
 {
     if (!is_state(state, sizeof(IfsSavedState)))
         return ifs_log(lg, IFS_ERROR, "%s: not a state of this FMU", fn);
+    IfsMuTable *tab = s->tab;      /* this instance's table, not the saved pointer */
     *s = ((const IfsSavedState *)state)->s;
+    s->tab = tab;
+    if (tab) tab->state = 0;       /* the saved parameters may differ */
+    s->params_changed = 1;         /* the next mu change rebuilds exactly */
     return IFS_OK;
 }
 

@@ -26,6 +26,10 @@ typedef struct {
     IfsModel m;
     IfsPhase phase;
     int dirty;                 /* parameters or mu changed since the last build */
+    int params_changed;        /* ... and something other than mu did */
+    /* the FMI layer's mu table (never part of a saved state: restored instances keep
+     * their own and rebuild it); NULL: mu changes always rebuild exactly */
+    IfsMuTable *tab;
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
     long long n_comm;
@@ -60,7 +64,7 @@ int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn);
 int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn);
 
 /* Reals by value reference.  A refused set changes nothing. */
-int ifs_slave_get_reals(const IfsSlave *s, const IfsLog *lg, const char *fn,
+int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, double value[]);
 int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[]);
@@ -75,7 +79,7 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
  * Flap and inflow read the state only (zero); the loads are linear in the held
  * inputs (their ld row).  Refuses value references of other kinds, and mu for the
  * loads. */
-int ifs_slave_directional(const IfsSlave *s, const IfsLog *lg, const char *fn,
+int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
                           const unsigned int unknown[], size_t nu,
                           const unsigned int known[], size_t nk, const double dknown[],
                           double dunknown[]);
