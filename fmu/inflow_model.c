@@ -106,6 +106,27 @@ static int expm(double *A)
 
 /* --- the model's matrices --- */
 
+/* Speed through the disc over Omega R in the momentum gains: the paper's V ~ mu, or
+ * (inflow_speed 1) the momentum mass-flow parameter with the trim inflow of level
+ * flight, V = (mu^2 + 2 l^2) / sqrt(mu^2 + l^2), l solving 4 l^2 (mu^2 + l^2) = ct^2
+ * by Newton's method from sqrt(ct/2) -- the same operations, in the same order, as
+ * inflowsim.physics.loads.momentum_inflow and mass_flow_parameter. */
+static double flow_speed(const IfsVariables *v)
+{
+    const double mu = v->mu, ct = v->ct;
+    double lam;
+    int k;
+    if (v->inflow_speed == 0) return mu;
+    lam = sqrt(ct / 2.0);
+    for (k = 0; k < 100; k++) {
+        const double f = 4 * lam * lam * (mu * mu + lam * lam) - ct * ct;
+        const double step = f / (8 * lam * mu * mu + 16 * lam * lam * lam);
+        lam -= step;
+        if (fabs(step) <= 1e-15 * lam) break;
+    }
+    return (mu * mu + 2 * lam * lam) / hypot(mu, lam);
+}
+
 /* The blade-element loads of Eq. (4), (C_T, C_mc, C_ms)/(a0 s) per beta', beta,
  * lambda and [theta | nu] (model.md section 3). */
 static void load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
@@ -178,8 +199,10 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     const double mu = v->mu, nb = v->n_beta, lb2 = v->lambda_beta2, m2 = mu * mu;
     const double a0s = v->a0 * v->solidity;
     const int st = v->structure;
-    /* local momentum L = diag(a0s/(2 mu), -2 a0s/mu, -2 a0s/mu) (model.md section 3) */
-    const double L[3] = {a0s / (2.0 * mu), -2.0 * a0s / mu, -2.0 * a0s / mu};
+    /* local momentum L = diag(a0s/(2 V), -2 a0s/V, -2 a0s/V) (model.md section 3), V
+     * the paper's mu or the mass-flow parameter (docs/model.md, extensions) */
+    const double V = flow_speed(v);
+    const double L[3] = {a0s / (2.0 * V), -2.0 * a0s / V, -2.0 * a0s / V};
     /* flap, Eq. (1) */
     const double C[3][3] = {{nb, 0.0, 2.0 / 3.0 * mu * nb}, {0.0, nb, 2.0},
                             {4.0 / 3.0 * mu * nb, -2.0, nb}};
@@ -221,7 +244,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
         for (i = 0; i < 3; i++) { pu[i][8] += K[i][0]; pu[i][9] += K[i][1]; }
     }
     if (st == IFS_GLAUERT) {             /* F nu_lambda + G mu_xy, Eqs. (19)-(20) */
-        const double k0 = v->k0p - a0s / (8.0 * mu);
+        const double k0 = v->k0p - a0s / (8.0 * V);
         const double fp[3] = {v->ks, 0.0, k0};     /* multiplies p* - lambda1s */
         const double fq[3] = {v->kc, k0, 0.0};     /* multiplies q* - lambda1c */
         const double G[3][2] = {{v->c1, v->c2}, {-v->c3, v->c4}, {v->c4, v->c3}};
@@ -361,9 +384,15 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                                  1 / (om * om), 1, 1};
     int i, j;
 
-    if (!(v->mu >= 0.1 && v->mu <= 0.5)) {
+    if (v->inflow_speed == 0 && !(v->mu >= 0.1 && v->mu <= 0.5)) {
         snprintf(msg, msg_len, "mu = %g is outside the allowed range [0.1, 0.5]: "
-                 "forward-flight local momentum (V ~ mu) needs fast forward flight", v->mu);
+                 "forward-flight local momentum (V ~ mu) needs fast forward flight; "
+                 "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
+        return -1;
+    }
+    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= 0.5 && v->ct > 0.0)) {
+        snprintf(msg, msg_len, "mu = %g, ct = %g: the mass-flow speed needs mu in "
+                 "[0, 0.5] and a trim thrust coefficient ct > 0", v->mu, v->ct);
         return -1;
     }
     if (v->structure < IFS_BASIC || v->structure > IFS_GLAUERT) {
@@ -507,6 +536,9 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
             T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
     t->state = -1;
     t->err = 0.0;
+    /* the mass-flow speed has branch points near mu = 0 in the complex plane (where
+     * momentum theory's inflow turns), too close for this table: exact rebuilds */
+    if (v->inflow_speed != 0) return t->state;
     for (seg = 0; seg <= IFS_MU_SEG; seg++) t->edge[seg] = mu_edge(seg);
     for (seg = 0; seg < IFS_MU_SEG; seg++) {
         const double lo = t->edge[seg], hi = t->edge[seg + 1];

@@ -13,7 +13,7 @@ const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
     {"pdot", IFS_INPUT, offsetof(IfsVariables, pdot), 0.0, -1000000.0, 1000000.0, 0},
     {"mux", IFS_INPUT, offsetof(IfsVariables, mux), 0.0, -1000000.0, 1000000.0, 0},
     {"muy", IFS_INPUT, offsetof(IfsVariables, muy), 0.0, -1000000.0, 1000000.0, 0},
-    {"mu", IFS_INPUT, offsetof(IfsVariables, mu), 0.249, 0.1, 0.5, 0},
+    {"mu", IFS_INPUT, offsetof(IfsVariables, mu), 0.249, 0.0, 0.5, 0},
     {"beta0", IFS_OUTPUT, offsetof(IfsVariables, beta0), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"beta1c", IFS_OUTPUT, offsetof(IfsVariables, beta1c), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"beta1s", IFS_OUTPUT, offsetof(IfsVariables, beta1s), 0.0, -DBL_MAX, DBL_MAX, 0},
@@ -48,8 +48,10 @@ const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
     {"C_ms", IFS_OUTPUT, offsetof(IfsVariables, C_ms), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"C_mc_hub", IFS_OUTPUT, offsetof(IfsVariables, C_mc_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"C_ms_hub", IFS_OUTPUT, offsetof(IfsVariables, C_ms_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
+    {"ct", IFS_TUNABLE, offsetof(IfsVariables, ct), 0.0064, 0.0, 0.05, 1},
 };
 
 const IfsIntegerVar ifs_integer_vars[IFS_N_INTEGERS] = {
     {IFS_VR_structure, "structure", IFS_FIXED, offsetof(IfsVariables, structure), 2, 0, 2},
+    {IFS_VR_inflow_speed, "inflow_speed", IFS_FIXED, offsetof(IfsVariables, inflow_speed), 0, 0, 1},
 };

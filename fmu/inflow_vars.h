@@ -4,10 +4,10 @@
 
 #include <stddef.h>
 
-#define IFS_GUID "{796dc548-f783-534a-9c3b-765b1d0ce4d9}"
+#define IFS_GUID "{f20c886e-fd40-5d09-945a-324569c2eeb3}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
-#define IFS_N_REALS 45
-#define IFS_N_INTEGERS 1
+#define IFS_N_REALS 46
+#define IFS_N_INTEGERS 2
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
 
 /* value references */
@@ -57,8 +57,10 @@ enum {
     IFS_VR_C_ms = 42,
     IFS_VR_C_mc_hub = 43,
     IFS_VR_C_ms_hub = 44,
-    IFS_VR_structure = 45,
-    IFS_VR_time = 46,  /* FMI 3.0 only: the independent variable */
+    IFS_VR_ct = 45,
+    IFS_VR_structure = 46,
+    IFS_VR_inflow_speed = 47,
+    IFS_VR_time = 48,  /* FMI 3.0 only: the independent variable */
     IFS_VR_END
 };
 
@@ -109,7 +111,9 @@ typedef struct {
     double C_ms;  /* output [-] */
     double C_mc_hub;  /* output [-] */
     double C_ms_hub;  /* output [-] */
+    double ct;  /* parameter [-] */
     int structure;  /* parameter [-] */
+    int inflow_speed;  /* parameter [-] */
 } IfsVariables;
 
 typedef enum { IFS_INPUT, IFS_OUTPUT, IFS_TUNABLE, IFS_FIXED } IfsKind;

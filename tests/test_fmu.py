@@ -1049,3 +1049,39 @@ def test_mu_changing_every_step_follows_the_exact_model(version, unzipped, unzip
         peak = max(peak, np.abs(x).max())
     assert peak > 1e-3 and worst < 1e-10
     s.freeInstance()
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.05, 0.3])
+@pytest.mark.parametrize("structure", ["basic", "glauert"])
+def test_mass_flow_speed_from_hover_equals_the_simulator(structure, mu, unzipped, guid,
+                                                         record):
+    """inflow_speed 1 (issue #10 part 4 in the FMU): from hover, the FMU gives the
+    Simulator's trajectory for the mass-flow model, and refuses mu < 0.1 with the
+    paper's V ~ mu, naming the remedy."""
+    from inflowsim.model.params import Constants
+    from inflowsim.model.presets import theory_parameters
+    k = Constants(mu=mu, a0=5.73, solidity=0.0917, omega=27.5, radius=7.5, ct=0.0064,
+                  inflow_speed="mass-flow").check()
+    m = build_model(structure, theory_parameters(structure, k), k)
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    vals = start_values(m)
+    assert vals["inflow_speed"] == 1 and vals["ct"] == 0.0064
+    s = open_fmu(unzipped, guid, vals)
+    y_fmu = fmu_replay(s, full_inputs(m, u))
+    s.freeInstance()
+    assert np.abs(y_py).max() > 1e-3
+    np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
+    if mu < 0.1:
+        log = Logger()
+        vals["inflow_speed"] = 0
+        s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                      instanceName="vmu")
+        s.instantiate(callbacks=log.cb)
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        with pytest.raises(Exception):
+            apply_parameters(s, vals)
+        assert "with inflow_speed 0 (V ~ mu needs forward flight)" in log.text()
+        assert "set inflow_speed 1 and ct first to reach hover" in log.text()
+        s.freeInstance()

@@ -12,7 +12,7 @@ from typing import Mapping
 
 from ..errors import InputError
 from ..model.structure import Structure
-from .variables import STRUCTURES, VR
+from .variables import INFLOW_SPEEDS, INTEGERS, STRUCTURES, VR
 
 #: Effects the C model implements.
 SUPPORTED = ("separate-time-constants", "hub-velocity-coupling", "glauert", "azimuth-bias")
@@ -77,7 +77,9 @@ def start_values(source, constants=None) -> dict:
     if k is not None:
         k.check()
         out.update(mu=float(k.mu), a0=float(k.a0), solidity=float(k.solidity),
-                   omega=float(k.omega))
+                   omega=float(k.omega), inflow_speed=INFLOW_SPEEDS[k.inflow_speed])
+        if k.ct is not None:
+            out["ct"] = float(k.ct)
     return out
 
 
@@ -89,12 +91,14 @@ def apply_parameters(fmu, source, constants=None) -> dict:
     Returns the values set.
     """
     vals = source if isinstance(source, Mapping) else start_values(source, constants)
-    reals = {n: v for n, v in vals.items() if n != "structure"}
+    integers = {v.name for v in INTEGERS}
+    reals = {n: v for n, v in vals.items() if n not in integers}
+    ints = {n: v for n, v in vals.items() if n in integers}
     fmi3 = hasattr(fmu, "setFloat64")
     set_real = fmu.setFloat64 if fmi3 else fmu.setReal
     set_int = fmu.setInt32 if fmi3 else fmu.setInteger
-    if "structure" in vals:
-        set_int([VR["structure"]], [int(vals["structure"])])
+    if ints:
+        set_int([VR[n] for n in ints], [int(v) for v in ints.values()])
     if reals:
         set_real([VR[n] for n in reals], [float(v) for v in reals.values()])
     return dict(vals)

@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass
 
 from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
-from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
+from ..model.params import MU_MAX, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
 
 MODEL_IDENTIFIER = "inflowsim"
@@ -28,6 +28,10 @@ STRUCTURES = {"basic": 0, "empirical": 1, "glauert": 2}
 
 #: Default internal step [s] (the virtual records' sample period).
 DT = 0.01
+#: Default trim thrust coefficient: the Puma at about 5.8 t (used with inflow_speed 1).
+CT_START = 0.0064
+#: Values of the integer parameter ``inflow_speed``.
+INFLOW_SPEEDS = {"mu": 0, "mass-flow": 1}
 
 
 @dataclass(frozen=True)
@@ -85,8 +89,9 @@ def _build() -> tuple:
                           f"{ch.description}: perturbation about trim [{ch.unit}]",
                           -LIMIT, LIMIT))
     v.append(Variable("mu", "Real", "input", "continuous", PUMA.mu, "-",
-                      "trim advance ratio (a total, the flight condition); a change "
-                      "rebuilds the discrete matrices", MU_MIN, MU_MAX))
+                      "trim advance ratio (a total, the flight condition): 0.1-0.5 with "
+                      f"inflow_speed 0 (V ~ mu), 0-0.5 with inflow_speed 1 (mass flow)",
+                      0.0, MU_MAX))
     for name in OUTPUTS:
         v.append(Variable(name, "Real", "output", "continuous", None, "rad" if
                           name.startswith("beta") else "-",
@@ -110,10 +115,18 @@ def _build() -> tuple:
         v.append(Variable(ch.name, "Real", "output", "continuous", None, "-",
                           f"{ch.description}: perturbation about trim (inflowsim.model."
                           "loads; depends on the inputs held now)", feedthrough=True))
+    v.append(Variable("ct", "Real", "parameter", "tunable", CT_START, "-",
+                      "trim thrust coefficient T / (rho pi R^2 (Omega R)^2), for the "
+                      "mass-flow speed (inflow_speed 1) [-]", 0.0, 0.05, True))
     v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
                       "", "model structure: 0 basic (tau), 1 empirical (tau0, tau_cs, K, "
                       "azimuth_bias), 2 glauert (tau0, tau_cs, c1..c4, k0p, kc, ks, "
                       "azimuth_bias)", 0, 2))
+    v.append(Variable("inflow_speed", "Integer", "parameter", "fixed", 0, "",
+                      "speed through the disc in the momentum gains: 0 the paper's V ~ mu "
+                      "(mu >= 0.1), 1 the momentum mass-flow parameter with the trim "
+                      "inflow from ct (hover to mu = 0.5; inflowsim.physics.loads."
+                      "mass_flow_parameter)", 0, 1))
     return tuple(v)
 
 

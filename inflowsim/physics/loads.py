@@ -82,8 +82,9 @@ def momentum_inflow(mu: float, ct: float) -> float:
         raise InputError(f"ct = {ct:g}: the trim thrust coefficient must be > 0")
     lam = float(np.sqrt(ct / 2.0))   # the hover root, never below the root at any mu
     for _ in range(100):
-        f = 4 * lam**2 * (mu**2 + lam**2) - ct**2
-        step = f / (8 * lam * mu**2 + 16 * lam**3)
+        # products written out, in the FMU's C order (fmu/inflow_model.c, flow_speed)
+        f = 4 * lam * lam * (mu * mu + lam * lam) - ct * ct
+        step = f / (8 * lam * mu * mu + 16 * lam * lam * lam)
         lam -= step
         if abs(step) <= 1e-15 * lam:
             break
@@ -97,4 +98,4 @@ def mass_flow_parameter(mu: float, ct: float) -> float:
     theory gives perturbations (Pitt and Peters 1981; Peters and HaQuang 1988).
     ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight."""
     lam = momentum_inflow(mu, ct)
-    return float((mu**2 + 2 * lam**2) / np.hypot(mu, lam))
+    return float((mu * mu + 2 * lam * lam) / np.hypot(mu, lam))
