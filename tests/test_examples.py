@@ -51,3 +51,19 @@ def test_simulator_loop_flies_from_hover_to_forward_flight(tmp_path):
     line = next(x for x in res.stdout.splitlines() if x.startswith("largest height"))
     assert float(line.split()[3]) < 5.0
     assert (tmp_path / "out" / "simulator_loop.png").stat().st_size > 0
+
+
+def test_c_simulator_loop_flies_on_the_fmu(tmp_path):
+    """The C program (issue #10 part 6) flies the airframe on the FMU's loads from hover
+    to about 50 m/s, holding height and wings level; plotted by its Python driver."""
+    import shutil as _sh
+    if not any(_sh.which(c) for c in ("cc", "gcc")):
+        pytest.skip("no C compiler: the FMU and the C program cannot be built")
+    res = run("simulator_loop_fmu.py", tmp_path / "out")
+    assert res.returncode == 0, res.stderr
+    line = next(x for x in res.stdout.splitlines() if x.startswith("final airspeed"))
+    assert float(line.split()[2]) > 45.0
+    line = next(x for x in res.stdout.splitlines() if x.startswith("largest height"))
+    assert float(line.split()[3]) < 10.0
+    assert float(line.split()[7]) < 5.0           # roll [deg]
+    assert (tmp_path / "out" / "simulator_loop_fmu.png").stat().st_size > 0
