@@ -4,6 +4,8 @@
 
 #include <stddef.h>
 
+#include "inflow_names.h"  /* prefixed internal names for static linking */
+
 #define IFS_GUID "{f20c886e-fd40-5d09-945a-324569c2eeb3}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
 #define IFS_N_REALS 46

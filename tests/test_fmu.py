@@ -1085,3 +1085,81 @@ def test_mass_flow_speed_from_hover_equals_the_simulator(structure, mu, unzipped
         assert "with inflow_speed 0 (V ~ mu needs forward flight)" in log.text()
         assert "set inflow_speed 1 and ct first to reach hover" in log.text()
         s.freeInstance()
+
+
+STATIC_DRIVER = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include "fmi2FunctionTypes.h"
+#include "inflow_vars.h"
+#define DECLARE(P) \
+    extern fmi2InstantiateTYPE P##fmi2Instantiate; \
+    extern fmi2SetupExperimentTYPE P##fmi2SetupExperiment; \
+    extern fmi2EnterInitializationModeTYPE P##fmi2EnterInitializationMode; \
+    extern fmi2ExitInitializationModeTYPE P##fmi2ExitInitializationMode; \
+    extern fmi2SetRealTYPE P##fmi2SetReal; \
+    extern fmi2GetRealTYPE P##fmi2GetReal; \
+    extern fmi2DoStepTYPE P##fmi2DoStep; \
+    extern fmi2FreeInstanceTYPE P##fmi2FreeInstance;
+DECLARE(main_rotor_)
+DECLARE(tail_rotor_)
+static void logger(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c,
+                   fmi2String m, ...) { (void)e; (void)n; (void)s; (void)c; (void)m; }
+#define RUN(P, OUT) do { \
+    fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL}; \
+    fmi2ValueReference in = IFS_VR_theta1s, out = IFS_VR_beta1s; \
+    double u = 0.01; int k; \
+    fmi2Component c = P##fmi2Instantiate("x", fmi2CoSimulation, IFS_GUID, "", &cb, \
+                                         fmi2False, fmi2False); \
+    if (!c || P##fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0) || \
+        P##fmi2EnterInitializationMode(c) || P##fmi2ExitInitializationMode(c)) return 1; \
+    P##fmi2SetReal(c, &in, 1, &u); \
+    for (k = 0; k < 50; k++) if (P##fmi2DoStep(c, k * 0.01, 0.01, fmi2True)) return 1; \
+    P##fmi2GetReal(c, &out, 1, &OUT); \
+    P##fmi2FreeInstance(c); } while (0)
+int main(void) {
+    double a = 0.0, b = 0.0;
+    RUN(main_rotor_, a);
+    RUN(tail_rotor_, b);
+    printf("%.17g %.17g\n", a, b);
+    return 0;
+}
+"""
+
+
+def test_two_fmus_link_statically_with_function_prefixes(tmp_path, unzipped, guid):
+    """FMI2_FUNCTION_PREFIX (issue #10 part 5): the sources compile with a prefix, every
+    global name then carries it (no clash between two inflowsim FMUs), and two copies
+    with different prefixes link into one program that runs both; the numbers equal
+    the shared library's."""
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    src = source_dir()
+    objs = []
+    for prefix in ("main_rotor_", "tail_rotor_"):
+        for f in ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c", "inflow_vars.c"):
+            o = tmp_path / f"{prefix}{f}.o"
+            subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
+                            "-ffp-contract=off", f"-DFMI2_FUNCTION_PREFIX={prefix}",
+                            f"-I{src}", "-c", str(src / f), "-o", str(o)], check=True)
+            objs.append(o)
+            names = subprocess.run(["nm", "-g", "--defined-only", str(o)],
+                                   capture_output=True, text=True, check=True).stdout
+            for line in names.splitlines():
+                sym = line.split()[-1]
+                assert sym.startswith(prefix), (f, sym)
+    drv = tmp_path / "driver.c"
+    drv.write_text(STATIC_DRIVER)
+    exe = tmp_path / "twofmus"
+    subprocess.run([cc, "-std=c99", "-O2", f"-I{src}", "-o", str(exe), str(drv),
+                    *map(str, objs), "-lm"], check=True)
+    a, b = map(float, subprocess.run([str(exe)], capture_output=True, text=True,
+                                     check=True).stdout.split())
+    s = open_fmu(unzipped, guid)
+    s.setReal([VR["theta1s"]], [0.01])
+    for k in range(50):
+        s.doStep(k * 0.01, 0.01)
+    want = s.getReal([VR["beta1s"]])[0]
+    s.freeInstance()
+    assert a == b == want and abs(want) > 1e-5

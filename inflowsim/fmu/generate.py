@@ -210,6 +210,8 @@ def vars_header() -> str:
     n_in = sum(1 for v in REALS if v.causality == "input" and v.name != "mu")
     lines = [_HEAD, "#ifndef INFLOW_VARS_H", "#define INFLOW_VARS_H", "",
              "#include <stddef.h>", "",
+             '#include "inflow_names.h"  /* prefixed internal names for static linking */',
+             "",
              f'#define IFS_GUID "{guid()}"',
              f'#define IFS_MODEL_IDENTIFIER "{MODEL_IDENTIFIER}"',
              f"#define IFS_N_REALS {len(REALS)}",

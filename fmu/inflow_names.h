@@ -1,0 +1,46 @@
+/*
+ * The FMU's internal global names, prefixed like the FMI functions when the FMU is
+ * compiled for static linking (FMI2_FUNCTION_PREFIX or FMI3_FUNCTION_PREFIX defined,
+ * e.g. to the model identifier): two FMUs made by inflowsim (a main and a tail rotor)
+ * can then be linked into one program.  Without a prefix the names stay as they are
+ * (a shared library hides them: -fvisibility=hidden).  Every other function is
+ * static; tests/test_fmu.py checks that a prefixed build defines no other global name.
+ */
+#ifndef INFLOW_NAMES_H
+#define INFLOW_NAMES_H
+
+#if defined(FMI2_FUNCTION_PREFIX) || defined(FMI3_FUNCTION_PREFIX)
+#define IFS_PASTE_(a, b) a##b
+#define IFS_PASTE(a, b) IFS_PASTE_(a, b)
+#if defined(FMI2_FUNCTION_PREFIX)
+#define IFS_NAME(n) IFS_PASTE(FMI2_FUNCTION_PREFIX, n)
+#else
+#define IFS_NAME(n) IFS_PASTE(FMI3_FUNCTION_PREFIX, n)
+#endif
+#define ifs_advance IFS_NAME(ifs_advance)
+#define ifs_build IFS_NAME(ifs_build)
+#define ifs_descriptor IFS_NAME(ifs_descriptor)
+#define ifs_discretize IFS_NAME(ifs_discretize)
+#define ifs_integer_vars IFS_NAME(ifs_integer_vars)
+#define ifs_log IFS_NAME(ifs_log)
+#define ifs_mu_table_apply IFS_NAME(ifs_mu_table_apply)
+#define ifs_mu_table_apply_ab IFS_NAME(ifs_mu_table_apply_ab)
+#define ifs_mu_table_build IFS_NAME(ifs_mu_table_build)
+#define ifs_real_vars IFS_NAME(ifs_real_vars)
+#define ifs_slave_directional IFS_NAME(ifs_slave_directional)
+#define ifs_slave_enter_init IFS_NAME(ifs_slave_enter_init)
+#define ifs_slave_exit_init IFS_NAME(ifs_slave_exit_init)
+#define ifs_slave_get_ints IFS_NAME(ifs_slave_get_ints)
+#define ifs_slave_get_reals IFS_NAME(ifs_slave_get_reals)
+#define ifs_slave_init IFS_NAME(ifs_slave_init)
+#define ifs_slave_set_ints IFS_NAME(ifs_slave_set_ints)
+#define ifs_slave_set_reals IFS_NAME(ifs_slave_set_reals)
+#define ifs_slave_set_start_time IFS_NAME(ifs_slave_set_start_time)
+#define ifs_slave_step IFS_NAME(ifs_slave_step)
+#define ifs_state_deserialize IFS_NAME(ifs_state_deserialize)
+#define ifs_state_get IFS_NAME(ifs_state_get)
+#define ifs_state_serialize IFS_NAME(ifs_state_serialize)
+#define ifs_state_set IFS_NAME(ifs_state_set)
+#endif
+
+#endif
