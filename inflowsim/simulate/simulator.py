@@ -15,7 +15,6 @@ import numpy as np
 from .discrete import discretize, lifted_replay
 from ..errors import InputError
 
-_ndarray = np.ndarray          # a module global: the cheapest lookup in step()
 
 
 class Simulator:
@@ -163,13 +162,17 @@ class Simulator:
     def step(self, u) -> np.ndarray:
         """Hold ``u`` (``model.inputs`` order, SI perturbations) over one step;
         return the six outputs at the new time."""
-        if u.__class__ is not _ndarray or u.shape != self._ushape:
-            u = self._inputs(u)
         xu = self._xu
         n = self.n
+        # len() refuses None and scalars, and with it the assignment refuses every
+        # other shape (a length-1 or 1 x m array would broadcast): cheaper than a
+        # type and shape test, and free when the inputs are right
         try:
+            if len(u) != self.m:
+                raise ValueError
             xu[n:] = u
         except (TypeError, ValueError):
+            self._inputs(u)                  # raises, saying what is wrong
             raise InputError(f"step: inputs must be {self.m} numbers") from None
         out = self._M @ xu
         check = out.item(-1)
