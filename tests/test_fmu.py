@@ -1163,3 +1163,25 @@ def test_two_fmus_link_statically_with_function_prefixes(tmp_path, unzipped, gui
     want = s.getReal([VR["beta1s"]])[0]
     s.freeInstance()
     assert a == b == want and abs(want) > 1e-5
+
+
+def test_every_refused_range_is_declared(fmu_path, unzipped, guid):
+    """Every parameter and input the FMU range-checks declares the range it checks, an
+    open lower bound as the least double above it (issue #10 part 5): the declared
+    minimum is accepted and the next double below refused."""
+    md = read_model_description(str(fmu_path))
+    by_name = {v.name: v for v in md.modelVariables}
+    from inflowsim.fmu.variables import VARIABLES
+    bounded = [v for v in VARIABLES if v.causality in ("parameter", "input")
+               and v.type == "Real" and math.isfinite(v.lower)]
+    assert len(bounded) > 15
+    for var in bounded:
+        assert by_name[var.name].min is not None, var.name
+    log = Logger()
+    s = open_fmu(unzipped, guid, logger=log)
+    low = float(by_name["n_beta"].min)
+    assert low == math.nextafter(0.0, 1.0)
+    s.setReal([VR["n_beta"]], [low])                   # accepted
+    with pytest.raises(Exception):
+        s.setReal([VR["n_beta"]], [0.0])              # refused
+    s.freeInstance()

@@ -94,8 +94,11 @@ def _value_attributes(v: Variable) -> list:
         if v.unit in DISPLAY_UNITS:
             out.append(f'displayUnit="{DISPLAY_UNITS[v.unit][0]}"')
     fmt = (lambda x: str(int(x))) if integer else _num
-    if math.isfinite(v.lower) and not v.lower_open:
-        out.append(f'min="{fmt(v.lower)}"')
+    if math.isfinite(v.lower):
+        # an open bound (0, x] is declared as the least double above it: exactly the
+        # values the C code accepts
+        low = math.nextafter(v.lower, math.inf) if v.lower_open else v.lower
+        out.append(f'min="{fmt(low)}"')
     if math.isfinite(v.upper):
         out.append(f'max="{fmt(v.upper)}"')
     return out
