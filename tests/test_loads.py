@@ -133,3 +133,33 @@ def test_dimensional_loads():
                                              omega=27.5), 1.225)
     with pytest.raises(InputError, match="density"):
         dimensional_loads(cf, PUMA, 1225.0)
+
+
+@pytest.mark.parametrize("mu", [0.15, 0.249, 0.4])
+def test_loads_equal_the_individual_blades_at_small_amplitude(mu):
+    """An independent route: the nonlinear individual-blade rotor's own blade-element
+    loads (flighttest.bladesim, each blade in the rotating frame, Gauss-Legendre along
+    the span), differentiated at trim by a central difference, equal the linear loads
+    of Eq. (4) for a random small perturbation; eight blades make them independent of
+    the azimuth, as the multiblade model assumes."""
+    from inflowsim.flighttest.bladesim import BladeRotor, RotorSpec
+    from inflowsim.physics import loads as ld
+    from inflowsim.physics.multiblade import blade_angles
+    rotor = BladeRotor(RotorSpec(constants=PUMA.with_mu(mu), n_blades=8))
+    rng = np.random.default_rng(11)
+    b, db, lam = rng.normal(size=(3, 3))
+    th, nu = rng.normal(size=3), rng.normal(size=3)
+    want = (ld.g_dbeta(mu) @ db + ld.g_beta(mu) @ b + ld.g_theta(mu) @ th
+            + ld.g_nu(mu) @ nu + ld.g_lambda(mu) @ lam)
+
+    def blade_loads(eps, psi):
+        rate_mb = eps * np.array([db[0], db[1] + b[2], db[2] - b[1]])
+        x = np.concatenate([blade_angles(eps * b, psi, 8), blade_angles(rate_mb, psi, 8),
+                            eps * lam])
+        u = (*(eps * th), *(eps * nu), 0.0, 0.0, mu, 0.0)
+        return rotor.blade_terms(psi, x, u)[1]
+
+    h = 1e-5
+    for psi in (0.0, 0.3):
+        got = (blade_loads(h, psi) - blade_loads(-h, psi)) / (2 * h)
+        np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-9)
