@@ -52,7 +52,12 @@ def main(argv=None) -> int:
     except InputError as exc:
         sys.stderr.write(f"inflowsim {args.command}: error: {_one_line(exc)}\n")
         return 2
-    except OSError as exc:            # a file the checks could not foresee (disk full, ...)
+    except OSError as exc:
+        # what the output checks cannot foresee about the user's files and disk (full,
+        # read-only, permissions changed meanwhile) is the user's to fix: one line;
+        # any other OS error is the program's, and keeps its traceback
+        if not _users_os_error(exc):
+            raise
         where = f"{exc.filename}: " if exc.filename else ""
         sys.stderr.write(f"inflowsim {args.command}: error: {where}"
                          f"{exc.strerror or exc}\n")
@@ -60,6 +65,14 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("inflowsim: interrupted\n")
         return 130
+
+
+def _users_os_error(exc: OSError) -> bool:
+    import errno
+    return (isinstance(exc, (PermissionError, IsADirectoryError, NotADirectoryError,
+                             FileExistsError))
+            or exc.errno in (errno.ENOSPC, errno.EROFS, errno.EDQUOT, errno.EFBIG,
+                             errno.ENAMETOOLONG))
 
 
 def _one_line(exc) -> str:

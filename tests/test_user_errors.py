@@ -359,3 +359,15 @@ def test_step_result_unchanged_by_the_checks(sim):
     np.testing.assert_allclose(ys, ref, rtol=0, atol=1e-15)
     sim.reset()
     np.testing.assert_array_equal(np.array([sim.step(list(u)) for _ in range(50)]), ys)
+
+
+def test_an_internal_os_error_keeps_its_traceback(capsys, rec_path, tmp_path, monkeypatch):
+    """A missing file of the program's own (not the user's) is a bug, not bad input:
+    it is not reported as exit 2."""
+    import inflowsim.commands.simulate as cmd
+
+    def missing(*a, **k):
+        raise FileNotFoundError(2, "No such file or directory", "/usr/lib/some.font")
+    monkeypatch.setattr(cmd, "write_record", missing)
+    with pytest.raises(FileNotFoundError):
+        main(["simulate", str(rec_path), "-m", "glauert", "--out", str(tmp_path / "x.csv")])
