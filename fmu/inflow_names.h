@@ -27,6 +27,7 @@
 #define ifs_mu_table_apply_ab IFS_NAME(ifs_mu_table_apply_ab)
 #define ifs_mu_table_build IFS_NAME(ifs_mu_table_build)
 #define ifs_real_vars IFS_NAME(ifs_real_vars)
+#define ifs_slave_delayed_state IFS_NAME(ifs_slave_delayed_state)
 #define ifs_slave_directional IFS_NAME(ifs_slave_directional)
 #define ifs_slave_enter_init IFS_NAME(ifs_slave_enter_init)
 #define ifs_slave_exit_init IFS_NAME(ifs_slave_exit_init)

@@ -71,9 +71,38 @@ int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn)
     return IFS_OK;
 }
 
+/* The delay's whole steps, fraction and partial-step matrices for m (after a build). */
+static int delay_tables(IfsSlave *s, const IfsLog *lg)
+{
+    IfsDelay *d = &s->delay;
+    const double steps = s->v.delay / s->m.dt;
+    if (!(s->v.delay > 0.0)) {
+        d->active = 0;
+        return IFS_OK;
+    }
+    if (steps > IFS_DELAY_MAX_STEPS)
+        return ifs_log(lg, IFS_ERROR, "delay = %g s is more than %d internal steps dt = "
+                       "%g s: use a larger dt", s->v.delay, IFS_DELAY_MAX_STEPS, s->m.dt);
+    d->mm = (int)floor(steps + 1e-12);
+    d->f = steps - d->mm;
+    if (d->f < 1e-12) d->f = 0.0;
+    if (d->f > 0.0 && ifs_discretize(&s->m, (1.0 - d->f) * s->m.dt, d->pg_frac) != 0)
+        return ifs_log(lg, IFS_ERROR, "the delay's partial step failed to discretise");
+    d->active = 1;
+    return IFS_OK;
+}
+
 static int rebuild(IfsSlave *s, const IfsLog *lg)
 {
     char msg[MSG_LEN];
+    if (s->v.delay > 0.0) {        /* exact matrices: the delay's partial step needs them */
+        if (ifs_build(&s->m, &s->v, msg, sizeof msg) != 0)
+            return ifs_log(lg, IFS_ERROR, "%s", msg);
+        s->params_changed = 0;
+        s->dirty = 0;
+        return delay_tables(s, lg);
+    }
+    s->delay.active = 0;
     if (s->tab && !s->params_changed && s->tab->state == 0 && s->phase == IFS_PH_STEP) {
         /* only mu changed, after initialization: tabulate once for these parameters */
         ifs_mu_table_build(s->tab, &s->v);
@@ -97,6 +126,12 @@ int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
     if (s->phase != IFS_PH_INIT)
         return ifs_log(lg, IFS_ERROR, "%s: not in initialization mode", fn);
     if (rebuild(s, lg) != IFS_OK) return IFS_ERROR;
+    {   /* the delay line starts empty: before t0 + delay the flap shows the start state */
+        int i;
+        s->delay.k = 0;
+        memcpy(s->delay.x0, s->m.x, sizeof s->delay.x0);
+        for (i = 0; i < IFS_DELAY_DEPTH; i++) s->delay.hk[i] = -1;
+    }
     ifs_slave_update_outputs(s);
     s->phase = IFS_PH_STEP;
     return IFS_OK;
@@ -292,6 +327,56 @@ int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
     return IFS_OK;
 }
 
+/* --- the time-delay line --- */
+
+/* state at step j from the ring: x_j = phi x_(j-1) + gam u_(j-1), or the start state */
+static void ring_state(const IfsSlave *s, long long j, double x[IFS_NX])
+{
+    const IfsDelay *d = &s->delay;
+    const int slot = (int)((j - 1) % IFS_DELAY_DEPTH);
+    if (j <= 0 || d->hk[slot] != j - 1) {
+        memcpy(x, d->x0, sizeof d->x0);
+        return;
+    }
+    memcpy(x, d->hx[slot], sizeof d->hx[slot]);
+    ifs_step(s->m.pg, x, d->hu[slot]);
+}
+
+void ifs_slave_delayed_state(const IfsSlave *s, double x[IFS_NX])
+{
+    const IfsDelay *d = &s->delay;
+    const long long k = d->k;
+    if (d->f == 0.0) {
+        if (d->mm == 0) memcpy(x, s->m.x, sizeof s->m.x);
+        else ring_state(s, k - d->mm, x);
+    } else {
+        const long long j = k - d->mm - 1;
+        const int slot = (int)(j % IFS_DELAY_DEPTH);
+        if (j < 0 || d->hk[slot] != j) {
+            memcpy(x, d->x0, sizeof d->x0);
+            return;
+        }
+        memcpy(x, d->hx[slot], sizeof d->hx[slot]);
+        ifs_step(d->pg_frac, x, d->hu[slot]);
+    }
+}
+
+/* n whole internal steps, each remembered in the ring */
+static void delayed_advance(IfsSlave *s, long long n)
+{
+    IfsDelay *d = &s->delay;
+    const double *u = ifs_slave_inputs(s);
+    long long i;
+    for (i = 0; i < n; i++) {
+        const int slot = (int)(d->k % IFS_DELAY_DEPTH);
+        memcpy(d->hx[slot], s->m.x, sizeof s->m.x);
+        memcpy(d->hu[slot], u, sizeof d->hu[slot]);
+        d->hk[slot] = d->k;
+        ifs_step(s->m.pg, s->m.x, u);
+        d->k++;
+    }
+}
+
 /* --- stepping --- */
 
 IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
@@ -324,9 +409,21 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         return ifs_log(lg, IFS_ERROR, "%s: communication step %g s is more than %g internal "
                        "steps dt = %g s: use a larger dt or shorter steps", fn, h,
                        IFS_MAX_STEPS_PER_CALL, s->m.dt);
-    if (h != s->m.dt) fresh_ab(s);
-    if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
-        return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn, h);
+    if (s->delay.active) {
+        /* the delay line holds whole internal steps: a remainder would leave it */
+        const double r = h / s->m.dt;
+        const long long n = (long long)floor(r + 0.5);
+        if (fabs(r - (double)n) > 1e-9 * (r > 1.0 ? r : 1.0))
+            return ifs_log(lg, IFS_ERROR, "%s: with delay = %g s the communication step "
+                           "must be a whole number of internal steps dt = %g s, not %g s",
+                           fn, s->v.delay, s->m.dt, h);
+        delayed_advance(s, n);
+    } else {
+        if (h != s->m.dt) fresh_ab(s);
+        if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
+            return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn,
+                           h);
+    }
     if (h != s->h_comm) {           /* a new communication step: restart the counter */
         s->t_base = now;
         s->h_comm = h;

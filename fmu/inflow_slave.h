@@ -21,9 +21,28 @@ enum { IFS_OK = 0, IFS_WARNING = 1, IFS_ERROR = 3 };
 
 typedef enum { IFS_PH_INSTANTIATED, IFS_PH_INIT, IFS_PH_STEP, IFS_PH_TERMINATED } IfsPhase;
 
+/* The time-delay effect: the recorded flap is the rotor's at t - delay, exactly
+ * (as inflowsim's Simulator): delay = mm dt + f dt; the delayed state is a stored
+ * state (f = 0) or a stored state and input carried over (1 - f) dt by pg_frac.
+ * A ring of the last IFS_DELAY_DEPTH internal steps' states and inputs. */
+#define IFS_DELAY_MAX_STEPS 256
+#define IFS_DELAY_DEPTH (IFS_DELAY_MAX_STEPS + 2)
+typedef struct {
+    int active;
+    int mm;                        /* whole internal steps of the delay */
+    double f;                      /* the fraction of a step left, 0 or in (0, 1) */
+    double pg_frac[IFS_NA * IFS_LD];    /* [phi gam] over (1 - f) dt */
+    long long k;                   /* internal steps taken since initialization */
+    double x0[IFS_NX];             /* the state at step 0 (before the record) */
+    double hx[IFS_DELAY_DEPTH][IFS_NX];
+    double hu[IFS_DELAY_DEPTH][IFS_NU];
+    long long hk[IFS_DELAY_DEPTH]; /* which step each slot holds, -1 none */
+} IfsDelay;
+
 typedef struct {
     IfsVariables v;
     IfsModel m;
+    IfsDelay delay;
     IfsPhase phase;
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
@@ -103,10 +122,19 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
     return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
 }
 
+void ifs_slave_delayed_state(const IfsSlave *s, double x[IFS_NX]);
+
 IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
 {
     double y[IFS_NX];
     ifs_outputs(&s->m, y);
+    if (s->delay.active) {         /* the recorded flap, from the delayed state */
+        double xd[IFS_NX];
+        ifs_slave_delayed_state(s, xd);
+        y[0] = xd[0];
+        y[1] = s->m.cos_bias * xd[1] - s->m.sin_bias * xd[2];
+        y[2] = s->m.sin_bias * xd[1] + s->m.cos_bias * xd[2];
+    }
     s->v.beta0 = y[0];
     s->v.beta1c = y[1];
     s->v.beta1s = y[2];
@@ -120,7 +148,8 @@ IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
  * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step. */
 IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 {
-    if (s->phase == IFS_PH_STEP && !s->dirty && h == s->h_comm && h == s->m.dt) {
+    if (s->phase == IFS_PH_STEP && !s->dirty && !s->delay.active && h == s->h_comm &&
+        h == s->m.dt) {
         const double now = ifs_slave_time(s);
         if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now)) && now + h <= s->t_stop) {
             ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));

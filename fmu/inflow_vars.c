@@ -49,6 +49,7 @@ const IfsRealVar ifs_real_vars[IFS_N_REALS] = {
     {"C_mc_hub", IFS_OUTPUT, offsetof(IfsVariables, C_mc_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"C_ms_hub", IFS_OUTPUT, offsetof(IfsVariables, C_ms_hub), 0.0, -DBL_MAX, DBL_MAX, 0},
     {"ct", IFS_TUNABLE, offsetof(IfsVariables, ct), 0.0064, 0.0, 0.05, 1},
+    {"delay", IFS_FIXED, offsetof(IfsVariables, delay), 0.0, 0.0, 1.0, 0},
 };
 
 const IfsIntegerVar ifs_integer_vars[IFS_N_INTEGERS] = {

@@ -6,9 +6,9 @@
 
 #include "inflow_names.h"  /* prefixed internal names for static linking */
 
-#define IFS_GUID "{f20c886e-fd40-5d09-945a-324569c2eeb3}"
+#define IFS_GUID "{c3e2b680-e16a-5b33-bb84-9beb9ef0d0f2}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
-#define IFS_N_REALS 46
+#define IFS_N_REALS 47
 #define IFS_N_INTEGERS 2
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
 
@@ -60,9 +60,10 @@ enum {
     IFS_VR_C_mc_hub = 43,
     IFS_VR_C_ms_hub = 44,
     IFS_VR_ct = 45,
-    IFS_VR_structure = 46,
-    IFS_VR_inflow_speed = 47,
-    IFS_VR_time = 48,  /* FMI 3.0 only: the independent variable */
+    IFS_VR_delay = 46,
+    IFS_VR_structure = 47,
+    IFS_VR_inflow_speed = 48,
+    IFS_VR_time = 49,  /* FMI 3.0 only: the independent variable */
     IFS_VR_END
 };
 
@@ -114,6 +115,7 @@ typedef struct {
     double C_mc_hub;  /* output [-] */
     double C_ms_hub;  /* output [-] */
     double ct;  /* parameter [-] */
+    double delay;  /* parameter [s] */
     int structure;  /* parameter [-] */
     int inflow_speed;  /* parameter [-] */
 } IfsVariables;

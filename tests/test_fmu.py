@@ -257,10 +257,12 @@ def test_parameter_file_applies_in_one_call(tmp_path, fmu_path, record):
     np.testing.assert_allclose(y, y_py, rtol=0, atol=1e-10)
 
 
-def test_unsupported_effect_is_refused():
-    m = build_model("basic+time-delay", {**preset_parameters("basic", PUMA, "paper"),
-                                         "delay": 0.02}, PUMA)
-    with pytest.raises(InputError, match="time-delay"):
+@pytest.mark.parametrize("effect", ["flap-inertia", "skewed-wake"])
+def test_unsupported_effect_is_refused(effect):
+    from inflowsim.model.presets import truth_parameters
+    s = f"basic+{effect}"
+    m = build_model(s, truth_parameters(s, PUMA), PUMA)
+    with pytest.raises(InputError, match=effect):
         start_values(m)
 
 
@@ -1185,3 +1187,38 @@ def test_every_refused_range_is_declared(fmu_path, unzipped, guid):
     with pytest.raises(Exception):
         s.setReal([VR["n_beta"]], [0.0])              # refused
     s.freeInstance()
+
+
+@pytest.mark.parametrize("delay", [0.0345, 0.05, 0.004])
+@pytest.mark.parametrize("version", [2, 3])
+def test_time_delay_in_the_fmu_equals_the_simulator(delay, version, unzipped, unzipped3,
+                                                    guid, record):
+    """The time-delay effect in the FMU (issue #10 part 2, one effect): a fit with an
+    output lag gives the Simulator's trajectory (exact fractional delays), whole and
+    fractional steps alike; a lead and a step that is not a multiple of dt are refused."""
+    p = preset_parameters("glauert", PUMA, "paper")
+    p["delay"] = delay
+    m = build_model("glauert+time-delay", p, PUMA)
+    u = model_inputs(record, m, find_trim(record))
+    y_py = Simulator(m, DT).replay(u)
+    vals = start_values(m)
+    assert vals["delay"] == delay
+    s = (open_fmu(unzipped, guid, vals) if version == 2 else
+         open_fmu3(unzipped3, guid, vals))
+    y_fmu = fmu_replay(s, full_inputs(m, u))
+    s.freeInstance()
+    undelayed = Simulator(build_model("glauert", preset_parameters("glauert", PUMA,
+                                                                   "paper"), PUMA),
+                          DT).replay(u)
+    assert np.abs(y_py - undelayed).max() > 1e-4           # the delay shows
+    np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
+    if version == 2:
+        log = Logger()
+        s = open_fmu(unzipped, guid, vals, logger=log)
+        with pytest.raises(Exception):
+            s.doStep(0.0, 0.015)
+        assert "must be a whole number of internal steps" in log.text()
+        s.freeInstance()
+        p["delay"] = -0.01
+        with pytest.raises(InputError, match="lead"):
+            start_values(build_model("glauert+time-delay", p, PUMA))

@@ -4,7 +4,7 @@ The C model knows three structures (``basic``, ``empirical``, ``glauert``); ever
 structure made of ``separate-time-constants``, ``hub-velocity-coupling``,
 ``glauert`` and ``azimuth-bias`` is one of them with the missing effects at their
 neutral values (``tau0 = tau_cs = tau``, ``K = 0``, ``azimuth_bias = 0``), which
-is exact, not an approximation.
+is exact, not an approximation; ``time-delay`` (a lag) is the FMU's ``delay``.
 """
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from ..model.structure import Structure
 from .variables import INFLOW_SPEEDS, INTEGERS, STRUCTURES, VR
 
 #: Effects the C model implements.
-SUPPORTED = ("separate-time-constants", "hub-velocity-coupling", "glauert", "azimuth-bias")
+SUPPORTED = ("separate-time-constants", "hub-velocity-coupling", "glauert", "azimuth-bias",
+             "time-delay")
 _K = ("k01", "k02", "k11", "k12", "k21", "k22")
 
 
@@ -26,7 +27,7 @@ def structure_code(structure) -> int:
     if extra:
         raise InputError(f"the FMU does not implement effect {extra[0]} (it implements "
                          f"{', '.join(SUPPORTED)})")
-    eff = set(s.effects)
+    eff = set(s.effects) - {"time-delay"}         # a measurement effect, any base
     if "glauert" in eff:
         return STRUCTURES["glauert"]
     if eff:
@@ -69,6 +70,9 @@ def start_values(source, constants=None) -> dict:
             vals["azimuth_bias"] = 0.0
     if code == STRUCTURES["empirical"] and "hub-velocity-coupling" not in eff:
         vals.update(dict.fromkeys(_K, 0.0))
+    if vals.get("delay", 0.0) < 0:
+        raise InputError(f"delay = {vals['delay']:g} s is a lead: the FMU steps causally "
+                         "and applies lags only (inflowsim.replay.replay applies leads)")
     unknown = sorted(set(vals) - set(VR))
     if unknown:
         raise InputError(f"parameter {unknown[0]} is not a variable of the FMU")

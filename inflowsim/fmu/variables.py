@@ -118,6 +118,10 @@ def _build() -> tuple:
     v.append(Variable("ct", "Real", "parameter", "tunable", CT_START, "-",
                       "trim thrust coefficient T / (rho pi R^2 (Omega R)^2), for the "
                       "mass-flow speed (inflow_speed 1) [-]", 0.0, 0.05, True))
+    v.append(Variable("delay", "Real", "parameter", "fixed", 0.0, "s",
+                      "time-delay effect: the recorded flap lags the rotor's by this [s] "
+                      "(exact, fractions of dt included; at most 256 dt, communication "
+                      "steps whole multiples of dt)", 0.0, 1.0))
     v.append(Variable("structure", "Integer", "parameter", "fixed", STRUCTURES["glauert"],
                       "", "model structure: 0 basic (tau), 1 empirical (tau0, tau_cs, K, "
                       "azimuth_bias), 2 glauert (tau0, tau_cs, c1..c4, k0p, kc, ks, "
