@@ -150,7 +150,8 @@ class Simulator:
         springs' hub moments ``C_mc_hub, C_ms_hub`` [-], perturbations about trim
         (:mod:`inflowsim.model.loads`; ``dimensional_loads`` turns them into newtons
         and newton-metres).  From the current state and the input held over the last
-        step (zero before the first)."""
+        step (zero before the first; after a refused step, the refused input, so NaN
+        until the next step)."""
         lm = self._load_matrices
         if lm is None:
             from ..model.loads import load_matrices
