@@ -419,8 +419,10 @@ IFS_EXPORT fmi3Status fmi3GetDirectionalDerivative(
     const char *fn = "fmi3GetDirectionalDerivative";
     if (!c) return fmi3Error;
     if (ns != nk || nsens != nu)
-        return (fmi3Status)ifs_log(&c->log, IFS_ERROR, "%s: %zu seeds for %zu knowns, %zu "
-                                   "sensitivities for %zu unknowns", fn, ns, nk, nsens, nu);
+        return (fmi3Status)ifs_log(&c->log, IFS_ERROR, "%s: %lu seeds for %lu knowns, %lu "
+                                   "sensitivities for %lu unknowns", fn, (unsigned long)ns,
+                                   (unsigned long)nk, (unsigned long)nsens,
+                                   (unsigned long)nu);
     return (fmi3Status)ifs_slave_directional(&c->s, &c->log, fn, unknowns, nu, knowns, nk,
                                              seed, sensitivity);
 }

@@ -185,7 +185,9 @@ int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char 
 
 /* --- what both FMI layers declare --- */
 
-#if defined(__GNUC__)
+#if defined(_WIN32) && !defined(FMI2_FUNCTION_PREFIX) && !defined(FMI3_FUNCTION_PREFIX)
+#define IFS_EXPORT __declspec(dllexport)
+#elif defined(__GNUC__)
 #define IFS_EXPORT __attribute__((visibility("default")))
 #else
 #define IFS_EXPORT

@@ -1222,3 +1222,55 @@ def test_time_delay_in_the_fmu_equals_the_simulator(delay, version, unzipped, un
         p["delay"] = -0.01
         with pytest.raises(InputError, match="lead"):
             start_values(build_model("glauert+time-delay", p, PUMA))
+
+
+def _pe_exports(dll):
+    """Names a Windows DLL exports (mingw-w64's objdump) and the DLLs it imports."""
+    text = subprocess.run(["x86_64-w64-mingw32-objdump", "-p", str(dll)],
+                          capture_output=True, text=True, check=True).stdout
+    table = text.split("[Ordinal/Name Pointer] Table", 1)[1].split("\n\n", 1)[0]
+    names = {ln.split()[-1] for ln in table.splitlines() if ln.strip().startswith("[")}
+    imports = {ln.split(":", 1)[1].strip() for ln in text.splitlines()
+               if ln.strip().startswith("DLL Name:")}
+    return names, imports, text
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_win64_binary_cross_compiled(version, tmp_path):
+    """``--platform win64`` (issue #10 part 5): with mingw-w64 installed, the FMU also
+    carries a Windows x86-64 DLL exporting exactly the FMI functions the Linux binary
+    exports, needing only the C runtime.  (Nothing here runs Windows code.)"""
+    from inflowsim.fmu.build import cross_compiler
+    if cross_compiler("win64") is None:
+        pytest.skip("mingw-w64 (x86_64-w64-mingw32-gcc) is not installed")
+    fmu = build_fmu(tmp_path / "w.fmu", fmi_version=version, platforms=("win64",))
+    d = tmp_path / "u"
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(d)
+    win = "win64" if version == 2 else "x86_64-windows"
+    lin = "linux64" if version == 2 else "x86_64-linux"
+    dll = d / "binaries" / win / "inflowsim.dll"
+    assert dll.read_bytes()[:2] == b"MZ"
+    names, imports, text = _pe_exports(dll)
+    assert "file format pei-x86-64" in text
+    so = subprocess.run(["nm", "-D", "--defined-only", str(d / "binaries" / lin /
+                                                            "inflowsim.so")],
+                        capture_output=True, text=True, check=True).stdout
+    so_names = {ln.split()[-1] for ln in so.splitlines()} - {"fmi2DoStep.resolver",
+                                                             "fmi3DoStep.resolver"}
+    assert names == so_names and len(names) > 30
+    assert {i.lower() for i in imports} <= {"kernel32.dll", "msvcrt.dll"}
+    from fmpy.validation import validate_fmu
+    assert validate_fmu(str(fmu)) == []
+
+
+def test_win64_without_its_compiler_is_one_clear_error(tmp_path, monkeypatch, capsys):
+    import inflowsim.fmu.build as b
+    real = shutil.which
+    monkeypatch.setattr(b.shutil, "which", lambda name: None if "mingw" in name
+                        else real(name))
+    from inflowsim.cli import main
+    code = main(["fmu", "build", "--platform", "win64", "--out", str(tmp_path / "x.fmu")])
+    err = capsys.readouterr().err
+    assert code == 2 and "x86_64-w64-mingw32-gcc" in err and "mingw-w64" in err
+    assert not (tmp_path / "x.fmu").exists()

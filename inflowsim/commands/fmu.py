@@ -27,6 +27,9 @@ def add_arguments(p):
                    help="FMU file to write (default inflowsim.fmu)")
     b.add_argument("--fmi-version", type=int, choices=(2, 3), default=2,
                    help="FMI 2.0 (default) or 3.0 co-simulation; the same model")
+    b.add_argument("--platform", action="append", default=[], choices=("win64",),
+                   help="also cross-compile this platform's binary (win64: needs "
+                        "mingw-w64's x86_64-w64-mingw32-gcc); repeatable")
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
                    help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")
@@ -42,7 +45,8 @@ def run(args) -> int:
         raise InputError(f"{out}: an FMU file name must end in .fmu")
     check_output(out, args.force)
     progress(f"building {args.out} ...")
-    path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version)
+    path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version,
+                     platforms=tuple(args.platform))
     if args.json:
         print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER,
                     "fmi_version": f"{args.fmi_version}.0"})

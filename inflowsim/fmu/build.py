@@ -51,6 +51,24 @@ def source_dir() -> Path:
     raise InputError(f"FMU build: the C sources are missing from {here / 'csrc'}")
 
 
+#: Cross-compiled binaries an FMU may carry beside the native one: the mingw-w64
+#: compiler, the FMI 2.0 and 3.0 folders and the file name.
+CROSS = {"win64": ("x86_64-w64-mingw32-gcc", {2: "win64", 3: "x86_64-windows"},
+                   f"{MODEL_IDENTIFIER}.dll")}
+#: What differs for Windows: no -fPIC or visibility (a DLL exports what is marked
+#: __declspec(dllexport)); a static libgcc, so the DLL needs only the C runtime.
+CROSS_CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+                "-shared", "-static-libgcc")
+
+
+def cross_compiler(target: str) -> str | None:
+    """The cross compiler for ``target`` (``win64``) if it is installed, else None."""
+    if target not in CROSS:
+        raise InputError(f"FMU build: unknown platform {target!r} (known: "
+                         f"{', '.join(CROSS)})")
+    return shutil.which(CROSS[target][0])
+
+
 def compiler() -> str:
     """The system C compiler: ``$CC``, else ``cc`` or ``gcc`` on the PATH."""
     for cand in (os.environ.get("CC"), "cc", "gcc"):
@@ -79,10 +97,19 @@ def platform_folder(fmi_version=2) -> str:
     return "linux64" if _version(fmi_version) == 2 else "x86_64-linux"
 
 
-def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2) -> Path:
+def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
+                    target=None) -> Path:
     """Compile the model, the slave and the FMI ``fmi_version`` layer in ``src`` into
-    the shared library ``out_so``."""
-    cmd = [compiler(), *CFLAGS, *extra_flags, f"-I{src}", "-o", str(out_so),
+    the shared library ``out_so``; for ``target`` (``"win64"``) with its cross
+    compiler, into a DLL."""
+    if target is None:
+        cc, flags = compiler(), CFLAGS
+    else:
+        cc, flags = cross_compiler(target), CROSS_CFLAGS
+        if cc is None:
+            raise InputError(f"FMU build: no {CROSS[target][0]} for the {target} binary "
+                             "(install mingw-w64, e.g. Debian's gcc-mingw-w64-x86-64)")
+    cmd = [cc, *flags, *extra_flags, f"-I{src}", "-o", str(out_so),
            *(str(src / f) for f in sources(fmi_version)), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
@@ -193,7 +220,7 @@ same numbers.</p>
 
 
 def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
-              fmi_version=2) -> Path:
+              fmi_version=2, platforms=()) -> Path:
     """Build the co-simulation FMU with the system C compiler.
 
     Parameters
@@ -206,6 +233,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         Files never to write over.
     fmi_version : {2, 3}
         FMI 2.0 (default) or FMI 3.0 co-simulation; the same model and variables.
+    platforms : iterable of str
+        Cross-compiled binaries to add beside the native one: ``"win64"`` (with
+        mingw-w64's ``x86_64-w64-mingw32-gcc``).
 
     Returns
     -------
@@ -224,6 +254,14 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         (root / "binaries" / plat).mkdir(parents=True)
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
                         fmi_version=version)
+        for target in platforms:
+            _, folders, name = CROSS[target] if target in CROSS else (None, None, None)
+            if folders is None:
+                raise InputError(f"FMU build: unknown platform {target!r} (known: "
+                                 f"{', '.join(CROSS)})")
+            (root / "binaries" / folders[version]).mkdir(parents=True, exist_ok=True)
+            compile_library(root / "sources", root / "binaries" / folders[version] / name,
+                            fmi_version=version, target=target)
         (root / "documentation").mkdir()
         (root / "documentation" / "index.html").write_text(documentation_html(version),
                                                            encoding="utf-8")
