@@ -52,31 +52,32 @@ IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2Str
                                          fmi2Boolean visible, fmi2Boolean logging_on)
 {
     Instance *c;
-    Instance tmp;
     (void)resources;
     (void)visible;
     if (!cb || !cb->allocateMemory || !cb->freeMemory) return NULL;
-    memset(&tmp, 0, sizeof tmp);
-    tmp.cb = *cb;
-    tmp.log.emit = cb->logger ? emit : NULL;
-    tmp.log.debug = logging_on;
-    snprintf(tmp.name, sizeof tmp.name, "%s", name ? name : "inflowsim");
-    tmp.log.env = &tmp;
+    /* allocated first (the instance holds the delay line: no large stack copy), so
+     * refusals can be logged through it, then freed */
+    c = (Instance *)cb->allocateMemory(1, sizeof(Instance));
+    if (!c) return NULL;
+    memset(c, 0, sizeof *c);
+    c->cb = *cb;
+    c->log.emit = cb->logger ? emit : NULL;
+    c->log.debug = logging_on;
+    c->log.env = c;
+    snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
     if (type != fmi2CoSimulation) {
-        ERR(&tmp, "only co-simulation is provided");
+        ERR(c, "only co-simulation is provided");
+        cb->freeMemory(c);
         return NULL;
     }
     if (!guid || strcmp(guid, IFS_GUID) != 0) {
-        ERR(&tmp, "GUID %s does not match this binary's %s", guid ? guid : "(null)",
+        ERR(c, "GUID %s does not match this binary's %s", guid ? guid : "(null)",
             IFS_GUID);
+        cb->freeMemory(c);
         return NULL;
     }
-    c = (Instance *)cb->allocateMemory(1, sizeof(Instance));
-    if (!c) return NULL;
-    memcpy(c, &tmp, sizeof tmp);
-    c->log.env = c;
     ifs_slave_init(&c->s);
-    /* the mu table lives apart (250 kB); without it mu changes rebuild exactly */
+    /* the mu table lives apart (200 kB); without it mu changes rebuild exactly */
     c->s.tab = (IfsMuTable *)cb->allocateMemory(1, sizeof(IfsMuTable));
     return c;
 }
