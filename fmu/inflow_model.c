@@ -157,8 +157,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
 {
     double Gdb[3][3], Gb[3][3], Gl[3][3], Gu[3][6];
     const double a0s = v->a0 * v->solidity, om = v->omega;
-    const double cb = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
-    const double sb = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
+    const double cb = n->cos_bias, sb = n->sin_bias;   /* set by set_bias */
     int r, i, j;
     load_matrices(v->mu, Gdb, Gb, Gl, Gu);
     memset(n->lc, 0, sizeof n->lc);
@@ -360,6 +359,15 @@ static void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
     for (i = 0; i < NX; i++) x[i] += acc[i];
 }
 
+/* The azimuth bias: the outputs' rotation (recorded flap = true one rotated) and the
+ * loads' true pitch. */
+static void set_bias(IfsModel *m, const IfsVariables *v)
+{
+    m->cos_bias = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
+    m->sin_bias = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
+    build_loads(m, v);
+}
+
 /* 1-norms of a and [a b]: the bounds of the remainder's Taylor terms. */
 static void set_norms(IfsModel *n)
 {
@@ -384,7 +392,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                                  1 / (om * om), 1, 1};
     int i, j;
 
-    if (v->inflow_speed == 0 && !(v->mu >= 0.1 && v->mu <= 0.5)) {
+    if (v->inflow_speed == 0 && !(v->mu >= IFS_MU_LO && v->mu <= IFS_MU_HI)) {
         snprintf(msg, msg_len, "mu = %g is outside the allowed range [0.1, 0.5]: "
                  "forward-flight local momentum (V ~ mu) needs fast forward flight; "
                  "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
@@ -414,10 +422,8 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         for (j = 0; j < NX; j++) n.a[i * NX + j] = om * rhs[i * NA + j];
         for (j = 0; j < NU; j++) n.b[i * NU + j] = om * rhs[i * NA + NX + j] * in_scale[j];
     }
-    build_loads(&n, v);
-    /* outputs: recorded flap is the true one rotated by the azimuth bias (section 6) */
-    n.cos_bias = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
-    n.sin_bias = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
+    n.ab_stale = 0;
+    set_bias(&n, v);
     n.dt = v->dt;
     if (ifs_discretize(&n, n.dt, n.pg) != 0) {
         snprintf(msg, msg_len, "the discretisation at dt = %g s failed (non-finite "
@@ -426,7 +432,6 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     }
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
-    n.ab_stale = 0;
     n.h_last = -1.0;
     set_norms(&n);
     *m = n;

@@ -203,7 +203,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[])
 {
     const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
-    int bias_changed = 0;
+    IfsVariables before;
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     /* check everything first: a refused call changes nothing */
@@ -212,11 +212,12 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
         if (vr[i] >= IFS_N_REALS || var->kind == IFS_OUTPUT ||
             (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
             return refuse_real(s, lg, fn, vr[i], value[i]);
-        if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < 0.1)
+        if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < IFS_MU_LO)
             return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range [0.1, 0.5] "
                            "with inflow_speed 0 (V ~ mu needs forward flight); set "
                            "inflow_speed 1 and ct first to reach hover", value[i]);
     }
+    before = s->v;
     for (i = 0; i < n; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i]];
         double *slot = (double *)((char *)&s->v + var->offset);
@@ -225,15 +226,17 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             s->dirty = 1;
             if (vr[i] != IFS_VR_mu) s->params_changed = 1;
         }
-        if (vr[i] == IFS_VR_azimuth_bias && *slot != value[i]) bias_changed = 1;
         *slot = value[i];
     }
-    /* the outputs are the state seen through the azimuth bias: a new bias shows at
-     * once, not only after the next step (the other parameters act through the
-     * dynamics, on the next step) */
-    if (bias_changed && s->phase == IFS_PH_STEP && s->v.structure != IFS_BASIC) {
-        s->m.cos_bias = cos(s->v.azimuth_bias);
-        s->m.sin_bias = sin(s->v.azimuth_bias);
+    /* a new parameter between steps takes effect at once: the outputs (the azimuth
+     * bias rotates them) and the loads (their flap rate comes from the dynamics) are
+     * those of the new model, as after Simulator.set_model; a mu change alone waits
+     * for the step (the tabulated path).  A set the model refuses changes nothing. */
+    if (s->phase == IFS_PH_STEP && s->params_changed) {
+        if (rebuild(s, lg) != IFS_OK) {   /* the model was left as it was */
+            s->v = before;
+            return IFS_ERROR;
+        }
         ifs_slave_update_outputs(s);
     }
     return IFS_OK;

@@ -28,10 +28,7 @@ def check_output(path, overwrite: bool = False, protect=()) -> Path:
         raise InputError(f"{p}: exists; choose another name or pass --force")
     if p.is_dir():
         raise InputError(f"{p}: is a folder; give a file name")
-    parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{p}: folder {parent} does not exist")
-    check_writable(parent)
+    _check_parent(p)
     return p
 
 
@@ -44,11 +41,16 @@ def check_folder(path) -> Path:
             raise InputError(f"{d}: exists and is not a folder")
         check_writable(d)
         return d
-    parent = d.parent if str(d.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{d}: folder {parent} does not exist")
-    check_writable(parent)
+    _check_parent(d)
     return d
+
+
+def _check_parent(p: Path) -> None:
+    """The folder ``p`` would be created in exists and can be written."""
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{p}: folder {parent} does not exist")
+    check_writable(parent)
 
 
 def check_writable(folder) -> Path:

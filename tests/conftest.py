@@ -10,6 +10,7 @@ from functools import lru_cache
 
 import pytest
 
+from inflowsim.cli import main
 from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 TWO_AXES = (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
@@ -29,3 +30,20 @@ def virtual(**settings):
 def noise_free_glauert():
     """The default virtual Puma record, glauert truth, no noise, continuous time."""
     return virtual(structure="glauert", noise_flap=0.0)
+
+
+def run(capsys, *argv):
+    """Run the ``inflowsim`` command in-process: ``(exit code, stdout, stderr)``."""
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_user_error(code, out, err, *words):
+    """Exit 2, nothing on stdout, one line on stderr holding every one of ``words``."""
+    assert code == 2, err
+    assert out == ""
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
+    for w in words:
+        assert w in err, err

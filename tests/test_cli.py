@@ -6,6 +6,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from conftest import assert_user_error, run
 from inflowsim.cli import main
 from inflowsim.model import build_model, descriptor
 from inflowsim.params import PUMA
@@ -22,21 +23,6 @@ def rec_path(tmp_path_factory):
     p = tmp_path_factory.mktemp("rec") / "doublet.csv"
     write_record(virtual_record(VirtualTest(noise_flap=0.0, hold="zoh")), p)
     return p
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def assert_user_error(code, out, err, *words):
-    assert code == 2
-    assert out == ""
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for w in words:
-        assert w in err, err
 
 
 # -- model ------------------------------------------------------------------------

@@ -39,6 +39,7 @@ from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record  # noqa: E4
 
 DT = 0.01
 OUTPUTS = ("beta0", "beta1c", "beta1s", "lambda0", "lambda1c", "lambda1s")
+LOADS = ("CT", "C_mc", "C_ms", "C_mc_hub", "C_ms_hub")
 ALL_INPUTS = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot", "mux", "muy")
 
 
@@ -120,10 +121,16 @@ class Logger:
         return "\n".join(m for _, m in self.messages)
 
 
-def open_fmu(unzipped, guid, values=None, name="a", logger=None, start=0.0):
+def instantiated_fmu(unzipped, guid, name="a", logger=None):
+    """An FMI 2.0 slave instantiated, nothing else (logging to ``logger``)."""
     s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
                   instanceName=name)
     s.instantiate(callbacks=logger.cb if logger else None)
+    return s
+
+
+def open_fmu(unzipped, guid, values=None, name="a", logger=None, start=0.0):
+    s = instantiated_fmu(unzipped, guid, name, logger)
     s.setupExperiment(startTime=start)
     s.enterInitializationMode()
     if values is not None:
@@ -492,9 +499,7 @@ def test_bad_parameter_is_refused_with_its_name_and_range(unzipped, guid):
 
 def test_bad_structure_is_refused(unzipped, guid):
     log = Logger()
-    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
-                  instanceName="x")
-    s.instantiate(callbacks=log.cb)
+    s = instantiated_fmu(unzipped, guid, "x", log)
     with pytest.raises(Exception):
         s.setInteger([VR["structure"]], [3])
     assert "structure" in log.text() and "[0, 2]" in log.text()
@@ -536,9 +541,7 @@ def test_wrong_guid_is_refused(unzipped, guid):
 
 
 def test_do_step_before_initialization_is_an_error_not_a_crash(unzipped, guid):
-    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
-                  instanceName="x")
-    s.instantiate(callbacks=Logger().cb)
+    s = instantiated_fmu(unzipped, guid, "x", Logger())
     with pytest.raises(Exception):
         s.doStep(0.0, DT)
     s.freeInstance()
@@ -822,9 +825,7 @@ def test_stop_time_is_enforced(version, unzipped, unzipped3, guid):
     log = Logger()
     stop = 0.05
     if version == 2:
-        s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
-                      instanceName="stop")
-        s.instantiate(callbacks=log.cb)
+        s = instantiated_fmu(unzipped, guid, "stop", log)
         s.setupExperiment(startTime=0.0, stopTime=stop)
         s.enterInitializationMode()
         s.exitInitializationMode()
@@ -852,9 +853,7 @@ def test_stop_time_is_enforced(version, unzipped, unzipped3, guid):
 
 def test_stop_time_before_start_is_refused(unzipped, guid):
     log = Logger()
-    s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
-                  instanceName="stop")
-    s.instantiate(callbacks=log.cb)
+    s = instantiated_fmu(unzipped, guid, "stop", log)
     with pytest.raises(Exception):
         s.setupExperiment(startTime=1.0, stopTime=0.5)
     assert "stop time 0.5 must be finite and not before the start time 1" in log.text()
@@ -901,6 +900,15 @@ def test_outputs_follow_a_new_azimuth_bias_at_once(unzipped, guid):
     rot = np.array([[math.cos(0.3), -math.sin(0.3)], [math.sin(0.3), math.cos(0.3)]])
     np.testing.assert_allclose(y1[1:3], rot @ y0[1:3], rtol=1e-13, atol=1e-17)
     assert y1[0] == y0[0] and np.array_equal(y1[3:], y0[3:])
+    # the loads' true pitch follows the new bias at once too (the state is unchanged)
+    from inflowsim.model.loads import load_matrices
+    r0 = np.array([[math.cos(b0), math.sin(b0)], [-math.sin(b0), math.cos(b0)]])
+    x = np.concatenate([[y0[0]], r0 @ y0[1:3], y0[3:]])
+    u = np.zeros(m.b.shape[1])
+    u[ALL_INPUTS.index("theta1s")] = 0.02
+    new = build_model("glauert", {**m.parameters, "azimuth_bias": b0 + 0.3}, m.constants)
+    np.testing.assert_allclose(s.getReal([VR[n] for n in LOADS]), load_matrices(new)(x, u),
+                               rtol=1e-12, atol=1e-16)
     s.freeInstance()
 
 
@@ -975,8 +983,6 @@ def test_frame_to_frame_varying_step_is_exact(unzipped, guid, record):
     assert worst < 1e-13 * max(1.0, np.abs(x).max())
     s.freeInstance()
 
-
-LOADS = ("CT", "C_mc", "C_ms", "C_mc_hub", "C_ms_hub")
 
 
 @pytest.mark.parametrize("structure", ["basic", "empirical", "glauert"])
@@ -1077,9 +1083,7 @@ def test_mass_flow_speed_from_hover_equals_the_simulator(structure, mu, unzipped
     if mu < 0.1:
         log = Logger()
         vals["inflow_speed"] = 0
-        s = FMU2Slave(guid=guid, unzipDirectory=unzipped, modelIdentifier="inflowsim",
-                      instanceName="vmu")
-        s.instantiate(callbacks=log.cb)
+        s = instantiated_fmu(unzipped, guid, "vmu", log)
         s.setupExperiment(startTime=0.0)
         s.enterInitializationMode()
         with pytest.raises(Exception):
@@ -1180,7 +1184,11 @@ def test_every_refused_range_is_declared(fmu_path, unzipped, guid):
     for var in bounded:
         assert by_name[var.name].min is not None, var.name
     log = Logger()
-    s = open_fmu(unzipped, guid, logger=log)
+    # in initialization mode only the declared range applies (in step mode a value is
+    # also built into the model at once, and n_beta = 5e-324 makes E singular)
+    s = instantiated_fmu(unzipped, guid, "range", log)
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
     low = float(by_name["n_beta"].min)
     assert low == math.nextafter(0.0, 1.0)
     s.setReal([VR["n_beta"]], [low])                   # accepted
@@ -1274,3 +1282,23 @@ def test_win64_without_its_compiler_is_one_clear_error(tmp_path, monkeypatch, ca
     err = capsys.readouterr().err
     assert code == 2 and "x86_64-w64-mingw32-gcc" in err and "mingw-w64" in err
     assert not (tmp_path / "x.fmu").exists()
+
+
+def test_a_parameter_the_model_cannot_take_is_refused_at_once(unzipped, guid, record):
+    """In step mode a new parameter is built into the model when set: one the model
+    refuses (E singular) is refused there, naming why, and changes nothing."""
+    log = Logger()
+    m = model_of("glauert")
+    s = open_fmu(unzipped, guid, start_values(m), logger=log)
+    s.setReal([VR["theta1s"]], [0.01])
+    for k in range(20):
+        s.doStep(k * DT, DT)
+    outs = [VR[n] for n in OUTPUTS + LOADS]
+    before = s.getReal(outs)
+    with pytest.raises(Exception):
+        s.setReal([VR["n_beta"]], [math.nextafter(0.0, 1.0)])
+    assert "singular" in log.text()
+    assert s.getReal([VR["n_beta"]])[0] == m.parameters["n_beta"]
+    assert s.getReal(outs) == before
+    s.doStep(20 * DT, DT)                              # and it goes on
+    s.freeInstance()

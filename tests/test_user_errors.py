@@ -9,7 +9,7 @@ import tempfile
 import numpy as np
 import pytest
 
-from conftest import virtual
+from conftest import assert_user_error, run, virtual
 from inflowsim.cli import main
 from inflowsim.data.record import write_record
 from inflowsim.errors import InputError
@@ -25,20 +25,6 @@ def rec_path(tmp_path_factory):
     p = tmp_path_factory.mktemp("rec") / "doublet.csv"
     write_record(virtual(structure="glauert", duration=12.0), p)
     return p
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def assert_user_error(code, out, err, *words):
-    assert code == 2, err
-    assert out == ""
-    assert len(err.strip().splitlines()) == 1, err
-    for w in words:
-        assert w in err, err
 
 
 def edit_record(src, dst, meta=None, cell=None, scale=None):

@@ -71,6 +71,12 @@ def print_json(doc):
     sys.stdout.write(json_text(doc))
 
 
+def check_seed(seed):
+    """Refuse a noise seed numpy cannot take."""
+    if not 0 <= seed < 2 ** 32:
+        raise InputError(f"--seed {seed}: must be an integer in [0, 2**32)")
+
+
 def progress(msg):
     sys.stderr.write(msg + "\n")
     sys.stderr.flush()

@@ -2,9 +2,8 @@
 (:mod:`inflowsim.report.demo`); a summary on stdout, everything in ``DIR/index.html``."""
 from __future__ import annotations
 
-from ..errors import InputError
 from ..report.demo import run_demo
-from ._common import print_json, progress
+from ._common import check_seed, print_json, progress
 
 HELP = ("the whole story on a virtual Puma record with a hidden effect: compare, "
         "diagnose, add, refit; HTML report with plots")
@@ -19,8 +18,7 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    if not 0 <= args.seed < 2 ** 32:
-        raise InputError(f"--seed {args.seed}: must be an integer in [0, 2**32)")
+    check_seed(args.seed)
     path, summary, lad = run_demo(args.out, args.seed, progress)
     if args.json:
         print_json(summary)

@@ -23,7 +23,7 @@ from ..channels import CONTROLS
 from ..fileio import check_output, json_text, safe_write_text
 from ..model.params import PUMA
 from ..data.record import write_record
-from ._common import print_json, progress
+from ._common import check_seed, print_json, progress
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
@@ -121,8 +121,7 @@ def _manoeuvre(args):
         v = getattr(args, name)
         if not math.isfinite(v):
             raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
-    if not 0 <= args.seed < 2 ** 32:
-        raise InputError(f"--seed {args.seed}: must be an integer in [0, 2**32)")
+    check_seed(args.seed)
     if not MIN_DT <= args.dt <= 1.0:
         raise InputError(f"--dt {args.dt:g}: the sample step must be in [{MIN_DT:g}, 1] s")
     if not 4 * args.dt <= args.duration or args.duration / args.dt > MAX_SAMPLES:

@@ -7,10 +7,7 @@ importer (e.g. ``fmpy.simulate_fmu(..., start_values=...)``).
 """
 from __future__ import annotations
 
-from pathlib import Path
-
 from ..errors import InputError
-from ..fileio import check_output
 from ._common import print_json, progress
 
 HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
@@ -40,13 +37,8 @@ def run(args) -> int:
         raise InputError("fmu: choose an action: build")
     from ..fmu import MODEL_IDENTIFIER, build_fmu
     from ..fmu.generate import guid
-    out = Path(args.out)
-    if out.suffix != ".fmu":
-        raise InputError(f"{out}: an FMU file name must end in .fmu")
-    check_output(out, args.force)
-    progress(f"building {args.out} ...")
     path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version,
-                     platforms=tuple(args.platform))
+                     platforms=tuple(args.platform), say=progress)
     if args.json:
         print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER,
                     "fmi_version": f"{args.fmi_version}.0"})

@@ -69,6 +69,15 @@ def cross_compiler(target: str) -> str | None:
     return shutil.which(CROSS[target][0])
 
 
+def require_cross_compiler(target: str) -> str:
+    """The cross compiler for ``target``, or one line saying what to install."""
+    cc = cross_compiler(target)
+    if cc is None:
+        raise InputError(f"FMU build: no {CROSS[target][0]} for the {target} binary "
+                         "(install mingw-w64, e.g. Debian's gcc-mingw-w64-x86-64)")
+    return cc
+
+
 def compiler() -> str:
     """The system C compiler: ``$CC``, else ``cc`` or ``gcc`` on the PATH."""
     for cand in (os.environ.get("CC"), "cc", "gcc"):
@@ -105,10 +114,7 @@ def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
     if target is None:
         cc, flags = compiler(), CFLAGS
     else:
-        cc, flags = cross_compiler(target), CROSS_CFLAGS
-        if cc is None:
-            raise InputError(f"FMU build: no {CROSS[target][0]} for the {target} binary "
-                             "(install mingw-w64, e.g. Debian's gcc-mingw-w64-x86-64)")
+        cc, flags = require_cross_compiler(target), CROSS_CFLAGS
     cmd = [cc, *flags, *extra_flags, f"-I{src}", "-o", str(out_so),
            *(str(src / f) for f in sources(fmi_version)), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
@@ -220,7 +226,7 @@ same numbers.</p>
 
 
 def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
-              fmi_version=2, platforms=()) -> Path:
+              fmi_version=2, platforms=(), say=None) -> Path:
     """Build the co-simulation FMU with the system C compiler.
 
     Parameters
@@ -236,6 +242,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     platforms : iterable of str
         Cross-compiled binaries to add beside the native one: ``"win64"`` (with
         mingw-w64's ``x86_64-w64-mingw32-gcc``).
+    say : callable, optional
+        Told ``"building OUT ..."`` once the output and the compilers are checked,
+        before the long work.
 
     Returns
     -------
@@ -248,6 +257,10 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     check_output(out, overwrite, protect)
     version = _version(fmi_version)
     plat = platform_folder(version)
+    for target in platforms:                  # refuse before compiling anything
+        require_cross_compiler(target)
+    if say:
+        say(f"building {out} ...")
     with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp:
         root = Path(tmp) / "fmu"
         _stage_sources(root / "sources", version)
@@ -255,10 +268,7 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
                         fmi_version=version)
         for target in platforms:
-            _, folders, name = CROSS[target] if target in CROSS else (None, None, None)
-            if folders is None:
-                raise InputError(f"FMU build: unknown platform {target!r} (known: "
-                                 f"{', '.join(CROSS)})")
+            _, folders, name = CROSS[target]
             (root / "binaries" / folders[version]).mkdir(parents=True, exist_ok=True)
             compile_library(root / "sources", root / "binaries" / folders[version] / name,
                             fmi_version=version, target=target)

@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass
 
 from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
-from ..model.params import MU_MAX, OMEGA_RANGE, PUMA, SPECS
+from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
 
 MODEL_IDENTIFIER = "inflowsim"
@@ -89,8 +89,9 @@ def _build() -> tuple:
                           f"{ch.description}: perturbation about trim [{ch.unit}]",
                           -LIMIT, LIMIT))
     v.append(Variable("mu", "Real", "input", "continuous", PUMA.mu, "-",
-                      "trim advance ratio (a total, the flight condition): 0.1-0.5 with "
-                      f"inflow_speed 0 (V ~ mu), 0-0.5 with inflow_speed 1 (mass flow)",
+                      "trim advance ratio (a total, the flight condition): "
+                      f"{MU_MIN:g}-{MU_MAX:g} with inflow_speed 0 (V ~ mu), "
+                      f"0-{MU_MAX:g} with inflow_speed 1 (mass flow)",
                       0.0, MU_MAX))
     for name in OUTPUTS:
         v.append(Variable(name, "Real", "output", "continuous", None, "rad" if

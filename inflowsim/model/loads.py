@@ -30,6 +30,7 @@ import numpy as np
 from ..channels import CONTROLS, FLAP, INFLOW, LOADS, input_scale
 from ..errors import InputError
 from ..physics import loads as ld
+from .build import _frozen
 from .equations import rotation
 
 #: The aerodynamic loads, then the flap-spring hub moments (``channels.LOADS``).
@@ -86,8 +87,8 @@ def load_matrices(model) -> LoadMatrices:
     p = model.parameters
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
-    return LoadMatrices(tuple(LOADS), _ro(np.vstack([c, c_hub])),
-                        _ro(np.vstack([d, np.zeros((2, m))])))
+    return LoadMatrices(tuple(LOADS), _frozen(np.vstack([c, c_hub])),
+                        _frozen(np.vstack([d, np.zeros((2, m))])))
 
 
 def dimensional_loads(coefficients, constants, density: float) -> dict:
@@ -117,12 +118,6 @@ def _select(names, wanted, n) -> np.ndarray:
         if w in names:
             s[i, list(names).index(w)] = 1.0
     return s
-
-
-def _ro(a):
-    a = np.array(a, float)
-    a.flags.writeable = False
-    return a
 
 
 __all__ = ["AERO", "HUB", "LoadMatrices", "load_matrices", "dimensional_loads"]
