@@ -1,8 +1,11 @@
 /*
  * Rotor flap and dynamic inflow: matrices from parameters (model.md Eq. 1-4, 13,
- * 19-20, section 6), exact zero-order-hold discretisation, one step.  A
- * re-implementation of inflowsim.model.build_model and inflowsim.discrete.zoh;
- * the tests check the two agree to rounding.  Knows nothing of FMI.
+ * 19-20, section 6), exact zero-order-hold discretisation, one step.  The
+ * equations themselves (descriptor, loads' blade-element matrices) are generated
+ * from the Python model into inflow_equations.c (inflowsim.fmu.codegen); this file
+ * does the SI state space, discretisation and stepping of inflowsim.model.build_model
+ * and inflowsim.discrete.zoh.  The tests check the two agree to rounding.  Knows
+ * nothing of FMI.
  */
 #include <math.h>
 #include <stdio.h>
@@ -127,28 +130,6 @@ static double flow_speed(const IfsVariables *v)
     return (mu * mu + 2 * lam * lam) / hypot(mu, lam);
 }
 
-/* The blade-element loads of Eq. (4), (C_T, C_mc, C_ms)/(a0 s) per beta', beta,
- * lambda and [theta | nu] (model.md section 3). */
-static void load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
-                          double Gu[3][6])
-{
-    const double m2 = mu * mu;
-    const double db[3][3] = {{-1.0 / 6, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
-                             {mu / 12, 0.0, 1.0 / 16}};
-    const double b[3][3] = {{0.0, 0.0, 0.0}, {mu / 12, 0.0, 1.0 / 16 + m2 / 32},
-                            {0.0, -1.0 / 16 + m2 / 32, 0.0}};
-    const double l[3][3] = {{-1.0 / 4, 0.0, -mu / 8}, {0.0, 1.0 / 16, 0.0},
-                            {mu / 8, 0.0, 1.0 / 16}};
-    const double u[3][6] = {   /* G_theta | G_nu */
-        {1.0 / 6 + m2 / 4, 0.0, mu / 4, 1.0 / 4, 0.0, mu / 8},
-        {0.0, -1.0 / 16 - m2 / 32, 0.0, 0.0, -1.0 / 16, 0.0},
-        {-mu / 6, 0.0, -1.0 / 16 - 3 * m2 / 32, -mu / 8, 0.0, -1.0 / 16}};
-    memcpy(Gdb, db, sizeof db);
-    memcpy(Gb, b, sizeof b);
-    memcpy(Gl, l, sizeof l);
-    memcpy(Gu, u, sizeof u);
-}
-
 /* loads = lc x + ld u (SI state and inputs): Eq. (4) times a0 s with beta' from the
  * dynamics (x' = (a x + b u)/Omega), the true pitch under an azimuth bias, and the
  * centre-spring hub moments -a0 s (lambda_beta2 - 1)/(16 n_beta) (beta1c, beta1s);
@@ -159,7 +140,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
     const double a0s = v->a0 * v->solidity, om = v->omega;
     const double cb = n->cos_bias, sb = n->sin_bias;   /* set by set_bias */
     int r, i, j;
-    load_matrices(v->mu, Gdb, Gb, Gl, Gu);
+    ifs_load_matrices(v->mu, Gdb, Gb, Gl, Gu);
     memset(n->lc, 0, sizeof n->lc);
     memset(n->ld, 0, sizeof n->ld);
     for (r = 0; r < 3; r++) {
@@ -188,109 +169,10 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
     n->lc[4 * NX + 2] = n->lc[3 * NX + 1];
 }
 
-#define E_(i, j) e[(i) * NX + (j)]
-#define A_(i, j) a[(i) * NX + (j)]
-#define B_(i, j) b[(i) * NU + (j)]
-
 void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
                     double b[NX * NU])
 {
-    const double mu = v->mu, nb = v->n_beta, lb2 = v->lambda_beta2, m2 = mu * mu;
-    const double a0s = v->a0 * v->solidity;
-    const int st = v->structure;
-    /* local momentum L = diag(a0s/(2 V), -2 a0s/V, -2 a0s/V) (model.md section 3), V
-     * the paper's mu or the mass-flow parameter (docs/model.md, extensions) */
-    const double V = flow_speed(v);
-    const double L[3] = {a0s / (2.0 * V), -2.0 * a0s / V, -2.0 * a0s / V};
-    /* flap, Eq. (1) */
-    const double C[3][3] = {{nb, 0.0, 2.0 / 3.0 * mu * nb}, {0.0, nb, 2.0},
-                            {4.0 / 3.0 * mu * nb, -2.0, nb}};
-    const double D[3][3] = {{lb2, 0.0, 0.0},
-                            {4.0 / 3.0 * mu * nb, lb2 - 1.0, nb * (1.0 + m2 / 2.0)},
-                            {0.0, -nb * (1.0 - m2 / 2.0), lb2 - 1.0}};
-    const double Hl[3][3] = {{-nb * 4.0 / 3.0, 0.0, -nb * 2.0 / 3.0 * mu},
-                             {0.0, -nb, 0.0}, {-nb * 2.0 * mu, 0.0, -nb}};
-    /* loads, Eq. (4) */
-    double Gdb[3][3], Gb[3][3], Gl[3][3], Gu[3][6];
-    /* input columns: theta0 theta1c theta1s muz qbar pbar qbar' pbar' mux muy */
-    double hu[3][NU] = {
-        {nb * (1 + m2), 0.0, nb * 4.0 / 3.0 * mu, 4.0 / 3.0 * nb, 0.0, 2.0 / 3.0 * mu * nb,
-         0.0, 0.0, 0.0, 0.0},
-        {0.0, nb * (1 + m2 / 2), 0.0, 0.0, nb, 2.0, 1.0, 0.0, 0.0, 0.0},
-        {nb * 8.0 / 3.0 * mu, 0.0, nb * (1 + 1.5 * m2), 2.0 * mu * nb, -2.0, nb, 0.0, 1.0,
-         0.0, 0.0}};
-    double pdb[3][3], pb[3][3], pl[3][3], pu[3][NU], dtau[3];
-    int i, j;
-
-    load_matrices(mu, Gdb, Gb, Gl, Gu);
-
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            pdb[i][j] = L[i] * Gdb[i][j];
-            pb[i][j] = L[i] * Gb[i][j];
-            pl[i][j] = L[i] * Gl[i][j];
-        }
-        for (j = 0; j < NU; j++) pu[i][j] = j < 6 ? L[i] * Gu[i][j] : 0.0;
-    }
-    if (st == IFS_BASIC) {
-        dtau[0] = dtau[1] = dtau[2] = v->tau;                  /* Eq. (2) */
-    } else {                                                   /* Eq. (13) */
-        dtau[0] = v->tau0;
-        dtau[1] = dtau[2] = v->tau_cs;
-    }
-    if (st == IFS_EMPIRICAL) {                                 /* K mu_xy, Eq. (13) */
-        const double K[3][2] = {{v->k01, v->k02}, {v->k11, v->k12}, {v->k21, v->k22}};
-        for (i = 0; i < 3; i++) { pu[i][8] += K[i][0]; pu[i][9] += K[i][1]; }
-    }
-    if (st == IFS_GLAUERT) {             /* F nu_lambda + G mu_xy, Eqs. (19)-(20) */
-        const double k0 = v->k0p - a0s / (8.0 * V);
-        const double fp[3] = {v->ks, 0.0, k0};     /* multiplies p* - lambda1s */
-        const double fq[3] = {v->kc, k0, 0.0};     /* multiplies q* - lambda1c */
-        const double G[3][2] = {{v->c1, v->c2}, {-v->c3, v->c4}, {v->c4, v->c3}};
-        for (i = 0; i < 3; i++) {
-            /* p* = pbar + beta1c - beta1s' + theta1s, q* = qbar - beta1s - beta1c' + theta1c */
-            pdb[i][2] -= fp[i];
-            pdb[i][1] -= fq[i];
-            pb[i][1] += fp[i];
-            pb[i][2] -= fq[i];
-            pl[i][2] -= fp[i];
-            pl[i][1] -= fq[i];
-            pu[i][2] += fp[i];
-            pu[i][5] += fp[i];
-            pu[i][1] += fq[i];
-            pu[i][4] += fq[i];
-            pu[i][8] += G[i][0];
-            pu[i][9] += G[i][1];
-        }
-    }
-    if (st != IFS_BASIC) {
-        /* azimuth bias: the model takes recorded pitch, true = R(-bias) recorded */
-        const double cb = cos(v->azimuth_bias), sb = sin(v->azimuth_bias);
-        for (i = 0; i < 3; i++) {
-            double h1 = hu[i][1], h2 = hu[i][2], p1 = pu[i][1], p2 = pu[i][2];
-            hu[i][1] = h1 * cb - h2 * sb;
-            hu[i][2] = h1 * sb + h2 * cb;
-            pu[i][1] = p1 * cb - p2 * sb;
-            pu[i][2] = p1 * sb + p2 * cb;
-        }
-    }
-    /* E = [[C, 0], [-p_dbeta, D_tau]], A = [[-D, H_lambda], [p_beta, p_lambda - I]] */
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            E_(i, j) = C[i][j];
-            E_(i, j + 3) = 0.0;
-            E_(i + 3, j) = -pdb[i][j];
-            E_(i + 3, j + 3) = i == j ? dtau[i] : 0.0;
-            A_(i, j) = -D[i][j];
-            A_(i, j + 3) = Hl[i][j];
-            A_(i + 3, j) = pb[i][j];
-            A_(i + 3, j + 3) = pl[i][j] - (i == j ? 1.0 : 0.0);
-        }
-        for (j = 0; j < NU; j++) {
-            B_(i, j) = hu[i][j];
-            B_(i + 3, j) = pu[i][j];
-        }
-    }
+    ifs_descriptor_of(v, flow_speed(v), e, a, b);
 }
 
 int ifs_discretize(const IfsModel *m, double h, double pg[NA * IFS_LD])
@@ -363,8 +245,9 @@ static void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
  * loads' true pitch. */
 static void set_bias(IfsModel *m, const IfsVariables *v)
 {
-    m->cos_bias = v->structure != IFS_BASIC ? cos(v->azimuth_bias) : 1.0;
-    m->sin_bias = v->structure != IFS_BASIC ? sin(v->azimuth_bias) : 0.0;
+    const double bias = ifs_bias_of(v);
+    m->cos_bias = cos(bias);
+    m->sin_bias = sin(bias);
     build_loads(m, v);
 }
 
@@ -403,9 +286,9 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  "[0, 0.5] and a trim thrust coefficient ct > 0", v->mu, v->ct);
         return -1;
     }
-    if (v->structure < IFS_BASIC || v->structure > IFS_GLAUERT) {
-        snprintf(msg, msg_len, "structure = %d is outside the allowed range [0, 2] "
-                 "(0 basic, 1 empirical, 2 glauert)", v->structure);
+    if (v->structure < 0 || v->structure >= IFS_N_STRUCTURES) {
+        snprintf(msg, msg_len, "structure = %d is outside the allowed range [0, %d] (%s)",
+                 v->structure, IFS_N_STRUCTURES - 1, IFS_STRUCTURE_NAMES);
         return -1;
     }
     ifs_descriptor(v, e, a, b);
@@ -415,7 +298,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     }
     if (lu_solve(NX, e, NA, rhs, 1e-12) != 0) {
         snprintf(msg, msg_len, "the descriptor matrix E is singular for these parameters "
-                 "(n_beta, tau, tau0, tau_cs, k0p, kc, ks)");
+                 "(n_beta, the time constants, k0p, kc, ks, flap_inertia)");
         return -1;
     }
     for (i = 0; i < NX; i++) {

@@ -9,6 +9,8 @@
  *   theta0 theta1c theta1s [rad] muz [-] q p [rad/s] qdot pdot [rad/s^2] mux muy [-]
  * States x = outputs before the azimuth-bias rotation:
  *   beta0 beta1c beta1s [rad] lambda0 lambda1c lambda1s [-]
+ *   (then the flap rates beta0_prime beta1c_prime beta1s_prime [rad/s] with
+ *   flap-inertia: IFS_NX 9)
  * Continuous:  x_dot = a x + b u,   y = c x   (seconds, model.md Eq. 8-9, 13, 19-20)
  * Discrete:    x_{k+1} = phi x_k + gam u_k   (u held over the step)
  */
@@ -19,14 +21,14 @@
 
 #include "inflow_vars.h"
 
-#define IFS_NX 6
+/* IFS_NX (6, or 9 with flap-inertia), IFS_N_STRUCTURES and IFS_STRUCTURE_NAMES come
+ * from the generated inflow_vars.h: the structures this FMU was generated for */
 #define IFS_NU 10
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
-#define IFS_LD 8                   /* stored column length: NX padded to whole vectors */
+#define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
 #define IFS_KMAX 30                /* most Taylor terms of a remainder step */
 
-enum { IFS_BASIC = 0, IFS_EMPIRICAL = 1, IFS_GLAUERT = 2 };
 
 typedef struct {
     /* continuous SI state space, row-major */
@@ -107,6 +109,16 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len);
 void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
                     double a[IFS_NX * IFS_NX], double b[IFS_NX * IFS_NU]);
 
+/* Generated from the Python model (inflow_equations.c, inflowsim.fmu.codegen), for
+ * v->structure: the descriptor at the speed V through the disc, the azimuth bias
+ * [rad] and the flap channels' time shifts [s]; and the blade-element load
+ * matrices of Eq. (4) (model.md section 3). */
+void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b);
+double ifs_bias_of(const IfsVariables *v);
+void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
+void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
+                       double Gu[3][6]);
+
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
  * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
 int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_LD]);
@@ -151,6 +163,7 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
 #define IFS_INLINE static inline
 #endif
 
+#if IFS_NX == 6
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
@@ -167,6 +180,23 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
     memcpy(x, y, sizeof y);
 #endif
 }
+#else
+/* other state counts (flap-inertia's nine): the same sum, column by column */
+IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
+{
+    double y[IFS_LD] = {0.0};
+    int i, j;
+    for (j = 0; j < IFS_NU; j++) {
+        const double *c = pg + (IFS_NX + j) * IFS_LD;
+        for (i = 0; i < IFS_LD; i++) y[i] += c[i] * u[j];
+    }
+    for (j = 0; j < IFS_NX; j++) {
+        const double *c = pg + j * IFS_LD;
+        for (i = 0; i < IFS_LD; i++) y[i] += c[i] * x[j];
+    }
+    memcpy(x, y, sizeof(double) * IFS_NX);
+}
+#endif
 #undef IFS_C
 #undef IFS_STEP_ROWS
 

@@ -19,7 +19,11 @@
 #endif
 #define ifs_advance IFS_NAME(ifs_advance)
 #define ifs_build IFS_NAME(ifs_build)
+#define ifs_bias_of IFS_NAME(ifs_bias_of)
 #define ifs_descriptor IFS_NAME(ifs_descriptor)
+#define ifs_descriptor_of IFS_NAME(ifs_descriptor_of)
+#define ifs_flap_delays_of IFS_NAME(ifs_flap_delays_of)
+#define ifs_load_matrices IFS_NAME(ifs_load_matrices)
 #define ifs_discretize IFS_NAME(ifs_discretize)
 #define ifs_integer_vars IFS_NAME(ifs_integer_vars)
 #define ifs_log IFS_NAME(ifs_log)

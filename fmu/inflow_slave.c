@@ -71,36 +71,49 @@ int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn)
     return IFS_OK;
 }
 
-/* The delay's whole steps, fraction and partial-step matrices for m (after a build). */
-static int delay_tables(IfsSlave *s, const IfsLog *lg)
+/* The delays' whole steps, fractions and partial-step matrices for m (after a
+ * build); d the flap channels' delays of the structure (ifs_flap_delays_of). */
+static int delay_tables(IfsSlave *s, const IfsLog *lg, const double d[3])
 {
-    IfsDelay *d = &s->delay;
-    const double steps = s->v.delay / s->m.dt;
-    if (!(s->v.delay > 0.0)) {
-        d->active = 0;
-        return IFS_OK;
+    IfsDelay *dl = &s->delay;
+    int i;
+    dl->active = 0;
+    for (i = 0; i < 3; i++) {
+        const double steps = d[i] / s->m.dt;
+        dl->d[i] = d[i];
+        dl->mm[i] = 0;
+        dl->f[i] = 0.0;
+        if (!(d[i] > 0.0)) continue;
+        if (steps > IFS_DELAY_MAX_STEPS)
+            return ifs_log(lg, IFS_ERROR, "flap channel %d's delay %g s is more than %d "
+                           "internal steps dt = %g s: use a larger dt", i, d[i],
+                           IFS_DELAY_MAX_STEPS, s->m.dt);
+        dl->mm[i] = (int)floor(steps + 1e-12);
+        dl->f[i] = steps - dl->mm[i];
+        if (dl->f[i] < 1e-12) dl->f[i] = 0.0;
+        if (dl->f[i] > 0.0 &&
+            ifs_discretize(&s->m, (1.0 - dl->f[i]) * s->m.dt, dl->pg_frac[i]) != 0)
+            return ifs_log(lg, IFS_ERROR, "the delay's partial step failed to discretise");
+        dl->active = 1;
     }
-    if (steps > IFS_DELAY_MAX_STEPS)
-        return ifs_log(lg, IFS_ERROR, "delay = %g s is more than %d internal steps dt = "
-                       "%g s: use a larger dt", s->v.delay, IFS_DELAY_MAX_STEPS, s->m.dt);
-    d->mm = (int)floor(steps + 1e-12);
-    d->f = steps - d->mm;
-    if (d->f < 1e-12) d->f = 0.0;
-    if (d->f > 0.0 && ifs_discretize(&s->m, (1.0 - d->f) * s->m.dt, d->pg_frac) != 0)
-        return ifs_log(lg, IFS_ERROR, "the delay's partial step failed to discretise");
-    d->active = 1;
     return IFS_OK;
 }
 
 static int rebuild(IfsSlave *s, const IfsLog *lg)
 {
     char msg[MSG_LEN];
-    if (s->v.delay > 0.0) {        /* exact matrices: the delay's partial step needs them */
+    double d[3];
+    ifs_flap_delays_of(&s->v, d);
+    if (d[0] < 0.0 || d[1] < 0.0 || d[2] < 0.0)
+        return ifs_log(lg, IFS_ERROR, "a flap delay is negative (a lead): the FMU steps "
+                       "causally and applies lags only");
+    if (d[0] > 0.0 || d[1] > 0.0 || d[2] > 0.0) {
+        /* exact matrices: the delays' partial steps need them */
         if (ifs_build(&s->m, &s->v, msg, sizeof msg) != 0)
             return ifs_log(lg, IFS_ERROR, "%s", msg);
         s->params_changed = 0;
         s->dirty = 0;
-        return delay_tables(s, lg);
+        return delay_tables(s, lg, d);
     }
     s->delay.active = 0;
     if (s->tab && !s->params_changed && s->tab->state == 0 && s->phase == IFS_PH_STEP) {
@@ -345,22 +358,22 @@ static void ring_state(const IfsSlave *s, long long j, double x[IFS_NX])
     ifs_step(s->m.pg, x, d->hu[slot]);
 }
 
-void ifs_slave_delayed_state(const IfsSlave *s, double x[IFS_NX])
+void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX])
 {
     const IfsDelay *d = &s->delay;
     const long long k = d->k;
-    if (d->f == 0.0) {
-        if (d->mm == 0) memcpy(x, s->m.x, sizeof s->m.x);
-        else ring_state(s, k - d->mm, x);
+    if (d->f[i] == 0.0) {
+        if (d->mm[i] == 0) memcpy(x, s->m.x, sizeof s->m.x);
+        else ring_state(s, k - d->mm[i], x);
     } else {
-        const long long j = k - d->mm - 1;
+        const long long j = k - d->mm[i] - 1;
         const int slot = (int)(j % IFS_DELAY_DEPTH);
         if (j < 0 || d->hk[slot] != j) {
             memcpy(x, d->x0, sizeof d->x0);
             return;
         }
         memcpy(x, d->hx[slot], sizeof d->hx[slot]);
-        ifs_step(d->pg_frac, x, d->hu[slot]);
+        ifs_step(d->pg_frac[i], x, d->hu[slot]);
     }
 }
 
@@ -417,9 +430,9 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         const double r = h / s->m.dt;
         const long long n = (long long)floor(r + 0.5);
         if (fabs(r - (double)n) > 1e-9 * (r > 1.0 ? r : 1.0))
-            return ifs_log(lg, IFS_ERROR, "%s: with delay = %g s the communication step "
+            return ifs_log(lg, IFS_ERROR, "%s: with a flap delay the communication step "
                            "must be a whole number of internal steps dt = %g s, not %g s",
-                           fn, s->v.delay, s->m.dt, h);
+                           fn, s->m.dt, h);
         delayed_advance(s, n);
     } else {
         if (h != s->m.dt) fresh_ab(s);

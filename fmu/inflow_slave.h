@@ -21,17 +21,20 @@ enum { IFS_OK = 0, IFS_WARNING = 1, IFS_ERROR = 3 };
 
 typedef enum { IFS_PH_INSTANTIATED, IFS_PH_INIT, IFS_PH_STEP, IFS_PH_TERMINATED } IfsPhase;
 
-/* The time-delay effect: the recorded flap is the rotor's at t - delay, exactly
- * (as inflowsim's Simulator): delay = mm dt + f dt; the delayed state is a stored
- * state (f = 0) or a stored state and input carried over (1 - f) dt by pg_frac.
- * A ring of the last IFS_DELAY_DEPTH internal steps' states and inputs. */
+/* Time shifts of the recorded flap (time-delay's delay, the delay-beta0 ..
+ * effects' per-channel ones): channel i is the rotor's at t - d_i, exactly (as
+ * inflowsim's Simulator): d_i = mm dt + f dt; the delayed state is a stored state
+ * (f = 0) or a stored state and input carried over (1 - f) dt by pg_frac.  A ring
+ * of the last IFS_DELAY_DEPTH internal steps' states and inputs, shared by the
+ * three channels. */
 #define IFS_DELAY_MAX_STEPS 256
 #define IFS_DELAY_DEPTH (IFS_DELAY_MAX_STEPS + 2)
 typedef struct {
-    int active;
-    int mm;                        /* whole internal steps of the delay */
-    double f;                      /* the fraction of a step left, 0 or in (0, 1) */
-    double pg_frac[IFS_NA * IFS_LD];    /* [phi gam] over (1 - f) dt */
+    int active;                    /* some channel is delayed */
+    double d[3];                   /* each flap channel's delay [s] */
+    int mm[3];                     /* whole internal steps of each */
+    double f[3];                   /* the fraction of a step left, 0 or in (0, 1) */
+    double pg_frac[3][IFS_NA * IFS_LD];    /* [phi gam] over (1 - f) dt */
     long long k;                   /* internal steps taken since initialization */
     double x0[IFS_NX];             /* the state at step 0 (before the record) */
     double hx[IFS_DELAY_DEPTH][IFS_NX];
@@ -122,17 +125,20 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
     return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
 }
 
-void ifs_slave_delayed_state(const IfsSlave *s, double x[IFS_NX]);
+/* The state delayed by flap channel i's time shift. */
+void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX]);
 
 IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
 {
     double y[IFS_NX];
     ifs_outputs(&s->m, y);
-    if (s->delay.active) {         /* the recorded flap, from the delayed state */
+    if (s->delay.active) {         /* the recorded flap, from the delayed states */
         double xd[IFS_NX];
-        ifs_slave_delayed_state(s, xd);
+        ifs_slave_delayed_state(s, 0, xd);
         y[0] = xd[0];
+        ifs_slave_delayed_state(s, 1, xd);
         y[1] = s->m.cos_bias * xd[1] - s->m.sin_bias * xd[2];
+        ifs_slave_delayed_state(s, 2, xd);
         y[2] = s->m.sin_bias * xd[1] + s->m.cos_bias * xd[2];
     }
     s->v.beta0 = y[0];

@@ -6,10 +6,13 @@
 
 #include "inflow_names.h"  /* prefixed internal names for static linking */
 
-#define IFS_GUID "{c3e2b680-e16a-5b33-bb84-9beb9ef0d0f2}"
+#define IFS_GUID "{21cd8fca-1ad2-5535-8810-f3bfd2deeca9}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
 #define IFS_N_REALS 47
 #define IFS_N_INTEGERS 2
+#define IFS_NX 6  /* states */
+#define IFS_N_STRUCTURES 3
+#define IFS_STRUCTURE_NAMES "0 basic, 1 empirical, 2 glauert"
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
 
 /* value references */

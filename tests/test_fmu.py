@@ -28,7 +28,7 @@ from fmpy.fmi3 import FMU3Slave  # noqa: E402
 from inflowsim.errors import InputError  # noqa: E402
 from inflowsim.fmu import VR, apply_parameters, build_fmu, start_values  # noqa: E402
 from inflowsim.fmu.generate import GENERATED, TIME_VR, generated_files  # noqa: E402
-from inflowsim.fmu.build import compile_library, source_dir  # noqa: E402
+from inflowsim.fmu.build import compile_library, source_dir, sources  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
 from inflowsim.paramfile import read_parameters  # noqa: E402
 from inflowsim.params import PUMA  # noqa: E402
@@ -1144,7 +1144,7 @@ def test_two_fmus_link_statically_with_function_prefixes(tmp_path, unzipped, gui
     src = source_dir()
     objs = []
     for prefix in ("main_rotor_", "tail_rotor_"):
-        for f in ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c", "inflow_vars.c"):
+        for f in sources(2):
             o = tmp_path / f"{prefix}{f}.o"
             subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
                             "-ffp-contract=off", f"-DFMI2_FUNCTION_PREFIX={prefix}",

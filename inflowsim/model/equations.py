@@ -64,7 +64,11 @@ class Measurement:
 def rotation(angle: float) -> np.ndarray:
     """Maps true ``(c, s)`` cyclic components to those recorded with azimuth
     offset ``angle`` (``model.md`` section 6)."""
-    ca, sa = np.cos(angle), np.sin(angle)
+    try:
+        ca, sa = np.cos(angle), np.sin(angle)
+    except TypeError:       # a sympy symbol: the FMU's C is generated from this code
+        import sympy
+        ca, sa = sympy.cos(angle), sympy.sin(angle)
     return np.array([[ca, -sa], [sa, ca]])
 
 

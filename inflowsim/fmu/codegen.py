@@ -1,0 +1,201 @@
+"""The FMU's model equations in C, generated from the Python model: one source.
+
+The descriptor matrices ``E, A, B`` of Eq. (8) are what
+:func:`inflowsim.model.build.base_equations`, each effect's ``equations`` and
+:func:`inflowsim.model.equations.assemble` compute.  Here those same functions run
+on symbols (sympy) instead of numbers: the parameters by their canonical names,
+``mu``, ``a0``, ``solidity``, and ``V`` the speed through the disc (the paper's
+``mu`` or the mass-flow parameter, which the C computes).  The expressions are
+printed as C after common-subexpression elimination.  No effect is written in C by
+hand, so every structure the library builds runs in the FMU, and a change to an
+effect's Python changes the FMU at the next generation (a test regenerates the
+committed sources and fails on any difference).
+
+The measurement part comes from the effects' ``measurement`` the same way: the
+azimuth bias that rotates the recorded flap and each flap channel's time shift.
+What the FMU cannot do is refused with one line: leads and input time shifts (a
+causal step cannot apply them; the Simulator refuses them too) and effects
+linearised about a trim state (``advance-ratio-perturbation``: its coefficients
+need the trim inflow of a record).
+"""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from ..channels import FLAP
+from ..errors import InputError
+from ..model.build import base_equations
+from ..model.effects import CATALOGUE
+from ..model.equations import Measurement, assemble
+from ..model.structure import Structure
+
+#: Effects whose equations need a record's trim state: not in the FMU.
+TRIM_EFFECTS = ("advance-ratio-perturbation",)
+
+
+def _sympy():
+    try:
+        import sympy
+    except ImportError:                      # declared in pyproject; a broken install
+        raise InputError("FMU code generation needs sympy (pip install sympy)") from None
+    return sympy
+
+
+def _symbols(structure: Structure):
+    sp = _sympy()
+
+    p = {n: sp.Symbol(n) for n in structure.parameters}
+    k = SimpleNamespace(mu=sp.Symbol("mu"), a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
+                        flow_speed=sp.Symbol("V"), trim=None)
+    return p, k
+
+
+def supported(structure) -> Structure:
+    """``structure`` parsed, or :class:`InputError` naming what the FMU cannot run."""
+    s = Structure.parse(structure)
+    for name in s.effects:
+        if name in TRIM_EFFECTS:
+            raise InputError(f"the FMU does not run effect {name}: its coefficients are "
+                             "linearised about a record's trim state (the Simulator and "
+                             "identify do)")
+        if name.startswith("delay-") and name[len("delay-"):] not in FLAP:
+            raise InputError(f"the FMU does not run effect {name}: a time shift of an "
+                             "input cannot be applied by a causal step (inflowsim.replay "
+                             "applies it to a whole record)")
+    return s
+
+
+def traced(structure):
+    """``(structure, E, A, B, measurement)`` with sympy entries: the Python model run
+    on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
+    s = supported(structure)
+    p, k = _symbols(s)
+    eq = base_equations(p, k)
+    meas = Measurement()
+    for name in s.effects:
+        eff = CATALOGUE[name]
+        eq = eff.equations(eq, p, k)
+        meas = eff.measurement(meas, p, k)
+    e, a, b = assemble(eq, s.second_order)
+    return s, e, a, b, meas
+
+
+def _c_name(sym) -> str:
+    name = str(sym)
+    if name == "V":
+        return "V"
+    return f"v->{name}"
+
+
+def _is_zero(x) -> bool:
+    return isinstance(x, (int, float)) and x == 0
+
+
+def _measurement_c(meas, index: int, sp) -> list:
+    # no shift from the structure: the FMU's own lag ``delay`` (time-delay's
+    # parameter, neutral 0), so every build can model a measurement chain's lag
+    bias_c = "0.0" if _is_zero(meas.azimuth_bias) else _c_name(meas.azimuth_bias)
+    delays = ["v->delay" if _is_zero(d) else _c_name(d) for d in meas.delays]
+    return [f"static double bias_{index}(const IfsVariables *v)",
+            "{"] + (["    (void)v;"] if bias_c == "0.0" else []) + [
+            f"    return {bias_c};",
+            "}",
+            "",
+            f"static void flap_delays_{index}(const IfsVariables *v, double d[3])",
+            "{"] + [f"    d[{i}] = {c};" for i, c in enumerate(delays)] + ["}", ""]
+
+
+def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
+    n = e.shape[0]
+    targets = []
+    for arr, name, ncol in ((e, "e", n), (a, "a", n), (b, "b", b.shape[1])):
+        for i in range(arr.shape[0]):
+            for j in range(arr.shape[1]):
+                x = sp.sympify(arr[i, j])
+                x = sp.expand(x) if x.has(sp.Symbol) else x
+                if x.is_zero is not True:
+                    targets.append((f"{name}[{i * ncol + j}]", x))
+    subs, reduced = sp.cse([x for _, x in targets], symbols=sp.numbered_symbols("t"),
+                           optimizations="basic")
+    free = set().union(*(x.free_symbols for _, x in targets)) if targets else set()
+    rename = {sym: sp.Symbol(_c_name(sym)) for sym in free}
+    lines = [f"/* {s.name}: {', '.join(s.effects) or 'the basic momentum model'} */",
+             f"static void descriptor_{index}(const IfsVariables *v, double V, "
+             "double *e, double *a, double *b)", "{"]
+    uses_v = any(str(x) == "V" for x in free)
+    if not uses_v:
+        lines.append("    (void)V;")
+    for t, x in subs:
+        lines.append(f"    const double {t} = {sp.ccode(x.xreplace(rename))};")
+    lines += [f"    memset(e, 0, sizeof(double) * IFS_NX * IFS_NX);",
+              f"    memset(a, 0, sizeof(double) * IFS_NX * IFS_NX);",
+              f"    memset(b, 0, sizeof(double) * IFS_NX * IFS_NU);"]
+    for (target, _), x in zip(targets, reduced):
+        lines.append(f"    {target} = {sp.ccode(x.xreplace(rename))};")
+    return lines + ["}", ""]
+
+
+def _loads_c(sp) -> list:
+    """``ifs_load_matrices``: the blade-element matrices of Eq. (4) from
+    :mod:`inflowsim.physics.loads`, run on the symbol ``mu``."""
+    from ..physics import loads as ld
+    mu = sp.Symbol("mu")
+    blocks = (("Gdb", ld.g_dbeta(mu), 0), ("Gb", ld.g_beta(mu), 0),
+              ("Gl", ld.g_lambda(mu), 0), ("Gu", ld.g_theta(mu), 0),
+              ("Gu", ld.g_nu(mu), 3))
+    lines = ["void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], "
+             "double Gl[3][3],", "                       double Gu[3][6])", "{"]
+    for name, g, col in blocks:
+        for i in range(3):
+            for j in range(3):
+                lines.append(f"    {name}[{i}][{j + col}] = "
+                             f"{sp.ccode(sp.sympify(g[i, j]))};")
+    return lines + ["}", ""]
+
+
+def equations_c(structures) -> str:
+    """The text of ``inflow_equations.c`` for the FMU's ``structures`` (in the order
+    of its integer ``structure``): descriptor, azimuth bias and flap time shifts of
+    each, and the dispatch on ``v->structure``."""
+    sp = _sympy()
+    body = []
+    states = set()
+    for i, st in enumerate(structures):
+        s, e, a, b, meas = traced(st)
+        states.add(e.shape[0])
+        body += _descriptor_c(s, e, a, b, i, sp) + _measurement_c(meas, i, sp)
+    if len(states) != 1:
+        raise InputError("the structures of one FMU must have the same number of states "
+                         f"(these have {sorted(states)})")
+    n = len(structures)
+    cases = lambda call: [f"    case {i}: {call.format(i=i)}" for i in range(n)]
+    head = ["/* Generated by inflowsim.fmu.codegen from the Python model "
+            "(inflowsim.model): do not edit. */",
+            "/* The descriptor E x' = A x + B u of each structure (azimuth time, "
+            "model.md Eq. 8),", " * its azimuth bias and its flap channels' time "
+            "shifts. */",
+            "#include <math.h>", "#include <string.h>", "", '#include "inflow_model.h"',
+            ""]
+    tail = ["void ifs_descriptor_of(const IfsVariables *v, double V, double *e, "
+            "double *a, double *b)", "{", "    switch (v->structure) {"]
+    tail += cases("descriptor_{i}(v, V, e, a, b); break;")
+    tail += ["    default: descriptor_0(v, V, e, a, b); break;", "    }", "}", "",
+             "double ifs_bias_of(const IfsVariables *v)", "{", "    switch (v->structure) {"]
+    tail += cases("return bias_{i}(v);")
+    tail += ["    default: return bias_0(v);", "    }", "}", "",
+             "void ifs_flap_delays_of(const IfsVariables *v, double d[3])", "{",
+             "    switch (v->structure) {"]
+    tail += cases("flap_delays_{i}(v, d); break;")
+    tail += ["    default: flap_delays_0(v, d); break;", "    }", "}", ""]
+    tail += _loads_c(sp)
+    return "\n".join(head + body + tail)
+
+
+def n_states(structures) -> int:
+    """States of the FMU's structures (all the same)."""
+    return len(Structure.parse(structures[0]).states)
+
+
+__all__ = ["equations_c", "traced", "supported", "n_states", "TRIM_EFFECTS"]
