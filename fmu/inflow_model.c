@@ -149,7 +149,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
             for (i = 0; i < 3; i++) s += Gdb[r][i] * n->a[i * NX + j];
             s /= om;
             if (j < 3) s += Gb[r][j];
-            else s += Gl[r][j - 3];
+            else if (j < 6) s += Gl[r][j - 3];   /* flap rates (flap-inertia): none */
             n->lc[r * NX + j] = a0s * s;
         }
         for (j = 0; j < NU; j++) {

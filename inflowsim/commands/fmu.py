@@ -27,6 +27,11 @@ def add_arguments(p):
     b.add_argument("--platform", action="append", default=[], choices=("win64",),
                    help="also cross-compile this platform's binary (win64: needs "
                         "mingw-w64's x86_64-w64-mingw32-gcc); repeatable")
+    b.add_argument("--model", "-m", metavar="FILE|STRUCTURE",
+                   help="what the FMU runs: a parameter file (identify --out, the "
+                        "ladder's; its parameters and constants become the start values) "
+                        "or a structure such as glauert+flap-inertia (default: the three "
+                        "presets, selected by the integer structure)")
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
                    help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")
@@ -35,14 +40,30 @@ def add_arguments(p):
 def run(args) -> int:
     if getattr(args, "action", None) != "build":
         raise InputError("fmu: choose an action: build")
-    from ..fmu import MODEL_IDENTIFIER, build_fmu
+    from ..fmu import MODEL_IDENTIFIER, build_fmu, description_for
     from ..fmu.generate import guid
+    d = description_for(_model(args.model))
     path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version,
-                     platforms=tuple(args.platform), say=progress)
+                     platforms=tuple(args.platform), say=progress, model=d,
+                     protect=(args.model,) if args.model else ())
     if args.json:
-        print_json({"fmu": str(path), "guid": guid(), "model_identifier": MODEL_IDENTIFIER,
-                    "fmi_version": f"{args.fmi_version}.0"})
+        print_json({"fmu": str(path), "guid": guid(d), "model_identifier": MODEL_IDENTIFIER,
+                    "fmi_version": f"{args.fmi_version}.0",
+                    "structures": list(d.structures)})
     else:
-        print(f"wrote {path} (FMI {args.fmi_version}.0 co-simulation, "
-              f"{'GUID' if args.fmi_version == 2 else 'instantiation token'} {guid()})")
+        print(f"wrote {path} (FMI {args.fmi_version}.0 co-simulation of "
+              f"{', '.join(d.structures)}, "
+              f"{'GUID' if args.fmi_version == 2 else 'instantiation token'} {guid(d)})")
     return 0
+
+
+def _model(text):
+    """A parameter file if ``text`` names one (or looks like a file name), else a
+    structure."""
+    from pathlib import Path
+    if text is None:
+        return None
+    if Path(text).is_file() or text.endswith(".json"):
+        from ..model.paramfile import read_parameters
+        return read_parameters(text)
+    return text

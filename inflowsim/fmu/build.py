@@ -20,8 +20,8 @@ from pathlib import Path
 
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
-from .generate import SOURCES, TIME_VR, generated_files, guid
-from .variables import MODEL_IDENTIFIER, VARIABLES
+from .generate import SOURCES, generated_files, guid, time_vr
+from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 
 #: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
 #: come from Python), then each FMI version's layer and headers.
@@ -124,7 +124,35 @@ def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
     return out_so
 
 
-def _stage_sources(dest: Path, fmi_version: int) -> None:
+def description_for(model=None) -> Description:
+    """The FMU description for ``model``: None (the presets), a structure text or
+    :class:`~inflowsim.model.structure.Structure`, a :class:`Description`, or a
+    :class:`~inflowsim.model.Model` or identified parameter set (its structure, its
+    parameters and constants as start values)."""
+    from ..model.structure import Structure
+    from .codegen import supported
+    if model is None:
+        return DEFAULT
+    if isinstance(model, Description):
+        return model
+    if isinstance(model, (str, Structure)):
+        return describe((supported(model).name,))
+    try:
+        structure, params = model.structure, dict(model.parameters)
+    except AttributeError:
+        raise InputError("an FMU is built for a structure, a Model or a parameter file "
+                         f"(inflowsim.paramfile.read_parameters), not {type(model).__name__}"
+                         ) from None
+    s = supported(structure)
+    bad = [n for n, x in params.items() if n.startswith("delay") and x < 0]
+    if bad:
+        raise InputError(f"{bad[0]} = {params[bad[0]]:g} s is a lead: the FMU steps "
+                         "causally and applies lags only (inflowsim.replay.replay applies "
+                         "leads)")
+    return describe((s.name,), start=params, constants=getattr(model, "constants", None))
+
+
+def _stage_sources(dest: Path, fmi_version: int, d: Description = DEFAULT) -> None:
     src = source_dir()
     layer, headers = LAYER[fmi_version]
     hand = CORE_SOURCES + (layer,) + CORE_HEADERS + headers
@@ -135,7 +163,7 @@ def _stage_sources(dest: Path, fmi_version: int) -> None:
     for f in hand + ("LICENSE-FMI.txt",):
         if (src / f).is_file():
             shutil.copyfile(src / f, dest / f)
-    for name, text in generated_files().items():
+    for name, text in generated_files(d).items():
         if name.endswith((".c", ".h")):
             (dest / name).write_text(text, encoding="utf-8")
     # the FMI 3.0 build description; FMPy also reads it to compile an FMI 2.0 FMU
@@ -156,21 +184,23 @@ def _build_description(fmi_version: int) -> str:
             "</fmiBuildDescription>\n")
 
 
-def documentation_html(fmi_version=2) -> str:
+def documentation_html(fmi_version=2, d: Description = DEFAULT) -> str:
     """``documentation/index.html``: conventions and the variable table."""
     v_ = _version(fmi_version)
     fmi = f"fmi{v_}"
     status_error = f"{fmi}Error"
     files = " ".join(sources(v_))
+    structures = ", ".join(f"{i} <code>{html.escape(n)}</code>"
+                           for i, n in enumerate(d.structures))
     time_row = ("" if v_ == 2 else
-                f"<tr><td><code>time</code></td><td>{TIME_VR}</td><td>Float64</td>"
+                f"<tr><td><code>time</code></td><td>{time_vr(d)}</td><td>Float64</td>"
                 "<td>independent</td><td>continuous</td><td></td><td>s</td>"
                 "<td>simulation time (read-only)</td></tr>\n")
     rows = time_row + "\n".join(
         f"<tr><td><code>{html.escape(v.name)}</code></td><td>{i}</td><td>{v.type}</td>"
         f"<td>{v.causality}</td><td>{v.variability}</td>"
         f"<td>{'' if v.start is None else v.start}</td><td>{html.escape(v.unit)}</td>"
-        f"<td>{html.escape(v.description)}</td></tr>" for i, v in enumerate(VARIABLES))
+        f"<td>{html.escape(v.description)}</td></tr>" for i, v in enumerate(d.variables))
     if v_ == 3:
         rows = rows.replace("<td>Real</td>", "<td>Float64</td>").replace(
             "<td>Integer</td>", "<td>Int32</td>")
@@ -179,9 +209,11 @@ def documentation_html(fmi_version=2) -> str:
 <h1>inflowsim: rotor flap and Glauert-augmented dynamic inflow (FMI {v_}.0 co-simulation)</h1>
 <p>First-order multiblade flapping with dynamic inflow, after "Glauert augmentation of
 rotor inflow dynamics" (ERF 1989): basic momentum model (Eq. 1-4), empirical model
-(Eq. 13) and Glauert-augmented model (Eq. 19-20) with azimuth bias, selected by the
-integer parameter <code>structure</code> (0 basic, 1 empirical, 2 glauert).
-{"GUID" if v_ == 2 else "Instantiation token"} {guid()}.</p>
+(Eq. 13) and Glauert-augmented model (Eq. 19-20), and the effects the diagnosis adds.
+This FMU runs {structures}, selected by the integer parameter <code>structure</code>;
+its C equations are generated from inflowsim's Python model
+(<code>inflow_equations.c</code>).
+{"GUID" if v_ == 2 else "Instantiation token"} {guid(d)}.</p>
 <h2>Conventions</h2>
 <ul>
 <li><b>Inputs and outputs are perturbations about trim</b>, in SI units (rad, rad/s,
@@ -226,7 +258,7 @@ same numbers.</p>
 
 
 def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
-              fmi_version=2, platforms=(), say=None) -> Path:
+              fmi_version=2, platforms=(), say=None, model=None) -> Path:
     """Build the co-simulation FMU with the system C compiler.
 
     Parameters
@@ -245,6 +277,12 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     say : callable, optional
         Told ``"building OUT ..."`` once the output and the compilers are checked,
         before the long work.
+    model : optional
+        What the FMU runs (:func:`description_for`): default the three presets
+        (integer ``structure`` 0 basic, 1 empirical, 2 glauert); a structure text
+        such as ``"glauert+flap-inertia"``; or a Model or an identified parameter
+        file, whose parameters and constants become the start values.  Its C
+        equations are generated from the Python model (:mod:`.codegen`).
 
     Returns
     -------
@@ -255,6 +293,7 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     if out.suffix != ".fmu":
         raise InputError(f"{out}: an FMU file name must end in .fmu")
     check_output(out, overwrite, protect)
+    d = description_for(model)
     version = _version(fmi_version)
     plat = platform_folder(version)
     for target in platforms:                  # refuse before compiling anything
@@ -263,7 +302,7 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         say(f"building {out} ...")
     with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp:
         root = Path(tmp) / "fmu"
-        _stage_sources(root / "sources", version)
+        _stage_sources(root / "sources", version, d)
         (root / "binaries" / plat).mkdir(parents=True)
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
                         fmi_version=version)
@@ -273,10 +312,10 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
             compile_library(root / "sources", root / "binaries" / folders[version] / name,
                             fmi_version=version, target=target)
         (root / "documentation").mkdir()
-        (root / "documentation" / "index.html").write_text(documentation_html(version),
+        (root / "documentation" / "index.html").write_text(documentation_html(version, d),
                                                            encoding="utf-8")
         (root / "modelDescription.xml").write_text(
-            generated_files()[DESCRIPTION[version]], encoding="utf-8")
+            generated_files(d)[DESCRIPTION[version]], encoding="utf-8")
         with atomic_path(out) as part:
             with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
                 for p in sorted(root.rglob("*")):

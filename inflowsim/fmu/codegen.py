@@ -22,8 +22,6 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
-import numpy as np
-
 from ..channels import FLAP
 from ..errors import InputError
 from ..model.build import base_equations
@@ -129,9 +127,9 @@ def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
         lines.append("    (void)V;")
     for t, x in subs:
         lines.append(f"    const double {t} = {sp.ccode(x.xreplace(rename))};")
-    lines += [f"    memset(e, 0, sizeof(double) * IFS_NX * IFS_NX);",
-              f"    memset(a, 0, sizeof(double) * IFS_NX * IFS_NX);",
-              f"    memset(b, 0, sizeof(double) * IFS_NX * IFS_NU);"]
+    lines += ["    memset(e, 0, sizeof(double) * IFS_NX * IFS_NX);",
+              "    memset(a, 0, sizeof(double) * IFS_NX * IFS_NX);",
+              "    memset(b, 0, sizeof(double) * IFS_NX * IFS_NU);"]
     for (target, _), x in zip(targets, reduced):
         lines.append(f"    {target} = {sp.ccode(x.xreplace(rename))};")
     return lines + ["}", ""]

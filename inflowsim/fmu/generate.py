@@ -229,7 +229,7 @@ def vars_header(d: Description = DEFAULT) -> str:
              f"#define IFS_N_INTEGERS {len(d.integers)}",
              f"#define IFS_NX {codegen.n_states(d.structures)}  /* states */",
              f"#define IFS_N_STRUCTURES {len(d.structures)}",
-             f'#define IFS_STRUCTURE_NAMES "'
+             '#define IFS_STRUCTURE_NAMES "'
              + ", ".join(f"{i} {n}" for i, n in enumerate(d.structures)) + '"',
              f"#define IFS_N_INPUTS {n_in}  /* the perturbation inputs, theta0 .. muy */",
              "", "/* value references */", "enum {"]

@@ -1,10 +1,12 @@
 """Turn a model or an identified parameter file into the FMU's variable values.
 
-The C model knows three structures (``basic``, ``empirical``, ``glauert``); every
-structure made of ``separate-time-constants``, ``hub-velocity-coupling``,
-``glauert`` and ``azimuth-bias`` is one of them with the missing effects at their
-neutral values (``tau0 = tau_cs = tau``, ``K = 0``, ``azimuth_bias = 0``), which
-is exact, not an approximation; ``time-delay`` (a lag) is the FMU's ``delay``.
+An FMU runs the structures it was generated for (:func:`inflowsim.fmu.build_fmu`'s
+``model``).  The default one knows the three presets (``basic``, ``empirical``,
+``glauert``); every structure made of ``separate-time-constants``,
+``hub-velocity-coupling``, ``glauert`` and ``azimuth-bias`` is one of them with the
+missing effects at their neutral values (``tau0 = tau_cs = tau``, ``K = 0``,
+``azimuth_bias = 0``), which is exact, not an approximation; ``time-delay`` (a lag)
+is every FMU's ``delay``.  Any other structure needs an FMU built for it.
 """
 from __future__ import annotations
 
@@ -12,21 +14,24 @@ from typing import Mapping
 
 from ..errors import InputError
 from ..model.structure import Structure
-from .variables import INFLOW_SPEEDS, INTEGERS, STRUCTURES, VR
+from .variables import DEFAULT, INFLOW_SPEEDS, STRUCTURES, Description
 
-#: Effects the C model implements.
+#: Effects the presets' FMU runs (as one of its three structures); an FMU built for a
+#: structure runs every effect but those :mod:`.codegen` refuses.
 SUPPORTED = ("separate-time-constants", "hub-velocity-coupling", "glauert", "azimuth-bias",
              "time-delay")
 _K = ("k01", "k02", "k11", "k12", "k21", "k22")
 
 
 def structure_code(structure) -> int:
-    """The FMU's integer ``structure`` for a structure, or :class:`InputError`."""
+    """The presets' FMU's integer ``structure`` for a structure, or
+    :class:`InputError`."""
     s = Structure.parse(structure)
     extra = [e for e in s.effects if e not in SUPPORTED]
     if extra:
-        raise InputError(f"the FMU does not implement effect {extra[0]} (it implements "
-                         f"{', '.join(SUPPORTED)})")
+        raise InputError(f"the presets' FMU does not run effect {extra[0]} (it runs "
+                         f"{', '.join(SUPPORTED)}): build an FMU for the structure "
+                         "(inflowsim fmu build --model FILE or STRUCTURE)")
     eff = set(s.effects) - {"time-delay"}         # a measurement effect, any base
     if "glauert" in eff:
         return STRUCTURES["glauert"]
@@ -35,7 +40,7 @@ def structure_code(structure) -> int:
     return STRUCTURES["basic"]
 
 
-def start_values(source, constants=None) -> dict:
+def start_values(source, constants=None, description: Description = DEFAULT) -> dict:
     """FMU start values from a model or a parameter file, for one call.
 
     Parameters
@@ -45,6 +50,9 @@ def start_values(source, constants=None) -> dict:
         :func:`inflowsim.paramfile.read_parameters` returns (an ``identify`` fit).
     constants : Constants, optional
         Overrides the source's constants (``mu``, ``a0``, ``solidity``, ``omega``).
+    description : Description, optional
+        The FMU's (:func:`inflowsim.fmu.build.description_for`); default the
+        presets' FMU.
 
     Returns
     -------
@@ -60,9 +68,18 @@ def start_values(source, constants=None) -> dict:
                          "(inflowsim.paramfile.read_parameters)") from None
     k = constants if constants is not None else getattr(source, "constants", None)
     s = Structure.parse(structure)
+    vals = {name: float(v) for name, v in params.items()}
+    # every FMU has time-delay's ``delay``: a structure with it runs as one without
+    bare = s.without_effect("time-delay") if "time-delay" in s.effects else s
+    codes = description.codes
+    code = codes.get(s.name, codes.get(bare.name))
+    if code is not None:
+        return _finish(code, vals, k, description)
+    if description.structures != DEFAULT.structures:
+        raise InputError(f"this FMU runs {', '.join(description.structures)}, not "
+                         f"{s.name}: build one for it (inflowsim fmu build --model FILE)")
     code = structure_code(s)
     eff = set(s.effects)
-    vals = {name: float(v) for name, v in params.items()}
     if code != STRUCTURES["basic"]:
         if "separate-time-constants" not in eff:
             vals["tau0"] = vals["tau_cs"] = vals.pop("tau")
@@ -70,10 +87,16 @@ def start_values(source, constants=None) -> dict:
             vals["azimuth_bias"] = 0.0
     if code == STRUCTURES["empirical"] and "hub-velocity-coupling" not in eff:
         vals.update(dict.fromkeys(_K, 0.0))
-    if vals.get("delay", 0.0) < 0:
-        raise InputError(f"delay = {vals['delay']:g} s is a lead: the FMU steps causally "
-                         "and applies lags only (inflowsim.replay.replay applies leads)")
-    unknown = sorted(set(vals) - set(VR))
+    return _finish(code, vals, k, description)
+
+
+def _finish(code, vals, k, description) -> dict:
+    for name, x in vals.items():
+        if name.startswith("delay") and x < 0:
+            raise InputError(f"{name} = {x:g} s is a lead: the FMU steps causally "
+                             "and applies lags only (inflowsim.replay.replay applies "
+                             "leads)")
+    unknown = sorted(set(vals) - set(description.vr))
     if unknown:
         raise InputError(f"parameter {unknown[0]} is not a variable of the FMU")
     out = {"structure": code}
@@ -87,15 +110,18 @@ def start_values(source, constants=None) -> dict:
     return out
 
 
-def apply_parameters(fmu, source, constants=None) -> dict:
+def apply_parameters(fmu, source, constants=None,
+                     description: Description = DEFAULT) -> dict:
     """Set :func:`start_values` on an instantiated fmpy ``FMU2Slave`` or ``FMU3Slave``
     (before ``exitInitializationMode`` for ``structure``; tunable values also between
     steps).
 
     Returns the values set.
     """
-    vals = source if isinstance(source, Mapping) else start_values(source, constants)
-    integers = {v.name for v in INTEGERS}
+    vals = (source if isinstance(source, Mapping)
+            else start_values(source, constants, description))
+    integers = {v.name for v in description.integers}
+    VR = description.vr
     reals = {n: v for n, v in vals.items() if n not in integers}
     ints = {n: v for n, v in vals.items() if n in integers}
     fmi3 = hasattr(fmu, "setFloat64")
