@@ -49,13 +49,23 @@ STRUCTURES = (
     "basic+delay-beta0+delay-beta1c",
     "basic+separate-time-constants+hub-velocity-coupling",
     "glauert+flap-inertia+skewed-wake+time-delay",
+    "basic+advance-ratio-perturbation",
+    "glauert+advance-ratio-perturbation+flap-inertia",
 )
+
+#: A trim state (totals) for the effect linearised about it.
+TRIM = {"theta0": 0.17, "theta1c": 0.012, "theta1s": -0.05, "beta0": 0.06,
+        "beta1c": 0.011, "beta1s": -0.004, "muz": -0.02}
+
+
+def constants_for(structure, k=PUMA):
+    return k.with_trim(TRIM) if "advance-ratio-perturbation" in structure else k
 
 
 def parameters(structure) -> dict:
     """Truth values with every effect away from neutral: a bias, fractional delays
     (not whole steps) of different lengths per channel."""
-    p = truth_parameters(structure, PUMA)
+    p = truth_parameters(structure, constants_for(structure))
     p.update({k: v for k, v in {"azimuth_bias": 0.2, "delay": 0.034,
                                 "delay_beta0": 0.013, "delay_beta1c": 0.047,
                                 "delay_beta1s": 0.021, "k_skew": 0.6,
@@ -141,7 +151,7 @@ def built(tmp_path_factory, structure, version=2, model=None):
 @pytest.mark.parametrize("structure", STRUCTURES)
 def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory):
     p = parameters(structure)
-    m = build_model(structure, p, PUMA)
+    m = build_model(structure, p, constants_for(structure))
     u = inputs_of(m, record)
     y_py, l_py = python_run(m, u)
     unzipped, d = built(tmp_path_factory, structure, model=m)
@@ -153,10 +163,11 @@ def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory)
 
 
 @pytest.mark.parametrize("structure", ["glauert+flap-inertia+skewed-wake+time-delay",
-                                       "basic+delay-beta0+delay-beta1c"])
+                                       "basic+delay-beta0+delay-beta1c",
+                                       "basic+advance-ratio-perturbation"])
 def test_generated_fmi3_fmu_equals_the_simulator(structure, record, tmp_path_factory):
     p = parameters(structure)
-    m = build_model(structure, p, PUMA)
+    m = build_model(structure, p, constants_for(structure))
     u = inputs_of(m, record)
     y_py, l_py = python_run(m, u)
     unzipped, d = built(tmp_path_factory, structure, version=3, model=m)
@@ -176,6 +187,25 @@ def test_parameters_stay_tunable_in_a_generated_fmu(record, tmp_path_factory):
     u = inputs_of(m, record)
     y_py, l_py = python_run(m, u)
     values = {"structure": 0, "mu": 0.3, **p}
+    y_fmu, l_fmu = fmu_run(unzipped, d, values, u, 2)
+    np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(l_fmu, l_py, rtol=0, atol=1e-10)
+
+
+def test_a_new_trim_is_a_parameter_change(record, tmp_path_factory):
+    """advance-ratio-perturbation is linearised about the trim: the generated FMU
+    takes the trim totals as tunable parameters trim_theta0 ... trim_muz (its trim
+    inflow solved in the generated C), so one FMU serves any trim."""
+    structure = "basic+advance-ratio-perturbation"
+    unzipped, d = built(tmp_path_factory, structure)          # start trim: zeros
+    trim = {"theta0": 0.2, "theta1c": -0.01, "theta1s": -0.07, "beta0": 0.07,
+            "beta1c": 0.02, "beta1s": 0.003, "muz": -0.03}
+    k = PUMA.with_trim(trim).with_mu(0.4)
+    p = parameters(structure)
+    m = build_model(structure, p, k)
+    u = inputs_of(m, record)
+    y_py, l_py = python_run(m, u)
+    values = {"structure": 0, "mu": 0.4, **p, **{f"trim_{c}": x for c, x in trim.items()}}
     y_fmu, l_fmu = fmu_run(unzipped, d, values, u, 2)
     np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
     np.testing.assert_allclose(l_fmu, l_py, rtol=0, atol=1e-10)
@@ -232,12 +262,13 @@ def test_generated_equations_are_the_python_descriptor():
     """The symbols the C is printed from, evaluated, are build_model's E, A, B: the
     tracing itself is checked apart from the compiler (every catalogue effect the
     FMU runs, on a structure with all of them that can combine)."""
-    structure = "glauert+flap-inertia+skewed-wake+delay-beta1c"
+    structure = "glauert+flap-inertia+skewed-wake+delay-beta1c+advance-ratio-perturbation"
     p = parameters(structure)
-    k = PUMA.with_mu(0.33)
+    k = constants_for(structure).with_mu(0.33)
     e, a, b = descriptor(structure, p, k)
     s, es, as_, bs, meas = traced(structure)
-    values = {**p, "mu": k.mu, "a0": k.a0, "solidity": k.solidity, "V": k.flow_speed}
+    values = {**p, "mu": k.mu, "a0": k.a0, "solidity": k.solidity, "V": k.flow_speed,
+              **{f"trim_{c}": x for c, x in TRIM.items()}}
     import sympy
     subs = {sympy.Symbol(n): v for n, v in values.items()}
     for sym, num in ((es, e), (as_, a), (bs, b[:, : bs.shape[1]])):
@@ -250,8 +281,8 @@ def test_generated_equations_are_the_python_descriptor():
 
 
 @pytest.mark.parametrize("structure, match", [
-    ("basic+advance-ratio-perturbation", "trim state"),
     ("basic+delay-theta1s", "causal step"),
+    ("glauert+delay-mux", "causal step"),
 ])
 def test_what_the_fmu_cannot_run_is_refused_with_one_line(structure, match, tmp_path):
     with pytest.raises(InputError, match=match):

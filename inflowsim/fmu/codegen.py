@@ -14,23 +14,34 @@ committed sources and fails on any difference).
 The measurement part comes from the effects' ``measurement`` the same way: the
 azimuth bias that rotates the recorded flap and each flap channel's time shift.
 What the FMU cannot do is refused with one line: leads and input time shifts (a
-causal step cannot apply them; the Simulator refuses them too) and effects
-linearised about a trim state (``advance-ratio-perturbation``: its coefficients
-need the trim inflow of a record).
+causal step cannot apply them; the Simulator refuses them too).  Effects
+linearised about a trim state (``advance-ratio-perturbation``) take the trim totals
+as parameters ``trim_theta0`` ... ``trim_muz``; their trim inflow is solved in the
+generated C (the 3 x 3 solve of :func:`inflowsim.physics.bladeelement.trim_inflow`,
+done symbolically).
 """
 from __future__ import annotations
 
 from types import SimpleNamespace
 
 from ..channels import FLAP
+from ..physics.bladeelement import TRIM_KEYS
 from ..errors import InputError
 from ..model.build import base_equations
 from ..model.effects import CATALOGUE
 from ..model.equations import Measurement, assemble
 from ..model.structure import Structure
 
-#: Effects whose equations need a record's trim state: not in the FMU.
+#: Effects whose equations are linearised about a trim state: the FMU gets the trim
+#: totals as parameters ``trim_<column>`` (:data:`TRIM_PARAMETERS`).
 TRIM_EFFECTS = ("advance-ratio-perturbation",)
+#: ``{FMU parameter: record column}`` of the trim totals.
+TRIM_PARAMETERS = {f"trim_{c}": c for c in TRIM_KEYS}
+
+
+def needs_trim(structures) -> bool:
+    """Some structure has an effect linearised about the trim state."""
+    return any(e in TRIM_EFFECTS for st in structures for e in Structure.parse(st).effects)
 
 
 def _sympy():
@@ -45,8 +56,9 @@ def _symbols(structure: Structure):
     sp = _sympy()
 
     p = {n: sp.Symbol(n) for n in structure.parameters}
+    trim = {c: sp.Symbol(n) for n, c in TRIM_PARAMETERS.items()}
     k = SimpleNamespace(mu=sp.Symbol("mu"), a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
-                        flow_speed=sp.Symbol("V"), trim=None)
+                        flow_speed=sp.Symbol("V"), trim=trim)
     return p, k
 
 
@@ -54,10 +66,6 @@ def supported(structure) -> Structure:
     """``structure`` parsed, or :class:`InputError` naming what the FMU cannot run."""
     s = Structure.parse(structure)
     for name in s.effects:
-        if name in TRIM_EFFECTS:
-            raise InputError(f"the FMU does not run effect {name}: its coefficients are "
-                             "linearised about a record's trim state (the Simulator and "
-                             "identify do)")
         if name.startswith("delay-") and name[len("delay-"):] not in FLAP:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
                              "input cannot be applied by a causal step (inflowsim.replay "
@@ -196,4 +204,5 @@ def n_states(structures) -> int:
     return len(Structure.parse(structures[0]).states)
 
 
-__all__ = ["equations_c", "traced", "supported", "n_states", "TRIM_EFFECTS"]
+__all__ = ["equations_c", "traced", "supported", "n_states", "needs_trim", "TRIM_EFFECTS",
+           "TRIM_PARAMETERS"]

@@ -14,6 +14,7 @@ from typing import Mapping
 
 from ..errors import InputError
 from ..model.structure import Structure
+from .codegen import TRIM_PARAMETERS
 from .variables import DEFAULT, INFLOW_SPEEDS, STRUCTURES, Description
 
 #: Effects the presets' FMU runs (as one of its three structures); an FMU built for a
@@ -107,6 +108,9 @@ def _finish(code, vals, k, description) -> dict:
                    omega=float(k.omega), inflow_speed=INFLOW_SPEEDS[k.inflow_speed])
         if k.ct is not None:
             out["ct"] = float(k.ct)
+        if k.trim is not None:        # the trim an effect is linearised about
+            out.update({n: float(k.trim[c]) for n, c in TRIM_PARAMETERS.items()
+                        if n in description.vr and c in k.trim})
     return out
 
 

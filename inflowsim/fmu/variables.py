@@ -23,6 +23,7 @@ from typing import Mapping
 
 from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
 from ..errors import InputError
+from .codegen import TRIM_PARAMETERS, needs_trim
 from ..model.effects import CATALOGUE
 from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
@@ -142,6 +143,15 @@ def _build(structures, start: Mapping[str, float], constants) -> tuple:
         v.append(Variable(name, "Real", "parameter", "tunable", start[name],
                           _UNITS.get(s.unit, s.unit),
                           f"{s.description} [{s.unit}]", s.lower, s.upper, s.lower_open))
+    if needs_trim(structures):
+        trim = k.trim or {}
+        for name, col in TRIM_PARAMETERS.items():
+            unit = "-" if col == "muz" else "rad"
+            v.append(Variable(name, "Real", "parameter", "tunable",
+                              float(trim.get(col, 0.0)), unit,
+                              f"trim total {col} (the record's, as Constants.trim) "
+                              f"about which advance-ratio-perturbation is linearised "
+                              f"[{unit}]", -1.0, 1.0))
     v.append(Variable("a0", "Real", "parameter", "tunable", k.a0, "1/rad",
                       "blade lift-curve slope [1/rad]", 0.0, math.inf, True))
     v.append(Variable("solidity", "Real", "parameter", "tunable", k.solidity, "-",

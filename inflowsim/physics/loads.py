@@ -62,7 +62,7 @@ def momentum_l(mu: float, a0s: float, v: float | None = None) -> np.ndarray:
     down to hover.
     """
     if v is None:
-        if not np.isfinite(mu) or mu < MU_MIN:
+        if isinstance(mu, (int, float, np.number)) and (not np.isfinite(mu) or mu < MU_MIN):
             raise InputError(f"mu = {mu:g} is too small for the forward-flight momentum "
                              f"L (V ~ mu): need mu >= {MU_MIN:g}, or the mass-flow "
                              "speed (inflow_speed='mass-flow' with a trim ct)")
