@@ -118,15 +118,17 @@ def _best(fn, number, repeat=7):
     return min(timeit.repeat(fn, number=number, repeat=repeat)) / number
 
 
-def unguarded_step(sim, u):
-    """``Simulator.step`` as it was before its input checks (issue #11 item 5): the
-    reference the guarded step is timed against, interleaved in one run."""
+def unguarded_step(sim, u, kernel="matmul"):
+    """``Simulator.step`` as it was before its input checks (issue #11 item 5), with
+    the product it had (``kernel="matmul"``: ``M @ xu``, the 0.1.0 fast path) or the
+    one it has now (``"dot"``: ``M.dot(xu)``): the references the guarded step is
+    timed against, interleaved in one run."""
     xu = sim._xu
     n = sim.n
     if sim._delay is not None:
         sim._push(xu[:n].copy(), np.asarray(u, dtype=float))
     xu[n:] = u
-    out = sim._M @ xu
+    out = sim._M @ xu if kernel == "matmul" else sim._M.dot(xu)
     xu[:n] = out[:n]
     sim._k += 1
     y = out[n:-1]
@@ -136,19 +138,25 @@ def unguarded_step(sim, u):
 
 
 def guard_cost(rounds=7, number=20000):
-    """Guarded against unguarded step, alternated round by round so both see the same
-    machine load; prints the best of each and the difference."""
+    """The checked step against the unchecked one with the same product (the checks'
+    own cost) and against the 0.1.0 step (``M @ xu``, no checks: what a user's loop
+    ran before), alternated round by round so all see the same machine load; prints
+    the best of each."""
     sim = glauert_simulator()
     u0 = doublet_inputs(1, sim.m)[0]
-    best = {"guarded": np.inf, "unguarded": np.inf}
+    runs = {"checked": lambda: sim.step(u0),
+            "unchecked_dot": lambda: unguarded_step(sim, u0, "dot"),
+            "v010_matmul": lambda: unguarded_step(sim, u0, "matmul")}
+    best = dict.fromkeys(runs, np.inf)
     for _ in range(rounds):
-        best["guarded"] = min(best["guarded"], _best(lambda: sim.step(u0), number, 1))
-        best["unguarded"] = min(best["unguarded"],
-                                _best(lambda: unguarded_step(sim, u0), number, 1))
-    g, r = best["guarded"], best["unguarded"]
+        for name, fn in runs.items():
+            best[name] = min(best[name], _best(fn, number, 1))
+    g, r, old = best["checked"], best["unchecked_dot"], best["v010_matmul"]
     print(f"step glauert, input checks   {g * 1e9:8.0f} ns/call; without "
           f"{r * 1e9:8.0f} ns/call; checks cost {(g - r) * 1e9:+6.0f} ns "
-          f"({(g / r - 1) * 100:+.1f} %)")
+          f"({(g / r - 1) * 100:+.1f} %); 0.1.0's step (M @ xu, no checks) "
+          f"{old * 1e9:8.0f} ns/call: the checked step is {(g / old - 1) * 100:+.1f} %")
+    return best
 
 
 def main():

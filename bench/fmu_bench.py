@@ -1,6 +1,6 @@
 """FMU step cost: the C driver on the native binary, and the cost through fmpy.
 
-    python bench/fmu_bench.py [--steps N]
+    python bench/fmu_bench.py [--steps N] [--model STRUCTURE]
 
 Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
 clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
@@ -8,8 +8,11 @@ runs) and the one-state reference (``bench/fmu_onestate.c``) with the same flags
 compiles ``bench/fmu_driver.c``, runs it (best of 5 runs of N steps per case) on
 both libraries (and on the FMI 3.0 library, built as ``inflowsim fmu build
 --fmi-version 3`` builds it) and times an fmpy ``FMU2Slave`` loop (setReal inputs, doStep,
-getReal outputs).  Prints a Markdown table; results and method are kept in
-``bench/fmu.md``.
+getReal outputs).  ``--model`` benchmarks an FMU generated for that structure
+(``inflowsim fmu build --model``; e.g. ``glauert+flap-inertia``, nine states)
+instead of the presets' FMU; its baseline library is compiled from the FMU's own
+``sources/`` and the FMI 3.0 rows are left out.  Prints a Markdown table; results
+and method are kept in ``bench/fmu.md``.
 """
 from __future__ import annotations
 
@@ -27,6 +30,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=2_000_000)
     ap.add_argument("--fmpy-steps", type=int, default=20_000)
+    ap.add_argument("--model", default=None, help="a structure (default: the presets' FMU)")
     args = ap.parse_args(argv)
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
@@ -35,9 +39,10 @@ def main(argv=None):
 
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        fmu = build_fmu(tmp / "inflowsim.fmu")
+        fmu = build_fmu(tmp / "inflowsim.fmu", model=args.model)
         guid = read_model_description(str(fmu)).guid
         unz = extract(str(fmu), str(tmp / "x"))
+        src = source_dir() if args.model is None else Path(unz) / "sources"
         so = Path(unz) / "binaries" / "linux64" / "inflowsim.so"
         cc = compiler()
         inc = f"-I{source_dir()}"
@@ -45,10 +50,12 @@ def main(argv=None):
                         str(HERE / "fmu_onestate.c"), "-lm"], check=True)
         subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
                         str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
-        baseline = compile_library(source_dir(), tmp / "baseline.so", ("-DIFS_NO_CLONES",))
-        fmi3 = compile_library(source_dir(), tmp / "fmi3.so", fmi_version=3)
+        baseline = compile_library(src, tmp / "baseline.so", ("-DIFS_NO_CLONES",))
+        fmi3 = (compile_library(src, tmp / "fmi3.so", fmi_version=3) if args.model is None
+                else None)
         rows = {}
-        for lib, tag, extra in ((so, "", [str(fmi3)]), (baseline, "baseline_", [])):
+        for lib, tag, extra in ((so, "", [str(fmi3)] if fmi3 else []),
+                                (baseline, "baseline_", [])):
             out = subprocess.run([str(tmp / "driver"), str(lib), guid,
                                   str(tmp / "onestate.so"), str(args.steps), *extra],
                                  check=True, capture_output=True, text=True)
@@ -81,6 +88,7 @@ def main(argv=None):
         s.freeInstance()
     rows["glauert_through_fmpy_set_dostep_get"] = f"{best * 1e9:.0f}"
     flags = Path("/proc/cpuinfo").read_text().split() if Path("/proc/cpuinfo").is_file() else []
+    print(f"model: {args.model or 'the presets (structure 2, glauert)'}")
     print(f"machine: {platform.processor() or platform.machine()}, "
           f"{platform.system()} {platform.release()}, python {platform.python_version()}, "
           f"AVX2 {'yes' if 'avx2' in flags else 'no'}")

@@ -1,9 +1,10 @@
-"""``inflowsim fmu build [--out FILE.fmu] [--fmi-version {2,3}]``: the native FMI
-co-simulation FMU (FMI 2.0 by default, or FMI 3.0).
+"""``inflowsim fmu build [--out FILE.fmu] [--model FILE|STRUCTURE] [--fmi-version
+{2,3}]``: the native FMI co-simulation FMU (FMI 2.0 by default, or FMI 3.0).
 
 A thin layer over :func:`inflowsim.fmu.build_fmu`; the FMU runs without Python.
-To apply an ``identify`` fit, pass :func:`inflowsim.fmu.start_values` of it to the
-importer (e.g. ``fmpy.simulate_fmu(..., start_values=...)``).
+``--model fit.json`` builds an FMU for the fit's structure with its values as start
+values (so ``fmpy.simulate_fmu(fmu)`` needs none); without it, the presets' FMU, to
+which :func:`inflowsim.fmu.start_values` of a fit applies.
 """
 from __future__ import annotations
 

@@ -16,7 +16,12 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
 2. **Plausible.**  Every added parameter is determined by the data and its
    estimate, within 3 sigma, reaches its physical range (sign, theory range:
    ``Effect.plausible``); an estimate the data do not determine cannot be shown
-   plausible.
+   plausible.  When the data determine *some* of an effect's parameters and not
+   the others (Glauert's ``c1..c4`` multiply the in-plane velocities, which a
+   record of control inputs never moves), the candidate is refitted with the
+   undetermined ones held at their neutral values (``held``) and tested with the
+   degrees of freedom that remain: the part of the effect the record can show
+   is judged on its own, and the held parameters are reported as such.
 3. **Material.**  The candidate explains at least ``MATERIAL`` (10 %) of the
    base residual's excess over the noise floor: of ``D_base - D_white``, where
    ``D`` is the residual spectrum's deviance from white noise at the floor
@@ -86,6 +91,8 @@ class Candidate:
     whiteness_after: float = 0.0
     accepted: bool = False
     reason: str = ""
+    #: parameters of the effect the data did not determine, held at their neutral values
+    held: tuple = ()
 
     @property
     def whiter(self) -> bool:
@@ -97,6 +104,7 @@ class Candidate:
                 "reason": self.reason, "statistic": self.statistic, "dof": self.dof,
                 "log10_p_value": self.log10_p, "schwarz_gain": self.schwarz_gain,
                 "plausible": self.plausible, "share_of_excess": self.share,
+                "held_at_neutral": list(self.held),
                 "structure_before": self.structure_before,
                 "structure_after": self.structure_after,
                 "deviance_before": self.whiteness_before,
@@ -165,17 +173,18 @@ def floor_cost(fit, floors) -> float:
     return out
 
 
-def _plausible(eff, fit, constants):
-    """Every parameter of the effect is determined by the data and reaches its
-    plausible range within ``PLAUSIBLE_SIGMAS``: an estimate the data do not
-    determine cannot be shown plausible (fix or tie it, or add excitation, and
-    try the effect again)."""
+def _plausible(eff, fit, constants, held=()):
+    """Every estimated parameter of the effect (all but ``held``) is determined by
+    the data and reaches its plausible range within ``PLAUSIBLE_SIGMAS``: an
+    estimate the data do not determine cannot be shown plausible (fix or tie it,
+    or add excitation, and try the effect again)."""
     ranges = eff.plausible_ranges(constants)
-    undetermined = [n for n in eff.parameters if fit.sigma.get(n) is None]
+    estimated = [n for n in eff.parameters if n not in held]
+    undetermined = [n for n in estimated if fit.sigma.get(n) is None]
     if undetermined:
         return False, (f"{', '.join(undetermined)} not determined by the data (fix or "
                        "tie, or add excitation)")
-    for n in eff.parameters:
+    for n in estimated:
         est, sig = fit.parameters[n], fit.sigma[n]
         if n not in ranges:
             continue
@@ -195,19 +204,30 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     eff = CATALOGUE[effect]
     k = base_fit.constants[0]
     start = nested_start(base_fit, s, k)
+    # what the base held stays held (values it was fitted with)
+    base_fixed = {n: float(base_fit.parameters[n]) for n in (base_fit.fixed or ())
+                  if n in s.parameters}
     dof = len(s.parameters) - len(base_fit.structure.parameters)
+    held = ()
     try:
-        fit = fit_fn(records, s, band_hz=band_hz, start=start)
+        fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=base_fixed or None)
+        undetermined = tuple(n for n in eff.parameters if fit.sigma.get(n) is None
+                             and n not in base_fixed)
+        if undetermined and len(undetermined) < len(eff.parameters):
+            held = undetermined
+            fit = fit_fn(records, s, band_hz=band_hz, start=start,
+                         fixed={**base_fixed, **{n: start[n] for n in held}})
+            dof -= len(held)
     except InputError as exc:
         return Candidate(effect, s.name, 0.0, 0.0, dof, 0.0, False, eff.physics, {},
                          None, str(exc), reason=str(exc))
-    bnd = sum(1 for n in eff.boundary if n in s.parameters)
+    bnd = sum(1 for n in eff.boundary if n in s.parameters and n not in held)
     stat, d, lp = lr_test(base_fit.cost, fit.cost, dof, bnd)
     added = {n: (float(fit.parameters[n]), fit.sigma.get(n)) for n in eff.parameters}
     n_data = 6 * fit.n_freq
     dj = float(base_fit.cost - fit.cost)
     significant = bool(lp < np.log10(alpha))
-    plausible, why = _plausible(eff, fit, k)
+    plausible, why = _plausible(eff, fit, k, held)
     share, q0, q1, d0, d1 = 0.0, 0.0, 0.0, 0.0, 0.0
     reasons = []
     if judge is not None:
@@ -231,11 +251,15 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         reasons.append(f"does not move the residual toward white noise at the floor "
                        f"(deviance {d0:.1f} -> {d1:.1f})")
     accepted = not reasons and judge is not None
+    reason = "; ".join(reasons) or "accepted"
+    if held:
+        reason += (f" ({', '.join(held)} not determined by the data: held at "
+                   "neutral)")
     return Candidate(effect, s.name, dj, stat, d, lp, significant, eff.physics, added, fit,
                      schwarz_gain=float(2 * dj - d * np.log(n_data)), plausible=plausible,
                      share=float(share), structure_before=q0, structure_after=q1,
                      whiteness_before=d0, whiteness_after=d1,
-                     accepted=accepted, reason="; ".join(reasons) or "accepted")
+                     accepted=accepted, reason=reason, held=held)
 
 
 def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,

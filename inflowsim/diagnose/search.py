@@ -129,8 +129,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     analyses = analyses_of(recs, fit, band_hz)
     fails = failures_of(recs, fit, band_hz, analyses)
 
-    def fit_fn(r, st, band_hz, start):
-        return identify(r, st, band_hz=band_hz, start=start, hold=hold)
+    def fit_fn(r, st, band_hz, start, fixed=None):
+        return identify(r, st, band_hz=band_hz, start=start, fixed=fixed, hold=hold)
     judge = _judge(recs, band_hz, fit, analyses)
     cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, alpha, progress, judge)
     best = next((c.effect for c in cands if c.accepted), None)
