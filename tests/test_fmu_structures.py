@@ -315,3 +315,48 @@ def test_loads_use_the_structure_generated_load_matrices():
     x9 = m9.end_state(x6, u)
     np.testing.assert_allclose(l9.c @ x9 + l9.d @ u, l6.c @ x6 + l6.d @ u, rtol=1e-4,
                                atol=1e-9)
+
+
+def test_mu_every_step_and_a_varying_step_in_a_nine_state_fmu(record, tmp_path_factory):
+    """The real-time paths (issue #10 part 3) for a generated structure with other
+    state counts: mu changing every step (the tabulated matrices) and a
+    communication step changing every frame (the Taylor remainder) follow the
+    exact zero-order hold of the nine-state model (scipy's expm at each step's mu
+    and length)."""
+    from scipy.linalg import expm
+    structure = "glauert+flap-inertia+skewed-wake"
+    p = parameters(structure)
+    m = build_model(structure, p, PUMA)
+    unzipped, d = built(tmp_path_factory, structure, model=m)
+    u = inputs_of(m, record)[:400]
+    full = np.zeros((len(u), len(ALL_INPUTS)))
+    full[:, : u.shape[1]] = u
+    mus = 0.3 + 0.18 * np.sin(np.arange(len(u)) * 0.05)
+    rng = np.random.default_rng(3)
+    hs = DT * (1 + 0.4 * rng.uniform(-1, 1, len(u)))       # 0.6 dt .. 1.4 dt
+    s = FMU2Slave(guid=guid(d), unzipDirectory=unzipped, modelIdentifier="inflowsim",
+                  instanceName="s")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    ins, outs = [d.vr[n] for n in ALL_INPUTS], [d.vr[n] for n in OUTPUTS]
+    x, t, worst, peak = np.zeros(m.a.shape[0]), 0.0, 0.0, 0.0
+    n = m.a.shape[0]
+    for k in range(len(u)):
+        mu_k, h = float(mus[k]), (DT if k < 200 else float(hs[k]))
+        mk = m.with_mu(mu_k)
+        s.setReal([d.vr["mu"]], [mu_k])
+        s.setReal(ins, list(full[k]))
+        s.doStep(t, h)
+        t += h
+        aug = np.zeros((n + full.shape[1], n + full.shape[1]))
+        aug[:n, :n], aug[:n, n:n + m.b.shape[1]] = mk.a, mk.b
+        e = expm(aug * h)
+        x = e[:n, :n] @ x + e[:n, n:] @ full[k]
+        y = np.array(s.getReal(outs))
+        worst = max(worst, np.abs(y - mk.c @ x).max())
+        peak = max(peak, np.abs(x[:6]).max())
+    s.terminate()
+    s.freeInstance()
+    assert peak > 1e-3 and worst < 1e-10, worst

@@ -16,12 +16,14 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
 2. **Plausible.**  Every added parameter is determined by the data and its
    estimate, within 3 sigma, reaches its physical range (sign, theory range:
    ``Effect.plausible``); an estimate the data do not determine cannot be shown
-   plausible.  When the data determine *some* of an effect's parameters and not
-   the others (Glauert's ``c1..c4`` multiply the in-plane velocities, which a
-   record of control inputs never moves), the candidate is refitted with the
-   undetermined ones held at their neutral values (``held``) and tested with the
-   degrees of freedom that remain: the part of the effect the record can show
-   is judged on its own, and the held parameters are reported as such.
+   plausible.  An effect made of separate physical terms (``Effect.parts``:
+   Glauert's ``F`` on the rates and ``G`` on the in-plane velocities) whose
+   record leaves a part undetermined (``c1..c4`` multiply the in-plane
+   velocities, which a record of control inputs never moves) is refitted with
+   that whole part held at its neutral values (``held``) and tested with the
+   degrees of freedom that remain: the term the record can show is judged on its
+   own, and the held parameters are reported as such.  An effect of one part
+   (``hub-velocity-coupling``'s gain matrix) is all or nothing.
 3. **Material.**  The candidate explains at least ``MATERIAL`` (10 %) of the
    base residual's excess over the noise floor: of ``D_base - D_white``, where
    ``D`` is the residual spectrum's deviance from white noise at the floor
@@ -211,13 +213,17 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     held = ()
     try:
         fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=base_fixed or None)
-        undetermined = tuple(n for n in eff.parameters if fit.sigma.get(n) is None
-                             and n not in base_fixed)
-        if undetermined and len(undetermined) < len(eff.parameters):
-            held = undetermined
+        undetermined = {n for n in eff.parameters if fit.sigma.get(n) is None
+                        and n not in base_fixed}
+        # whole parts (separate physical terms of the effect) with anything the
+        # record leaves undetermined; an effect of one part is all or nothing
+        held = tuple(n for part in eff.parts if undetermined & set(part) for n in part)
+        if held and len(held) < len(eff.parameters):
             fit = fit_fn(records, s, band_hz=band_hz, start=start,
                          fixed={**base_fixed, **{n: start[n] for n in held}})
             dof -= len(held)
+        else:
+            held = ()
     except InputError as exc:
         return Candidate(effect, s.name, 0.0, 0.0, dof, 0.0, False, eff.physics, {},
                          None, str(exc), reason=str(exc))

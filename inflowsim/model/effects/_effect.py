@@ -53,6 +53,11 @@ class Effect:
     offered : bool
         Tried by the diagnosis by default.  Per-channel time shifts are not: the
         user asks for them by name.
+    parts : tuple of tuple of str
+        Groups of its parameters that are separate physical terms (Glauert's ``F``
+        on the rates and ``G`` on the in-plane velocities).  A record that leaves
+        one part undetermined can still test the others: the diagnosis holds that
+        part at neutral.  Default: one part, all or nothing.
     """
 
     name: str
@@ -70,6 +75,7 @@ class Effect:
     offered: bool = True
     boundary: tuple = ()
     specs: tuple = ()
+    parts: tuple = ()
 
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""

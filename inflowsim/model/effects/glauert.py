@@ -70,4 +70,7 @@ EFFECT = Effect(
            ParameterSpec("ks", "-", "Glauert F coefficient ks (Eq. 19)", plausible=_LARGE)),
     uses_inplane=True,
     alternatives=("hub-velocity-coupling",),
+    # F nu_lambda (flap, pitch and hub rates) and G mu_xy (in-plane velocities) are
+    # two terms of Eq. (19): a record without in-plane motion still tests F
+    parts=(("k0p", "kc", "ks"), ("c1", "c2", "c3", "c4")),
 )
