@@ -364,10 +364,12 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
 static void mu_entries(const IfsModel *m, double out[IFS_MU_NTAB])
 {
     int i, j;
+    memset(out, 0, sizeof(double) * IFS_MU_NTAB);      /* the padding */
     for (i = 0; i < NX; i++)
         for (j = 0; j < NA; j++) {
             out[i * NA + j] = m->pg[j * IFS_LD + i];
-            out[NX * NA + i * NA + j] = j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
+            out[IFS_MU_HALF + i * NA + j] =
+                j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
         }
 }
 
@@ -379,10 +381,11 @@ static double mu_edge(int seg)
 
 /* The table's interpolant at mu: [phi gam] (half 0) or [a b] (half 1), row-major
  * (Horner; a fixed trip count of NX NA, so the compiler vectorises it). */
-static void mu_eval_half(const IfsMuTable *t, double mu, int half, double out[NX * NA])
+static void mu_eval_half(const IfsMuTable *t, double mu, int half,
+                         double out[IFS_MU_HALF])
 {
-    const int first = half * NX * NA;
-    enum { n = NX * NA };
+    const int first = half * IFS_MU_HALF;
+    enum { n = IFS_MU_HALF };
     int seg = (int)(IFS_MU_SEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
     double lo, hi, x;
     int k, e;
@@ -395,7 +398,7 @@ static void mu_eval_half(const IfsMuTable *t, double mu, int half, double out[NX
     hi = t->edge[seg + 1];
     x = (2.0 * mu - lo - hi) / (hi - lo);
     {   /* a local accumulator: no aliasing with the table, so the loop vectorises */
-        double acc[NX * NA];
+        double acc[IFS_MU_HALF];
         for (e = 0; e < n; e++) acc[e] = t->p[seg][IFS_MU_DEG][first + e];
         for (k = IFS_MU_DEG - 1; k >= 0; k--) {
             const double *pk = t->p[seg][k] + first;
@@ -456,11 +459,12 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
         if (ifs_build(&m, &vn, msg, sizeof msg) != 0) return t->state;
         mu_entries(&m, want);
         mu_eval_half(t, vn.mu, 0, got);
-        mu_eval_half(t, vn.mu, 1, got + NX * NA);
+        mu_eval_half(t, vn.mu, 1, got + IFS_MU_HALF);
         for (e = 0; e < IFS_MU_NTAB; e++)
-            if (fabs(want[e]) > scale[e >= NX * NA]) scale[e >= NX * NA] = fabs(want[e]);
+            if (fabs(want[e]) > scale[e >= IFS_MU_HALF])
+                scale[e >= IFS_MU_HALF] = fabs(want[e]);
         for (e = 0; e < IFS_MU_NTAB; e++) {
-            const double r = fabs(got[e] - want[e]) / scale[e >= NX * NA];
+            const double r = fabs(got[e] - want[e]) / scale[e >= IFS_MU_HALF];
             if (!(r <= worst)) worst = r;       /* NaN-safe */
         }
     }
@@ -471,7 +475,7 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
 
 void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
-    double f[NX * NA];
+    double f[IFS_MU_HALF];
     int i, j;
     mu_eval_half(t, v->mu, 0, f);
     for (i = 0; i < NX; i++)
@@ -483,7 +487,7 @@ void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 
 void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
-    double f[NX * NA];
+    double f[IFS_MU_HALF];
     int i, j;
     mu_eval_half(t, v->mu, 1, f);
     for (i = 0; i < NX; i++)

@@ -82,7 +82,10 @@ typedef struct {
 #define IFS_MU_HI 0.5
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
-#define IFS_MU_NTAB (2 * IFS_NX * IFS_NA)   /* [phi gam] then [a b], row-major */
+/* [phi gam] then [a b], row-major, each half padded with zeros to whole vectors of
+ * four (so Horner's loop has no remainder and the compiler vectorises it) */
+#define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
+#define IFS_MU_NTAB (2 * IFS_MU_HALF)
 typedef struct {
     int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
     double err;                /* the largest relative error found by the check */
@@ -181,20 +184,33 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 }
 #else
-/* other state counts (flap-inertia's nine): the same sum, column by column */
+/* other state counts (flap-inertia's nine): gam u, then phi x, column by column,
+ * four rows at a time (columns are padded to IFS_LD, a multiple of four); the
+ * scalar version adds in the same order, so the rounding is the same */
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
-    double y[IFS_LD] = {0.0};
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    ifs_v4 acc[IFS_LD / 4];
+    int r, j;
+    for (r = 0; r < IFS_LD / 4; r++) {
+        ifs_v4 s = *(const ifs_v4 *)(pg + IFS_NX * IFS_LD + 4 * r) * u[0];
+        for (j = 1; j < IFS_NU; j++)
+            s += *(const ifs_v4 *)(pg + (IFS_NX + j) * IFS_LD + 4 * r) * u[j];
+        for (j = 0; j < IFS_NX; j++) s += *(const ifs_v4 *)(pg + j * IFS_LD + 4 * r) * x[j];
+        acc[r] = s;
+    }
+    memcpy(x, acc, sizeof(double) * IFS_NX);
+#else
+    double y[IFS_NX];
     int i, j;
-    for (j = 0; j < IFS_NU; j++) {
-        const double *c = pg + (IFS_NX + j) * IFS_LD;
-        for (i = 0; i < IFS_LD; i++) y[i] += c[i] * u[j];
+    for (i = 0; i < IFS_NX; i++) {
+        double s = pg[IFS_NX * IFS_LD + i] * u[0];
+        for (j = 1; j < IFS_NU; j++) s += pg[(IFS_NX + j) * IFS_LD + i] * u[j];
+        for (j = 0; j < IFS_NX; j++) s += pg[j * IFS_LD + i] * x[j];
+        y[i] = s;
     }
-    for (j = 0; j < IFS_NX; j++) {
-        const double *c = pg + j * IFS_LD;
-        for (i = 0; i < IFS_LD; i++) y[i] += c[i] * x[j];
-    }
-    memcpy(x, y, sizeof(double) * IFS_NX);
+    memcpy(x, y, sizeof y);
+#endif
 }
 #endif
 #undef IFS_C

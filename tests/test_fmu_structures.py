@@ -360,3 +360,25 @@ def test_mu_every_step_and_a_varying_step_in_a_nine_state_fmu(record, tmp_path_f
     s.terminate()
     s.freeInstance()
     assert peak > 1e-3 and worst < 1e-10, worst
+
+
+def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory):
+    """The nine-state step kernel in GNU vectors of four and in plain C
+    (-DIFS_SCALAR_STEP, what compilers without vector types get) adds in the same
+    order: the same numbers bit for bit."""
+    import shutil
+    from pathlib import Path
+    from inflowsim.fmu.build import compile_library
+    structure = "glauert+flap-inertia"
+    p = parameters(structure)
+    m = build_model(structure, p, PUMA)
+    unzipped, d = built(tmp_path_factory, structure, model=m)
+    scalar = tmp_path_factory.mktemp("scalar") / "x"
+    shutil.copytree(unzipped, scalar)
+    so = Path(scalar) / "binaries" / "linux64" / "inflowsim.so"
+    compile_library(Path(scalar) / "sources", so, ("-DIFS_SCALAR_STEP",))
+    u = inputs_of(m, record)
+    y_v, l_v = fmu_run(unzipped, d, {"structure": 0}, u, 2)
+    y_s, l_s = fmu_run(str(scalar), d, {"structure": 0}, u, 2)
+    assert np.abs(y_v).max() > 1e-3
+    assert np.array_equal(y_v, y_s) and np.array_equal(l_v, l_s)
