@@ -185,21 +185,22 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 }
 #else
 /* other state counts (flap-inertia's nine): gam u, then phi x, column by column,
- * four rows at a time (columns are padded to IFS_LD, a multiple of four); the
+ * two rows at a time (columns are padded to IFS_LD, a multiple of four); the
  * scalar version adds in the same order, so the rounding is the same */
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    ifs_v4 acc[IFS_LD / 4];
+    /* pairs of rows: native on every x86-64 (SSE2), so the baseline code is fast too */
+    double y[IFS_LD];
     int r, j;
-    for (r = 0; r < IFS_LD / 4; r++) {
-        ifs_v4 s = *(const ifs_v4 *)(pg + IFS_NX * IFS_LD + 4 * r) * u[0];
+    for (r = 0; r < IFS_LD / 2; r++) {
+        ifs_v2 s = *(const ifs_v2 *)(pg + IFS_NX * IFS_LD + 2 * r) * u[0];
         for (j = 1; j < IFS_NU; j++)
-            s += *(const ifs_v4 *)(pg + (IFS_NX + j) * IFS_LD + 4 * r) * u[j];
-        for (j = 0; j < IFS_NX; j++) s += *(const ifs_v4 *)(pg + j * IFS_LD + 4 * r) * x[j];
-        acc[r] = s;
+            s += *(const ifs_v2 *)(pg + (IFS_NX + j) * IFS_LD + 2 * r) * u[j];
+        for (j = 0; j < IFS_NX; j++) s += *(const ifs_v2 *)(pg + j * IFS_LD + 2 * r) * x[j];
+        *(ifs_v2 *)(y + 2 * r) = s;
     }
-    memcpy(x, acc, sizeof(double) * IFS_NX);
+    memcpy(x, y, sizeof(double) * IFS_NX);
 #else
     double y[IFS_NX];
     int i, j;
