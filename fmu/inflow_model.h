@@ -140,6 +140,22 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
  * same on every path, provided the compiler does not contract a * b + c into a fused
  * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
  */
+/* The DoStep functions (and the mu table's evaluation) are compiled twice where the loader can pick one at load
+ * time (GNU ifunc, glibc): for AVX2 and for the baseline.  The step does the same
+ * operations in the same order in both, so both give the same numbers (a test
+ * checks this bit for bit; build without floating-point contraction,
+ * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
+#if defined(__has_attribute)
+#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
+    !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
+/* (clang before 18 exports the clone dispatcher under another name) */
+#define IFS_HOT __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef IFS_HOT
+#define IFS_HOT
+#endif
+
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
 #endif

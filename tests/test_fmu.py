@@ -353,7 +353,8 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
     """The shipped binary steps with its AVX2 clone where the CPU has AVX2; built
     without clones it steps with the baseline code, and with IFS_SCALAR_STEP with the
     plain-C loop other compilers get.  All must agree bit for bit, on the loop's
-    fast path (h = dt) and on substeps with a remainder (h = 2.5 dt)."""
+    fast path (h = dt), on substeps with a remainder (h = 2.5 dt) and with mu
+    changing every step (the mu table's evaluation is cloned for AVX2 too)."""
     other = tmp_path / "unzipped"
     shutil.copytree(unzipped, other)
     compile_library(source_dir(), other / "binaries" / "linux64" / "inflowsim.so", flags)
@@ -364,8 +365,15 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
         s = open_fmu(d, guid, start_values(m))
         y = fmu_replay(s, u)
         y_long = fmu_replay(s, u[:40], h=2.5 * DT, t0=(len(u) - 1) * DT)
+        t0 = (len(u) - 1) * DT + 39 * 2.5 * DT
+        y_mu = []
+        for k, uk in enumerate(u[:60]):
+            set_reals(s, [VR["mu"]], [0.3 + 0.15 * np.sin(0.1 * k)])
+            set_reals(s, [VR[n] for n in ALL_INPUTS], list(uk))
+            s.doStep(t0 + k * DT, DT)
+            y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
         s.freeInstance()
-        runs.append(np.vstack([y, y_long]))
+        runs.append(np.vstack([y, y_long, np.array(y_mu)]))
     assert np.abs(runs[0]).max() > 1e-3
     assert np.array_equal(runs[0], runs[1])
 
