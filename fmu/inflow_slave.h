@@ -133,13 +133,17 @@ IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
     double y[IFS_NX];
     ifs_outputs(&s->m, y);
     if (s->delay.active) {         /* the recorded flap, from the delayed states */
-        double xd[IFS_NX];
-        ifs_slave_delayed_state(s, 0, xd);
-        y[0] = xd[0];
-        ifs_slave_delayed_state(s, 1, xd);
-        y[1] = s->m.cos_bias * xd[1] - s->m.sin_bias * xd[2];
-        ifs_slave_delayed_state(s, 2, xd);
-        y[2] = s->m.sin_bias * xd[1] + s->m.cos_bias * xd[2];
+        double xd[3][IFS_NX];
+        int i;
+        for (i = 0; i < 3; i++) {   /* once per delay (time-delay: one for all three) */
+            if (i > 0 && s->delay.d[i] == s->delay.d[i - 1])
+                memcpy(xd[i], xd[i - 1], sizeof xd[i]);
+            else
+                ifs_slave_delayed_state(s, i, xd[i]);
+        }
+        y[0] = xd[0][0];
+        y[1] = s->m.cos_bias * xd[1][1] - s->m.sin_bias * xd[1][2];
+        y[2] = s->m.sin_bias * xd[2][1] + s->m.cos_bias * xd[2][2];
     }
     s->v.beta0 = y[0];
     s->v.beta1c = y[1];

@@ -131,6 +131,7 @@ def description_for(model=None) -> Description:
     parameters and constants as start values)."""
     from ..model.structure import Structure
     from .codegen import supported
+    from .values import refuse_leads
     if model is None:
         return DEFAULT
     if isinstance(model, Description):
@@ -144,11 +145,7 @@ def description_for(model=None) -> Description:
                          f"(inflowsim.paramfile.read_parameters), not {type(model).__name__}"
                          ) from None
     s = supported(structure)
-    bad = [n for n, x in params.items() if n.startswith("delay") and x < 0]
-    if bad:
-        raise InputError(f"{bad[0]} = {params[bad[0]]:g} s is a lead: the FMU steps "
-                         "causally and applies lags only (inflowsim.replay.replay applies "
-                         "leads)")
+    refuse_leads(params)
     return describe((s.name,), start=params, constants=getattr(model, "constants", None))
 
 

@@ -1,8 +1,8 @@
 """The FMU's model equations in C, generated from the Python model: one source.
 
 The descriptor matrices ``E, A, B`` of Eq. (8) are what
-:func:`inflowsim.model.build.base_equations`, each effect's ``equations`` and
-:func:`inflowsim.model.equations.assemble` compute.  Here those same functions run
+:func:`inflowsim.model.build.apply_effects` (the base model and each effect's
+``equations``) and :func:`inflowsim.model.equations.assemble` compute.  Here those same functions run
 on symbols (sympy) instead of numbers: the parameters by their canonical names,
 ``mu``, ``a0``, ``solidity``, and ``V`` the speed through the disc (the paper's
 ``mu`` or the mass-flow parameter, which the C computes).  The expressions are
@@ -27,9 +27,8 @@ from types import SimpleNamespace
 from ..channels import FLAP
 from ..physics.bladeelement import TRIM_KEYS
 from ..errors import InputError
-from ..model.build import base_equations
-from ..model.effects import CATALOGUE
-from ..model.equations import Measurement, assemble
+from ..model.build import apply_effects
+from ..model.equations import assemble
 from ..model.structure import Structure
 
 #: Effects whose equations are linearised about a trim state: the FMU gets the trim
@@ -78,12 +77,7 @@ def traced(structure):
     on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
     s = supported(structure)
     p, k = _symbols(s)
-    eq = base_equations(p, k)
-    meas = Measurement()
-    for name in s.effects:
-        eff = CATALOGUE[name]
-        eq = eff.equations(eq, p, k)
-        meas = eff.measurement(meas, p, k)
+    eq, meas = apply_effects(s, p, k)
     e, a, b = assemble(eq, s.second_order)
     return s, e, a, b, meas
 

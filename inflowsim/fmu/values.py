@@ -91,12 +91,18 @@ def start_values(source, constants=None, description: Description = DEFAULT) -> 
     return _finish(code, vals, k, description)
 
 
-def _finish(code, vals, k, description) -> dict:
-    for name, x in vals.items():
+def refuse_leads(params: Mapping[str, float]) -> None:
+    """:class:`InputError` for a time shift that is a lead (``delay`` or
+    ``delay_<channel>`` < 0): the FMU steps causally and applies lags only."""
+    for name, x in params.items():
         if name.startswith("delay") and x < 0:
             raise InputError(f"{name} = {x:g} s is a lead: the FMU steps causally "
                              "and applies lags only (inflowsim.replay.replay applies "
                              "leads)")
+
+
+def _finish(code, vals, k, description) -> dict:
+    refuse_leads(vals)
     unknown = sorted(set(vals) - set(description.vr))
     if unknown:
         raise InputError(f"parameter {unknown[0]} is not a variable of the FMU")

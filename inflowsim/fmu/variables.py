@@ -87,8 +87,7 @@ def _start_parameters() -> dict:
     _, est, _ = paper_table(3)
     start = {}
     for eff in CATALOGUE.values():
-        start.update(eff.theory(PUMA) if eff.name != "advance-ratio-perturbation"
-                     else {"k_mu": 1.0})
+        start.update(eff.theory(PUMA))
     start.update(est)
     start["tau"] = paper_table(1)[1]["tau"]
     start.update(dict.fromkeys(("k01", "k02", "k11", "k12", "k21", "k22"), 0.0))
@@ -204,10 +203,6 @@ class Description:
     @property
     def integers(self) -> tuple:
         return tuple(v for v in self.variables if v.type == "Integer")
-
-    @property
-    def parameter_names(self) -> tuple:
-        return _parameter_names(self.structures)
 
     @property
     def codes(self) -> dict:

@@ -38,17 +38,25 @@ def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
         p_lambda=lm @ ld.g_lambda(mu), p_u=p_u)
 
 
+def apply_effects(s: Structure, p: Mapping[str, float], k):
+    """``(equations, measurement)`` of structure ``s``: the base model with each of its
+    effects applied in catalogue order.  No checks: :func:`equations` validates the
+    numbers first; :mod:`inflowsim.fmu.codegen` runs it on symbols."""
+    eq = base_equations(p, k)
+    meas = Measurement()
+    for name in s.effects:
+        eff = CATALOGUE[name]
+        eq = eff.equations(eq, p, k)
+        meas = eff.measurement(meas, p, k)
+    return eq, meas
+
+
 def equations(structure, params: Mapping[str, float], constants: Constants):
     """Structured equations and measurement of ``structure`` (validated inputs)."""
     s = Structure.parse(structure)
     constants.check()
     p = check_parameters(params, s.parameters)
-    eq = base_equations(p, constants)
-    meas = Measurement()
-    for name in s.effects:
-        eff = CATALOGUE[name]
-        eq = eff.equations(eq, p, constants)
-        meas = eff.measurement(meas, p, constants)
+    eq, meas = apply_effects(s, p, constants)
     return s, p, eq, meas
 
 
@@ -211,4 +219,5 @@ def build_model(structure, params: Mapping[str, float], constants: Constants) ->
                  end_input=_frozen(end_input))
 
 
-__all__ = ["Model", "build_model", "descriptor", "equations", "base_equations", "FLAP"]
+__all__ = ["Model", "build_model", "descriptor", "equations", "base_equations",
+           "apply_effects", "FLAP"]

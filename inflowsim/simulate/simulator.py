@@ -175,8 +175,8 @@ class Simulator:
         except (TypeError, ValueError):
             self._inputs(u)                  # raises, saying what is wrong
             raise InputError(f"step: inputs must be {self.m} numbers") from None
-        # ndarray.dot: about half the call overhead of @ for one small matrix-vector
-        # product (both are one BLAS gemv), which more than pays for the checks
+        # ndarray.dot: about half the call overhead of @ for this small matrix-vector
+        # product (bench/simulator.md), which more than pays for the checks
         out = self._M.dot(xu)
         check = out.item(-1)
         if check - check != 0.0:            # NaN or infinite (0 * NaN is NaN)
