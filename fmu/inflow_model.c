@@ -193,12 +193,12 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NA * IFS_LD])
     return 0;
 }
 
-/* Terms of the Taylor series of a step of length r needed: the first k whose next
+/* Terms of the Taylor series of a step of length |r| needed: the first k whose next
  * term is bounded by 1e-17 |[x; u]| (term k is at most (|a| r)^(k-1) |[a b]| r / k!
  * |[x; u]|, 1-norms).  0 if more than IFS_KMAX would be needed. */
 static int taylor_count(const IfsModel *m, double r)
 {
-    double bound = m->norm_ab * r, q = m->norm_a * r;
+    double bound = m->norm_ab * fabs(r), q = m->norm_a * fabs(r);
     int k;
     for (k = 1; k <= IFS_KMAX; k++) {
         if (bound * q / (k + 1) <= 1e-17) return k;
@@ -207,37 +207,24 @@ static int taylor_count(const IfsModel *m, double r)
     return 0;
 }
 
-/* x <- x(r) for u held over r, by the Taylor series of the solution:
- * x(r) = x + sum_k r^k w_k with w_1 = a x + b u and w_k = a w_(k-1) / k (the k-th
- * derivative over k!).  About 100 + 48 k flops, no matrix exponential: the step of a
- * communication interval that changes from frame to frame. */
-static void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
-                        const double u[NU])
+/* x <- x(r) for u held over r (r of either sign), by the Taylor series of the
+ * solution: x(r) = x + sum_k w_k with w_1 = r (a x + b u) and w_k = (r / k) a w_(k-1)
+ * (the k-th derivative times r^k / k!).  nk matrix-vector products of a, no matrix
+ * exponential: the step of a communication interval that changes from frame to
+ * frame.  Every term is bounded by the one before (taylor_count), so nothing
+ * overflows. */
+static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
+                                const double u[NU])
 {
-    double w[NX], acc[NX];
-    double rk = r;
-    int i, j, k;
-    for (i = 0; i < NX; i++) {
-        double s = 0.0;
-        for (j = 0; j < NX; j++) s += m->a[i * NX + j] * x[j];
-        for (j = 0; j < NU; j++) s += m->b[i * NU + j] * u[j];
-        w[i] = s;
-        acc[i] = r * s;
-    }
-    for (k = 2; k <= nk; k++) {
-        double t[NX];
-        const double inv = 1.0 / (double)k;
-        rk *= r;
-        for (i = 0; i < NX; i++) {
-            double s = 0.0;
-            for (j = 0; j < NX; j++) s += m->a[i * NX + j] * w[j];
-            t[i] = s * inv;
-        }
-        for (i = 0; i < NX; i++) {
-            w[i] = t[i];
-            acc[i] += rk * t[i];
-        }
-    }
+    double w[2][IFS_LD], acc[IFS_LD];
+    int i, k;
+    memset(w, 0, sizeof w);
+    memcpy(w[0], x, sizeof(double) * NX);
+    ifs_step(m->abc, w[0], u);                       /* a x + b u */
+    for (i = 0; i < NX; i++) w[0][i] *= r;
+    memcpy(acc, w[0], sizeof acc);
+    for (k = 2; k <= nk; k++)
+        ifs_taylor_term(m->abc, w[k & 1], r / (double)k, w[(k + 1) & 1], acc);
     for (i = 0; i < NX; i++) x[i] += acc[i];
 }
 
@@ -251,10 +238,16 @@ static void set_bias(IfsModel *m, const IfsVariables *v)
     build_loads(m, v);
 }
 
-/* 1-norms of a and [a b]: the bounds of the remainder's Taylor terms. */
-static void set_norms(IfsModel *n)
+/* What the remainder's Taylor series needs from a and b: [a b] by columns, and the
+ * 1-norms of a and [a b] that bound its terms. */
+static void set_taylor(IfsModel *n)
 {
     int i, j;
+    memset(n->abc, 0, sizeof n->abc);
+    for (i = 0; i < NX; i++) {
+        for (j = 0; j < NX; j++) n->abc[j * IFS_LD + i] = n->a[i * NX + j];
+        for (j = 0; j < NU; j++) n->abc[(NX + j) * IFS_LD + i] = n->b[i * NU + j];
+    }
     n->norm_a = n->norm_ab = 0.0;
     for (j = 0; j < NA; j++) {
         double col = 0.0;
@@ -316,12 +309,13 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
     n.h_last = -1.0;
-    set_norms(&n);
+    set_taylor(&n);
     *m = n;
     return 0;
 }
 
-int ifs_advance(IfsModel *m, const double u[NU], double h)
+/* (static: a clone's ifunc resolver of a global function would be exported) */
+static IFS_HOT int advance(IfsModel *m, const double u[NU], double h)
 {
     long long k;
     if (h != m->h_last) {
@@ -338,7 +332,9 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
     for (k = 0; k < m->n_last; k++) ifs_step(m->pg, m->x, u);
     if (m->rem_last > 0.0) {
         const double r = m->rem_last;
-        if (r != m->rem && r == m->rem_prev) {      /* asked for again: cache it */
+        /* the second remainder in a row under the same matrices is cached (one
+         * exponential); a constant communication step then costs one step */
+        if (r != m->rem && m->rem_prev > 0.0 && (r == m->rem_prev || m->rem == 0.0)) {
             if (ifs_discretize(m, r, m->pg_rem) != 0) return -1;
             m->rem = r;
         }
@@ -346,8 +342,16 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
         if (r == m->rem) {
             ifs_step(m->pg_rem, m->x, u);
         } else {
+            /* a remainder that changes from frame to frame: the Taylor series over
+             * the whole remainder, or the cached step and the series over the
+             * difference d = r - rem (a few terms for h = 1/60 s +- 2 %), whichever
+             * needs fewer matrix-vector products (the cached step costs about one) */
             const int nk = taylor_count(m, r);
-            if (nk > 0) {
+            const int nd = m->rem > 0.0 ? taylor_count(m, r - m->rem) : 0;
+            if (nd > 0 && (nk == 0 || nd + 1 < nk)) {
+                ifs_step(m->pg_rem, m->x, u);
+                taylor_step(m, nd, r - m->rem, m->x, u);
+            } else if (nk > 0) {
                 taylor_step(m, nk, r, m->x, u);
             } else {                                /* a stiff model: the exponential */
                 if (ifs_discretize(m, r, m->pg_rem) != 0) return -1;
@@ -359,6 +363,11 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
     return 0;
 }
 
+int ifs_advance(IfsModel *m, const double u[NU], double h)
+{
+    return advance(m, u, h);
+}
+
 /* --- mu table --- */
 
 static void mu_entries(const IfsModel *m, double out[IFS_MU_NTAB])
@@ -367,7 +376,7 @@ static void mu_entries(const IfsModel *m, double out[IFS_MU_NTAB])
     memset(out, 0, sizeof(double) * IFS_MU_NTAB);      /* the padding */
     for (i = 0; i < NX; i++)
         for (j = 0; j < NA; j++) {
-            out[i * NA + j] = m->pg[j * IFS_LD + i];
+            out[j * NX + i] = m->pg[j * IFS_LD + i];    /* by columns, unpadded */
             out[IFS_MU_HALF + i * NA + j] =
                 j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
         }
@@ -379,14 +388,15 @@ static double mu_edge(int seg)
     return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
 }
 
-/* The table's interpolant at mu: [phi gam] (half 0) or [a b] (half 1), row-major
- * (Horner; a fixed trip count of NX NA, so the compiler vectorises it). */
-/* (IFS_HOT: four doubles a vector where the CPU has AVX2; the same numbers) */
+/* The table's interpolant at mu: [phi gam] (half 0, by columns) or [a b] (half 1,
+ * row-major).  Horner's rule on four entries at a time, the degrees innermost so
+ * the sums stay in registers; each entry gets the same operations in the same
+ * order in the vector and the scalar code.  (IFS_HOT: the AVX2 clone does four
+ * doubles a vector; the same numbers.) */
 static IFS_HOT void mu_eval_half(const IfsMuTable *t, double mu, int half,
                                  double out[IFS_MU_HALF])
 {
     const int first = half * IFS_MU_HALF;
-    enum { n = IFS_MU_HALF };
     int seg = (int)(IFS_MU_SEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
     double lo, hi, x;
     int k, e;
@@ -398,14 +408,21 @@ static IFS_HOT void mu_eval_half(const IfsMuTable *t, double mu, int half,
     lo = t->edge[seg];
     hi = t->edge[seg + 1];
     x = (2.0 * mu - lo - hi) / (hi - lo);
-    {   /* a local accumulator: no aliasing with the table, so the loop vectorises */
-        double acc[IFS_MU_HALF];
-        for (e = 0; e < n; e++) acc[e] = t->p[seg][IFS_MU_DEG][first + e];
-        for (k = IFS_MU_DEG - 1; k >= 0; k--) {
-            const double *pk = t->p[seg][k] + first;
-            for (e = 0; e < n; e++) acc[e] = acc[e] * x + pk[e];
+    for (e = 0; e < IFS_MU_HALF; e += 4) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        ifs_v4 acc = *(const ifs_v4 *)(t->p[seg][IFS_MU_DEG] + first + e);
+        IFS_UNROLL
+        for (k = IFS_MU_DEG - 1; k >= 0; k--)
+            acc = acc * x + *(const ifs_v4 *)(t->p[seg][k] + first + e);
+        *(ifs_v4 *)(out + e) = acc;
+#else
+        int i;
+        for (i = e; i < e + 4; i++) {
+            double acc = t->p[seg][IFS_MU_DEG][first + i];
+            for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][first + i];
+            out[i] = acc;
         }
-        memcpy(out, acc, sizeof acc);
+#endif
     }
 }
 
@@ -477,10 +494,9 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
 void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
     double f[IFS_MU_HALF];
-    int i, j;
+    int j;
     mu_eval_half(t, v->mu, 0, f);
-    for (i = 0; i < NX; i++)
-        for (j = 0; j < NA; j++) m->pg[j * IFS_LD + i] = f[i * NA + j];
+    for (j = 0; j < NA; j++) memcpy(m->pg + j * IFS_LD, f + j * NX, sizeof(double) * NX);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;
@@ -497,6 +513,6 @@ void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel 
             else m->b[i * NU + j - NX] = f[i * NA + j];
         }
     build_loads(m, v);
-    set_norms(m);
+    set_taylor(m);
     m->ab_stale = 0;
 }

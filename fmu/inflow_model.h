@@ -45,13 +45,18 @@ typedef struct {
      * two rows at a time (see ifs_step) */
     double pg[IFS_NA * IFS_LD];
     double dt;
-    /* cached [phi gam] (by columns) of the last remainder step (h not n dt) */
+    /* cached [phi gam] (by columns) of a remainder step (h not n dt) */
     double pg_rem[IFS_NA * IFS_LD];
     double rem;                    /* its length [s]; 0 = no cache */
-    /* the remainder asked for by the previous call: a remainder asked for twice in a
-     * row is cached (a constant communication step); one that changes from frame to
-     * frame is stepped by the Taylor series of the state (ifs_advance) */
+    /* the remainder asked for by the previous call under the same matrices (0: none).
+     * The second remainder in a row is cached; a later one that differs from the
+     * cached one by d is the cached step followed by the Taylor series of the state
+     * over d (of either sign), or over the whole remainder when that takes fewer
+     * terms (ifs_advance) */
     double rem_prev;
+    /* [a b] stored by columns like pg (the Taylor remainder's matrix-vector
+     * products, two rows at a time) */
+    double abc[IFS_NA * IFS_LD];
     /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
     double norm_a, norm_ab;
     /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
@@ -82,8 +87,9 @@ typedef struct {
 #define IFS_MU_HI 0.5
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
-/* [phi gam] then [a b], row-major, each half padded with zeros to whole vectors of
- * four (so Horner's loop has no remainder and the compiler vectorises it) */
+/* [phi gam] by columns (copied a column at a time into pg's padded columns), then
+ * [a b] row-major, each half padded with zeros to whole vectors of four (Horner's
+ * rule goes four entries at a time) */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #define IFS_MU_NTAB (2 * IFS_MU_HALF)
 typedef struct {
@@ -140,8 +146,10 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
  * same on every path, provided the compiler does not contract a * b + c into a fused
  * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
  */
-/* The DoStep functions (and the mu table's evaluation) are compiled twice where the loader can pick one at load
- * time (GNU ifunc, glibc): for AVX2 and for the baseline.  The step does the same
+/* The DoStep functions, the mu table's evaluation and the stepping of whole
+ * communication intervals (ifs_advance: substeps, the Taylor remainder) are
+ * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
+ * for AVX2 and for the baseline.  The step does the same
  * operations in the same order in both, so both give the same numbers (a test
  * checks this bit for bit; build without floating-point contraction,
  * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
@@ -173,6 +181,14 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
             ((IFS_C(T, 3) * x[3] + IFS_C(T, 4) * x[4]) + IFS_C(T, 5) * x[5]);          \
     } while (0)
 
+/* unroll the loop that follows (its trip count is a compile-time constant): gcc -O2
+ * keeps short inner loops rolled, and their counting costs as much as their work */
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
+#define IFS_UNROLL _Pragma("GCC unroll 32")
+#else
+#define IFS_UNROLL
+#endif
+
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
 /* unaligned, aliasing-safe views of 4 and 2 doubles */
 typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
@@ -200,21 +216,30 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 }
 #else
-/* other state counts (flap-inertia's nine): gam u, then phi x, column by column,
- * two rows at a time (columns are padded to IFS_LD, a multiple of four); the
- * scalar version adds in the same order, so the rounding is the same */
+/* other state counts (flap-inertia's nine): gam u, and phi x as two chains (even
+ * and odd columns, so the chain from x to the new x is half as long), two rows at
+ * a time (columns are padded to IFS_LD, a multiple of four); the scalar version adds
+ * in the same order, so the rounding is the same */
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     /* pairs of rows: native on every x86-64 (SSE2), so the baseline code is fast too */
     double y[IFS_LD];
     int r, j;
-    for (r = 0; r < IFS_LD / 2; r++) {
+    for (r = 0; r < (IFS_NX + 1) / 2; r++) {
         ifs_v2 s = *(const ifs_v2 *)(pg + IFS_NX * IFS_LD + 2 * r) * u[0];
+        ifs_v2 s0 = *(const ifs_v2 *)(pg + 2 * r) * x[0];
+        ifs_v2 s1 = *(const ifs_v2 *)(pg + IFS_LD + 2 * r) * x[1];
+        IFS_UNROLL
         for (j = 1; j < IFS_NU; j++)
             s += *(const ifs_v2 *)(pg + (IFS_NX + j) * IFS_LD + 2 * r) * u[j];
-        for (j = 0; j < IFS_NX; j++) s += *(const ifs_v2 *)(pg + j * IFS_LD + 2 * r) * x[j];
-        *(ifs_v2 *)(y + 2 * r) = s;
+        IFS_UNROLL
+        for (j = 2; j < IFS_NX; j += 2) {
+            s0 += *(const ifs_v2 *)(pg + j * IFS_LD + 2 * r) * x[j];
+            if (j + 1 < IFS_NX)
+                s1 += *(const ifs_v2 *)(pg + (j + 1) * IFS_LD + 2 * r) * x[j + 1];
+        }
+        *(ifs_v2 *)(y + 2 * r) = s + (s0 + s1);
     }
     memcpy(x, y, sizeof(double) * IFS_NX);
 #else
@@ -222,9 +247,13 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
     int i, j;
     for (i = 0; i < IFS_NX; i++) {
         double s = pg[IFS_NX * IFS_LD + i] * u[0];
+        double s0 = pg[i] * x[0], s1 = pg[IFS_LD + i] * x[1];
         for (j = 1; j < IFS_NU; j++) s += pg[(IFS_NX + j) * IFS_LD + i] * u[j];
-        for (j = 0; j < IFS_NX; j++) s += pg[j * IFS_LD + i] * x[j];
-        y[i] = s;
+        for (j = 2; j < IFS_NX; j += 2) {
+            s0 += pg[j * IFS_LD + i] * x[j];
+            if (j + 1 < IFS_NX) s1 += pg[(j + 1) * IFS_LD + i] * x[j + 1];
+        }
+        y[i] = s + (s0 + s1);
     }
     memcpy(x, y, sizeof y);
 #endif
@@ -232,6 +261,45 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 #undef IFS_C
 #undef IFS_STEP_ROWS
+
+/*
+ * One term of the remainder's Taylor series (ifs_advance): w_next = (a w) s with a
+ * the first IFS_NX columns of ab (stored like pg), and acc += w_next.  The terms
+ * depend on each other, so each sum is two chains (even and odd columns) to halve
+ * its latency.  Two rows at a time where the compiler has GNU vectors; the scalar
+ * version adds in the same order.
+ */
+IFS_INLINE void ifs_taylor_term(const double *ab, const double w[IFS_LD], double s,
+                                double w_next[IFS_LD], double acc[IFS_LD])
+{
+    int r, j;
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    IFS_UNROLL
+    for (r = 0; r < (IFS_NX + 1) / 2; r++) {
+        ifs_v2 t = *(const ifs_v2 *)(ab + 2 * r) * w[0];
+        ifs_v2 t1 = *(const ifs_v2 *)(ab + IFS_LD + 2 * r) * w[1];
+        IFS_UNROLL
+        for (j = 2; j < IFS_NX; j += 2) {
+            t += *(const ifs_v2 *)(ab + j * IFS_LD + 2 * r) * w[j];
+            if (j + 1 < IFS_NX) t1 += *(const ifs_v2 *)(ab + (j + 1) * IFS_LD + 2 * r) * w[j + 1];
+        }
+        t = (t + t1) * s;
+        *(ifs_v2 *)(w_next + 2 * r) = t;
+        *(ifs_v2 *)(acc + 2 * r) += t;
+    }
+#else
+    for (r = 0; r < IFS_NX; r++) {
+        double t = ab[r] * w[0], t1 = ab[IFS_LD + r] * w[1];
+        for (j = 2; j < IFS_NX; j += 2) {
+            t += ab[j * IFS_LD + r] * w[j];
+            if (j + 1 < IFS_NX) t1 += ab[(j + 1) * IFS_LD + r] * w[j + 1];
+        }
+        t = (t + t1) * s;
+        w_next[r] = t;
+        acc[r] += t;
+    }
+#endif
+}
 
 /* Load i (0 CT, 1 C_mc, 2 C_ms, 3 C_mc_hub, 4 C_ms_hub) for the state and the inputs
  * held now. */

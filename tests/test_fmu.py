@@ -353,8 +353,10 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
     """The shipped binary steps with its AVX2 clone where the CPU has AVX2; built
     without clones it steps with the baseline code, and with IFS_SCALAR_STEP with the
     plain-C loop other compilers get.  All must agree bit for bit, on the loop's
-    fast path (h = dt), on substeps with a remainder (h = 2.5 dt) and with mu
-    changing every step (the mu table's evaluation is cloned for AVX2 too)."""
+    fast path (h = dt), on substeps with a remainder (h = 2.5 dt), with mu
+    changing every step (the mu table's evaluation is cloned for AVX2 too) and with
+    a step changing every frame (the Taylor remainder, over the whole remainder and
+    over its difference from the cached one)."""
     other = tmp_path / "unzipped"
     shutil.copytree(unzipped, other)
     compile_library(source_dir(), other / "binaries" / "linux64" / "inflowsim.so", flags)
@@ -371,6 +373,15 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
             set_reals(s, [VR["mu"]], [0.3 + 0.15 * np.sin(0.1 * k)])
             set_reals(s, [VR[n] for n in ALL_INPUTS], list(uk))
             s.doStep(t0 + k * DT, DT)
+            y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
+        t0 += 60 * DT
+        set_reals(s, [VR["mu"]], [0.3])
+        for k, uk in enumerate(u[:80]):
+            h = ((1 / 60) * (1 + 0.02 * np.sin(1.7 * k)) if k < 60
+                 else DT * (1.4 - 0.04 * (k - 60)))
+            set_reals(s, [VR[n] for n in ALL_INPUTS], list(uk))
+            s.doStep(t0, h)
+            t0 += h
             y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
         s.freeInstance()
         runs.append(np.vstack([y, y_long, np.array(y_mu)]))
