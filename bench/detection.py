@@ -187,6 +187,7 @@ def main(argv=None):
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--configs", default="all",
                     help="all, or hold:rate:noise[,...] e.g. continuous:64:white")
+    ap.add_argument("--effects", help="comma-separated effects (hidden, null: a subset)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out")
     ap.add_argument("--rule", help="comma-separated tests of the acceptance rule to apply "
@@ -198,7 +199,8 @@ def main(argv=None):
         return 0
     configs = CONFIGS if a.configs == "all" else [
         (h, int(r), n) for h, r, n in (c.split(":") for c in a.configs.split(","))]
-    todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs)]
+    todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs)
+            if not a.effects or j[1] in a.effects.split(",")]
     if a.rule:
         import os
         os.environ["INFLOWSIM_STUDY_RULE"] = a.rule
