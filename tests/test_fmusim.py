@@ -1,5 +1,6 @@
 """Other importers: modelica's fmusim (Reference-FMUs) runs FMI 2.0 and 3.0 FMUs of
-every effect and gives the Simulator's trajectory and loads (issue #10, "Done when").
+the presets and of every generated structure (every effect the FMU takes) and gives
+the Simulator's trajectory and loads to 1e-10 (issue #10, "Done when").
 
 fmusim is not on PyPI or in Debian, and today's fmusim (Rust) needs crates.io, so the
 test runs where one is installed: ``INFLOWSIM_FMUSIM=/path/to/fmusim`` or ``fmusim`` on
@@ -17,6 +18,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("fmpy")
+from test_fmu_structures import STRUCTURES as FMPY_STRUCTURES  # noqa: E402
 from test_fmu_structures import (ALL_INPUTS, LOADS, OUTPUTS, constants_for,  # noqa: E402
                                  inputs_of, parameters, python_run, record)
 
@@ -30,14 +32,8 @@ pytestmark = pytest.mark.skipif(
 DT = 0.01
 __all__ = ["record"]          # the record fixture, shared with test_fmu_structures
 
-#: every effect the FMU runs at least once; flap-inertia gives nine states
-STRUCTURES = (
-    "glauert",
-    "glauert+flap-inertia+skewed-wake+time-delay",
-    "basic+delay-beta0+delay-beta1c",
-    "basic+separate-time-constants+hub-velocity-coupling",
-    "glauert+advance-ratio-perturbation+flap-inertia",
-)
+#: the presets and every generated structure of the fmpy tests
+STRUCTURES = ("basic", "empirical", "glauert") + FMPY_STRUCTURES
 
 
 def fmusim_run(fmu, u, tmp_path):
