@@ -24,57 +24,10 @@ import dataclasses
 import numpy as np
 from scipy import signal
 
+from inflowsim.flighttest.averaging import averaged_system, condense
+
 #: the identification band of the studies [Hz] (inflowsim's default)
 BAND = (0.2256, 1.58)
-
-
-def averaged_system(rotor, K, n_psi=12):
-    """``(A, B)`` in azimuth time of the flap harmonics ``0..K`` (``2K+1``
-    coordinates, their rates) and the three inflow states, inputs ``theta0,
-    theta1c, theta1s``; by finite differences of the truth's right-hand side
-    (exact: it is linear in these), averaged over ``n_psi`` azimuths."""
-    nb = rotor.nb
-    nh = 2 * K + 1
-    n = 2 * nh + 3
-
-    def deriv(psi, z, u):
-        b, db, lam = z[:nh], z[nh:2 * nh], z[2 * nh:]
-        ang = psi + rotor.offsets
-        basis = [np.ones(nb)]
-        dbasis = [np.zeros(nb)]
-        for k in range(1, K + 1):
-            basis += [np.cos(k * ang), np.sin(k * ang)]
-            dbasis += [-k * np.sin(k * ang), k * np.cos(k * ang)]
-        basis, dbasis = np.array(basis), np.array(dbasis)       # (nh, nb)
-        beta = b @ basis
-        rate = db @ basis + b @ dbasis
-        x = np.concatenate([beta, rate, lam])
-        uu = np.zeros(10)
-        uu[:3] = u
-        uu[8] = rotor.spec.constants.mu
-        f = rotor.rhs(psi, x, uu)
-        acc = f[nb:2 * nb]
-        proj = (basis @ acc) * np.array([1.0] + [2.0] * (nh - 1)) / nb
-        dd = proj.copy()
-        for k in range(1, K + 1):
-            c, s = 2 * k - 1, 2 * k
-            dd[c] = proj[c] - 2 * k * db[s] + k * k * b[c]
-            dd[s] = proj[s] + 2 * k * db[c] + k * k * b[s]
-        return np.concatenate([db, dd, f[2 * nb:]])
-
-    A = np.zeros((n, n))
-    B = np.zeros((n, 3))
-    for psi in np.linspace(0, 2 * np.pi, n_psi, endpoint=False):
-        f0 = deriv(psi, np.zeros(n), np.zeros(3))
-        for j in range(n):
-            e = np.zeros(n)
-            e[j] = 1e-6
-            A[:, j] += (deriv(psi, e, np.zeros(3)) - f0) / 1e-6
-        for j in range(3):
-            e = np.zeros(3)
-            e[j] = 1e-6
-            B[:, j] += (deriv(psi, np.zeros(n), e) - f0) / 1e-6
-    return A / n_psi, B / n_psi
 
 
 def main(argv=None):
@@ -105,23 +58,42 @@ def main(argv=None):
     om = k.omega
     print(f"mu = {a.mu}, {a.rate:g} Hz, {a.blades} blades, doublets 0.5 deg, hub fixed, "
           "V = mu")
-    print("| flap harmonics kept (K) | states | residual power / flap power "
-          "(beta0, beta1c, beta1s) | same, 0.2256-1.58 Hz only |")
+    print("| model | states | residual power / flap power (beta0, beta1c, beta1s) | same, "
+          "0.2256-1.58 Hz only |")
     print("| --- | --- | --- | --- |")
-    for K in (1, 2, 3):
-        A, B = averaged_system(rotor16, K)
+    f = np.fft.rfftfreq(len(t), t[1] - t[0])
+    band = (f >= BAND[0]) & (f <= BAND[1])
+    Z = np.fft.rfft(z, axis=0)[band]
+
+    def row(label, A, B):
         C = np.zeros((3, A.shape[0]))
         C[0, 0] = C[1, 1] = C[2, 2] = 1.0
-        sys = signal.StateSpace(A * om, B * om, C, np.zeros((3, 3)))
+        sys = signal.StateSpace(A * om, B[:, :3] * om, C, np.zeros((3, 3)))
         _, y, _ = signal.lsim(sys, u, t)
         r = [float(np.sum((z[:, i] - y[:, i]) ** 2) / np.sum(z[:, i] ** 2)) for i in range(3)]
-        # the same over the identification band only (the transforms' bins in it)
-        f = np.fft.rfftfreq(len(t), t[1] - t[0])
-        band = (f >= BAND[0]) & (f <= BAND[1])
-        Z, E = np.fft.rfft(z, axis=0)[band], np.fft.rfft(z - y, axis=0)[band]
+        E = np.fft.rfft(z - y, axis=0)[band]
         rb = [float(np.sum(abs(E[:, i]) ** 2) / np.sum(abs(Z[:, i]) ** 2)) for i in range(3)]
-        print(f"| {K} | {A.shape[0]} | " + ", ".join(f"{v:.2e}" for v in r) + " | "
+        print(f"| {label} | {A.shape[0]} | " + ", ".join(f"{v:.2e}" for v in r) + " | "
               + ", ".join(f"{v:.2e}" for v in rb) + " |")
+
+    systems = {K: averaged_system(rotor16, K) for K in (1, 2, 3)}
+    row("K = 1 (the multiblade model (1) with flap inertia)", *systems[1])
+    row("K = 2, the 2/rev flap quasi-steady (`second-harmonic-flap`)",
+        *condense(*systems[2], [3, 4, 8, 9]))
+    row("K = 2, the 2/rev flap without its inertia (`beta2''` dropped)",
+        *condense(*systems[2], [8, 9]))
+    row("K = 2", *systems[2])
+    row("K = 3", *systems[3])
+    # the catalogue's structure itself, theory values (states beta, lambda, beta')
+    from inflowsim.model.build import build_model
+    st = "basic+flap-inertia+separate-time-constants+second-harmonic-flap"
+    par = dict(lambda_beta2=spec.lambda_beta2, n_beta=spec.n_beta, tau0=spec.tau0,
+               tau_cs=spec.tau_cs, flap_inertia=1.0, k_beta2=1.0)
+    m = build_model(st, par, k)
+    perm = [0, 1, 2, 6, 7, 8, 3, 4, 5]          # to the averaged order b, b', lambda
+    from inflowsim.channels import input_scale
+    row(f"`{st}`, theory values", m.a[np.ix_(perm, perm)] / om,
+        m.b[perm, :3] / om / input_scale(om)[:3])
 
 
 if __name__ == "__main__":

@@ -39,6 +39,7 @@ TRUE_VALUES = {
     "flap-inertia": {"flap_inertia": 1.0},
     "skewed-wake": {},                      # its theory value for the Puma
     "advance-ratio-perturbation": {},       # k_mu = 1
+    "second-harmonic-flap": {},             # k_beta2 = 1
 }
 KINDS = [("continuous", 64), ("continuous", 256), ("zoh", 64), ("zoh", 256)]
 

@@ -51,6 +51,8 @@ STRUCTURES = (
     "glauert+flap-inertia+skewed-wake+time-delay",
     "basic+advance-ratio-perturbation",
     "glauert+advance-ratio-perturbation+flap-inertia",
+    "basic+second-harmonic-flap",
+    "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
 )
 
 #: A trim state (totals) for the effect linearised about it.

@@ -16,8 +16,9 @@ from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_
 _MODULES = (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
             time_delay)
 from . import flap_inertia, skewed_wake, advance_ratio_perturbation  # noqa: E402
+from . import second_harmonic_flap  # noqa: E402
 from . import time_shifts  # noqa: E402
-_MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation)
+_MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {}
