@@ -179,3 +179,16 @@ def test_quasi_steady_2rev_flap_is_the_dynamic_one_in_the_band(truth):
     error = np.abs(dyn - resp(a, b, [0, 1, 2])).max()
     assert error < 0.35 * effect, (error, effect)
     assert effect > 1e-3 * np.abs(dyn).max()
+
+
+def test_recorded_pitch_is_rotated_to_the_true_one_under_azimuth_bias():
+    """With ``azimuth-bias`` the model takes the recorded cyclic pitch; every
+    pitch column, the 2/rev flap's included, must act on the true one."""
+    k = PUMA
+    par = dict(lambda_beta2=1.06, n_beta=0.987, tau=1.0, k_beta2=1.0)
+    m0 = build_model("basic+second-harmonic-flap", par, k)
+    m1 = build_model("basic+azimuth-bias+second-harmonic-flap",
+                     par | {"azimuth_bias": 0.3}, k)
+    r = np.array([[np.cos(0.3), np.sin(0.3)], [-np.sin(0.3), np.cos(0.3)]])  # R(-0.3)
+    np.testing.assert_allclose(m1.b[:, 1:3], m0.b[:, 1:3] @ r, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m1.a, m0.a, rtol=0, atol=1e-12)

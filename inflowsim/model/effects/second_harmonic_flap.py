@@ -32,6 +32,7 @@ import numpy as np
 from ._effect import Effect
 from ...physics import harmonics as hm
 from ...physics import loads as ld
+from ..equations import rotation
 from ..params import ParameterSpec
 
 NAME = "second-harmonic-flap"
@@ -54,6 +55,11 @@ def condensed(mu, n_beta, lambda_beta2):
 
 def _equations(eq, p, k):
     s_db, s_b, s_l, s_u = condensed(k.mu, p["n_beta"], p["lambda_beta2"])
+    if "azimuth_bias" in p:
+        # the model takes the recorded cyclic pitch; the blades feel the true one
+        # (azimuth-bias rotates the other pitch columns the same way)
+        s_u = np.hstack([s_u[:, :1], s_u[:, 1:3] @ rotation(-p["azimuth_bias"]),
+                         s_u[:, 3:]])
     n, _ = hm.flap2_into_flap(k.mu, p["n_beta"])
     g, _ = hm.flap2_into_loads(k.mu)
     nk = p["k_beta2"] * n
