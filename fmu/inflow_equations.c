@@ -105,6 +105,13 @@ static void flap_delays_0(const IfsVariables *v, double d[3])
     d[2] = v->delay;
 }
 
+static int harmonic_loads_0(const IfsVariables *v, double w[3 * 17])
+{
+    (void)v;
+    (void)w;
+    return 0;
+}
+
 /* empirical: separate-time-constants, hub-velocity-coupling, azimuth-bias */
 static void descriptor_1(const IfsVariables *v, double V, double *e, double *a, double *b)
 {
@@ -217,6 +224,13 @@ static void flap_delays_1(const IfsVariables *v, double d[3])
     d[0] = v->delay;
     d[1] = v->delay;
     d[2] = v->delay;
+}
+
+static int harmonic_loads_1(const IfsVariables *v, double w[3 * 17])
+{
+    (void)v;
+    (void)w;
+    return 0;
 }
 
 /* glauert: separate-time-constants, glauert, azimuth-bias */
@@ -340,6 +354,13 @@ static void flap_delays_2(const IfsVariables *v, double d[3])
     d[2] = v->delay;
 }
 
+static int harmonic_loads_2(const IfsVariables *v, double w[3 * 17])
+{
+    (void)v;
+    (void)w;
+    return 0;
+}
+
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b)
 {
     switch (v->structure) {
@@ -367,6 +388,16 @@ void ifs_flap_delays_of(const IfsVariables *v, double d[3])
     case 1: flap_delays_1(v, d); break;
     case 2: flap_delays_2(v, d); break;
     default: flap_delays_0(v, d); break;
+    }
+}
+
+int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17])
+{
+    switch (v->structure) {
+    case 0: return harmonic_loads_0(v, w);
+    case 1: return harmonic_loads_1(v, w);
+    case 2: return harmonic_loads_2(v, w);
+    default: return harmonic_loads_0(v, w);
     }
 }
 

@@ -130,6 +130,37 @@ static double flow_speed(const IfsVariables *v)
     return (mu * mu + 2 * lam * lam) / hypot(mu, lam);
 }
 
+/* second-harmonic-flap: the quasi-steady 2/rev flap's own term in the aerodynamic
+ * loads, by beta' (from the dynamics), beta, lambda and the inputs (azimuth units:
+ * qbar = q / Omega, qbar' = qdot / Omega^2); inflowsim.model.loads does the same. */
+static void add_harmonic_loads(IfsModel *n, const IfsVariables *v)
+{
+    double w[3 * 17];
+    const double a0s = v->a0 * v->solidity, om = v->omega;
+    const double scale[8] = {1.0, 1.0, 1.0, 1.0, 1.0 / om, 1.0 / om, 1.0 / (om * om),
+                             1.0 / (om * om)};
+    int r, i, j;
+    if (!ifs_harmonic_loads_of(v, w)) return;
+    for (r = 0; r < 3; r++) {
+        const double *wr = w + 17 * r;
+        for (j = 0; j < NX; j++) {
+            double s = 0.0;
+            for (i = 0; i < 3; i++) s += wr[i] * n->a[i * NX + j];
+            s /= om;
+            if (j < 3) s += wr[3 + j];
+            else if (j < 6) s += wr[6 + j - 3];
+            n->lc[r * NX + j] += a0s * s;
+        }
+        for (j = 0; j < NU; j++) {
+            double s = 0.0;
+            for (i = 0; i < 3; i++) s += wr[i] * n->b[i * NU + j];
+            s /= om;
+            if (j < 8) s += wr[9 + j] * scale[j];
+            n->ld[r * NU + j] += a0s * s;
+        }
+    }
+}
+
 /* loads = lc x + ld u (SI state and inputs): Eq. (4) times a0 s with beta' from the
  * dynamics (x' = (a x + b u)/Omega), the true pitch under an azimuth bias, and the
  * centre-spring hub moments -a0 s (lambda_beta2 - 1)/(16 n_beta) (beta1c, beta1s);
@@ -165,6 +196,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
         n->ld[r * NU + 4] += a0s * Gu[r][4] / om;          /* q: qbar = q / Omega */
         n->ld[r * NU + 5] += a0s * Gu[r][5] / om;          /* p */
     }
+    add_harmonic_loads(n, v);
     n->lc[3 * NX + 1] = -a0s * (v->lambda_beta2 - 1.0) / (16.0 * v->n_beta);
     n->lc[4 * NX + 2] = n->lc[3 * NX + 1];
 }

@@ -120,11 +120,14 @@ void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
 
 /* Generated from the Python model (inflow_equations.c, inflowsim.fmu.codegen), for
  * v->structure: the descriptor at the speed V through the disc, the azimuth bias
- * [rad] and the flap channels' time shifts [s]; and the blade-element load
+ * [rad], the flap channels' time shifts [s], the 2/rev flap's loads; and the blade-element load
  * matrices of Eq. (4) (model.md section 3). */
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b);
 double ifs_bias_of(const IfsVariables *v);
 void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
+/* The 2/rev flap's term in (C_T, C_mc, C_ms)/(a0 s) by beta', beta, lambda and the
+ * first eight inputs in azimuth units (3 rows of 17); 0: the structure has none. */
+int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17]);
 void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
                        double Gu[3][6]);
 

@@ -23,6 +23,7 @@
 #define ifs_descriptor IFS_NAME(ifs_descriptor)
 #define ifs_descriptor_of IFS_NAME(ifs_descriptor_of)
 #define ifs_flap_delays_of IFS_NAME(ifs_flap_delays_of)
+#define ifs_harmonic_loads_of IFS_NAME(ifs_harmonic_loads_of)
 #define ifs_load_matrices IFS_NAME(ifs_load_matrices)
 #define ifs_discretize IFS_NAME(ifs_discretize)
 #define ifs_integer_vars IFS_NAME(ifs_integer_vars)

@@ -192,3 +192,33 @@ def test_recorded_pitch_is_rotated_to_the_true_one_under_azimuth_bias():
     r = np.array([[np.cos(0.3), np.sin(0.3)], [-np.sin(0.3), np.cos(0.3)]])  # R(-0.3)
     np.testing.assert_allclose(m1.b[:, 1:3], m0.b[:, 1:3] @ r, rtol=0, atol=1e-12)
     np.testing.assert_allclose(m1.a, m0.a, rtol=0, atol=1e-12)
+
+
+def test_loads_carry_the_2rev_flap_as_the_truth_does(truth):
+    """The loads out (:func:`inflowsim.model.loads.load_matrices`) against the
+    blade loads the averaged truth feeds its inflow states: ``c = M lambda' +
+    L^-1 lambda`` from its inflow rows, with and without the 2/rev flap."""
+    from inflowsim.model.loads import load_matrices
+    k, par, (a1, b1), (a2, b2) = truth
+    rotor = BladeRotor(RotorSpec(constants=k, speed="mu", n_blades=16))
+    m_mat = np.linalg.inv(rotor.minv)
+    scale = input_scale(k.omega)[:8]
+
+    def blade_loads(a, b):
+        lam = np.zeros((3, a.shape[0]))
+        lam[:, 6:9] = np.eye(3)
+        return m_mat @ a[6:9] + rotor.linv @ lam, m_mat @ b[6:9]
+
+    for structure, extra, (a, b) in ((STRUCTURE, {}, (a1, b1)),
+                                     (STRUCTURE + "+second-harmonic-flap", {"k_beta2": 1.0},
+                                      condense(a2, b2, [3, 4, 8, 9]))):
+        lm = load_matrices(build_model(structure, par | extra, k))
+        cx, cu = blade_loads(a, b)
+        a0s = k.a0 * k.solidity                   # the truth's c is per a0 s
+        np.testing.assert_allclose(lm.c[:3][:, PERM] / a0s, cx, rtol=0, atol=1e-9,
+                                   err_msg=structure)
+        np.testing.assert_allclose(lm.d[:3, :8] / scale / a0s, cu, rtol=0, atol=1e-9,
+                                   err_msg=structure)
+    # and the 2/rev flap's term is there to be seen
+    assert np.abs(blade_loads(a1, b1)[0]
+                  - blade_loads(*condense(a2, b2, [3, 4, 8, 9]))[0]).max() > 1e-5

@@ -137,6 +137,28 @@ def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
     return lines + ["}", ""]
 
 
+def _harmonic_loads_c(s: Structure, index: int, sp) -> list:
+    """``harmonic_loads_<index>``: the 2/rev flap's term in the loads
+    (:func:`inflowsim.model.effects.second_harmonic_flap.in_loads` on symbols, 3 x 17
+    by rows); returns 0 for a structure without the effect."""
+    from ..model.effects import second_harmonic_flap as shf
+    head = [f"static int harmonic_loads_{index}(const IfsVariables *v, double w[3 * 17])",
+            "{"]
+    if shf.NAME not in s.effects:
+        return head + ["    (void)v;", "    (void)w;", "    return 0;", "}", ""]
+    p, k = _symbols(s)
+    w = shf.in_loads(p, k)
+    targets = [(f"w[{i * 17 + j}]", sp.sympify(w[i, j])) for i in range(3) for j in range(17)]
+    subs, reduced = sp.cse([x for _, x in targets], symbols=sp.numbered_symbols("t"),
+                           optimizations="basic")
+    free = set().union(*(x.free_symbols for _, x in targets))
+    rename = {sym: sp.Symbol(_c_name(sym)) for sym in free}
+    lines = head + [f"    const double {t} = {sp.ccode(x.xreplace(rename))};" for t, x in subs]
+    lines += [f"    {t} = {sp.ccode(x.xreplace(rename))};"
+              for (t, _), x in zip(targets, reduced)]
+    return lines + ["    return 1;", "}", ""]
+
+
 def _loads_c(sp) -> list:
     """``ifs_load_matrices``: the blade-element matrices of Eq. (4) from
     :mod:`inflowsim.physics.loads`, run on the symbol ``mu``."""
@@ -165,7 +187,8 @@ def equations_c(structures) -> str:
     for i, st in enumerate(structures):
         s, e, a, b, meas = traced(st)
         states.add(e.shape[0])
-        body += _descriptor_c(s, e, a, b, i, sp) + _measurement_c(meas, i, sp)
+        body += (_descriptor_c(s, e, a, b, i, sp) + _measurement_c(meas, i, sp)
+                 + _harmonic_loads_c(s, i, sp))
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "
                          f"(these have {sorted(states)})")
@@ -188,7 +211,11 @@ def equations_c(structures) -> str:
              "void ifs_flap_delays_of(const IfsVariables *v, double d[3])", "{",
              "    switch (v->structure) {"]
     tail += cases("flap_delays_{i}(v, d); break;")
-    tail += ["    default: flap_delays_0(v, d); break;", "    }", "}", ""]
+    tail += ["    default: flap_delays_0(v, d); break;", "    }", "}", "",
+             "int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17])", "{",
+             "    switch (v->structure) {"]
+    tail += cases("return harmonic_loads_{i}(v, w);")
+    tail += ["    default: return harmonic_loads_0(v, w);", "    }", "}", ""]
     tail += _loads_c(sp)
     return "\n".join(head + body + tail)
 

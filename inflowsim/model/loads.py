@@ -16,6 +16,10 @@ flap and inflow outputs: ``loads = c_loads x + d_loads u`` (SI inputs, as ``Mode
   (``C_M = M / (rho pi R^2 (Omega R)^2 R)``, ``n_beta = gamma/8``); in steady flight it
   equals the aerodynamic moment (the flap equation's moment balance, tested).
 
+With ``second-harmonic-flap`` the aerodynamic loads carry the 2/rev flap's own term
+``G_beta2 beta2`` (quasi-steady, as the effect's flap equation has it; ``model.md``
+extensions).
+
 Coefficients are perturbations about trim, like every model output. Not included: the
 in-plane velocity terms (``mux, muy``) of the loads, which the paper's Eq. (4) does not
 carry; structures that add them to the flap equation still give their flap rates here.
@@ -27,10 +31,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..channels import CONTROLS, FLAP, INFLOW, LOADS, input_scale
+from ..channels import CONTROLS, FLAP, INFLOW, INPUTS, LOADS, input_scale
 from ..errors import InputError
 from ..physics import loads as ld
 from .build import _frozen
+from .effects import second_harmonic_flap as shf
 from .equations import rotation
 
 #: The aerodynamic loads, then the flap-spring hub moments (``channels.LOADS``).
@@ -85,6 +90,12 @@ def load_matrices(model) -> LoadMatrices:
     c = a0s * (ld.g_dbeta(mu) @ dbeta_x + ld.g_beta(mu) @ pb + ld.g_lambda(mu) @ pl)
     d = a0s * (ld.g_dbeta(mu) @ dbeta_u + ld.g_theta(mu) @ th + ld.g_nu(mu) @ nu)
     p = model.parameters
+    if shf.NAME in model.structure.effects:
+        # the 2/rev flap's own term, quasi-steady as the effect's flap equation has it
+        w = shf.in_loads(p, k)
+        u8 = _select(inputs, INPUTS[:8], m) * scale
+        c = c + a0s * (w[:, :3] @ dbeta_x + w[:, 3:6] @ pb + w[:, 6:9] @ pl)
+        d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
     return LoadMatrices(tuple(LOADS), _frozen(np.vstack([c, c_hub])),

@@ -53,13 +53,29 @@ def condensed(mu, n_beta, lambda_beta2):
     return tuple(d2inv @ f for f in hm.flap2_forcing(mu, n_beta))
 
 
-def _equations(eq, p, k):
+def quasi_steady(p, k):
+    """:func:`condensed` for parameters ``p`` (by name) and constants ``k``, its
+    pitch columns acting on the recorded cyclic pitch where the structure has
+    ``azimuth-bias`` (the blades feel the true one; azimuth-bias rotates the other
+    pitch columns the same way)."""
     s_db, s_b, s_l, s_u = condensed(k.mu, p["n_beta"], p["lambda_beta2"])
     if "azimuth_bias" in p:
-        # the model takes the recorded cyclic pitch; the blades feel the true one
-        # (azimuth-bias rotates the other pitch columns the same way)
         s_u = np.hstack([s_u[:, :1], s_u[:, 1:3] @ rotation(-p["azimuth_bias"]),
                          s_u[:, 3:]])
+    return s_db, s_b, s_l, s_u
+
+
+def in_loads(p, k):
+    """``k_beta2 G_beta2 [S_dbeta, S_beta, S_lambda, S_u]``, shape (3, 17): the
+    quasi-steady 2/rev flap's term in ``c = (C_T, C_mc, C_ms)/(a0 s)`` of Eq. (4),
+    by ``beta'``, ``beta``, ``lambda`` and the eight inputs in azimuth units
+    (:mod:`inflowsim.model.loads` and the FMU's loads add it)."""
+    g, _ = hm.flap2_into_loads(k.mu)
+    return np.hstack([p["k_beta2"] * g @ s for s in quasi_steady(p, k)])
+
+
+def _equations(eq, p, k):
+    s_db, s_b, s_l, s_u = quasi_steady(p, k)
     n, _ = hm.flap2_into_flap(k.mu, p["n_beta"])
     g, _ = hm.flap2_into_loads(k.mu)
     nk = p["k_beta2"] * n
