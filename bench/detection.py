@@ -95,6 +95,26 @@ def _floor_ratio(fit, rec, noise, rate):
     return [float(abs(fit.S[0][i, i]) / level) for i in range(3)]
 
 
+def _noise_ratio(kind, hold, rate, noise, seed, rec, fit):
+    """The record's own noise (record minus its noise-free twin) in the fit's band,
+    per flap channel, over the same expected level as :func:`_floor_ratio`: what a
+    perfect model would leave (37 bins scatter by about 16 %)."""
+    import dataclasses
+    from inflowsim.flighttest import FlightTest, nonlinear_flighttest
+    from inflowsim.virtual import noise_psd
+    col = COLOUR_HZ if noise == "coloured" else None
+    test = FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(), seed=seed, hold=hold,
+                      noise_flap=NOISE, noise_color_hz=col)
+    clean = nonlinear_flighttest(dataclasses.replace(test, noise_flap=0.0)).record
+    f = fit.data[0].f_hz
+    n = np.column_stack([rec[c] - clean[c] for c in ("beta0", "beta1c", "beta1s")])
+    spec = np.fft.rfft(n, axis=0)
+    ff = np.fft.rfftfreq(len(n), rec.dt)
+    band = (ff >= f.min() - 1e-9) & (ff <= f.max() + 1e-9)
+    level = len(rec) * np.mean(noise_psd(NOISE, 1 / rate, f, col))
+    return [float(v) for v in np.mean(abs(spec[band]) ** 2, axis=0) / level]
+
+
 def run_one(job):
     import os
     from inflowsim import candidates
@@ -121,6 +141,9 @@ def run_one(job):
                         for n in p if win.fit.sigma.get(n)}
     else:
         lad = ladder(rec, base)
+        if kind == "nonlinear":
+            out["noise_floor_ratio"] = _noise_ratio(kind, hold, rate, noise, seed, rec,
+                                                    lad.final.fit)
         out["added"] = [r.added for r in lad.rungs[1:]]
         out["final"] = lad.final.structure.name
         out["final_floor_ratio"] = _floor_ratio(lad.final.fit, rec, noise, rate)
