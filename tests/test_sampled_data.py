@@ -39,6 +39,7 @@ CASES = [
     ("empirical+time-delay", {"delay": -0.0213}),                 # a lead
     ("basic+delay-theta1s+delay-beta1c", {"delay_theta1s": 0.017, "delay_beta1c": -0.011}),
     ("basic+flap-inertia", {"flap_inertia": 1.0}),
+    ("glauert+flap-inertia+second-harmonic-flap", {"flap_inertia": 1.0, "k_beta2": 1.3}),
 ]
 
 
