@@ -60,11 +60,11 @@ def main():
     rec = hidden_glauert()
     fast = hidden_glauert(256.0)
     nl = nonlinear_flighttest(FlightTest(seed=1)).record
-    rows = [("diagnose basic, every candidate (8), hidden-glauert record, 100 Hz",
+    rows = [("diagnose basic, every candidate ({n}), hidden-glauert record, 100 Hz",
              _best(lambda: diagnose(rec, "basic"))),
-            ("diagnose basic, every candidate (8), hidden-glauert record, 256 Hz",
+            ("diagnose basic, every candidate ({n}), hidden-glauert record, 256 Hz",
              _best(lambda: diagnose(fast, "basic"))),
-            ("diagnose glauert (no missing effect), 5 candidates",
+            ("diagnose glauert (no missing effect), {n} candidates",
              _best(lambda: diagnose(rec, "glauert"))),
             ("ladder basic -> glauert (3 effects found)", _best(lambda: ladder(rec, "basic"), 2)),
             ("ladder basic on the nonlinear truth", _best(lambda: ladder(nl, "basic"), 2))]
@@ -73,7 +73,8 @@ def main():
     for name, (t, out) in rows:
         res = (out.missing_effect if hasattr(out, "missing_effect")
                else " -> ".join(r.added or r.structure.name for r in out.rungs))
-        print(f"| {name} | {t:.2f} | {res} |")
+        n = len(out.candidates) if hasattr(out, "candidates") else ""
+        print(f"| {name.format(n=n)} | {t:.2f} | {res} |")
 
 
 if __name__ == "__main__":
