@@ -3,7 +3,8 @@
 Records from the independent route (:func:`inflowsim.virtual.virtual_record`:
 the truth integrated by an adaptive ODE solver with smooth inputs, then
 sampled; or inputs held, ``zoh``) at two sample rates, with white or coloured
-(first-order low-pass, 2 Hz) flap noise of 1e-4 rad:
+(first-order low-pass, 2 Hz) flap noise of 1e-4 rad, or the coloured noise scaled
+to the white noise's power in the band (``coloured-level``: :func:`noise_of`):
 
 * ``null``: the truth is the structure diagnosed (glauert, Table 3; basic with
   slow inflow): any accepted candidate is a false alarm;
@@ -38,10 +39,32 @@ EFFECT_VALUES = {
     "azimuth-bias": {"azimuth_bias": 0.3},
     "time-delay": {"delay": 0.03},
 }
-CONFIGS = [(hold, rate, noise) for hold in ("continuous", "zoh") for rate in (64, 256)
-           for noise in ("white", "coloured")]
 NOISE = 1e-4
 COLOUR_HZ = 2.0
+#: noise kinds: ``coloured`` has the white noise's variance (so 6-10 times its power
+#: in the band at 64 Hz, 25-40 times at 256 Hz); ``coloured-level`` is scaled to the
+#: white noise's mean power over the band: the same signal-to-noise ratio, only the
+#: colour differs (the floor measured above the band is 46 times below the noise in
+#: the band at 64 Hz, 540 times at 256 Hz)
+NOISE_KINDS = ("white", "coloured", "coloured-level")
+
+
+def noise_of(noise, rate):
+    """(flap noise standard deviation [rad], colour [Hz] or None) of a noise kind."""
+    if noise == "white":
+        return NOISE, None
+    if noise == "coloured":
+        return NOISE, COLOUR_HZ
+    if noise == "coloured-level":
+        from inflowsim.identify.transform import DEFAULT_BAND
+        from inflowsim.virtual import noise_psd
+        f = np.linspace(*DEFAULT_BAND, 200)
+        return NOISE / np.sqrt(np.mean(noise_psd(1.0, 1 / rate, f, COLOUR_HZ))), COLOUR_HZ
+    raise ValueError(f"unknown noise kind {noise!r} (known: {', '.join(NOISE_KINDS)})")
+
+
+CONFIGS = [(hold, rate, noise) for hold in ("continuous", "zoh") for rate in (64, 256)
+           for noise in NOISE_KINDS]
 
 
 def _manoeuvres():
@@ -73,15 +96,15 @@ def truth_of(kind, effect):
 
 def record_for(kind, effect, hold, rate, noise, seed):
     from inflowsim.virtual import VirtualTest, virtual_record
-    col = COLOUR_HZ if noise == "coloured" else None
+    sigma, col = noise_of(noise, rate)
     if kind == "nonlinear":
         from inflowsim.flighttest import FlightTest, nonlinear_flighttest
         return nonlinear_flighttest(FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(),
-                                               seed=seed, hold=hold, noise_flap=NOISE,
+                                               seed=seed, hold=hold, noise_flap=sigma,
                                                noise_color_hz=col)).record, None
     s, p, base = truth_of(kind, effect)
     rec = virtual_record(VirtualTest(structure=s, parameters=p, dt=1 / rate, seed=seed,
-                                     noise_flap=NOISE, manoeuvres=_manoeuvres(),
+                                     noise_flap=sigma, manoeuvres=_manoeuvres(),
                                      hold=hold, noise_color_hz=col))
     return rec, (s, p, base)
 
@@ -89,9 +112,9 @@ def record_for(kind, effect, hold, rate, noise, seed):
 def _floor_ratio(fit, rec, noise, rate):
     """Residual power per flap channel over the true noise level in the band."""
     from inflowsim.virtual import noise_psd
-    col = COLOUR_HZ if noise == "coloured" else None
+    sigma, col = noise_of(noise, rate)
     d = fit.data[0]
-    level = len(rec) * np.mean(noise_psd(NOISE, 1 / rate, d.f_hz, col))
+    level = len(rec) * np.mean(noise_psd(sigma, 1 / rate, d.f_hz, col))
     return [float(abs(fit.S[0][i, i]) / level) for i in range(3)]
 
 
@@ -102,16 +125,16 @@ def _noise_ratio(kind, hold, rate, noise, seed, rec, fit):
     import dataclasses
     from inflowsim.flighttest import FlightTest, nonlinear_flighttest
     from inflowsim.virtual import noise_psd
-    col = COLOUR_HZ if noise == "coloured" else None
+    sigma, col = noise_of(noise, rate)
     test = FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(), seed=seed, hold=hold,
-                      noise_flap=NOISE, noise_color_hz=col)
+                      noise_flap=sigma, noise_color_hz=col)
     clean = nonlinear_flighttest(dataclasses.replace(test, noise_flap=0.0)).record
     f = fit.data[0].f_hz
     n = np.column_stack([rec[c] - clean[c] for c in ("beta0", "beta1c", "beta1s")])
     spec = np.fft.rfft(n, axis=0)
     ff = np.fft.rfftfreq(len(n), rec.dt)
     band = (ff >= f.min() - 1e-9) & (ff <= f.max() + 1e-9)
-    level = len(rec) * np.mean(noise_psd(NOISE, 1 / rate, f, col))
+    level = len(rec) * np.mean(noise_psd(sigma, 1 / rate, f, col))
     return [float(v) for v in np.mean(abs(spec[band]) ** 2, axis=0) / level]
 
 
