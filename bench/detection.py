@@ -156,6 +156,7 @@ def run_one(job):
         out["candidates"] = [c.to_json() for c in d.candidates]
         out["unexplained"] = [f.message for f in d.failures if f.kind == "unexplained"]
         out["base_floor_ratio"] = _floor_ratio(d.fit, rec, noise, rate)
+        out["in_band_over_floor"] = list(d.analyses[0].in_band_over_floor)
         win = next((c for c in d.candidates if c.effect == effect), None)
         if win is not None and win.fit is not None:
             out["with_floor_ratio"] = _floor_ratio(win.fit, rec, noise, rate)
@@ -168,6 +169,7 @@ def run_one(job):
             out["noise_floor_ratio"] = _noise_ratio(kind, hold, rate, noise, seed, rec,
                                                     lad.final.fit)
         out["added"] = [r.added for r in lad.rungs[1:]]
+        out["in_band_over_floor"] = list(lad.rungs[0].analyses[0].in_band_over_floor)
         out["final"] = lad.final.structure.name
         out["final_floor_ratio"] = _floor_ratio(lad.final.fit, rec, noise, rate)
         out["final_parameters"] = {n: [v, lad.final.fit.sigma.get(n)]

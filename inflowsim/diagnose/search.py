@@ -55,13 +55,13 @@ def _as_list(records):
     return list(records) if isinstance(records, (list, tuple)) else [records]
 
 
-def analyses_of(records, fit, band_hz):
+def analyses_of(records, fit, band_hz, check_colour=True):
     """The fit's residual analysis on each record (its own residual and initial
     state, each record's own flight condition and trim)."""
     out = []
     for rec, data in zip(_as_list(records), fit.data):
         m = build_model(fit.structure, fit.parameters, rec.constants)
-        out.append(residual_analysis(rec, m, band_hz, fit=data))
+        out.append(residual_analysis(rec, m, band_hz, fit=data, check_colour=check_colour))
     return out
 
 
@@ -97,7 +97,7 @@ def _judge(records, band_hz, base_fit, base_analyses):
         if fit is None:
             return base
         if id(fit) not in cache:
-            cache[id(fit)] = measure(analyses_of(records, fit, band_hz))
+            cache[id(fit)] = measure(analyses_of(records, fit, band_hz, check_colour=False))
         return cache[id(fit)]
     return judge
 
