@@ -116,7 +116,8 @@ FLOOR_SUBBANDS = 8
 #: A channel whose noise in the band (:func:`inflowsim.diagnose.lpm.in_band_noise`)
 #: is this many times the floor above it has coloured noise, and the report says
 #: so.  (Over the 136 white-noise records of ``bench/detection.py`` the ratio is
-#: 0.57-1.68; a 2 Hz low-pass in the data system puts it at 29-830.)
+#: 0.57-1.68; a 2 Hz low-pass in the data system puts it at 29-830 on its 128
+#: coloured null records.)
 COLOURED = 3.0
 
 

@@ -5,7 +5,7 @@ where the rotor barely answers, and carried into the band as white noise.  A
 sensor whose noise is louder in the band than above it (a low-pass in the data
 system, turbulence seen by the flap) then puts the whole band above that floor,
 and every test against it (level, the share of the excess a candidate explains)
-measures the noise, not the model.
+measures the noise as much as the model.
 
 The local polynomial method (Pintelon, Schoukens, Vandersteen and Barbe,
 "Estimation of nonparametric noise and FRF models for multivariable systems",
@@ -24,6 +24,12 @@ that its mean matches theirs.  Measured on 16 null records per kind (8 seeds at
 64 and 256 Hz, 3 channels each): over the band it is 0.76-1.46 times the noise's
 expected level for white noise and 0.74-1.41 for a 2 Hz low-pass (a quadratic
 in ``ln f``, which the few low-frequency bins leave loose, reached 3.3).
+
+The diagnosis uses it to *check* the white-noise floor
+(:data:`inflowsim.diagnose.failures.COLOURED`), not as the floor: its scatter
+(about 20 % per channel) is larger than what the weakest effects add, and as
+the floor it lost the paper's third effect under strong coloured noise
+(``bench/README.md``).
 """
 from __future__ import annotations
 
