@@ -25,10 +25,12 @@ TWO_AXES = (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
 OFFERED = [n for n, e in CATALOGUE.items() if e.offered]
 
 
-def hidden_glauert(rate=100.0):
-    """Continuous-time record (two cyclic doublets), hidden glauert truth."""
+def hidden_glauert(rate=100.0, colour=None):
+    """Continuous-time record (two cyclic doublets), hidden glauert truth; flap noise
+    white or through a ``colour`` [Hz] low-pass (judged on the input-correlated
+    excess)."""
     return virtual_record(VirtualTest(structure="glauert", seed=1, manoeuvres=TWO_AXES,
-                                      dt=1.0 / rate))
+                                      dt=1.0 / rate, noise_color_hz=colour))
 
 
 @pytest.fixture(scope="module")
@@ -59,11 +61,14 @@ def _best(f, n=3):
 def main():
     rec = hidden_glauert()
     fast = hidden_glauert(256.0)
+    coloured = hidden_glauert(256.0, colour=2.0)
     nl = nonlinear_flighttest(FlightTest(seed=1)).record
     rows = [("diagnose basic, every candidate ({n}), hidden-glauert record, 100 Hz",
              _best(lambda: diagnose(rec, "basic"))),
             ("diagnose basic, every candidate ({n}), hidden-glauert record, 256 Hz",
              _best(lambda: diagnose(fast, "basic"))),
+            ("diagnose basic, every candidate ({n}), hidden-glauert record, 256 Hz, "
+             "coloured noise (2 Hz)", _best(lambda: diagnose(coloured, "basic"))),
             ("diagnose glauert (no missing effect), {n} candidates",
              _best(lambda: diagnose(rec, "glauert"))),
             ("ladder basic -> glauert (3 effects found)", _best(lambda: ladder(rec, "basic"), 2)),

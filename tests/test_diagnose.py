@@ -123,6 +123,8 @@ def test_hidden_effect_under_coloured_noise(effect):
     assert joint_distance(fit, truth) < stats.chi2.isf(1e-3, len(truth))
     d2 = diagnose(rec, fit.structure, base_fit=fit)
     assert d2.missing_effect is None, [(c.effect, c.reason) for c in d2.candidates]
+    # the noise is coloured: the candidates are judged on the input-correlated excess
+    assert any("input-correlated excess" in c.reason for c in d2.candidates)
 
 
 @pytest.mark.parametrize("effect, hold, rate", [("advance-ratio-perturbation", "continuous", 256),
@@ -157,6 +159,13 @@ def test_no_missing_effect_no_alarm(hold, rate, colour):
     d = diagnose(rec, "glauert")
     assert d.missing_effect is None
     assert not any(c.accepted for c in d.candidates)
+    # white noise is judged on the deviance over the floor, coloured noise on the
+    # residual's input-correlated excess (inflowsim.diagnose.excess)
+    measure = "input-correlated excess" if colour else "deviance"
+    assert {c.measure for c in d.candidates} == {measure}
+    assert {c["measure"] for c in d.to_json()["candidates"]} == {measure}
+    measured = ["input-correlated excess" in c.reason for c in d.candidates]
+    assert any(measured) if colour else not any(measured), [c.reason for c in d.candidates]
     assert not [f for f in d.failures if f.kind in ("spectrum", "whiteness", "unexplained")]
 
 

@@ -31,10 +31,16 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    bins, ``r`` the power over the floor) and ``D_white`` its mean for noise
    alone; a base residual with no excess has nothing to explain.  An effect
    that is significant only because the record is long is not what the
-   residual is made of.
+   residual is made of.  Where a record's sensor noise is coloured (its level
+   in the band :data:`~inflowsim.failures.COLOURED` times the floor or more,
+   :mod:`inflowsim.diagnose.lpm`) the floor says little, and both the excess and
+   the share are taken of the residual's *input-correlated excess*
+   (:mod:`inflowsim.diagnose.excess`: its power in the span of smooth response
+   errors over the in-band noise level, less what noise alone gives).
 4. **Whiter.**  The refit's residual spectrum is closer to white noise at the
    floor (``D`` falls): an effect that pushes the residual *below* the floor
-   fits the noise, not the physics.
+   fits the noise, not the physics.  Under coloured noise: the input-correlated
+   excess falls.
 
 Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
 J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect
@@ -95,6 +101,9 @@ class Candidate:
     reason: str = ""
     #: parameters of the effect the data did not determine, held at their neutral values
     held: tuple = ()
+    #: what ``whiteness_before``/``_after`` measure: ``"deviance"`` (from white noise
+    #: at the floor) or ``"input-correlated excess"`` (a record with coloured noise)
+    measure: str = "deviance"
 
     @property
     def whiter(self) -> bool:
@@ -110,7 +119,8 @@ class Candidate:
                 "structure_before": self.structure_before,
                 "structure_after": self.structure_after,
                 "deviance_before": self.whiteness_before,
-                "deviance_after": self.whiteness_after, "physics": self.physics,
+                "deviance_after": self.whiteness_after, "measure": self.measure,
+                "physics": self.physics,
                 "structure": self.structure,
                 "parameters": {n: {"estimate": e, "sigma": s} for n, (e, s) in self.added.items()},
                 **({"error": self.error} if self.error else {})}
@@ -246,16 +256,24 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
+    label = base.get("measure", "deviance") if judge is not None else "deviance"
     if judge is not None and "material" in RULE:
-        if excess <= 0:
+        if excess <= 0 and label == "deviance":
             reasons.append(f"the base residual is at the noise floor (deviance {d0:.1f} "
                            f"<= {base['white_deviance']:.1f} for noise): nothing to explain")
+        elif excess <= 0:
+            reasons.append(f"the base residual's input-correlated excess ({d0:.1f}) is no "
+                           f"more than noise gives ({base['white_deviance']:.1f}): nothing "
+                           "to explain")
         elif share < MATERIAL:
-            reasons.append(f"explains {100 * share:.1f} % of the residual's excess over "
-                           f"the noise floor (< {100 * MATERIAL:g} %)")
+            what = "excess over the noise floor" if label == "deviance" else \
+                "input-correlated excess (coloured noise)"
+            reasons.append(f"explains {100 * share:.1f} % of the residual's {what} "
+                           f"(< {100 * MATERIAL:g} %)")
     if judge is not None and d1 >= d0 and "whiter" in RULE:
         reasons.append(f"does not move the residual toward white noise at the floor "
-                       f"(deviance {d0:.1f} -> {d1:.1f})")
+                       f"(deviance {d0:.1f} -> {d1:.1f})" if label == "deviance" else
+                       f"does not reduce the input-correlated excess ({d0:.1f} -> {d1:.1f})")
     accepted = not reasons and judge is not None
     reason = "; ".join(reasons) or "accepted"
     if held:
@@ -265,7 +283,7 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
                      schwarz_gain=float(2 * dj - d * np.log(n_data)), plausible=plausible,
                      share=float(share), structure_before=q0, structure_after=q1,
                      whiteness_before=d0, whiteness_after=d1,
-                     accepted=accepted, reason=reason, held=held)
+                     accepted=accepted, reason=reason, held=held, measure=label)
 
 
 def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,

@@ -330,8 +330,8 @@ def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
             f"{ch}: sensor noise in the band is about {k:.3g}x the floor measured above "
             f"it ({ra.floor_band_hz[0]:.3g}-{ra.floor_band_hz[1]:.3g} Hz; local "
             "polynomial estimate): coloured. Levels over the floor overstate the model "
-            "error there, and a weak missing effect can be significant yet fail the "
-            "material test",
+            "error there; the candidate tests measure the residual's input-correlated "
+            "excess instead",
             {"in_band_over_floor": k}))
     for c, ch in enumerate(FLAP_COLUMNS):
         r = ra.ratio[c]

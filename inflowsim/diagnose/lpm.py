@@ -26,7 +26,9 @@ expected level for white noise and 0.74-1.41 for a 2 Hz low-pass (a quadratic
 in ``ln f``, which the few low-frequency bins leave loose, reached 3.3).
 
 The diagnosis uses it to *check* the white-noise floor
-(:data:`inflowsim.diagnose.failures.COLOURED`), not as the floor: its scatter
+(:data:`inflowsim.diagnose.failures.COLOURED`): a record with coloured noise is
+reported, and its candidates are judged on the input-correlated excess
+(:mod:`inflowsim.diagnose.excess`).  It is not used as the floor: its scatter
 (about 20 % per channel) is larger than what the weakest effects add, and as
 the floor it lost the paper's third effect under strong coloured noise
 (``bench/README.md``).

@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .candidates import ALPHA, Candidate, rank_candidates
-from .failures import (Failure, parameter_failures, residual_analysis, residual_tests,
+from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
+from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, spectrum_failures,
                        structure_statistic, unexplained)
 from ..identify import identify
@@ -82,15 +83,31 @@ def _judge(records, band_hz, base_fit, base_analyses):
     the residual's deviance from white noise at the floor and its structure
     across frequency, against the base fit's floors (the sensor noise does not
     change with the model); ``judge(None)`` describes the base, with the
-    deviance expected of noise at the floor."""
+    deviance expected of noise at the floor.  Where a record's noise is coloured
+    (the in-band noise :data:`~inflowsim.failures.COLOURED` times the floor or
+    more) the floor says little, and the measure is the residual's
+    input-correlated excess (:mod:`inflowsim.diagnose.excess`) instead."""
     floors = [ra.floor for ra in base_analyses]
+    coloured = any(k >= COLOURED for ra in base_analyses for k in ra.in_band_over_floor)
+    if coloured:        # the floor is far below the noise: measure without it
+        bases = [smooth_input_basis(ra) for ra in base_analyses]
+        levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
 
     def measure(analyses):
+        if coloured:
+            return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
+                                    in zip(analyses, bases, levels)), "structure": 0.0}
         return {"deviance": sum(floor_deviance(ra, fl) for ra, fl in zip(analyses, floors)),
                 "structure": sum(structure_statistic(ra, fl)
                                  for ra, fl in zip(analyses, floors))}
     base = measure(base_analyses)
-    base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
+    if coloured:
+        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1])
+                                     for ra, Q in zip(base_analyses, bases))
+        base["measure"] = "input-correlated excess"
+    else:
+        base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
+        base["measure"] = "deviance"
     cache = {id(base_fit): base}
 
     def judge(fit):
