@@ -144,6 +144,9 @@ def run_one(job):
     from inflowsim.diagnose import diagnose, ladder
     if os.environ.get("INFLOWSIM_STUDY_RULE"):
         candidates.RULE = tuple(os.environ["INFLOWSIM_STUDY_RULE"].split(","))
+    if os.environ.get("INFLOWSIM_STUDY_MEASURE") == "excess":
+        from inflowsim.diagnose import search     # every record judged as coloured
+        search.COLOURED = 0.0
     kind, effect, hold, rate, noise, seed = job
     t0 = time.perf_counter()
     rec, truth = record_for(kind, effect, hold, rate, noise, seed)
@@ -240,6 +243,9 @@ def main(argv=None):
     ap.add_argument("--out")
     ap.add_argument("--rule", help="comma-separated tests of the acceptance rule to apply "
                                    "(study only; default the library's)")
+    ap.add_argument("--measure", choices=("auto", "excess"), default="auto",
+                    help="what the material and whiter tests measure (study only): the "
+                         "library's choice, or the input-correlated excess on every record")
     ap.add_argument("--summary", nargs="+")
     a = ap.parse_args(argv)
     if a.summary:
@@ -252,6 +258,9 @@ def main(argv=None):
     if a.rule:
         import os
         os.environ["INFLOWSIM_STUDY_RULE"] = a.rule
+    if a.measure == "excess":
+        import os
+        os.environ["INFLOWSIM_STUDY_MEASURE"] = "excess"
     out = open(a.out, "a") if a.out else sys.stdout
     with ProcessPoolExecutor(a.workers) as ex:
         for res in ex.map(run_one, todo):
