@@ -256,7 +256,7 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
-    label = base.get("measure", "deviance") if judge is not None else "deviance"
+    label = base["measure"] if judge is not None else "deviance"
     if judge is not None and "material" in RULE:
         if excess <= 0 and label == "deviance":
             reasons.append(f"the base residual is at the noise floor (deviance {d0:.1f} "

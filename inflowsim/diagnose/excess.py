@@ -24,6 +24,11 @@ import numpy as np
 DEGREES = 3
 
 
+def project(e: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Rows of ``e`` projected on the span of ``Q``'s orthonormal columns."""
+    return (e @ Q.conj()) @ Q.T
+
+
 def smooth_input_basis(ra) -> np.ndarray:
     """Orthonormal basis ``(nf, r)`` of the smooth input-correlated residuals of a
     :class:`~inflowsim.failures.ResidualAnalysis`."""
@@ -41,15 +46,14 @@ def smooth_input_basis(ra) -> np.ndarray:
 def noise_levels(ra, Q) -> np.ndarray:
     """Per channel, the residual power per bin the basis ``Q`` leaves ``(3,)``."""
     e = ra.error
-    rest = e - (e @ Q.conj()) @ Q.T
+    rest = e - project(e, Q)
     return np.sum(np.abs(rest) ** 2, axis=1) / (e.shape[1] - Q.shape[1])
 
 
 def input_excess(ra, Q, levels) -> float:
     """The power of the residual in ``Q``'s span over ``levels``, summed over the
     channels."""
-    pe = (ra.error @ Q.conj()) @ Q.T
-    return float(np.sum(np.sum(np.abs(pe) ** 2, axis=1) / levels))
+    return float(np.sum(np.sum(np.abs(project(ra.error, Q)) ** 2, axis=1) / levels))
 
 
 def expected_for_noise(nf: int, r: int) -> float:

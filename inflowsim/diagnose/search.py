@@ -87,25 +87,27 @@ def _judge(records, band_hz, base_fit, base_analyses):
     (the in-band noise :data:`~inflowsim.failures.COLOURED` times the floor or
     more) the floor says little, and the measure is the residual's
     input-correlated excess (:mod:`inflowsim.diagnose.excess`) instead."""
-    floors = [ra.floor for ra in base_analyses]
-    coloured = any(k >= COLOURED for ra in base_analyses for k in ra.in_band_over_floor)
-    if coloured:        # the floor is far below the noise: measure without it
+    if any(k >= COLOURED for ra in base_analyses for k in ra.in_band_over_floor):
+        # the floor is far below the noise: measure without it
         bases = [smooth_input_basis(ra) for ra in base_analyses]
         levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
 
-    def measure(analyses):
-        if coloured:
+        def measure(analyses):
             return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
                                     in zip(analyses, bases, levels)), "structure": 0.0}
-        return {"deviance": sum(floor_deviance(ra, fl) for ra, fl in zip(analyses, floors)),
-                "structure": sum(structure_statistic(ra, fl)
-                                 for ra, fl in zip(analyses, floors))}
-    base = measure(base_analyses)
-    if coloured:
+        base = measure(base_analyses)
         base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1])
                                      for ra, Q in zip(base_analyses, bases))
         base["measure"] = "input-correlated excess"
     else:
+        floors = [ra.floor for ra in base_analyses]
+
+        def measure(analyses):
+            return {"deviance": sum(floor_deviance(ra, fl)
+                                    for ra, fl in zip(analyses, floors)),
+                    "structure": sum(structure_statistic(ra, fl)
+                                     for ra, fl in zip(analyses, floors))}
+        base = measure(base_analyses)
         base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
         base["measure"] = "deviance"
     cache = {id(base_fit): base}
