@@ -4,7 +4,7 @@ For each effect of the catalogue that the structure lacks and may take, the
 structure plus that effect is fitted to the same records and band, starting
 from the base estimates and the effect's neutral values (so the start
 reproduces the base fit: every candidate *nests* the base).  A candidate is
-**accepted** only when all four hold:
+**accepted** only when all four hold, and named only when the fifth does:
 
 1. **Significant.**  With the error covariance estimated, the cost (12) is the
    negative log-likelihood of complex Gaussian residuals up to a constant, so
@@ -42,6 +42,11 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    fits the noise, not the physics.  Under coloured noise: the input-correlated
    excess falls.
 
+5. **Unrivalled.**  The candidate to name is not explained by a more likely
+   one with no more parameters (:mod:`inflowsim.diagnose.rivals`): with that
+   rival in the model it is no longer significant.  The rival, if its refit is
+   whiter, is named in its place.
+
 Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
 J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect
 with one parameter that explains nearly as much as one with seven comes first;
@@ -67,7 +72,7 @@ MATERIAL = 0.10
 #: Estimates within this many sigma of their plausible range count as plausible.
 PLAUSIBLE_SIGMAS = 3.0
 #: The tests a candidate must pass (the acceptance rule; a study may narrow it).
-RULE = ("significant", "plausible", "material", "whiter")
+RULE = ("significant", "plausible", "material", "whiter", "unrivalled")
 
 
 @dataclass(frozen=True)
@@ -104,6 +109,10 @@ class Candidate:
     #: what ``whiteness_before``/``_after`` measure: ``"deviance"`` (from white noise
     #: at the floor) or ``"input-correlated excess"`` (a record with coloured noise)
     measure: str = "deviance"
+    #: a more likely candidate that explains this one (:mod:`inflowsim.diagnose.rivals`)
+    explained_by: str | None = None
+    #: the candidate this one displaced as the one to name
+    displaced: str | None = None
 
     @property
     def whiter(self) -> bool:
@@ -120,6 +129,7 @@ class Candidate:
                 "structure_after": self.structure_after,
                 "deviance_before": self.whiteness_before,
                 "deviance_after": self.whiteness_after, "measure": self.measure,
+                "explained_by": self.explained_by, "displaced": self.displaced,
                 "physics": self.physics,
                 "structure": self.structure,
                 "parameters": {n: {"estimate": e, "sigma": s} for n, (e, s) in self.added.items()},

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from . import candidates as _candidates
 from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
+from .rivals import resolve_rivals
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, spectrum_failures,
                        structure_statistic, unexplained)
@@ -152,6 +154,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         return identify(r, st, band_hz=band_hz, start=start, fixed=fixed, hold=hold)
     judge = _judge(recs, band_hz, fit, analyses)
     cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, alpha, progress, judge)
+    if "unrivalled" in _candidates.RULE:
+        cands = resolve_rivals(recs, fit, cands, band_hz, fit_fn, alpha, progress)
     best = next((c.effect for c in cands if c.accepted), None)
     if best is None:
         fails += unexplained(analyses, alpha)
