@@ -147,6 +147,9 @@ def run_one(job):
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") == "excess":
         from inflowsim.diagnose import search     # every record judged as coloured
         search.COLOURED = 0.0
+    if os.environ.get("INFLOWSIM_STUDY_MEASURE") in ("level", "deviance"):
+        from inflowsim.diagnose import search     # what white records are judged on
+        search.WHITE_MEASURE = os.environ["INFLOWSIM_STUDY_MEASURE"]
     kind, effect, hold, rate, noise, seed = job
     t0 = time.perf_counter()
     rec, truth = record_for(kind, effect, hold, rate, noise, seed)
@@ -160,6 +163,7 @@ def run_one(job):
         out["unexplained"] = [f.message for f in d.failures if f.kind == "unexplained"]
         out["base_floor_ratio"] = _floor_ratio(d.fit, rec, noise, rate)
         out["in_band_over_floor"] = list(d.analyses[0].in_band_over_floor)
+        out["base_level_over_floor"] = [float(v) for v in d.analyses[0].ratio.mean(axis=1)]
         win = next((c for c in d.candidates if c.effect == effect), None)
         if win is not None and win.fit is not None:
             out["with_floor_ratio"] = _floor_ratio(win.fit, rec, noise, rate)
@@ -205,8 +209,15 @@ def jobs(kind, seeds, configs):
             for s in range(seeds)]
 
 
+def _read(path):
+    """A results file's text (``.jsonl`` or ``.jsonl.gz``)."""
+    import gzip
+    p = Path(path)
+    return gzip.decompress(p.read_bytes()).decode() if p.suffix == ".gz" else p.read_text()
+
+
 def summary(paths):
-    rows = [json.loads(line) for p in paths for line in Path(p).read_text().splitlines()
+    rows = [json.loads(line) for p in paths for line in _read(p).splitlines()
             if line.strip()]
     by = {}
     for r in rows:
@@ -243,9 +254,12 @@ def main(argv=None):
     ap.add_argument("--out")
     ap.add_argument("--rule", help="comma-separated tests of the acceptance rule to apply "
                                    "(study only; default the library's)")
-    ap.add_argument("--measure", choices=("auto", "excess"), default="auto",
+    ap.add_argument("--measure", choices=("auto", "excess", "level", "deviance"),
+                    default="auto",
                     help="what the material and whiter tests measure (study only): the "
-                         "library's choice, or the input-correlated excess on every record")
+                         "library's choice, the input-correlated excess on every record, "
+                         "or on white-noise records the level deviance or the per-bin "
+                         "deviance from the floor")
     ap.add_argument("--summary", nargs="+")
     a = ap.parse_args(argv)
     if a.summary:
@@ -258,9 +272,9 @@ def main(argv=None):
     if a.rule:
         import os
         os.environ["INFLOWSIM_STUDY_RULE"] = a.rule
-    if a.measure == "excess":
+    if a.measure != "auto":
         import os
-        os.environ["INFLOWSIM_STUDY_MEASURE"] = "excess"
+        os.environ["INFLOWSIM_STUDY_MEASURE"] = a.measure
     out = open(a.out, "a") if a.out else sys.stdout
     with ProcessPoolExecutor(a.workers) as ex:
         for res in ex.map(run_one, todo):

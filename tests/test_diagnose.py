@@ -159,9 +159,9 @@ def test_no_missing_effect_no_alarm(hold, rate, colour):
     d = diagnose(rec, "glauert")
     assert d.missing_effect is None
     assert not any(c.accepted for c in d.candidates)
-    # white noise is judged on the deviance over the floor, coloured noise on the
-    # residual's input-correlated excess (inflowsim.diagnose.excess)
-    measure = "input-correlated excess" if colour else "deviance"
+    # white noise is judged on the level deviance over the floor, coloured noise on
+    # the residual's input-correlated excess (inflowsim.diagnose.excess)
+    measure = "input-correlated excess" if colour else "level deviance"
     assert {c.measure for c in d.candidates} == {measure}
     assert {c["measure"] for c in d.to_json()["candidates"]} == {measure}
     measured = ["input-correlated excess" in c.reason for c in d.candidates]

@@ -26,10 +26,14 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    (``hub-velocity-coupling``'s gain matrix) is all or nothing.
 3. **Material.**  The candidate explains at least ``MATERIAL`` (10 %) of the
    base residual's excess over the noise floor: of ``D_base - D_white``, where
-   ``D`` is the residual spectrum's deviance from white noise at the floor
-   (:func:`inflowsim.failures.floor_deviance`, ``sum r - 1 - ln r`` over the
-   bins, ``r`` the power over the floor) and ``D_white`` its mean for noise
-   alone; a base residual with no excess has nothing to explain.  An effect
+   ``D`` is the residual's level deviance from white noise at the floor
+   (:func:`inflowsim.failures.level_deviance`, ``sum nf (m - 1 - ln m)`` over
+   the channels, ``m`` a channel's mean power over the floor in the band: the
+   likelihood-ratio statistic of the level) and ``D_white`` its mean for noise
+   alone; a base residual with no excess has nothing to explain.  (The per-bin
+   deviance, ``sum r - 1 - ln r`` over the bins, adds how unevenly the power
+   falls on the bins, whose scatter for noise hid a model error spread over the
+   band: ``bench/README.md``.)  An effect
    that is significant only because the record is long is not what the
    residual is made of.  Where a record's sensor noise is coloured (its level
    in the band :data:`~inflowsim.failures.COLOURED` times the floor or more,
@@ -106,9 +110,10 @@ class Candidate:
     reason: str = ""
     #: parameters of the effect the data did not determine, held at their neutral values
     held: tuple = ()
-    #: what ``whiteness_before``/``_after`` measure: ``"deviance"`` (from white noise
-    #: at the floor) or ``"input-correlated excess"`` (a record with coloured noise)
-    measure: str = "deviance"
+    #: what ``whiteness_before``/``_after`` measure: ``"level deviance"`` (from white
+    #: noise at the floor), ``"input-correlated excess"`` (a record with coloured
+    #: noise) or, in a study, ``"deviance"`` (per bin)
+    measure: str = "level deviance"
     #: a more likely candidate that explains this one (:mod:`inflowsim.diagnose.rivals`)
     explained_by: str | None = None
     #: the candidate this one displaced as the one to name
@@ -266,23 +271,24 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
-    label = base["measure"] if judge is not None else "deviance"
+    label = base["measure"] if judge is not None else "level deviance"
+    floor_based = label != "input-correlated excess"
     if judge is not None and "material" in RULE:
-        if excess <= 0 and label == "deviance":
-            reasons.append(f"the base residual is at the noise floor (deviance {d0:.1f} "
+        if excess <= 0 and floor_based:
+            reasons.append(f"the base residual is at the noise floor ({label} {d0:.1f} "
                            f"<= {base['white_deviance']:.1f} for noise): nothing to explain")
         elif excess <= 0:
             reasons.append(f"the base residual's input-correlated excess ({d0:.1f}) is no "
                            f"more than noise gives ({base['white_deviance']:.1f}): nothing "
                            "to explain")
         elif share < MATERIAL:
-            what = "excess over the noise floor" if label == "deviance" else \
+            what = "excess over the noise floor" if floor_based else \
                 "input-correlated excess (coloured noise)"
             reasons.append(f"explains {100 * share:.1f} % of the residual's {what} "
                            f"(< {100 * MATERIAL:g} %)")
     if judge is not None and d1 >= d0 and "whiter" in RULE:
         reasons.append(f"does not move the residual toward white noise at the floor "
-                       f"(deviance {d0:.1f} -> {d1:.1f})" if label == "deviance" else
+                       f"({label} {d0:.1f} -> {d1:.1f})" if floor_based else
                        f"does not reduce the input-correlated excess ({d0:.1f} -> {d1:.1f})")
     accepted = not reasons and judge is not None
     reason = "; ".join(reasons) or "accepted"

@@ -262,6 +262,28 @@ def floor_deviance(ra: ResidualAnalysis, floors=None) -> float:
 WHITE_DEVIANCE = 0.5772156649015329
 
 
+def level_deviance(ra: ResidualAnalysis, floors=None) -> float:
+    """How far each channel's residual *level* is from the floor:
+    ``sum_c nf (m_c - 1 - ln m_c)``, ``m_c`` the channel's mean power over the
+    floor in the band.  Twice it is the likelihood-ratio statistic of "white noise
+    at the floor" against "white noise at its own level" (``chi2`` with one degree
+    of freedom a channel for noise at the floor; mean :func:`white_level_deviance`).
+    It is the part of :func:`floor_deviance` that sees a level: the rest,
+    ``-sum ln(r / m)``, is how unevenly the power falls on the bins, which for
+    noise scatters by ``sqrt(nf pi^2 / 6)`` and hides a model error spread over
+    the band."""
+    fl = ra.floor if floors is None else np.asarray(floors)
+    m = np.maximum(np.mean(np.abs(ra.error) ** 2 / fl, axis=1), 1e-300)
+    return float(ra.error.shape[1] * np.sum(m - 1.0 - np.log(m)))
+
+
+def white_level_deviance(nf: int, channels: int = 3) -> float:
+    """Mean of :func:`level_deviance` for white noise at the floor over ``nf``
+    bins: ``nf (ln nf - psi(nf))`` a channel (``m`` is Gamma(nf, 1/nf)), about 1/2."""
+    from scipy.special import digamma
+    return float(channels * nf * (np.log(nf) - digamma(nf)))
+
+
 def level_p_value(ra: ResidualAnalysis, c: int) -> float:
     """p-value of channel ``c``'s in-band residual power against the floor
     (``2 sum r ~ chi2(2 nf)`` for noise at the floor)."""
@@ -475,4 +497,5 @@ def parameter_failures(parameters, sigma, correlation=None, names=None, omega=No
 __all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "spectrum_failures",
            "residual_tests", "parameter_failures", "unexplained", "noise_floor",
            "frequency_whiteness", "structure_statistic", "channel_structure",
-           "floor_deviance", "level_p_value", "WHITE_DEVIANCE", "input_regression"]
+           "floor_deviance", "level_deviance", "white_level_deviance", "level_p_value",
+           "WHITE_DEVIANCE", "input_regression"]

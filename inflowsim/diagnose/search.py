@@ -16,7 +16,8 @@ from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
 from .rivals import resolve_rivals
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
-                       WHITE_DEVIANCE, floor_deviance, spectrum_failures,
+                       WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
+                       white_level_deviance,
                        structure_statistic, unexplained)
 from ..identify import identify
 from ..identify.transform import DEFAULT_BAND
@@ -80,9 +81,15 @@ def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
     return out
 
 
+#: What the material and whiter tests measure on a white-noise record: the level
+#: deviance (``"level"``), or the per-bin deviance (``"deviance"``, kept for studies:
+#: ``bench/detection.py --measure``).
+WHITE_MEASURE = "level"
+
+
 def _judge(records, band_hz, base_fit, base_analyses):
     """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.candidates`):
-    the residual's deviance from white noise at the floor and its structure
+    the residual's level deviance from white noise at the floor and its structure
     across frequency, against the base fit's floors (the sensor noise does not
     change with the model); ``judge(None)`` describes the base, with the
     deviance expected of noise at the floor.  Where a record's noise is coloured
@@ -101,6 +108,18 @@ def _judge(records, band_hz, base_fit, base_analyses):
         base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1])
                                      for ra, Q in zip(base_analyses, bases))
         base["measure"] = "input-correlated excess"
+    elif WHITE_MEASURE == "level":
+        floors = [ra.floor for ra in base_analyses]
+
+        def measure(analyses):
+            return {"deviance": sum(level_deviance(ra, fl)
+                                    for ra, fl in zip(analyses, floors)),
+                    "structure": sum(structure_statistic(ra, fl)
+                                     for ra, fl in zip(analyses, floors))}
+        base = measure(base_analyses)
+        base["white_deviance"] = sum(white_level_deviance(ra.f_hz.size)
+                                     for ra in base_analyses)
+        base["measure"] = "level deviance"
     else:
         floors = [ra.floor for ra in base_analyses]
 
