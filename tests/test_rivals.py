@@ -114,6 +114,27 @@ def test_a_joint_fit_worse_than_either_alone_decides_nothing():
     assert resolve_rivals(None, BASE_FIT, [a, b], (0.2, 1.6), fit_fn)[0] is a
 
 
+def test_an_accepted_candidate_the_named_one_explains_is_marked_not_named():
+    a = _cand("second-harmonic-flap", 64.0, accepted=True)
+    b = _cand("time-delay", 90.0, accepted=True)
+    fit_fn, calls = _joint_cost(64.0 - WEAK / 2)          # B adds p = 1e-2 to A
+    out = resolve_rivals(None, BASE_FIT, [a, b], (0.2, 1.6), fit_fn)
+    assert calls == ["basic+time-delay+second-harmonic-flap"]
+    named, other = out
+    assert named is a and named.accepted and named.explained_by is None
+    assert not other.accepted and other.explained_by == "second-harmonic-flap"
+    assert other.reason.startswith("explained by second-harmonic-flap: with it, time-delay "
+                                   "is not significant (p = 0.01)")
+
+
+def test_an_accepted_candidate_still_significant_beside_the_named_one_stays_accepted():
+    a = _cand("second-harmonic-flap", 64.0, accepted=True)
+    b = _cand("time-delay", 90.0, accepted=True)
+    fit_fn, _ = _joint_cost(64.0 - STRONG / 2)            # B adds p = 1e-6 to A
+    out = resolve_rivals(None, BASE_FIT, [a, b], (0.2, 1.6), fit_fn)
+    assert out == [a, b] and all(c.accepted for c in out)
+
+
 def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay(monkeypatch):
     """``bench/README.md``: second-harmonic-flap hidden, continuous, 64 Hz, white
     noise, seed 0, judged on the per-bin deviance (the measure before the level

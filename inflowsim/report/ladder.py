@@ -158,6 +158,10 @@ def format_diagnosis(d) -> str:
     if d.missing_effect:
         c = next(c for c in d.candidates if c.effect == d.missing_effect)
         lines.append(f"missing effect: {d.missing_effect}: {c.physics}")
+        covered = [o.effect for o in d.candidates if o.explained_by == d.missing_effect]
+        if covered:
+            lines.append(f"  it also explains what {', '.join(covered)} would: not "
+                         f"significant beside it, so not shown apart by this record")
         lines.append(f"  add it: inflowsim identify RECORD --model {d.structure.name} "
                      f"--add {d.missing_effect}")
     else:
