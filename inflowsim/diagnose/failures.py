@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import stats
+from scipy.special import digamma
 
 from ..data.record import FLAP_COLUMNS, find_trim, model_inputs, perturbations
 from ..identify.transform import DEFAULT_BAND
@@ -280,7 +281,6 @@ def level_deviance(ra: ResidualAnalysis, floors=None) -> float:
 def white_level_deviance(nf: int, channels: int = 3) -> float:
     """Mean of :func:`level_deviance` for white noise at the floor over ``nf``
     bins: ``nf (ln nf - psi(nf))`` a channel (``m`` is Gamma(nf, 1/nf)), about 1/2."""
-    from scipy.special import digamma
     return float(channels * nf * (np.log(nf) - digamma(nf)))
 
 

@@ -85,6 +85,13 @@ def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
 #: deviance (``"level"``), or the per-bin deviance (``"deviance"``, kept for studies:
 #: ``bench/detection.py --measure``).
 WHITE_MEASURE = "level"
+#: The floor-based measures: (deviance of an analysis against floors, its mean for
+#: noise at the floor, the name candidates report).
+FLOOR_MEASURES = {
+    "level": (level_deviance, lambda ra: white_level_deviance(ra.f_hz.size),
+              "level deviance"),
+    "deviance": (floor_deviance, lambda ra: WHITE_DEVIANCE * ra.ratio.size, "deviance"),
+}
 
 
 def _judge(records, band_hz, base_fit, base_analyses):
@@ -108,29 +115,17 @@ def _judge(records, band_hz, base_fit, base_analyses):
         base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1])
                                      for ra, Q in zip(base_analyses, bases))
         base["measure"] = "input-correlated excess"
-    elif WHITE_MEASURE == "level":
-        floors = [ra.floor for ra in base_analyses]
-
-        def measure(analyses):
-            return {"deviance": sum(level_deviance(ra, fl)
-                                    for ra, fl in zip(analyses, floors)),
-                    "structure": sum(structure_statistic(ra, fl)
-                                     for ra, fl in zip(analyses, floors))}
-        base = measure(base_analyses)
-        base["white_deviance"] = sum(white_level_deviance(ra.f_hz.size)
-                                     for ra in base_analyses)
-        base["measure"] = "level deviance"
     else:
+        deviance, white, label = FLOOR_MEASURES[WHITE_MEASURE]
         floors = [ra.floor for ra in base_analyses]
 
         def measure(analyses):
-            return {"deviance": sum(floor_deviance(ra, fl)
-                                    for ra, fl in zip(analyses, floors)),
+            return {"deviance": sum(deviance(ra, fl) for ra, fl in zip(analyses, floors)),
                     "structure": sum(structure_statistic(ra, fl)
                                      for ra, fl in zip(analyses, floors))}
         base = measure(base_analyses)
-        base["white_deviance"] = sum(WHITE_DEVIANCE * ra.ratio.size for ra in base_analyses)
-        base["measure"] = "deviance"
+        base["white_deviance"] = sum(white(ra) for ra in base_analyses)
+        base["measure"] = label
     cache = {id(base_fit): base}
 
     def judge(fit):
