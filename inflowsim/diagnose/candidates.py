@@ -13,6 +13,10 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    the edge of its range (``flap_inertia = 0``, the first-order limit) the law
    is the 50:50 mixture of chi-square with 0 and 1 degree of freedom (Self and
    Liang, 1987).  Level ``alpha = 1e-3`` per candidate.
+   **Parsimonious:** the Schwarz criterion prefers it, ``2 (J_base - J_with) >
+   dof ln(n_data)``: for one added parameter this is weaker than the level above,
+   for an effect of six or seven free gains it is stronger (the gains can fit a
+   weak forcing of another shape plus the noise: ``bench/README.md``).
 2. **Plausible.**  Every added parameter is determined by the data and its
    estimate, within 3 sigma, reaches its physical range (sign, theory range:
    ``Effect.plausible``); an estimate the data do not determine cannot be shown
@@ -76,7 +80,7 @@ MATERIAL = 0.10
 #: Estimates within this many sigma of their plausible range count as plausible.
 PLAUSIBLE_SIGMAS = 3.0
 #: The tests a candidate must pass (the acceptance rule; a study may narrow it).
-RULE = ("significant", "plausible", "material", "whiter", "unrivalled")
+RULE = ("significant", "parsimonious", "plausible", "material", "whiter", "unrivalled")
 
 
 @dataclass(frozen=True)
@@ -269,6 +273,10 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         share = (d0 - d1) / excess if excess > 0 else 0.0
     if not significant and "significant" in RULE:
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
+    gain = float(2 * dj - d * np.log(n_data))
+    if significant and gain <= 0 and "parsimonious" in RULE:
+        reasons.append(f"not worth its {d} parameters: Schwarz gain {gain:.1f} <= 0 "
+                       f"(2 dJ = {stat:.1f} against {d} ln n = {d * np.log(n_data):.1f})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
     label = base["measure"] if judge is not None else "level deviance"
@@ -296,7 +304,7 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         reason += (f" ({', '.join(held)} not determined by the data: held at "
                    "neutral)")
     return Candidate(effect, s.name, dj, stat, d, lp, significant, eff.physics, added, fit,
-                     schwarz_gain=float(2 * dj - d * np.log(n_data)), plausible=plausible,
+                     schwarz_gain=gain, plausible=plausible,
                      share=float(share), structure_before=q0, structure_after=q1,
                      whiteness_before=d0, whiteness_after=d1,
                      accepted=accepted, reason=reason, held=held, measure=label)

@@ -12,7 +12,9 @@ rest, per degree of freedom, is the channel's noise level in the band, whatever
 its colour.  The *input-correlated excess* is the explained part's power over
 that level, summed over the channels: for noise alone its mean is
 ``r (nf - r) / (nf - r - 1)`` per channel (``r`` the regression's rank, an F
-law), and a model error raises it.  The candidate tests
+law) less what the fit took from it (:func:`expected_for_noise`: half a
+dimension for every real parameter fitted, model and end effects, whose
+directions lie in the span), and a model error raises it.  The candidate tests
 (:mod:`inflowsim.diagnose.candidates`) use it in place of the deviance when a
 record's noise is coloured.
 """
@@ -56,6 +58,11 @@ def input_excess(ra, Q, levels) -> float:
     return float(np.sum(np.sum(np.abs(project(ra.error, Q)) ** 2, axis=1) / levels))
 
 
-def expected_for_noise(nf: int, r: int) -> float:
-    """Mean of :func:`input_excess` for noise alone, all three channels."""
-    return 3.0 * r * (nf - r) / (nf - r - 1)
+def expected_for_noise(nf: int, r: int, fitted: int = 0) -> float:
+    """Mean of :func:`input_excess` for noise alone, all three channels.
+
+    ``fitted``: real parameters the residual was fitted with (model and end-effect
+    nuisance).  Their directions (responses to the inputs, smooth transients) lie
+    in the basis's span and each takes half a complex dimension's power from the
+    noise there: the bound where all of them lie in it."""
+    return (3.0 * r - 0.5 * fitted) * (nf - r) / (nf - r - 1)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from . import candidates as _candidates
 from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
@@ -112,8 +114,12 @@ def _judge(records, band_hz, base_fit, base_analyses):
             return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
                                     in zip(analyses, bases, levels)), "structure": 0.0}
         base = measure(base_analyses)
-        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1])
-                                     for ra, Q in zip(base_analyses, bases))
+        # what the fit took from the noise: its parameters (shared by the records)
+        # and each record's end-effect nuisance
+        fitted = [len(base_fit.free) / len(base_fit.data) + np.size(d.nu)
+                  for d in base_fit.data]
+        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1], n)
+                                     for ra, Q, n in zip(base_analyses, bases, fitted))
         base["measure"] = "input-correlated excess"
     else:
         deviance, white, label = FLOOR_MEASURES[WHITE_MEASURE]
