@@ -319,6 +319,11 @@ def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,
         if progress:
             progress(f"trying {base_fit.structure.name}+{name}")
         out.append(try_effect(records, base_fit, name, band_hz, fit_fn, alpha, judge))
-    return sorted(out, key=lambda c: (c.error is not None, not c.accepted,
-                                      -c.schwarz_gain if c.accepted else c.log10_p,
-                                      -c.cost_reduction))
+    return rank(out)
+
+
+def rank(cands) -> list[Candidate]:
+    """Accepted first by Schwarz gain, then the rest by p-value; failed fits last."""
+    return sorted(cands, key=lambda c: (c.error is not None, not c.accepted,
+                                        -c.schwarz_gain if c.accepted else c.log10_p,
+                                        -c.cost_reduction))

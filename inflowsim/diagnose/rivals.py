@@ -43,7 +43,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.effects import CATALOGUE
-from .candidates import ALPHA, lr_test, nested_start
+from .candidates import ALPHA, lr_test, nested_start, rank
 
 #: Rounds of displacement at most (each names a strictly more likely candidate).
 MAX_ROUNDS = 3
@@ -92,12 +92,6 @@ def _rivals(a, cands, tried):
                   key=lambda c: -c.statistic)
 
 
-def _rank(cands):
-    return sorted(cands, key=lambda c: (c.error is not None, not c.accepted,
-                                        -c.schwarz_gain if c.accepted else c.log10_p,
-                                        -c.cost_reduction))
-
-
 def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
                    progress=None):
     """Ranked candidates (:func:`~inflowsim.diagnose.candidates.rank_candidates`)
@@ -126,7 +120,7 @@ def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
                             f"{b.effect}, {a.effect} is not significant: p = {p_a:.2g}), "
                             f"more likely (statistic {b.statistic:.1f} against "
                             f"{a.statistic:.1f}, {b.dof} parameter(s) against {a.dof})"))
-            cands = _rank([new_a if c is a else new_b if c is b else c for c in cands])
+            cands = rank([new_a if c is a else new_b if c is b else c for c in cands])
             break
         else:
             break
@@ -151,4 +145,4 @@ def _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress):
                             f"significant (p = {p_b:.2g}), while {a.effect} is with "
                             f"{b.effect} (p = {p_a:.2g})"))
         out.append(b)
-    return _rank(out)
+    return rank(out)
