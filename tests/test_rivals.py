@@ -5,6 +5,7 @@ The logic is tested on stub fits whose costs set the two nested likelihood-ratio
 tests; the record test is the white-noise record of ``bench/README.md`` on which
 the four tests alone named a 1.1 ms ``time-delay`` for a hidden 2/rev flap.
 """
+import dataclasses
 import json
 from types import SimpleNamespace
 
@@ -14,6 +15,7 @@ from scipy import stats
 import inflowsim as ifs
 from inflowsim.diagnose import candidates, diagnose, search
 from inflowsim.diagnose.candidates import Candidate
+from inflowsim.diagnose import rivals
 from inflowsim.diagnose.rivals import explained_by, resolve_rivals
 from inflowsim.presets import theory_parameters, truth_parameters
 from inflowsim.virtual import VirtualTest, virtual_record
@@ -27,7 +29,7 @@ WEAK, STRONG = stats.chi2.isf(1e-2, 1), stats.chi2.isf(1e-6, 1)
 
 
 def _fit(structure, cost):
-    return SimpleNamespace(structure=structure, cost=cost, fixed=(),
+    return SimpleNamespace(structure=structure, cost=cost, fixed=(), n_freq=100,
                            parameters=theory_parameters(structure, K), constants=(K,))
 
 
@@ -158,3 +160,90 @@ def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay(monkeypa
     # the four tests alone name the delay: the fifth is what changes the answer
     monkeypatch.setattr(candidates, "RULE", ("significant", "plausible", "material", "whiter"))
     assert diagnose(rec, "basic").missing_effect == "time-delay"
+
+
+# -- a flexible candidate against a pair of simple ones -------------------------------
+
+ARP, STC, GL = "advance-ratio-perturbation", "separate-time-constants", "glauert"
+
+
+def _costs(table):
+    """A stub fit function whose cost is looked up by the set of effects fitted."""
+    calls = []
+
+    def fit_fn(records, s, band_hz, start, fixed=None):
+        key = frozenset(s.effects)
+        calls.append(key)
+        return SimpleNamespace(cost=table[key], structure=s, parameters=start,
+                               n_freq=100)
+    return fit_fn, calls
+
+
+def _three(pair_cost, glauert_beside):
+    """glauert (7 parameters) the most likely alone (cost 20, Schwarz gain 115); the
+    two one-parameter candidates 40 and 60 alone (114 and 74), ``pair_cost``
+    together; ``glauert_beside`` the cost with all three."""
+    a = _cand(GL, 20.0, accepted=True)
+    b = _cand(ARP, 40.0, accepted=True)
+    c = _cand(STC, 60.0, accepted=True)
+    table = {frozenset({ARP, STC}): pair_cost, frozenset({ARP, STC, GL}): glauert_beside,
+             frozenset({GL, ARP}): 19.9, frozenset({GL, STC}): 19.9}
+    return [a, b, c], table
+
+
+def test_a_flexible_candidate_a_simpler_pair_explains_is_not_named():
+    """The nonlinear truth without the Eq. (14) coupling (``bench/README.md``):
+    ``glauert``'s seven gains fit what the direct in-plane forcing and the separate
+    time constants explain with two parameters, and beside them add nothing."""
+    cands, table = _three(pair_cost=18.0, glauert_beside=18.0 - stats.chi2.isf(0.4, 7) / 2)
+    a, b, c = cands
+    assert a.schwarz_gain > b.schwarz_gain > c.schwarz_gain
+    # the pair's Schwarz gain: 2 (100 - 18) - 2 ln 600 = 151 against glauert's 115
+    fit_fn, calls = _costs(table)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    assert frozenset({ARP, STC}) in calls and frozenset({ARP, STC, GL}) in calls
+    by = {x.effect: x for x in out}
+    assert out[0].effect == ARP and out[0].accepted and out[0].displaced == GL
+    assert not by[GL].accepted and by[GL].explained_by == f"{ARP}+{STC}"
+    assert "p = 0.4" in by[GL].reason and "2 parameter(s) against 7" in by[GL].reason
+
+
+def test_a_flexible_candidate_still_significant_beside_the_pair_waits_a_rung():
+    """The Eq. (14) truth at 256 Hz: ``glauert``'s in-plane coupling is in it, and
+    beside the pair it is still significant (p 1e-5 there), but the pair is the
+    better model by the Schwarz criterion: its better member is named now, and
+    ``glauert`` is judged again beside them on the next rung (not ``explained_by``)."""
+    cands, table = _three(pair_cost=18.0, glauert_beside=18.0 - stats.chi2.isf(1e-5, 7) / 2)
+    fit_fn, calls = _costs(table)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    assert frozenset({ARP, STC, GL}) in calls
+    by = {x.effect: x for x in out}
+    assert out[0].effect == ARP and out[0].accepted and out[0].displaced == GL
+    assert not by[GL].accepted and by[GL].explained_by is None
+    assert by[GL].reason.startswith(f"not named before {ARP}+{STC}")
+    assert "judged again beside them (beside them p = 1e-05)" in by[GL].reason
+
+
+def test_a_pair_with_the_smaller_schwarz_gain_is_not_tested_further():
+    # together no better than one of them: the pair loses to glauert on Schwarz
+    cands, table = _three(pair_cost=39.0, glauert_beside=19.0)
+    fit_fn, calls = _costs(table)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    assert frozenset({ARP, STC}) in calls and frozenset({ARP, STC, GL}) not in calls
+    assert out[0].effect == GL and out[0].accepted
+
+
+def test_a_candidate_of_few_parameters_is_not_tested_against_pairs(monkeypatch):
+    cands, table = _three(pair_cost=18.0, glauert_beside=18.0)
+    monkeypatch.setattr(rivals, "PAIR_MIN_DOF", 8)
+    fit_fn, calls = _costs(table)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    assert frozenset({ARP, STC}) not in calls and out[0].effect == GL
+
+
+def test_a_pair_needs_one_accepted_member_to_name():
+    cands, table = _three(pair_cost=18.0, glauert_beside=18.0)
+    cands = [cands[0]] + [dataclasses.replace(x, accepted=False) for x in cands[1:]]
+    fit_fn, calls = _costs(table)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    assert not calls and out[0].effect == GL and out[0].accepted

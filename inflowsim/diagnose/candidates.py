@@ -53,7 +53,10 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
 5. **Unrivalled.**  The candidate to name is not explained by a more likely
    one with no more parameters (:mod:`inflowsim.diagnose.rivals`): with that
    rival in the model it is no longer significant.  The rival, if its refit is
-   whiter, is named in its place.
+   whiter, is named in its place.  A candidate of three or more parameters is
+   not named before a pair of smaller candidates that, fitted together with
+   fewer parameters, have the larger Schwarz gain; the pair's better accepted
+   member is named, and the flexible one is judged again on the next rung.
 
 Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
 J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect

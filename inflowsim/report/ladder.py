@@ -162,6 +162,15 @@ def format_diagnosis(d) -> str:
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
                          f"significant beside it, so not shown apart by this record")
+        # a flexible candidate a pair outranked (rivals.simpler_pair) says why
+        first = next((o for o in d.candidates if o.effect == c.displaced and (
+            o.reason.startswith("not named before") or "+" in (o.explained_by or ""))),
+            None)
+        if first is not None:
+            then = (f"beside them {first.effect} is not significant" if first.explained_by
+                    else f"{first.effect} is judged again beside them")
+            lines.append(f"  named before {first.effect}: "
+                         f"{c.reason.removeprefix('accepted: ')}; {then}")
         lines.append(f"  add it: inflowsim identify RECORD --model {d.structure.name} "
                      f"--add {d.missing_effect}")
     else:
