@@ -13,7 +13,11 @@ to the white noise's power in the band (``coloured-level``: :func:`noise_of`):
 * ``multi``: the paper's story, truth glauert, ladder from basic: the three
   effects and nothing else;
 * ``nonlinear``: the individual-blade truth (:mod:`inflowsim.flighttest`), ladder
-  from basic.
+  from basic;
+* ``nonlinear-mu``: the same truth with the trim ``mu`` as the speed through the
+  disc of its momentum loads (``RotorSpec(speed="mu")``): no Eq. (14) coupling, so
+  no Glauert term in the truth; flap inertia, the direct in-plane forcing, the
+  Pitt-Peters time constants and the 2/rev flap stay.
 
 Every candidate's statistics are written, one JSON document a line, so the
 acceptance rule can be studied offline; a summary table is printed.
@@ -97,16 +101,22 @@ def truth_of(kind, effect):
 def record_for(kind, effect, hold, rate, noise, seed):
     from inflowsim.virtual import VirtualTest, virtual_record
     sigma, col = noise_of(noise, rate)
-    if kind == "nonlinear":
-        from inflowsim.flighttest import FlightTest, nonlinear_flighttest
-        return nonlinear_flighttest(FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(),
-                                               seed=seed, hold=hold, noise_flap=sigma,
-                                               noise_color_hz=col)).record, None
+    if kind.startswith("nonlinear"):
+        return nonlinear_flighttest_of(kind, hold, rate, sigma, col, seed).record, None
     s, p, base = truth_of(kind, effect)
     rec = virtual_record(VirtualTest(structure=s, parameters=p, dt=1 / rate, seed=seed,
                                      noise_flap=sigma, manoeuvres=_manoeuvres(),
                                      hold=hold, noise_color_hz=col))
     return rec, (s, p, base)
+
+
+def nonlinear_flighttest_of(kind, hold, rate, sigma, col, seed):
+    from inflowsim.flighttest import FlightTest, nonlinear_flighttest
+    from inflowsim.flighttest.bladesim import RotorSpec
+    rotor = RotorSpec(speed="mu" if kind == "nonlinear-mu" else "eq14")
+    return nonlinear_flighttest(FlightTest(rotor=rotor, dt=1 / rate,
+                                           manoeuvres=_manoeuvres(), seed=seed, hold=hold,
+                                           noise_flap=sigma, noise_color_hz=col))
 
 
 def _floor_ratio(fit, rec, noise, rate):
@@ -122,13 +132,9 @@ def _noise_ratio(kind, hold, rate, noise, seed, rec, fit):
     """The record's own noise (record minus its noise-free twin) in the fit's band,
     per flap channel, over the same expected level as :func:`_floor_ratio`: what a
     perfect model would leave (37 bins scatter by about 16 %)."""
-    import dataclasses
-    from inflowsim.flighttest import FlightTest, nonlinear_flighttest
     from inflowsim.virtual import noise_psd
     sigma, col = noise_of(noise, rate)
-    test = FlightTest(dt=1 / rate, manoeuvres=_manoeuvres(), seed=seed, hold=hold,
-                      noise_flap=sigma, noise_color_hz=col)
-    clean = nonlinear_flighttest(dataclasses.replace(test, noise_flap=0.0)).record
+    clean = nonlinear_flighttest_of(kind, hold, rate, 0.0, col, seed).record
     f = fit.data[0].f_hz
     n = np.column_stack([rec[c] - clean[c] for c in ("beta0", "beta1c", "beta1s")])
     spec = np.fft.rfft(n, axis=0)
@@ -172,7 +178,7 @@ def run_one(job):
                         for n in p if win.fit.sigma.get(n)}
     else:
         lad = ladder(rec, base)
-        if kind == "nonlinear":
+        if kind.startswith("nonlinear"):
             out["noise_floor_ratio"] = _noise_ratio(kind, hold, rate, noise, seed, rec,
                                                     lad.final.fit)
         out["added"] = [r.added for r in lad.rungs[1:]]
@@ -244,7 +250,7 @@ def summary(paths):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--kind", choices=("null", "hidden", "multi", "nonlinear"))
+    ap.add_argument("--kind", choices=("null", "hidden", "multi", "nonlinear", "nonlinear-mu"))
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--configs", default="all",
