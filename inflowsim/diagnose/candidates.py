@@ -13,10 +13,13 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    the edge of its range (``flap_inertia = 0``, the first-order limit) the law
    is the 50:50 mixture of chi-square with 0 and 1 degree of freedom (Self and
    Liang, 1987).  Level ``alpha = 1e-3`` per candidate.
-   **Parsimonious:** the Schwarz criterion prefers it, ``2 (J_base - J_with) >
-   dof ln(n_data)``: for one added parameter this is weaker than the level above,
+   **Parsimonious:** the Schwarz criterion prefers it with at least positive
+   evidence, ``2 (J_base - J_with) - dof ln(n_data) > SCHWARZ_MIN`` (2: the
+   approximate ``2 ln B`` of Kass and Raftery, JASA 90, 1995, whose "positive"
+   starts at 2): for one added parameter this is weaker than the level above,
    for an effect of six or seven free gains it is stronger (the gains can fit a
-   weak forcing of another shape plus the noise: ``bench/README.md``).
+   weak forcing of another shape plus the noise: ``bench/README.md``; and the
+   best of an effect's part variants, below, is a choice among three).
 2. **Plausible.**  Every added parameter is determined by the data and its
    estimate, within 3 sigma, reaches its physical range (sign, theory range:
    ``Effect.plausible``); an estimate the data do not determine cannot be shown
@@ -84,6 +87,8 @@ from ..model.structure import Structure
 ALPHA = 1e-3
 #: Share of the residual's excess over the noise floor an effect must explain.
 MATERIAL = 0.10
+#: Schwarz gain a candidate must exceed: positive evidence (Kass and Raftery, 1995).
+SCHWARZ_MIN = 2.0
 #: Estimates within this many sigma of their plausible range count as plausible.
 PLAUSIBLE_SIGMAS = 3.0
 #: The tests a candidate must pass (the acceptance rule; a study may narrow it).
@@ -307,9 +312,10 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     if not significant and "significant" in RULE:
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
     gain = float(2 * dj - d * np.log(n_data))
-    if significant and gain <= 0 and "parsimonious" in RULE:
-        reasons.append(f"not worth its {d} parameters: Schwarz gain {gain:.1f} <= 0 "
-                       f"(2 dJ = {stat:.1f} against {d} ln n = {d * np.log(n_data):.1f})")
+    if significant and gain <= SCHWARZ_MIN and "parsimonious" in RULE:
+        reasons.append(f"not worth its {d} parameters: Schwarz gain {gain:.1f} <= "
+                       f"{SCHWARZ_MIN:g} (2 dJ = {stat:.1f} against {d} ln n = "
+                       f"{d * np.log(n_data):.1f})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
     label = base["measure"] if judge is not None else "level deviance"
