@@ -238,12 +238,17 @@ def _plausible(eff, fit, constants, held=()):
     return True, ""
 
 
+def schwarz_gain(j_base, j_new, dof, n_freq) -> float:
+    """``2 (J_base - J_new) - dof ln(n_data)``, ``n_data = 6 n_freq`` the real numbers
+    fitted (three complex channels a bin): the criterion candidates rank by."""
+    return float(2.0 * (j_base - j_new) - dof * np.log(6 * n_freq))
+
+
 def _best_parts(records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz, fit_fn):
     """The effect whole or one of its parts alone (the others held at neutral),
     whichever has the largest Schwarz gain: ``(fit, held, dof, why held)``.  A part
     alone is taken only where the data determine it."""
-    n_data = 6 * fit.n_freq
-    best = (2 * (base_fit.cost - fit.cost) - dof * np.log(n_data), fit, (), dof)
+    best = (schwarz_gain(base_fit.cost, fit.cost, dof, fit.n_freq), fit, (), dof)
     for part in eff.parts:
         others = tuple(n for q in eff.parts if q is not part for n in q)
         try:
@@ -254,7 +259,7 @@ def _best_parts(records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz,
         if any(f.sigma.get(n) is None for n in part):
             continue
         d = dof - len(others)
-        gain = 2 * (base_fit.cost - f.cost) - d * np.log(n_data)
+        gain = schwarz_gain(base_fit.cost, f.cost, d, f.n_freq)
         if gain > best[0]:
             best = (gain, f, others, d)
     _, fit, held, dof = best
@@ -297,7 +302,6 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     bnd = sum(1 for n in eff.boundary if n in s.parameters and n not in held)
     stat, d, lp = lr_test(base_fit.cost, fit.cost, dof, bnd)
     added = {n: (float(fit.parameters[n]), fit.sigma.get(n)) for n in eff.parameters}
-    n_data = 6 * fit.n_freq
     dj = float(base_fit.cost - fit.cost)
     significant = bool(lp < np.log10(alpha))
     plausible, why = _plausible(eff, fit, k, held)
@@ -311,11 +315,11 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         share = (d0 - d1) / excess if excess > 0 else 0.0
     if not significant and "significant" in RULE:
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
-    gain = float(2 * dj - d * np.log(n_data))
+    gain = schwarz_gain(base_fit.cost, fit.cost, d, fit.n_freq)
     if significant and gain <= SCHWARZ_MIN and "parsimonious" in RULE:
         reasons.append(f"not worth its {d} parameters: Schwarz gain {gain:.1f} <= "
                        f"{SCHWARZ_MIN:g} (2 dJ = {stat:.1f} against {d} ln n = "
-                       f"{d * np.log(n_data):.1f})")
+                       f"{d * np.log(6 * fit.n_freq):.1f})")
     if not plausible and "plausible" in RULE:
         reasons.append(f"implausible: {why}")
     label = base["measure"] if judge is not None else "level deviance"

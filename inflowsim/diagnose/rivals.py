@@ -62,7 +62,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.effects import CATALOGUE
-from .candidates import ALPHA, lr_test, nested_start, rank
+from .candidates import ALPHA, lr_test, nested_start, rank, schwarz_gain
 
 #: Rounds of displacement at most (each names a strictly more likely candidate).
 MAX_ROUNDS = 3
@@ -144,7 +144,6 @@ def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None):
     (the best such pair), or ``None``."""
     if a.dof < PAIR_MIN_DOF or a.fit is None:
         return None
-    n_data = 6 * a.fit.n_freq
     best = None
     for b, c in _pairs(a, cands):
         if progress:
@@ -152,7 +151,7 @@ def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None):
         both = _joint_fit(records, base_fit, b.fit, [c], b.held + c.held, band_hz, fit_fn)
         if both is None:
             continue
-        gain = 2.0 * (base_fit.cost - both.cost) - (b.dof + c.dof) * np.log(n_data)
+        gain = schwarz_gain(base_fit.cost, both.cost, b.dof + c.dof, both.n_freq)
         if gain > a.schwarz_gain and (best is None or gain > best[3]):
             best = (b, c, both, gain)
     if best is None:

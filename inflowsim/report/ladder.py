@@ -162,10 +162,10 @@ def format_diagnosis(d) -> str:
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
                          f"significant beside it, so not shown apart by this record")
-        # a flexible candidate a pair outranked (rivals.simpler_pair) says why
-        first = next((o for o in d.candidates if o.effect == c.displaced and (
-            o.reason.startswith("not named before") or "+" in (o.explained_by or ""))),
-            None)
+        # a flexible candidate a pair outranked (rivals.simpler_pair); one a single
+        # rival displaced is explained by the named candidate itself
+        first = next((o for o in d.candidates if o.effect == c.displaced
+                      and o.explained_by != c.effect), None)
         if first is not None:
             then = (f"beside them {first.effect} is not significant" if first.explained_by
                     else f"{first.effect} is judged again beside them")
