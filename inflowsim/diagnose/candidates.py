@@ -63,7 +63,9 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    whiter, is named in its place.  A candidate of three or more parameters is
    not named before a pair of smaller candidates that, fitted together with
    fewer parameters, have the larger Schwarz gain; the pair's better accepted
-   member is named, and the flexible one is judged again on the next rung.
+   member is named, and the flexible one is judged again on the next rung.  Where
+   no such pair wins, an effect of several parts fitted whole is also compared
+   with an accepted candidate it explains plus one of its own parts alone.
 
 Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
 J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect
@@ -134,6 +136,9 @@ class Candidate:
     explained_by: str | None = None
     #: the candidate this one displaced as the one to name
     displaced: str | None = None
+    #: an effect of several parts (``Effect.parts``) fitted with one part alone:
+    #: ``((held, dof, fit), ...)``, the others held at neutral; empty otherwise
+    variants: tuple = field(repr=False, compare=False, default=())
 
     @property
     def whiter(self) -> bool:
@@ -246,9 +251,11 @@ def schwarz_gain(j_base, j_new, dof, n_freq) -> float:
 
 def _best_parts(records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz, fit_fn):
     """The effect whole or one of its parts alone (the others held at neutral),
-    whichever has the largest Schwarz gain: ``(fit, held, dof, why held)``.  A part
-    alone is taken only where the data determine it."""
+    whichever has the largest Schwarz gain: ``(fit, held, dof, why held,
+    variants)``, ``variants`` every part alone the data determine, as
+    ``(held, dof, fit)``."""
     best = (schwarz_gain(base_fit.cost, fit.cost, dof, fit.n_freq), fit, (), dof)
+    variants = []
     for part in eff.parts:
         others = tuple(n for q in eff.parts if q is not part for n in q)
         try:
@@ -259,11 +266,13 @@ def _best_parts(records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz,
         if any(f.sigma.get(n) is None for n in part):
             continue
         d = dof - len(others)
+        variants.append((others, d, f))
         gain = schwarz_gain(base_fit.cost, f.cost, d, f.n_freq)
         if gain > best[0]:
             best = (gain, f, others, d)
     _, fit, held, dof = best
-    return fit, held, dof, "not worth their parameters beside the effect's other part"
+    return (fit, held, dof, "not worth their parameters beside the effect's other part",
+            tuple(variants))
 
 
 def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
@@ -279,7 +288,7 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     base_fixed = {n: float(base_fit.parameters[n]) for n in (base_fit.fixed or ())
                   if n in s.parameters}
     dof = len(s.parameters) - len(base_fit.structure.parameters)
-    held, held_why = (), "not determined by the data"
+    held, held_why, variants = (), "not determined by the data", ()
     try:
         fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=base_fixed or None)
         undetermined = {n for n in eff.parameters if fit.sigma.get(n) is None
@@ -294,8 +303,8 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         else:
             held = ()
         if not held and len(eff.parts) > 1:
-            fit, held, dof, held_why = _best_parts(records, base_fit, eff, s, start,
-                                                   base_fixed, fit, dof, band_hz, fit_fn)
+            fit, held, dof, held_why, variants = _best_parts(
+                records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz, fit_fn)
     except InputError as exc:
         return Candidate(effect, s.name, 0.0, 0.0, dof, 0.0, False, eff.physics, {},
                          None, str(exc), reason=str(exc))
@@ -349,7 +358,8 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
                      schwarz_gain=gain, plausible=plausible,
                      share=float(share), structure_before=q0, structure_after=q1,
                      whiteness_before=d0, whiteness_after=d1,
-                     accepted=accepted, reason=reason, held=held, measure=label)
+                     accepted=accepted, reason=reason, held=held, measure=label,
+                     variants=variants)
 
 
 def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,

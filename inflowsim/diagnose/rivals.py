@@ -45,6 +45,21 @@ Eq. (14) truth at 256 Hz, ``glauert`` beside the direct forcing and the time
 constants has p = 1e-5 but a Schwarz gain of -2.5 there: the record does not pay
 for its seven gains once the two simple effects are in (``bench/README.md``).
 
+**A flexible candidate against a simple one and its own part.**  Where ``A`` is
+an effect of several parts fitted whole (``Effect.parts``: Glauert's ``F`` and
+``G``) and no pair of two candidates beats it, it is also compared with an
+accepted candidate ``B`` fitted together with one part of ``A`` alone (fewer
+parameters together than ``A``; at most :data:`MAX_PART_PAIRS`), counted only
+where ``A`` whole explains ``B`` (``B`` is not significant beside it): ``A``'s
+other part then stands in for ``B``.  If such a pair has the larger Schwarz gain,
+``B`` is named and ``A`` is judged again, beside it, on the next rung (never
+``explained_by``: its part is in the pair).  On the Eq. (14) truth at 256 Hz,
+seed 5, all seven Glauert gains (194.9) took what the direct in-plane forcing
+explains (180.6 alone, not significant beside them), and the time constants were
+not significant, so no pair of two beat them; the direct forcing with Glauert's
+``F`` alone gains 206.7 with four parameters, and ``G`` adds nothing beside them
+(p 0.35).  The ladder then names ``F`` on the next rung (``bench/README.md``).
+
 Once the candidate to name is settled, every other accepted candidate is fitted
 together with it the same way: one that the named candidate explains (with it no
 longer significant, while the named one still is with it) is no longer accepted and
@@ -71,6 +86,9 @@ MAX_ROUNDS = 3
 PAIR_MIN_DOF = 3
 #: Pairs tried against it at most (the most likely first).
 MAX_PAIRS = 3
+#: Pairs of an accepted candidate with one part of it alone, at most (an effect of
+#: several parts fitted whole: ``Effect.parts``).
+MAX_PART_PAIRS = 3
 
 
 def _joint_fit(records, base_fit, first, others, held, band_hz, fit_fn):
@@ -82,11 +100,14 @@ def _joint_fit(records, base_fit, first, others, held, band_hz, fit_fn):
         for c in others:
             if any(x in s.effects for x in CATALOGUE[c.effect].alternatives):
                 return None
-            s = s.with_effect(c.effect)
+            # one of its parts is in ``first`` already: the others are freed from there
+            if c.effect not in s.effects:
+                s = s.with_effect(c.effect)
         start = nested_start(first, s, base_fit.constants[0])
         for c in others:
-            start.update({n: float(c.fit.parameters[n])
-                          for n in CATALOGUE[c.effect].parameters if n in start})
+            if c.effect not in first.structure.effects:
+                start.update({n: float(c.fit.parameters[n])
+                              for n in CATALOGUE[c.effect].parameters if n in start})
         fixed = {n: float(base_fit.parameters[n]) for n in (base_fit.fixed or ())
                  if n in s.parameters}
         fixed.update({n: start[n] for n in held})
@@ -100,18 +121,25 @@ def _joint_fit(records, base_fit, first, others, held, band_hz, fit_fn):
     return fit
 
 
-def _joint(records, base_fit, a, b, band_hz, fit_fn):
-    """``base + A + B`` fitted from both candidates' estimates, or ``None``."""
-    return _joint_fit(records, base_fit, a.fit, [b], a.held + b.held, band_hz, fit_fn)
+def _joint(records, base_fit, a, b, band_hz, fit_fn, cache=None):
+    """``base + A + B`` fitted from both candidates' estimates, or ``None``; kept in
+    ``cache`` (a dict, one resolution's) where given."""
+    key = (a.effect, a.held, b.effect, b.held)
+    if cache is not None and key in cache:
+        return cache[key]
+    fit = _joint_fit(records, base_fit, a.fit, [b], a.held + b.held, band_hz, fit_fn)
+    if cache is not None:
+        cache[key] = fit
+    return fit
 
 
 def _boundary(c):
     return sum(1 for n in CATALOGUE[c.effect].boundary if n not in c.held)
 
 
-def explained_by(records, base_fit, a, b, band_hz, fit_fn, alpha=ALPHA):
+def explained_by(records, base_fit, a, b, band_hz, fit_fn, alpha=ALPHA, cache=None):
     """``(explained, p of A given B, p of B given A)``: does ``b`` explain ``a``?"""
-    both = _joint(records, base_fit, a, b, band_hz, fit_fn)
+    both = _joint(records, base_fit, a, b, band_hz, fit_fn, cache)
     if both is None:
         return False, None, None
     *_, lp_a = lr_test(b.fit.cost, both.cost, a.dof, _boundary(a))
@@ -127,43 +155,107 @@ def _rivals(a, cands, tried):
                   key=lambda c: -c.statistic)
 
 
-def _pairs(a, cands):
-    """Pairs of significant, plausible candidates with fewer parameters together
-    than ``a``, most likely first, at most :data:`MAX_PAIRS`."""
+def _part_of(a, variant, base_fit):
+    """``a`` with one part alone (``variant``: ``(held, dof, fit)``), to pair with a
+    simple candidate; never named itself."""
+    held, dof, fit = variant
+    stat = max(0.0, 2.0 * (base_fit.cost - fit.cost))
+    return dataclasses.replace(
+        a, fit=fit, held=tuple(held), dof=dof, statistic=stat, accepted=False,
+        schwarz_gain=schwarz_gain(base_fit.cost, fit.cost, dof, fit.n_freq), variants=())
+
+
+def part_label(c) -> str:
+    """``"glauert (k0p, kc, ks)"`` for a part alone, the effect's name when whole."""
+    if not c.held:
+        return c.effect
+    own = (n for n in CATALOGUE[c.effect].parameters if n not in c.held)
+    return f"{c.effect} ({', '.join(own)})"
+
+
+def _pairs(a, cands, base_fit=None):
+    """``(simple, with_part)``: pairs of significant, plausible candidates with
+    fewer parameters together than ``a``, most likely first, at most
+    :data:`MAX_PAIRS`; and, where ``a`` is an effect of several parts fitted whole,
+    pairs of an accepted candidate with one part of ``a`` alone, at most
+    :data:`MAX_PART_PAIRS`."""
     ok = [c for c in cands if c.effect != a.effect and c.significant and c.plausible
           and c.fit is not None and c.dof < a.dof]
     out = [(b, c) for i, b in enumerate(ok) for c in ok[i + 1:]
            if b.dof + c.dof < a.dof and (b.accepted or c.accepted)
            and c.effect not in CATALOGUE[b.effect].alternatives]
-    return sorted(out, key=lambda bc: -(bc[0].statistic + bc[1].statistic))[:MAX_PAIRS]
+    out = sorted(out, key=lambda bc: -(bc[0].statistic + bc[1].statistic))[:MAX_PAIRS]
+    if a.held or not a.variants or base_fit is None:
+        return out, []
+    parts = [_part_of(a, v, base_fit) for v in a.variants]
+    with_part = [(b, c) for b in ok for c in parts
+                 if b.accepted and b.dof + c.dof < a.dof
+                 and b.effect not in CATALOGUE[a.effect].alternatives]
+    return out, sorted(with_part,
+                       key=lambda bc: -(bc[0].statistic + bc[1].statistic))[:MAX_PART_PAIRS]
 
 
-def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None):
-    """``(b, c, p of A beside them or None, their Schwarz gain)``: the pair of
-    smaller candidates that, fitted together, has a larger Schwarz gain than ``a``
-    (the best such pair), or ``None``."""
-    if a.dof < PAIR_MIN_DOF or a.fit is None:
-        return None
-    best = None
-    for b, c in _pairs(a, cands):
+def _best_pair(records, base_fit, a, pairs, band_hz, fit_fn, progress, alpha=ALPHA,
+               cache=None):
+    """The pair of ``pairs`` with the largest Schwarz gain above ``a``'s, as
+    ``(b, c, their fit, gain)``, or ``None``.  A pair of ``b`` with a part of ``a``
+    counts only where ``a`` whole explains ``b`` (``b`` is not significant beside
+    it): the rest of ``a`` then stands in for ``b``, not for physics of its own.
+    That is checked first (the fit is the one :func:`_covered` makes if ``a`` is
+    named), so a ``b`` with physics of its own costs no pair fits."""
+    best, mimics = None, {}
+    for b, c in pairs:
+        if c.effect == a.effect:
+            if b.effect not in mimics:
+                if progress:
+                    progress(f"testing {b.effect} beside {a.effect}")
+                mimics[b.effect] = _not_significant_beside(records, base_fit, b, a,
+                                                           band_hz, fit_fn, alpha, cache)
+            if not mimics[b.effect]:
+                continue
         if progress:
-            progress(f"testing {a.effect} against {b.effect}+{c.effect}")
+            progress(f"testing {a.effect} against {b.effect}+{part_label(c)}")
         both = _joint_fit(records, base_fit, b.fit, [c], b.held + c.held, band_hz, fit_fn)
         if both is None:
             continue
         gain = schwarz_gain(base_fit.cost, both.cost, b.dof + c.dof, both.n_freq)
         if gain > a.schwarz_gain and (best is None or gain > best[3]):
             best = (b, c, both, gain)
+    return best
+
+
+def _not_significant_beside(records, base_fit, b, a, band_hz, fit_fn, alpha, cache=None):
+    """``b`` is not significant with ``a`` in the model (``a`` explains it)."""
+    joint = _joint(records, base_fit, b, a, band_hz, fit_fn, cache)
+    if joint is None:
+        return False
+    return lr_test(a.fit.cost, joint.cost, b.dof, _boundary(b))[2] >= np.log10(alpha)
+
+
+def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None, cache=None):
+    """``(b, c, p of A beside them or None, their Schwarz gain)``: the pair of
+    smaller candidates that, fitted together, has a larger Schwarz gain than ``a``
+    (the best such pair), or ``None``.  Pairs of two candidates are tried first;
+    pairs of a candidate with a part of ``a`` only where none of those wins."""
+    if a.dof < PAIR_MIN_DOF or a.fit is None:
+        return None
+    simple, with_part = _pairs(a, cands, base_fit)
+    best = (_best_pair(records, base_fit, a, simple, band_hz, fit_fn, progress) or
+            _best_pair(records, base_fit, a, with_part, band_hz, fit_fn, progress,
+                       cache=cache))
     if best is None:
         return None
     b, c, both, gain = best
     if progress:
-        progress(f"testing {a.effect} beside {b.effect}+{c.effect}")
-    three = _joint_fit(records, base_fit, both, [a], a.held + b.held + c.held, band_hz,
-                       fit_fn)
+        progress(f"testing {a.effect} beside {b.effect}+{part_label(c)}")
+    part = c.effect == a.effect
+    three = _joint_fit(records, base_fit, both, [a], a.held + b.held +
+                       (() if part else c.held), band_hz, fit_fn)
     p_a = None
     if three is not None:
-        p_a = 10 ** lr_test(both.cost, three.cost, a.dof, _boundary(a))[2]
+        # a part of ``a`` in the pair: what is tested beside it is the rest of ``a``
+        dof = a.dof - (c.dof if part else 0)
+        p_a = 10 ** lr_test(both.cost, three.cost, dof, _boundary(a))[2]
     return b, c, p_a, gain
 
 
@@ -171,12 +263,22 @@ def _displace_by_pair(a, found, cands, alpha=ALPHA):
     """Candidates with ``a`` outranked by the pair ``found`` and the better-ranked
     accepted member of the pair as the one to name, ranked again."""
     b, c, p_a, gain = found
-    name = next(x for x in cands if x in (b, c) and x.accepted)
+    name = next(x for x in cands if (x is b or x is c) and x.accepted)
     other = c if name is b else b
-    pair = f"{b.effect}+{c.effect}"
+    part = c.effect == a.effect
+    pair = f"{b.effect}+{part_label(c)}" if part else f"{b.effect}+{c.effect}"
     better = (f"{pair} ({b.dof + c.dof} parameter(s) against {a.dof}) fit better by "
               f"the Schwarz criterion ({gain:.1f} against {a.schwarz_gain:.1f})")
-    if p_a is not None and p_a >= alpha:
+    if part:
+        rest = ", ".join(c.held)
+        beside = "" if p_a is None else (
+            f"; beside them its {rest} {'are not' if p_a >= alpha else 'are'} "
+            f"significant (p = {p_a:.2g})")
+        new_a = dataclasses.replace(
+            a, accepted=False,
+            reason=f"not named whole before {pair}: {better}{beside}; it is judged "
+                   "again beside them")
+    elif p_a is not None and p_a >= alpha:
         new_a = dataclasses.replace(
             a, accepted=False, explained_by=pair,
             reason=f"explained by {pair}: with them, {a.effect} is not significant "
@@ -189,9 +291,9 @@ def _displace_by_pair(a, found, cands, alpha=ALPHA):
                    f"them{beside}")
     new_n = dataclasses.replace(
         name, displaced=a.effect,
-        reason=(f"accepted: with {other.effect} it explains the residual better than "
-                f"{a.effect} with fewer parameters (Schwarz gain {gain:.1f} against "
-                f"{a.schwarz_gain:.1f})"))
+        reason=(f"accepted: with {part_label(other)} it explains the residual better "
+                f"than {a.effect}{' whole' if part else ''} with fewer parameters "
+                f"(Schwarz gain {gain:.1f} against {a.schwarz_gain:.1f})"))
     return rank([new_a if x is a else new_n if x is name else x for x in cands])
 
 
@@ -201,6 +303,7 @@ def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
     with the named one tested against its rivals; returns them ranked again."""
     cands = list(cands)
     tried, tried_pairs = set(), set()
+    cache = {}        # joint fits, by (effect, held) of the two candidates
     for _ in range(MAX_ROUNDS * max(1, len(cands))):
         a = next((c for c in cands if c.accepted), None)
         if a is None:
@@ -229,14 +332,15 @@ def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
             if a.effect in tried_pairs:
                 break
             tried_pairs.add(a.effect)
-            found = simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress)
+            found = simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress,
+                                 cache)
             if found is None:
                 break
             cands = _displace_by_pair(a, found, cands, alpha)
-    return _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress)
+    return _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress, cache)
 
 
-def _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress):
+def _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress, cache=None):
     """The other accepted candidates marked where the named one explains them."""
     a = next((c for c in cands if c.accepted), None)
     if a is None:
@@ -246,7 +350,8 @@ def _covered(records, base_fit, cands, band_hz, fit_fn, alpha, progress):
         if b is not a and b.accepted:
             if progress:
                 progress(f"testing {b.effect} beside {a.effect}")
-            yes, p_b, p_a = explained_by(records, base_fit, b, a, band_hz, fit_fn, alpha)
+            yes, p_b, p_a = explained_by(records, base_fit, b, a, band_hz, fit_fn, alpha,
+                                         cache)
             if yes:
                 b = dataclasses.replace(
                     b, accepted=False, explained_by=a.effect,
