@@ -184,15 +184,19 @@ def _pairs(a, cands, base_fit=None):
     out = [(b, c) for i, b in enumerate(ok) for c in ok[i + 1:]
            if b.dof + c.dof < a.dof and (b.accepted or c.accepted)
            and c.effect not in CATALOGUE[b.effect].alternatives]
-    out = sorted(out, key=lambda bc: -(bc[0].statistic + bc[1].statistic))[:MAX_PAIRS]
+    out = sorted(out, key=_less_likely)[:MAX_PAIRS]
     if a.held or not a.variants or base_fit is None:
         return out, []
     parts = [_part_of(a, v, base_fit) for v in a.variants]
     with_part = [(b, c) for b in ok for c in parts
                  if b.accepted and b.dof + c.dof < a.dof
                  and b.effect not in CATALOGUE[a.effect].alternatives]
-    return out, sorted(with_part,
-                       key=lambda bc: -(bc[0].statistic + bc[1].statistic))[:MAX_PART_PAIRS]
+    return out, sorted(with_part, key=_less_likely)[:MAX_PART_PAIRS]
+
+
+def _less_likely(pair):
+    """Sort key of a pair: the more likely together first."""
+    return -(pair[0].statistic + pair[1].statistic)
 
 
 def _best_pair(records, base_fit, a, pairs, band_hz, fit_fn, progress, alpha=ALPHA,
@@ -201,17 +205,15 @@ def _best_pair(records, base_fit, a, pairs, band_hz, fit_fn, progress, alpha=ALP
     ``(b, c, their fit, gain)``, or ``None``.  A pair of ``b`` with a part of ``a``
     counts only where ``a`` whole explains ``b`` (``b`` is not significant beside
     it): the rest of ``a`` then stands in for ``b``, not for physics of its own.
-    That is checked first (the fit is the one :func:`_covered` makes if ``a`` is
-    named), so a ``b`` with physics of its own costs no pair fits."""
-    best, mimics = None, {}
+    That is checked first (the fit, kept in ``cache``, is the one :func:`_covered`
+    makes if ``a`` is named), so a ``b`` with physics of its own costs no pair fits."""
+    best = None
     for b, c in pairs:
         if c.effect == a.effect:
-            if b.effect not in mimics:
-                if progress:
-                    progress(f"testing {b.effect} beside {a.effect}")
-                mimics[b.effect] = _not_significant_beside(records, base_fit, b, a,
-                                                           band_hz, fit_fn, alpha, cache)
-            if not mimics[b.effect]:
+            if progress:
+                progress(f"testing {b.effect} beside {a.effect}")
+            _, p_b, _ = explained_by(records, base_fit, b, a, band_hz, fit_fn, alpha, cache)
+            if p_b is None or p_b < alpha:
                 continue
         if progress:
             progress(f"testing {a.effect} against {b.effect}+{part_label(c)}")
@@ -224,14 +226,6 @@ def _best_pair(records, base_fit, a, pairs, band_hz, fit_fn, progress, alpha=ALP
     return best
 
 
-def _not_significant_beside(records, base_fit, b, a, band_hz, fit_fn, alpha, cache=None):
-    """``b`` is not significant with ``a`` in the model (``a`` explains it)."""
-    joint = _joint(records, base_fit, b, a, band_hz, fit_fn, cache)
-    if joint is None:
-        return False
-    return lr_test(a.fit.cost, joint.cost, b.dof, _boundary(b))[2] >= np.log10(alpha)
-
-
 def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None, cache=None):
     """``(b, c, p of A beside them or None, their Schwarz gain)``: the pair of
     smaller candidates that, fitted together, has a larger Schwarz gain than ``a``
@@ -239,6 +233,7 @@ def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None, ca
     pairs of a candidate with a part of ``a`` only where none of those wins."""
     if a.dof < PAIR_MIN_DOF or a.fit is None:
         return None
+    cache = {} if cache is None else cache
     simple, with_part = _pairs(a, cands, base_fit)
     best = (_best_pair(records, base_fit, a, simple, band_hz, fit_fn, progress) or
             _best_pair(records, base_fit, a, with_part, band_hz, fit_fn, progress,
