@@ -73,6 +73,7 @@ class HarmonicFit:
     n_points: int
     chi2_reduced: float
     residual_rms: float
+    explained: float
     equal_weights: np.ndarray
     equal_weights_sigma: np.ndarray
     rows: np.ndarray = field(repr=False)
@@ -172,17 +173,51 @@ def fit_first_harmonic(survey: Survey, weights: str = "std") -> HarmonicFit:
                        covariance=cov, inflation=inflation, rho_radial=rho_r,
                        rho_azimuthal=rho_p, white=bool(white), n_points=n,
                        chi2_reduced=chi2r, residual_rms=float(np.sqrt(np.mean(res**2))),
+                       explained=float(1.0 - np.sum(res**2) / np.sum((y - y.mean())**2)),
                        equal_weights=eqw, equal_weights_sigma=eqs, rows=rows,
                        residuals=res, outliers=out)
 
 
+def _trapezoid(y, x):
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))
+
+
+def area_mean_inflow(survey: Survey) -> tuple[float, float]:
+    """Model-free mean inflow over the surveyed annulus: each radial cut integrated
+    with the area weight ``r dr`` (trapezoids between its stations on the disc),
+    the cuts averaged over azimuth (each cut standing for its share of the
+    azimuths there are) [-].
+
+    Returns ``(mean, r_min)``: each cut spans its own stations, ``r_min`` the
+    largest of the cuts' innermost stations (the region inside them is not
+    measured, or not in every cut).  The momentum
+    ``lambda0`` is a disc-area mean, which this approaches where the inner disc
+    carries little inflow.
+    """
+    rows = np.where(survey.in_fit)[0]
+    psi, r, y = survey.psi[rows], survey.r[rows], survey.lambda_i[rows]
+    means, inner = [], []
+    for g in np.unique(np.round(psi, 6)):
+        idx = np.where(np.round(psi, 6) == g)[0]
+        idx = idx[np.argsort(r[idx])]
+        rr, yy = r[idx], y[idx]
+        if len(rr) < 2:
+            continue
+        means.append(_trapezoid(yy * rr, rr) / _trapezoid(rr, rr))
+        inner.append(rr[0])
+    return float(np.mean(means)), float(np.max(inner))
+
+
 @dataclass(frozen=True, eq=False)
 class SurveyComparison:
-    """One survey, its Eq. (6) fit and the model's trim inflow at its conditions."""
+    """One survey, its Eq. (6) fit, its model-free area mean
+    (:func:`area_mean_inflow`, ``(mean, r_min)``) and the model's trim inflow at its
+    conditions."""
 
     survey: Survey
     fit: HarmonicFit
     predictions: tuple[SteadyInflow, ...]
+    area_mean: tuple[float, float] = (float("nan"), float("nan"))
 
     @property
     def mu(self) -> float:
@@ -233,9 +268,10 @@ def measured_inflow_response(surveys, beta1c=0.0, beta1s=0.0, c_mc=0.0,
         c = s.conditions
         preds = steady_inflow_predictions(c.mu, c.muz, c.ct, c.theta1c, c.theta1s,
                                           beta1c, beta1s, c_mc, c_ms)
-        cases.append(SurveyComparison(s, fit_first_harmonic(s), preds))
+        cases.append(SurveyComparison(s, fit_first_harmonic(s), preds, area_mean_inflow(s)))
     return MeasuredInflowComparison(tuple(cases))
 
 
-__all__ = ["NAMES", "eq6", "design", "HarmonicFit", "fit_first_harmonic", "SurveyComparison",
+__all__ = ["NAMES", "eq6", "design", "HarmonicFit", "fit_first_harmonic", "area_mean_inflow",
+           "SurveyComparison",
            "MeasuredInflowComparison", "measured_inflow_response"]
