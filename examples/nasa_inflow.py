@@ -17,10 +17,6 @@ from pathlib import Path
 
 from inflowsim.data.nasa_lv import read_surveys
 from inflowsim.errors import InputError
-from inflowsim.identify.inflow_survey import measured_inflow_response
-from inflowsim.report.measured_inflow import (comparison_table, conditions_table,
-                                              disc_plot, fit_table, harmonics_plot,
-                                              radial_cuts_plot)
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_DATA = ROOT.parent / "shared" / "data" / "nasa-lv-inflow"
@@ -46,6 +42,11 @@ def main(argv=None) -> int:
     except InputError as exc:
         print(f"nasa_inflow: {exc}", file=sys.stderr)
         return 2
+    # the fit and the plots (matplotlib) only once the input is known good
+    from inflowsim.identify.inflow_survey import measured_inflow_response
+    from inflowsim.report.measured_inflow import (comparison_table, conditions_table,
+                                                  disc_plot, fit_table, harmonics_plot,
+                                                  radial_cuts_plot)
     print("## Defects found\n")
     for s in surveys:
         for d in s.defects:
