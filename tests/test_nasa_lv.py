@@ -185,9 +185,7 @@ def _synthetic_survey(tmp_path, noise, seed=0, ar=0.0):
                    + truth[2] * r * math.sin(math.radians(psi)) + e)
             lines.append(f"{psi},{r},{-lam:.6f},{noise:.4f}")
     (tmp_path / "mu_023.csv").write_text("\r\n".join(lines) + "\r\n")
-    readme = (DATA / "README.md") if DATA.is_dir() else None
-    text = readme.read_text() if readme else _README
-    (tmp_path / "README.md").write_text(text)
+    (tmp_path / "README.md").write_text(_README)
     return truth
 
 

@@ -278,12 +278,17 @@ def read_survey(path, conditions: RunConditions | None = None,
     except OSError as exc:
         raise InputError(f"{path}: cannot read ({exc.strerror})") from None
     digest = hashlib.sha256(raw).hexdigest()
-    rows = list(csv.reader(raw.decode("utf-8").splitlines()))
-    if len(rows) < 2:
+    try:
+        rows = list(csv.reader(raw.decode("utf-8").splitlines()))
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a UTF-8 text table") from None
+    # blank lines carry nothing; the others keep their file line numbers
+    numbered = [(i + 1, row) for i, row in enumerate(rows) if any(c.strip() for c in row)]
+    if len(numbered) < 2:
         raise InputError(f"{path}: no data rows")
-    cols = _columns(rows[0], path.name)
-    body = rows[1:]
-    lines = np.arange(2, len(body) + 2)
+    cols = _columns(numbered[0][1], path.name)
+    body = [row for _, row in numbered[1:]]
+    lines = np.array([i for i, _ in numbered[1:]])
     defects: list[Defect] = []
     name = path.name
 
@@ -300,7 +305,8 @@ def read_survey(path, conditions: RunConditions | None = None,
         try:
             return [r[cols[key]].strip() for r in body]
         except IndexError:
-            raise InputError(f"{path}: a row has fewer than {len(rows[0])} fields") from None
+            raise InputError(f"{path}: a row has fewer than {len(numbered[0][1])} "
+                             "fields") from None
 
     txt = {k: column(k) for k in cols}
     try:

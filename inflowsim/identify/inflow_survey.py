@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..channels import INFLOW
+from ..errors import InputError
 from ..data.nasa_lv import Survey
 from ..model.steady_inflow import SteadyInflow, steady_inflow_predictions
 
@@ -131,6 +132,13 @@ def fit_first_harmonic(survey: Survey, weights: str = "std") -> HarmonicFit:
         raise ValueError("weights must be 'std' or 'equal'")
     rows = np.where(survey.in_fit)[0]
     psi, r, y = survey.psi[rows], survey.r[rows], survey.lambda_i[rows]
+    if weights == "std" and not np.all(survey.sigma[rows] > 0):
+        bad = survey.line[rows][~(survey.sigma[rows] > 0)]
+        raise InputError(f"{survey.file}: standard deviation not > 0 on line(s) "
+                         f"{', '.join(map(str, bad))}: no weight (use weights='equal')")
+    if len(rows) < 4:
+        raise InputError(f"{survey.file}: {len(rows)} stations on the disc: too few to fit "
+                         "Eq. (6) and judge its residuals")
     x = design(psi, r)
     w = 1.0 / survey.sigma[rows] ** 2 if weights == "std" else np.ones(len(rows))
     n, p = x.shape
