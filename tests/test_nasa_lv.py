@@ -117,6 +117,8 @@ def test_conditions_in_si_and_the_model_conventions(surveys):
     assert c.theta1c == pytest.approx(math.radians(1.11))
     assert c.theta1s == pytest.approx(math.radians(-3.23))
     assert c.solidity == pytest.approx(4 * 0.06604 / (math.pi * 0.8606))
+    k = c.constants(a0=5.73)
+    assert (k.mu, k.ct, k.omega, k.trim["theta1s"]) == (c.mu, 0.0064, c.omega, c.theta1s)
 
 
 # ------------------------------------------------------------ the fit -------------

@@ -112,6 +112,18 @@ class RunConditions:
         """``N c / (pi R)`` [-]."""
         return self.blades * self.chord / (math.pi * self.radius)
 
+    def constants(self, a0: float):
+        """The project's :class:`~inflowsim.model.params.Constants` of this run (the
+        known pitch and ``muz`` as trim; the flap is not in the tables).
+
+        ``a0`` the blade lift-curve slope [1/rad]: not in the data, the caller's
+        choice (the comparison of ``inflow_survey`` does not need it)."""
+        from ..model.params import Constants
+        return Constants(mu=self.mu, a0=float(a0), solidity=self.solidity, omega=self.omega,
+                         radius=self.radius, ct=self.ct,
+                         trim={"theta0": self.theta0, "theta1c": self.theta1c,
+                               "theta1s": self.theta1s, "muz": self.muz}).check()
+
 
 @dataclass(frozen=True, eq=False)
 class Survey:

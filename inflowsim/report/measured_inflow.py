@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..identify.inflow_survey import eq6
-from ..model.steady_inflow import LABELS
+from ..model.steady_inflow import LABELS, THEORIES
 from .plots import new_figure, save_png
 
 #: Theories drawn, with their line styles.
@@ -150,8 +150,7 @@ def disc_plot(comparison, path=None, theory="skewed-wake"):
 def comparison_table(comparison) -> str:
     """Markdown: per ``mu`` and harmonic, the fitted value +- inflated 1-sigma, the
     equal-weight fit and each theory with its discrepancy in sigmas."""
-    theories = ("momentum", "momentum-mass-flow", "momentum-tilt", "skewed-wake",
-                "glauert-table3")
+    theories = THEORIES
     head = ("| mu | harmonic | measured (WLS +- 1 sigma) | equal weights | "
             + " | ".join(LABELS[t] for t in theories) + " |")
     lines = [head, "|" + " --- |" * (4 + len(theories))]
