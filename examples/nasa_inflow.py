@@ -58,10 +58,15 @@ def main(argv=None) -> int:
     print(comparison_table(cmp))
     print("## The fits\n")
     print(fit_table(cmp))
-    out.mkdir(parents=True, exist_ok=True)
-    radial_cuts_plot(cmp, out / FIGURES[0])
-    harmonics_plot(cmp, out / FIGURES[1])
-    disc_plot(cmp, out / FIGURES[2])
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        radial_cuts_plot(cmp, out / FIGURES[0])
+        harmonics_plot(cmp, out / FIGURES[1])
+        disc_plot(cmp, out / FIGURES[2])
+    except OSError as exc:
+        print(f"nasa_inflow: {out}: cannot write the figures ({exc.strerror})",
+              file=sys.stderr)
+        return 2
     print("figures: " + ", ".join(str(out / f) for f in FIGURES))
     return 0
 
