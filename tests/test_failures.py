@@ -57,8 +57,24 @@ def test_paper_tables_verdicts(table, expected):
     'rather larger than might have been expected'; Table 3 is physically satisfactory
     (its tau0 bound of 1.12 on 1.079 flagged as undetermined)."""
     _, est, sig = paper_table(table)
-    got = {(f.subject, f.kind) for f in parameter_failures(est, sig, omega=27.5)}
+    # the paper's rotor is the Puma's, articulated
+    got = {(f.subject, f.kind) for f in parameter_failures(est, sig, omega=27.5,
+                                                            hub="articulated")}
     assert got == expected
+
+
+@pytest.mark.parametrize("hub, lb2, flagged", [
+    ("hingeless", 1.25, False), ("bearingless", 1.3, False), (None, 1.25, False),
+    ("articulated", 1.25, True), ("hingeless", 1.0, True), (None, 1.6, True)])
+def test_flap_frequency_plausibility_follows_the_hub(hub, lb2, flagged):
+    """A hingeless rotor's lambda_beta2 of 1.25 is what such a rotor has, not a sign
+    of a missing effect; the Puma's articulated range applies only to articulated
+    rotors, and a record that names no hub is judged against all three kinds."""
+    fails = parameter_failures({"lambda_beta2": lb2}, {"lambda_beta2": 0.01}, omega=27.5,
+                               hub=hub)
+    assert any(f.kind == "implausible" for f in fails) == flagged, fails
+    if flagged and hub:
+        assert hub in fails[0].message
 
 
 def test_correlated_pair_reported():

@@ -76,6 +76,8 @@ class Record:
         vals = {k: self._meta_float(k) for k in REQUIRED_META}
         if "radius" in self.meta:
             vals["radius"] = self._meta_float("radius")
+        if "hub" in self.meta:
+            vals["hub"] = self.meta["hub"]
         try:
             return Constants.from_mapping(vals)
         except InputError as exc:

@@ -291,11 +291,12 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     held, held_why, variants = (), "not determined by the data", ()
     try:
         fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=base_fixed or None)
-        undetermined = {n for n in eff.parameters if fit.sigma.get(n) is None
-                        and n not in base_fixed}
-        # whole parts (separate physical terms of the effect) with anything the
-        # record leaves undetermined; an effect of one part is all or nothing
-        held = tuple(n for part in eff.parts if undetermined & set(part) for n in part)
+        # only what the record leaves undetermined (a null direction of the
+        # information) is held: it has no information, so holding it biases nothing
+        # else, while holding a determined parameter of the same part would (a
+        # single-axis record moves mux a little: Glauert's c1, c3, c4 show, c2 not)
+        held = tuple(n for n in eff.parameters if fit.sigma.get(n) is None
+                     and n not in base_fixed)
         if held and len(held) < len(eff.parameters):
             fit = fit_fn(records, s, band_hz=band_hz, start=start,
                          fixed={**base_fixed, **{n: start[n] for n in held}})

@@ -448,19 +448,19 @@ def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
 
 
 def parameter_failures(parameters, sigma, correlation=None, names=None, omega=None,
-                       rel_sigma=0.5, corr_limit=0.95) -> list[Failure]:
+                       rel_sigma=0.5, corr_limit=0.95, hub=None) -> list[Failure]:
     """Estimates outside their physically plausible range (``ParameterSpec.plausible``,
-    time constants judged in seconds) by more than 1 sigma, poorly determined
-    (``sigma/|estimate| > rel_sigma``) or undetermined (no bound), or strongly
-    correlated pairs."""
+    for the rotor's ``hub`` where the range depends on it; time constants judged in
+    seconds) by more than 1 sigma, poorly determined (``sigma/|estimate| >
+    rel_sigma``) or undetermined (no bound), or strongly correlated pairs."""
     out = []
     for name, est in parameters.items():
         s = sigma.get(name)
         spec = SPECS.get(name)
-        if spec is not None and spec.plausible is not None and (
-                omega or not spec.plausible_seconds):
+        rng = spec.plausible_for(hub) if spec is not None else None
+        if rng is not None and (omega or not spec.plausible_seconds):
             # the parameter's own facts (inflowsim.model.params / each effect)
-            lo, hi, why = spec.plausible
+            lo, hi, why = rng
             scale = 1.0 / omega if spec.plausible_seconds else 1.0
             v, sv = est * scale, (s or 0.0) * scale
             if v - sv > hi or v + sv < lo:

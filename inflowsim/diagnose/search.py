@@ -22,6 +22,8 @@ from .failures import (COLOURED, Failure, parameter_failures, residual_analysis,
                        white_level_deviance,
                        structure_statistic, unexplained)
 from ..identify import identify
+from ..identify.identifiability import Identifiability, identifiability
+from .verdict import Verdict, verdict
 from ..identify.transform import DEFAULT_BAND
 from ..model.build import build_model
 from ..model.structure import Structure
@@ -45,16 +47,45 @@ class Diagnosis:
     band_hz: tuple
     #: the base fit's :class:`~inflowsim.failures.ResidualAnalysis` per record
     analyses: tuple = field(repr=False, default=())
+    #: how much is left unexplained (:mod:`inflowsim.diagnose.verdict`)
+    verdict: Verdict | None = None
+    #: what the records determine of the base structure
+    #: (:mod:`inflowsim.identify.identifiability`)
+    identifiability: Identifiability | None = field(repr=False, default=None)
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
                 "cost": float(self.fit.cost), "band_hz": list(self.band_hz),
+                "verdict": self.verdict.to_json() if self.verdict else None,
                 "failures": [f.to_json() for f in self.failures],
                 "candidates": [c.to_json() for c in self.candidates],
                 "missing_effect": self.missing_effect,
-                "parameters": {n: {"estimate": float(v), "sigma": self.fit.sigma.get(n)}
-                               for n, v in self.fit.parameters.items()},
+                "parameters": parameter_entries(self.fit, self.identifiability),
+                "identifiability": (self.identifiability.to_json()
+                                    if self.identifiability else None),
                 "fit": self.fit.fit}
+
+
+def parameter_entries(fit, ident=None) -> dict:
+    """``{name: {"estimate", "sigma", "determined", "held", ...}}`` of a fit: with
+    ``ident`` (:func:`~inflowsim.identify.identifiability.identifiability`) every
+    entry also carries its insensitivity, CIFER percentages, the bound with the
+    held values' uncertainty and what it is conditional on."""
+    fixed = set(fit.fixed or ())
+    out = {}
+    for n, v in fit.parameters.items():
+        s = fit.sigma.get(n)
+        e = {"estimate": float(v), "sigma": s, "determined": s is not None,
+             "held": n in fixed or (n not in fit.sigma)}
+        if e["held"]:
+            e["held_at"] = float(v)
+        out[n] = e
+    if ident is not None:
+        for p in ident.parameters:
+            for n in p.name.split("="):
+                if n in out:
+                    out[n].update(p.to_json())
+    return out
 
 
 def _as_list(records):
@@ -78,7 +109,7 @@ def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
     for ra in analyses or analyses_of(records, fit, band_hz):
         out += spectrum_failures(ra) + residual_tests(ra)
     out += parameter_failures(fit.parameters, fit.sigma, fit.correlation, list(fit.free),
-                              omega=fit.constants[0].omega)
+                              omega=fit.constants[0].omega, hub=fit.constants[0].hub)
     out += [Failure("estimation", "fit", w) for w in fit.warnings]
     return out
 
@@ -144,7 +175,8 @@ def _judge(records, band_hz, base_fit, base_analyses):
 
 
 def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
-             alpha=ALPHA, progress=None, base_fit=None, hold=None) -> Diagnosis:
+             alpha=ALPHA, progress=None, base_fit=None, hold=None,
+             assess=True) -> Diagnosis:
     """Fit ``structure``, report where it fails, rank the missing effects.
 
     Parameters
@@ -161,6 +193,10 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         Significance level per candidate.
     hold : {"continuous", "zoh", "foh"}, optional
         Intersample behaviour of the records' inputs (default each record's own).
+    assess : bool
+        Say what the records determine of the base structure
+        (``Diagnosis.identifiability``, with the standard manoeuvres that would
+        determine the rest); the ladder asks it of its last rung only.
     """
     recs = _as_list(records)
     s = Structure.parse(structure)
@@ -179,8 +215,14 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     best = next((c.effect for c in cands if c.accepted), None)
     if best is None:
         fails += unexplained(analyses, alpha)
+        verd = verdict(analyses, analyses, (), alpha)
+    else:
+        win = next(c for c in cands if c.effect == best)
+        verd = verdict(analyses, analyses_of(recs, win.fit, band_hz, check_colour=False),
+                       (best,), alpha)
+    ident = identifiability(recs, fit, band_hz, hold) if assess else None
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
-                     tuple(analyses))
+                     tuple(analyses), verd, ident)
 
 
 @dataclass(frozen=True)
@@ -199,21 +241,30 @@ class Rung:
 class Ladder:
     rungs: tuple
     band_hz: tuple
+    #: how much of the first rung's excess the effects added leave unexplained
+    verdict: Verdict | None = None
+    #: what the records determine of the final structure
+    identifiability: Identifiability | None = field(repr=False, default=None)
 
     @property
     def final(self) -> Rung:
         return self.rungs[-1]
 
     def to_json(self) -> dict:
-        return {"band_hz": list(self.band_hz), "rungs": [
+        last = len(self.rungs) - 1
+        return {"band_hz": list(self.band_hz),
+                "verdict": self.verdict.to_json() if self.verdict else None,
+                "identifiability": (self.identifiability.to_json()
+                                    if self.identifiability else None),
+                "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "cost": float(r.fit.cost), "fit": r.fit.fit,
              "S_diag": [[float(v) for v in abs(S.diagonal())] for S in r.fit.S],
-             "parameters": {n: {"estimate": float(v), "sigma": r.fit.sigma.get(n)}
-                            for n, v in r.fit.parameters.items()},
+             "parameters": parameter_entries(r.fit, self.identifiability
+                                             if i == last else None),
              "candidates": [c.to_json() for c in r.diagnosis.candidates] if r.diagnosis else [],
              "missing_effect": r.diagnosis.missing_effect if r.diagnosis else None}
-            for r in self.rungs]}
+            for i, r in enumerate(self.rungs)]}
 
 
 def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=ALPHA,
@@ -225,7 +276,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     """
     recs = _as_list(records)
     d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress,
-                 hold=hold)
+                 hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     for _ in range(max_steps):
         if d.missing_effect is None:
@@ -234,9 +285,12 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         if progress:
             progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
         d = diagnose(recs, win.fit.structure, band_hz, pool=pool, alpha=alpha,
-                     progress=progress, base_fit=win.fit, hold=hold)
+                     progress=progress, base_fit=win.fit, hold=hold, assess=False)
         rungs.append(Rung(d.structure, d.fit, win.effect, d, d.analyses))
-    return Ladder(tuple(rungs), d.band_hz)
+    added = tuple(r.added for r in rungs[1:])
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
+    return Ladder(tuple(rungs), d.band_hz, verd,
+                  identifiability(recs, rungs[-1].fit, band_hz, hold))
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
@@ -252,4 +306,7 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         rungs.append(Rung(st, fit, added, None,
                           tuple(analyses_of(recs, fit, band_hz))))
         prev = st
-    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz))
+    added = tuple(r.added for r in rungs[1:] if r.added)
+    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),
+                  verdict(rungs[0].analyses, rungs[-1].analyses, added),
+                  identifiability(recs, rungs[-1].fit, band_hz, hold))

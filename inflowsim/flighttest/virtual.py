@@ -207,6 +207,8 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
             "radius": k.radius or 7.5, "aircraft": "Puma (virtual)",
             "description": test.description, "synthetic": "true", "seed": test.seed,
             "hold": test.hold}
+    if k.hub is not None:
+        meta["hub"] = k.hub
     if test.noise_color_hz is not None:
         meta["noise"] = f"first-order low-pass, corner {test.noise_color_hz:g} Hz"
     return Record.from_arrays(t, cols, meta, source="<virtual>")

@@ -52,6 +52,10 @@ INFLOW_SPEEDS = ("mu", "mass-flow")
 OMEGA_PLAUSIBLE = (5.0, 200.0)
 
 
+#: Kinds of rotor hub a record may name (``# hub:``, ``record-format.md``).
+HUBS = ("articulated", "hingeless", "bearingless")
+
+
 @dataclass(frozen=True)
 class Constants:
     """Known aircraft data and flight condition.
@@ -71,6 +75,9 @@ class Constants:
     trim : mapping, optional
         Trim totals by record column name (``theta0``, ``beta0``, ``mux`` ...)
         [rad, -]; only effects linearised about the trim state use them.
+    hub : {"articulated", "hingeless", "bearingless"}, optional
+        The rotor's hub (``# hub:`` in a record): the physically plausible range of
+        the flap frequency follows it (:meth:`ParameterSpec.plausible_range`).
     ct : float, optional
         Trim thrust coefficient ``T / (rho pi R^2 (Omega R)^2)`` [-]; needed by the
         mass-flow speed.
@@ -90,6 +97,7 @@ class Constants:
     trim: Mapping[str, float] | None = None
     ct: float | None = None
     inflow_speed: str = "mu"
+    hub: str | None = None
 
     def __post_init__(self):
         if self.trim is not None and not isinstance(self.trim, FrozenMap):
@@ -126,6 +134,8 @@ class Constants:
 
     def check(self) -> "Constants":
         """Raise :class:`InputError` naming the first bad constant."""
+        if self.hub is not None and self.hub not in HUBS:
+            raise InputError(f"hub = {self.hub!r}: choose {', '.join(HUBS)}")
         if self.inflow_speed not in INFLOW_SPEEDS:
             raise InputError(f"inflow_speed = {self.inflow_speed!r}: choose "
                              f"{' or '.join(INFLOW_SPEEDS)}")
@@ -192,14 +202,16 @@ class Constants:
                     trim=None if m.get("trim") is None else
                     {str(k): float(v) for k, v in dict(m["trim"]).items()},
                     ct=None if m.get("ct") is None else float(m["ct"]),
-                    inflow_speed=str(m.get("inflow_speed", "mu")))
+                    inflow_speed=str(m.get("inflow_speed", "mu")),
+                    hub=None if m.get("hub") is None else str(m["hub"]).strip().lower())
         except (TypeError, ValueError) as exc:
             raise InputError(f"constants: not a number ({exc})") from None
         return c.check()
 
 
-#: Puma at 100 kt, rotor speed 27.5 rad/s (model.md section 8).
-PUMA = Constants(mu=0.249, a0=5.73, solidity=0.0917, omega=27.5, radius=7.5)
+#: Puma at 100 kt, rotor speed 27.5 rad/s (model.md section 8); an articulated rotor.
+PUMA = Constants(mu=0.249, a0=5.73, solidity=0.0917, omega=27.5, radius=7.5,
+                 hub="articulated")
 
 
 @dataclass(frozen=True)
@@ -223,12 +235,23 @@ class ParameterSpec:
     lower_open: bool = False
     plausible: tuple | None = None
     plausible_seconds: bool = False
+    #: ``((hub, (low, high, why)), ...)``: where the plausible range depends on the
+    #: rotor's hub (:data:`HUBS`), the range for each; ``plausible`` covers them all
+    #: and holds where the hub is not known
+    plausible_by_hub: tuple = ()
 
-    def plausible_range(self, omega: float | None = None):
-        """``(low, high, why)`` in the parameter's own unit, or ``None``."""
-        if self.plausible is None:
+    def plausible_for(self, hub: str | None = None):
+        """``(low, high, why)`` as declared (seconds for ``plausible_seconds``) for
+        the rotor's ``hub``, or ``None``."""
+        return dict(self.plausible_by_hub).get(hub, self.plausible)
+
+    def plausible_range(self, omega: float | None = None, hub: str | None = None):
+        """``(low, high, why)`` in the parameter's own unit, or ``None``: the range
+        for ``hub`` where the parameter has one, else the one for every rotor."""
+        rng = self.plausible_for(hub)
+        if rng is None:
             return None
-        lo, hi, why = self.plausible
+        lo, hi, why = rng
         if self.plausible_seconds:
             if not omega:
                 return None
@@ -265,8 +288,18 @@ def _finite_in(name, value, lower, upper, lower_open=False, why=None) -> float:
 #: (:mod:`inflowsim.model.effects`).
 SPECS: dict[str, ParameterSpec] = {s.name: s for s in (
     ParameterSpec("lambda_beta2", "-", "normalised flap frequency squared", 0.0, 10.0,
-                  True, (0.95, 1.2, "flap frequency squared of articulated or hingeless "
-                                     "rotors lies near 1.0-1.2 (Puma theory 1.06)")),
+                  True, (0.95, 1.4, "flap frequency squared lies near 1.0-1.1 for "
+                                    "articulated rotors and 1.1-1.35 for hingeless and "
+                                    "bearingless ones (the record's '# hub:' narrows it)"),
+                  plausible_by_hub=(
+                      ("articulated", (0.95, 1.12, "flap frequency squared of an "
+                                                   "articulated rotor (hinge offset up to "
+                                                   "6 %) lies near 1.0-1.1 (Puma theory "
+                                                   "1.06)")),
+                      ("hingeless", (1.05, 1.4, "flap frequency squared of a hingeless "
+                                                "rotor lies near 1.1-1.35")),
+                      ("bearingless", (1.05, 1.4, "flap frequency squared of a "
+                                                  "bearingless rotor lies near 1.1-1.35")))),
     ParameterSpec("n_beta", "-", "inertia number gamma/8", 0.0, 10.0, True,
                   (0.5, 1.5, "inertia number gamma/8 for Lock numbers 4-12 (Puma theory "
                              "0.987)")),

@@ -51,7 +51,21 @@ def ladder_markdown(ladder) -> str:
     header, rows = ladder_rows(ladder)
     out = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    out += identifiability_lines(ladder.identifiability, ladder.final.structure.name)
+    if ladder.verdict is not None:
+        out.append(ladder.verdict.describe())
     return "\n".join(out)
+
+
+def identifiability_lines(ident, name) -> list:
+    """What the records do not determine of ``name``, rendered from the data."""
+    if ident is None:
+        return []
+    from ..identify.identifiability import describe
+    lines = describe(ident)
+    if not lines:
+        return [f"every parameter of {name} is determined by the records"]
+    return [f"what the records determine of {name}:"] + [f"  - {x}" for x in lines]
 
 
 def floor_ratios(rung):
@@ -174,7 +188,10 @@ def format_diagnosis(d) -> str:
         lines.append(f"  add it: inflowsim identify RECORD --model {d.structure.name} "
                      f"--add {d.missing_effect}")
     else:
-        lines.append("missing effect: none accepted (no alarm)")
+        lines.append("missing effect: none accepted")
+    lines += identifiability_lines(d.identifiability, d.structure.name)
+    if d.verdict is not None:
+        lines.append(d.verdict.describe())
     return "\n".join(lines)
 
 

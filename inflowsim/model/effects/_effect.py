@@ -81,7 +81,7 @@ class Effect:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""
         out = {}
         for s in self.specs:
-            r = s.plausible_range(constants.omega)
+            r = s.plausible_range(constants.omega, constants.hub)
             if r is not None:
                 out[s.name] = r
         return out

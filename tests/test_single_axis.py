@@ -1,0 +1,87 @@
+"""Single-axis records (issue #29): the project's own default virtual flight test moves
+one control.  The ladder from basic must add nothing the truth lacks, and every
+estimate it reports must hold the truth within 3 sigma or be marked as not
+determined by the record, with the manoeuvre that would determine it.
+
+The records come from ``inflowsim flighttest --truth linear`` (the Table-3 glauert
+truth, continuous time, the project's airframe answering the pilot), written and
+read back as a user would.  ``theta1s`` (the default) runs by default; the other
+two controls are the slow set.
+"""
+import json
+
+import numpy as np
+import pytest
+
+from conftest import run
+from inflowsim.data.record import read_record
+from inflowsim.model.presets import paper_table
+
+TRUTH_EFFECTS = {"glauert", "azimuth-bias", "separate-time-constants"}
+
+
+def single_axis_ladder(tmp_path, capsys, channel, seed=0):
+    path = tmp_path / f"{channel}.csv"
+    code, _, err = run(capsys, "flighttest", "--truth", "linear", "--channel", channel,
+                       "--seed", seed, "--out", path)
+    assert code == 0, err
+    code, out, err = run(capsys, "ladder", path, "--model", "basic", "--json")
+    assert code == 0, err
+    return read_record(path), json.loads(out)
+
+
+@pytest.mark.parametrize("channel", [
+    "theta1s",
+    pytest.param("theta1c", marks=pytest.mark.slow),
+    pytest.param("theta0", marks=pytest.mark.slow)])
+def test_single_axis_ladder_adds_nothing_false_and_says_what_it_cannot_see(
+        tmp_path, capsys, channel):
+    rec, doc = single_axis_ladder(tmp_path, capsys, channel)
+    added = [r["added"] for r in doc["rungs"][1:]]
+    assert set(added) <= TRUTH_EFFECTS, added
+    truth = paper_table(3)[1]
+    final = doc["rungs"][-1]["parameters"]
+    for name, p in final.items():
+        assert "determined" in p and "held" in p, (name, p)
+        if not p["determined"]:
+            continue                      # said, not hidden: checked below
+        if name in truth and p["sigma"] is not None:
+            # the bound with the held values' uncertainty carried is the honest one
+            sig = p.get("sigma_total") or p["sigma"]
+            assert abs(p["estimate"] - truth[name]) < 3 * sig, (name, p, truth[name])
+    # a held parameter is never silent: the record's identifiability names it,
+    # with the value it is held at and a manoeuvre that would determine it
+    ident = doc["identifiability"]
+    for name, p in final.items():
+        if p["held"]:
+            assert name in ident["undetermined"] or p.get("held_why") == "user", name
+            assert ident["parameters"][name]["held_at"] == pytest.approx(p["estimate"])
+    for name in ident["undetermined"]:
+        gains = [m["sigma_after"].get(name) for m in ident["manoeuvres"]]
+        assert any(g is not None for g in gains), (name, ident["manoeuvres"])
+    assert doc["verdict"]["status"] in ("explained", "no-missing-effect",
+                                        "partly-explained")
+
+
+def test_the_default_flight_test_names_the_truth_and_what_would_show_c2(tmp_path, capsys):
+    """The issue's own case: one theta1s doublet.  The in-plane velocity ``muy``
+    never moves, so Glauert's c2 (which multiplies only ``muy``) is not determined;
+    ``mux`` moves a little, so c1, c3, c4 are estimated, not held at neutral (held
+    at zero they biased tau_cs by 9 sigma and drew a spurious k_mu).  A lateral
+    input would determine c2."""
+    rec, doc = single_axis_ladder(tmp_path, capsys, "theta1s")
+    assert np.ptp(rec["muy"]) == 0 and np.ptp(rec["mux"]) > 0
+    final = doc["rungs"][-1]
+    assert set(final["effects"]) == TRUTH_EFFECTS
+    assert doc["identifiability"]["undetermined"] == ["c2"]
+    assert not final["parameters"]["c2"]["determined"]
+    assert all(final["parameters"][c]["determined"] for c in ("c1", "c3", "c4"))
+    best = min((m for m in doc["identifiability"]["manoeuvres"]
+                if m["sigma_after"].get("c2") is not None),
+               key=lambda m: m["sigma_after"]["c2"])
+    assert best["manoeuvre"].endswith("theta1c")
+    assert doc["verdict"]["status"] == "explained"
+    code, out, _ = run(capsys, "ladder", tmp_path / "theta1s.csv", "--model", "basic")
+    assert code == 0
+    assert "c2: not determined by this record" in out and "theta1c" in out
+    assert out.strip().splitlines()[-1].startswith("verdict: explained")
