@@ -33,7 +33,9 @@ def run(args) -> int:
         path = diagnosis_report(d).write(args.report, protect=args.record)
         progress(f"report: {path}")
     if args.json:
-        print_json(d.to_json())
+        print_json({**d.to_json(), "missing_terms": d.missing_terms.to_json()})
     else:
         print(format_diagnosis(d))
+        print("\nwhere a term is missing (score test of every single-entry addition):")
+        print("\n".join(f"  {line}" for line in d.missing_terms.describe()))
     return 0

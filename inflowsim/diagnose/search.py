@@ -17,6 +17,7 @@ from . import candidates as _candidates
 from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
 from .rivals import resolve_rivals
+from .terms import missing_terms
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
                        white_level_deviance,
@@ -45,6 +46,9 @@ class Diagnosis:
     band_hz: tuple
     #: the base fit's :class:`~inflowsim.failures.ResidualAnalysis` per record
     analyses: tuple = field(repr=False, default=())
+    #: the score map of single-entry additions at the base fit
+    #: (:class:`~inflowsim.diagnose.terms.MissingTerms`)
+    missing_terms: object = field(repr=False, default=None)
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -180,7 +184,7 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     if best is None:
         fails += unexplained(analyses, alpha)
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
-                     tuple(analyses))
+                     tuple(analyses), missing_terms(recs, fit, band_hz, hold))
 
 
 @dataclass(frozen=True)

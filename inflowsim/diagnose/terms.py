@@ -121,7 +121,8 @@ class Term:
     probability; ``p_adjusted`` Holm's over the entries tested; ``sign`` of the
     one-step estimate ``coefficient`` (descriptor units: azimuth time, inputs in
     azimuth units; on the right-hand side of the equation); ``testable`` False
-    where the entry cannot be told from the base's own parameters.
+    where the entry cannot be told from the base's own parameters; ``gradient``
+    ``dJ/dk`` of the cost (12) at ``k = 0`` (``S`` and the base's parameters held).
     """
 
     block: str
@@ -134,6 +135,7 @@ class Term:
     coefficient: float
     group: str
     testable: bool = True
+    gradient: float = 0.0
 
     def significant(self, alpha: float = ALPHA) -> bool:
         return self.testable and self.p_adjusted <= alpha
@@ -149,7 +151,7 @@ class Term:
                 "statistic": float(self.statistic), "p_value": float(self.p_value),
                 "p_adjusted": float(self.p_adjusted), "sign": int(self.sign),
                 "coefficient": float(self.coefficient), "group": self.group,
-                "testable": bool(self.testable),
+                "testable": bool(self.testable), "gradient": float(self.gradient),
                 "significant": bool(self.significant(alpha))}
 
 
@@ -360,6 +362,7 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
                                                                    for Q in st.bases)
     dof = n_data / max(n_data - lost, 1)
     num = pe.T @ r
+    grad = 2.0 * (je.T @ r)
     den = np.einsum("ij,ij->j", pe, pe)
     raw = np.einsum("ij,ij->j", je, je)
     testable = (raw > 0) & (den > CONFOUNDED * raw)
@@ -381,7 +384,8 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
         eq_name = (INFLOW if block == "inflow" else FLAP)[i]
         rows.append(Term(block, eq_name, v, float(stat[col]), float(pval[col]),
                          float(padj[col]), int(np.sign(coef[col]) or 1), float(coef[col]),
-                         physics_group(block, eq_name, v), bool(testable[col])))
+                         physics_group(block, eq_name, v), bool(testable[col]),
+                         float(grad[col])))
     rows.sort(key=lambda t: (not t.testable, -t.statistic))
     eqs = tuple((b, n) for b in BLOCKS for n in (INFLOW if b == "inflow" else FLAP))
     variables = FLAP + FLAP_RATE + INFLOW + tuple(inputs)
