@@ -47,11 +47,16 @@ _PARAM = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _installed_loaded = False
 
 
+#: A level-flight trim (totals, record columns) at which an effect linearised about
+#: trim can be tried: collective 0.17 rad, small cyclic and flap, no climb.
+REFERENCE_TRIM = {"theta0": 0.17, "theta1c": 0.01, "theta1s": -0.05, "muz": 0.0,
+                  "beta0": 0.06, "beta1c": 0.01, "beta1s": -0.002}
+
+
 def _reference_constants():
-    """Puma at 100 kt with the virtual records' trim: where an effect is tried."""
+    """Puma at 100 kt with :data:`REFERENCE_TRIM`: where an effect is tried."""
     from ..params import PUMA
-    from ...flighttest.virtual import PUMA_TRIM
-    return PUMA.with_trim(dict(PUMA_TRIM, mux=PUMA.mu))
+    return PUMA.with_trim(dict(REFERENCE_TRIM, mux=PUMA.mu, muy=0.0))
 
 
 def _call(src, name, what, fn, *args):
@@ -116,7 +121,7 @@ def check_effect(effect, source: str) -> Effect:
     """Refuse a malformed user effect with one line naming ``source``; return it.
 
     See the module's description for what is checked.  The effect is tried on the
-    basic model at the Puma's 100 kt flight condition with the virtual trim.
+    basic model at the Puma's 100 kt flight condition, trim :data:`REFERENCE_TRIM`.
     """
     src = source
     if not isinstance(effect, Effect):
