@@ -109,7 +109,7 @@ def physics_group(block: str, equation: str, variable: str) -> str:
             return "sensor phasing (azimuth)"
         return "sensor cross-talk"
     if kind == "inflow":
-        return "inflow in the measured flap (no sensor: the model lacks it)"
+        return "unmeasurable inflow term (no sensor sees inflow: the model lacks one)"
     return "sensor feedthrough of an input"
 
 
@@ -208,7 +208,7 @@ class MissingTerms:
             out.append(f"the data want a term in {t.where()} proportional to {t.variable} "
                        f"(sign {'+' if t.sign > 0 else '-'}, score {t.statistic:.1f}, "
                        f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} entries): "
-                       f"a {t.group} would give one")
+                       f"{'an' if t.group[0] in 'aeiou' else 'a'} {t.group} would give one")
         if len(sig) > limit:
             out.append(f"... and {len(sig) - limit} more significant entries")
         return out
