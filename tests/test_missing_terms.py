@@ -11,6 +11,7 @@ likelihood-ratio statistic of an actual refit with the entry free.  The study
 over ten seeds per block is marked slow.
 """
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -225,3 +226,8 @@ def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monke
     out = capsys.readouterr().out
     assert "the data want a term in the beta1s equation proportional to beta1c" in out
     assert "flap-to-pitch coupling" in out
+    # and the report draws the map
+    from inflowsim.report.ladder import diagnosis_report
+    index = diagnosis_report(d).write(tmp_path / "rep")
+    assert (tmp_path / "rep" / "diagnose-terms.png").stat().st_size > 1000
+    assert 'src="diagnose-terms.png"' in Path(index).read_text()
