@@ -128,6 +128,10 @@ BAD = {
     "no-effect": ("X = 1\n", "defines no EFFECT"),
     "import-error": ("import no_such_module_xyz\n", "importing it raised"),
     "not-an-effect": ("EFFECT = 3\n", "must be an inflowsim.model.effects.Effect"),
+    "missing-field": (GOOD.format(name="x-eff", tag="x").replace(' paper="test",', ''),
+                      "missing 1 required"),
+    "empty-physics": (GOOD.format(name="x-eff", tag="x").replace(
+        'physics="A test coupling of beta1s to beta1c."', 'physics=""'), "'physics'"),
     "catalogue-clash": (GOOD.format(name="glauert", tag="g"), "clashes with the catalogue"),
     "preset-clash": (GOOD.format(name="basic", tag="b"), "clashes"),
     "bad-name": (GOOD.format(name="My Effect", tag="m"), "lower-case words"),
