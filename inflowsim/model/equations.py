@@ -42,7 +42,8 @@ class Equations:
 
 @dataclass(frozen=True)
 class Measurement:
-    """How the records relate to the model: azimuth bias and time shifts.
+    """How the records relate to the model: azimuth bias, time shifts, and an
+    effect's own terms in the recorded flap (``flap_map``).
 
     ``delays``: per flap channel, the recorded flap lags the model's by this time
     [s] (negative: leads).  ``input_delays``: ``((input, d), ...)``, the recorded
