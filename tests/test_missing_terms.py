@@ -231,3 +231,10 @@ def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monke
     index = diagnosis_report(d).write(tmp_path / "rep")
     assert (tmp_path / "rep" / "diagnose-terms.png").stat().st_size > 1000
     assert 'src="diagnose-terms.png"' in Path(index).read_text()
+
+
+def test_the_map_refuses_another_band_than_the_fit_s():
+    from inflowsim.errors import InputError
+    rec, fit, _ = mapped(None, 0)
+    with pytest.raises(InputError, match="band and hold the base fit was made with"):
+        missing_terms(rec, fit, band_hz=(0.3, 1.2))

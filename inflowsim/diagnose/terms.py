@@ -43,7 +43,7 @@ channel uses the shift's phase (exact without shifts).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import stats
@@ -52,7 +52,8 @@ from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
 from ..identify.estimator import _records, _spectra, _state
 from ..identify.freqmodel import _continuous_input, flap_response
 from ..identify.problem import Problem, _stack
-from ..identify.transform import DEFAULT_BAND
+from ..errors import InputError
+from ..identify.transform import DEFAULT_BAND, record_spectra
 from ..model.build import apply_effects, model_from_equations
 
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
@@ -290,8 +291,13 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     inputs = INPUTS if inplane else INPUTS[:N_BASE_INPUTS]
     n_in = len(inputs)
     spectra = _spectra(recs, s, band_hz, None, hold)
+    if len(spectra) != len(fit.data) or any(
+            sp.f_hz.shape != d.f_hz.shape or not np.allclose(sp.f_hz, d.f_hz)
+            for sp, d in zip(spectra, fit.data)):
+        raise InputError("missing terms: give the records, band and hold the base fit "
+                         "was made with (its frequencies differ)")
     full = spectra if n_in == s.n_inputs else [
-        _replace_inputs(r, sp, inputs, band_hz, hold) for r, sp in zip(recs, spectra)]
+        record_spectra(r, inputs, band_hz, None, hold) for r in recs]
     prob = Problem(s, spectra, dict(fit.parameters), fixed=tuple(fit.fixed),
                    ties=tuple(fit.ties))
     theta = prob.theta0()
@@ -318,8 +324,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                 else:
                     c = np.zeros_like(m0.c)
                     c[i, (FLAP + INFLOW).index(v)] = 1.0
-                    m = _with_output_map(m0, c)
-                    dy = _predicted(m, sp, nu)
+                    dy = _predicted(replace(m0, c=c), sp, nu)
             else:
                 mp = model_from_equations(s, p, _perturb(eq, block, i, v, STEP), meas, k,
                                           n_inputs=n_in)
@@ -331,19 +336,6 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         je[row0:row0 + rr.size] = blk
         row0 += rr.size
     return _table(s, entries, je, jb, r, st, alpha, inputs)
-
-
-def _replace_inputs(rec, sp, inputs, band_hz, hold):
-    from ..identify.transform import record_spectra
-    out = record_spectra(rec, inputs, band_hz, None, hold)
-    if not np.array_equal(out.f_hz, sp.f_hz):
-        raise AssertionError("the spectra of the map and of the fit differ in frequency")
-    return out
-
-
-def _with_output_map(model, c):
-    from dataclasses import replace
-    return replace(model, c=c)
 
 
 def _table(s, entries, je, jb, r, st, alpha, inputs):
