@@ -48,6 +48,9 @@ def main(argv=None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
+        if hasattr(args, "effect_file"):
+            from .commands._common import load_effects
+            load_effects(args)
         return int(args._run(args) or 0)
     except InputError as exc:
         sys.stderr.write(f"inflowsim {args.command}: error: {_one_line(exc)}\n")

@@ -2,17 +2,48 @@
 adding it (issue #12).  Facts declared by the effect itself (parameters with unit,
 allowed and plausible range, description; theory and neutral values), nesting
 (its neutral values reproduce the structure without it), and a stable model with
-its theory values."""
+its theory values.
+
+User effects are tested the same way (issue #24): the worked examples under
+``examples/effects/`` always, and any file named in the environment variable
+``INFLOWSIM_EFFECT_FILES`` (paths separated by ``os.pathsep``), each registered for
+its own tests only::
+
+    INFLOWSIM_EFFECT_FILES=my_effect.py python -m pytest tests/test_effect_catalogue.py
+"""
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from inflowsim import PUMA, Structure, build_model, theory_parameters
 from inflowsim.effects import CATALOGUE
+from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.params import SPECS
 from inflowsim.flighttest.virtual import PUMA_TRIM
 
 K = PUMA.with_trim(PUMA_TRIM)
 F = np.linspace(0.2, 1.6, 9)
+USER_FILES = sorted(str(p) for p in (Path(__file__).resolve().parents[1] / "examples" /
+                                      "effects").glob("*.py")) + [
+    f for f in os.environ.get("INFLOWSIM_EFFECT_FILES", "").split(os.pathsep) if f]
+
+
+@pytest.fixture(params=list(CATALOGUE) + [f"file:{f}" for f in USER_FILES])
+def name(request):
+    """A catalogue effect's name, or a user effect file's effect registered for the
+    test (and removed after it, so no other test sees it)."""
+    if not request.param.startswith("file:"):
+        yield request.param
+        return
+    before = set(USER_EFFECTS)
+    (eff,) = load_effect_file(request.param[5:])
+    try:
+        yield eff.name
+    finally:
+        for n in set(USER_EFFECTS) - before:
+            unregister(n)
 
 
 def base_for(effect):
@@ -26,7 +57,6 @@ def base_for(effect):
     raise AssertionError(effect)
 
 
-@pytest.mark.parametrize("name", list(CATALOGUE))
 def test_effect_declares_its_facts(name):
     eff = CATALOGUE[name]
     assert eff.physics.endswith(".") and eff.paper
@@ -44,7 +74,6 @@ def test_effect_declares_its_facts(name):
         assert lo <= theory[s.name] <= hi
 
 
-@pytest.mark.parametrize("name", list(CATALOGUE))
 def test_neutral_values_nest_the_structure_without_it(name):
     """The start of a candidate refit reproduces the base fit: at its neutral
     values the effect changes nothing (flap-inertia: its first-order limit)."""
@@ -70,7 +99,6 @@ def test_neutral_values_nest_the_structure_without_it(name):
             "delay-mux", "delay-muy")
 
 
-@pytest.mark.parametrize("name", list(CATALOGUE))
 def test_theory_values_give_a_stable_model(name):
     s = Structure.parse(base_for(name)).with_effect(name)
     m = build_model(s, theory_parameters(s, K), K)

@@ -15,10 +15,26 @@ from ..model.structure import Structure
 def add_model_arguments(p, params=True):
     p.add_argument("--model", "-m", required=True,
                    help="structure: basic, empirical, glauert, then +effect terms")
+    add_effect_arguments(p)
     if params:
         p.add_argument("--params", "-p", metavar="FILE",
                        help="parameter file (JSON; identify --out writes one); "
                             "default: the paper's table values for the preset")
+
+
+def add_effect_arguments(p):
+    """``--effect-file FILE`` (repeatable): effects written outside the package."""
+    p.add_argument("--effect-file", action="append", default=[], metavar="FILE",
+                   help="a Python file defining EFFECT, an effect in the catalogue's form "
+                        "(docs/workflow.md, 'Writing your own effect'); then usable in "
+                        "--model and as a candidate (repeatable)")
+
+
+def load_effects(args):
+    """Register the installed packages' effects and the ``--effect-file`` ones
+    (refused with one line naming the file)."""
+    from ..model.effects.user import load_effect_files
+    load_effect_files(getattr(args, "effect_file", None) or ())
 
 
 def load_model(args, constants=None):

@@ -9,7 +9,7 @@ which :func:`inflowsim.fmu.start_values` of a fit applies.
 from __future__ import annotations
 
 from ..errors import InputError
-from ._common import print_json, progress
+from ._common import add_effect_arguments, print_json, progress
 
 HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
 
@@ -33,6 +33,7 @@ def add_arguments(p):
                         "ladder's; its parameters and constants become the start values) "
                         "or a structure such as glauert+flap-inertia (default: the three "
                         "presets, selected by the integer structure)")
+    add_effect_arguments(b)
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
                    help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")

@@ -13,8 +13,8 @@ from ..identify.transform import DEFAULT_BAND
 from ..model.paramfile import write_json
 from ..report.document import check_report_folder
 from ..report.fit import write_report
-from ._common import (add_record_arguments, parse_fix, parse_ties, print_json, progress,
-                      read_records, structure_of)
+from ._common import (add_effect_arguments, add_record_arguments, parse_fix,
+                      parse_ties, print_json, progress, read_records, structure_of)
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
 
@@ -24,6 +24,7 @@ def add_arguments(p):
                    help="flight-test record(s) (CSV); several are fitted together")
     p.add_argument("--model", "-m", required=True,
                    help="structure: basic, empirical, glauert, then +effect terms")
+    add_effect_arguments(p)
     p.add_argument("--add", action="append", default=[], metavar="EFFECT",
                    help="add an effect to the structure (repeatable)")
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),

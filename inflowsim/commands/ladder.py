@@ -10,14 +10,15 @@ from __future__ import annotations
 
 from ..diagnose.search import explicit_ladder, ladder
 from ..report.ladder import ladder_markdown, ladder_report
-from ._common import (add_record_arguments, add_search_arguments, check_search_arguments,
-                      print_json, progress, read_records)
+from ._common import (add_effect_arguments, add_record_arguments, add_search_arguments,
+                      check_search_arguments, print_json, progress, read_records)
 
 HELP = "add the missing effect and refit until none is left, or climb given structures"
 
 
 def add_arguments(p):
     p.add_argument("record", nargs="+", metavar="RECORD", help="flight-test record(s) (CSV)")
+    add_effect_arguments(p)
     p.add_argument("--model", "-m", default="basic", help="starting structure (default basic)")
     p.add_argument("--structures", nargs="+", metavar="M",
                    help="climb these structures instead of searching")

@@ -17,6 +17,7 @@ from . import candidates as _candidates
 from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
 from .rivals import resolve_rivals
+from .terms import missing_terms
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
                        white_level_deviance,
@@ -52,6 +53,9 @@ class Diagnosis:
     #: what the records determine of the base structure
     #: (:mod:`inflowsim.identify.identifiability`)
     identifiability: Identifiability | None = field(repr=False, default=None)
+    #: the score map of single-entry additions at the base fit
+    #: (:class:`~inflowsim.diagnose.terms.MissingTerms`)
+    missing_terms: object = field(repr=False, default=None)
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -63,6 +67,8 @@ class Diagnosis:
                 "parameters": parameter_entries(self.fit, self.identifiability),
                 "identifiability": (self.identifiability.to_json()
                                     if self.identifiability else None),
+                "missing_terms": (self.missing_terms.to_json()
+                                  if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -222,7 +228,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
                        (best,), alpha)
     ident = identifiability(recs, fit, band_hz, hold) if assess else None
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
-                     tuple(analyses), verd, ident)
+                     tuple(analyses), verd, ident,
+                     missing_terms(recs, fit, band_hz, hold) if assess else None)
 
 
 @dataclass(frozen=True)

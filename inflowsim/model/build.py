@@ -15,7 +15,7 @@ import numpy as np
 from ..physics import flapping as fl
 from ..physics import loads as ld
 from .effects import CATALOGUE
-from .equations import (FLAP, OUTPUTS, Equations, Measurement, assemble, input_scale,
+from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement, assemble, input_scale,
                         rotation)
 from .params import Constants, check_parameters
 from .structure import Structure
@@ -194,30 +194,43 @@ def build_model(structure, params: Mapping[str, float], constants: Constants) ->
         ``mu`` [-], ``a0`` [1/rad], ``solidity`` [-], ``omega`` [rad/s].
     """
     s, p, eq, meas = equations(structure, params, constants)
+    return model_from_equations(s, p, eq, meas, constants)
+
+
+def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
+                         meas: Measurement, constants: Constants,
+                         n_inputs: int | None = None) -> Model:
+    """The :class:`Model` of structured equations (no checks: :func:`build_model`
+    validates first; :mod:`inflowsim.diagnose.terms` perturbs single entries of
+    ``eq``).  ``n_inputs``: input columns kept (default the structure's)."""
+    n_inputs = s.n_inputs if n_inputs is None else n_inputs
     e, a_az, b_az = assemble(eq, s.second_order)
-    b_az = b_az[:, : s.n_inputs]
+    b_az = b_az[:, :n_inputs]
     om = constants.omega
     a_s = om * np.linalg.solve(e, a_az)
-    b_s = om * np.linalg.solve(e, b_az) * input_scale(om)[: s.n_inputs]
+    b_s = om * np.linalg.solve(e, b_az) * input_scale(om)[:n_inputs]
     n = e.shape[0]
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
+    if meas.flap_map is not None:
+        # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
+        c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
     delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
-    scale = input_scale(om)[: s.n_inputs]
+    scale = input_scale(om)[:n_inputs]
     if s.second_order:
-        end_basis, end_input = slow_manifold(eq, s.n_inputs, scale)
+        end_basis, end_input = slow_manifold(eq, n_inputs, scale)
     else:
-        end_basis, end_input = np.eye(n), np.zeros((n, s.n_inputs))
+        end_basis, end_input = np.eye(n), np.zeros((n, n_inputs))
     in_delay = dict(meas.input_delays)
-    input_delays = np.array([in_delay.get(n, 0.0) for n in s.inputs], dtype=float)
+    input_delays = np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
     return Model(structure=s, parameters=MappingProxyType(dict(p)), constants=constants,
                  E=_frozen(e), A=_frozen(a_az), B=_frozen(b_az), a=_frozen(a_s),
-                 b=_frozen(b_s), c=_frozen(c), d=_frozen(np.zeros((6, s.n_inputs))),
+                 b=_frozen(b_s), c=_frozen(c), d=_frozen(np.zeros((6, n_inputs))),
                  delays=_frozen(delays), measurement=meas,
                  input_delays=_frozen(input_delays), end_basis=_frozen(end_basis),
                  end_input=_frozen(end_input))
 
 
-__all__ = ["Model", "build_model", "descriptor", "equations", "base_equations",
+__all__ = ["Model", "build_model", "model_from_equations", "descriptor", "equations", "base_equations",
            "apply_effects", "FLAP"]

@@ -42,7 +42,8 @@ class Equations:
 
 @dataclass(frozen=True)
 class Measurement:
-    """How the records relate to the model: azimuth bias and time shifts.
+    """How the records relate to the model: azimuth bias, time shifts, and an
+    effect's own terms in the recorded flap (``flap_map``).
 
     ``delays``: per flap channel, the recorded flap lags the model's by this time
     [s] (negative: leads).  ``input_delays``: ``((input, d), ...)``, the recorded
@@ -56,6 +57,10 @@ class Measurement:
     #: model gives each group its own end states, whatever the values)
     delay_groups: tuple = ((0, 1, 2),)
     extra: dict = field(default_factory=dict)
+    #: ``None``, or a 3x6 array added to the flap rows of the output map: the
+    #: recorded flap gains ``flap_map @ (beta, lambda)`` (a sensor's cross-talk or
+    #: gain error; an effect's pure function of its parameters)
+    flap_map: object = None
 
     def with_(self, **kw) -> "Measurement":
         return replace(self, **kw)

@@ -27,6 +27,9 @@ class Structure:
     effects: tuple = ()
 
     def __post_init__(self):
+        if any(name not in CATALOGUE for name in self.effects):
+            from .effects.user import load_installed
+            load_installed()           # an installed package's effects, once
         for name in self.effects:
             if name not in CATALOGUE:
                 raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")

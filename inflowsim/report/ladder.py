@@ -189,6 +189,9 @@ def format_diagnosis(d) -> str:
                      f"--add {d.missing_effect}")
     else:
         lines.append("missing effect: none accepted")
+    if d.missing_terms is not None:
+        lines.append("where a term is missing (score test of every single-entry addition):")
+        lines += [f"  {line}" for line in d.missing_terms.describe()]
     lines += identifiability_lines(d.identifiability, d.structure.name)
     if d.verdict is not None:
         lines.append(d.verdict.describe())
@@ -217,6 +220,15 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
                "Cost reduction of each candidate effect (accepted in green).")
+    if d.missing_terms is not None:
+        from .terms import missing_terms_plot
+        rep.heading("Where a term is missing", 3)
+        rep.paragraph(" ".join(d.missing_terms.describe()))
+        rep.figure(missing_terms_plot(d.missing_terms), f"{prefix}-terms",
+                   "Score test of every single-entry addition to the flap and inflow "
+                   "equations and the measurement map at the base fit: colour -log10 p, "
+                   "framed where significant after Holm's correction, with the sign "
+                   "of the term the data want.")
     if d.analyses:
         rep.figure(residual_spectrum_plot(d.analyses), f"{prefix}-residual",
                    f"Residual power of {d.structure.name} against the noise floor: where "

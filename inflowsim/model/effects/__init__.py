@@ -4,11 +4,13 @@ An :class:`Effect` names its parameters, their theory (neutral) values, and how
 it edits the structured equations or the measurement.  A structure is the base
 model plus a set of these; they are always applied in catalogue order so a
 structure is a set, not a sequence.  To add an effect: write one module that
-defines ``EFFECT`` and append its import to ``_MODULES`` below.
+defines ``EFFECT`` and append its import to ``_MODULES`` below.  Effects written
+outside the package (a file, ``--effect-file``, or an installed package's
+``inflowsim.effects`` entry point) are checked and registered by :mod:`.user`.
 """
 from __future__ import annotations
 
-from ._effect import Effect
+from ._effect import Effect, ParameterSpec
 from ..params import register as register_spec
 from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
                time_delay)
@@ -38,4 +40,8 @@ for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
     register(_e)
 
 
-__all__ = ["Effect", "CATALOGUE", "register"]
+from .user import (load_effect_file, load_effect_files, load_installed,  # noqa: E402
+                   registered, unregister, USER_EFFECTS)
+
+__all__ = ["Effect", "ParameterSpec", "CATALOGUE", "register", "load_effect_file", "load_effect_files",
+           "load_installed", "registered", "unregister", "USER_EFFECTS"]

@@ -1,0 +1,240 @@
+"""Where the missing term lives (issue #24, item 1): the score map of single-entry
+additions (:mod:`inflowsim.diagnose.terms`).
+
+Truths with one matrix entry outside the catalogue, one per block of Eq. (1) (the
+flap equation, the inflow equation, the measurement map), written as a test effect
+through the public effect interface; the records are the basic model's plus that
+entry, fitted with basic.  The map must rank the hidden entry first with the
+right sign; on null records nothing is significant after Holm's correction; the
+gradient matches central differences of the cost (12) and the statistic the
+likelihood-ratio statistic of an actual refit with the entry free.  The study
+over ten seeds per block is marked slow.
+"""
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import inflowsim as ifs
+from conftest import TWO_AXES
+from inflowsim.cli import main
+from inflowsim.diagnose import diagnose
+from inflowsim.diagnose.terms import MissingTerms, missing_terms, physics_group
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
+from inflowsim.identify import identify
+from inflowsim.identify.estimator import _records, _spectra, _state
+from inflowsim.identify.problem import Problem
+from inflowsim.model.effects import Effect, ParameterSpec, registered
+from inflowsim.model.presets import theory_parameters
+from inflowsim.report.terms import missing_terms_plot
+
+NOISE = 1e-4
+NAME = "hidden-entry"
+#: block -> (equation, variable, how the truth adds it, value): each a term on the
+#: right-hand side of the named equation
+HIDDEN = {
+    "flap": ("beta1s", "beta1c", ("d", 2, 1, -1.0), 0.05),
+    "inflow": ("lambda0", "lambda1s", ("p_lambda", 0, 2, 1.0), 0.3),
+    "measurement": ("beta1c", "beta0", ("flap_map", 1, 0, 1.0), 0.1),
+}
+
+
+def hidden_effect(block):
+    """An effect adding ``k_hidden * variable`` to one equation of ``block``."""
+    name, i, j, sign = HIDDEN[block][2]
+
+    def equations(eq, p, k):
+        if name == "flap_map":
+            return eq
+        m = np.array(getattr(eq, name), dtype=float)
+        m[i, j] += sign * p["k_hidden"]
+        return eq.with_(**{name: m})
+
+    def measurement(m, p, k):
+        if name != "flap_map":
+            return m
+        fm = np.zeros((3, 6))
+        fm[i, j] = p["k_hidden"]
+        return m.with_(flap_map=fm)
+
+    return Effect(name=NAME, physics="a test term outside the catalogue", paper="test",
+                  parameters=("k_hidden",), theory=lambda k: {"k_hidden": 0.0},
+                  equations=equations, measurement=measurement, offered=False,
+                  specs=(ParameterSpec("k_hidden", "-", "coefficient of the hidden term",
+                                       -10.0, 10.0, plausible=(-1.0, 1.0, "a test")),))
+
+
+def truth_record(block, seed, value=None, hold="zoh"):
+    """``(record, truth value)``: basic (tau = 5) plus the hidden term of ``block``
+    (``block=None``: the null, basic alone); held inputs (fast to make) unless
+    ``hold="continuous"``."""
+    k = virtual_record(VirtualTest(duration=1.0)).constants
+    if block is None:
+        s = ifs.Structure.parse("basic")
+        p = theory_parameters(s, k) | {"tau": 5.0}
+        return virtual_record(VirtualTest(structure=s, parameters=p, seed=seed, dt=1 / 64,
+                                          noise_flap=NOISE, manoeuvres=TWO_AXES,
+                                          hold=hold)), 0.0
+    v = HIDDEN[block][3] if value is None else value
+    with registered(hidden_effect(block)):
+        s = ifs.Structure.parse(f"basic+{NAME}")
+        p = theory_parameters(s, k) | {"tau": 5.0, "k_hidden": v}
+        rec = virtual_record(VirtualTest(structure=s, parameters=p, seed=seed, dt=1 / 64,
+                                         noise_flap=NOISE, manoeuvres=TWO_AXES, hold=hold))
+    return rec, v
+
+
+@lru_cache(maxsize=None)
+def mapped(block, seed, value=None, hold="zoh"):
+    rec, v = truth_record(block, seed, value, hold)
+    fit = identify(rec, "basic")
+    return rec, fit, missing_terms(rec, fit)
+
+
+def top_is_hidden(block, terms):
+    eq, var = HIDDEN[block][:2]
+    top = terms.terms[0]
+    return (top.block, top.equation, top.variable) == (block, eq, var) and top.sign > 0
+
+
+@pytest.mark.parametrize("block", list(HIDDEN))
+def test_the_map_ranks_the_hidden_entry_first(block):
+    rec, fit, terms = mapped(block, 0)
+    assert isinstance(terms, MissingTerms)
+    assert top_is_hidden(block, terms), terms.rows[:3]
+    assert terms.terms[0].significant()
+    assert terms.rows[0]["equation"] == HIDDEN[block][0]
+    assert set(terms.rows[0]) >= {"equation", "variable", "statistic", "p_value", "sign",
+                                  "group"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("hold", ["zoh", "continuous"])
+@pytest.mark.parametrize("block", list(HIDDEN))
+def test_the_map_ranks_the_hidden_entry_first_over_ten_seeds(block, hold):
+    hits = [top_is_hidden(block, mapped(block, seed, hold=hold)[2]) for seed in range(10)]
+    assert sum(hits) >= 8, hits
+
+
+def test_nothing_is_significant_on_a_null_record():
+    rec, fit, terms = mapped(None, 0)
+    assert terms.significant == (), terms.rows[:3]
+    assert "no single added term is significant" in terms.describe()[0]
+    # every excited entry is tested: theta0 is silent in these records
+    untested = [t for t in terms.terms if not t.testable]
+    assert {t.variable for t in untested} == {"theta0"}
+    assert terms.n_tested == len(terms.terms) - len(untested)
+
+
+@pytest.mark.slow
+def test_nothing_is_significant_on_null_records_over_ten_seeds():
+    found = [len(mapped(None, seed)[2].significant) for seed in range(1, 11)]
+    # Holm holds the family-wise error at 1e-3: one false alarm in ten is already rare
+    assert sum(found) == 0, found
+    # and the statistics of the null are chi-square with one degree of freedom
+    stats_all = np.concatenate([[t.statistic for t in mapped(None, s)[2].terms
+                                 if t.testable] for s in range(1, 11)])
+    assert 0.7 < stats_all.mean() < 1.3, stats_all.mean()
+
+
+def _cost_at(rec, fit, block, k_value):
+    """The cost (12) of basic + the hidden entry at ``k_value``, every parameter and
+    ``S`` held at the base fit's (the end effects re-solved)."""
+    with registered(hidden_effect(block)):
+        s = ifs.Structure.parse(f"basic+{NAME}")
+        spectra = _spectra(_records(rec), s, fit.band_hz, None, None)
+        vals = dict(fit.parameters) | {"k_hidden": k_value}
+        prob = Problem(s, spectra, vals, fixed=tuple(s.parameters))
+        st = _state(prob, np.zeros(0), list(fit.S))
+        return prob.cost(st.r, st.S)
+
+
+@pytest.mark.parametrize("block", list(HIDDEN))
+def test_the_gradient_is_the_cost_s_derivative(block):
+    rec, fit, terms = mapped(block, 0)
+    eq, var = HIDDEN[block][:2]
+    t = next(t for t in terms.terms if (t.block, t.equation, t.variable) == (block, eq, var))
+    h = 1e-5
+    fd = (_cost_at(rec, fit, block, h) - _cost_at(rec, fit, block, -h)) / (2 * h)
+    assert t.gradient == pytest.approx(fd, rel=1e-4)
+    # and the sign: the cost falls in the direction of the one-step estimate
+    assert np.sign(fd) == -t.sign
+
+
+def test_the_statistic_approaches_the_likelihood_ratio_of_a_refit():
+    """A small hidden flap term: the refit with the entry free gives a
+    likelihood-ratio statistic and an estimate close to the score statistic and the
+    one-step estimate.  The score statistic is the smaller (its ``S`` is the base's,
+    which holds the misfit; and it carries the bounds' degrees-of-freedom factor):
+    the classical ``LM <= LR`` of a linear model."""
+    rec, fit, terms = mapped("flap", 0, 0.002)
+    eq, var = HIDDEN["flap"][:2]
+    t = next(t for t in terms.terms if (t.block, t.equation, t.variable) ==
+             ("flap", eq, var))
+    with registered(hidden_effect("flap")):
+        refit = identify(rec, f"basic+{NAME}", start=dict(fit.parameters) | {"k_hidden": 0})
+        lr = 2.0 * (fit.cost - refit.cost)
+        est = refit.parameters["k_hidden"]
+    assert 3.0 < lr < 30.0, lr
+    assert 0.75 * lr < t.statistic <= lr, (t.statistic, lr)
+    assert t.coefficient == pytest.approx(est, rel=0.1)
+
+
+def test_groups_name_the_physics():
+    assert physics_group("flap", "beta1s", "beta1c") == "flap-to-pitch coupling (delta-3)"
+    assert physics_group("flap", "beta0", "beta0") == "flap stiffness (hinge spring)"
+    assert physics_group("flap", "beta0", "beta0_prime") == "flap damping"
+    assert physics_group("inflow", "lambda1c", "q").startswith("hub-motion inflow")
+    assert physics_group("measurement", "beta1c", "beta1s") == "sensor phasing (azimuth)"
+    assert physics_group("measurement", "beta0", "beta0") == "sensor gain"
+
+
+def test_the_map_is_a_frozen_picklable_table_and_draws(tmp_path):
+    import pickle
+    rec, fit, terms = mapped("flap", 0)
+    again = pickle.loads(pickle.dumps(terms))
+    assert again.rows == terms.rows
+    with pytest.raises(AttributeError):
+        terms.alpha = 0.5
+    grid = terms.grid()
+    assert grid.shape == (9, len(terms.variables))
+    i = terms.equations.index(("flap", "beta1s"))
+    j = terms.variables.index("beta1c")
+    assert grid[i, j] == np.nanmax(grid)
+    fig = missing_terms_plot(terms, tmp_path / "map.png")
+    assert (tmp_path / "map.png").stat().st_size > 1000
+    assert fig.axes
+
+
+def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monkeypatch):
+    import json
+    import inflowsim.commands.diagnose as command
+    from inflowsim.data.record import write_record
+    rec, _ = truth_record("flap", 0)
+    path = write_record(rec, tmp_path / "r.csv")
+    d = diagnose(rec, "basic", pool=["time-delay"])
+    assert top_is_hidden("flap", d.missing_terms)
+    # the command's rendering of that diagnosis (one diagnosis, two outputs)
+    monkeypatch.setattr(command, "diagnose", lambda *a, **k: d)
+    assert main(["diagnose", str(path), "--model", "basic", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    top = doc["missing_terms"][0]
+    assert (top["equation"], top["variable"], top["sign"]) == ("beta1s", "beta1c", 1)
+    assert top["group"] == "flap-to-pitch coupling (delta-3)" and top["significant"]
+    assert main(["diagnose", str(path), "--model", "basic"]) == 0
+    out = capsys.readouterr().out
+    assert "the data want a term in the beta1s equation proportional to beta1c" in out
+    assert "flap-to-pitch coupling" in out
+    # and the report draws the map
+    from inflowsim.report.ladder import diagnosis_report
+    index = diagnosis_report(d).write(tmp_path / "rep")
+    assert (tmp_path / "rep" / "diagnose-terms.png").stat().st_size > 1000
+    assert 'src="diagnose-terms.png"' in Path(index).read_text()
+
+
+def test_the_map_refuses_another_band_than_the_fit_s():
+    from inflowsim.errors import InputError
+    rec, fit, _ = mapped(None, 0)
+    with pytest.raises(InputError, match="band and hold the base fit was made with"):
+        missing_terms(rec, fit, band_hz=(0.3, 1.2))
