@@ -186,6 +186,7 @@ def test_no_missing_effect_no_alarm(hold, rate, colour):
     assert not [f for f in d.failures if f.kind in ("spectrum", "whiteness", "unexplained")]
 
 
+@pytest.mark.slow
 def test_the_wrong_sampled_data_convention_raises_false_alarms():
     """The issue's symptom: a continuous record analysed as held inputs lags by half
     a sample, and the diagnosis 'finds' a time delay that is not there."""

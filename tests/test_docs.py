@@ -31,7 +31,9 @@ def test_python_tour_runs_as_written(tmp_path, monkeypatch):
     blocks = python_blocks(README)
     assert len(blocks) >= 3
     monkeypatch.chdir(tmp_path)
-    write_record(virtual(structure="glauert+azimuth-bias", duration=20.0),
+    # a short, coarse record: the tour runs diagnose and a ladder on it as written,
+    # and the searches' decisions are tested on their own records (test_diagnose)
+    write_record(virtual(structure="glauert+azimuth-bias", duration=12.0, dt=0.02),
                  tmp_path / "flight.csv")
     has_cc = any(shutil.which(c) for c in ("cc", "gcc"))
     scope = {}
@@ -41,7 +43,7 @@ def test_python_tour_runs_as_written(tmp_path, monkeypatch):
         exec(compile(block, f"README.md python block {i + 1}", "exec"), scope)
     # what the tour promises, checked on what it computed
     assert scope["s"].parameters[-1] == "delay"
-    assert scope["y"].shape == (2000, 6)            # the replayed record, 20 s at 100 Hz
+    assert scope["y"].shape == (600, 6)             # the replayed record, 12 s at 50 Hz
     assert scope["d"].missing_effect is not None
     if has_cc:
         assert len(scope["res"]) == 201 and "beta1s" in scope["res"].dtype.names

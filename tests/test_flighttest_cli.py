@@ -89,6 +89,6 @@ def test_3211_body_motion_stays_bounded():
     a, _ = BodyModel().matrices()
     assert np.all(np.linalg.eigvals(a).real < 0)
     rec = virtual_record(VirtualTest(duration=200.0, dt=0.05, noise_flap=0.0,
-                                     manoeuvres=(Manoeuvre(shape="3211"),)))
+                                     manoeuvres=(Manoeuvre(shape="3211"),), hold="zoh"))
     mux = rec["mux"] - 0.249
     assert np.max(np.abs(mux)) < 0.02 and np.max(np.abs(mux[rec.t > 150])) < 1e-3

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import virtual
+from inflowsim.flighttest.advice import standard_manoeuvres
 from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 from inflowsim.model.presets import paper_table
 from inflowsim.identify import identify
@@ -22,7 +23,7 @@ ONE_AXIS = (Manoeuvre(),)                       # a theta1s doublet: muy never m
 def one_axis():
     rec = virtual(structure="glauert", manoeuvres=ONE_AXIS, seed=3)
     fit = identify(rec, "glauert", fixed={"c2": 0.0})
-    return rec, fit, identifiability(rec, fit)
+    return rec, fit, identifiability(rec, fit, manoeuvres=standard_manoeuvres)
 
 
 def test_an_input_that_never_moves_leaves_its_gain_undetermined(one_axis):
@@ -72,7 +73,7 @@ def test_held_values_uncertainty_is_carried_and_matches_refits():
                                      manoeuvres=ONE_AXIS, seed=3))
     held = {"c1": 0.0, "c2": 0.0, "c3": 0.0, "c4": 0.0}
     fit = identify(rec, "glauert", fixed=held)
-    ident = identifiability(rec, fit, manoeuvres=())
+    ident = identifiability(rec, fit)
     tau = ident["tau_cs"]
     assert "c3" in tau.conditional_on
     assert tau.sigma_total > 2 * tau.sigma

@@ -58,6 +58,7 @@ def test_with_noise_truth_within_three_sigma(structure, seed):
         assert abs(r.parameters[n] - v) <= 3 * s, (n, r.parameters[n], v, s)
 
 
+@pytest.mark.slow
 def test_cramer_rao_factor_for_complex_residuals():
     """Pooled z-scores over seeds have unit RMS: the Fisher information of complex
     residuals is 2 Re sum G^H S^-1 G (half or twice would give RMS 0.71 or 1.41)."""

@@ -1,3 +1,4 @@
+import pytest
 """The level deviance (:func:`inflowsim.diagnose.failures.level_deviance`): the
 measure of the candidate tests on white-noise records.  Checked on synthetic
 residuals made here (numpy's generator): its law for noise at the floor, its
@@ -60,6 +61,7 @@ def test_a_level_error_spread_over_the_band_shows_in_it_not_in_the_per_bin_devia
     assert hits["per bin"] <= 400, hits
 
 
+@pytest.mark.slow
 def test_the_2rev_flap_is_named_where_the_per_bin_deviance_saw_nothing(monkeypatch):
     """``bench/README.md``: second-harmonic-flap hidden, continuous, 64 Hz, white
     noise, seed 2.  The 2/rev flap is significant (p ~ 1e-20) and raises beta1c's

@@ -9,6 +9,8 @@ direct in-plane forcing with ``k_mu`` near its theory value 1, and ends within
 """
 import functools
 
+import pytest
+
 import numpy as np
 
 from inflowsim.diagnose import ladder
@@ -16,6 +18,7 @@ from inflowsim.flighttest import FlightTest, nonlinear_flighttest
 from inflowsim.report.ladder import format_diagnosis
 
 
+@pytest.mark.slow
 def test_ladder_on_nonlinear_truth_names_flap_inertia_and_inplane_forcing():
     test = FlightTest(seed=1)
     rec = nonlinear_flighttest(test).record
@@ -42,6 +45,7 @@ def pytest_approx(v, tol):
     return pytest.approx(v, abs=tol)
 
 
+@pytest.mark.slow
 def test_at_256_hz_the_ladder_names_the_blades_2rev_flap():
     """At 256 Hz the noise per bin is four times lower, and what the first-harmonic
     multiblade model drops shows: the blades' 2/rev flap (order mu^2, 1 % of the
@@ -98,6 +102,7 @@ def _no_eq14_record():
     return test, nonlinear_flighttest(test).record
 
 
+@pytest.mark.slow
 def test_without_the_glauert_coupling_in_the_truth_glauert_is_not_named():
     """``glauert``'s seven free gains fit what the direct in-plane forcing and the
     separate time constants explain with two parameters (Schwarz gain 251 against
@@ -125,6 +130,7 @@ def test_without_the_glauert_coupling_in_the_truth_glauert_is_not_named():
                                               "separate-time-constants"}
 
 
+@pytest.mark.slow
 def test_without_the_pair_test_glauert_would_be_named(monkeypatch):
     from inflowsim.diagnose import diagnose, rivals
     _, rec = _no_eq14_record()
@@ -169,6 +175,7 @@ def _eq14_seed5():
     return test, nonlinear_flighttest(test).record
 
 
+@pytest.mark.slow
 def test_the_direct_forcing_with_glauerts_F_is_named_before_glauert_whole():
     """256 Hz, seed 5 (``bench/README.md``): after flap inertia and the 2/rev flap,
     all seven Glauert gains are more likely than the direct in-plane forcing (Schwarz
@@ -205,6 +212,7 @@ def test_the_direct_forcing_with_glauerts_F_is_named_before_glauert_whole():
     assert "named before glauert: with glauert (k0p, kc, ks)" in format_diagnosis(d)
 
 
+@pytest.mark.slow
 def test_without_part_pairs_glauert_whole_would_be_named(monkeypatch):
     from inflowsim.diagnose import diagnose, rivals
     _, rec = _eq14_seed5()

@@ -10,7 +10,7 @@ import pytest
 from conftest import virtual
 from inflowsim.cli import main
 from inflowsim.data.record import write_record
-from inflowsim.diagnose.search import diagnose, ladder
+from inflowsim.diagnose.search import diagnose, explicit_ladder, ladder
 from inflowsim.diagnose.validation import validate
 from inflowsim.identify import identify
 from inflowsim.identify.results import fit_percent
@@ -87,7 +87,8 @@ def test_validation_report_has_inputs_coherence_and_the_fit_definition(rec, basi
 
 @pytest.fixture(scope="module")
 def lad(rec):
-    return ladder(rec, "basic", max_steps=2)
+    # the plots need a ladder, not a search (the search is tested in test_diagnose)
+    return explicit_ladder(rec, ["basic", "basic+glauert", "glauert"])
 
 
 def test_ladder_plot_draws_the_noise_floor(lad):

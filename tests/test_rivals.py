@@ -1,3 +1,4 @@
+import pytest
 """The fifth test of the acceptance rule: a candidate is named only when no more
 likely candidate with no more parameters explains it (:mod:`inflowsim.diagnose.rivals`).
 
@@ -137,6 +138,7 @@ def test_an_accepted_candidate_still_significant_beside_the_named_one_stays_acce
     assert out == [a, b] and all(c.accepted for c in out)
 
 
+@pytest.mark.slow
 def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay(monkeypatch):
     """``bench/README.md``: second-harmonic-flap hidden, continuous, 64 Hz, white
     noise, seed 0, judged on the per-bin deviance (the measure before the level

@@ -24,11 +24,13 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from ..flighttest.advice import standard_manoeuvres
     check_search_arguments(args)
     recs = read_records(args.record, args)
     start = start_values(args)
     d = diagnose(recs, args.model, tuple(args.band), start=start, pool=args.candidates,
-                 alpha=args.alpha, progress=progress, hold=args.hold)
+                 alpha=args.alpha, progress=progress, hold=args.hold,
+                 manoeuvres=standard_manoeuvres)
     if args.report:
         path = diagnosis_report(d).write(args.report, protect=args.record)
         progress(f"report: {path}")

@@ -28,6 +28,7 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from ..flighttest.advice import standard_manoeuvres
     from ..errors import InputError
     check_search_arguments(args)
     if args.max_steps < 0:
@@ -35,11 +36,11 @@ def run(args) -> int:
     recs = read_records(args.record, args)
     if args.structures:
         lad = explicit_ladder(recs, args.structures, tuple(args.band), progress=progress,
-                              hold=args.hold)
+                              hold=args.hold, manoeuvres=standard_manoeuvres)
     else:
         lad = ladder(recs, args.model, tuple(args.band), max_steps=args.max_steps,
                      pool=args.candidates, alpha=args.alpha, progress=progress,
-                     hold=args.hold)
+                     hold=args.hold, manoeuvres=standard_manoeuvres)
     if args.report:
         path = ladder_report(lad).write(args.report, protect=args.record)
         progress(f"report: {path}")

@@ -182,7 +182,7 @@ def _judge(records, band_hz, base_fit, base_analyses):
 
 def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
              alpha=ALPHA, progress=None, base_fit=None, hold=None,
-             assess=True) -> Diagnosis:
+             assess=True, manoeuvres=None) -> Diagnosis:
     """Fit ``structure``, report where it fails, rank the missing effects.
 
     Parameters
@@ -203,6 +203,10 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         Say what the records determine of the base structure
         (``Diagnosis.identifiability``, with the standard manoeuvres that would
         determine the rest); the ladder asks it of its last rung only.
+    manoeuvres : callable, optional
+        The manoeuvres whose added information the assessment reports
+        (:func:`inflowsim.flighttest.advice.standard_manoeuvres`, as the commands
+        pass); ``None``: none.
     """
     recs = _as_list(records)
     s = Structure.parse(structure)
@@ -226,7 +230,7 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         win = next(c for c in cands if c.effect == best)
         verd = verdict(analyses, analyses_of(recs, win.fit, band_hz, check_colour=False),
                        (best,), alpha)
-    ident = identifiability(recs, fit, band_hz, hold) if assess else None
+    ident = identifiability(recs, fit, band_hz, hold, manoeuvres) if assess else None
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
                      missing_terms(recs, fit, band_hz, hold) if assess else None)
@@ -275,7 +279,7 @@ class Ladder:
 
 
 def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=ALPHA,
-           progress=None, hold=None) -> Ladder:
+           progress=None, hold=None, manoeuvres=None) -> Ladder:
     """Add the best accepted effect and rank again, until none is accepted.
 
     The next rung's fit is the winning candidate's own fit (already made while
@@ -297,11 +301,11 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     added = tuple(r.added for r in rungs[1:])
     verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
     return Ladder(tuple(rungs), d.band_hz, verd,
-                  identifiability(recs, rungs[-1].fit, band_hz, hold))
+                  identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
-                    hold=None) -> Ladder:
+                    hold=None, manoeuvres=None) -> Ladder:
     """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert)."""
     recs = _as_list(records)
     rungs, prev = [], None
@@ -316,4 +320,4 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
     added = tuple(r.added for r in rungs[1:] if r.added)
     return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),
                   verdict(rungs[0].analyses, rungs[-1].analyses, added),
-                  identifiability(recs, rungs[-1].fit, band_hz, hold))
+                  identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))

@@ -16,9 +16,10 @@ estimates, gives:
   (the "consider" covariance ``M_ee^-1 + K P_f K^T``, ``K = M_ee^-1 M_ef``, ``P_f``
   the held values' variances from their plausible ranges), and which estimates
   are **conditional** on which held values;
-- the bounds a **standard manoeuvre** (a doublet or 3211 on each control, the
-  project's virtual flight test with its airframe) would give together with this
-  record: what would determine what this record cannot.
+- the bounds a **manoeuvre** would give together with this record (given as input
+  histories, e.g. :func:`inflowsim.flighttest.advice.standard_manoeuvres`: a
+  doublet or 3211 on each control flown on the project's virtual airframe): what
+  would determine what this record cannot.
 
 Nothing here refits: one Jacobian of the fit's structure per record, one per
 manoeuvre.
@@ -42,10 +43,6 @@ INSENSITIVITY_PERCENT_LIMIT = 10.0
 #: A held value whose uncertainty adds this share or more to an estimate's variance
 #: makes that estimate conditional on it.
 CONDITIONAL_SHARE = 0.01
-#: The standard manoeuvres tried for advice: (shape, control) on the project's
-#: virtual airframe (``inflowsim.flighttest``), 1 deg, from 2 s.
-STANDARD_MANOEUVRES = tuple((shape, ch) for shape in ("doublet", "3211")
-                            for ch in ("theta0", "theta1c", "theta1s"))
 
 
 @dataclass(frozen=True)
@@ -210,22 +207,15 @@ def _determined(M):
     return [i for i in range(p) if i not in dead], flat
 
 
-def _manoeuvre_spectra(sp, structure, shape, channel):
-    from ..flighttest.body import BodyModel
-    from ..flighttest.virtual import Manoeuvre, pilot_controls
-    k = sp.constants
-    t = np.arange(sp.n_samples) * sp.dt
-    controls = pilot_controls(t, (Manoeuvre(channel=channel, shape=shape),))
-    hub = BodyModel().response(controls, sp.dt, k.omega * (k.radius or 7.5), k.mu)
-    cols = {"theta0": controls[:, 0], "theta1c": controls[:, 1],
-            "theta1s": controls[:, 2], **hub}
-    u = np.column_stack([cols[n] for n in structure.inputs])
+def _manoeuvre_spectra(sp, structure, cols):
+    u = np.column_stack([np.asarray(cols.get(n, np.zeros(sp.n_samples)), dtype=float)
+                         for n in structure.inputs])
     U = dft(u, sp.dt, sp.f_hz, sp.on_grid, transform_weights(sp.n_samples, sp.hold))
     return replace(sp, U=U, u_time=u, Z=np.zeros_like(sp.Z), z_time=np.zeros_like(sp.z_time))
 
 
 def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
-                    manoeuvres=STANDARD_MANOEUVRES) -> Identifiability:
+                    manoeuvres=None) -> Identifiability:
     """What ``records`` determine of ``fit``'s structure, at its estimates.
 
     Parameters
@@ -237,10 +227,12 @@ def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
         The band of the fit [Hz].
     hold : str, optional
         Intersample behaviour the fit assumed (default each record's own).
-    manoeuvres : sequence of (shape, control)
-        Standard manoeuvres whose added information is reported for the
-        parameters the record leaves undetermined or poorly determined (empty:
-        none tried).
+    manoeuvres : callable, optional
+        ``(n_samples, dt, constants) -> [(label, {column: perturbation})]``:
+        manoeuvres (input histories over the first record's length and step)
+        whose added information is reported for the parameters the record leaves
+        undetermined or poorly determined, e.g.
+        :func:`inflowsim.flighttest.advice.standard_manoeuvres`; ``None``: none.
     """
     recs = records if isinstance(records, (list, tuple)) else [records]
     s = fit.structure
@@ -302,10 +294,9 @@ def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
     if not wanted or not manoeuvres:
         return ident
     gains = []
-    for shape, ch in manoeuvres:
-        if ch not in s.inputs:
-            continue
-        msp = _manoeuvre_spectra(spectra[0], s, shape, ch)
+    sp0 = spectra[0]
+    for label, cols in manoeuvres(sp0.n_samples, sp0.dt, sp0.constants):
+        msp = _manoeuvre_spectra(sp0, s, cols)
         mp = Problem(s, [msp], fit.parameters, fixed=(), ties=ties)
         Mm, _ = _information(mp, [S[0]])
         Mt = M + Mm
@@ -316,7 +307,7 @@ def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
             sig = (float(np.sqrt(inv_t[ok_t.index(i), ok_t.index(i)] * dof))
                    if i in ok_t else None)
             after.append((names[i], sig))
-        gains.append(ManoeuvreGain(f"{shape} on {ch}", tuple(after)))
+        gains.append(ManoeuvreGain(label, tuple(after)))
     return replace(ident, manoeuvres=tuple(gains))
 
 

@@ -1,0 +1,32 @@
+"""Standard manoeuvres for identifiability advice: which one would determine what a
+record cannot (:func:`inflowsim.identify.identifiability.identifiability`).
+
+Each is a 1 deg pilot input from 2 s, a doublet or a 3-2-1-1 on one control, flown
+on the project's virtual airframe (:class:`~inflowsim.flighttest.body.BodyModel`,
+which turns the controls into the hub motion ``p, q, mux, muy ...`` a real aircraft
+gives) over the same length and step as the record judged.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..channels import CONTROLS
+from .body import BodyModel
+from .virtual import Manoeuvre, pilot_controls
+
+#: (shape, control) of the manoeuvres tried.
+STANDARD = tuple((shape, ch) for shape in ("doublet", "3211") for ch in CONTROLS)
+
+
+def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD) -> list:
+    """``[(label, {column: perturbation (n_samples,)})]`` for each of ``shapes``:
+    the controls and the airframe's hub motion [SI]."""
+    t = np.arange(n_samples) * dt
+    omega_r = constants.omega * (constants.radius or 7.5)
+    out = []
+    for shape, ch in shapes:
+        controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape),))
+        hub = BodyModel().response(controls, dt, omega_r, constants.mu)
+        cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
+        out.append((f"{shape} on {ch}", cols))
+    return out
