@@ -229,6 +229,33 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
     return y, u
 
 
+def control_response(test: VirtualTest, f_hz) -> np.ndarray:
+    """The truth's frequency response from the recorded pilot controls (theta0,
+    theta1c, theta1s) to the recorded flap, body path included, shape ``(3, 3, nf)``
+    [rad/rad]: rotor and body integrated together as :func:`virtual_record` does
+    (``hold = "continuous"``), ``H(s) = C (sI - A)^-1 B`` at ``s = j 2 pi f``, with
+    the output and input time shifts.  What a non-parametric estimate from such a
+    record should find."""
+    k, trim, model = _truth(test)
+    omega_r = k.omega * (k.radius or 7.5)
+    ab, bb = test.body.matrices()
+    ch, dh = test.body.hub_matrices(omega_r, k.mu)
+    nb, n = ab.shape[0], model.a.shape[0]
+    cu = np.vstack([np.zeros((3, nb)), ch])
+    du = np.vstack([np.eye(3), dh])
+    cols = [INPUT_COLUMNS.index(c) for c in model.inputs]
+    A = np.block([[ab, np.zeros((nb, n))], [model.b @ cu[cols], model.a]])
+    B = np.vstack([bb, model.b @ du[cols]])
+    C = np.hstack([np.zeros((3, nb)), model.c[:3]])
+    w = 2 * np.pi * np.atleast_1d(np.asarray(f_hz, dtype=float))
+    eye = np.eye(A.shape[0])
+    h = np.stack([C @ np.linalg.solve(1j * wi * eye - A, B) for wi in w], axis=-1)
+    h = h * np.exp(-1j * np.outer(model.delays[:3], w))[:, None, :]
+    in_delay = dict(zip(model.inputs, model.input_delays))
+    d_in = np.array([in_delay.get(c, 0.0) for c in CONTROLS])
+    return h * np.exp(1j * np.outer(d_in, w))[None, :, :]
+
+
 def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True) -> Record:
     """A record (totals, ``record-format.md``) from a linear truth.
 

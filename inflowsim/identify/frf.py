@@ -72,7 +72,7 @@ SHORTEST = 1.0 / 6.0
 #: A window serves frequencies from this many of its bins ``1 / T_w`` up.
 K_MIN = 3.0
 #: Least degrees of freedom ``n_d - q + 1`` for a window to contribute.
-MIN_DOF = 3.0
+MIN_DOF = 2.0
 #: Coherence (squared) from which a point is read as a valid response (CIFER's).
 COHERENCE_OK = 0.6
 
@@ -99,6 +99,7 @@ class FrequencyResponse:
     h: np.ndarray
     coherence: np.ndarray
     random_error: np.ndarray
+    bias_error: np.ndarray
     multiple_coherence: np.ndarray
     ordinary_coherence: np.ndarray
     windows_s: tuple
@@ -369,6 +370,8 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
         coh = np.where(tot > 0, np.sum(share * np.nan_to_num(part), axis=0), np.nan)
         err = np.where(tot > 0, np.sum(share * np.where(ok, eps, 0.0), axis=0), np.inf)
         och = np.where(tot > 0, np.sum(share * np.nan_to_num(ordn), axis=0), np.nan)
+        dev = np.abs(np.nan_to_num(hs) - h) ** 2
+        spread = np.sqrt(np.sum(share * dev, axis=0) / 2) / np.abs(h)
         ws = share.mean(axis=2)                                    # (nw, p, nf)
         mc = np.where(ws.sum(axis=0) > 0, np.sum(ws * np.nan_to_num(mult), axis=0),
                       np.nan)
@@ -380,7 +383,8 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
                      "short there")
     return FrequencyResponse(
         inputs=inputs, outputs=outputs, frequency_hz=_ro(f), h=_ro(h, complex),
-        coherence=_ro(coh), random_error=_ro(err), multiple_coherence=_ro(mc),
+        coherence=_ro(coh), random_error=_ro(err), bias_error=_ro(spread),
+        multiple_coherence=_ro(mc),
         ordinary_coherence=_ro(och), windows_s=windows_s,
         n_averages=tuple(n_avg), overlap=float(overlap), band_hz=(f1, f2), dt=dt,
         sources=tuple(r.source for r in recs), window_weight=_ro(share),
