@@ -378,9 +378,9 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
     notes = []
     low = ~np.any(tot > 0, axis=(0, 1))
     if low.any():
-        notes.append(f"{int(low.sum())} of {nf} frequencies have no window with enough "
-                     f"averages (from {f[low].min():.3g} Hz): the records are too "
-                     "short there")
+        notes.append(f"{int(low.sum())} of {nf} frequencies ({f[low].min():.3g}-"
+                     f"{f[low].max():.3g} Hz) have no window with enough averages for "
+                     f"{q} input(s): the records are too short there")
     return FrequencyResponse(
         inputs=inputs, outputs=outputs, frequency_hz=_ro(f), h=_ro(h, complex),
         coherence=_ro(coh), random_error=_ro(err), bias_error=_ro(spread),
@@ -391,6 +391,34 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
         notes=tuple(notes))
 
 
+# -- model against measurement: Tischler's cost ---------------------------------------
+#: Tischler's weights: magnitude [1/dB^2] and phase [1/deg^2] (1 dB ~ 7.57 deg).
+W_GAIN, W_PHASE = 1.0, 0.01745
+#: Guideline bands of ``J`` for one response pair: acceptable, good.
+J_ACCEPTABLE, J_GOOD = 100.0, 50.0
+
+
+def tischler_cost(fr: FrequencyResponse, model_h, output: str, input: str,
+                  threshold: float = COHERENCE_OK) -> float:
+    """Tischler's cost of a model response against a measured one (Tischler and
+    Remple, *Aircraft and Rotorcraft System Identification*, 2nd ed., Eq. 10.18):
+    ``J = 20/n sum W_gamma [W_g (|T_c| - |T|)^2 + W_p (angle T_c - angle T)^2]``,
+    magnitudes in dB, phases in deg, over the ``n`` points with coherence ``>=
+    threshold``; ``W_gamma = (1.58 (1 - exp(-gamma^2)))^2``.  ``J <= 100``: the model
+    is acceptable for the pair, ``<= 50`` good.  ``model_h`` shaped like ``fr.h``.
+    NaN when no point is coherent."""
+    o, i = fr.index(output, input)
+    v = fr.valid(threshold)[o, i]
+    if not v.any():
+        return float("nan")
+    hm, h = np.asarray(model_h)[o, i][v], fr.h[o, i][v]
+    g2 = fr.coherence[o, i][v]
+    wg = (1.58 * (1 - np.exp(-g2))) ** 2
+    dmag = 20 * np.log10(np.abs(hm) / np.abs(h))
+    dph = np.degrees(np.angle(hm / h))                  # the wrapped difference
+    return float(20.0 / v.sum() * np.sum(wg * (W_GAIN * dmag ** 2 + W_PHASE * dph ** 2)))
+
+
 def _ro(a, dtype=float):
     a = np.array(a, dtype=dtype)
     a.flags.writeable = False
@@ -398,4 +426,5 @@ def _ro(a, dtype=float):
 
 
 __all__ = ["FrequencyResponse", "frequency_response", "effective_averages",
-           "default_windows", "moving_inputs", "COHERENCE_OK", "DEFAULT_FRF_BAND"]
+           "default_windows", "moving_inputs", "tischler_cost", "COHERENCE_OK",
+           "DEFAULT_FRF_BAND"]
