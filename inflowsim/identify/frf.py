@@ -91,6 +91,10 @@ class FrequencyResponse:
     window lengths [s], ``n_averages`` their effective independent averages
     ``n_d``; ``window_weight`` ``[window, output, input, frequency]`` each
     window's share of the composite (0 where it does not contribute).
+    ``bias_error`` the spread of the windows' estimates about the composite,
+    relative, per component (``sqrt(sum share |H_w - H|^2 / 2) / |H|``): windows of
+    different length have different resolution and leakage bias, so their
+    disagreement beyond their random error shows it.
     """
 
     inputs: tuple
@@ -126,10 +130,18 @@ class FrequencyResponse:
         return {"h": self.h[o, i], "coherence": self.coherence[o, i],
                 "random_error": self.random_error[o, i]}
 
+    @property
+    def n_windows(self) -> np.ndarray:
+        """Windows contributing to each point ``[output, input, frequency]``."""
+        return np.sum(self.window_weight > 0, axis=0)
+
     def valid(self, threshold: float = COHERENCE_OK) -> np.ndarray:
-        """Where a point is read as a response: coherence ``>= threshold`` and a
-        finite error."""
-        return (self.coherence >= threshold) & np.isfinite(self.random_error)
+        """Where a point is read as a response: coherence ``>= threshold``, a finite
+        error, and at least two windows (one window alone shows no spread, so its
+        resolution bias, largest at the low end a single long window serves, would
+        go unstated)."""
+        return ((self.coherence >= threshold) & np.isfinite(self.random_error)
+                & (self.n_windows >= 2))
 
     def to_json(self) -> dict:
         resp = []
