@@ -49,6 +49,9 @@ def add_arguments(p):
                         "harmonics with Schroeder phases")
     p.add_argument("--channel", choices=CONTROLS,
                    default="theta1s", help="control the pilot moves (default theta1s)")
+    p.add_argument("--design", metavar="FILE",
+                   help="fly an input design (inflowsim design --out): its multisines, "
+                        "record length and step replace --input, --duration, --dt")
     p.add_argument("--channels", nargs="+", choices=CONTROLS, metavar="CH",
                    help="multisine: the controls moved at once (default all three)")
     p.add_argument("--sweep-range", "--freq-range", nargs=2, type=float,
@@ -131,6 +134,7 @@ MAX_AMPLITUDE_DEG = 20.0
 
 def _manoeuvre(args):
     from ..flighttest.virtual import Manoeuvre
+    designed = _designed(args) if args.design else None
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
         v = getattr(args, name)
         if not math.isfinite(v):
@@ -154,6 +158,8 @@ def _manoeuvre(args):
     if c is not None and not (math.isfinite(c) and 0 < c < 0.5 / args.dt):
         raise InputError(f"--noise-color-hz {c}: must be above 0 and below the Nyquist "
                          f"frequency {0.5 / args.dt:g} Hz")
+    if designed is not None:
+        return designed
     if args.input in ("sweep", "multisine"):
         return _frequency_input(args)
     if args.channels or args.sweep_range or args.sweep_duration is not None:
@@ -162,6 +168,23 @@ def _manoeuvre(args):
     return (Manoeuvre(channel=args.channel, shape=args.input,
                       amplitude=math.radians(args.amplitude_deg), t_start=args.start,
                       width=args.width, rise=args.rise),)
+
+
+def _designed(args):
+    import json as _json
+    from ..identify.design import manoeuvres_from_json
+    try:
+        doc = _json.loads(Path(args.design).read_text())
+    except FileNotFoundError:
+        raise InputError(f"--design {args.design}: no such file") from None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"--design {args.design}: not readable JSON ({exc})") from None
+    try:
+        man, args.duration, args.dt = manoeuvres_from_json(doc)
+    except InputError as exc:
+        raise InputError(f"--design {args.design}: {exc}") from None
+    args.input = "multisine"
+    return man
 
 
 #: Default frequency range [Hz] of a sweep or multisine.
@@ -268,9 +291,13 @@ def _linear(args, man, values):
 
 def _what(args, manoeuvres) -> str:
     chans = " ".join(m.channel for m in manoeuvres)
-    if args.input in ("sweep", "multisine"):
-        lo, hi = args.sweep_range or SWEEP_RANGE
-        return f"{chans} {args.input} {lo:g}-{hi:g} Hz"
+    m = manoeuvres[0]
+    if m.shape == "sweep":
+        return f"{chans} sweep {m.f_range[0]:g}-{m.f_range[1]:g} Hz"
+    if m.shape == "multisine":
+        ks = [k for x in manoeuvres for k in x.harmonics]
+        what = "designed multisine" if args.design else "multisine"
+        return f"{chans} {what} {min(ks) / m.length:.3g}-{max(ks) / m.length:.3g} Hz"
     return f"{chans} {args.input}"
 
 
