@@ -1,4 +1,4 @@
-"""Optimal input design (``inflowsim.identify.design``, issue #25 item 3)."""
+"""Optimal input design (``inflowsim.flighttest.design``, issue #25 item 3)."""
 import json
 import math
 
@@ -7,7 +7,7 @@ import pytest
 
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
-from inflowsim.identify.design import design_input, optimise_powers
+from inflowsim.flighttest.design import design_input, optimise_powers
 
 
 def test_multiplicative_algorithm_keeps_budgets_and_raises_the_criterion():

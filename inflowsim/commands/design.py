@@ -9,13 +9,12 @@ import math
 from ..channels import CONTROLS
 from ..errors import InputError
 from ..fileio import check_output, json_text, safe_write_text
-from ._common import print_json, progress
+from ._common import DEFAULT_BAND, print_json, progress
 
 HELP = "design a multisine input: most information on chosen parameters, bounds before/after"
 
 
 def add_arguments(p):
-    from ..identify.transform import DEFAULT_BAND
     p.add_argument("--model", "-m", required=True,
                    help="structure identified: preset, then +effect terms")
     p.add_argument("--params", "-p", metavar="FILE",
@@ -49,31 +48,8 @@ def add_arguments(p):
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
 
 
-def format_design(d) -> str:
-    lines = [f"structure {d.structure}; interest: {', '.join(d.interest)}",
-             f"multisine on {', '.join(d.channels)}: {d.length:.4g} s from {d.t_start:g} s, "
-             f"base {1 / d.length:.4g} Hz, {d.limit_kind} limit "
-             f"{math.degrees(d.limit):.3g} deg per control"]
-    for c, h, a, pk in zip(d.channels, d.harmonics, d.amplitudes, d.peak):
-        used = [(k / d.length, x) for k, x in zip(h, a) if x > 0]
-        lines.append(f"  {c}: peak {math.degrees(pk):.3g} deg; " + ", ".join(
-            f"{f:.3g} Hz {math.degrees(x):.2g} deg" for f, x in used))
-    lines.append(f"expected 1-sigma bounds (noise {d.noise_flap:g} rad): before = 1 deg "
-                 "theta1s doublet, after = the design")
-    lines.append(f"{'parameter':<14}{'value':>11}{'before':>11}{'after':>11}{'ratio':>8}")
-    for n, v in d.parameters.items():
-        b, a = d.sigma_before.get(n), d.sigma_after.get(n)
-        r = f"{a / b:8.3f}" if a is not None and b else f"{'-':>8}"
-        mark = " *" if n in d.interest else ""
-        fb = f"{b:11.4g}" if b is not None else f"{'none':>11}"
-        fa = f"{a:11.4g}" if a is not None else f"{'none':>11}"
-        lines.append(f"{n:<14}{v:>11.4g}{fb}{fa}{r}{mark}")
-    lines.append("(* parameters of interest; none: not determined by that input)")
-    return "\n".join(lines)
-
-
 def run(args) -> int:
-    from ..identify.design import design_input
+    from ..flighttest.design import design_input, format_design
     from ..model.paramfile import read_parameters
     from ..model.structure import Structure
     for name in ("limit_deg", "duration", "start", "dt", "noise"):

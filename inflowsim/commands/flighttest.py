@@ -172,7 +172,7 @@ def _manoeuvre(args):
 
 def _designed(args):
     import json as _json
-    from ..identify.design import manoeuvres_from_json
+    from ..flighttest.design import manoeuvres_from_json
     try:
         doc = _json.loads(Path(args.design).read_text())
     except FileNotFoundError:

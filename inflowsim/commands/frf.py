@@ -18,7 +18,6 @@ from ._common import print_json, progress, read_records
 
 HELP = "frequency responses of records: composite, conditioned, with coherence and errors"
 
-from ..identify.frf import DEFAULT_FRF_BAND as DEFAULT_BAND
 
 
 def add_arguments(p):
@@ -29,8 +28,7 @@ def add_arguments(p):
     p.add_argument("--outputs", nargs="+", metavar="CH", default=list(FLAP),
                    help="output channels (default beta0 beta1c beta1s)")
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   default=DEFAULT_BAND,
-                   help=f"band [Hz] (default {DEFAULT_BAND[0]:g} {DEFAULT_BAND[1]:g})")
+                   help="band [Hz] of the log-spaced grid (default 0.1 5)")
     p.add_argument("--windows", nargs="+", type=float, metavar="S",
                    help="window lengths [s] of the composite (default: five from half "
                         "the shortest record down)")
@@ -52,37 +50,10 @@ def _check(args):
                                                                "lambda1s"):
                 raise InputError(f"--{name} {c}: not a record channel (inputs "
                                  f"{', '.join(INPUTS)}; flap {', '.join(FLAP)})")
-    if not all(math.isfinite(x) for x in args.band):
+    if args.band is not None and not all(math.isfinite(x) for x in args.band):
         raise InputError(f"--band {args.band[0]:g} {args.band[1]:g}: must be finite")
     if not math.isfinite(args.overlap):
         raise InputError(f"--overlap {args.overlap}: must be finite")
-
-
-def summary_lines(fr) -> list[str]:
-    """One line per pair: coherent points, their span, median random error."""
-    import numpy as np
-    from ..identify.frf import COHERENCE_OK
-    lines = [f"records: {', '.join(fr.sources)}",
-             f"windows [s]: {', '.join(f'{w:.3g}' for w in fr.windows_s)} (Hann, "
-             f"{fr.overlap:.0%} overlap); effective averages "
-             f"{', '.join(f'{n:.3g}' for n in fr.n_averages)}",
-             f"band {fr.band_hz[0]:.4g}-{fr.band_hz[1]:.4g} Hz, "
-             f"{fr.frequency_hz.size} frequencies; coherent: gamma^2 >= {COHERENCE_OK:g}",
-             f"{'output':<8}{'input':<9}{'coherent':>10}{'from [Hz]':>11}{'to [Hz]':>9}"
-             f"{'eps med [%]':>13}"]
-    valid = fr.valid()
-    f = fr.frequency_hz
-    for o, out in enumerate(fr.outputs):
-        for i, inp in enumerate(fr.inputs):
-            v = valid[o, i]
-            if v.any():
-                lines.append(f"{out:<8}{inp:<9}{int(v.sum()):>6}/{f.size:<3}"
-                             f"{f[v].min():>11.3g}{f[v].max():>9.3g}"
-                             f"{100 * float(np.median(fr.random_error[o, i][v])):>13.3g}")
-            else:
-                lines.append(f"{out:<8}{inp:<9}{0:>6}/{f.size:<3}{'-':>11}{'-':>9}{'-':>13}")
-    lines += [f"note: {n}" for n in fr.notes]
-    return lines
 
 
 def run(args) -> int:
@@ -90,10 +61,11 @@ def run(args) -> int:
     if args.report:
         from ..report.document import check_report_folder
         check_report_folder(args.report, protect=args.record)
-    from ..identify.frf import frequency_response
+    from ..identify.frf import DEFAULT_FRF_BAND, frequency_response
     recs = read_records(args.record, args)
     fr = frequency_response(recs, inputs=args.inputs, outputs=args.outputs,
-                            band_hz=tuple(args.band), windows_s=args.windows,
+                            band_hz=tuple(args.band or DEFAULT_FRF_BAND),
+                            windows_s=args.windows,
                             overlap=args.overlap)
     if args.report:
         from ..report.frf_report import frf_report
@@ -105,5 +77,6 @@ def run(args) -> int:
             doc["report"] = str(Path(args.report) / "index.html")
         print_json(doc)
     else:
+        from ..report.frf_report import summary_lines
         print("\n".join(summary_lines(fr)))
     return 0

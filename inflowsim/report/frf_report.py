@@ -4,6 +4,33 @@ from __future__ import annotations
 import numpy as np
 
 
+def summary_lines(fr) -> list[str]:
+    """One line per pair: coherent points, their span, median random error."""
+    import numpy as np
+    from ..identify.frf import COHERENCE_OK
+    lines = [f"records: {', '.join(fr.sources)}",
+             f"windows [s]: {', '.join(f'{w:.3g}' for w in fr.windows_s)} (Hann, "
+             f"{fr.overlap:.0%} overlap); effective averages "
+             f"{', '.join(f'{n:.3g}' for n in fr.n_averages)}",
+             f"band {fr.band_hz[0]:.4g}-{fr.band_hz[1]:.4g} Hz, "
+             f"{fr.frequency_hz.size} frequencies; coherent: gamma^2 >= {COHERENCE_OK:g}",
+             f"{'output':<8}{'input':<9}{'coherent':>10}{'from [Hz]':>11}{'to [Hz]':>9}"
+             f"{'eps med [%]':>13}"]
+    valid = fr.valid()
+    f = fr.frequency_hz
+    for o, out in enumerate(fr.outputs):
+        for i, inp in enumerate(fr.inputs):
+            v = valid[o, i]
+            if v.any():
+                lines.append(f"{out:<8}{inp:<9}{int(v.sum()):>6}/{f.size:<3}"
+                             f"{f[v].min():>11.3g}{f[v].max():>9.3g}"
+                             f"{100 * float(np.median(fr.random_error[o, i][v])):>13.3g}")
+            else:
+                lines.append(f"{out:<8}{inp:<9}{0:>6}/{f.size:<3}{'-':>11}{'-':>9}{'-':>13}")
+    lines += [f"note: {n}" for n in fr.notes]
+    return lines
+
+
 def frf_report(fr, models=None, unwrap: bool = False, title=None):
     """A :class:`~inflowsim.report.document.Report` of a
     :class:`~inflowsim.identify.frf.FrequencyResponse`.
@@ -12,7 +39,6 @@ def frf_report(fr, models=None, unwrap: bool = False, title=None):
     over the measurements, with Tischler's cost ``J`` per pair in the table
     (:func:`~inflowsim.identify.frf.tischler_cost`).
     """
-    from ..commands.frf import summary_lines
     from ..identify.frf import COHERENCE_OK, tischler_cost
     from .document import Report
     from .frf_plots import BAND_SIGMA, frequency_response_plot

@@ -37,6 +37,7 @@ transform): the bounds a record flown with that input should give.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
@@ -44,7 +45,7 @@ import numpy as np
 
 from ..channels import CONTROLS, INPUTS
 from ..errors import InputError
-from .transform import DEFAULT_BAND
+from ..identify.transform import DEFAULT_BAND
 
 #: Iterations of the multiplicative algorithm.
 ITERATIONS = 300
@@ -86,7 +87,7 @@ class InputDesign:
         """The design as :class:`~inflowsim.flighttest.virtual.Manoeuvre` s (one
         multisine per control), for :func:`~inflowsim.flighttest.virtual.virtual_record`
         or :func:`~inflowsim.flighttest.nonlinear.flighttest`."""
-        from ..flighttest.virtual import Manoeuvre
+        from .virtual import Manoeuvre
         out = []
         for c, h, a, pk in zip(self.channels, self.harmonics, self.amplitudes, self.peak):
             keep = [i for i, x in enumerate(a) if x > 0]
@@ -125,7 +126,7 @@ class InputDesign:
 # -- pieces -----------------------------------------------------------------------------
 def manoeuvres_from_json(doc) -> tuple:
     """The manoeuvres of a design document (:meth:`InputDesign.to_json`)."""
-    from ..flighttest.virtual import Manoeuvre
+    from .virtual import Manoeuvre
     try:
         rec = doc["record"]
         out = []
@@ -168,7 +169,7 @@ def harmonic_information(structure, params, constants, free, body, f_hz, S) -> n
     """Per-unit-amplitude information ``(3 controls, nf, p, p)`` of a harmonic at each
     frequency on each control: ``Re(G^H S^-1 G)`` with ``G = dH/dtheta d_c``."""
     from ..model.build import build_model
-    from .problem import TYPICAL
+    from ..identify.problem import TYPICAL
     base = build_model(structure, params, constants)
     d = pilot_directions(base, body, f_hz)                           # (m, 3, nf)
     sens = []
@@ -217,10 +218,10 @@ def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     its own sensitivities and bound formulas on the noise-free record, with the
     white flap noise ``test.noise_flap`` as ``S``."""
     from dataclasses import replace
-    from ..flighttest.virtual import virtual_record
-    from .estimator import _bounds, _state
-    from .problem import Problem
-    from .transform import record_spectra
+    from .virtual import virtual_record
+    from ..identify.estimator import _bounds, _state
+    from ..identify.problem import Problem
+    from ..identify.transform import record_spectra
     rec = virtual_record(replace(test, noise_flap=0.0), include_truth=False)
     from ..model.structure import Structure
     s = Structure.parse(structure)
@@ -274,7 +275,7 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
     -------
     InputDesign
     """
-    from ..flighttest.virtual import PUMA_TRIM, Manoeuvre, VirtualTest
+    from .virtual import PUMA_TRIM, Manoeuvre, VirtualTest
     from ..model.params import PUMA
     from ..model.presets import truth_parameters
     from ..model.structure import Structure
@@ -365,5 +366,29 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
                    sigma_after=expected_bounds(after, s, params, band_hz))
 
 
-__all__ = ["InputDesign", "design_input", "manoeuvres_from_json", "expected_bounds", "harmonic_information",
-           "optimise_powers", "pilot_directions"]
+def format_design(d) -> str:
+    """The design and its bounds as the ``design`` command prints them."""
+    lines = [f"structure {d.structure}; interest: {', '.join(d.interest)}",
+             f"multisine on {', '.join(d.channels)}: {d.length:.4g} s from {d.t_start:g} s, "
+             f"base {1 / d.length:.4g} Hz, {d.limit_kind} limit "
+             f"{math.degrees(d.limit):.3g} deg per control"]
+    for c, h, a, pk in zip(d.channels, d.harmonics, d.amplitudes, d.peak):
+        used = [(k / d.length, x) for k, x in zip(h, a) if x > 0]
+        lines.append(f"  {c}: peak {math.degrees(pk):.3g} deg; " + ", ".join(
+            f"{f:.3g} Hz {math.degrees(x):.2g} deg" for f, x in used))
+    lines.append(f"expected 1-sigma bounds (noise {d.noise_flap:g} rad): before = 1 deg "
+                 "theta1s doublet, after = the design")
+    lines.append(f"{'parameter':<14}{'value':>11}{'before':>11}{'after':>11}{'ratio':>8}")
+    for n, v in d.parameters.items():
+        b, a = d.sigma_before.get(n), d.sigma_after.get(n)
+        r = f"{a / b:8.3f}" if a is not None and b else f"{'-':>8}"
+        mark = " *" if n in d.interest else ""
+        fb = f"{b:11.4g}" if b is not None else f"{'none':>11}"
+        fa = f"{a:11.4g}" if a is not None else f"{'none':>11}"
+        lines.append(f"{n:<14}{v:>11.4g}{fb}{fa}{r}{mark}")
+    lines.append("(* parameters of interest; none: not determined by that input)")
+    return "\n".join(lines)
+
+
+__all__ = ["format_design", "InputDesign", "design_input", "manoeuvres_from_json",
+           "expected_bounds", "harmonic_information", "optimise_powers", "pilot_directions"]
