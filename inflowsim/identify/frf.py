@@ -314,6 +314,41 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
         if abs(r.dt - dt) > 1e-6 * dt:
             raise InputError(f"{r.source}: sample step {r.dt:g} s differs from "
                              f"{recs[0].source}'s {dt:g} s; resample to one rate")
+    inputs = tuple(inputs) if inputs is not None else moving_inputs(recs)
+    if not inputs:
+        raise InputError("frequency response: no control moves in the records; "
+                         "name the inputs")
+    outputs = tuple(outputs)
+    _check_channels(inputs, outputs)
+    series = []
+    for r in recs:
+        x = perturbations(r, find_trim(r), inputs + outputs)
+        for j, c in enumerate(inputs):
+            if np.ptp(x[:, j]) == 0 and len(recs) == 1:
+                raise InputError(f"{r.source}: input {c} does not move: no response "
+                                 "to it can be measured")
+        series.append(x)
+    return response_of_series(series, dt, inputs, outputs, band_hz, windows_s, overlap,
+                              points_per_decade, tuple(r.source for r in recs))
+
+
+def _check_channels(inputs, outputs):
+    if not outputs:
+        raise InputError("frequency response: give at least one output")
+    both = [c for c in inputs if c in outputs]
+    if both or len(set(inputs)) < len(inputs) or len(set(outputs)) < len(outputs):
+        raise InputError(f"channel {(both or inputs)[0]!r} given twice (inputs and "
+                         "outputs must be distinct)")
+
+
+def response_of_series(series, dt, inputs, outputs, band_hz=DEFAULT_FRF_BAND,
+                       windows_s=None, overlap: float = OVERLAP,
+                       points_per_decade: int = POINTS_PER_DECADE,
+                       sources=("<memory>",)) -> FrequencyResponse:
+    """:func:`frequency_response` of perturbation arrays: ``series`` a list of
+    ``(N, len(inputs) + len(outputs))`` arrays (inputs first), step ``dt`` [s]."""
+    inputs, outputs = tuple(inputs), tuple(outputs)
+    _check_channels(inputs, outputs)
     f1, f2 = (float(x) for x in band_hz)
     if not (np.isfinite(f1) and np.isfinite(f2) and 0 < f1 < f2):
         raise InputError(f"band {f1:g}-{f2:g} Hz: need 0 < F1 < F2")
@@ -322,31 +357,12 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
                          f"{0.5 / dt:g} Hz")
     if not 0 <= overlap <= 0.95:
         raise InputError(f"overlap {overlap:g}: choose a fraction in [0, 0.95]")
-    outputs = tuple(outputs)
-    inputs = tuple(inputs) if inputs is not None else moving_inputs(recs)
-    if not inputs:
-        raise InputError("frequency response: no control moves in the records; "
-                         "name the inputs")
-    if not outputs:
-        raise InputError("frequency response: give at least one output")
-    both = [c for c in inputs if c in outputs]
-    if both or len(set(inputs)) < len(inputs) or len(set(outputs)) < len(outputs):
-        raise InputError(f"channel {(both or inputs)[0]!r} given twice (inputs and "
-                         "outputs must be distinct)")
-    series = []
-    for r in recs:
-        trim = find_trim(r)
-        x = perturbations(r, trim, inputs + outputs)
-        for j, c in enumerate(inputs):
-            if np.ptp(x[:, j]) == 0 and len(recs) == 1:
-                raise InputError(f"{r.source}: input {c} does not move: no response "
-                                 "to it can be measured")
-        series.append(x)
-    shortest = min(len(r) for r in recs) * dt
+    series = [np.asarray(x, dtype=float) for x in series]
+    shortest = min(len(x) for x in series) * dt
     if windows_s is None:
         windows_s = default_windows(shortest, (f1, f2))
     windows_s = tuple(float(w) for w in windows_s)
-    longest = max(len(r) for r in recs) * dt
+    longest = max(len(x) for x in series) * dt
     for w in windows_s:
         if not (np.isfinite(w) and 8 * dt <= w <= longest):
             raise InputError(f"window {w:g} s: must lie between 8 samples and the "
@@ -399,7 +415,7 @@ def frequency_response(records, inputs=None, outputs=FLAP, band_hz=DEFAULT_FRF_B
         multiple_coherence=_ro(mc),
         ordinary_coherence=_ro(och), windows_s=windows_s,
         n_averages=tuple(n_avg), overlap=float(overlap), band_hz=(f1, f2), dt=dt,
-        sources=tuple(r.source for r in recs), window_weight=_ro(share),
+        sources=tuple(sources), window_weight=_ro(share),
         notes=tuple(notes))
 
 
@@ -437,6 +453,6 @@ def _ro(a, dtype=float):
     return a
 
 
-__all__ = ["FrequencyResponse", "frequency_response", "effective_averages",
+__all__ = ["FrequencyResponse", "frequency_response", "response_of_series", "effective_averages",
            "default_windows", "moving_inputs", "tischler_cost", "COHERENCE_OK",
            "DEFAULT_FRF_BAND"]
