@@ -40,7 +40,7 @@ def run(args) -> int:
                      pool=args.candidates, alpha=args.alpha, progress=progress,
                      hold=args.hold)
     if args.report:
-        path = ladder_report(lad).write(args.report, protect=args.record)
+        path = ladder_report(lad, record=recs[0]).write(args.report, protect=args.record)
         progress(f"report: {path}")
     if args.json:
         print_json(lad.to_json())

@@ -42,7 +42,8 @@ def demo_record(seed=0):
 
 def run_demo(out_dir, seed=0, say=None):
     """Write the demo into ``out_dir``; return ``(index.html path, summary dict)``."""
-    from .plots import frequency_response_plot, time_response_plot
+    from .model_frf import model_frf_section
+    from .plots import time_response_plot
     say = say or (lambda m: None)
     out = Path(out_dir)
     check_report_folder(out, ("record.csv",))     # refuse before any work
@@ -67,8 +68,10 @@ def run_demo(out_dir, seed=0, say=None):
     rep.figure(time_response_plot([v_first, v_last]), "time",
                "Time-domain reconstruction: measured flap, the basic model and the final "
                "structure (the paper's Figures 1, 3, 5).")
-    rep.figure(frequency_response_plot([v_first, v_last]), "frequency",
-               "Frequency responses over the band, magnitude and phase (Figures 1, 2, 4).")
+    model_frf_section(rep, [v_first, v_last], [f"{first.structure.name} (first)",
+                                               f"{last.structure.name} (last)"],
+                      fits={first.structure.name: first.fit, last.structure.name: last.fit},
+                      heading="Frequency responses: where the first structure fails")
     d0 = first.diagnosis
     rep.heading("2. Where it fails")
     rep.table([[f.kind, f.subject, f.message] for f in d0.failures],
