@@ -35,6 +35,12 @@ def phase_deg(h, unwrap: bool = False):
     return np.degrees(out)
 
 
+def _break_wraps(ph):
+    """NaN at each point that follows a +-180 deg wrap, so no line crosses the plot."""
+    jump = np.abs(np.diff(ph, prepend=ph[:1])) > 180
+    return np.where(jump, np.nan, ph)
+
+
 def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool = False,
                             threshold=None, title=None):
     """Bode plot of measured responses with error bands and models overlaid.
@@ -87,14 +93,15 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
         dph = np.degrees(BAND_SIGMA * err)
         ax_p.fill_between(f, np.where(band, ph - dph, np.nan), np.where(band, ph + dph, np.nan),
                           color="C0", alpha=0.25, lw=0)
-        ax_p.plot(f, np.where(good, ph, np.nan), "C0.-", ms=3, lw=0.8)
+        ax_p.plot(f, np.where(good, ph if unwrap else _break_wraps(ph), np.nan), "C0.-",
+                  ms=3, lw=0.8)
         ax_p.plot(f, np.where(good, np.nan, ph), ".", color="0.7", ms=3)
         for k, (label, hm) in enumerate((models or {}).items()):
             hm = np.asarray(hm)[o, i]
             ax_m.plot(f, 20 * np.log10(np.abs(hm)), f"C{k + 1}-", lw=1.3, label=label)
             php = phase_deg(hm, unwrap)
-            if not unwrap:                    # no line across a +-180 wrap
-                php = np.where(np.abs(np.diff(php, prepend=php[0])) > 180, np.nan, php)
+            if not unwrap:
+                php = _break_wraps(php)
             ax_p.plot(f, php, f"C{k + 1}-", lw=1.3)
         ax_c.plot(f, fr.coherence[o, i], "C0-", lw=1, label="partial" if len(fr.inputs) > 1
                   else "coherence")
