@@ -86,10 +86,10 @@ def test_multisine_conditioned_responses_pass_where_ordinary_ratios_do_not(multi
 
 def test_doublet_pair():
     """Two doublets (theta1s, then theta1c): the conditioned responses within their
-    stated error at most coherent points up to the doublets' first spectral null.
-    Not all: at the pitch-attitude mode's notch of beta0/theta1s (0.35-0.5 Hz) one
-    window serves and a doublet's transient response outlasts it (resolution bias
-    no window spread shows); sweeps and multisines are the inputs for responses."""
+    stated error at the coherent points up to near the doublets' first spectral
+    null (2.5 Hz).  The low end, served by one window (the longest has too few
+    averages for two inputs), is not counted as valid: its resolution bias at the
+    pitch-attitude mode's notch of beta0/theta1s (0.35-0.5 Hz) shows in no spread."""
     test = VirtualTest(manoeuvres=(Manoeuvre(), Manoeuvre(channel="theta1c",
                                                           t_start=12.0)), seed=3)
     rec = virtual_record(test)
@@ -97,9 +97,8 @@ def test_doublet_pair():
     assert fr.inputs == ("theta1c", "theta1s")
     z, v = misses(fr, truth_for(test, fr)), fr.valid()
     assert v.mean() > 0.5
-    assert np.mean(z[v] > 3) < 0.1
-    good = [np.mean(z[o, i][v[o, i]] > 3) < 0.05 for o in range(3) for i in range(2)]
-    assert sum(good) >= 5
+    assert np.mean(z[v] > 3) < 0.02 and z[v].max() < 5
+    assert np.all(v.sum(axis=2) > 20)                  # every pair has a response
 
 
 def synthetic(n=20000, dt=0.01, noise=0.3, second=False, seed=1):

@@ -44,6 +44,14 @@ Method
    (exact for fully correlated estimates, an upper bound otherwise), not the
    independent-estimates ``(sum 1/eps_w^2)^-1/2``.  Coherences are combined with the
    same weights.
+6. **Bias.**  Windows of different length carry different resolution and leakage
+   bias; their spread about the composite is reported as ``bias_error`` (a
+   relative error per component, like ``eps``), and a point is read as a response
+   (:meth:`FrequencyResponse.valid`) only where coherence ``>= 0.6`` and two or
+   more windows serve it: one window alone shows no spread, and at the low end,
+   which the longest window serves alone, its resolution bias can exceed its
+   random error many times.  The stated error of a point is
+   ``sqrt(eps^2 + bias^2)``.
 
 Phases are returned as complex numbers; :func:`frequency_response_plot` draws them
 wrapped to +-180 deg unless asked to unwrap (and then says so on the axis).
