@@ -222,3 +222,18 @@ def test_frf_command(sweep, tmp_path, capsys):
     assert "theta9" in err and "does not move" in err
     assert main(["frf", str(path)]) == 0
     assert "beta1c  theta1s" in capsys.readouterr().out
+
+
+def test_records_of_one_condition_pool_their_averages():
+    a, truth = synthetic(seed=1)
+    b, _ = synthetic(seed=2)
+    kw = dict(inputs=["theta1s"], outputs=["beta1c"], band_hz=(0.5, 8.0), windows_s=[10.0])
+    one, both = frequency_response(a, **kw), frequency_response([a, b], **kw)
+    assert both.n_averages[0] == pytest.approx(2 * one.n_averages[0])
+    assert np.median(both.random_error) < 0.8 * np.median(one.random_error)
+    h = truth(both.frequency_hz)[0]
+    assert np.mean(np.abs(np.log(np.abs(both.h[0, 0] / h))) / both.random_error[0, 0] > 3) < 0.02
+    slow = Record.from_arrays(a.t[::2], {k: v[::2] for k, v in a.channels.items()},
+                              a.meta)
+    with pytest.raises(Exception, match="sample step"):
+        frequency_response([a, slow], **kw)
