@@ -237,3 +237,12 @@ def test_records_of_one_condition_pool_their_averages():
                               a.meta)
     with pytest.raises(Exception, match="sample step"):
         frequency_response([a, slow], **kw)
+
+
+def test_collinear_inputs_are_reported(sweep):
+    """The hub motion of a virtual record is the body's response to the controls:
+    conditioning on both is ill-posed, and the response says so."""
+    test, rec = sweep
+    fr = frequency_response(rec, inputs=["theta1s", "q"], band_hz=(0.2, 3.0))
+    assert any("q is nearly a linear function" in n for n in fr.notes)
+    assert not any("linear function" in n for n in frequency_response(rec).notes)

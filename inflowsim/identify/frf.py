@@ -81,6 +81,8 @@ SHORTEST = 1.0 / 6.0
 K_MIN = 3.0
 #: Least degrees of freedom ``n_d - q + 1`` for a window to contribute.
 MIN_DOF = 2.0
+#: An input whose coherence with the others exceeds this is reported as collinear.
+COLLINEAR = 0.95
 #: Coherence (squared) from which a point is read as a valid response (CIFER's).
 COHERENCE_OK = 0.6
 
@@ -279,9 +281,10 @@ def _conditioned(G, q, n_eff):
         dof = n_eff - q + 1
         eps = np.sqrt((1 - part) / (part * 2 * dof)) if dof > 0 else \
             np.full(part.shape, np.inf)
+        collinear = 1 - gii / gxx_diag            # input's coherence with the others
     tr = (2, 1, 0)                          # (nf, q, p) -> (p, q, nf)
     return (np.transpose(hT, tr), np.transpose(part, tr), np.transpose(eps, tr),
-            np.transpose(ordinary, tr), mult.T)
+            np.transpose(ordinary, tr), mult.T, collinear.T)
 
 
 # -- the response --------------------------------------------------------------------
@@ -383,6 +386,7 @@ def response_of_series(series, dt, inputs, outputs, band_hz=DEFAULT_FRF_BAND,
     eps = np.full((nw, p, q, nf), np.inf)
     mult = np.full((nw, p, nf), np.nan)
     n_avg = []
+    collinear = np.zeros(q)
     for k, tw in enumerate(windows_s):
         length = int(round(tw / dt))
         use = f >= K_MIN / (length * dt)
@@ -393,7 +397,8 @@ def response_of_series(series, dt, inputs, outputs, band_hz=DEFAULT_FRF_BAND,
         n_avg.append(float(n_eff))
         if G is None or n_eff - q + 1 < MIN_DOF:
             continue
-        h_k, part_k, eps_k, ord_k, mult_k = _conditioned(G, q, n_eff)
+        h_k, part_k, eps_k, ord_k, mult_k, col_k = _conditioned(G, q, n_eff)
+        collinear = np.maximum(collinear, np.nanmedian(col_k, axis=1))
         hs[k][..., use], part[k][..., use] = h_k, part_k
         eps[k][..., use], ordn[k][..., use] = eps_k, ord_k
         mult[k][:, use] = mult_k
@@ -411,7 +416,10 @@ def response_of_series(series, dt, inputs, outputs, band_hz=DEFAULT_FRF_BAND,
         ws = share.mean(axis=2)                                    # (nw, p, nf)
         mc = np.where(ws.sum(axis=0) > 0, np.sum(ws * np.nan_to_num(mult), axis=0),
                       np.nan)
-    notes = []
+    notes = [f"input {c} is nearly a linear function of the other inputs (median "
+             f"coherence {collinear[j]:.3f} with them): its conditioned responses are "
+             "ill-determined; leave it or them out" for j, c in enumerate(inputs)
+             if q > 1 and collinear[j] > COLLINEAR]
     low = ~np.any(tot > 0, axis=(0, 1))
     if low.any():
         notes.append(f"{int(low.sum())} of {nf} frequencies ({f[low].min():.3g}-"
