@@ -42,12 +42,29 @@ def add_arguments(p):
                         "time-delay")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a truth parameter value (repeatable), e.g. tau_cs=21.4")
-    p.add_argument("--input", choices=("doublet", "3211"), default="doublet",
-                   help="pilot input shape (default doublet)")
+    p.add_argument("--input", choices=("doublet", "3211", "sweep", "multisine"),
+                   default="doublet",
+                   help="pilot input shape (default doublet); sweep: a log frequency "
+                        "sweep; multisine: several controls at once on interleaved "
+                        "harmonics with Schroeder phases")
     p.add_argument("--channel", choices=CONTROLS,
                    default="theta1s", help="control the pilot moves (default theta1s)")
+    p.add_argument("--design", metavar="FILE",
+                   help="fly an input design (inflowsim design --out): its multisines, "
+                        "record length and step replace --input, --duration, --dt")
+    p.add_argument("--channels", nargs="+", choices=CONTROLS, metavar="CH",
+                   help="multisine: the controls moved at once (default all three)")
+    p.add_argument("--sweep-range", "--freq-range", nargs=2, type=float,
+                   metavar=("F1", "F2"), default=None,
+                   help="sweep or multisine: frequency range [Hz] (default 0.15 3)")
+    p.add_argument("--sweep-duration", "--input-duration", type=float, metavar="T",
+                   help="sweep or multisine: its length [s] (default: to 1 s before "
+                        "the record's end); the multisine's base frequency is 1/T")
+    p.add_argument("--fade", type=float, default=1.0, metavar="S",
+                   help="sweep or multisine: fade in and out [s] (default 1)")
     p.add_argument("--amplitude-deg", type=float, default=1.0, metavar="A",
-                   help="input amplitude [deg] (default 1)")
+                   help="input amplitude [deg], the peak of a sweep or of each "
+                        "multisine channel (default 1)")
     p.add_argument("--start", type=float, default=2.0, metavar="S",
                    help="time of the first control movement [s] (default 2)")
     p.add_argument("--width", type=float, default=0.4, metavar="S",
@@ -117,6 +134,7 @@ MAX_AMPLITUDE_DEG = 20.0
 
 def _manoeuvre(args):
     from ..flighttest.virtual import Manoeuvre
+    designed = _designed(args) if args.design else None
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
         v = getattr(args, name)
         if not math.isfinite(v):
@@ -140,9 +158,81 @@ def _manoeuvre(args):
     if c is not None and not (math.isfinite(c) and 0 < c < 0.5 / args.dt):
         raise InputError(f"--noise-color-hz {c}: must be above 0 and below the Nyquist "
                          f"frequency {0.5 / args.dt:g} Hz")
-    return Manoeuvre(channel=args.channel, shape=args.input,
-                     amplitude=math.radians(args.amplitude_deg), t_start=args.start,
-                     width=args.width, rise=args.rise)
+    if designed is not None:
+        return designed
+    if args.input in ("sweep", "multisine"):
+        return _frequency_input(args)
+    if args.channels or args.sweep_range or args.sweep_duration is not None:
+        raise InputError(f"--channels, --sweep-range and --sweep-duration apply to "
+                         f"--input sweep or multisine, not {args.input}")
+    return (Manoeuvre(channel=args.channel, shape=args.input,
+                      amplitude=math.radians(args.amplitude_deg), t_start=args.start,
+                      width=args.width, rise=args.rise),)
+
+
+def _designed(args):
+    import json as _json
+    from ..flighttest.design import manoeuvres_from_json
+    try:
+        doc = _json.loads(Path(args.design).read_text())
+    except FileNotFoundError:
+        raise InputError(f"--design {args.design}: no such file") from None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"--design {args.design}: not readable JSON ({exc})") from None
+    try:
+        man, args.duration, args.dt = manoeuvres_from_json(doc)
+    except InputError as exc:
+        raise InputError(f"--design {args.design}: {exc}") from None
+    args.input = "multisine"
+    return man
+
+
+#: Default frequency range [Hz] of a sweep or multisine.
+SWEEP_RANGE = (0.15, 3.0)
+
+
+def _frequency_input(args):
+    """The sweep's manoeuvre, or one multisine manoeuvre per control on interleaved
+    harmonics of ``1 / length``."""
+    from ..data.inputs import interleaved_harmonics
+    from ..flighttest.virtual import Manoeuvre
+    f1, f2 = args.sweep_range or SWEEP_RANGE
+    nyq = 0.5 / args.dt
+    if not (math.isfinite(f1) and math.isfinite(f2) and 0 < f1 < f2 <= nyq):
+        raise InputError(f"--sweep-range {f1:g} {f2:g}: need 0 < F1 < F2 <= the Nyquist "
+                         f"frequency {nyq:g} Hz")
+    length = args.sweep_duration
+    if length is None:
+        length = args.duration - args.start - 1.0
+    if not (math.isfinite(length) and length > 0 and args.start + length <= args.duration):
+        raise InputError(f"--sweep-duration {length:g}: must be > 0 s and end within the "
+                         f"record (--start {args.start:g} + T <= --duration "
+                         f"{args.duration:g})")
+    if not (math.isfinite(args.fade) and 0 <= args.fade <= 0.5 * length):
+        raise InputError(f"--fade {args.fade:g}: must be in [0, half the input's "
+                         f"length {0.5 * length:g}] s")
+    amp = math.radians(args.amplitude_deg)
+    if args.input == "sweep":
+        if args.channels:
+            raise InputError("--channels applies to --input multisine (a sweep moves "
+                             "--channel)")
+        if f1 * length < 1:
+            raise InputError(f"--sweep-range {f1:g}: a sweep of {length:g} s cannot "
+                             f"hold one period at {f1:g} Hz")
+        return (Manoeuvre(channel=args.channel, shape="sweep", amplitude=amp,
+                          t_start=args.start, f_range=(f1, f2), length=length,
+                          fade=args.fade),)
+    channels = tuple(args.channels or CONTROLS)
+    if len(set(channels)) < len(channels):
+        raise InputError(f"--channels {' '.join(channels)}: a control given twice")
+    k1, k2 = max(1, math.ceil(f1 * length - 1e-9)), math.floor(f2 * length + 1e-9)
+    if k2 - k1 + 1 < 2 * len(channels):
+        raise InputError(f"--sweep-range {f1:g} {f2:g} over {length:g} s holds "
+                         f"{max(k2 - k1 + 1, 0)} harmonics of {1 / length:.4g} Hz; "
+                         f"{len(channels)} channel(s) need at least two each")
+    return tuple(Manoeuvre(channel=c, shape="multisine", amplitude=amp,
+                           t_start=args.start, length=length, harmonics=h, fade=args.fade)
+                 for c, h in zip(channels, interleaved_harmonics(len(channels), k1, k2)))
 
 
 def _nonlinear(args, man, values):
@@ -160,13 +250,12 @@ def _nonlinear(args, man, values):
         raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
                          f"{', '.join(NONLINEAR_SET)}")
     rotor = RotorSpec(n_blades=args.blades, speed=args.speed, **values)
-    return FlightTest(rotor=rotor, manoeuvres=(man,), duration=args.duration, dt=args.dt,
+    return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
                       body=None if args.no_body else FlightTest().body,
                       hold=args.hold, noise_color_hz=args.noise_color_hz,
-                      description=f"{args.channel} {args.input}, nonlinear blade-element "
-                                  "truth")
+                      description=f"{_what(args, man)}, nonlinear blade-element truth")
 
 
 def _linear(args, man, values):
@@ -192,12 +281,24 @@ def _linear(args, man, values):
     params.update(values)
     build_model(s, params, PUMA)            # one-line refusal of unknown or bad values
     FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
-    return VirtualTest(structure=s.name, parameters=params, manoeuvres=(man,),
+    return VirtualTest(structure=s.name, parameters=params, manoeuvres=man,
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,
                        seed=args.seed, body=FlightTest().body if not args.no_body
                        else _still_body(), hold=args.hold,
                        noise_color_hz=args.noise_color_hz,
-                       description=f"{args.channel} {args.input}, linear truth {s.name}")
+                       description=f"{_what(args, man)}, linear truth {s.name}")
+
+
+def _what(args, manoeuvres) -> str:
+    chans = " ".join(m.channel for m in manoeuvres)
+    m = manoeuvres[0]
+    if m.shape == "sweep":
+        return f"{chans} sweep {m.f_range[0]:g}-{m.f_range[1]:g} Hz"
+    if m.shape == "multisine":
+        ks = [k for x in manoeuvres for k in x.harmonics]
+        what = "designed multisine" if args.design else "multisine"
+        return f"{chans} {what} {min(ks) / m.length:.3g}-{max(ks) / m.length:.3g} Hz"
+    return f"{chans} {args.input}"
 
 
 def _still_body():

@@ -42,7 +42,7 @@ def run(args) -> int:
                      pool=args.candidates, alpha=args.alpha, progress=progress,
                      hold=args.hold, manoeuvres=standard_manoeuvres)
     if args.report:
-        path = ladder_report(lad).write(args.report, protect=args.record)
+        path = ladder_report(lad, record=recs[0]).write(args.report, protect=args.record)
         progress(f"report: {path}")
     if args.json:
         print_json(lad.to_json())

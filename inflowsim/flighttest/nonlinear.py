@@ -37,8 +37,8 @@ from ..model.equations import rotation
 from ..errors import InputError
 from ..physics.multiblade import multiblade
 from ..data.record import FLAP_COLUMNS, INPUT_COLUMNS, Record
-from .virtual import (KINDS, PUMA_TRIM, Manoeuvre, VirtualTest, pilot_controls,
-                      sensor_noise, virtual_record)
+from .virtual import (KINDS, PUMA_TRIM, Manoeuvre, VirtualTest, ode_max_step,
+                      pilot_controls, sensor_noise, virtual_record)
 
 #: Given trim controls of the nonlinear truth (true pitch) [rad].
 TRIM_CONTROLS = {c: PUMA_TRIM[c] for c in CONTROLS}
@@ -264,10 +264,9 @@ def continuous_hub(test: FlightTest, omega_r, mu):
     c, d = test.body.hub_matrices(omega_r, mu)
     t_end = test.duration + test.dt
     t0 = -max(test.delay, 0.0) - 2 * test.dt
-    rise = min([m.rise for m in test.manoeuvres if m.rise > 0] or [test.dt])
     sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
                     np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
-                    dense_output=True, max_step=rise / 4)
+                    dense_output=True, max_step=ode_max_step(test))
 
     def hub_at(t):
         t = np.atleast_1d(np.asarray(t, dtype=float))

@@ -21,6 +21,7 @@ Two kinds of record (``VirtualTest.hold``):
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,7 +30,7 @@ from scipy.integrate import solve_ivp
 from ..channels import CONTROLS, INFLOW
 from .body import HUB, BodyModel
 from ..errors import InputError
-from ..data.inputs import SHAPES
+from ..data.inputs import SHAPES, log_sweep, multisine, multisine_plan, fade_scalar
 from ..model.build import build_model
 from ..model.params import PUMA, Constants
 from ..model.presets import preset_parameters
@@ -47,8 +48,16 @@ KINDS = ("continuous", "zoh")
 
 @dataclass(frozen=True)
 class Manoeuvre:
-    """Pilot input: ``shape`` on ``channel`` [rad] starting at ``t_start`` [s], each
-    switch a smooth step of 10-90 % rise time ``rise`` [s] (0: sharp)."""
+    """Pilot input: ``shape`` on ``channel`` [rad] starting at ``t_start`` [s].
+
+    ``doublet``, ``3211``: pulses of ``width`` [s] (doublet half-width, 3211 unit),
+    each switch a smooth step of 10-90 % rise time ``rise`` [s] (0: sharp).
+    ``sweep``: a log sweep over ``f_range`` [Hz] lasting ``length`` [s]
+    (:func:`~inflowsim.data.inputs.log_sweep`).  ``multisine``: the ``harmonics``
+    (integers) of ``1 / length`` [Hz] with relative amplitudes ``weights`` (empty:
+    equal) and Schroeder phases (:func:`~inflowsim.data.inputs.multisine`).  Both
+    have peak ``amplitude`` and are faded in and out over ``fade`` [s].
+    """
 
     channel: str = "theta1s"
     shape: str = "doublet"
@@ -56,6 +65,35 @@ class Manoeuvre:
     t_start: float = 2.0
     width: float = 0.4          # doublet half-width or 3211 unit [s]
     rise: float = RISE
+    f_range: tuple = (0.15, 3.0)
+    length: float = 20.0
+    harmonics: tuple = ()
+    weights: tuple = ()
+    fade: float = 1.0
+
+    def signal(self, t) -> np.ndarray:
+        """The perturbation [rad] at times ``t`` [s]."""
+        if np.ndim(t) == 0 and self.shape in ("sweep", "multisine"):
+            # the ODE solver asks one time at a time, tens of thousands of times
+            return scalar_signal(self, float(t))
+        if self.shape == "sweep":
+            return log_sweep(t, self.t_start, self.length, *self.f_range,
+                             self.amplitude, self.fade)
+        if self.shape == "multisine":
+            return multisine(t, self.t_start, self.length, 1.0 / self.length,
+                             self.harmonics, self.amplitude, self.weights or None,
+                             fade_s=self.fade)
+        return SHAPES[self.shape](t, self.t_start, self.width, self.amplitude, self.rise)
+
+    @property
+    def max_step(self) -> float:
+        """Largest ODE step [s] that follows the input: a quarter of a switch's rise,
+        or a twentieth of the shortest period of a sweep or multisine."""
+        if self.shape == "sweep":
+            return 0.05 / max(self.f_range)
+        if self.shape == "multisine":
+            return 0.05 * self.length / max(self.harmonics)
+        return self.rise / 4 if self.rise > 0 else np.inf
 
 
 @dataclass(frozen=True)
@@ -85,11 +123,37 @@ class VirtualTest:
 def pilot_controls(t, manoeuvres) -> np.ndarray:
     """Control perturbations ``(len(t), 3)`` (theta0, theta1c, theta1s) [rad]."""
     t = np.atleast_1d(np.asarray(t, dtype=float))
+    if t.size == 1:
+        u = np.zeros((1, 3))
+        for m in manoeuvres:
+            u[0, CONTROL_INDEX[m.channel]] += m.signal(t[0])
+        return u
     u = np.zeros((t.size, 3))
     for m in manoeuvres:
-        u[:, CONTROL_INDEX[m.channel]] += SHAPES[m.shape](t, m.t_start, m.width,
-                                                          m.amplitude, m.rise)
+        u[:, CONTROL_INDEX[m.channel]] += m.signal(t)
     return u
+
+
+def scalar_signal(m: Manoeuvre, t: float) -> float:
+    """:meth:`Manoeuvre.signal` of a sweep or multisine at one time ``t`` [s]."""
+    env = fade_scalar(t - m.t_start, m.length, m.fade)
+    if env == 0.0:
+        return 0.0
+    tau = t - m.t_start
+    if m.shape == "sweep":
+        f1, f2 = m.f_range
+        r = math.log(f2 / f1)
+        return m.amplitude * env * math.sin(2 * math.pi * f1 * m.length / r
+                                            * math.expm1(tau * r / m.length))
+    w, ph, peak = multisine_plan(1.0 / m.length, tuple(m.harmonics), tuple(m.weights), ())
+    arg = (2 * math.pi / m.length * tau) * np.asarray(m.harmonics, float) + ph
+    return m.amplitude / peak * env * float(np.dot(w, np.cos(arg)))
+
+
+def ode_max_step(test) -> float:
+    """Largest ODE step [s] that follows every manoeuvre of ``test``."""
+    return min([m.max_step for m in test.manoeuvres] + [np.inf]) if any(
+        np.isfinite(m.max_step) for m in test.manoeuvres) else test.dt / 4
 
 
 def sensor_noise(rng, n: int, sigma: float, dt: float, color_hz=None) -> np.ndarray:
@@ -149,9 +213,8 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
     shifts = np.concatenate([model.delays[:3], model.input_delays])
     t0 = min(0.0, float(t[0] - max(shifts.max(), 0.0))) - 1.0
     t1 = float(t[-1] - min(shifts.min(), 0.0)) + test.dt
-    rise = min([m.rise for m in test.manoeuvres if m.rise > 0] or [test.dt])
     sol = solve_ivp(rhs, (t0, t1), np.zeros(nb + n), method="DOP853", rtol=1e-12,
-                    atol=1e-16, dense_output=True, max_step=rise / 4)
+                    atol=1e-16, dense_output=True, max_step=ode_max_step(test))
     if not sol.success:
         raise InputError(f"virtual record: the ODE solver failed ({sol.message})")
     y = np.empty((t.size, 6))
@@ -164,6 +227,33 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
         tj = t - in_delay.get(c, 0.0)
         u[:, j] = sol.sol(tj)[:nb].T @ cu[j] + pilot_controls(tj, test.manoeuvres) @ du[j]
     return y, u
+
+
+def control_response(test: VirtualTest, f_hz) -> np.ndarray:
+    """The truth's frequency response from the recorded pilot controls (theta0,
+    theta1c, theta1s) to the recorded flap, body path included, shape ``(3, 3, nf)``
+    [rad/rad]: rotor and body integrated together as :func:`virtual_record` does
+    (``hold = "continuous"``), ``H(s) = C (sI - A)^-1 B`` at ``s = j 2 pi f``, with
+    the output and input time shifts.  What a non-parametric estimate from such a
+    record should find."""
+    k, trim, model = _truth(test)
+    omega_r = k.omega * (k.radius or 7.5)
+    ab, bb = test.body.matrices()
+    ch, dh = test.body.hub_matrices(omega_r, k.mu)
+    nb, n = ab.shape[0], model.a.shape[0]
+    cu = np.vstack([np.zeros((3, nb)), ch])
+    du = np.vstack([np.eye(3), dh])
+    cols = [INPUT_COLUMNS.index(c) for c in model.inputs]
+    A = np.block([[ab, np.zeros((nb, n))], [model.b @ cu[cols], model.a]])
+    B = np.vstack([bb, model.b @ du[cols]])
+    C = np.hstack([np.zeros((3, nb)), model.c[:3]])
+    w = 2 * np.pi * np.atleast_1d(np.asarray(f_hz, dtype=float))
+    eye = np.eye(A.shape[0])
+    h = np.stack([C @ np.linalg.solve(1j * wi * eye - A, B) for wi in w], axis=-1)
+    h = h * np.exp(-1j * np.outer(model.delays[:3], w))[:, None, :]
+    in_delay = dict(zip(model.inputs, model.input_delays))
+    d_in = np.array([in_delay.get(c, 0.0) for c in CONTROLS])
+    return h * np.exp(1j * np.outer(d_in, w))[None, :, :]
 
 
 def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True) -> Record:

@@ -239,7 +239,10 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     return rep
 
 
-def ladder_report(ladder, rep: Report | None = None) -> Report:
+def ladder_report(ladder, rep: Report | None = None, record=None) -> Report:
+    """The ladder's table and plots; given the ``record`` it was climbed on, also the
+    measured frequency responses with the first and last structures on top, their
+    costs and the parameters' accuracy (:func:`.model_frf.model_frf_section`)."""
     rep = rep or Report("Ladder of structures")
     header, rows = ladder_rows(ladder)
     rep.heading("The ladder: structures tried, side by side")
@@ -257,4 +260,13 @@ def ladder_report(ladder, rep: Report | None = None) -> Report:
         rep.figure(residual_spectrum_plot(final.analyses), "ladder-final-residual",
                    f"Residual power of the final structure {final.structure.name} "
                    "against the noise floor.")
+    if record is not None:
+        from ..diagnose.validation import validate
+        from .model_frf import model_frf_section
+        first = ladder.rungs[0]
+        ends = [first] if final is first else [first, final]
+        model_frf_section(rep, [validate(record, r.fit.model) for r in ends],
+                          [r.structure.name for r in ends],
+                          fits={r.structure.name: r.fit for r in ends}, prefix="ladder",
+                          heading="Where it fails, in frequency: first and last structure")
     return rep

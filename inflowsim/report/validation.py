@@ -76,4 +76,6 @@ def validation_report(results, title=None, subtitle=None):
                "Frequency responses: measured (markers) and model (lines).")
     rep.figure(error_spectrum_plot(res), "errors",
                "Measured over model response, magnitude and phase, across the band.")
+    from .model_frf import model_frf_section
+    model_frf_section(rep, res)
     return rep

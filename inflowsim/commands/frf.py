@@ -1,0 +1,82 @@
+"""``inflowsim frf``: non-parametric frequency responses of the records (composite
+multi-window, multi-input conditioned, with coherence and random error).
+
+Prints one line per response pair (coherent points, their band, the median
+random error), or with ``--json`` the document of ``interface.md`` (``{"responses":
+[{"input", "output", "frequency_hz", "real", "imag", "coherence",
+"random_error", ...}], ...}``); ``--report DIR`` writes Bode plots and
+``DIR/index.html``.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..channels import FLAP, INPUTS
+from ..errors import InputError
+from ._common import print_json, progress, read_records
+
+HELP = "frequency responses of records: composite, conditioned, with coherence and errors"
+
+
+
+def add_arguments(p):
+    p.add_argument("record", nargs="+", metavar="RECORD",
+                   help="flight-test record(s) of one flight condition (CSV)")
+    p.add_argument("--inputs", nargs="+", metavar="CH",
+                   help="input channels (default: the controls that move)")
+    p.add_argument("--outputs", nargs="+", metavar="CH", default=list(FLAP),
+                   help="output channels (default beta0 beta1c beta1s)")
+    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
+                   help="band [Hz] of the log-spaced grid (default 0.1 5)")
+    p.add_argument("--windows", nargs="+", type=float, metavar="S",
+                   help="window lengths [s] of the composite (default: five from half "
+                        "the shortest record down)")
+    p.add_argument("--overlap", type=float, default=0.75, metavar="R",
+                   help="overlap of consecutive windows (default 0.75)")
+    p.add_argument("--trim-window", nargs=2, type=float, metavar=("T0", "T1"),
+                   help="trim is the mean over T0-T1 s (default: the quiet lead-in "
+                        "before the first control movement)")
+    p.add_argument("--unwrap", action="store_true",
+                   help="report plots: unwrap the phase (labelled); default +-180 deg")
+    p.add_argument("--report", metavar="DIR", help="write Bode plots and DIR/index.html")
+    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+
+
+def _check(args):
+    for name in ("inputs", "outputs"):
+        for c in getattr(args, name) or ():
+            if c not in INPUTS and c not in FLAP and c not in ("lambda0", "lambda1c",
+                                                               "lambda1s"):
+                raise InputError(f"--{name} {c}: not a record channel (inputs "
+                                 f"{', '.join(INPUTS)}; flap {', '.join(FLAP)})")
+    if args.band is not None and not all(math.isfinite(x) for x in args.band):
+        raise InputError(f"--band {args.band[0]:g} {args.band[1]:g}: must be finite")
+    if not math.isfinite(args.overlap):
+        raise InputError(f"--overlap {args.overlap}: must be finite")
+
+
+def run(args) -> int:
+    _check(args)
+    if args.report:
+        from ..report.document import check_report_folder
+        check_report_folder(args.report, protect=args.record)
+    from ..identify.frf import DEFAULT_FRF_BAND, frequency_response
+    recs = read_records(args.record, args)
+    fr = frequency_response(recs, inputs=args.inputs, outputs=args.outputs,
+                            band_hz=tuple(args.band or DEFAULT_FRF_BAND),
+                            windows_s=args.windows,
+                            overlap=args.overlap)
+    if args.report:
+        from ..report.frf_report import frf_report
+        path = frf_report(fr, unwrap=args.unwrap).write(args.report, protect=args.record)
+        progress(f"frf: report written to {path}")
+    if args.json:
+        doc = fr.to_json()
+        if args.report:
+            doc["report"] = str(Path(args.report) / "index.html")
+        print_json(doc)
+    else:
+        from ..report.frf_report import summary_lines
+        print("\n".join(summary_lines(fr)))
+    return 0
