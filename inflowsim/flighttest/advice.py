@@ -1,7 +1,8 @@
 """Standard manoeuvres for identifiability advice: which one would determine what a
 record cannot (:func:`inflowsim.identify.identifiability.identifiability`).
 
-Each is a 1 deg pilot input from 2 s, a doublet or a 3-2-1-1 on one control, flown
+Each is a 1 deg pilot input from 2 s on one control, a doublet, a 3-2-1-1 or a log
+sweep (0.15-3 Hz, as long as the record allows, up to 20 s), flown
 on the project's virtual airframe (:class:`~inflowsim.flighttest.body.BodyModel`,
 which turns the controls into the hub motion ``p, q, mux, muy ...`` a real aircraft
 gives) over the same length and step as the record judged.
@@ -15,7 +16,7 @@ from .body import BodyModel
 from .virtual import Manoeuvre, pilot_controls
 
 #: (shape, control) of the manoeuvres tried.
-STANDARD = tuple((shape, ch) for shape in ("doublet", "3211") for ch in CONTROLS)
+STANDARD = tuple((shape, ch) for shape in ("doublet", "3211", "sweep") for ch in CONTROLS)
 
 
 def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD) -> list:
@@ -25,7 +26,8 @@ def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD) -
     omega_r = constants.omega * (constants.radius or 7.5)
     out = []
     for shape, ch in shapes:
-        controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape),))
+        length = min(20.0, max(t[-1] - 4.0, 1.0))
+        controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape, length=length),))
         hub = BodyModel().response(controls, dt, omega_r, constants.mu)
         cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
         out.append((f"{shape} on {ch}", cols))
