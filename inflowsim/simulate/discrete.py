@@ -45,35 +45,49 @@ class TaylorZoh:
     the stored terms.  As many terms as the FMU's rule asks
     (:func:`inflowsim.simulate.mutable.taylor_terms`: the next term below 1e-17 of
     the result's scale, every term bounded by the one before); the matrix
-    exponential where that would need more than ``TAYLOR_MAX_TERMS``."""
+    exponential where that would need more than ``TAYLOR_MAX_TERMS``.
 
-    def __init__(self, a: np.ndarray, b: np.ndarray):
+    With an output matrix ``c`` the rows ``c [phi gam]`` are stored beside them
+    (:meth:`into`: the Simulator's step matrix in one product).
+    """
+
+    def __init__(self, a: np.ndarray, b: np.ndarray, c: np.ndarray | None = None):
         from .mutable import TAYLOR_MAX_TERMS
         self.a, self.b = a, b
         n = a.shape[0]
         ab = np.hstack([a, b])
         self.norm_a = float(np.abs(a).sum(axis=0).max(initial=0.0))
         self.norm_ab = float(np.abs(ab).sum(axis=0).max(initial=0.0))
-        terms = np.empty((TAYLOR_MAX_TERMS,) + ab.shape)
+        rows = np.eye(n) if c is None else np.vstack([np.eye(n), c])
+        terms = np.empty((TAYLOR_MAX_TERMS, rows.shape[0], ab.shape[1]))
         w = ab
-        terms[0] = w
-        for k in range(2, TAYLOR_MAX_TERMS + 1):
-            w = (a @ w) / k
-            terms[k - 1] = w
+        for k in range(1, TAYLOR_MAX_TERMS + 1):
+            if k > 1:
+                w = (a @ w) / k
+            terms[k - 1] = rows @ w
         self._terms = terms.reshape(TAYLOR_MAX_TERMS, -1)
-        self._shape, self._n = ab.shape, n
+        self._const = np.hstack([rows, np.zeros((rows.shape[0], b.shape[1]))]).ravel()
+        self._shape, self._n = (rows.shape[0], ab.shape[1]), n
 
-    def __call__(self, h: float):
-        """``(phi, gam)`` at step ``h`` [s]."""
+    def into(self, h: float, out: np.ndarray) -> bool:
+        """Write the stored rows at step ``h`` [s] into the flat vector ``out``;
+        False (nothing written) where the series would need too many terms."""
         from .mutable import taylor_terms
         k = taylor_terms(self.norm_a, self.norm_ab, h)
         if k == 0 or not np.isfinite(self.norm_ab):
+            return False
+        powers = h ** np.arange(1.0, k + 1.0)
+        np.dot(powers, self._terms[:k], out=out)
+        out += self._const
+        return True
+
+    def __call__(self, h: float):
+        """``(phi, gam)`` at step ``h`` [s]."""
+        pg = np.empty(self._shape)
+        if not self.into(h, pg.reshape(-1)):
             return zoh(self.a, self.b, h)
-        powers = h ** np.arange(1, k + 1)
-        pg = (powers @ self._terms[:k]).reshape(self._shape)
         n = self._n
-        pg[:, :n] += np.eye(n)
-        return pg[:, :n], pg[:, n:]
+        return pg[:n, :n], pg[:n, n:]
 
 
 #: RK4's stability polynomial ``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``: a step is

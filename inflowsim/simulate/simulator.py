@@ -242,14 +242,13 @@ class Simulator:
             self._xu[: self.n] = x
             self._init_hist(x)
             return
+        self._mu_table, self._mu_changes = None, 0
         if self.method == "zoh":
             if self._taylor is None or self._taylor.a is not model.a:
-                self._taylor = TaylorZoh(model.a, model.b)
-            pg = np.hstack(self._taylor(dt))
-        else:
-            pg = np.hstack(discretize(model.a, model.b, dt, "rk4"))
-        self._set_pg(pg, model.c)
-        self._mu_table, self._mu_changes = None, 0
+                self._taylor = TaylorZoh(model.a, model.b, model.c)
+            if self._taylor.into(dt, self._Mtop):
+                return
+        self._set_pg(np.hstack(discretize(model.a, model.b, dt, self.method)), model.c)
 
     # -- state ------------------------------------------------------------
     def reset(self, x0=None):
