@@ -19,15 +19,11 @@
 
 #include <string.h>
 
-#include "inflow_vars.h"
+#include "inflow_numerics.h"   /* inflow_vars.h; IFS_NU, IFS_NA, IFS_LD; IFS_HOT ... */
 
 /* IFS_NX (6, or 9 with flap-inertia), IFS_N_STRUCTURES and IFS_STRUCTURE_NAMES come
  * from the generated inflow_vars.h: the structures this FMU was generated for */
-#define IFS_NU 10
-#define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
-#define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
-#define IFS_KMAX 30                /* most Taylor terms of a remainder step */
 
 
 typedef struct {
@@ -70,35 +66,12 @@ typedef struct {
     double x[IFS_NX];
 } IfsModel;
 
-/*
- * The discrete matrices tabulated in mu for one set of parameters, so that a flight
- * condition changing every step costs a polynomial evaluation instead of a rebuild
- * and a matrix exponential.  [phi gam] (at dt) and [a b] are analytic in mu on
- * [0.1, 0.5], their only singularity mu = 0 (L ~ 1/mu): so the segments grow
- * geometrically with mu (each the same number of its widths away from 0), and on
- * each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1],
- * interpolating exact builds at the Chebyshev-Gauss nodes (stored as power
- * coefficients: Horner's rule, one multiply-add a degree).  Built on the first mu
- * change after a parameter change and checked at every segment's midpoint against an
- * exact build; used only if it agrees to 1e-11 (of each block's largest entry), else
- * mu changes rebuild exactly.
- */
-#define IFS_MU_LO 0.1
-#define IFS_MU_HI 0.5
-#define IFS_MU_SEG 16
-#define IFS_MU_DEG 7
-/* [phi gam] by columns (copied a column at a time into pg's padded columns), then
- * [a b] row-major, each half padded with zeros to whole vectors of four (Horner's
- * rule goes four entries at a time) */
-#define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
-#define IFS_MU_NTAB (2 * IFS_MU_HALF)
-typedef struct {
-    int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
-    double err;                /* the largest relative error found by the check */
-    double edge[IFS_MU_SEG + 1];                         /* segment ends */
-    double p[IFS_MU_SEG][IFS_MU_DEG + 1][IFS_MU_NTAB];   /* power coefficients */
-} IfsMuTable;
-
+/* The discrete matrices tabulated in mu for one set of parameters (IfsMuTable,
+ * inflow_numerics.h): a flight condition changing every step costs a polynomial
+ * evaluation instead of a rebuild and a matrix exponential.  [phi gam] (at dt, by
+ * columns) and [a b] (row-major) are analytic in mu on [0.1, 0.5], their only
+ * singularity mu = 0 (L ~ 1/mu).  Built on the first mu change after a parameter
+ * change; else mu changes rebuild exactly. */
 /* Build the table for the parameters in v (mu ignored); returns t->state. */
 int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
 /* Set m's [phi gam] at dt for v->mu from a valid table, and mark a, b and the loads
@@ -120,16 +93,15 @@ void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
 
 /* Generated from the Python model (inflow_equations.c, inflowsim.fmu.codegen), for
  * v->structure: the descriptor at the speed V through the disc, the azimuth bias
- * [rad], the flap channels' time shifts [s], the 2/rev flap's loads; and the blade-element load
- * matrices of Eq. (4) (model.md section 3). */
+ * [rad], the flap channels' time shifts [s], the loads' rows from the SI state space
+ * a, b (inflowsim.model.loads.load_rows: lc 5 x NX, ld 5 x NU, row-major); and the
+ * speed through the disc (inflowsim.physics.loads: mu, or the mass-flow parameter). */
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b);
 double ifs_bias_of(const IfsVariables *v);
 void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
-/* The 2/rev flap's term in (C_T, C_mc, C_ms)/(a0 s) by beta', beta, lambda and the
- * first eight inputs in azimuth units (3 rows of 17); 0: the structure has none. */
-int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17]);
-void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
-                       double Gu[3][6]);
+void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, double *lc,
+                  double *ld);
+double ifs_flow_speed(const IfsVariables *v);
 
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
  * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
@@ -149,27 +121,6 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
  * same on every path, provided the compiler does not contract a * b + c into a fused
  * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
  */
-/* The DoStep functions, the mu table's evaluation and the stepping of whole
- * communication intervals (ifs_advance: substeps, the Taylor remainder) are
- * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
- * for AVX2 and for the baseline.  The step does the same
- * operations in the same order in both, so both give the same numbers (a test
- * checks this bit for bit; build without floating-point contraction,
- * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
-#if defined(__has_attribute)
-#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
-    !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
-/* (clang before 18 exports the clone dispatcher under another name) */
-#define IFS_HOT __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef IFS_HOT
-#define IFS_HOT
-#endif
-
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#endif
 /* the new rows r.. of x as one value of type T (double, or a vector of doubles) */
 #define IFS_C(T, j) (*(const T *)(pg + (r_) + (j) * IFS_LD))
 #define IFS_STEP_ROWS(T, r, s)                                                         \
@@ -183,23 +134,6 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
         s = ((g_ + IFS_C(T, 0) * x[0]) + (IFS_C(T, 1) * x[1] + IFS_C(T, 2) * x[2])) +  \
             ((IFS_C(T, 3) * x[3] + IFS_C(T, 4) * x[4]) + IFS_C(T, 5) * x[5]);          \
     } while (0)
-
-/* unroll the loop that follows (its trip count is a compile-time constant): gcc -O2
- * keeps short inner loops rolled, and their counting costs as much as their work */
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
-#define IFS_UNROLL _Pragma("GCC unroll 32")
-#else
-#define IFS_UNROLL
-#endif
-
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-/* unaligned, aliasing-safe views of 4 and 2 doubles */
-typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
-typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
-#define IFS_INLINE static inline __attribute__((always_inline))
-#else
-#define IFS_INLINE static inline
-#endif
 
 #if IFS_NX == 6
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
