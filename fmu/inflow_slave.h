@@ -45,7 +45,6 @@ typedef struct {
 typedef struct {
     IfsVariables v;
     IfsModel m;
-    IfsDelay delay;
     IfsPhase phase;
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
@@ -58,6 +57,9 @@ typedef struct {
     /* the experiment's stop time with the time tolerance added; +inf when none given */
     double t_stop;
     int warned_time;           /* the time-mismatch warning is given once (0 or 1) */
+    /* last: the delay line (tens of kilobytes) would put the fields the fast step
+     * reads (phase ... t_stop) pages away from the model's state */
+    IfsDelay delay;
 } IfsSlave;
 
 /* Where messages go: the FMI layer's logger behind one function.  Messages with

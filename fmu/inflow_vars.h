@@ -14,6 +14,7 @@
 #define IFS_N_STRUCTURES 3
 #define IFS_STRUCTURE_NAMES "0 basic, 1 empirical, 2 glauert"
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
+#define IFS_INPUT_LIMIT 1000000.0  /* |input| beyond it is refused */
 
 /* the mu table and the Taylor remainder: inflowsim.simulate.mutable, shared with the Simulator */
 #define IFS_MU_LO 0.1

@@ -13,6 +13,7 @@ from xml.sax.saxutils import quoteattr
 
 from . import codegen
 from ..simulate import mutable
+from ..channels import LIMIT
 from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
 
 #: Bump when the C model's equations change in a way importers must notice.
@@ -235,6 +236,7 @@ def vars_header(d: Description = DEFAULT) -> str:
              '#define IFS_STRUCTURE_NAMES "'
              + ", ".join(f"{i} {n}" for i, n in enumerate(d.structures)) + '"',
              f"#define IFS_N_INPUTS {n_in}  /* the perturbation inputs, theta0 .. muy */",
+             f"#define IFS_INPUT_LIMIT {_c_num(LIMIT)}  /* |input| beyond it is refused */",
              "", *mutable.c_defines(), "", "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
     lines += [f"    IFS_VR_time = {time_vr(d)},  /* FMI 3.0 only: the independent variable */",

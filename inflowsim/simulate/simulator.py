@@ -14,10 +14,11 @@ import numpy as np
 
 from .discrete import TaylorZoh, discretize, lifted_replay, rk4_max_step
 from .mutable import MU_HI, MU_LO, MuTable
+from ..channels import LIMIT
 from ..errors import InputError
 
-#: Largest input magnitude a step takes (the FMU declares the same bounds).
-U_MAX = 1e6
+#: Largest input magnitude a step takes (channels.LIMIT: the FMU declares the same).
+U_MAX = LIMIT
 
 
 def checked_inputs(u, what: str, shape) -> np.ndarray:
@@ -331,7 +332,7 @@ class Simulator:
             a = self._inputs(u)              # raises, saying what is wrong
             xu[n:] = a
         uv = self._uview
-        if not uv.dot(uv) <= 1e12:          # U_MAX^2
+        if not uv.dot(uv) <= U_MAX * U_MAX:
             self._inputs(u)
         # ndarray.dot: about half the call overhead of @ for this small matrix-vector
         # product (bench/simulator.md), which more than pays for the checks
