@@ -153,51 +153,91 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 }
 #else
-/* other state counts (flap-inertia's nine): gam u, and phi x as two chains (even
- * and odd columns, so the chain from x to the new x is half as long), two rows at
- * a time (columns are padded to IFS_LD, a multiple of four); the scalar version adds
- * in the same order, so the rounding is the same */
+/* other state counts (flap-inertia's nine): each new row is gam u and phi x, each
+ * summed as a fixed pairwise tree ((gam u) + phi_0 x_0 first), so the chain from x
+ * to the new x is one multiply and four adds for nine states and gam u's ten terms
+ * no longer make a chain of ten adds.  Rows two at a time (native on every x86-64,
+ * SSE2, so the baseline code is fast too), four in the AVX2 clone (ifs_step_wide
+ * below), one in plain C: the same operations per row in the same order, so the
+ * same numbers. */
+#define IFS_TREE_LEVEL(t, K, w)                                                        \
+    IFS_UNROLL                                                                         \
+    for (i_ = 0; i_ + (w) < (K); i_ += 2 * (w)) t[i_] += t[i_ + (w)];
+/* t[0] = the pairwise sum of t[0 .. K-1], K <= 32: levels written out (a loop over
+ * the levels is not unrolled, and the terms would go through memory) */
+#define IFS_TREE(t, K)                                                                 \
+    do {                                                                               \
+        int i_;                                                                        \
+        IFS_TREE_LEVEL(t, K, 1)                                                        \
+        IFS_TREE_LEVEL(t, K, 2)                                                        \
+        IFS_TREE_LEVEL(t, K, 4)                                                        \
+        IFS_TREE_LEVEL(t, K, 8)                                                        \
+        IFS_TREE_LEVEL(t, K, 16)                                                       \
+    } while (0)
+/* the new rows at c (column j at c + j * IFS_LD) as one T (double or a vector) */
+#define IFS_GROUP(T, c, out)                                                           \
+    do {                                                                               \
+        T tu_[IFS_NU], tx_[IFS_NX];                                                    \
+        int j_;                                                                        \
+        IFS_UNROLL                                                                     \
+        for (j_ = 0; j_ < IFS_NU; j_++)                                                \
+            tu_[j_] = *(const T *)((c) + (IFS_NX + j_) * IFS_LD) * u[j_];              \
+        IFS_TREE(tu_, IFS_NU);                                                         \
+        IFS_UNROLL                                                                     \
+        for (j_ = 0; j_ < IFS_NX; j_++) tx_[j_] = *(const T *)((c) + j_ * IFS_LD) * x[j_]; \
+        tx_[0] = tu_[0] + tx_[0];                                                      \
+        IFS_TREE(tx_, IFS_NX);                                                         \
+        out = tx_[0];                                                                  \
+    } while (0)
+
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    /* pairs of rows: native on every x86-64 (SSE2), so the baseline code is fast too */
-    double y[IFS_LD];
-    int r, j;
-    for (r = 0; r < (IFS_NX + 1) / 2; r++) {
-        ifs_v2 s = *(const ifs_v2 *)(pg + IFS_NX * IFS_LD + 2 * r) * u[0];
-        ifs_v2 s0 = *(const ifs_v2 *)(pg + 2 * r) * x[0];
-        ifs_v2 s1 = *(const ifs_v2 *)(pg + IFS_LD + 2 * r) * x[1];
-        IFS_UNROLL
-        for (j = 1; j < IFS_NU; j++)
-            s += *(const ifs_v2 *)(pg + (IFS_NX + j) * IFS_LD + 2 * r) * u[j];
-        IFS_UNROLL
-        for (j = 2; j < IFS_NX; j += 2) {
-            s0 += *(const ifs_v2 *)(pg + j * IFS_LD + 2 * r) * x[j];
-            if (j + 1 < IFS_NX)
-                s1 += *(const ifs_v2 *)(pg + (j + 1) * IFS_LD + 2 * r) * x[j + 1];
-        }
-        *(ifs_v2 *)(y + 2 * r) = s + (s0 + s1);
-    }
-    memcpy(x, y, sizeof(double) * IFS_NX);
+    /* every pair's sums before any store (each reads all of x), then straight into
+     * x: a copy through a buffer stalls store forwarding every step */
+    ifs_v2 y[(IFS_NX + 1) / 2];
+    int r;
+    IFS_UNROLL
+    for (r = 0; r < (IFS_NX + 1) / 2; r++) IFS_GROUP(ifs_v2, pg + 2 * r, y[r]);
+    IFS_UNROLL
+    for (r = 0; r < IFS_NX / 2; r++) *(ifs_v2 *)(x + 2 * r) = y[r];
+    if (IFS_NX % 2) x[IFS_NX - 1] = y[IFS_NX / 2][0];
 #else
     double y[IFS_NX];
-    int i, j;
-    for (i = 0; i < IFS_NX; i++) {
-        double s = pg[IFS_NX * IFS_LD + i] * u[0];
-        double s0 = pg[i] * x[0], s1 = pg[IFS_LD + i] * x[1];
-        for (j = 1; j < IFS_NU; j++) s += pg[(IFS_NX + j) * IFS_LD + i] * u[j];
-        for (j = 2; j < IFS_NX; j += 2) {
-            s0 += pg[j * IFS_LD + i] * x[j];
-            if (j + 1 < IFS_NX) s1 += pg[(j + 1) * IFS_LD + i] * x[j + 1];
-        }
-        y[i] = s + (s0 + s1);
-    }
+    int i;
+    for (i = 0; i < IFS_NX; i++) IFS_GROUP(double, pg + i, y[i]);
     memcpy(x, y, sizeof y);
 #endif
 }
+
+/* The same step four rows at a time, for the AVX2 clone of the DoStep functions
+ * (IFS_WIDE_STEP; ifs_slave_step_fast picks it where the CPU has AVX2: 256-bit
+ * vectors on the baseline x86-64 code are split badly, so that keeps the pairs). */
+#if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
+#define IFS_WIDE_STEP 1
+static inline __attribute__((target("avx2"))) void
+ifs_step_wide(const double *pg, double x[IFS_NX], const double u[IFS_NU])
+{
+    ifs_v4 y[IFS_LD / 4];
+    int g, j;
+    IFS_UNROLL
+    for (g = 0; g < IFS_LD / 4; g++) IFS_GROUP(ifs_v4, pg + 4 * g, y[g]);
+    IFS_UNROLL
+    for (g = 0; g < IFS_LD / 4; g++) {
+        if (4 * g + 4 <= IFS_NX) {
+            *(ifs_v4 *)(x + 4 * g) = y[g];
+        } else {
+            IFS_UNROLL
+            for (j = 4 * g; j < IFS_NX; j++) x[j] = y[g][j - 4 * g];
+        }
+    }
+}
+#endif
 #endif
 #undef IFS_C
 #undef IFS_STEP_ROWS
+
+
 
 /*
  * One term of the remainder's Taylor series (ifs_advance): w_next = (a w) s with a

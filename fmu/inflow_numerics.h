@@ -29,6 +29,7 @@
     !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
 /* (clang before 18 exports the clone dispatcher under another name) */
 #define IFS_HOT __attribute__((target_clones("avx2", "default")))
+#define IFS_HOT_CLONES 1
 #endif
 #endif
 #ifndef IFS_HOT

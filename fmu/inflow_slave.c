@@ -43,6 +43,9 @@ void ifs_slave_init(IfsSlave *s)
     for (i = 0; i < IFS_N_INTEGERS; i++)
         *(int *)((char *)&s->v + ifs_integer_vars[i].offset) = ifs_integer_vars[i].start;
     s->phase = IFS_PH_INSTANTIATED;
+#ifdef IFS_WIDE_STEP
+    s->wide = __builtin_cpu_supports("avx2");
+#endif
     s->dirty = 1;
     s->m.h_last = -1.0;
     s->t_stop = INFINITY;

@@ -46,6 +46,7 @@ typedef struct {
     IfsVariables v;
     IfsModel m;
     IfsPhase phase;
+    int wide;                  /* the CPU runs ifs_step_wide (AVX2; IFS_WIDE_STEP) */
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
     /* the FMI layer's mu table (never part of a saved state: restored instances keep
@@ -164,7 +165,12 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
         h == s->m.dt) {
         const double now = ifs_slave_time(s);
         if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now)) && now + h <= s->t_stop) {
-            ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
+#ifdef IFS_WIDE_STEP
+            if (s->wide)
+                ifs_step_wide(s->m.pg, s->m.x, ifs_slave_inputs(s));
+            else
+#endif
+                ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
             s->n_comm++;
             ifs_slave_update_outputs(s);
             return 1;
