@@ -160,34 +160,52 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
  * SSE2, so the baseline code is fast too), four in the AVX2 clone (ifs_step_wide
  * below), one in plain C: the same operations per row in the same order, so the
  * same numbers. */
-#define IFS_TREE_LEVEL(t, K, w)                                                        \
-    IFS_UNROLL                                                                         \
-    for (i_ = 0; i_ + (w) < (K); i_ += 2 * (w)) t[i_] += t[i_ + (w)];
-/* t[0] = the pairwise sum of t[0 .. K-1], K <= 32: levels written out (a loop over
- * the levels is not unrolled, and the terms would go through memory) */
-#define IFS_TREE(t, K)                                                                 \
+/* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
+ * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
+ * by size, as a binary counter), so only a few values are live at once: the terms
+ * all at once spilled registers.  The association is fixed by K alone, so every
+ * width (double, pairs, fours) rounds alike. */
+#define IFS_TREE_SUM(T, K, first, term, out)                                           \
     do {                                                                               \
-        int i_;                                                                        \
-        IFS_TREE_LEVEL(t, K, 1)                                                        \
-        IFS_TREE_LEVEL(t, K, 2)                                                        \
-        IFS_TREE_LEVEL(t, K, 4)                                                        \
-        IFS_TREE_LEVEL(t, K, 8)                                                        \
-        IFS_TREE_LEVEL(t, K, 16)                                                       \
+        T s_[5], c_;                                                                   \
+        int j_, l_, have_ = 0;                                                         \
+        IFS_UNROLL                                                                     \
+        for (j_ = 0; j_ < (K); j_++) {                                                 \
+            if (j_ == 0)                                                               \
+                c_ = first;                                                            \
+            else                                                                       \
+                c_ = term;                                                             \
+            IFS_UNROLL                                                                 \
+            for (l_ = 0; l_ < 5; l_++) {                                               \
+                if ((j_ >> l_) & 1) {                                                  \
+                    c_ = s_[l_] + c_;                                                  \
+                } else {                                                               \
+                    s_[l_] = c_;                                                       \
+                    break;                                                             \
+                }                                                                      \
+            }                                                                          \
+        }                                                                              \
+        IFS_UNROLL                                                                     \
+        for (l_ = 0; l_ < 5; l_++)                                                     \
+            if (((K) >> l_) & 1) {                                                     \
+                if (have_)                                                             \
+                    c_ = s_[l_] + c_;                                                  \
+                else                                                                   \
+                    c_ = s_[l_];                                                       \
+                have_ = 1;                                                             \
+            }                                                                          \
+        out = c_;                                                                      \
     } while (0)
-/* the new rows at c (column j at c + j * IFS_LD) as one T (double or a vector) */
+/* the new rows at c (column j at c + j * IFS_LD) as one T (double or a vector):
+ * (gam u) and then (gam u + phi_0 x_0) + phi_1 x_1 ... each a tree */
+#define IFS_COL(T, c, j) (*(const T *)((c) + (j) * IFS_LD))
 #define IFS_GROUP(T, c, out)                                                           \
     do {                                                                               \
-        T tu_[IFS_NU], tx_[IFS_NX];                                                    \
-        int j_;                                                                        \
-        IFS_UNROLL                                                                     \
-        for (j_ = 0; j_ < IFS_NU; j_++)                                                \
-            tu_[j_] = *(const T *)((c) + (IFS_NX + j_) * IFS_LD) * u[j_];              \
-        IFS_TREE(tu_, IFS_NU);                                                         \
-        IFS_UNROLL                                                                     \
-        for (j_ = 0; j_ < IFS_NX; j_++) tx_[j_] = *(const T *)((c) + j_ * IFS_LD) * x[j_]; \
-        tx_[0] = tu_[0] + tx_[0];                                                      \
-        IFS_TREE(tx_, IFS_NX);                                                         \
-        out = tx_[0];                                                                  \
+        T g_;                                                                          \
+        IFS_TREE_SUM(T, IFS_NU, IFS_COL(T, c, IFS_NX) * u[0],                          \
+                     IFS_COL(T, c, IFS_NX + j_) * u[j_], g_);                          \
+        IFS_TREE_SUM(T, IFS_NX, g_ + IFS_COL(T, c, 0) * x[0], IFS_COL(T, c, j_) * x[j_],  \
+                     out);                                                             \
     } while (0)
 
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
