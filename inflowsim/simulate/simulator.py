@@ -5,8 +5,17 @@ trim in SI units, named as the record columns.  ``step(u)`` holds ``u`` over
 ``[t_k, t_k + dt)`` and returns the outputs at ``t_{k+1}``; :meth:`replay` returns
 the outputs at every sample ``t_k`` with ``y[0]`` the initial output, the same
 convention as ``scipy.signal.dlsim``.  Time is ``t0 + k dt`` from a step
-counter, never a running sum.  Output delays are exact for held inputs: a delay
-of ``(m + f) dt`` reads the state a fraction ``1 - f`` into an earlier step.
+counter, never a running sum (after :meth:`~Simulator.set_dt`, from the time of
+the change).  Output delays are exact for held inputs: a delay of ``(m + f) dt``
+reads the state a fraction ``1 - f`` into an earlier step.
+
+A loop that follows the flight condition (:meth:`~Simulator.set_mu` every step)
+takes the discrete matrices from a table in ``mu`` built once per parameter set,
+and a step that changes (:meth:`~Simulator.set_dt`) from a stored Taylor series:
+the FMU's table and term rule, one description (:mod:`.mutable`).  Inputs are
+refused with one line (:class:`~inflowsim.errors.InputError`) if they are not
+real numbers, not finite or beyond ``U_MAX``; RK4 is refused at a step where it is
+unstable (:func:`~inflowsim.simulate.discrete.rk4_max_step`).
 """
 from __future__ import annotations
 
