@@ -28,6 +28,7 @@ from ..errors import InputError
 
 #: Largest input magnitude a step takes (channels.LIMIT: the FMU declares the same).
 U_MAX = LIMIT
+_U_MAX2 = U_MAX * U_MAX
 
 
 def checked_inputs(u, what: str, shape) -> np.ndarray:
@@ -326,32 +327,41 @@ class Simulator:
         new time.  Refused inputs (:class:`InputError`) leave the state unchanged."""
         xu = self._xu
         n = self.n
-        # A float array or list of the right length costs one conversion (lists),
-        # a dtype test and one dot product beyond the step itself: strings,
-        # complex numbers and None make another dtype kind, and the sum of squares
-        # is at most U_MAX^2 (then every |u_i| <= U_MAX; NaN fails the comparison).
+        # The cheapest exact checks found (bench/simulator.md): an array's dtype kind
+        # (strings, complex numbers and None make another) and its sum of squares (at
+        # most U_MAX^2, then every |u_i| <= U_MAX; NaN fails the comparison); a
+        # list's max and min in Python, which raise TypeError on text, complex
+        # numbers and None (a NaN they may pass shows in the check row below).
         # len() refuses scalars, and with it the assignment every other shape (a
-        # length-1 or 1 x m array would broadcast).
+        # length-1 or 1 x m array would broadcast).  Anything else, or any doubt:
+        # the full check, which raises saying what is wrong or returns the numbers.
         try:
-            a = u if u.__class__ is np.ndarray else np.array(u)
-            if a.dtype.kind not in "fiub" or len(a) != self.m:
+            cls = u.__class__
+            if cls is np.ndarray:
+                if u.dtype.kind not in "fiub" or len(u) != self.m:
+                    raise ValueError
+                xu[n:] = u
+                uv = self._uview
+                if not uv.dot(uv) <= _U_MAX2:
+                    raise ValueError
+            elif cls is list or cls is tuple:
+                if len(u) != self.m or not (max(u) <= U_MAX and min(u) >= -U_MAX):
+                    raise ValueError
+                xu[n:] = u
+            else:
                 raise ValueError
-            xu[n:] = a
         except (TypeError, ValueError):
-            a = self._inputs(u)              # raises, saying what is wrong
-            xu[n:] = a
-        uv = self._uview
-        if not uv.dot(uv) <= U_MAX * U_MAX:
-            self._inputs(u)
+            xu[n:] = self._inputs(u)
         # ndarray.dot: about half the call overhead of @ for this small matrix-vector
         # product (bench/simulator.md), which more than pays for the checks
         out = self._M.dot(xu)
         check = out.item(-1)
         if check - check != 0.0:            # NaN or infinite (0 * NaN is NaN)
+            self._inputs(u)                 # a NaN input: says so
             raise InputError("step: the state is not finite (the model grew without "
                              "bound); the state is unchanged")
         if self._delay is not None:
-            self._push(xu[:n].copy(), a.astype(float))
+            self._push(xu[:n].copy(), xu[n:].copy())
         xu[:n] = out[:n]
         self._k += 1
         y = out[n:-1]
