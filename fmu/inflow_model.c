@@ -1,21 +1,18 @@
 /*
  * Rotor flap and dynamic inflow: matrices from parameters (model.md Eq. 1-4, 13,
  * 19-20, section 6), exact zero-order-hold discretisation, one step.  The
- * equations themselves (descriptor, loads' blade-element matrices) are generated
- * from the Python model into inflow_equations.c (inflowsim.fmu.codegen); this file
- * does the SI state space, discretisation and stepping of inflowsim.model.build_model
- * and inflowsim.discrete.zoh.  The tests check the two agree to rounding.  Knows
- * nothing of FMI.
+ * equations themselves (descriptor, loads, the speed through the disc) are
+ * generated from the Python model into inflow_equations.c (inflowsim.fmu.codegen);
+ * the numerics (LU, exponential, Taylor rule, the mu table) are in
+ * inflow_numerics.c.  This file does the SI state space, discretisation and
+ * stepping of inflowsim.model.build_model and inflowsim.simulate.discrete.zoh.  The
+ * tests check the two agree to rounding.  Knows nothing of FMI.
  */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "inflow_model.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 #define NX IFS_NX
 #define NU IFS_NU

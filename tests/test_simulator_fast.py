@@ -158,7 +158,7 @@ def test_rk4_refuses_an_unstable_step_naming_the_largest_stable_one():
 
 def test_simulate_command_refuses_an_unstable_rk4_step(capsys, tmp_path):
     rec = tmp_path / "rec.csv"
-    write_record(virtual(structure="glauert", duration=6.0), rec)
+    write_record(virtual(structure="glauert", duration=12.0), rec)   # cached: test_user_errors
     code, out, err = run(capsys, "simulate", rec, "-m", "glauert", "--method", "rk4",
                          "--dt", "0.1", "--out", tmp_path / "out.csv")
     assert_user_error(code, out, err, "RK4 is unstable", "largest stable step")
