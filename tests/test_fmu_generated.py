@@ -103,7 +103,8 @@ HARNESS = r"""
 #include <string.h>
 #include "inflow_slave.h"
 /* the C table's [phi gam] at mu, by columns, unpadded (IFS_NX x IFS_NA) */
-int table_at(double dt, const double *mus, int nmu, double *out)
+int table_at(double dt, int inflow_speed, double ct, const double *mus, int nmu,
+             double *out)
 {
     static IfsMuTable t;
     static IfsSlave s;
@@ -112,6 +113,8 @@ int table_at(double dt, const double *mus, int nmu, double *out)
     int k, j;
     ifs_slave_init(&s);                  /* the start values: the presets, glauert */
     s.v.dt = dt;
+    s.v.inflow_speed = inflow_speed;
+    s.v.ct = ct;
     if (ifs_mu_table_build(&t, &s.v) != 1) return -1;
     memset(&m, 0, sizeof m);
     if (ifs_build(&m, &s.v, msg, sizeof msg) != 0) return -2;
@@ -127,10 +130,12 @@ int table_at(double dt, const double *mus, int nmu, double *out)
 """
 
 
-def test_the_c_table_and_the_simulators_agree(tmp_path):
-    """The presets' FMU (glauert at its start values, the Puma) tabulates [phi gam]
-    in C; the Simulator in Python from the same description: both within 1e-12 of
-    each other (and of expm, tested in test_simulator_fast)."""
+@pytest.mark.parametrize("ct", [None, 0.008])
+def test_the_c_table_and_the_simulators_agree(tmp_path, ct):
+    """The presets' FMU (glauert at its start values, the Puma; with ct the mass-flow
+    speed) tabulates [phi gam] in C; the Simulator in Python from the same
+    description: both within 1e-12 of each other (and of expm, tested in
+    test_simulator_fast)."""
     src = source_dir()
     h = tmp_path / "harness.c"
     h.write_text(HARNESS)
@@ -145,11 +150,13 @@ def test_the_c_table_and_the_simulators_agree(tmp_path):
     mus = np.array([0.1, 0.17, 0.249, 0.3333, 0.41, 0.5])
     out = np.zeros((len(mus), 16 * 6))
     dp = ctypes.POINTER(ctypes.c_double)
-    rc = lib.table_at(ctypes.c_double(dt), mus.ctypes.data_as(dp), len(mus),
-                      out.ctypes.data_as(dp))
+    rc = lib.table_at(ctypes.c_double(dt), int(ct is not None), ctypes.c_double(ct or 0.0),
+                      mus.ctypes.data_as(dp), len(mus), out.ctypes.data_as(dp))
     assert rc == 0
+    from dataclasses import replace
     from inflowsim.model.presets import preset_parameters
-    m0 = build_model("glauert", preset_parameters("glauert", PUMA, "paper"), PUMA)
+    k = PUMA if ct is None else replace(PUMA, ct=ct, inflow_speed="mass-flow")
+    m0 = build_model("glauert", preset_parameters("glauert", k, "paper"), k)
     sim = Simulator(m0, dt)
     sim.set_mu(0.3)
     sim.set_mu(0.31)

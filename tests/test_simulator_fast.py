@@ -204,3 +204,20 @@ def test_step_takes_every_value_within_1e6(sim):
     sim.step([1e6] + [0] * 9)
     sim.step(np.array([1, 0, 0, 0, 0, 0, 0, 0, 0, 0]))     # integers are numbers
     sim.step([0.0] * 9 + [np.float32(1e-3)])
+
+
+@pytest.mark.parametrize("ct", [0.004, 0.015])
+def test_mass_flow_speed_is_tabulated_above_0_1_and_exact_below(ct):
+    """The mass-flow speed's branch points (mu = +-i lambda_hover) are as far from the
+    table's segments as mu = 0: tabulated on [0.1, 0.5]; on the way to hover, exact."""
+    from dataclasses import replace
+    k = replace(PUMA, ct=ct, inflow_speed="mass-flow")
+    m0 = build_model("glauert", preset_parameters("glauert", k, "paper"), k)
+    sim = Simulator(m0, 0.01)
+    sim.set_mu(0.3)
+    sim.set_mu(0.31)
+    assert sim._mu_table
+    for mu in (0.0, 0.05, 0.0999, 0.1, 0.137, 0.42):
+        sim.set_mu(mu)
+        got = np.hstack([sim.phi, sim.gam])
+        assert rel(got, exact_pg(m0.with_mu(mu), 0.01)) <= RTOL, mu

@@ -184,7 +184,8 @@ class Simulator:
         built once (:mod:`inflowsim.simulate.mutable`, the FMU's table; within
         1e-12 of the exact zero-order hold) and the model itself is rebuilt only
         when :attr:`model` is read.  Exact rebuilds every time for RK4, output
-        delays, the mass-flow speed and ``mu`` outside the table."""
+        delays and ``mu`` outside the table's ``[0.1, 0.5]`` (the mass-flow speed on
+        its way to hover)."""
         if mu == self._mu:
             return
         t = self._mu_table
@@ -210,8 +211,7 @@ class Simulator:
         """The table of ``[phi gam; c phi, c gam]`` in ``mu``, or False where there is
         none (see :meth:`set_mu`) or its check failed."""
         model = self.model
-        if (self.method != "zoh" or self._delay is not None
-                or model.constants.inflow_speed != "mu"):
+        if self.method != "zoh" or self._delay is not None:
             return False
         s, p, k, c = model.structure, model.parameters, model.constants, model.c
         from ..model.build import build_model
