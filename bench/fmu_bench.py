@@ -1,6 +1,6 @@
 """FMU step cost: the C driver on the native binary, and the cost through fmpy.
 
-    python bench/fmu_bench.py [--steps N] [--model STRUCTURE]
+    python bench/fmu_bench.py [--steps N] [--model STRUCTURE] [--peers C1,C2] [--rounds R]
 
 Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
 clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
@@ -31,6 +31,10 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=2_000_000)
     ap.add_argument("--fmpy-steps", type=int, default=20_000)
     ap.add_argument("--model", default=None, help="a structure (default: the presets' FMU)")
+    ap.add_argument("--peers", default="4ddf183,c2cf520",
+                    help="commits whose presets' FMU is timed beside (comma-separated)")
+    ap.add_argument("--rounds", type=int, default=41)
+    ap.add_argument("--frame-steps", type=int, default=30_000)
     args = ap.parse_args(argv)
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
@@ -65,6 +69,8 @@ def main(argv=None):
                     continue
                 rows[tag + name] = value
 
+        frame_rows = frame_beside_peers(args, tmp, so, baseline, guid, cc, inc)
+
         s = FMU2Slave(guid=guid, unzipDirectory=unz, modelIdentifier="inflowsim",
                       instanceName="bench")
         s.instantiate()
@@ -95,10 +101,49 @@ def main(argv=None):
     print("| case | ns per step |\n| --- | --- |")
     for k, v in rows.items():
         print(f"| {k} | {v} |")
+    print("\n| frame beside peers (one run) | fmi2DoStep best [ns] | median | set 10 + "
+          "step + get 6 best [ns] | median |\n| --- | --- | --- | --- | --- |")
+    for label, v in frame_rows.items():
+        print(f"| {label} | {v['dostep'][0]} | {v['dostep'][1]} | {v['frame'][0]} | "
+              f"{v['frame'][1]} |")
     one = float(rows["onestate_dostep"])
     print(f"\nglauert / one-state fmi2DoStep: {float(rows['glauert_dostep']) / one:.1f}x "
           f"(shipped binary), {float(rows['baseline_glauert_dostep']) / one:.1f}x "
           f"(baseline code, no AVX2 clone)")
+
+
+def frame_beside_peers(args, tmp, so, baseline, guid, cc, inc) -> dict:
+    """``{label: {"dostep": (best, median), "frame": (best, median)}}`` [ns] from one
+    run of ``fmu_frame`` over this FMU, its baseline build and each peer commit's."""
+    from inflowsim.fmu.build import CFLAGS
+    exe = tmp / "frame"
+    subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
+                    str(exe), str(HERE / "fmu_frame.c"), "-ldl"], check=True)
+    libs = [("this", so, guid), ("this_baseline", baseline, guid)]
+    if args.model is None:
+        for commit in filter(None, args.peers.split(",")):
+            d = tmp / f"peer_{commit}"
+            d.mkdir()
+            tar = subprocess.run(["git", "-C", str(HERE.parent), "archive", commit, "fmu"],
+                                 check=True, capture_output=True).stdout
+            subprocess.run(["tar", "-x", "-C", str(d)], input=tar, check=True)
+            src = d / "fmu"
+            peer = tmp / f"peer_{commit}.so"
+            cfiles = sorted(str(f) for f in src.glob("inflow_*.c") if "fmi3" not in f.name)
+            subprocess.run([cc, *CFLAGS, f"-I{src}", "-o", str(peer), *cfiles, "-lm"],
+                           check=True)
+            text = (src / "modelDescription.xml").read_text()
+            pguid = text.split('guid="', 1)[1].split('"', 1)[0]
+            libs.append((commit, peer, pguid))
+    cmd = [str(exe), str(args.frame_steps), str(args.rounds)]
+    for label, lib, g in libs:
+        cmd += [label, str(lib), g]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    rows = {}
+    for line in out.splitlines():
+        label, kind, best, med = line.split()
+        rows.setdefault(label, {})[kind] = (best, med)
+    return rows
 
 
 if __name__ == "__main__":

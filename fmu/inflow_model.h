@@ -19,15 +19,11 @@
 
 #include <string.h>
 
-#include "inflow_vars.h"
+#include "inflow_numerics.h"   /* inflow_vars.h; IFS_NU, IFS_NA, IFS_LD; IFS_HOT ... */
 
 /* IFS_NX (6, or 9 with flap-inertia), IFS_N_STRUCTURES and IFS_STRUCTURE_NAMES come
  * from the generated inflow_vars.h: the structures this FMU was generated for */
-#define IFS_NU 10
-#define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
-#define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
-#define IFS_KMAX 30                /* most Taylor terms of a remainder step */
 
 
 typedef struct {
@@ -70,35 +66,12 @@ typedef struct {
     double x[IFS_NX];
 } IfsModel;
 
-/*
- * The discrete matrices tabulated in mu for one set of parameters, so that a flight
- * condition changing every step costs a polynomial evaluation instead of a rebuild
- * and a matrix exponential.  [phi gam] (at dt) and [a b] are analytic in mu on
- * [0.1, 0.5], their only singularity mu = 0 (L ~ 1/mu): so the segments grow
- * geometrically with mu (each the same number of its widths away from 0), and on
- * each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1],
- * interpolating exact builds at the Chebyshev-Gauss nodes (stored as power
- * coefficients: Horner's rule, one multiply-add a degree).  Built on the first mu
- * change after a parameter change and checked at every segment's midpoint against an
- * exact build; used only if it agrees to 1e-11 (of each block's largest entry), else
- * mu changes rebuild exactly.
- */
-#define IFS_MU_LO 0.1
-#define IFS_MU_HI 0.5
-#define IFS_MU_SEG 16
-#define IFS_MU_DEG 7
-/* [phi gam] by columns (copied a column at a time into pg's padded columns), then
- * [a b] row-major, each half padded with zeros to whole vectors of four (Horner's
- * rule goes four entries at a time) */
-#define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
-#define IFS_MU_NTAB (2 * IFS_MU_HALF)
-typedef struct {
-    int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
-    double err;                /* the largest relative error found by the check */
-    double edge[IFS_MU_SEG + 1];                         /* segment ends */
-    double p[IFS_MU_SEG][IFS_MU_DEG + 1][IFS_MU_NTAB];   /* power coefficients */
-} IfsMuTable;
-
+/* The discrete matrices tabulated in mu for one set of parameters (IfsMuTable,
+ * inflow_numerics.h): a flight condition changing every step costs a polynomial
+ * evaluation instead of a rebuild and a matrix exponential.  [phi gam] (at dt, by
+ * columns) and [a b] (row-major) are analytic in mu on [0.1, 0.5], their only
+ * singularity mu = 0 (L ~ 1/mu).  Built on the first mu change after a parameter
+ * change; else mu changes rebuild exactly. */
 /* Build the table for the parameters in v (mu ignored); returns t->state. */
 int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
 /* Set m's [phi gam] at dt for v->mu from a valid table, and mark a, b and the loads
@@ -120,16 +93,15 @@ void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
 
 /* Generated from the Python model (inflow_equations.c, inflowsim.fmu.codegen), for
  * v->structure: the descriptor at the speed V through the disc, the azimuth bias
- * [rad], the flap channels' time shifts [s], the 2/rev flap's loads; and the blade-element load
- * matrices of Eq. (4) (model.md section 3). */
+ * [rad], the flap channels' time shifts [s], the loads' rows from the SI state space
+ * a, b (inflowsim.model.loads.load_rows: lc 5 x NX, ld 5 x NU, row-major); and the
+ * speed through the disc (inflowsim.physics.loads: mu, or the mass-flow parameter). */
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b);
 double ifs_bias_of(const IfsVariables *v);
 void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
-/* The 2/rev flap's term in (C_T, C_mc, C_ms)/(a0 s) by beta', beta, lambda and the
- * first eight inputs in azimuth units (3 rows of 17); 0: the structure has none. */
-int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17]);
-void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], double Gl[3][3],
-                       double Gu[3][6]);
+void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, double *lc,
+                  double *ld);
+double ifs_flow_speed(const IfsVariables *v);
 
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
  * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
@@ -149,27 +121,6 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
  * same on every path, provided the compiler does not contract a * b + c into a fused
  * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
  */
-/* The DoStep functions, the mu table's evaluation and the stepping of whole
- * communication intervals (ifs_advance: substeps, the Taylor remainder) are
- * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
- * for AVX2 and for the baseline.  The step does the same
- * operations in the same order in both, so both give the same numbers (a test
- * checks this bit for bit; build without floating-point contraction,
- * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
-#if defined(__has_attribute)
-#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
-    !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
-/* (clang before 18 exports the clone dispatcher under another name) */
-#define IFS_HOT __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef IFS_HOT
-#define IFS_HOT
-#endif
-
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#endif
 /* the new rows r.. of x as one value of type T (double, or a vector of doubles) */
 #define IFS_C(T, j) (*(const T *)(pg + (r_) + (j) * IFS_LD))
 #define IFS_STEP_ROWS(T, r, s)                                                         \
@@ -183,23 +134,6 @@ int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
         s = ((g_ + IFS_C(T, 0) * x[0]) + (IFS_C(T, 1) * x[1] + IFS_C(T, 2) * x[2])) +  \
             ((IFS_C(T, 3) * x[3] + IFS_C(T, 4) * x[4]) + IFS_C(T, 5) * x[5]);          \
     } while (0)
-
-/* unroll the loop that follows (its trip count is a compile-time constant): gcc -O2
- * keeps short inner loops rolled, and their counting costs as much as their work */
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
-#define IFS_UNROLL _Pragma("GCC unroll 32")
-#else
-#define IFS_UNROLL
-#endif
-
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-/* unaligned, aliasing-safe views of 4 and 2 doubles */
-typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
-typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
-#define IFS_INLINE static inline __attribute__((always_inline))
-#else
-#define IFS_INLINE static inline
-#endif
 
 #if IFS_NX == 6
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
@@ -219,51 +153,109 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 }
 #else
-/* other state counts (flap-inertia's nine): gam u, and phi x as two chains (even
- * and odd columns, so the chain from x to the new x is half as long), two rows at
- * a time (columns are padded to IFS_LD, a multiple of four); the scalar version adds
- * in the same order, so the rounding is the same */
+/* other state counts (flap-inertia's nine): each new row is gam u and phi x, each
+ * summed as a fixed pairwise tree ((gam u) + phi_0 x_0 first), so the chain from x
+ * to the new x is one multiply and four adds for nine states and gam u's ten terms
+ * no longer make a chain of ten adds.  Rows two at a time (native on every x86-64,
+ * SSE2, so the baseline code is fast too), four in the AVX2 clone (ifs_step_wide
+ * below), one in plain C: the same operations per row in the same order, so the
+ * same numbers. */
+/* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
+ * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
+ * by size, as a binary counter), so only a few values are live at once: the terms
+ * all at once spilled registers.  The association is fixed by K alone, so every
+ * width (double, pairs, fours) rounds alike. */
+#define IFS_TREE_SUM(T, K, first, term, out)                                           \
+    do {                                                                               \
+        T s_[5], c_;                                                                   \
+        int j_, l_, have_ = 0;                                                         \
+        IFS_UNROLL                                                                     \
+        for (j_ = 0; j_ < (K); j_++) {                                                 \
+            if (j_ == 0)                                                               \
+                c_ = first;                                                            \
+            else                                                                       \
+                c_ = term;                                                             \
+            IFS_UNROLL                                                                 \
+            for (l_ = 0; l_ < 5; l_++) {                                               \
+                if ((j_ >> l_) & 1) {                                                  \
+                    c_ = s_[l_] + c_;                                                  \
+                } else {                                                               \
+                    s_[l_] = c_;                                                       \
+                    break;                                                             \
+                }                                                                      \
+            }                                                                          \
+        }                                                                              \
+        IFS_UNROLL                                                                     \
+        for (l_ = 0; l_ < 5; l_++)                                                     \
+            if (((K) >> l_) & 1) {                                                     \
+                if (have_)                                                             \
+                    c_ = s_[l_] + c_;                                                  \
+                else                                                                   \
+                    c_ = s_[l_];                                                       \
+                have_ = 1;                                                             \
+            }                                                                          \
+        out = c_;                                                                      \
+    } while (0)
+/* the new rows at c (column j at c + j * IFS_LD) as one T (double or a vector):
+ * (gam u) and then (gam u + phi_0 x_0) + phi_1 x_1 ... each a tree */
+#define IFS_COL(T, c, j) (*(const T *)((c) + (j) * IFS_LD))
+#define IFS_GROUP(T, c, out)                                                           \
+    do {                                                                               \
+        T g_;                                                                          \
+        IFS_TREE_SUM(T, IFS_NU, IFS_COL(T, c, IFS_NX) * u[0],                          \
+                     IFS_COL(T, c, IFS_NX + j_) * u[j_], g_);                          \
+        IFS_TREE_SUM(T, IFS_NX, g_ + IFS_COL(T, c, 0) * x[0], IFS_COL(T, c, j_) * x[j_],  \
+                     out);                                                             \
+    } while (0)
+
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    /* pairs of rows: native on every x86-64 (SSE2), so the baseline code is fast too */
-    double y[IFS_LD];
-    int r, j;
-    for (r = 0; r < (IFS_NX + 1) / 2; r++) {
-        ifs_v2 s = *(const ifs_v2 *)(pg + IFS_NX * IFS_LD + 2 * r) * u[0];
-        ifs_v2 s0 = *(const ifs_v2 *)(pg + 2 * r) * x[0];
-        ifs_v2 s1 = *(const ifs_v2 *)(pg + IFS_LD + 2 * r) * x[1];
-        IFS_UNROLL
-        for (j = 1; j < IFS_NU; j++)
-            s += *(const ifs_v2 *)(pg + (IFS_NX + j) * IFS_LD + 2 * r) * u[j];
-        IFS_UNROLL
-        for (j = 2; j < IFS_NX; j += 2) {
-            s0 += *(const ifs_v2 *)(pg + j * IFS_LD + 2 * r) * x[j];
-            if (j + 1 < IFS_NX)
-                s1 += *(const ifs_v2 *)(pg + (j + 1) * IFS_LD + 2 * r) * x[j + 1];
-        }
-        *(ifs_v2 *)(y + 2 * r) = s + (s0 + s1);
-    }
-    memcpy(x, y, sizeof(double) * IFS_NX);
+    /* every pair's sums before any store (each reads all of x), then straight into
+     * x: a copy through a buffer stalls store forwarding every step */
+    ifs_v2 y[(IFS_NX + 1) / 2];
+    int r;
+    IFS_UNROLL
+    for (r = 0; r < (IFS_NX + 1) / 2; r++) IFS_GROUP(ifs_v2, pg + 2 * r, y[r]);
+    IFS_UNROLL
+    for (r = 0; r < IFS_NX / 2; r++) *(ifs_v2 *)(x + 2 * r) = y[r];
+    if (IFS_NX % 2) x[IFS_NX - 1] = y[IFS_NX / 2][0];
 #else
     double y[IFS_NX];
-    int i, j;
-    for (i = 0; i < IFS_NX; i++) {
-        double s = pg[IFS_NX * IFS_LD + i] * u[0];
-        double s0 = pg[i] * x[0], s1 = pg[IFS_LD + i] * x[1];
-        for (j = 1; j < IFS_NU; j++) s += pg[(IFS_NX + j) * IFS_LD + i] * u[j];
-        for (j = 2; j < IFS_NX; j += 2) {
-            s0 += pg[j * IFS_LD + i] * x[j];
-            if (j + 1 < IFS_NX) s1 += pg[(j + 1) * IFS_LD + i] * x[j + 1];
-        }
-        y[i] = s + (s0 + s1);
-    }
+    int i;
+    for (i = 0; i < IFS_NX; i++) IFS_GROUP(double, pg + i, y[i]);
     memcpy(x, y, sizeof y);
 #endif
 }
+
+/* The same step four rows at a time, for the AVX2 clone of the DoStep functions
+ * (IFS_WIDE_STEP; ifs_slave_step_fast picks it where the CPU has AVX2: 256-bit
+ * vectors on the baseline x86-64 code are split badly, so that keeps the pairs). */
+#if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
+#define IFS_WIDE_STEP 1
+static inline __attribute__((target("avx2"))) void
+ifs_step_wide(const double *pg, double x[IFS_NX], const double u[IFS_NU])
+{
+    ifs_v4 y[IFS_LD / 4];
+    int g, j;
+    IFS_UNROLL
+    for (g = 0; g < IFS_LD / 4; g++) IFS_GROUP(ifs_v4, pg + 4 * g, y[g]);
+    IFS_UNROLL
+    for (g = 0; g < IFS_LD / 4; g++) {
+        if (4 * g + 4 <= IFS_NX) {
+            *(ifs_v4 *)(x + 4 * g) = y[g];
+        } else {
+            IFS_UNROLL
+            for (j = 4 * g; j < IFS_NX; j++) x[j] = y[g][j - 4 * g];
+        }
+    }
+}
+#endif
 #endif
 #undef IFS_C
 #undef IFS_STEP_ROWS
+
+
 
 /*
  * One term of the remainder's Taylor series (ifs_advance): w_next = (a w) s with a

@@ -23,14 +23,18 @@
 #define ifs_descriptor IFS_NAME(ifs_descriptor)
 #define ifs_descriptor_of IFS_NAME(ifs_descriptor_of)
 #define ifs_flap_delays_of IFS_NAME(ifs_flap_delays_of)
-#define ifs_harmonic_loads_of IFS_NAME(ifs_harmonic_loads_of)
-#define ifs_load_matrices IFS_NAME(ifs_load_matrices)
 #define ifs_discretize IFS_NAME(ifs_discretize)
+#define ifs_expm IFS_NAME(ifs_expm)
+#define ifs_flow_speed IFS_NAME(ifs_flow_speed)
 #define ifs_integer_vars IFS_NAME(ifs_integer_vars)
+#define ifs_loads_of IFS_NAME(ifs_loads_of)
 #define ifs_log IFS_NAME(ifs_log)
+#define ifs_lu_solve IFS_NAME(ifs_lu_solve)
 #define ifs_mu_table_apply IFS_NAME(ifs_mu_table_apply)
 #define ifs_mu_table_apply_ab IFS_NAME(ifs_mu_table_apply_ab)
 #define ifs_mu_table_build IFS_NAME(ifs_mu_table_build)
+#define ifs_mu_table_eval IFS_NAME(ifs_mu_table_eval)
+#define ifs_mu_table_fit IFS_NAME(ifs_mu_table_fit)
 #define ifs_real_vars IFS_NAME(ifs_real_vars)
 #define ifs_slave_delayed_state IFS_NAME(ifs_slave_delayed_state)
 #define ifs_slave_directional IFS_NAME(ifs_slave_directional)
@@ -47,6 +51,7 @@
 #define ifs_state_get IFS_NAME(ifs_state_get)
 #define ifs_state_serialize IFS_NAME(ifs_state_serialize)
 #define ifs_state_set IFS_NAME(ifs_state_set)
+#define ifs_taylor_count IFS_NAME(ifs_taylor_count)
 #endif
 
 #endif

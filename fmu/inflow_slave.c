@@ -43,6 +43,9 @@ void ifs_slave_init(IfsSlave *s)
     for (i = 0; i < IFS_N_INTEGERS; i++)
         *(int *)((char *)&s->v + ifs_integer_vars[i].offset) = ifs_integer_vars[i].start;
     s->phase = IFS_PH_INSTANTIATED;
+#ifdef IFS_WIDE_STEP
+    s->wide = __builtin_cpu_supports("avx2");
+#endif
     s->dirty = 1;
     s->m.h_last = -1.0;
     s->t_stop = INFINITY;
@@ -198,6 +201,10 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     for (i = 0; i < n; i++) {
+        if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow: stored at each step */
+            value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
+            continue;
+        }
         if (vr[i] >= IFS_N_REALS)
             return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of a Real", fn,
                            vr[i]);
@@ -212,13 +219,34 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
     return IFS_OK;
 }
 
+/* value references 0 .. IFS_NU - 1 are the inputs theta0 .. muy, in the struct's
+ * order (ifs_slave_inputs), each declared within +-IFS_INPUT_LIMIT; the six outputs
+ * beta0 .. lambda1s are contiguous too */
+typedef char ifs_inputs_are_vr_0_to_nu[IFS_VR_theta0 == 0 && IFS_VR_muy == IFS_NU - 1
+                                       ? 1 : -1];
+typedef char ifs_outputs_are_contiguous[
+    IFS_VR_lambda1s - IFS_VR_beta0 == 5 &&
+    offsetof(IfsVariables, lambda1s) - offsetof(IfsVariables, beta0) == 5 * sizeof(double)
+    ? 1 : -1];
+
 int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[])
 {
     const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
     IfsVariables before;
+    int parameters = 0;
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    /* the simulator loop's frame: inputs only, each within its declared range (NaN
+     * fails the test), which need no rebuild: stored at once.  The general checks
+     * below cost half again as much per value (bench/fmu.md). */
+    for (i = 0; i < n; i++)
+        if (vr[i] >= IFS_NU || !(fabs(value[i]) <= IFS_INPUT_LIMIT)) break;
+    if (i == n) {
+        double *in = (double *)ifs_slave_inputs(s);
+        for (i = 0; i < n; i++) in[vr[i]] = value[i];
+        return IFS_OK;
+    }
     /* check everything first: a refused call changes nothing */
     for (i = 0; i < n; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i] < IFS_N_REALS ? vr[i] : 0];
@@ -229,8 +257,12 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range [0.1, 0.5] "
                            "with inflow_speed 0 (V ~ mu needs forward flight); set "
                            "inflow_speed 1 and ct first to reach hover", value[i]);
+        parameters |= var->kind != IFS_INPUT;
     }
-    before = s->v;
+    /* the copy to restore if the model refuses a new parameter (half a kilobyte):
+     * only when parameters are set, never in the simulator loop's input frame, which
+     * it made a third slower (bench/fmu.md) */
+    if (parameters) before = s->v;
     for (i = 0; i < n; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i]];
         double *slot = (double *)((char *)&s->v + var->offset);
@@ -247,7 +279,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
      * for the step (the tabulated path).  A set the model refuses changes nothing. */
     if (s->phase == IFS_PH_STEP && s->params_changed) {
         if (rebuild(s, lg) != IFS_OK) {   /* the model was left as it was */
-            s->v = before;
+            if (parameters) s->v = before;
             return IFS_ERROR;
         }
         ifs_slave_update_outputs(s);

@@ -45,8 +45,8 @@ typedef struct {
 typedef struct {
     IfsVariables v;
     IfsModel m;
-    IfsDelay delay;
     IfsPhase phase;
+    int wide;                  /* the CPU runs ifs_step_wide (AVX2; IFS_WIDE_STEP) */
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
     /* the FMI layer's mu table (never part of a saved state: restored instances keep
@@ -58,6 +58,9 @@ typedef struct {
     /* the experiment's stop time with the time tolerance added; +inf when none given */
     double t_stop;
     int warned_time;           /* the time-mismatch warning is given once (0 or 1) */
+    /* last: the delay line (tens of kilobytes) would put the fields the fast step
+     * reads (phase ... t_stop) pages away from the model's state */
+    IfsDelay delay;
 } IfsSlave;
 
 /* Where messages go: the FMI layer's logger behind one function.  Messages with
@@ -162,7 +165,12 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
         h == s->m.dt) {
         const double now = ifs_slave_time(s);
         if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now)) && now + h <= s->t_stop) {
-            ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
+#ifdef IFS_WIDE_STEP
+            if (s->wide)
+                ifs_step_wide(s->m.pg, s->m.x, ifs_slave_inputs(s));
+            else
+#endif
+                ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
             s->n_comm++;
             ifs_slave_update_outputs(s);
             return 1;

@@ -14,6 +14,16 @@
 #define IFS_N_STRUCTURES 3
 #define IFS_STRUCTURE_NAMES "0 basic, 1 empirical, 2 glauert"
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
+#define IFS_INPUT_LIMIT 1000000.0  /* |input| beyond it is refused */
+
+/* the mu table and the Taylor remainder: inflowsim.simulate.mutable, shared with the Simulator */
+#define IFS_MU_LO 0.1
+#define IFS_MU_HI 0.5
+#define IFS_MU_SEG 16
+#define IFS_MU_DEG 7
+#define IFS_MU_TOL 1e-12
+#define IFS_TAYLOR_TOL 1e-17
+#define IFS_KMAX 30  /* most Taylor terms of a remainder step */
 
 /* value references */
 enum {

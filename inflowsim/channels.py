@@ -106,7 +106,10 @@ LIMIT = 1e6
 def input_scale(omega: float, names=INPUTS) -> np.ndarray:
     """Factors turning SI inputs ``names`` into azimuth-unit inputs (``pbar = p /
     Omega``, ``pbar' = pdot / Omega^2``)."""
-    o = float(omega)
+    try:
+        o = float(omega)
+    except TypeError:       # a sympy symbol: the FMU's loads are generated from this code
+        return np.array([omega ** -BY_NAME[n].omega_power for n in names], dtype=object)
     return np.array([o ** -BY_NAME[n].omega_power for n in names], dtype=float)
 
 

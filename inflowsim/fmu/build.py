@@ -25,8 +25,8 @@ from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 
 #: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
 #: come from Python), then each FMI version's layer and headers.
-CORE_SOURCES = ("inflow_model.c", "inflow_slave.c")
-CORE_HEADERS = ("inflow_model.h", "inflow_slave.h", "inflow_names.h")
+CORE_SOURCES = ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c")
+CORE_HEADERS = ("inflow_numerics.h", "inflow_model.h", "inflow_slave.h", "inflow_names.h")
 LAYER = {2: ("inflow_fmi2.c", ("fmi2Functions.h", "fmi2FunctionTypes.h",
                                "fmi2TypesPlatform.h")),
          3: ("inflow_fmi3.c", ("fmi3Functions.h", "fmi3FunctionTypes.h",

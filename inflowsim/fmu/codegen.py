@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import numpy as np
+
 from ..channels import FLAP
 from ..physics.bladeelement import TRIM_KEYS
 from ..errors import InputError
@@ -57,7 +59,7 @@ def _symbols(structure: Structure):
     p = {n: sp.Symbol(n) for n in structure.parameters}
     trim = {c: sp.Symbol(n) for n, c in TRIM_PARAMETERS.items()}
     k = SimpleNamespace(mu=sp.Symbol("mu"), a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
-                        flow_speed=sp.Symbol("V"), trim=trim)
+                        omega=sp.Symbol("omega"), flow_speed=sp.Symbol("V"), trim=trim)
     return p, k
 
 
@@ -91,8 +93,8 @@ def traced(structure):
 
 def _c_name(sym) -> str:
     name = str(sym)
-    if name == "V":
-        return "V"
+    if name == "V" or name.startswith(("a[", "b[")):
+        return name          # the generated function's own arguments
     return f"v->{name}"
 
 
@@ -144,44 +146,62 @@ def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
     return lines + ["}", ""]
 
 
-def _harmonic_loads_c(s: Structure, index: int, sp) -> list:
-    """``harmonic_loads_<index>``: the 2/rev flap's term in the loads
-    (:func:`inflowsim.model.effects.second_harmonic_flap.in_loads` on symbols, 3 x 17
-    by rows); returns 0 for a structure without the effect."""
-    from ..model.effects import second_harmonic_flap as shf
-    head = [f"static int harmonic_loads_{index}(const IfsVariables *v, double w[3 * 17])",
-            "{"]
-    if shf.NAME not in s.effects:
-        return head + ["    (void)v;", "    (void)w;", "    return 0;", "}", ""]
-    p, k = _symbols(s)
-    w = shf.in_loads(p, k)
-    targets = [(f"w[{i * 17 + j}]", sp.sympify(w[i, j])) for i in range(3) for j in range(17)]
+def _assignments(sp, targets, indent="    ") -> list:
+    """C lines computing ``targets`` (``[(lvalue, sympy expression)]``) after common-
+    subexpression elimination."""
     subs, reduced = sp.cse([x for _, x in targets], symbols=sp.numbered_symbols("t"),
                            optimizations="basic")
-    free = set().union(*(x.free_symbols for _, x in targets))
+    free = set().union(*(x.free_symbols for _, x in targets)) if targets else set()
     rename = {sym: sp.Symbol(_c_name(sym)) for sym in free}
-    lines = head + [f"    const double {t} = {sp.ccode(x.xreplace(rename))};" for t, x in subs]
-    lines += [f"    {t} = {sp.ccode(x.xreplace(rename))};"
-              for (t, _), x in zip(targets, reduced)]
-    return lines + ["    return 1;", "}", ""]
+    lines = [f"{indent}const double {t} = {sp.ccode(x.xreplace(rename))};" for t, x in subs]
+    return lines + [f"{indent}{t} = {sp.ccode(x.xreplace(rename))};"
+                    for (t, _), x in zip(targets, reduced)]
 
 
-def _loads_c(sp) -> list:
-    """``ifs_load_matrices``: the blade-element matrices of Eq. (4) from
-    :mod:`inflowsim.physics.loads`, run on the symbol ``mu``."""
+def _loads_c(s: Structure, meas, index: int, sp) -> list:
+    """``loads_<index>``: the load rows ``lc`` (5 x NX) and ``ld`` (5 x NU, SI) from the
+    SI state space ``a, b``: :func:`inflowsim.model.loads.load_rows` run on symbols
+    (``a[i]``, ``b[i]`` the C arrays' entries, row-major)."""
+    from ..channels import INPUTS
+    from ..model.loads import load_rows
+    p, k = _symbols(s)
+    n, nu = len(s.states), len(INPUTS)
+    a = np.array([[sp.Symbol(f"a[{i * n + j}]") for j in range(n)] for i in range(n)])
+    b = np.array([[sp.Symbol(f"b[{i * nu + j}]") for j in range(nu)] for i in range(n)])
+    c, d = load_rows(a, b, s.effects, p, k, meas.azimuth_bias, s.states, INPUTS)
+    targets = []
+    for arr, name, ncol in ((c, "lc", n), (d, "ld", nu)):
+        for i in range(arr.shape[0]):
+            for j in range(arr.shape[1]):
+                x = sp.sympify(arr[i, j])
+                if x.is_zero is not True:
+                    targets.append((f"{name}[{i * ncol + j}]", x))
+    return ([f"static void loads_{index}(const IfsVariables *v, const double *a, "
+             "const double *b, double *lc, double *ld)", "{",
+             "    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);",
+             "    memset(ld, 0, sizeof(double) * IFS_NL * IFS_NU);"]
+            + _assignments(sp, targets) + ["}", ""])
+
+
+def _flow_speed_c(sp) -> list:
+    """``ifs_flow_speed``: the speed through the disc, ``mu`` or (``inflow_speed`` 1) the
+    mass-flow parameter by Newton's method: the functions of
+    :mod:`inflowsim.physics.loads` run on symbols, in its loop."""
     from ..physics import loads as ld
-    mu = sp.Symbol("mu")
-    blocks = (("Gdb", ld.g_dbeta(mu), 0), ("Gb", ld.g_beta(mu), 0),
-              ("Gl", ld.g_lambda(mu), 0), ("Gu", ld.g_theta(mu), 0),
-              ("Gu", ld.g_nu(mu), 3))
-    lines = ["void ifs_load_matrices(double mu, double Gdb[3][3], double Gb[3][3], "
-             "double Gl[3][3],", "                       double Gu[3][6])", "{"]
-    for name, g, col in blocks:
-        for i in range(3):
-            for j in range(3):
-                lines.append(f"    {name}[{i}][{j + col}] = "
-                             f"{sp.ccode(sp.sympify(g[i, j]))};")
-    return lines + ["}", ""]
+    mu, ct, lam = sp.Symbol("mu"), sp.Symbol("ct"), sp.Symbol("lam")
+    code = lambda x: sp.ccode(sp.sympify(x))                        # noqa: E731
+    return ["double ifs_flow_speed(const IfsVariables *v)", "{",
+            "    const double mu = v->mu, ct = v->ct;",
+            "    double lam;",
+            "    int k;",
+            "    if (v->inflow_speed == 0) return mu;    /* the paper's V ~ mu */",
+            f"    lam = {code(ld.inflow_start(ct))};",
+            f"    for (k = 0; k < {ld.NEWTON_STEPS}; k++) {{",
+            f"        const double step = {code(ld.inflow_newton_step(lam, mu, ct))};",
+            "        lam -= step;",
+            f"        if (fabs(step) <= {ld.NEWTON_TOL!r} * lam) break;",
+            "    }",
+            f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
 def equations_c(structures) -> str:
@@ -195,7 +215,7 @@ def equations_c(structures) -> str:
         s, e, a, b, meas = traced(st)
         states.add(e.shape[0])
         body += (_descriptor_c(s, e, a, b, i, sp) + _measurement_c(meas, i, sp)
-                 + _harmonic_loads_c(s, i, sp))
+                 + _loads_c(s, meas, i, sp))
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "
                          f"(these have {sorted(states)})")
@@ -204,8 +224,9 @@ def equations_c(structures) -> str:
     head = ["/* Generated by inflowsim.fmu.codegen from the Python model "
             "(inflowsim.model): do not edit. */",
             "/* The descriptor E x' = A x + B u of each structure (azimuth time, "
-            "model.md Eq. 8),", " * its azimuth bias and its flap channels' time "
-            "shifts. */",
+            "model.md Eq. 8),", " * its azimuth bias, its flap channels' time "
+            "shifts and its loads (model.md section 3);", " * the speed through the "
+            "disc of the momentum gains. */",
             "#include <math.h>", "#include <string.h>", "", '#include "inflow_model.h"',
             ""]
     tail = ["void ifs_descriptor_of(const IfsVariables *v, double V, double *e, "
@@ -219,11 +240,11 @@ def equations_c(structures) -> str:
              "    switch (v->structure) {"]
     tail += cases("flap_delays_{i}(v, d); break;")
     tail += ["    default: flap_delays_0(v, d); break;", "    }", "}", "",
-             "int ifs_harmonic_loads_of(const IfsVariables *v, double w[3 * 17])", "{",
-             "    switch (v->structure) {"]
-    tail += cases("return harmonic_loads_{i}(v, w);")
-    tail += ["    default: return harmonic_loads_0(v, w);", "    }", "}", ""]
-    tail += _loads_c(sp)
+             "void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, "
+             "double *lc, double *ld)", "{", "    switch (v->structure) {"]
+    tail += cases("loads_{i}(v, a, b, lc, ld); break;")
+    tail += ["    default: loads_0(v, a, b, lc, ld); break;", "    }", "}", ""]
+    tail += _flow_speed_c(sp)
     return "\n".join(head + body + tail)
 
 

@@ -12,6 +12,8 @@ from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 from . import codegen
+from ..simulate import mutable
+from ..channels import LIMIT
 from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
 
 #: Bump when the C model's equations change in a way importers must notice.
@@ -34,9 +36,11 @@ def _num(x) -> str:
 #: The C sources compiled for each FMI version (the generated variable table included):
 #: ``inflowsim fmu build`` compiles them, FMI 2.0's ``<SourceFiles>`` and the build
 #: description list them, so an importer can build the binary itself.
-SOURCES = {2: ("inflow_model.c", "inflow_slave.c", "inflow_fmi2.c", "inflow_vars.c",
+SOURCES = {2: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_fmi2.c",
+               "inflow_vars.c",
                "inflow_equations.c"),
-           3: ("inflow_model.c", "inflow_slave.c", "inflow_fmi3.c", "inflow_vars.c",
+           3: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_fmi3.c",
+               "inflow_vars.c",
                "inflow_equations.c")}
 
 
@@ -232,7 +236,8 @@ def vars_header(d: Description = DEFAULT) -> str:
              '#define IFS_STRUCTURE_NAMES "'
              + ", ".join(f"{i} {n}" for i, n in enumerate(d.structures)) + '"',
              f"#define IFS_N_INPUTS {n_in}  /* the perturbation inputs, theta0 .. muy */",
-             "", "/* value references */", "enum {"]
+             f"#define IFS_INPUT_LIMIT {_c_num(LIMIT)}  /* |input| beyond it is refused */",
+             "", *mutable.c_defines(), "", "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
     lines += [f"    IFS_VR_time = {time_vr(d)},  /* FMI 3.0 only: the independent variable */",
               "    IFS_VR_END", "};", "",

@@ -72,25 +72,38 @@ def load_matrices(model) -> LoadMatrices:
         Rows ``CT, C_mc, C_ms`` (Eq. (4), times ``a0 s``) and ``C_mc_hub, C_ms_hub``
         (centre-spring hub moments from flap) [-].
     """
-    k = model.constants
-    mu, om, a0s = k.mu, k.omega, k.a0 * k.solidity
-    states, inputs = list(model.states), list(model.inputs)
-    n, m = model.a.shape[0], model.b.shape[1]
+    c, d = load_rows(model.a, model.b, model.structure.effects, model.parameters,
+                     model.constants, model.measurement.azimuth_bias, model.states,
+                     model.inputs)
+    return LoadMatrices(tuple(LOADS), _frozen(c), _frozen(d))
+
+
+def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
+    """``(c, d)`` of :func:`load_matrices` from the SI state space ``a, b`` (states
+    ``states``, inputs ``inputs``), the structure's ``effects``, parameters ``p``,
+    constants ``k`` (``mu``, ``omega``, ``a0s``) and the azimuth bias [rad].
+
+    Runs on numbers or on sympy symbols: the FMU's C loads are this function
+    printed (:mod:`inflowsim.fmu.codegen`), so nothing is assigned into float
+    arrays.
+    """
+    mu, om, a0s = k.mu, k.omega, k.a0s
+    states, inputs = list(states), list(inputs)
+    n, m = a.shape[0], b.shape[1]
     pb = _select(states, FLAP, n)
     pl = _select(states, INFLOW, n)
     # azimuth-time flap rates from the model's own dynamics
-    dbeta_x = pb @ model.a / om
-    dbeta_u = pb @ model.b / om
+    dbeta_x = pb @ a / om
+    dbeta_u = pb @ b / om
     scale = input_scale(om, inputs)
     th = _select(inputs, CONTROLS, m)
     # recorded cyclic pitch is the true one rotated by the azimuth bias (model.md 6);
     # the loads, like the flap dynamics, follow the true pitch
-    th[1:3] = rotation(-model.measurement.azimuth_bias) @ th[1:3]
+    th = np.vstack([th[:1], rotation(-azimuth_bias) @ th[1:3]])
     nu = _select(inputs, ("muz", "q", "p"), m) * scale
     c = a0s * (ld.g_dbeta(mu) @ dbeta_x + ld.g_beta(mu) @ pb + ld.g_lambda(mu) @ pl)
     d = a0s * (ld.g_dbeta(mu) @ dbeta_u + ld.g_theta(mu) @ th + ld.g_nu(mu) @ nu)
-    p = model.parameters
-    if shf.NAME in model.structure.effects:
+    if shf.NAME in effects:
         # the 2/rev flap's own term, quasi-steady as the effect's flap equation has it
         w = shf.in_loads(p, k)
         u8 = _select(inputs, INPUTS[:8], m) * scale
@@ -98,8 +111,7 @@ def load_matrices(model) -> LoadMatrices:
         d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
-    return LoadMatrices(tuple(LOADS), _frozen(np.vstack([c, c_hub])),
-                        _frozen(np.vstack([d, np.zeros((2, m))])))
+    return np.vstack([c, c_hub]), np.vstack([d, np.zeros((2, m))])
 
 
 def dimensional_loads(coefficients, constants, density: float) -> dict:
@@ -131,4 +143,4 @@ def _select(names, wanted, n) -> np.ndarray:
     return s
 
 
-__all__ = ["AERO", "HUB", "LoadMatrices", "load_matrices", "dimensional_loads"]
+__all__ = ["AERO", "HUB", "LoadMatrices", "load_matrices", "load_rows", "dimensional_loads"]

@@ -9,6 +9,8 @@ route to the same numbers.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError
@@ -78,6 +80,39 @@ def momentum_l(mu: float, a0s: float, v: float | None = None) -> np.ndarray:
     return np.diag([a0s / (2 * v), -2 * a0s / v, -2 * a0s / v])
 
 
+#: Newton's method for the trim inflow: at most this many steps, stopping at a step
+#: below this fraction of the inflow (the FMU's C is generated with the same).
+NEWTON_STEPS = 100
+NEWTON_TOL = 1e-15
+
+
+def inflow_start(ct):
+    """Newton's start for the trim inflow: the hover root ``sqrt(C_T / 2)``, never
+    below the root at any ``mu``."""
+    return _sqrt(ct / 2.0)
+
+
+def inflow_newton_step(lam, mu, ct):
+    """One Newton step ``f / f'`` on ``f(l) = 4 l^2 (mu^2 + l^2) - C_T^2`` (runs on
+    numbers or sympy symbols: the FMU's ``ifs_flow_speed`` is this printed)."""
+    f = 4 * lam * lam * (mu * mu + lam * lam) - ct * ct
+    return f / (8 * lam * mu * mu + 16 * lam * lam * lam)
+
+
+def speed_through_disc(mu, lam):
+    """``V = (mu^2 + lambda (lambda + lambda_m)) / sqrt(mu^2 + lambda^2)`` with
+    ``lambda = lambda_m`` (numbers or sympy symbols)."""
+    return (mu * mu + 2 * lam * lam) / _sqrt(mu * mu + lam * lam)
+
+
+def _sqrt(x):
+    try:
+        return math.sqrt(x)
+    except TypeError:       # a sympy symbol: the FMU's C is generated from this code
+        import sympy
+        return sympy.sqrt(x)
+
+
 def momentum_inflow(mu: float, ct: float) -> float:
     """Trim induced inflow ``lambda_m`` over ``Omega R`` of momentum theory in level
     flight: ``lambda_m = C_T / (2 sqrt(mu^2 + lambda_m^2))`` (Glauert's formula; hover
@@ -86,13 +121,11 @@ def momentum_inflow(mu: float, ct: float) -> float:
     """
     if not (np.isfinite(ct) and ct > 0):
         raise InputError(f"ct = {ct:g}: the trim thrust coefficient must be > 0")
-    lam = float(np.sqrt(ct / 2.0))   # the hover root, never below the root at any mu
-    for _ in range(100):
-        # products written out, in the FMU's C order (fmu/inflow_model.c, flow_speed)
-        f = 4 * lam * lam * (mu * mu + lam * lam) - ct * ct
-        step = f / (8 * lam * mu * mu + 16 * lam * lam * lam)
+    lam = float(inflow_start(ct))
+    for _ in range(NEWTON_STEPS):
+        step = inflow_newton_step(lam, mu, ct)
         lam -= step
-        if abs(step) <= 1e-15 * lam:
+        if abs(step) <= NEWTON_TOL * lam:
             break
     return float(lam)
 
@@ -103,5 +136,4 @@ def mass_flow_parameter(mu: float, ct: float) -> float:
     (:func:`momentum_inflow`, level flight): the speed that linearised momentum
     theory gives perturbations (Pitt and Peters 1981; Peters and HaQuang 1988).
     ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight."""
-    lam = momentum_inflow(mu, ct)
-    return float((mu * mu + 2 * lam * lam) / np.hypot(mu, lam))
+    return float(speed_through_disc(mu, momentum_inflow(mu, ct)))

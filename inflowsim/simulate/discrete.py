@@ -38,6 +38,94 @@ def rk4(a: np.ndarray, b: np.ndarray, dt: float):
     return phi, gam
 
 
+class TaylorZoh:
+    """:func:`zoh` of one ``(a, b)`` at any step, by the Taylor series of the
+    exponential: ``[phi gam](h) = [I 0] + sum_k h^k T_k`` with ``T_k = a^(k-1)
+    [a b] / k!`` stored once, so a new step costs one product of its powers with
+    the stored terms.  As many terms as the FMU's rule asks
+    (:func:`inflowsim.simulate.mutable.taylor_terms`: the next term below 1e-17 of
+    the result's scale, every term bounded by the one before); the matrix
+    exponential where that would need more than ``TAYLOR_MAX_TERMS``.
+
+    With an output matrix ``c`` the rows ``c [phi gam]`` are stored beside them
+    (:meth:`into`: the Simulator's step matrix in one product).
+    """
+
+    def __init__(self, a: np.ndarray, b: np.ndarray, c: np.ndarray | None = None):
+        from .mutable import TAYLOR_MAX_TERMS
+        self.a, self.b = a, b
+        n = a.shape[0]
+        ab = np.hstack([a, b])
+        self.norm_a = float(np.abs(a).sum(axis=0).max(initial=0.0))
+        self.norm_ab = float(np.abs(ab).sum(axis=0).max(initial=0.0))
+        rows = np.eye(n) if c is None else np.vstack([np.eye(n), c])
+        terms = np.empty((TAYLOR_MAX_TERMS, rows.shape[0], ab.shape[1]))
+        w = ab
+        for k in range(1, TAYLOR_MAX_TERMS + 1):
+            if k > 1:
+                w = (a @ w) / k
+            terms[k - 1] = rows @ w
+        self._terms = terms.reshape(TAYLOR_MAX_TERMS, -1)
+        self._const = np.hstack([rows, np.zeros((rows.shape[0], b.shape[1]))]).ravel()
+        self._shape, self._n = (rows.shape[0], ab.shape[1]), n
+
+    def into(self, h: float, out: np.ndarray) -> bool:
+        """Write the stored rows at step ``h`` [s] into the flat vector ``out``;
+        False (nothing written) where the series would need too many terms."""
+        from .mutable import taylor_terms
+        k = taylor_terms(self.norm_a, self.norm_ab, h)
+        if k == 0 or not np.isfinite(self.norm_ab):
+            return False
+        powers = h ** np.arange(1.0, k + 1.0)
+        np.dot(powers, self._terms[:k], out=out)
+        out += self._const
+        return True
+
+    def __call__(self, h: float):
+        """``(phi, gam)`` at step ``h`` [s]."""
+        pg = np.empty(self._shape)
+        if not self.into(h, pg.reshape(-1)):
+            return zoh(self.a, self.b, h)
+        n = self._n
+        return pg[:n, :n], pg[:n, n:]
+
+
+#: RK4's stability polynomial ``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``: a step is
+#: stable where ``|R(h lambda)| <= 1`` for every eigenvalue (2.785 on the real axis).
+_RK4_R = (1 / 24, 1 / 6, 1 / 2, 1.0, 1.0)
+
+
+def rk4_max_step(eigenvalues) -> float:
+    """Largest step [s] at which classical RK4 is stable for a linear system with
+    these eigenvalues [1/s]: the least, over the eigenvalues in the closed left
+    half-plane, of the first ``h`` where ``|R(h lambda)|`` leaves 1 (a fine scan of
+    ``|h lambda|`` up to 4 then bisection; 2.785 / |lambda| for a real one).
+    ``inf`` if none limits it (an unstable mode is unstable at any step; the
+    step does not make it so)."""
+    lam = np.asarray(eigenvalues, dtype=complex).ravel()
+    lam = lam[(lam.real <= 0) & (np.abs(lam) > 0)]
+    if lam.size == 0:
+        return float("inf")
+    r = np.linspace(0.0, 4.0, 4001)[1:]              # |h lambda|
+    z = r[None, :] * (lam / np.abs(lam))[:, None]
+    grow = np.abs(np.polyval(_RK4_R, z)) > 1.0 + 1e-15
+    hmax = np.inf
+    for i, row in enumerate(grow):
+        j = int(np.argmax(row)) if row.any() else None
+        if j is None:
+            continue
+        lo, hi = (r[j - 1] if j > 0 else 0.0), r[j]
+        d = lam[i] / abs(lam[i])
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            if abs(np.polyval(_RK4_R, mid * d)) > 1.0 + 1e-15:
+                hi = mid
+            else:
+                lo = mid
+        hmax = min(hmax, lo / abs(lam[i]))
+    return float(hmax)
+
+
 def discretize(a, b, dt: float, method: str = "zoh"):
     if method == "zoh":
         return zoh(a, b, dt)

@@ -5,16 +5,65 @@ trim in SI units, named as the record columns.  ``step(u)`` holds ``u`` over
 ``[t_k, t_k + dt)`` and returns the outputs at ``t_{k+1}``; :meth:`replay` returns
 the outputs at every sample ``t_k`` with ``y[0]`` the initial output, the same
 convention as ``scipy.signal.dlsim``.  Time is ``t0 + k dt`` from a step
-counter, never a running sum.  Output delays are exact for held inputs: a delay
-of ``(m + f) dt`` reads the state a fraction ``1 - f`` into an earlier step.
+counter, never a running sum (after :meth:`~Simulator.set_dt`, from the time of
+the change).  Output delays are exact for held inputs: a delay of ``(m + f) dt``
+reads the state a fraction ``1 - f`` into an earlier step.
+
+A loop that follows the flight condition (:meth:`~Simulator.set_mu` every step)
+takes the discrete matrices from a table in ``mu`` built once per parameter set,
+and a step that changes (:meth:`~Simulator.set_dt`) from a stored Taylor series:
+the FMU's table and term rule, one description (:mod:`.mutable`).  Inputs are
+refused with one line (:class:`~inflowsim.errors.InputError`) if they are not
+real numbers, not finite or beyond ``U_MAX``; RK4 is refused at a step where it is
+unstable (:func:`~inflowsim.simulate.discrete.rk4_max_step`).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .discrete import discretize, lifted_replay
+from .discrete import TaylorZoh, discretize, lifted_replay, rk4_max_step
+from .mutable import MU_HI, MU_LO, MuTable
+from ..channels import LIMIT
 from ..errors import InputError
 
+#: Largest input magnitude a step takes (channels.LIMIT: the FMU declares the same).
+U_MAX = LIMIT
+_U_MAX2 = U_MAX * U_MAX
+
+
+def checked_inputs(u, what: str, shape) -> np.ndarray:
+    """``u`` as a float array of ``shape`` (``None``: any length), or
+    :class:`InputError` starting with ``what`` and naming the trouble: not numbers
+    (None, strings, complex numbers), the wrong shape, NaN or infinite values,
+    magnitudes beyond ``U_MAX``."""
+    if u is None:
+        raise InputError(f"{what}, got None")
+    try:
+        a = np.asarray(u)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}, got {type(u).__name__}") from None
+    if a.dtype.kind == "c":
+        raise InputError(f"{what}: got complex numbers (the inputs are real)")
+    if a.dtype.kind in "USO" and a.ndim == 0:
+        raise InputError(f"{what}, got {type(u).__name__}")
+    if a.dtype.kind in "US" or (a.dtype.kind == "O" and any(
+            isinstance(v, (str, bytes)) for v in a.ravel())):
+        raise InputError(f"{what}: got text, not numbers")
+    if a.dtype.kind == "O" and any(isinstance(v, complex) for v in a.ravel()):
+        raise InputError(f"{what}: got complex numbers (the inputs are real)")
+    try:
+        a = a.astype(float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}, got {a.dtype} values that are not numbers") from None
+    if a.ndim != len(shape) or any(w is not None and w != g for w, g in zip(shape, a.shape)):
+        raise InputError(f"{what}, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"{what}: got a NaN or infinite value (inputs must be finite)")
+    big = np.abs(a).max(initial=0.0)
+    if big > U_MAX:
+        raise InputError(f"{what}: |u| = {big:g} is beyond {U_MAX:g} (the FMU refuses "
+                         "the same; inputs are SI perturbations about trim)")
+    return a
 
 
 class Simulator:
@@ -44,6 +93,15 @@ class Simulator:
         self._set_model(model)
         self.reset(x0)
 
+    @property
+    def model(self):
+        """The model at the current flight condition (rebuilt when first asked for
+        after a change of ``mu`` applied from the table)."""
+        if self._model_mu is not None:
+            self._model = self._model.with_mu(self._model_mu)
+            self._model_mu = None
+        return self._model
+
     # -- model and discretisation ---------------------------------------
     def _set_model(self, model):
         if np.any(model.delays < 0) or np.any(model.input_delays != 0):
@@ -54,18 +112,39 @@ class Simulator:
                 + ", which a step-by-step loop cannot apply causally; replay a whole "
                   "record with inflowsim.replay.replay, or drop the time-shift effects "
                   "(they describe the recording, not the rotor)")
-        self.model = model
-        self._load_matrices = None          # built on the first loads() call
         a, b, c = model.a, model.b, model.c
+        if self.method == "rk4":
+            self._check_rk4(model)
+        self._model, self._model_mu = model, None
+        self._mu = model.constants.mu
+        self._load_matrices = None          # built on the first loads() call
         self.n, self.m = b.shape
-        self._ushape = (self.m,)
         phi, gam = discretize(a, b, self.dt, self.method)
-        self.phi, self.gam = phi, gam
-        pg = np.hstack([phi, gam])
-        # [x+; y+; check]: the last row sums [x; u], so a NaN or infinite input (or
-        # state) shows in one number the step reads without another array operation
-        self._M = np.vstack([pg, c @ pg, np.ones((1, pg.shape[1]))])
+        self._set_pg(np.hstack([phi, gam]), c)
         self._delay = self._delay_tables(model.delays)
+        # the mu table: built at the second mu change under these parameters (one
+        # change costs one exact rebuild, a loop that follows the flight condition
+        # one table); None: not yet, False: not possible or not accurate enough
+        self._mu_table = None
+        self._mu_changes = 0
+        self._taylor = None                 # set_dt's series, built at its first call
+
+    def _set_pg(self, pg, c):
+        # [x+; y+; check]: the last row sums [x; u], so a NaN or infinite state
+        # shows in one number the step reads without another array operation.
+        # phi and gam are views of it, so a table update moves them too.
+        n = self.n
+        self._M = np.vstack([pg, c @ pg, np.ones((1, pg.shape[1]))])
+        self._Mtop = self._M[:-1].reshape(-1)   # what the mu table writes (a view)
+        self.phi, self.gam = self._M[:n, :n], self._M[:n, n:]
+
+    def _check_rk4(self, model):
+        h = rk4_max_step(np.linalg.eigvals(model.a))
+        if self.dt > h:
+            raise InputError(
+                f"dt = {self.dt:g} s: RK4 is unstable for model {model.structure.name} "
+                f"at this step (its eigenvalues need dt <= {h:.4g} s, the largest stable "
+                "step); use a smaller dt or method zoh (exact at any step)")
 
     def _delay_tables(self, delays):
         """Per distinct non-zero delay: whole steps, fraction and partial-step maps."""
@@ -98,15 +177,97 @@ class Simulator:
             self._init_hist(x)
 
     def set_mu(self, mu: float):
-        """Change the flight condition between steps; the discrete matrices follow."""
-        if mu != self.model.constants.mu:
-            self.set_model(self.model.with_mu(mu))
+        """Change the flight condition between steps; the discrete matrices follow.
+
+        The first change rebuilds the model exactly; from the second under the same
+        parameters and step, the discrete matrices come from a table in ``mu``
+        built once (:mod:`inflowsim.simulate.mutable`, the FMU's table; within
+        1e-12 of the exact zero-order hold) and the model itself is rebuilt only
+        when :attr:`model` is read.  Exact rebuilds every time for RK4, output
+        delays and ``mu`` outside the table's ``[0.1, 0.5]`` (the mass-flow speed on
+        its way to hover)."""
+        if mu == self._mu:
+            return
+        t = self._mu_table
+        if t and MU_LO <= mu <= MU_HI:
+            t.into(mu, self._Mtop)
+            self._mu = mu
+            self._model_mu = mu
+            self._load_matrices = None
+            return
+        if t is None:
+            self._mu_changes += 1
+            if self._mu_changes >= 2:
+                self._mu_table = t = self._build_mu_table()
+                if t:
+                    self.set_mu(mu)
+                    return
+        model = self.model.with_mu(mu)
+        changes, table = self._mu_changes, self._mu_table
+        self.set_model(model)
+        self._mu_changes, self._mu_table = changes, table
+
+    def _build_mu_table(self):
+        """The table of ``[phi gam; c phi, c gam]`` in ``mu``, or False where there is
+        none (see :meth:`set_mu`) or its check failed."""
+        model = self.model
+        if self.method != "zoh" or self._delay is not None:
+            return False
+        s, p, k, c = model.structure, model.parameters, model.constants, model.c
+        from ..model.build import build_model
+
+        def exact(mu):
+            m = build_model(s, p, k.with_mu(mu))
+            pg = np.hstack(discretize(m.a, m.b, self.dt))
+            return np.vstack([pg, c @ pg])
+
+        t = MuTable(exact, (slice(0, self.n), slice(self.n, None)))
+        return t if t.ok else False
+
+    def set_dt(self, dt: float):
+        """Change the step [s] between steps, keeping the state and the step count
+        (:attr:`time` goes on from the time of the change in steps of the new dt; a
+        model with output delays restarts its delay line).
+
+        The zero-order hold at the new step is the Taylor series of the
+        exponential with the FMU's term rule (:func:`~inflowsim.simulate.mutable.
+        taylor_terms`), or the matrix exponential where that needs too many terms."""
+        if not (np.isfinite(dt) and dt > 0):
+            raise InputError(f"dt = {dt}: the step must be a finite number > 0 s")
+        dt = float(dt)
+        if dt == self.dt:
+            return
+        model = self.model
+        self._tb, self._kb = self.time, self._k
+        old = self.dt
+        self.dt = dt
+        if self.method == "rk4":
+            try:
+                self._check_rk4(model)
+            except InputError:
+                self.dt = old
+                raise
+        if self._delay is not None:
+            x = self.state
+            self._set_model(model)
+            self._xu[: self.n] = x
+            self._init_hist(x)
+            return
+        self._mu_table, self._mu_changes = None, 0
+        if self.method == "zoh":
+            if self._taylor is None or self._taylor.a is not model.a:
+                self._taylor = TaylorZoh(model.a, model.b, model.c)
+            if self._taylor.into(dt, self._Mtop):
+                return
+        self._set_pg(np.hstack(discretize(model.a, model.b, dt, self.method)), model.c)
 
     # -- state ------------------------------------------------------------
     def reset(self, x0=None):
         """Back to step 0 with state ``x0`` (default zero)."""
         self._k = 0
+        self._tb, self._kb = self.t0, 0      # time = _tb + (k - _kb) dt (set_dt moves it)
         self._xu = np.zeros(self.n + self.m)
+        self._uview = self._xu[self.n:]     # the inputs' part, for the step's check
         if x0 is not None:
             self.state = x0
         if self._delay is not None:
@@ -135,7 +296,7 @@ class Simulator:
 
     @property
     def time(self) -> float:
-        return self.t0 + self._k * self.dt
+        return self._tb + (self._k - self._kb) * self.dt
 
     def outputs(self) -> np.ndarray:
         """Outputs at the current time (undelayed channels exact; delayed ones use
@@ -161,29 +322,46 @@ class Simulator:
 
     # -- stepping -----------------------------------------------------------
     def step(self, u) -> np.ndarray:
-        """Hold ``u`` (``model.inputs`` order, SI perturbations) over one step;
-        return the six outputs at the new time."""
+        """Hold ``u`` (``model.inputs`` order, SI perturbations, each within
+        ``U_MAX`` = 1e6 as in the FMU) over one step; return the six outputs at the
+        new time.  Refused inputs (:class:`InputError`) leave the state unchanged."""
         xu = self._xu
         n = self.n
-        # len() refuses None and scalars, and with it the assignment refuses every
-        # other shape (a length-1 or 1 x m array would broadcast): cheaper than a
-        # type and shape test, and free when the inputs are right
+        # The cheapest exact checks found (bench/simulator.md): an array's dtype kind
+        # (strings, complex numbers and None make another) and its sum of squares (at
+        # most U_MAX^2, then every |u_i| <= U_MAX; NaN fails the comparison); a
+        # list's max and min in Python, which raise TypeError on text, complex
+        # numbers and None (a NaN they may pass shows in the check row below).
+        # len() refuses scalars, and with it the assignment every other shape (a
+        # length-1 or 1 x m array would broadcast).  Anything else, or any doubt:
+        # the full check, which raises saying what is wrong or returns the numbers.
         try:
-            if len(u) != self.m:
+            cls = u.__class__
+            if cls is np.ndarray:
+                if u.dtype.kind not in "fiub" or len(u) != self.m:
+                    raise ValueError
+                xu[n:] = u
+                uv = self._uview
+                if not uv.dot(uv) <= _U_MAX2:
+                    raise ValueError
+            elif cls is list or cls is tuple:
+                if len(u) != self.m or not (max(u) <= U_MAX and min(u) >= -U_MAX):
+                    raise ValueError
+                xu[n:] = u
+            else:
                 raise ValueError
-            xu[n:] = u
         except (TypeError, ValueError):
-            self._inputs(u)                  # raises, saying what is wrong
-            raise InputError(f"step: inputs must be {self.m} numbers") from None
+            xu[n:] = self._inputs(u)
         # ndarray.dot: about half the call overhead of @ for this small matrix-vector
         # product (bench/simulator.md), which more than pays for the checks
         out = self._M.dot(xu)
         check = out.item(-1)
         if check - check != 0.0:            # NaN or infinite (0 * NaN is NaN)
-            raise InputError("step: inputs must be finite (a NaN or infinite value); "
-                             "the state is unchanged")
+            self._inputs(u)                 # a NaN input: says so
+            raise InputError("step: the state is not finite (the model grew without "
+                             "bound); the state is unchanged")
         if self._delay is not None:
-            self._push(xu[:n].copy(), np.array(u, dtype=float))
+            self._push(xu[:n].copy(), xu[n:].copy())
         xu[:n] = out[:n]
         self._k += 1
         y = out[n:-1]
@@ -192,19 +370,11 @@ class Simulator:
         return y
 
     def _inputs(self, u) -> np.ndarray:
-        """``u`` as ``m`` floats, or one line saying what is wrong with it."""
+        """``u`` as ``m`` finite real numbers within ``U_MAX``, or one line saying
+        what is wrong with it."""
         names = ", ".join(self.model.inputs)
-        if u is None:
-            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got None")
-        try:
-            a = np.asarray(u, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got "
-                             f"{type(u).__name__}") from None
-        if a.shape != (self.m,):
-            raise InputError(f"step: inputs must be {self.m} numbers ({names}), got shape "
-                             f"{a.shape}")
-        return a
+        return checked_inputs(u, f"step: inputs must be {self.m} numbers ({names})",
+                              (self.m,))
 
     def _push(self, x, u):
         hx, hu, hk = self._hist
@@ -254,12 +424,8 @@ class Simulator:
         (``y[0]`` from ``x0``), identical to ``dlsim`` on ``(phi, gam, c, 0)``.
         Delayed channels before ``t0 + delay`` hold the initial output.
         """
-        u = np.asarray(u, dtype=float)
-        if u.ndim != 2 or u.shape[1] != self.m:
-            raise InputError(f"replay needs inputs of shape (N, {self.m}) "
-                             f"({', '.join(self.model.inputs)})")
-        if not np.all(np.isfinite(u)):
-            raise InputError("replay: inputs contain NaN or infinite values")
+        u = checked_inputs(u, f"replay needs inputs of shape (N, {self.m}) "
+                           f"({', '.join(self.model.inputs)})", (None, self.m))
         x0 = np.zeros(self.n) if x0 is None else np.asarray(x0, dtype=float)
         xs = lifted_replay(self.phi, self.gam, u, x0)
         c = self.model.c

@@ -1,0 +1,148 @@
+/*
+ * The simulator-loop frame of FMI 2.0 co-simulation binaries side by side:
+ *
+ *   fmu_frame N ROUNDS LABEL1 SO1 GUID1 [LABEL2 SO2 GUID2 ...]
+ *
+ * Each round times, for every binary in turn (so the machine's load hits all
+ * alike), N steps of fmi2DoStep alone (h = dt = 0.01 s) and N frames of fmi2SetReal
+ * (the ten inputs theta0 .. muy, value references 0-9) + fmi2DoStep + fmi2GetReal
+ * (the six outputs, 11-16).  Prints per binary the best and the median over the
+ * rounds, ns per step or frame:  LABEL dostep BEST MEDIAN / LABEL frame BEST MEDIAN.
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <dlfcn.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "fmi2Functions.h"
+
+#define MAX_LIBS 8
+#define MAX_ROUNDS 64
+
+typedef struct {
+    const char *label, *guid;
+    fmi2InstantiateTYPE *instantiate;
+    fmi2FreeInstanceTYPE *free_instance;
+    fmi2SetupExperimentTYPE *setup;
+    fmi2EnterInitializationModeTYPE *enter_init;
+    fmi2ExitInitializationModeTYPE *exit_init;
+    fmi2SetRealTYPE *set_real;
+    fmi2GetRealTYPE *get_real;
+    fmi2DoStepTYPE *do_step;
+} Api;
+
+static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st,
+                   fmi2String cat, fmi2String msg, ...)
+{
+    va_list ap;
+    (void)env; (void)cat;
+    va_start(ap, msg);
+    fprintf(stderr, "[%s %d] ", name, (int)st);
+    vfprintf(stderr, msg, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static void *sym(void *lib, const char *name)
+{
+    void *p = dlsym(lib, name);
+    if (!p) { fprintf(stderr, "missing %s\n", name); exit(1); }
+    return p;
+}
+
+static void load(Api *a, const char *path)
+{
+    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) { fprintf(stderr, "%s\n", dlerror()); exit(1); }
+    *(void **)&a->instantiate = sym(lib, "fmi2Instantiate");
+    *(void **)&a->free_instance = sym(lib, "fmi2FreeInstance");
+    *(void **)&a->setup = sym(lib, "fmi2SetupExperiment");
+    *(void **)&a->enter_init = sym(lib, "fmi2EnterInitializationMode");
+    *(void **)&a->exit_init = sym(lib, "fmi2ExitInitializationMode");
+    *(void **)&a->set_real = sym(lib, "fmi2SetReal");
+    *(void **)&a->get_real = sym(lib, "fmi2GetReal");
+    *(void **)&a->do_step = sym(lib, "fmi2DoStep");
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* ns per step: mode 0 DoStep only, mode 1 SetReal + DoStep + GetReal */
+static double run(const Api *a, long n, int mode, double *sink)
+{
+    static const fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
+    static const fmi2ValueReference in[10] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    static const fmi2ValueReference out[6] = {11, 12, 13, 14, 15, 16};
+    fmi2Component c = a->instantiate("bench", fmi2CoSimulation, a->guid, "", &cb,
+                                     fmi2False, fmi2False);
+    double u[10], y[6], t0, t1;
+    long k;
+    int i;
+    if (!c || a->setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK ||
+        a->enter_init(c) != fmi2OK || a->exit_init(c) != fmi2OK) {
+        fprintf(stderr, "%s: initialisation failed\n", a->label);
+        exit(1);
+    }
+    for (i = 0; i < 10; i++) u[i] = 1e-3 * (double)(i + 1);
+    a->set_real(c, in, 10, u);
+    t0 = now();
+    for (k = 0; k < n; k++) {
+        if (mode == 1) {
+            u[0] = 1e-3 * (double)(k & 7);
+            a->set_real(c, in, 10, u);
+        }
+        if (a->do_step(c, (double)k * 0.01, 0.01, fmi2True) != fmi2OK) {
+            fprintf(stderr, "%s: fmi2DoStep failed\n", a->label);
+            exit(1);
+        }
+        if (mode == 1) a->get_real(c, out, 6, y);
+    }
+    t1 = now();
+    a->get_real(c, out, 6, y);
+    *sink += y[0];
+    a->free_instance(c);
+    return (t1 - t0) / n * 1e9;
+}
+
+static int cmp(const void *x, const void *y)
+{
+    const double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+int main(int argc, char **argv)
+{
+    Api libs[MAX_LIBS];
+    double t[MAX_LIBS][2][MAX_ROUNDS], sink = 0.0;
+    long n;
+    int rounds, nl = 0, r, l, mode;
+    if (argc < 6 || (argc - 3) % 3 != 0) {
+        fprintf(stderr, "usage: %s N ROUNDS LABEL SO GUID [LABEL SO GUID ...]\n", argv[0]);
+        return 2;
+    }
+    n = atol(argv[1]);
+    rounds = atoi(argv[2]);
+    if (rounds < 1 || rounds > MAX_ROUNDS || n < 1) return 2;
+    for (l = 3; l + 2 < argc && nl < MAX_LIBS; l += 3, nl++) {
+        libs[nl].label = argv[l];
+        libs[nl].guid = argv[l + 2];
+        load(&libs[nl], argv[l + 1]);
+    }
+    for (r = 0; r < rounds; r++)
+        for (l = 0; l < nl; l++)
+            for (mode = 0; mode < 2; mode++) t[l][mode][r] = run(&libs[l], n, mode, &sink);
+    for (l = 0; l < nl; l++)
+        for (mode = 0; mode < 2; mode++) {
+            qsort(t[l][mode], (size_t)rounds, sizeof(double), cmp);
+            printf("%s %s %.2f %.2f\n", libs[l].label, mode ? "frame" : "dostep",
+                   t[l][mode][0], t[l][mode][rounds / 2]);
+        }
+    if (sink != sink) fprintf(stderr, "non-finite output\n");
+    return 0;
+}

@@ -1,0 +1,222 @@
+/*
+ * The FMU's numerics (inflow_numerics.h): dense LU, the matrix exponential, the
+ * Taylor rule of a remainder step, the table in mu.  Nothing here knows the rotor;
+ * the model's equations are in inflow_equations.c (generated) and inflow_model.c.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "inflow_numerics.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define NX IFS_NX
+#define NA IFS_NA
+
+/* --- small dense linear algebra (row-major, fixed sizes, no allocation) --- */
+
+/* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
+ * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
+int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol)
+{
+    double amax = 0.0;
+    int i, j, k;
+    for (i = 0; i < n * n; i++)
+        if (fabs(A[i]) > amax) amax = fabs(A[i]);
+    if (!(amax > 0.0) || !isfinite(amax)) return -1;
+    for (k = 0; k < n; k++) {
+        int p = k;
+        for (i = k + 1; i < n; i++)
+            if (fabs(A[i * n + k]) > fabs(A[p * n + k])) p = i;
+        if (!(fabs(A[p * n + k]) > tol * amax)) return -1;
+        if (p != k) {
+            for (j = 0; j < n; j++) { double t = A[k*n+j]; A[k*n+j] = A[p*n+j]; A[p*n+j] = t; }
+            for (j = 0; j < nrhs; j++) {
+                double t = B[k*nrhs+j]; B[k*nrhs+j] = B[p*nrhs+j]; B[p*nrhs+j] = t;
+            }
+        }
+        for (i = k + 1; i < n; i++) {
+            double f = A[i * n + k] / A[k * n + k];
+            if (f == 0.0) continue;
+            for (j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+            for (j = 0; j < nrhs; j++) B[i * nrhs + j] -= f * B[k * nrhs + j];
+        }
+    }
+    for (k = n - 1; k >= 0; k--)
+        for (j = 0; j < nrhs; j++) {
+            double s = B[k * nrhs + j];
+            for (i = k + 1; i < n; i++) s -= A[k * n + i] * B[i * nrhs + j];
+            B[k * nrhs + j] = s / A[k * n + k];
+        }
+    return 0;
+}
+
+static void matmul(const double *A, const double *B, double *C)   /* NA x NA */
+{
+    int i, j, k;
+    for (i = 0; i < NA; i++) {
+        double row[NA] = {0.0};
+        for (k = 0; k < NA; k++) {
+            double aik = A[i * NA + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < NA; j++) row[j] += aik * B[k * NA + j];
+        }
+        memcpy(C + i * NA, row, sizeof row);
+    }
+}
+
+/* exp(A) of an NA x NA matrix: scaling and squaring with the diagonal [6/6] Pade
+ * approximant, scaled to 1-norm <= 0.5 (backward error below the unit roundoff,
+ * Higham 2005).  A is overwritten by the result. */
+int ifs_expm(double *A)
+{
+    static const double c[7] = {1.0, 0.5, 5.0 / 44.0, 1.0 / 66.0, 1.0 / 792.0,
+                                1.0 / 15840.0, 1.0 / 665280.0};
+    double X2[NA * NA], X4[NA * NA], X6[NA * NA], U[NA * NA], V[NA * NA], T[NA * NA];
+    double norm = 0.0, scale;
+    int i, j, s = 0;
+    for (j = 0; j < NA; j++) {
+        double col = 0.0;
+        for (i = 0; i < NA; i++) col += fabs(A[i * NA + j]);
+        if (col > norm) norm = col;
+    }
+    if (!isfinite(norm)) return -1;
+    while (norm > 0.5 && s < 64) { norm *= 0.5; s++; }
+    scale = ldexp(1.0, -s);
+    for (i = 0; i < NA * NA; i++) A[i] *= scale;
+    matmul(A, A, X2);
+    matmul(X2, X2, X4);
+    matmul(X4, X2, X6);
+    for (i = 0; i < NA * NA; i++) {
+        T[i] = c[3] * X2[i] + c[5] * X4[i];
+        V[i] = c[2] * X2[i] + c[4] * X4[i] + c[6] * X6[i];
+    }
+    for (i = 0; i < NA; i++) { T[i * NA + i] += c[1]; V[i * NA + i] += c[0]; }
+    matmul(A, T, U);                                 /* odd part */
+    for (i = 0; i < NA * NA; i++) { T[i] = V[i] - U[i]; A[i] = V[i] + U[i]; }
+    if (ifs_lu_solve(NA, T, NA, A, 1e-300) != 0) return -1;   /* (V - U)^-1 (V + U) */
+    for (; s > 0; s--) { matmul(A, A, T); memcpy(A, T, sizeof T); }
+    return 0;
+}
+
+/* --- the Taylor rule of a step of another length --- */
+
+int ifs_taylor_count(double norm_a, double norm_ab, double r)
+{
+    double bound = norm_ab * fabs(r), q = norm_a * fabs(r);
+    int k;
+    for (k = 1; k <= IFS_KMAX; k++) {
+        if (bound * q / (k + 1) <= IFS_TAYLOR_TOL) return k;
+        bound *= q / (k + 1);
+    }
+    return 0;
+}
+
+/* --- the table in mu --- */
+
+/* Segment s covers [lo q^s, lo q^(s+1)], q = (hi/lo)^(1/SEG). */
+static double mu_edge(int seg)
+{
+    return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
+}
+
+/* The table's interpolant at mu: [phi gam] (half 0, by columns) or [a b] (half 1,
+ * row-major).  Horner's rule on four entries at a time, the degrees innermost so
+ * the sums stay in registers; each entry gets the same operations in the same
+ * order in the vector and the scalar code.  (IFS_HOT: the AVX2 clone does four
+ * doubles a vector; the same numbers.) */
+static IFS_HOT void mu_eval_half(const IfsMuTable *t, double mu, int half,
+                                 double out[IFS_MU_HALF])
+{
+    const int first = half * IFS_MU_HALF;
+    int seg = (int)(IFS_MU_SEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
+    double lo, hi, x;
+    int k, e;
+    /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
+    if (seg < 0) seg = 0;
+    if (seg >= IFS_MU_SEG) seg = IFS_MU_SEG - 1;
+    while (seg > 0 && mu < t->edge[seg]) seg--;
+    while (seg < IFS_MU_SEG - 1 && mu >= t->edge[seg + 1]) seg++;
+    lo = t->edge[seg];
+    hi = t->edge[seg + 1];
+    x = (2.0 * mu - lo - hi) / (hi - lo);
+    for (e = 0; e < IFS_MU_HALF; e += 4) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        ifs_v4 acc = *(const ifs_v4 *)(t->p[seg][IFS_MU_DEG] + first + e);
+        IFS_UNROLL
+        for (k = IFS_MU_DEG - 1; k >= 0; k--)
+            acc = acc * x + *(const ifs_v4 *)(t->p[seg][k] + first + e);
+        *(ifs_v4 *)(out + e) = acc;
+#else
+        int i;
+        for (i = e; i < e + 4; i++) {
+            double acc = t->p[seg][IFS_MU_DEG][first + i];
+            for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][first + i];
+            out[i] = acc;
+        }
+#endif
+    }
+}
+
+void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double out[IFS_MU_HALF])
+{
+    mu_eval_half(t, mu, half, out);
+}
+
+int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
+{
+    const int N = IFS_MU_DEG + 1;
+    double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
+    double T[IFS_MU_DEG + 1][IFS_MU_DEG + 1];        /* T_k(x) = sum_i T[k][i] x^i */
+    int seg, j, k, i, e;
+    double worst = 0.0;
+    memset(T, 0, sizeof T);
+    T[0][0] = 1.0;
+    T[1][1] = 1.0;
+    for (k = 2; k < N; k++)
+        for (i = 0; i < N; i++)
+            T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
+    t->state = -1;
+    t->err = 0.0;
+    for (seg = 0; seg <= IFS_MU_SEG; seg++) t->edge[seg] = mu_edge(seg);
+    for (seg = 0; seg < IFS_MU_SEG; seg++) {
+        const double lo = t->edge[seg], hi = t->edge[seg + 1];
+        for (j = 0; j < N; j++) {
+            const double xj = cos(M_PI * (j + 0.5) / N);
+            if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j]) != 0)
+                return t->state;
+        }
+        for (e = 0; e < IFS_MU_NTAB; e++) {
+            double c[IFS_MU_DEG + 1];
+            for (k = 0; k < N; k++) {             /* Chebyshev coefficients */
+                double acc = 0.0;
+                for (j = 0; j < N; j++) acc += f[j][e] * cos(M_PI * k * (j + 0.5) / N);
+                c[k] = (k == 0 ? 1.0 : 2.0) * acc / N;
+            }
+            for (i = 0; i < N; i++) {             /* to powers of x */
+                double acc = 0.0;
+                for (k = i; k < N; k++) acc += c[k] * T[k][i];
+                t->p[seg][i][e] = acc;
+            }
+        }
+    }
+    for (seg = 0; seg < IFS_MU_SEG; seg++) {       /* check between the nodes */
+        double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
+        const double mu = 0.5 * (mu_edge(seg) + mu_edge(seg + 1));
+        if (entries(ctx, mu, want) != 0) return t->state;
+        mu_eval_half(t, mu, 0, got);
+        mu_eval_half(t, mu, 1, got + IFS_MU_HALF);
+        for (e = 0; e < IFS_MU_NTAB; e++)
+            if (fabs(want[e]) > scale[e >= IFS_MU_HALF])
+                scale[e >= IFS_MU_HALF] = fabs(want[e]);
+        for (e = 0; e < IFS_MU_NTAB; e++) {
+            const double r = fabs(got[e] - want[e]) / scale[e >= IFS_MU_HALF];
+            if (!(r <= worst)) worst = r;       /* NaN-safe */
+        }
+    }
+    t->err = worst;
+    t->state = worst <= IFS_MU_TOL ? 1 : -1;
+    return t->state;
+}

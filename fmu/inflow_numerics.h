@@ -1,0 +1,103 @@
+/*
+ * The FMU's numerics, apart from the model's equations: dense LU solves, the matrix
+ * exponential, the Taylor rule of a remainder step and the table in mu (fit, check
+ * and evaluation).  Knows nothing of rotors: the model (inflow_model.c) gives the
+ * table its exact entries through a callback.  The table's and the Taylor rule's
+ * constants (IFS_MU_LO ... IFS_KMAX) are generated into inflow_vars.h from
+ * inflowsim.simulate.mutable, which the Python Simulator uses too.
+ */
+#ifndef INFLOW_NUMERICS_H
+#define INFLOW_NUMERICS_H
+
+#include <stddef.h>
+
+#include "inflow_vars.h"
+
+#define IFS_NU IFS_N_INPUTS        /* 10: theta0 .. muy */
+#define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
+#define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
+
+/* The DoStep functions, the mu table's evaluation and the stepping of whole
+ * communication intervals (ifs_advance: substeps, the Taylor remainder) are
+ * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
+ * for AVX2 and for the baseline.  The step does the same
+ * operations in the same order in both, so both give the same numbers (a test
+ * checks this bit for bit; build without floating-point contraction,
+ * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
+#if defined(__has_attribute)
+#if __has_attribute(target_clones) && defined(__x86_64__) && defined(__GLIBC__) && \
+    !defined(IFS_NO_CLONES) && !(defined(__clang__) && __clang_major__ < 18)
+/* (clang before 18 exports the clone dispatcher under another name) */
+#define IFS_HOT __attribute__((target_clones("avx2", "default")))
+#define IFS_HOT_CLONES 1
+#endif
+#endif
+#ifndef IFS_HOT
+#define IFS_HOT
+#endif
+
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+/* unroll the loop that follows (its trip count is a compile-time constant): gcc -O2
+ * keeps short inner loops rolled, and their counting costs as much as their work */
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
+#define IFS_UNROLL _Pragma("GCC unroll 32")
+#else
+#define IFS_UNROLL
+#endif
+
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+/* unaligned, aliasing-safe views of 4 and 2 doubles */
+typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
+typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
+#define IFS_INLINE static inline __attribute__((always_inline))
+#else
+#define IFS_INLINE static inline
+#endif
+
+
+/* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
+ * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
+int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
+
+/* exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
+ * scaling and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm
+ * <= 0.5 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
+ * finite or the solve fails. */
+int ifs_expm(double *A);
+
+/* Terms of the Taylor series of a step of length |r| [s] for x' = a x + b u with
+ * 1-norms norm_a = |a| and norm_ab = |[a b]|: the first k whose next term is
+ * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed
+ * (inflowsim.simulate.mutable.taylor_terms). */
+int ifs_taylor_count(double norm_a, double norm_ab, double r);
+
+/*
+ * A matrix-valued function of mu tabulated on [IFS_MU_LO, IFS_MU_HI] (for the FMU:
+ * [phi gam] at dt and [a b]): IFS_MU_SEG segments growing geometrically with mu,
+ * on each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1]
+ * through exact values at the Chebyshev-Gauss nodes, stored as power coefficients
+ * (Horner's rule).  Two halves of IFS_MU_HALF entries, each checked at every
+ * segment's midpoint against an exact value relative to the half's largest entry;
+ * the table is used only if that is within IFS_MU_TOL.
+ */
+#define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
+#define IFS_MU_NTAB (2 * IFS_MU_HALF)
+typedef struct {
+    int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
+    double err;                /* the largest relative error found by the check */
+    double edge[IFS_MU_SEG + 1];                         /* segment ends */
+    double p[IFS_MU_SEG][IFS_MU_DEG + 1][IFS_MU_NTAB];   /* power coefficients */
+} IfsMuTable;
+
+/* The exact entries at mu (both halves, IFS_MU_NTAB values); 0, or -1 if there are
+ * none there. */
+typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
+
+/* Fit and check the table; returns t->state (1 valid, -1 not). */
+int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);
+/* Half 0 or 1 of the interpolant at mu (within the table's range). */
+void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double out[IFS_MU_HALF]);
+
+#endif

@@ -1,0 +1,187 @@
+"""The discrete matrices tabulated in the advance ratio, and the Taylor rule of a
+step of another length: one description for the Simulator and the FMU.
+
+Why a table and not polynomials: the descriptor ``E, A, B`` of Eq. (8) is a
+polynomial in ``mu`` and ``1/V`` (the momentum gain ``L`` of Eq. (19) is
+``diag(a0 s/(2 V), -2 a0 s/V, -2 a0 s/V)``, ``V = mu``), and the state space
+``a = Omega E(mu)^-1 A(mu)`` is rational in ``mu``; the zero-order hold
+``exp([[a, b], [0, 0]] dt)`` is analytic in ``mu`` on ``[MU_LO, MU_HI]`` with its
+nearest singularity at ``mu = 0``.  So the discrete matrices are interpolated on
+``SEGMENTS`` segments that grow geometrically with ``mu`` (each the same number of
+its widths away from 0), by a polynomial of degree ``DEGREE`` in the local
+variable ``x in [-1, 1]`` through exact builds at the Chebyshev-Gauss nodes,
+stored as power coefficients.  A table is used only if it agrees with exact
+builds at every segment's midpoint to ``TOLERANCE`` of each block's largest
+entry; otherwise a flight-condition change rebuilds exactly.
+
+The FMU's C (``fmu/inflow_numerics.c``) builds the same table at run time for its
+tunable parameters; its constants (``IFS_MU_LO`` ... ``IFS_TAYLOR_TOL``) are
+generated from this module into ``inflow_vars.h`` (:func:`c_defines`), so the two
+cannot drift.
+
+A step of another length ``r`` (the FMU's communication remainder, the
+Simulator's :meth:`~inflowsim.simulate.simulator.Simulator.set_dt`) is the Taylor
+series of the solution with as many terms as make the next one at most
+``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`), at most
+``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
+"""
+from __future__ import annotations
+
+import bisect
+import math
+import struct
+
+import numpy as np
+
+#: Advance-ratio range of the table (the forward-flight momentum model's range).
+MU_LO = 0.1
+MU_HI = 0.5
+#: Geometric segments and the polynomial degree on each.
+SEGMENTS = 16
+DEGREE = 7
+#: A table is used only if its check at the segment midpoints is within this
+#: fraction of each block's largest entry.
+TOLERANCE = 1e-12
+#: Taylor series of a step: the next term bounded by this times |[x; u]| ...
+TAYLOR_TOL = 1e-17
+#: ... within this many terms, else the matrix exponential.
+TAYLOR_MAX_TERMS = 30
+
+
+def edges() -> list:
+    """Segment ends ``MU_LO q^s``, ``q = (MU_HI/MU_LO)^(1/SEGMENTS)`` (the C's
+    ``pow`` expression, so the same doubles)."""
+    return [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+
+
+def nodes(lo: float, hi: float) -> np.ndarray:
+    """The Chebyshev-Gauss nodes of segment ``[lo, hi]`` in ``mu``."""
+    n = DEGREE + 1
+    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    return 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
+
+
+def _power_coefficients(values: np.ndarray) -> np.ndarray:
+    """Power coefficients in ``x`` (rows: degree 0..DEGREE) of the polynomial through
+    ``values`` (rows: the nodes of :func:`nodes`): Chebyshev coefficients, then the
+    Chebyshev polynomials' power coefficients (as the C does)."""
+    n = DEGREE + 1
+    k = np.arange(n)
+    w = np.cos(np.pi * np.outer(k, k + 0.5) / n) * np.where(k == 0, 1.0, 2.0)[:, None] / n
+    cheb = w @ values
+    t = np.zeros((n, n))                    # T_k(x) = sum_i t[k, i] x^i
+    t[0, 0] = 1.0
+    t[1, 1] = 1.0
+    for j in range(2, n):
+        t[j, 1:] = 2.0 * t[j - 1, :-1]
+        t[j] -= t[j - 2]
+    return t.T @ cheb
+
+
+def taylor_terms(norm_a: float, norm_ab: float, r: float) -> int:
+    """Terms of the Taylor series of a step of length ``|r|`` [s]: the first ``k``
+    whose next term is bounded by ``TAYLOR_TOL |[x; u]|`` (term ``k`` is at most
+    ``(|a| r)^(k-1) |[a b]| r / k!`` of it, 1-norms).  0 if more than
+    ``TAYLOR_MAX_TERMS`` would be needed (the C's ``taylor_count``)."""
+    bound, q = norm_ab * abs(r), norm_a * abs(r)
+    for k in range(1, TAYLOR_MAX_TERMS + 1):
+        if bound * q / (k + 1) <= TAYLOR_TOL:
+            return k
+        bound *= q / (k + 1)
+    return 0
+
+
+def _powers7(x):
+    x2 = x * x
+    x4 = x2 * x2
+    return (1.0, x, x2, x2 * x, x4, x4 * x, x4 * x2, x4 * x2 * x)
+
+
+def _powers_loop(x):
+    p = [1.0, x]
+    for _ in range(DEGREE - 1):
+        p.append(p[-1] * x)
+    return p
+
+
+#: ``x -> (1, x, ..., x^DEGREE)``: written out for degree 7 (a loop costs twice as much)
+_powers = _powers7 if DEGREE == 7 else _powers_loop
+
+
+class MuTable:
+    """The entries ``f(mu)`` of a matrix-valued function tabulated on ``[MU_LO,
+    MU_HI]``.
+
+    Parameters
+    ----------
+    exact : callable
+        ``mu -> ndarray`` (any shape; the same at every ``mu``): the exact matrices.
+    blocks : sequence of slices
+        Row ranges whose entries share one scale in the check (each block's error
+        relative to its largest entry).
+
+    ``ok`` says whether the check passed (``err`` the worst relative error found).
+    :meth:`into` writes the interpolant at ``mu`` into an array of the same shape.
+    """
+
+    def __init__(self, exact, blocks=(slice(None),)):
+        self.edges = edges()
+        first = None
+        coef = []
+        for s in range(SEGMENTS):
+            vals = [np.asarray(exact(m), dtype=float) for m in nodes(*self.edges[s:s + 2])]
+            first = vals[0] if first is None else first
+            coef.append(_power_coefficients(np.array([v.ravel() for v in vals])))
+        self.shape = first.shape
+        self._p = np.ascontiguousarray(coef)            # [segment, degree, entry]
+        self._x = np.empty(DEGREE + 1)               # powers of x, written in place
+        self._pack = struct.Struct(f"{DEGREE + 1}d").pack_into
+        self._xbuf = memoryview(self._x).cast("B")
+        worst = 0.0
+        for s in range(SEGMENTS):
+            mid = 0.5 * (self.edges[s] + self.edges[s + 1])
+            want = np.asarray(exact(mid), dtype=float)
+            got = np.empty(self.shape)
+            self.into(mid, got.reshape(-1))
+            for b in blocks:
+                scale = np.max(np.abs(want[b]))
+                err = np.max(np.abs(got[b] - want[b])) / scale if scale > 0 else 0.0
+                worst = err if not err <= worst else worst    # NaN-safe
+        self.err = float(worst)
+        self.ok = bool(self.err <= TOLERANCE)
+
+    def covers(self, mu: float) -> bool:
+        return MU_LO <= mu <= MU_HI
+
+    def into(self, mu: float, out: np.ndarray) -> None:
+        """``out[:] = f(mu).ravel()`` (``out`` a C-contiguous float vector; ``mu``
+        within the table).  One dot product of the powers of the
+        segment's local variable with its coefficients: about a microsecond."""
+        e = self.edges
+        s = bisect.bisect_right(e, mu) - 1
+        if s >= SEGMENTS:
+            s = SEGMENTS - 1
+        lo, hi = e[s], e[s + 1]
+        x = (2.0 * mu - lo - hi) / (hi - lo)
+        # the powers by Python floats packed into the array's buffer: a fifth of
+        # the cost of np.power(x, k, out=) (bench/simulator.md)
+        self._pack(self._xbuf, 0, *_powers(x))
+        self._x.dot(self._p[s], out=out)
+
+
+def c_defines() -> list:
+    """The lines of ``inflow_vars.h`` that give the C these constants."""
+    return ["/* the mu table and the Taylor remainder: inflowsim.simulate.mutable, shared "
+            "with the Simulator */",
+            f"#define IFS_MU_LO {MU_LO!r}",
+            f"#define IFS_MU_HI {MU_HI!r}",
+            f"#define IFS_MU_SEG {SEGMENTS}",
+            f"#define IFS_MU_DEG {DEGREE}",
+            f"#define IFS_MU_TOL {TOLERANCE!r}",
+            f"#define IFS_TAYLOR_TOL {TAYLOR_TOL!r}",
+            f"#define IFS_KMAX {TAYLOR_MAX_TERMS}  /* most Taylor terms of a remainder "
+            "step */"]
+
+
+__all__ = ["MuTable", "edges", "nodes", "taylor_terms", "c_defines", "MU_LO", "MU_HI",
+           "SEGMENTS", "DEGREE", "TOLERANCE", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]
