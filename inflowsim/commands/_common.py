@@ -1,15 +1,19 @@
-"""Helpers shared by the command modules: loading models and records, JSON out."""
+"""Helpers shared by the command modules: loading models and records, JSON out.
+
+Building the parsers (``add_*_arguments``) imports nothing that computes: every
+``--help`` answers without NumPy (issue #27); the helpers that run a command import
+what they use.
+"""
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
+from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
 from ..errors import InputError
-from ..fileio import json_text
-from ..model.params import PUMA
-from ..model.paramfile import read_parameters
-from ..model.presets import preset_parameters
-from ..identify.transform import DEFAULT_BAND
-from ..model.structure import Structure
+
+if TYPE_CHECKING:
+    from ..model.structure import Structure
 
 
 def add_model_arguments(p, params=True):
@@ -24,6 +28,10 @@ def add_model_arguments(p, params=True):
 def load_model(args, constants=None):
     """The model named by ``--model`` / ``--params`` at ``constants`` (record's, or Puma)."""
     from ..model.build import build_model
+    from ..model.paramfile import read_parameters
+    from ..model.params import PUMA
+    from ..model.presets import preset_parameters
+    from ..model.structure import Structure
     k = constants or PUMA
     if getattr(args, "params", None):
         ps = read_parameters(args.params)
@@ -37,7 +45,6 @@ def load_model(args, constants=None):
 
 def add_record_arguments(p):
     """``--hold`` and ``--trim-window``: how to read the records' samples."""
-    from ..simulate.sampled import HOLDS
     p.add_argument("--hold", choices=HOLDS,
                    help="intersample behaviour of the records' inputs: continuous "
                         "(samples of continuous signals, measured data), zoh (held over "
@@ -68,6 +75,7 @@ def read_records(paths, args):
 
 
 def print_json(doc):
+    from ..fileio import json_text
     sys.stdout.write(json_text(doc))
 
 
@@ -86,6 +94,8 @@ def start_values(args):
     """``--params`` as start values for a fit of ``--model`` (names it shares)."""
     if not getattr(args, "params", None):
         return None
+    from ..model.paramfile import read_parameters
+    from ..model.structure import Structure
     ps = read_parameters(args.params)
     s = Structure.parse(args.model)
     shared = {n: v for n, v in ps.parameters.items() if n in s.parameters}
@@ -96,7 +106,6 @@ def start_values(args):
 
 def add_search_arguments(p):
     """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
-    from ..diagnose.candidates import ALPHA
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
                    default=DEFAULT_BAND, help=f"band [Hz] (default {DEFAULT_BAND[0]:g} "
                                               f"{DEFAULT_BAND[1]:g})")
@@ -146,6 +155,7 @@ def parse_ties(items) -> list:
 
 def structure_of(args) -> Structure:
     """``--model`` plus the ``--add`` effects."""
+    from ..model.structure import Structure
     s = Structure.parse(args.model)
     for e in args.add:
         s = s.with_effect(e)

@@ -16,13 +16,8 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
-
-from ..errors import InputError
 from ..channels import CONTROLS
-from ..fileio import check_output, json_text, safe_write_text
-from ..model.params import PUMA
-from ..data.record import write_record
+from ..errors import InputError
 from ._common import check_seed, print_json, progress
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
@@ -101,6 +96,7 @@ def _settings(items) -> dict:
 
 
 def _check_outputs(args):
+    from ..fileio import check_output
     paths = [Path(args.out)] + ([Path(args.truth_json)] if args.truth_json else [])
     if len(paths) == 2 and paths[0].resolve() == paths[1].resolve():
         raise InputError(f"--truth-json {args.truth_json}: same file as --out")
@@ -172,6 +168,7 @@ def _nonlinear(args, man, values):
 def _linear(args, man, values):
     from ..flighttest.nonlinear import FlightTest
     from ..model.build import build_model
+    from ..model.params import PUMA
     from ..model.presets import truth_parameters
     from ..model.structure import Structure
     from ..flighttest.virtual import VirtualTest
@@ -206,6 +203,8 @@ def _still_body():
 
 
 def run(args) -> int:
+    from ..data.record import write_record
+    from ..fileio import json_text, safe_write_text
     from ..flighttest.nonlinear import flighttest
     _check_outputs(args)
     man = _manoeuvre(args)
@@ -228,6 +227,7 @@ def run(args) -> int:
 
 
 def _plain(o):
+    import numpy as np
     if isinstance(o, np.ndarray):
         return o.tolist()
     if isinstance(o, (np.floating, np.integer)):

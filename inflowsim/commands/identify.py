@@ -8,11 +8,7 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
-from ..fileio import check_output
-from ..identify.transform import DEFAULT_BAND
-from ..model.paramfile import write_json
-from ..report.document import check_report_folder
-from ..report.fit import write_report
+from ..defaults import DEFAULT_BAND
 from ._common import (add_record_arguments, parse_fix, parse_ties, print_json, progress,
                       read_records, structure_of)
 
@@ -46,13 +42,16 @@ def add_arguments(p):
 def _check_outputs(out, inputs, force):
     """Refuse before any work: an existing ``out`` without ``force``, or an input."""
     if out is not None:
+        from ..fileio import check_output
         check_output(out, force, inputs)
 
 
 def run(args) -> int:
-    from ..identify import DEFAULT_BAND, identify
+    from ..identify import identify
     from ..identify.tables import markdown_table
-    from ..model.paramfile import read_parameters
+    from ..model.paramfile import read_parameters, write_json
+    from ..report.document import check_report_folder
+    from ..report.fit import write_report
     s = structure_of(args)
     _check_outputs(args.out, args.records, args.force)
     if args.report:

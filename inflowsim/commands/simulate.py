@@ -14,14 +14,10 @@ perturbations (the inflow has no measured trim).
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-import numpy as np
-
 from ..errors import InputError
-from ..fileio import check_output
-from ..data.record import read_record, write_record
-from ..data.simulated import simulate_record
 from ._common import add_model_arguments, load_model, print_json, progress
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
@@ -41,7 +37,10 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    if args.dt is not None and not (np.isfinite(args.dt) and args.dt > 0):
+    from ..data.record import read_record, write_record
+    from ..data.simulated import simulate_record
+    from ..fileio import check_output
+    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
     for w in rec.warnings():
