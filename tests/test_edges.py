@@ -1,6 +1,8 @@
 """Clean edges (issue #28 items 1-4) and a start that imports only what it needs
 (issue #27 item 2)."""
 import json
+import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -41,7 +43,7 @@ def test_help_and_version_import_no_computing_module():
     argvs.append(["fmu", "build", "--help"])
     code = _PROBE.format(heavy=HEAVY, argvs=argvs)
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd=ROOT, env={**__import__("os").environ,
+                         cwd=ROOT, env={**os.environ,
                                         "PYTHONPATH": str(ROOT)}, timeout=60)
     assert res.returncode == 0, res.stderr
     seen = json.loads(res.stderr.strip().splitlines()[-1])
@@ -57,3 +59,145 @@ def test_top_level_names_resolve_on_use():
     assert set(ifs.__all__) <= set(dir(ifs))
     with pytest.raises(AttributeError):
         ifs.no_such_name
+
+
+# -- outputs replace a regular file only (issue #28 item 1) ---------------------------
+@pytest.fixture(scope="module")
+def rec_path(tmp_path_factory):
+    from inflowsim.data.record import write_record
+    p = tmp_path_factory.mktemp("rec") / "doublet.csv"
+    write_record(virtual(structure="glauert", duration=12.0), p)
+    return p
+
+
+def _special(kind, tmp_path, name):
+    """A path ``name`` in ``tmp_path`` that is not a regular file; never a real device
+    written to: a link to ``/dev/null`` is only ever refused or replaced."""
+    p = tmp_path / name
+    if kind == "fifo":
+        os.mkfifo(p)
+    elif kind == "link-to-devnull":
+        p.symlink_to("/dev/null")
+    elif kind == "link-to-fifo":
+        os.mkfifo(tmp_path / "pipe")
+        p.symlink_to(tmp_path / "pipe")
+    elif kind == "dangling-link":
+        p.symlink_to(tmp_path / "nowhere" / "x")
+    elif kind == "folder":
+        (p / "inside").mkdir(parents=True)
+    return p
+
+
+def _unchanged(kind, p):
+    if kind == "fifo":
+        return stat.S_ISFIFO(os.lstat(p).st_mode)
+    if kind == "folder":
+        return (p / "inside").is_dir()
+    return p.is_symlink()
+
+
+FILE_OUTPUTS = {
+    "simulate": ("simulate", "{rec}", "-m", "glauert", "--force", "--out", "{out}"),
+    "identify": ("identify", "{rec}", "-m", "glauert", "--force", "--out", "{out}"),
+    "flighttest": ("flighttest", "--force", "--out", "{out}"),
+    "flighttest-truth": ("flighttest", "--force", "--out", "{tmp}/ok.csv",
+                         "--truth-json", "{out}"),
+    "fmu": ("fmu", "build", "--force", "--out", "{out}"),
+}
+KINDS = ("fifo", "link-to-devnull", "link-to-fifo", "dangling-link", "folder")
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("command", sorted(FILE_OUTPUTS))
+def test_force_replaces_a_regular_file_only(capsys, rec_path, tmp_path, command, kind):
+    out = _special(kind, tmp_path, "x.fmu" if command == "fmu" else "x.out")
+    argv = [a.format(rec=rec_path, out=out, tmp=tmp_path) for a in FILE_OUTPUTS[command]]
+    code, stdout, err = run(capsys, *argv)
+    words = {"folder": "is a folder", "dangling-link": "symbolic link to nothing"}
+    assert_user_error(code, stdout, err, str(out), words.get(kind, "regular file only"))
+    assert _unchanged(kind, out)
+    assert not (tmp_path / "ok.csv").exists()
+
+
+FOLDER_OUTPUTS = {
+    "demo": ("demo", "--out", "{dir}"),
+    "validate": ("validate", "{rec}", "-m", "glauert", "--report", "{dir}"),
+    "identify": ("identify", "{rec}", "-m", "glauert", "--report", "{dir}"),
+    "diagnose": ("diagnose", "{rec}", "-m", "basic", "--report", "{dir}"),
+    "ladder": ("ladder", "{rec}", "--report", "{dir}"),
+    "bandstudy": ("bandstudy", "{rec}", "-m", "glauert", "--force", "--out", "{dir}"),
+}
+
+
+@pytest.mark.parametrize("command", sorted(FOLDER_OUTPUTS))
+def test_report_folders_and_their_files_are_regular(capsys, rec_path, tmp_path, command):
+    """A FIFO given as the folder, and a FIFO where an earlier report's
+    ``index.html`` was (named in its manifest, so the report would replace it)."""
+    from inflowsim.report.document import MANIFEST
+    fifo = _special("fifo", tmp_path, "rep")
+    argv = [a.format(rec=rec_path, dir=fifo) for a in FOLDER_OUTPUTS[command]]
+    assert_user_error(*run(capsys, *argv), str(fifo))
+    d = tmp_path / "old"
+    d.mkdir()
+    (d / MANIFEST).write_text("index.html\n")
+    os.mkfifo(d / "index.html")
+    argv = [a.format(rec=rec_path, dir=d) for a in FOLDER_OUTPUTS[command]]
+    assert_user_error(*run(capsys, *argv), str(d / "index.html"), "regular file only")
+    assert stat.S_ISFIFO(os.lstat(d / "index.html").st_mode)
+
+
+def test_writers_refuse_what_is_not_a_regular_file(tmp_path):
+    """The library's writers, not only the commands' early checks."""
+    from inflowsim.errors import InputError
+    from inflowsim.fileio import atomic_path, safe_write_text
+    from inflowsim.report.plots import new_figure, save_png
+    fifo = _special("fifo", tmp_path, "f")
+    null = _special("link-to-devnull", tmp_path, "n")
+    for p in (fifo, null):
+        with pytest.raises(InputError, match="regular file only"):
+            safe_write_text(p, "x", overwrite=True)
+        with pytest.raises(InputError, match="regular file only"):
+            with atomic_path(p):
+                pass
+        with pytest.raises(InputError, match="regular file only"):
+            save_png(new_figure()[0], p)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode) and null.is_symlink()
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["f", "n"]
+
+
+def test_a_link_to_a_regular_file_is_written_through(tmp_path):
+    from inflowsim.fileio import safe_write_text
+    target = tmp_path / "real.txt"
+    target.write_text("old\n")
+    link = tmp_path / "link.txt"
+    link.symlink_to(target)
+    safe_write_text(link, "new\n", overwrite=True)
+    assert link.is_symlink() and target.read_text() == "new\n"
+
+
+def test_a_full_disk_names_the_file(capsys, rec_path, tmp_path, monkeypatch):
+    """ENOSPC while writing (the temporary file's write fails, as on a full disk):
+    one line naming the output, nothing left behind."""
+    import builtins
+    import errno
+
+    import inflowsim.fileio as fileio
+
+    class Full:
+        def __init__(self, *a, **k):
+            self.f = builtins.open(*a, **k)
+
+        def write(self, text):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.f.close()
+
+    monkeypatch.setattr(fileio, "open", Full, raising=False)
+    out = tmp_path / "x.csv"
+    code, stdout, err = run(capsys, "simulate", rec_path, "-m", "glauert", "--out", out)
+    assert_user_error(code, stdout, err, str(out), "No space left on device")
+    assert list(tmp_path.iterdir()) == []
