@@ -201,3 +201,64 @@ def test_a_full_disk_names_the_file(capsys, rec_path, tmp_path, monkeypatch):
     code, stdout, err = run(capsys, "simulate", rec_path, "-m", "glauert", "--out", out)
     assert_user_error(code, stdout, err, str(out), "No space left on device")
     assert list(tmp_path.iterdir()) == []
+
+
+# -- records that cannot be analysed, steps that cannot be run (issue #28 item 2) ------
+@pytest.fixture(scope="module")
+def still_path(tmp_path_factory):
+    """The record with its three controls held at their first value: nothing moves
+    the rotor (hub-motion columns left as they were)."""
+    import numpy as np
+
+    from inflowsim.data.record import write_record
+    rec = virtual(structure="glauert", duration=12.0)
+    still = rec.with_channels(**{c: np.full(len(rec), rec[c][0])
+                                 for c in ("theta0", "theta1c", "theta1s")})
+    p = tmp_path_factory.mktemp("still") / "still.csv"
+    write_record(still, p)
+    return p
+
+
+@pytest.mark.parametrize("argv", [
+    ("identify", "-m", "basic"), ("diagnose", "-m", "basic"), ("bandstudy", "-m", "basic"),
+    ("ladder",), ("ladder", "--structures", "basic", "glauert"),
+    ("validate", "-m", "basic"), ("validate", "-m", "glauert", "--trim-window", "0", "1"),
+], ids=" ".join)
+def test_a_record_where_no_control_moves_is_refused(capsys, still_path, argv):
+    code, out, err = run(capsys, argv[0], still_path, *argv[1:])
+    assert_user_error(code, out, err, str(still_path), "no control moves")
+
+
+def test_the_trim_of_a_still_record_describes_itself(still_path):
+    from inflowsim.data.record import find_trim, read_record
+    trim = find_trim(read_record(still_path))
+    assert trim.t_movement is None and "no control moves" in trim.describe()
+    assert trim.as_dict()["description"] == trim.describe()
+
+
+def test_simulate_refuses_a_step_that_makes_too_many_samples(capsys, rec_path, tmp_path):
+    from inflowsim.data.record import MAX_SAMPLES
+    out = tmp_path / "x.csv"
+    code, stdout, err = run(capsys, "simulate", rec_path, "-m", "basic", "--dt", "1e-9",
+                            "--out", out)
+    assert_user_error(code, stdout, err, "--dt 1e-09", f"at most {MAX_SAMPLES:,}")
+    assert not out.exists()
+
+
+def test_simulate_keeps_the_flight_condition_not_the_inputs_origin(capsys, rec_path,
+                                                                    tmp_path):
+    from inflowsim.data.record import read_record, write_record
+    src = tmp_path / "in.csv"
+    write_record(read_record(rec_path).with_meta(
+        aircraft="Puma (virtual, nonlinear blade-element truth)", seed="7",
+        description="theta1s doublet, nonlinear blade-element truth", trim_window="0 1.5"),
+        src)
+    out = tmp_path / "sim.csv"
+    assert run(capsys, "simulate", src, "-m", "basic", "--out", out)[0] == 0
+    text = out.read_text()
+    assert "truth" not in text and "seed" not in text and "aircraft" not in text
+    meta = read_record(out).meta
+    assert {k: meta[k] for k in ("omega", "mu", "a0", "solidity", "trim_window")} == {
+        "omega": "27.5", "mu": "0.249", "a0": "5.73", "solidity": "0.0917",
+        "trim_window": "0 1.5"}
+    assert meta["hold"] == "zoh" and "model basic" in meta["description"]

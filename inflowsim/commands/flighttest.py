@@ -105,13 +105,14 @@ def _check_outputs(args):
 
 
 #: Limits checked before generating (a mistyped option must not run for hours):
-#: 100 kHz at most, 2 million samples at most (5.5 h at 100 Hz), 20 deg inputs.
+#: 100 kHz at most, :data:`inflowsim.data.record.MAX_SAMPLES` samples at most, 20 deg
+#: inputs.
 MIN_DT = 1e-5
-MAX_SAMPLES = 2_000_000
 MAX_AMPLITUDE_DEG = 20.0
 
 
 def _manoeuvre(args):
+    from ..data.record import MAX_SAMPLES
     from ..flighttest.virtual import Manoeuvre
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
         v = getattr(args, name)

@@ -31,6 +31,10 @@ FLAP_COLUMNS = FLAP
 CONTROL_COLUMNS = CONTROLS
 #: Sampling jitter tolerated, as a fraction of the mean step.
 JITTER = 0.01
+#: Most samples a record that the package writes may hold (``flighttest``,
+#: ``simulate``): 5.5 h at 100 Hz.  Checked before generating: a mistyped step must
+#: not allocate gigabytes and run for hours.
+MAX_SAMPLES = 2_000_000
 
 
 def _ro(a):
@@ -263,6 +267,9 @@ class Trim:
 
     def describe(self) -> str:
         win = f"{self.t_start:.4g}-{self.t_end:.4g} s"
+        if self.method == "quiet" and self.t_movement is None:
+            return (f"mean over {win} ({self.n_samples} samples): the whole record, "
+                    "in which no control moves")
         if self.method == "quiet":
             return (f"mean over {win} ({self.n_samples} samples): the quiet lead-in, "
                     f"ending {TRIM_MARGIN:g} s before the first control movement at "
@@ -314,6 +321,19 @@ def first_movement(rec: Record) -> int | None:
         if moved.size and (first is None or moved[0] < first):
             first = int(moved[0])
     return first
+
+
+def require_control_movement(rec: Record) -> Record:
+    """Raise (:class:`RecordError`) when no pilot control moves in ``rec``
+    (:func:`first_movement`): nothing excites the rotor, so there is no response to
+    fit or compare (a record of the trim only, or the wrong file)."""
+    if first_movement(rec) is None:
+        have = [c for c in CONTROL_COLUMNS if c in rec.channels]
+        what = f"{', '.join(have)} constant" if have else "no control column"
+        raise RecordError(f"{rec.source}: no control moves ({what} over the whole "
+                          "record): nothing excites the rotor, so there is no response "
+                          "to fit or compare")
+    return rec
 
 
 def find_trim(rec: Record, window=None) -> Trim:

@@ -27,7 +27,8 @@ import numpy as np
 from ..defaults import DEFAULT_BAND  # the paper's band (model.md section 7) [Hz]
 from ..errors import InputError, RecordError
 from ..model.params import Constants
-from ..data.record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
+from ..data.record import (FLAP_COLUMNS, Record, find_trim, perturbations, read_record,
+                           require_control_movement)
 from ..simulate.sampled import gregory_weights
 
 #: A band limit may sit this fraction of a bin outside the asked band (the paper
@@ -174,6 +175,7 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
     hold = rec.hold_or(hold)
     rec.require(tuple(inputs) + FLAP_COLUMNS)
     rec.require_measured(FLAP_COLUMNS)
+    require_control_movement(rec)
     k_const = rec.constants
     n, dt = len(rec), rec.dt
     if grid_hz is None:
