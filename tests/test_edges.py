@@ -262,3 +262,128 @@ def test_simulate_keeps_the_flight_condition_not_the_inputs_origin(capsys, rec_p
         "omega": "27.5", "mu": "0.249", "a0": "5.73", "solidity": "0.0917",
         "trim_window": "0 1.5"}
     assert meta["hold"] == "zoh" and "model basic" in meta["description"]
+
+
+# -- what used to be accepted silently (issue #28 item 3) ------------------------------
+def test_a_record_too_short_for_the_band_names_the_length_needed(capsys, tmp_path):
+    """3 s of the paper's band kept 4 bins from 0.33 Hz (and the ladder added two
+    effects to them); the band needs one period of 0.2256 Hz, 4.43 s."""
+    from inflowsim.data.record import band_needs, write_record
+    from inflowsim.defaults import DEFAULT_BAND
+    p = tmp_path / "short.csv"
+    write_record(virtual(structure="glauert", duration=3.0), p)
+    need = f"{band_needs(DEFAULT_BAND):.4g} s"
+    assert need == "4.433 s"
+    for argv in (("ladder", p), ("identify", p, "-m", "basic"), ("validate", p, "-m", "basic"),
+                 ("diagnose", p, "-m", "basic")):
+        assert_user_error(*run(capsys, *argv), "too short", need)
+
+
+def test_a_record_just_long_enough_for_the_band_passes():
+    from inflowsim.data.record import band_needs
+    rec = virtual(structure="glauert", duration=4.5)
+    assert rec.duration >= band_needs((0.2256, 1.58))
+    rec.check_band((0.2256, 1.58))
+
+
+def _param_file(tmp_path, name, edit):
+    from inflowsim.model.paramfile import ParameterSet  # noqa: F401  (the format's home)
+    from inflowsim.model.params import PUMA
+    from inflowsim.model.presets import preset_parameters
+    doc = {"structure": "glauert", "effects": ["separate-time-constants", "glauert",
+                                               "azimuth-bias"],
+           "constants": PUMA.as_dict(),
+           "parameters": preset_parameters("glauert", PUMA, "paper")}
+    edit(doc)
+    p = tmp_path / name
+    p.write_text(json.dumps(doc))
+    return p
+
+
+@pytest.mark.parametrize("name, edit, words", [
+    ("effects.json", lambda d: d.update(effects=[]), ('"effects" lists []', "glauert")),
+    ("twice.json", lambda d: d.update(effects=["glauert", "glauert"]), ("twice",)),
+    ("omega.json", lambda d: d["constants"].update(omega="27.5"),
+     ("constants omega", '"27.5" is not a number')),
+    ("tau.json", lambda d: d["parameters"].update(tau0=True), ("tau0", "true is not a number")),
+    ("est.json", lambda d: d["parameters"].update(tau0={"estimate": "1.0"}),
+     ("tau0 estimate", "not a number")),
+    ("trim.json", lambda d: d["constants"].update(trim={"theta0": "0.1"}),
+     ("trim theta0", "not a number")),
+], ids=lambda x: x if isinstance(x, str) else "")
+def test_the_strict_parameter_reader(capsys, rec_path, tmp_path, name, edit, words):
+    p = _param_file(tmp_path, name, edit)
+    out = tmp_path / "x.csv"
+    code, stdout, err = run(capsys, "simulate", rec_path, "-m", "glauert", "-p", p,
+                            "--out", out)
+    assert_user_error(code, stdout, err, str(p), *words)
+    assert not out.exists()
+
+
+def test_the_structure_and_effects_of_a_written_fit_agree(tmp_path):
+    """What the reader refuses is never what the package writes."""
+    from inflowsim.model.paramfile import read_parameters
+    p = _param_file(tmp_path, "ok.json", lambda d: d.update(
+        structure="glauert+time-delay", effects=["separate-time-constants", "glauert",
+                                                 "azimuth-bias", "time-delay"],
+        parameters={**d["parameters"], "delay": 0.0}))
+    assert read_parameters(p).structure.name == "glauert+time-delay"
+
+
+def test_an_rpm_omega_in_a_parameter_file_is_warned_as_in_a_record(capsys, rec_path,
+                                                                  tmp_path):
+    p = _param_file(tmp_path, "rpm.json", lambda d: d["constants"].update(omega=262.6))
+    for argv in (("simulate", rec_path, "-m", "glauert", "-p", p, "--out", tmp_path / "o.csv"),
+                 ("model", "-m", "glauert", "-p", p)):
+        code, _, err = run(capsys, *argv)
+        assert code == 0
+        warned = [ln for ln in err.splitlines() if "262.6" in ln]
+        assert len(warned) == 1 and str(p) in warned[0] and "rpm" in warned[0], err
+
+
+def test_time_in_milliseconds_is_warned(capsys, rec_path, tmp_path):
+    from inflowsim.data.record import read_record, write_record
+    rec = read_record(rec_path)
+    ms = tmp_path / "ms.csv"
+    write_record(rec.__class__.from_arrays(rec.t * 1000.0, dict(rec.channels), rec.meta), ms)
+    assert any("milliseconds" in w for w in read_record(ms).warnings())
+    assert not any("sample step" in w for w in rec.warnings())
+    code, _, err = run(capsys, "simulate", ms, "-m", "basic", "--out", tmp_path / "o.csv")
+    assert code == 0 and "is t in milliseconds?" in err
+
+
+@pytest.mark.parametrize("window", [("0", "1000"), ("-1", "0.5"), ("11", "12.5")])
+def test_a_trim_window_outside_the_record_is_refused(capsys, rec_path, window):
+    code, out, err = run(capsys, "validate", rec_path, "-m", "glauert", "--trim-window",
+                         *window)
+    assert_user_error(code, out, err, "trim window", "outside the record")
+
+
+def test_a_trim_window_at_the_records_ends_is_taken(rec_path):
+    from inflowsim.data.record import find_trim, read_record
+    rec = read_record(rec_path)
+    assert find_trim(rec, (0.0, 1.5)).n_samples == 151
+    assert find_trim(rec, (rec.t[-1] - 0.5, rec.t[-1])).method == "window"
+
+
+@pytest.mark.parametrize("text", ["glauert+time-delay+time-delay",
+                                  "basic+flap-inertia+skewed-wake+flap-inertia"])
+def test_an_effect_given_twice_is_refused(capsys, rec_path, text):
+    from inflowsim.errors import InputError
+    from inflowsim.model.structure import Structure
+    with pytest.raises(InputError, match="given twice"):
+        Structure.parse(text)
+    assert_user_error(*run(capsys, "identify", rec_path, "-m", text), "given twice")
+    assert Structure.parse("glauert+azimuth-bias").name == "glauert"   # in the preset: same
+
+
+def test_api_misuse_raises_the_packages_error_naming_the_choices():
+    import inflowsim as ifs
+    with pytest.raises(ifs.InputError, match="params: a mapping.*lambda_beta2, n_beta, tau"):
+        ifs.build_model("basic", None, ifs.PUMA)
+    with pytest.raises(ifs.InputError, match="constants: a Constants"):
+        ifs.build_model("basic", ifs.preset_parameters("basic"), None)
+    with pytest.raises(ifs.InputError, match="'papr': choose 'paper' or 'theory'"):
+        ifs.preset_parameters("basic", source="papr")
+    with pytest.raises(ifs.InputError, match="constants: a Constants"):
+        ifs.preset_parameters("basic", constants={"mu": 0.25})

@@ -28,19 +28,28 @@ def add_model_arguments(p, params=True):
 def load_model(args, constants=None):
     """The model named by ``--model`` / ``--params`` at ``constants`` (record's, or Puma)."""
     from ..model.build import build_model
-    from ..model.paramfile import read_parameters
     from ..model.params import PUMA
     from ..model.presets import preset_parameters
     from ..model.structure import Structure
     k = constants or PUMA
     if getattr(args, "params", None):
-        ps = read_parameters(args.params)
+        ps = read_parameter_file(args.params)
         s = Structure.parse(args.model)
         if set(ps.structure.effects) != set(s.effects):
             raise InputError(f"{args.params}: parameters are for structure "
                              f"{ps.structure.name}, not {s.name}")
         return build_model(s, ps.parameters, k)
     return build_model(args.model, preset_parameters(args.model, k, "paper"), k)
+
+
+def read_parameter_file(path):
+    """:func:`~inflowsim.model.paramfile.read_parameters`, its warnings (``omega``
+    in rpm ...) on stderr as a record's are."""
+    from ..model.paramfile import read_parameters
+    ps = read_parameters(path)
+    for w in ps.warnings():
+        progress(f"warning: {w}")
+    return ps
 
 
 def add_record_arguments(p):
@@ -94,9 +103,8 @@ def start_values(args):
     """``--params`` as start values for a fit of ``--model`` (names it shares)."""
     if not getattr(args, "params", None):
         return None
-    from ..model.paramfile import read_parameters
     from ..model.structure import Structure
-    ps = read_parameters(args.params)
+    ps = read_parameter_file(args.params)
     s = Structure.parse(args.model)
     shared = {n: v for n, v in ps.parameters.items() if n in s.parameters}
     if not shared:

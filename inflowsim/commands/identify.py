@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..defaults import DEFAULT_BAND
 from ._common import (add_record_arguments, parse_fix, parse_ties, print_json, progress,
-                      read_records, structure_of)
+                      read_parameter_file, read_records, structure_of)
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
 
@@ -49,7 +49,7 @@ def _check_outputs(out, inputs, force):
 def run(args) -> int:
     from ..identify import identify
     from ..identify.tables import markdown_table
-    from ..model.paramfile import read_parameters, write_json
+    from ..model.paramfile import write_json
     from ..report.document import check_report_folder
     from ..report.fit import write_report
     s = structure_of(args)
@@ -59,7 +59,7 @@ def run(args) -> int:
     recs = read_records(args.records, args)
     start = None
     if args.start:
-        ps = read_parameters(args.start)
+        ps = read_parameter_file(args.start)
         start = {n: v for n, v in ps.parameters.items() if n in s.parameters}
     band = tuple(args.band) if args.band else DEFAULT_BAND
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),

@@ -31,6 +31,12 @@ FLAP_COLUMNS = FLAP
 CONTROL_COLUMNS = CONTROLS
 #: Sampling jitter tolerated, as a fraction of the mean step.
 JITTER = 0.01
+#: Sample steps of flight data [s]: 100 kHz to 1 Hz.  A step outside draws a warning
+#: (``t`` in milliseconds gives a step of 10 "s" at 100 Hz).
+DT_PLAUSIBLE = (1e-5, 1.0)
+#: A record this fraction shorter than a band needs still passes (rounding of a
+#: quoted band limit: the paper's 0.2256 Hz is the bin 6/26.6 = 0.22556 Hz).
+BAND_ROUNDING = 0.01
 #: Most samples a record that the package writes may hold (``flighttest``,
 #: ``simulate``): 5.5 h at 100 Hz.  Checked before generating: a mistyped step must
 #: not allocate gigabytes and run for hours.
@@ -41,6 +47,15 @@ def _ro(a):
     a = np.array(a, dtype=float)
     a.flags.writeable = False
     return a
+
+
+def band_needs(band_hz) -> float:
+    """Shortest record [s] that resolves the band ``(f1, f2)`` [Hz]: one period of
+    ``f1`` (the transform's resolution ``1/T`` may not exceed the band's lower
+    limit, else the band silently starts above it: a 3 s record kept 4 bins of
+    the paper's band) and 3 transform frequencies between ``f1`` and ``f2``."""
+    f1, f2 = (float(b) for b in band_hz)
+    return max(1.0 / f1, 2.0 / (f2 - f1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,6 +188,12 @@ class Record:
         """Plausibility warnings (a wrong unit, a wrong column): values no rotor in
         flight gives, constants outside the usual range.  Empty for a sane record."""
         out = [f"{self.source}: {w}" for w in self.base_constants().warnings()]
+        lo, hi = DT_PLAUSIBLE
+        if not lo <= self.dt <= hi:
+            unit = "milliseconds" if self.dt > hi else "another unit"
+            out.append(f"{self.source}: the sample step is {self.dt:g} s, outside the "
+                       f"{lo:g}-{hi:g} s of flight data: is t in {unit}? (t is in "
+                       "seconds)")
         for name, v in self.channels.items():
             ch = chan.BY_NAME.get(name)
             if ch is None or not len(v):
@@ -207,7 +228,8 @@ class Record:
         return self
 
     def check_band(self, band_hz):
-        """Refuse a band the record cannot resolve (too short, beyond Nyquist)."""
+        """Refuse a band the record cannot resolve: beyond Nyquist, or a record
+        shorter than the band needs (:func:`band_needs`)."""
         f1, f2 = band_hz
         df = 1.0 / self.duration
         nyq = 0.5 / self.dt
@@ -216,9 +238,12 @@ class Record:
         if f2 > nyq:
             raise RecordError(f"band upper limit {f2:g} Hz is above the Nyquist frequency "
                               f"{nyq:g} Hz of {self.source}")
-        if f1 < df * 0.5 or (f2 - f1) < 2 * df:
-            raise RecordError(f"{self.source}: record too short ({self.duration:.4g} s, "
-                              f"resolution {df:.4g} Hz) for the band {f1:g}-{f2:g} Hz")
+        need = band_needs(band_hz)
+        if self.duration < need * (1.0 - BAND_ROUNDING):
+            raise RecordError(f"{self.source}: record too short for the band {f1:g}-{f2:g} "
+                              f"Hz: {self.duration:.4g} s (resolution {df:.4g} Hz), the "
+                              f"band needs at least {need:.4g} s (a period of its lower "
+                              "limit, and 3 transform frequencies in it)")
         return self
 
     # -- derived ----------------------------------------------------------------
@@ -357,6 +382,11 @@ def find_trim(rec: Record, window=None) -> Trim:
             raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s holds "
                               f"{max(i1 - i0, 0)} samples; need at least "
                               f"{MIN_TRIM_SAMPLES} (the record spans {t[0]:g}-{t[-1]:g} s)")
+        half = 0.5 * rec.dt                  # a window quoted to its end samples
+        if t0 < t[0] - half or t1 > t[-1] + half:
+            raise RecordError(f"{rec.source}: trim window [{t0:g}, {t1:g}] s reaches "
+                              f"outside the record [{t[0]:g}, {t[-1]:g}] s; give a quiet "
+                              "window inside it")
         method, move, warn = "window", None, None
     else:
         k = first_movement(rec)
