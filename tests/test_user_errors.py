@@ -145,7 +145,7 @@ def param_doc(rec_path, tmp_path_factory):
     (("effects",), [1], ['"effects" must be a list']),
     (("constants",), [1, 2], ["constants: must be an object"]),
     (("constants", "trim"), 5, ['"trim" must be an object']),
-    (("constants", "omega"), "x", ["constants: not a number"]),
+    (("constants", "omega"), "x", ["constants omega", "not a number"]),
     (("structure",), 7, ['"structure" must be a string']),
     (("parameters", "n_beta", "sigma"), "abc", ["n_beta sigma", "not a number"]),
     (("parameters", "n_beta", "sigma"), -1.0, ["n_beta sigma", ">= 0"]),

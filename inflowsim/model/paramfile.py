@@ -106,15 +106,17 @@ def _strict(v, what):
 
 
 def _constants_numbers(m, where):
+    """``m`` with every number a JSON number (the shape of ``m`` and of its ``trim``
+    is :meth:`Constants.from_mapping`'s to check)."""
     if not isinstance(m, dict):
-        raise InputError(f"{where}: \"constants\" must be an object of named numbers")
+        return m
     for k, v in m.items():
-        if k in _TEXT_CONSTANTS:
+        if k in _TEXT_CONSTANTS or v is None or (k == "trim" and not isinstance(v, dict)):
             continue
-        if k == "trim" and isinstance(v, dict):
+        if k == "trim":
             for c, x in v.items():
                 _strict(x, f"{where}: constants trim {c}")
-        elif not (k in ("radius", "ct", "trim") and v is None):
+        else:
             _strict(v, f"{where}: constants {k}")
     return m
 
