@@ -387,3 +387,46 @@ def test_api_misuse_raises_the_packages_error_naming_the_choices():
         ifs.preset_parameters("basic", source="papr")
     with pytest.raises(ifs.InputError, match="constants: a Constants"):
         ifs.preset_parameters("basic", constants={"mu": 0.25})
+
+
+# -- the record format's promises (issue #28 item 4) -----------------------------------
+def _rows(path):
+    lines = path.read_text().splitlines()
+    h = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
+    return lines[:h], [ln.split(",") for ln in lines[h:]]
+
+
+def test_columns_may_come_in_any_order(capsys, rec_path, tmp_path):
+    """``t`` found by name: the columns reversed read as the same record."""
+    import numpy as np
+
+    from inflowsim.data.record import read_record
+    meta, rows = _rows(rec_path)
+    p = tmp_path / "reversed.csv"
+    p.write_text("\n".join(meta + [",".join(r[::-1]) for r in rows]) + "\n")
+    a, b = read_record(rec_path), read_record(p)
+    assert b.order == a.order[::-1]
+    np.testing.assert_array_equal(a.t, b.t)
+    for c in a.order:
+        np.testing.assert_array_equal(a[c], b[c])
+    code, out, _ = run(capsys, "validate", p, "-m", "glauert", "--json")
+    code0, out0, _ = run(capsys, "validate", rec_path, "-m", "glauert", "--json")
+    assert code == code0 == 0
+    assert json.loads(out)["channels"] == json.loads(out0)["channels"]
+
+
+@pytest.mark.parametrize("sep, name", [(";", "semicolons"), ("\t", "tabs")])
+def test_another_separator_is_named(capsys, rec_path, tmp_path, sep, name):
+    meta, rows = _rows(rec_path)
+    p = tmp_path / "sep.csv"
+    p.write_text("\n".join(meta + [sep.join(r) for r in rows]) + "\n")
+    assert_user_error(*run(capsys, "validate", p, "-m", "glauert"), str(p),
+                      f"separated by {name}", "comma-separated")
+
+
+def test_a_header_without_t_is_refused(capsys, rec_path, tmp_path):
+    meta, rows = _rows(rec_path)
+    p = tmp_path / "no_t.csv"
+    rows[0][0] = "time"
+    p.write_text("\n".join(meta + [",".join(r) for r in rows]) + "\n")
+    assert_user_error(*run(capsys, "validate", p, "-m", "glauert"), "no column 't'")

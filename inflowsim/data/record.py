@@ -467,9 +467,12 @@ def parse_record(text: str, source: str = "<text>") -> Record:
     if i >= len(lines):
         raise RecordError(f"{source}: no header row (expected 't,theta0,...')")
     header = [h.strip() for h in lines[i].split(",")]
-    if header[0] != "t":
-        raise RecordError(f"{source}: line {i + 1}: the header must start with 't', "
-                          f"got {header[0]!r}")
+    if len(header) == 1 and (sep := _other_separator(lines[i])):
+        raise RecordError(f"{source}: line {i + 1}: columns separated by {sep}, not by "
+                          "commas: a record is comma-separated (record-format.md)")
+    if "t" not in header:
+        raise RecordError(f"{source}: line {i + 1}: the header has no column 't' (time "
+                          f"in seconds); got {lines[i][:60]!r}")
     dup = {h for h in header if header.count(h) > 1}
     if dup:
         raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
@@ -496,8 +499,20 @@ def parse_record(text: str, source: str = "<text>") -> Record:
     for k in REQUIRED_META:
         if k not in meta:
             raise RecordError(f"{source}: missing required metadata '# {k}: ...'")
-    return Record.from_arrays(data[:, 0], {h: data[:, c] for c, h in enumerate(header)
-                                           if c > 0}, meta, source)
+    it = header.index("t")                   # columns may come in any order
+    return Record.from_arrays(data[:, it], {h: data[:, c] for c, h in enumerate(header)
+                                            if c != it}, meta, source)
+
+
+#: Separators other than the comma that spreadsheets write, by name.
+_SEPARATORS = {";": "semicolons", "\t": "tabs", "|": "vertical bars", " ": "spaces"}
+
+
+def _other_separator(line: str) -> str | None:
+    """The name of the separator a one-column header line is split by, if any."""
+    counts = {name: line.strip().count(s) for s, name in _SEPARATORS.items()}
+    best = max(counts, key=counts.get)
+    return best if counts[best] else None
 
 
 def _isfloat(s):
