@@ -12,7 +12,6 @@ sample instead.
 """
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -204,6 +203,8 @@ def _still_body():
 
 
 def run(args) -> int:
+    import json
+
     from ..data.record import write_record
     from ..fileio import json_text, safe_write_text
     from ..flighttest.nonlinear import flighttest
