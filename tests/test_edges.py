@@ -287,7 +287,6 @@ def test_a_record_just_long_enough_for_the_band_passes():
 
 
 def _param_file(tmp_path, name, edit):
-    from inflowsim.model.paramfile import ParameterSet  # noqa: F401  (the format's home)
     from inflowsim.model.params import PUMA
     from inflowsim.model.presets import preset_parameters
     doc = {"structure": "glauert", "effects": ["separate-time-constants", "glauert",
