@@ -13,16 +13,42 @@ FMU) and ``commands`` (the ``inflowsim`` command line).  Import paths of 0.1.0
 from . import _legacy
 
 _legacy.install()
-from .errors import InputError, RecordError
-from .model.params import PUMA, Constants, SPECS
-from .model.structure import PRESETS, Structure
-from .model.effects import CATALOGUE
-from .model.build import Model, build_model, descriptor
-from .model.presets import paper_table, preset_parameters, theory_parameters
-from .model.paramfile import ParameterSet, read_parameters
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "RecordError", "PUMA", "Constants", "SPECS", "PRESETS",
-           "Structure", "CATALOGUE", "Model", "build_model", "descriptor", "paper_table",
-           "preset_parameters", "theory_parameters", "ParameterSet", "read_parameters"]
+#: Top-level name -> module that defines it.  Imported on first use (module
+#: ``__getattr__``), so ``import inflowsim`` and ``inflowsim --version`` stay cheap
+#: (no NumPy until a model is asked for; issue #27).
+_EXPORTS = {
+    "InputError": "errors", "RecordError": "errors",
+    "PUMA": "model.params", "Constants": "model.params", "SPECS": "model.params",
+    "PRESETS": "model.structure", "Structure": "model.structure",
+    "CATALOGUE": "model.effects",
+    "Model": "model.build", "build_model": "model.build", "descriptor": "model.build",
+    "paper_table": "model.presets", "preset_parameters": "model.presets",
+    "theory_parameters": "model.presets",
+    "ParameterSet": "model.paramfile", "read_parameters": "model.paramfile",
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name):
+    import importlib
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    else:
+        # a subpackage or module (``inflowsim.model`` after a bare ``import
+        # inflowsim``, as when this file imported them all)
+        try:
+            value = importlib.import_module(f".{name}", __name__)
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

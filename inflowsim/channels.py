@@ -14,8 +14,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 
 @dataclass(frozen=True)
 class Channel:
@@ -106,6 +104,7 @@ LIMIT = 1e6
 def input_scale(omega: float, names=INPUTS) -> np.ndarray:
     """Factors turning SI inputs ``names`` into azimuth-unit inputs (``pbar = p /
     Omega``, ``pbar' = pdot / Omega^2``)."""
+    import numpy as np          # here: the command line's help imports this module
     try:
         o = float(omega)
     except TypeError:       # a sympy symbol: the FMU's loads are generated from this code

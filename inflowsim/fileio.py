@@ -1,7 +1,15 @@
-"""Writing files without ever corrupting or replacing a user's input."""
+"""Writing files without ever corrupting or replacing a user's input.
+
+Every file the package writes goes through :func:`atomic_path` (and the commands
+check their outputs first with :func:`check_output`): an output may create a file
+or replace a regular file, nothing else.  A device, FIFO, socket or folder, or a
+symbolic link to one or to nothing, is refused with one line (issue #28: as root,
+``--out /dev/full --force`` once replaced the device node).
+"""
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -16,18 +24,47 @@ def _same(a: Path, b) -> bool:
         return False
 
 
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+          (stat.S_ISSOCK, "a socket"))
+
+
+def check_replaceable(path) -> Path:
+    """Refuse (``InputError``) an output ``path`` that exists and is not a regular
+    file (after symbolic links): a folder, device, FIFO or socket, or a link to
+    nothing (writing would create a file wherever it points)."""
+    p = Path(path)
+    try:
+        st = os.stat(p)
+    except (FileNotFoundError, NotADirectoryError):    # nothing there (the folder
+        if os.path.islink(p):                           # is the caller's to check)
+            raise InputError(f"{p}: is a symbolic link to nothing "
+                             f"({os.readlink(p)}); give a file name") from None
+        return p
+    except OSError as exc:
+        raise InputError(f"{p}: cannot write ({exc.strerror or exc})") from None
+    if stat.S_ISREG(st.st_mode):
+        return p
+    kind = next((k for test, k in _KINDS if test(st.st_mode)), "not a regular file")
+    link = f" (a symbolic link to {os.path.realpath(p)})" if os.path.islink(p) else ""
+    if stat.S_ISDIR(st.st_mode):
+        raise InputError(f"{p}: is a folder{link}; give a file name")
+    raise InputError(f"{p}: is {kind}{link}; an output may replace a regular file "
+                     "only")
+
+
 def check_output(path, overwrite: bool = False, protect=()) -> Path:
     """Refuse (``InputError``) an output ``path`` that is one of the inputs in
-    ``protect``, that exists unless ``overwrite``, or whose folder does not exist.
-    Commands call it before any work; every writer calls it again."""
+    ``protect``, that exists and is not a regular file (:func:`check_replaceable`),
+    that exists unless ``overwrite``, or whose folder does not exist.  Commands
+    call it before any work; every writer calls it again."""
     p = Path(path)
     for q in protect:
         if _same(p, q):
             raise InputError(f"{p}: refusing to write over the input file {q}")
+    check_replaceable(p)
     if p.exists() and not overwrite:
         raise InputError(f"{p}: exists; choose another name or pass --force")
-    if p.is_dir():
-        raise InputError(f"{p}: is a folder; give a file name")
     _check_parent(p)
     return p
 
@@ -83,8 +120,6 @@ def safe_write_text(path, text: str, overwrite: bool = False, protect=()) -> Pat
     the command), and onto an existing file unless ``overwrite``.
     """
     p = check_output(path, overwrite, protect)
-    if p.is_dir():
-        raise InputError(f"{p}: is a directory")
     with atomic_path(p) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="\n") as f:
             f.write(text)
@@ -94,10 +129,16 @@ def safe_write_text(path, text: str, overwrite: bool = False, protect=()) -> Pat
 @contextmanager
 def atomic_path(path):
     """Yield a temporary path beside ``path``; on success it replaces ``path`` in one
-    rename, on any error it is removed, so ``path`` is never left half-written."""
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{p}: is a folder; give a file name")
+    rename, on any error it is removed, so ``path`` is never left half-written.
+
+    ``path`` must be new or a regular file (:func:`check_replaceable`, checked again
+    here: the commands' early check may be minutes old).  A symbolic link to a
+    regular file is written through: the file it points to is replaced, the link
+    stays.  An OS error while writing (a full disk) names ``path``, not the
+    temporary file."""
+    p = check_replaceable(path)
+    if os.path.islink(p):
+        p = Path(os.path.realpath(p))
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
     except OSError as exc:
@@ -107,11 +148,22 @@ def atomic_path(path):
         yield tmp
         # mkstemp makes the file 0600; a written file gets the mode open() would give
         os.chmod(tmp, 0o666 & ~umask())
+        check_replaceable(p)        # nothing else took the name meanwhile
         os.replace(tmp, p)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    except OSError as exc:
+        _remove(tmp)
+        if exc.errno is not None and exc.filename in (None, tmp):
+            raise type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno),
+                            str(path)) from exc
         raise
+    except BaseException:
+        _remove(tmp)
+        raise
+
+
+def _remove(tmp):
+    if os.path.exists(tmp):
+        os.unlink(tmp)
 
 
 def json_text(doc) -> str:

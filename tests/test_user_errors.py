@@ -121,11 +121,11 @@ def test_force_onto_a_folder_is_refused(capsys, rec_path, tmp_path, argv):
 
 
 def test_an_unforeseen_os_error_is_one_line(capsys, rec_path, tmp_path, monkeypatch):
-    import inflowsim.commands.simulate as cmd
+    import inflowsim.data.record as mod      # simulate imports it when it runs
 
     def full(*a, **k):
         raise OSError(28, "No space left on device", str(tmp_path / "x.csv"))
-    monkeypatch.setattr(cmd, "write_record", full)
+    monkeypatch.setattr(mod, "write_record", full)
     code, out, err = run(capsys, "simulate", rec_path, "-m", "glauert", "--out",
                          tmp_path / "x.csv")
     assert_user_error(code, out, err, "No space left on device")
@@ -145,7 +145,7 @@ def param_doc(rec_path, tmp_path_factory):
     (("effects",), [1], ['"effects" must be a list']),
     (("constants",), [1, 2], ["constants: must be an object"]),
     (("constants", "trim"), 5, ['"trim" must be an object']),
-    (("constants", "omega"), "x", ["constants: not a number"]),
+    (("constants", "omega"), "x", ["constants omega", "not a number"]),
     (("structure",), 7, ['"structure" must be a string']),
     (("parameters", "n_beta", "sigma"), "abc", ["n_beta sigma", "not a number"]),
     (("parameters", "n_beta", "sigma"), -1.0, ["n_beta sigma", ">= 0"]),
@@ -350,10 +350,10 @@ def test_step_result_unchanged_by_the_checks(sim):
 def test_an_internal_os_error_keeps_its_traceback(capsys, rec_path, tmp_path, monkeypatch):
     """A missing file of the program's own (not the user's) is a bug, not bad input:
     it is not reported as exit 2."""
-    import inflowsim.commands.simulate as cmd
+    import inflowsim.data.record as mod      # simulate imports it when it runs
 
     def missing(*a, **k):
         raise FileNotFoundError(2, "No such file or directory", "/usr/lib/some.font")
-    monkeypatch.setattr(cmd, "write_record", missing)
+    monkeypatch.setattr(mod, "write_record", missing)
     with pytest.raises(FileNotFoundError):
         main(["simulate", str(rec_path), "-m", "glauert", "--out", str(tmp_path / "x.csv")])

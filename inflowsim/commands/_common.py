@@ -1,15 +1,19 @@
-"""Helpers shared by the command modules: loading models and records, JSON out."""
+"""Helpers shared by the command modules: loading models and records, JSON out.
+
+Building the parsers (``add_*_arguments``) imports nothing that computes: every
+``--help`` answers without NumPy (issue #27); the helpers that run a command import
+what they use.
+"""
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
+from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
 from ..errors import InputError
-from ..fileio import json_text
-from ..model.params import PUMA
-from ..model.paramfile import read_parameters
-from ..model.presets import preset_parameters
-from ..identify.transform import DEFAULT_BAND
-from ..model.structure import Structure
+
+if TYPE_CHECKING:
+    from ..model.structure import Structure
 
 
 def add_model_arguments(p, params=True):
@@ -40,9 +44,12 @@ def load_effects(args):
 def load_model(args, constants=None):
     """The model named by ``--model`` / ``--params`` at ``constants`` (record's, or Puma)."""
     from ..model.build import build_model
+    from ..model.params import PUMA
+    from ..model.presets import preset_parameters
+    from ..model.structure import Structure
     k = constants or PUMA
     if getattr(args, "params", None):
-        ps = read_parameters(args.params)
+        ps = read_parameter_file(args.params)
         s = Structure.parse(args.model)
         if set(ps.structure.effects) != set(s.effects):
             raise InputError(f"{args.params}: parameters are for structure "
@@ -51,9 +58,18 @@ def load_model(args, constants=None):
     return build_model(args.model, preset_parameters(args.model, k, "paper"), k)
 
 
+def read_parameter_file(path):
+    """:func:`~inflowsim.model.paramfile.read_parameters`, its warnings (``omega``
+    in rpm ...) on stderr as a record's are."""
+    from ..model.paramfile import read_parameters
+    ps = read_parameters(path)
+    for w in ps.warnings():
+        progress(f"warning: {w}")
+    return ps
+
+
 def add_record_arguments(p):
     """``--hold`` and ``--trim-window``: how to read the records' samples."""
-    from ..simulate.sampled import HOLDS
     p.add_argument("--hold", choices=HOLDS,
                    help="intersample behaviour of the records' inputs: continuous "
                         "(samples of continuous signals, measured data), zoh (held over "
@@ -84,6 +100,7 @@ def read_records(paths, args):
 
 
 def print_json(doc):
+    from ..fileio import json_text
     sys.stdout.write(json_text(doc))
 
 
@@ -102,7 +119,8 @@ def start_values(args):
     """``--params`` as start values for a fit of ``--model`` (names it shares)."""
     if not getattr(args, "params", None):
         return None
-    ps = read_parameters(args.params)
+    from ..model.structure import Structure
+    ps = read_parameter_file(args.params)
     s = Structure.parse(args.model)
     shared = {n: v for n, v in ps.parameters.items() if n in s.parameters}
     if not shared:
@@ -112,7 +130,6 @@ def start_values(args):
 
 def add_search_arguments(p):
     """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
-    from ..diagnose.candidates import ALPHA
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
                    default=DEFAULT_BAND, help=f"band [Hz] (default {DEFAULT_BAND[0]:g} "
                                               f"{DEFAULT_BAND[1]:g})")
@@ -162,6 +179,7 @@ def parse_ties(items) -> list:
 
 def structure_of(args) -> Structure:
     """``--model`` plus the ``--add`` effects."""
+    from ..model.structure import Structure
     s = Structure.parse(args.model)
     for e in args.add:
         s = s.with_effect(e)

@@ -2,7 +2,6 @@
 (:mod:`inflowsim.report.demo`); a summary on stdout, everything in ``DIR/index.html``."""
 from __future__ import annotations
 
-from ..report.demo import run_demo
 from ._common import check_seed, print_json, progress
 
 HELP = ("the whole story on a virtual Puma record with a hidden effect: compare, "
@@ -18,6 +17,7 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from ..report.demo import run_demo
     check_seed(args.seed)
     path, summary, lad = run_demo(args.out, args.seed, progress)
     if args.json:

@@ -8,10 +8,9 @@ likelihood-ratio test (``inflowsim.candidates``).
 """
 from __future__ import annotations
 
-from ..diagnose.search import diagnose
-from ..report.ladder import diagnosis_report, format_diagnosis
-from ._common import (add_model_arguments, add_record_arguments, read_records, add_search_arguments, check_search_arguments,
-                      print_json, progress, start_values)
+from ._common import (add_model_arguments, add_record_arguments, add_search_arguments,
+                      check_search_arguments, print_json, progress, read_records,
+                      start_values)
 
 HELP = "where a model fails on a record, and the ranked candidate effects"
 
@@ -25,6 +24,8 @@ def add_arguments(p):
 
 def run(args) -> int:
     from ..flighttest.advice import standard_manoeuvres
+    from ..diagnose.search import diagnose
+    from ..report.ladder import diagnosis_report, format_diagnosis
     check_search_arguments(args)
     recs = read_records(args.record, args)
     start = start_values(args)

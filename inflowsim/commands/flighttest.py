@@ -12,17 +12,11 @@ sample instead.
 """
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
-import numpy as np
-
-from ..errors import InputError
 from ..channels import CONTROLS
-from ..fileio import check_output, json_text, safe_write_text
-from ..model.params import PUMA
-from ..data.record import write_record
+from ..errors import InputError
 from ._common import check_seed, print_json, progress
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
@@ -118,6 +112,7 @@ def _settings(items) -> dict:
 
 
 def _check_outputs(args):
+    from ..fileio import check_output
     paths = [Path(args.out)] + ([Path(args.truth_json)] if args.truth_json else [])
     if len(paths) == 2 and paths[0].resolve() == paths[1].resolve():
         raise InputError(f"--truth-json {args.truth_json}: same file as --out")
@@ -126,13 +121,14 @@ def _check_outputs(args):
 
 
 #: Limits checked before generating (a mistyped option must not run for hours):
-#: 100 kHz at most, 2 million samples at most (5.5 h at 100 Hz), 20 deg inputs.
+#: 100 kHz at most, :data:`inflowsim.data.record.MAX_SAMPLES` samples at most, 20 deg
+#: inputs.
 MIN_DT = 1e-5
-MAX_SAMPLES = 2_000_000
 MAX_AMPLITUDE_DEG = 20.0
 
 
 def _manoeuvre(args):
+    from ..data.record import MAX_SAMPLES
     from ..flighttest.virtual import Manoeuvre
     designed = _designed(args) if args.design else None
     for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
@@ -261,6 +257,7 @@ def _nonlinear(args, man, values):
 def _linear(args, man, values):
     from ..flighttest.nonlinear import FlightTest
     from ..model.build import build_model
+    from ..model.params import PUMA
     from ..model.presets import truth_parameters
     from ..model.structure import Structure
     from ..flighttest.virtual import VirtualTest
@@ -307,6 +304,10 @@ def _still_body():
 
 
 def run(args) -> int:
+    import json
+
+    from ..data.record import write_record
+    from ..fileio import json_text, safe_write_text
     from ..flighttest.nonlinear import flighttest
     _check_outputs(args)
     man = _manoeuvre(args)
@@ -329,6 +330,7 @@ def run(args) -> int:
 
 
 def _plain(o):
+    import numpy as np
     if isinstance(o, np.ndarray):
         return o.tolist()
     if isinstance(o, (np.floating, np.integer)):

@@ -9,7 +9,7 @@ which :func:`inflowsim.fmu.start_values` of a fit applies.
 from __future__ import annotations
 
 from ..errors import InputError
-from ._common import add_effect_arguments, print_json, progress
+from ._common import add_effect_arguments, print_json, progress, read_parameter_file
 
 HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
 
@@ -66,6 +66,5 @@ def _model(text):
     if text is None:
         return None
     if Path(text).is_file() or text.endswith(".json"):
-        from ..model.paramfile import read_parameters
-        return read_parameters(text)
+        return read_parameter_file(text)
     return text

@@ -8,13 +8,10 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
-from ..fileio import check_output
-from ..identify.transform import DEFAULT_BAND
-from ..model.paramfile import write_json
-from ..report.document import check_report_folder
-from ..report.fit import write_report
-from ._common import (add_effect_arguments, add_record_arguments, parse_fix,
-                      parse_ties, print_json, progress, read_records, structure_of)
+from ..defaults import DEFAULT_BAND
+from ._common import (add_effect_arguments, add_record_arguments, parse_fix, parse_ties,
+                      print_json, progress, read_parameter_file, read_records,
+                      structure_of)
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
 
@@ -47,13 +44,16 @@ def add_arguments(p):
 def _check_outputs(out, inputs, force):
     """Refuse before any work: an existing ``out`` without ``force``, or an input."""
     if out is not None:
+        from ..fileio import check_output
         check_output(out, force, inputs)
 
 
 def run(args) -> int:
-    from ..identify import DEFAULT_BAND, identify
+    from ..identify import identify
     from ..identify.tables import markdown_table
-    from ..model.paramfile import read_parameters
+    from ..model.paramfile import write_json
+    from ..report.document import check_report_folder
+    from ..report.fit import write_report
     s = structure_of(args)
     _check_outputs(args.out, args.records, args.force)
     if args.report:
@@ -61,7 +61,7 @@ def run(args) -> int:
     recs = read_records(args.records, args)
     start = None
     if args.start:
-        ps = read_parameters(args.start)
+        ps = read_parameter_file(args.start)
         start = {n: v for n, v in ps.parameters.items() if n in s.parameters}
     band = tuple(args.band) if args.band else DEFAULT_BAND
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),

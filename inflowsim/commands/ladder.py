@@ -8,8 +8,6 @@ the plot of the error falling.
 """
 from __future__ import annotations
 
-from ..diagnose.search import explicit_ladder, ladder
-from ..report.ladder import ladder_markdown, ladder_report
 from ._common import (add_effect_arguments, add_record_arguments, add_search_arguments,
                       check_search_arguments, print_json, progress, read_records)
 
@@ -29,7 +27,9 @@ def add_arguments(p):
 
 def run(args) -> int:
     from ..flighttest.advice import standard_manoeuvres
+    from ..diagnose.search import explicit_ladder, ladder
     from ..errors import InputError
+    from ..report.ladder import ladder_markdown, ladder_report
     check_search_arguments(args)
     if args.max_steps < 0:
         raise InputError("--max-steps must be >= 0")

@@ -8,12 +8,6 @@ valid ``--params`` file.
 """
 from __future__ import annotations
 
-import numpy as np
-
-from ..model.describe import describe_model, eigen_table
-from ..model.params import PUMA
-from ..model.paramfile import read_parameters
-from ..model.presets import TABLE_OF_PRESET, paper_table
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "show a structure: states, inputs, parameters, E, A, B and eigenvalues"
@@ -28,6 +22,10 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from ..model.describe import describe_model
+    from ..model.paramfile import read_parameters
+    from ..model.params import PUMA
+    from ..model.presets import TABLE_OF_PRESET, paper_table
     k, sigma = PUMA, {}
     if args.params:
         ps = read_parameters(args.params)
@@ -50,6 +48,7 @@ def run(args) -> int:
 
 
 def _matrix(name, m, rows, cols):
+    import numpy as np
     w = max(len(c) for c in cols) + 1
     w = max(w, 11)
     head = " " * 14 + "".join(f"{c:>{w}}" for c in cols)
@@ -61,6 +60,7 @@ def _matrix(name, m, rows, cols):
 
 def format_model(doc, model) -> str:
     """Human-readable text of :func:`describe_model`."""
+    from ..model.describe import eigen_table
     out = [f"structure: {doc['structure']}  (effects: "
            f"{', '.join(doc['effects']) or 'none'})",
            "constants: " + ", ".join(f"{k} = {v:g}" for k, v in doc["constants"].items()

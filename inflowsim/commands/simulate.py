@@ -5,8 +5,11 @@ The record's input columns, as perturbations about its trim
 from a zero state.  With ``--dt`` other than the record's step the inputs are
 held (zero-order hold of the record samples): the simulator's step ``k`` at
 ``t0 + k dt`` uses the last record sample at or before that time, and the run
-ends at the record's last sample time.  The output is a record (``record-format.md``):
-the record's metadata with a new description and ``# hold: zoh`` (what the
+ends at the record's last sample time (at most
+:data:`inflowsim.data.record.MAX_SAMPLES` steps).  The output is a record
+(``record-format.md``): the record's flight condition (``omega``, ``mu``, ``a0``,
+``solidity``, ``radius``, ``trim_window``; not its aircraft, description or seed,
+which say where the input came from), a new description and ``# hold: zoh`` (what the
 simulator did with the inputs, whatever the record's own hold), ``t``, the model's inputs as
 totals (trim added back; what the simulator was fed), predicted
 ``beta0 beta1c beta1s`` as totals and ``lambda0 lambda1c lambda1s`` as
@@ -14,14 +17,10 @@ perturbations (the inflow has no measured trim).
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-import numpy as np
-
 from ..errors import InputError
-from ..fileio import check_output
-from ..data.record import read_record, write_record
-from ..data.simulated import simulate_record
 from ._common import add_model_arguments, load_model, print_json, progress
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
@@ -41,7 +40,10 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    if args.dt is not None and not (np.isfinite(args.dt) and args.dt > 0):
+    from ..data.record import read_record, write_record
+    from ..data.simulated import simulate_record
+    from ..fileio import check_output
+    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
     for w in rec.warnings():
@@ -51,10 +53,8 @@ def run(args) -> int:
     out = check_output(args.out, args.force, inputs)
     step = rec.dt if args.dt is None else args.dt
     src = f" parameters {args.params}" if args.params else " (paper table values)"
-    orig = rec.meta.get("description")
     desc = (f"simulated by inflowsim: model {model.structure.name}{src}, {args.method} "
-            f"step {step:g} s, inputs of {Path(args.record).name}"
-            + (f" ({orig})" if orig else ""))
+            f"step {step:g} s, inputs of {Path(args.record).name}")
     sim = simulate_record(rec, model, args.dt, args.method, desc.replace("\n", " "))
     path = write_record(sim, out, overwrite=args.force, protect=inputs)
     if args.json:

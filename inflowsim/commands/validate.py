@@ -10,9 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..report.document import check_report_folder
-from ..report.validation import format_table, validation_report
-from ..diagnose.validation import PAPER_BAND_HZ, validate
+from ..defaults import DEFAULT_BAND
 from ._common import (add_model_arguments, add_record_arguments, load_model, print_json,
                       progress, read_records)
 
@@ -23,8 +21,8 @@ def add_arguments(p):
     p.add_argument("record", metavar="RECORD", help="flight-test record (CSV)")
     add_model_arguments(p)
     p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   help=f"frequency band [Hz] (default {PAPER_BAND_HZ[0]:g} "
-                        f"{PAPER_BAND_HZ[1]:g}, snapped to the record's transform grid)")
+                   help=f"frequency band [Hz] (default {DEFAULT_BAND[0]:g} "
+                        f"{DEFAULT_BAND[1]:g}, snapped to the record's transform grid)")
     add_record_arguments(p)
     p.add_argument("--report", metavar="DIR",
                    help="write plots and DIR/index.html (the folder is created)")
@@ -32,6 +30,9 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from ..diagnose.validation import validate
+    from ..report.document import check_report_folder
+    from ..report.validation import format_table, validation_report
     if args.report:
         check_report_folder(args.report, protect=[q for q in (args.record, args.params) if q])
     rec = read_records([args.record], args)[0]

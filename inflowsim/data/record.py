@@ -31,12 +31,31 @@ FLAP_COLUMNS = FLAP
 CONTROL_COLUMNS = CONTROLS
 #: Sampling jitter tolerated, as a fraction of the mean step.
 JITTER = 0.01
+#: Sample steps of flight data [s]: 100 kHz to 1 Hz.  A step outside draws a warning
+#: (``t`` in milliseconds gives a step of 10 "s" at 100 Hz).
+DT_PLAUSIBLE = (1e-5, 1.0)
+#: A record this fraction shorter than a band needs still passes (rounding of a
+#: quoted band limit: the paper's 0.2256 Hz is the bin 6/26.6 = 0.22556 Hz).
+BAND_ROUNDING = 0.01
+#: Most samples a record that the package writes may hold (``flighttest``,
+#: ``simulate``): 5.5 h at 100 Hz.  Checked before generating: a mistyped step must
+#: not allocate gigabytes and run for hours.
+MAX_SAMPLES = 2_000_000
 
 
 def _ro(a):
     a = np.array(a, dtype=float)
     a.flags.writeable = False
     return a
+
+
+def band_needs(band_hz) -> float:
+    """Shortest record [s] that resolves the band ``(f1, f2)`` [Hz]: one period of
+    ``f1`` (the transform's resolution ``1/T`` may not exceed the band's lower
+    limit, else the band silently starts above it: a 3 s record kept 4 bins of
+    the paper's band) and 3 transform frequencies between ``f1`` and ``f2``."""
+    f1, f2 = (float(b) for b in band_hz)
+    return max(1.0 / f1, 2.0 / (f2 - f1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,6 +190,12 @@ class Record:
         """Plausibility warnings (a wrong unit, a wrong column): values no rotor in
         flight gives, constants outside the usual range.  Empty for a sane record."""
         out = [f"{self.source}: {w}" for w in self.base_constants().warnings()]
+        lo, hi = DT_PLAUSIBLE
+        if not lo <= self.dt <= hi:
+            unit = "milliseconds" if self.dt > hi else "another unit"
+            out.append(f"{self.source}: the sample step is {self.dt:g} s, outside the "
+                       f"{lo:g}-{hi:g} s of flight data: is t in {unit}? (t is in "
+                       "seconds)")
         for name, v in self.channels.items():
             ch = chan.BY_NAME.get(name)
             if ch is None or not len(v):
@@ -205,7 +230,8 @@ class Record:
         return self
 
     def check_band(self, band_hz):
-        """Refuse a band the record cannot resolve (too short, beyond Nyquist)."""
+        """Refuse a band the record cannot resolve: beyond Nyquist, or a record
+        shorter than the band needs (:func:`band_needs`)."""
         f1, f2 = band_hz
         df = 1.0 / self.duration
         nyq = 0.5 / self.dt
@@ -214,9 +240,12 @@ class Record:
         if f2 > nyq:
             raise RecordError(f"band upper limit {f2:g} Hz is above the Nyquist frequency "
                               f"{nyq:g} Hz of {self.source}")
-        if f1 < df * 0.5 or (f2 - f1) < 2 * df:
-            raise RecordError(f"{self.source}: record too short ({self.duration:.4g} s, "
-                              f"resolution {df:.4g} Hz) for the band {f1:g}-{f2:g} Hz")
+        need = band_needs(band_hz)
+        if self.duration < need * (1.0 - BAND_ROUNDING):
+            raise RecordError(f"{self.source}: record too short for the band {f1:g}-{f2:g} "
+                              f"Hz: {self.duration:.4g} s (resolution {df:.4g} Hz), the "
+                              f"band needs at least {need:.4g} s (a period of its lower "
+                              "limit, and 3 transform frequencies in it)")
         return self
 
     # -- derived ----------------------------------------------------------------
@@ -265,6 +294,9 @@ class Trim:
 
     def describe(self) -> str:
         win = f"{self.t_start:.4g}-{self.t_end:.4g} s"
+        if self.method == "quiet" and self.t_movement is None:
+            return (f"mean over {win} ({self.n_samples} samples): the whole record, "
+                    "in which no control moves")
         if self.method == "quiet":
             return (f"mean over {win} ({self.n_samples} samples): the quiet lead-in, "
                     f"ending {TRIM_MARGIN:g} s before the first control movement at "
@@ -318,6 +350,19 @@ def first_movement(rec: Record) -> int | None:
     return first
 
 
+def require_control_movement(rec: Record) -> Record:
+    """Raise (:class:`RecordError`) when no pilot control moves in ``rec``
+    (:func:`first_movement`): nothing excites the rotor, so there is no response to
+    fit or compare (a record of the trim only, or the wrong file)."""
+    if first_movement(rec) is None:
+        have = [c for c in CONTROL_COLUMNS if c in rec.channels]
+        what = f"{', '.join(have)} constant" if have else "no control column"
+        raise RecordError(f"{rec.source}: no control moves ({what} over the whole "
+                          "record): nothing excites the rotor, so there is no response "
+                          "to fit or compare")
+    return rec
+
+
 def find_trim(rec: Record, window=None) -> Trim:
     """Trim = the mean of each channel over a quiet window.
 
@@ -339,6 +384,11 @@ def find_trim(rec: Record, window=None) -> Trim:
             raise RecordError(f"{rec.source}: trim window {t0:g}-{t1:g} s holds "
                               f"{max(i1 - i0, 0)} samples; need at least "
                               f"{MIN_TRIM_SAMPLES} (the record spans {t[0]:g}-{t[-1]:g} s)")
+        half = 0.5 * rec.dt                  # a window quoted to its end samples
+        if t0 < t[0] - half or t1 > t[-1] + half:
+            raise RecordError(f"{rec.source}: trim window [{t0:g}, {t1:g}] s reaches "
+                              f"outside the record [{t[0]:g}, {t[-1]:g}] s; give a quiet "
+                              "window inside it")
         method, move, warn = "window", None, None
     else:
         k = first_movement(rec)
@@ -419,9 +469,12 @@ def parse_record(text: str, source: str = "<text>") -> Record:
     if i >= len(lines):
         raise RecordError(f"{source}: no header row (expected 't,theta0,...')")
     header = [h.strip() for h in lines[i].split(",")]
-    if header[0] != "t":
-        raise RecordError(f"{source}: line {i + 1}: the header must start with 't', "
-                          f"got {header[0]!r}")
+    if len(header) == 1 and (sep := _other_separator(lines[i])):
+        raise RecordError(f"{source}: line {i + 1}: columns separated by {sep}, not by "
+                          "commas: a record is comma-separated (record-format.md)")
+    if "t" not in header:
+        raise RecordError(f"{source}: line {i + 1}: the header has no column 't' (time "
+                          f"in seconds); got {lines[i][:60]!r}")
     dup = {h for h in header if header.count(h) > 1}
     if dup:
         raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
@@ -448,8 +501,20 @@ def parse_record(text: str, source: str = "<text>") -> Record:
     for k in REQUIRED_META:
         if k not in meta:
             raise RecordError(f"{source}: missing required metadata '# {k}: ...'")
-    return Record.from_arrays(data[:, 0], {h: data[:, c] for c, h in enumerate(header)
-                                           if c > 0}, meta, source)
+    it = header.index("t")                   # columns may come in any order
+    return Record.from_arrays(data[:, it], {h: data[:, c] for c, h in enumerate(header)
+                                            if c != it}, meta, source)
+
+
+#: Separators other than the comma that spreadsheets write, by name.
+_SEPARATORS = {";": "semicolons", "\t": "tabs", "|": "vertical bars", " ": "spaces"}
+
+
+def _other_separator(line: str) -> str | None:
+    """The name of the separator a one-column header line is split by, if any."""
+    counts = {name: line.strip().count(s) for s, name in _SEPARATORS.items()}
+    best = max(counts, key=counts.get)
+    return best if counts[best] else None
 
 
 def _isfloat(s):

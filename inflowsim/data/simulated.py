@@ -10,9 +10,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..channels import INFLOW
-from .record import FLAP_COLUMNS, Record, find_trim, model_inputs
+from .record import FLAP_COLUMNS, MAX_SAMPLES, REQUIRED_META, Record, find_trim, model_inputs
 from ..errors import InputError
 from ..simulate.simulator import Simulator
+
+
+#: Metadata a simulated record keeps from its input: the constants of the flight
+#: condition, and the trim window (the output is at trim there too).
+KEPT_META = REQUIRED_META + ("radius", "trim_window")
 
 
 def held_inputs(t_record, u_record, dt: float):
@@ -51,6 +56,11 @@ def simulate_record(rec: Record, model, dt: float | None = None, method: str = "
         if not (np.isfinite(dt) and dt > 0):
             raise InputError(f"--dt {dt}: the step must be a finite number > 0 s")
         step = float(dt)
+        span = float(rec.t[-1] - rec.t[0])
+        if span / step + 1 > MAX_SAMPLES:
+            raise InputError(f"--dt {dt:g} s makes {span / step + 1:.3g} samples of the "
+                             f"{span:.4g} s record; at most {MAX_SAMPLES:,} (a step of at "
+                             f"least {span / (MAX_SAMPLES - 1):.3g} s)")
         t, uh = held_inputs(rec.t, u, step)
         if len(t) < 4:
             raise InputError(f"--dt {dt:g} s leaves {len(t)} steps in the "
@@ -61,7 +71,9 @@ def simulate_record(rec: Record, model, dt: float | None = None, method: str = "
         cols[c] = y[:, i] + trim.values.get(c, 0.0)
     for i, c in enumerate(INFLOW):
         cols[c] = y[:, 3 + i]
-    meta = dict(rec.meta)
+    # the flight condition only: what the input record says of its own origin (its
+    # aircraft, a virtual test's truth and seed, noise) is not true of a simulation
+    meta = {k: v for k, v in rec.meta.items() if k in KEPT_META}
     meta["description"] = description or f"simulated by inflowsim, model {model.structure.name}"
     meta["synthetic"] = "true"
     meta["hold"] = "zoh"          # the fixed-step simulator holds its inputs

@@ -82,11 +82,11 @@ import numpy as np
 from scipy import stats
 
 from ..model.effects import CATALOGUE
+from ..defaults import ALPHA
 from ..errors import InputError
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
 
-ALPHA = 1e-3
 #: Share of the residual's excess over the noise floor an effect must explain.
 MATERIAL = 0.10
 #: Schwarz gain a candidate must exceed: positive evidence (Kass and Raftery, 1995).

@@ -32,7 +32,8 @@ import numpy as np
 from ..errors import InputError
 from ..identify.results import fit_percent
 from ..identify.transform import DEFAULT_BAND, dft, snap_band
-from ..data.record import CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations
+from ..data.record import (CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations,
+                           require_control_movement)
 from ..simulate.replay import replay
 
 #: The paper's identification band [Hz] (the one default, :mod:`inflowsim.identify.transform`).
@@ -295,10 +296,12 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     Raises
     ------
     RecordError
-        The record lacks a column the model needs, or is too short for the band.
+        The record lacks a column the model needs, no control moves in it, or it
+        is too short for the band.
     """
     record.require((*model.inputs, *FLAP_COLUMNS))
     record.require_measured(FLAP_COLUMNS)
+    require_control_movement(record)
     bins = dft_bins(record, band_hz)
     trim = find_trim(record) if trim is None else trim
     u = perturbations(record, trim, model.inputs)

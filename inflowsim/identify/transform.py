@@ -24,14 +24,13 @@ from typing import Mapping
 
 import numpy as np
 
+from ..defaults import DEFAULT_BAND  # the paper's band (model.md section 7) [Hz]
 from ..errors import InputError, RecordError
 from ..model.params import Constants
-from ..data.record import FLAP_COLUMNS, Record, find_trim, perturbations, read_record
+from ..data.record import (FLAP_COLUMNS, Record, find_trim, perturbations, read_record,
+                           require_control_movement)
 from ..simulate.sampled import gregory_weights
 
-#: The paper's band (model.md section 7), Hz: the one default of identification,
-#: validation and diagnosis (bins 6..42 at 26.6 s).
-DEFAULT_BAND = (0.2256, 1.58)
 #: A band limit may sit this fraction of a bin outside the asked band (the paper
 #: quotes 0.2256 Hz for the bin at 6/26.6 = 0.22556 Hz); never more.
 SNAP_TOLERANCE = 0.01
@@ -176,6 +175,7 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
     hold = rec.hold_or(hold)
     rec.require(tuple(inputs) + FLAP_COLUMNS)
     rec.require_measured(FLAP_COLUMNS)
+    require_control_movement(rec)
     k_const = rec.constants
     n, dt = len(rec), rec.dt
     if grid_hz is None:

@@ -17,7 +17,8 @@ from ..physics import loads as ld
 from .effects import CATALOGUE
 from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement, assemble, input_scale,
                         rotation)
-from .params import Constants, check_parameters
+from ..errors import InputError
+from .params import Constants, check_constants, check_parameters
 from .structure import Structure
 
 
@@ -54,7 +55,12 @@ def apply_effects(s: Structure, p: Mapping[str, float], k):
 def equations(structure, params: Mapping[str, float], constants: Constants):
     """Structured equations and measurement of ``structure`` (validated inputs)."""
     s = Structure.parse(structure)
-    constants.check()
+    check_constants(constants)
+    if not isinstance(params, Mapping):
+        raise InputError(f"params: a mapping of parameter name to value is needed, not "
+                         f"{type(params).__name__} (structure {s.name} has "
+                         f"{', '.join(s.parameters)}; preset_parameters({s.name!r}) "
+                         "gives the paper's values)")
     p = check_parameters(params, s.parameters)
     eq, meas = apply_effects(s, p, constants)
     return s, p, eq, meas

@@ -22,6 +22,14 @@ class ParameterSet:
     constants: Constants | None
     parameters: dict
     sigma: dict
+    source: str = "parameter file"
+
+    def warnings(self) -> list[str]:
+        """Constants allowed but unusual (``omega`` in rpm ...), as a record's
+        :meth:`~inflowsim.data.record.Record.warnings` gives them."""
+        if self.constants is None:
+            return []
+        return [f"{self.source}: {w}" for w in self.constants.warnings()]
 
     def model(self, constants: Constants | None = None):
         from .build import build_model
@@ -54,9 +62,19 @@ def parse_parameter_doc(doc, where="parameter file") -> ParameterSet:
         eff = doc["effects"]
         if not isinstance(eff, list) or not all(isinstance(e, str) for e in eff):
             raise InputError(f"{where}: \"effects\" must be a list of effect names")
+        twice = next((e for i, e in enumerate(eff) if e in eff[:i]), None)
+        if twice is not None:
+            raise InputError(f"{where}: \"effects\" lists {twice} twice")
         if set(eff) != set(s.effects):
-            s = Structure(tuple(eff))
-    consts = Constants.from_mapping(doc["constants"]) if doc.get("constants") else None
+            # "structure" is the file's required field; "effects" repeats it (identify
+            # writes both).  Files that disagree were edited in one place: which one
+            # is meant is a guess, so neither wins.
+            raise InputError(f"{where}: \"structure\" {doc['structure']!r} has the "
+                             f"effects [{', '.join(s.effects)}] but \"effects\" lists "
+                             f"[{', '.join(eff)}]; make them agree or drop \"effects\"")
+    consts = None
+    if doc.get("constants"):
+        consts = Constants.from_mapping(_constants_numbers(doc["constants"], where))
     params, sigma = {}, {}
     if not isinstance(doc["parameters"], dict):
         raise InputError(f"{where}: \"parameters\" must be an object")
@@ -64,14 +82,43 @@ def parse_parameter_doc(doc, where="parameter file") -> ParameterSet:
         if isinstance(v, dict):
             if "estimate" not in v:
                 raise InputError(f"{where}: parameter {name} has no \"estimate\"")
-            params[name] = v["estimate"]
+            params[name] = _strict(v["estimate"], f"{where}: parameter {name} estimate")
             if v.get("sigma") is not None:
                 sigma[name] = _number(v["sigma"], f"{where}: parameter {name} sigma")
         else:
-            params[name] = v
+            params[name] = _strict(v, f"{where}: parameter {name}")
     from .params import check_parameters
     params = check_parameters(params, s.parameters)
-    return ParameterSet(s, consts, params, sigma)
+    return ParameterSet(s, consts, params, sigma, where)
+
+
+#: Constants that are text, not numbers (:class:`~inflowsim.model.params.Constants`).
+_TEXT_CONSTANTS = ("inflow_speed", "hub")
+
+
+def _strict(v, what):
+    """A JSON number as it is (range checks follow); text and true/false refused:
+    ``"27.5"`` is a string in JSON, and ``true`` is not 1 for a parameter."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        hint = " (write it without quotes)" if isinstance(v, str) else ""
+        raise InputError(f"{what}: {json.dumps(v)} is not a number{hint}")
+    return v
+
+
+def _constants_numbers(m, where):
+    """``m`` with every number a JSON number (the shape of ``m`` and of its ``trim``
+    is :meth:`Constants.from_mapping`'s to check)."""
+    if not isinstance(m, dict):
+        return m
+    for k, v in m.items():
+        if k in _TEXT_CONSTANTS or v is None or (k == "trim" and not isinstance(v, dict)):
+            continue
+        if k == "trim":
+            for c, x in v.items():
+                _strict(x, f"{where}: constants trim {c}")
+        else:
+            _strict(v, f"{where}: constants {k}")
+    return m
 
 
 def _number(v, what) -> float:

@@ -318,6 +318,16 @@ def register(spec: ParameterSpec) -> ParameterSpec:
     return spec
 
 
+def check_constants(constants) -> "Constants":
+    """``constants`` checked (:meth:`Constants.check`); anything but a
+    :class:`Constants` is refused naming what to give."""
+    if not isinstance(constants, Constants):
+        raise InputError(f"constants: a Constants is needed (inflowsim.PUMA, "
+                         "Constants.from_mapping({...}) or a record's .constants), not "
+                         f"{type(constants).__name__}")
+    return constants.check()
+
+
 def check_parameters(values: Mapping[str, float], names) -> dict[str, float]:
     """Return ``{name: float}`` for ``names``, refusing missing, unknown or bad values."""
     names = list(names)

@@ -7,7 +7,8 @@ any structure (Puma flap theory, Pitt-Peters time constants, neutral effects).
 from __future__ import annotations
 
 from .effects import CATALOGUE
-from .params import PUMA, Constants
+from ..errors import InputError
+from .params import PUMA, Constants, check_constants
 from .structure import Structure
 from ..physics.theory import PUMA_LAMBDA_BETA2, PUMA_N_BETA, pitt_peters_time_constants
 
@@ -52,11 +53,18 @@ def theory_parameters(structure, constants: Constants = PUMA) -> dict:
     return {n: vals[n] for n in s.parameters}
 
 
+#: Where :func:`preset_parameters` takes its values from.
+SOURCES = ("paper", "theory")
+
+
 def preset_parameters(structure, constants: Constants = PUMA, source: str = "paper") -> dict:
     """Parameters for ``structure``: ``source="paper"`` takes the paper's table for
     the matching preset (theory values for parameters the table lacks),
     ``source="theory"`` takes :func:`theory_parameters`."""
+    if source not in SOURCES:
+        raise InputError(f"source {source!r}: choose {' or '.join(map(repr, SOURCES))}")
     s = Structure.parse(structure)
+    check_constants(constants)
     vals = theory_parameters(s, constants)
     if source == "paper":
         base = max((p for p in TABLE_OF_PRESET
@@ -64,8 +72,6 @@ def preset_parameters(structure, constants: Constants = PUMA, source: str = "pap
                    key=lambda p: len(Structure.parse(p).effects))
         _, est, _ = paper_table(TABLE_OF_PRESET[base])
         vals.update({k: v for k, v in est.items() if k in vals})
-    elif source != "theory":
-        raise ValueError("source must be 'paper' or 'theory'")
     return vals
 
 

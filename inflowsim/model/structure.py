@@ -52,7 +52,11 @@ class Structure:
         if base not in PRESETS:
             raise InputError(f"unknown model {base!r} (a preset: {', '.join(PRESETS)}; "
                              "then +effect terms)")
-        return cls(PRESETS[base] + tuple(parts[1:]))
+        terms = parts[1:]
+        twice = next((e for i, e in enumerate(terms) if e in terms[:i]), None)
+        if twice is not None:
+            raise InputError(f"structure {text!r}: effect {twice} is given twice")
+        return cls(PRESETS[base] + tuple(terms))
 
     def with_effect(self, name: str) -> "Structure":
         if name in self.effects:

@@ -30,7 +30,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from ..errors import InputError
-from ..fileio import atomic_path, check_folder, safe_write_text
+from ..fileio import atomic_path, check_folder, check_replaceable, safe_write_text
 
 MANIFEST = ".inflowsim-report"
 _CSS = """
@@ -218,8 +218,10 @@ def check_report_folder(directory, names=("index.html",), protect=()) -> Path:
         raise InputError(f"{d}: exists and is not a directory; choose a report folder")
     check_folder(d)
     owned = _manifest(d)
+    check_replaceable(d / MANIFEST)
     for n in set(names) | {"index.html"}:
         p = d / n
+        check_replaceable(p)
         for q in protect:
             if p.exists() and Path(q).exists() and os.path.samefile(p, q):
                 raise InputError(f"{p}: refusing to write a report over the input "

@@ -18,6 +18,7 @@ from matplotlib.figure import Figure
 
 from ..data.record import FLAP_COLUMNS
 from ..channels import CONTROLS
+from ..fileio import atomic_path
 
 #: Axis labels of the flap channels (units: degrees on plots, radians inside).
 FLAP_LABELS = {"beta0": r"$\beta_0$", "beta1c": r"$\beta_{1c}$", "beta1s": r"$\beta_{1s}$"}
@@ -33,9 +34,11 @@ def new_figure(nrows=1, ncols=1, size=(8.0, 6.0), sharex=True):
 
 
 def save_png(fig, path, dpi: int = DPI) -> Path:
-    """Save ``fig`` as PNG at ``path`` (the caller chooses a safe path)."""
+    """Save ``fig`` as PNG at ``path``, replacing a regular file only and never
+    leaving it half-written (:func:`inflowsim.fileio.atomic_path`)."""
     p = Path(path)
-    fig.savefig(p, format="png", dpi=dpi, metadata={"Software": "inflowsim"})
+    with atomic_path(p) as tmp:
+        fig.savefig(tmp, format="png", dpi=dpi, metadata={"Software": "inflowsim"})
     return p
 
 

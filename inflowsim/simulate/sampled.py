@@ -36,9 +36,9 @@ import math
 
 import numpy as np
 
+from ..defaults import HOLDS  # record-format.md '# hold:'
 from ..errors import InputError
 
-HOLDS = ("continuous", "zoh", "foh")
 #: What a record without a ``# hold:`` line is: samples of continuous signals.
 DEFAULT_HOLD = "continuous"
 #: One phrase per hold, for reports.
