@@ -217,3 +217,17 @@ def test_no_quiet_lead_in_is_refused_and_a_short_one_warned():
     short = virtual_record(VirtualTest(duration=5.0, manoeuvres=(Manoeuvre(t_start=0.6),)))
     t = find_trim(short)
     assert t.warning is not None and "only" in t.warning
+
+def test_hub_metadata_sets_the_rotor_kind(write, tmp_path):
+    """``# hub:`` names the rotor's hub (record-format.md): the plausible flap frequency
+    follows it; an unknown kind is refused naming the choices; the project's own
+    records say theirs and ``simulate`` keeps it."""
+    rec = read_record(write(text(meta=META + "# hub: Hingeless\n")))
+    assert rec.constants.hub == "hingeless"
+    assert read_record(write(text(), "plain.csv")).constants.hub is None
+    msg = assert_refused(write(text(meta=META + "# hub: teetering\n"), "bad.csv"),
+                         "hub")
+    assert "articulated" in msg and "hingeless" in msg and "bearingless" in msg
+    v = virtual_record(VirtualTest(duration=2.0))
+    assert v.meta["hub"] == "articulated"
+    assert read_record(write_record(v, tmp_path / "v.csv")).constants.hub == "articulated"

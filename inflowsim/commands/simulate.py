@@ -8,7 +8,7 @@ held (zero-order hold of the record samples): the simulator's step ``k`` at
 ends at the record's last sample time (at most
 :data:`inflowsim.data.record.MAX_SAMPLES` steps).  The output is a record
 (``record-format.md``): the record's flight condition (``omega``, ``mu``, ``a0``,
-``solidity``, ``radius``, ``trim_window``; not its aircraft, description or seed,
+``solidity``, ``radius``, ``hub``, ``trim_window``; not its aircraft, description or seed,
 which say where the input came from), a new description and ``# hold: zoh`` (what the
 simulator did with the inputs, whatever the record's own hold), ``t``, the model's inputs as
 totals (trim added back; what the simulator was fed), predicted

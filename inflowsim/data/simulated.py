@@ -17,7 +17,7 @@ from ..simulate.simulator import Simulator
 
 #: Metadata a simulated record keeps from its input: the constants of the flight
 #: condition, and the trim window (the output is at trim there too).
-KEPT_META = REQUIRED_META + ("radius", "trim_window")
+KEPT_META = REQUIRED_META + ("radius", "hub", "trim_window")
 
 
 def held_inputs(t_record, u_record, dt: float):
