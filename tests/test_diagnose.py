@@ -113,6 +113,7 @@ def test_hidden_effect_is_named_first_and_explains_the_data(effect, hold, rate):
     win = d.candidates[0]
     assert win.accepted and win.significant and win.plausible and win.whiter
     assert d.verdict.status == "explained" and d.verdict.effects == (effect,)
+    assert d.verdict.excess_explained > 0.5, d.verdict
     assert d.to_json()["verdict"]["status"] == "explained"
     fit = win.fit
     assert fit.structure == s
@@ -208,6 +209,12 @@ def test_three_missing_effects_resolved_step_by_step(hold, rate):
                                      manoeuvres=TWO_AXES, hold=hold))
     lad = ladder(rec, "basic")
     assert lad.final.structure == s
+    # the first effect named is part of the answer, and said so; the ladder explains all
+    first = lad.rungs[0].diagnosis
+    assert first.verdict.status == "partly-explained"
+    assert 0 < first.verdict.excess_explained < 1
+    assert lad.verdict.status == "explained", lad.verdict
+    assert set(lad.verdict.effects) == {"glauert", "azimuth-bias", "separate-time-constants"}
     assert sorted(r.added for r in lad.rungs[1:]) == sorted(
         ["glauert", "azimuth-bias", "separate-time-constants"])
     costs = [r.fit.cost for r in lad.rungs]

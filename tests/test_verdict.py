@@ -29,6 +29,10 @@ def test_a_term_outside_the_catalogue_is_never_explained(block):
     if d.missing_effect is not None:
         # a catalogue effect that takes part of it is named as a part, not the answer
         assert v.status == "partly-explained" and v.effects == (d.missing_effect,)
+        assert v.excess_explained < 1.0
+        from inflowsim.report.ladder import format_diagnosis
+        text = format_diagnosis(d)
+        assert "part of the missing physics" in text and "missing effect:" not in text
 
 
 def test_null_record_verdict_and_statuses():

@@ -39,8 +39,17 @@ class Verdict:
     where: tuple                     # ((channel, peak_hz, peak ratio), ...)
     effects: tuple = ()
 
+    @property
+    def excess_explained(self) -> float | None:
+        """Share of the starting structure's excess over the floor (summed over the
+        channels, ``max(power over floor - 1, 0)``) that the effects named remove;
+        ``None`` where there was no excess."""
+        before = sum(max(v - 1.0, 0.0) for _, v in self.initial_excess)
+        after = sum(max(v - 1.0, 0.0) for _, v in self.remaining_excess)
+        return None if before <= 0 else float(1.0 - after / before)
+
     def to_json(self) -> dict:
-        return {"status": self.status,
+        return {"status": self.status, "excess_explained": self.excess_explained,
                 "remaining_excess": dict(self.remaining_excess),
                 "initial_excess": dict(self.initial_excess),
                 "where": [{"channel": c, "peak_hz": f, "peak_over_floor": r}

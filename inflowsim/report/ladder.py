@@ -171,7 +171,14 @@ def format_diagnosis(d) -> str:
                      + ("" if c.accepted else f"  ({c.error or c.reason})"))
     if d.missing_effect:
         c = next(c for c in d.candidates if c.effect == d.missing_effect)
-        lines.append(f"missing effect: {d.missing_effect}: {c.physics}")
+        v = d.verdict
+        if v is not None and v.status == "partly-explained":
+            share = v.excess_explained
+            part = "" if share is None else f" {100 * share:.0f} % of the excess over the floor;"
+            lines.append(f"part of the missing physics: {d.missing_effect} explains{part} "
+                         f"excess is left (see the verdict): {c.physics}")
+        else:
+            lines.append(f"missing effect: {d.missing_effect}: {c.physics}")
         covered = [o.effect for o in d.candidates if o.explained_by == d.missing_effect]
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
