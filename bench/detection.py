@@ -146,16 +146,16 @@ def _noise_ratio(kind, hold, rate, noise, seed, rec, fit):
 
 def run_one(job):
     import os
-    from inflowsim import candidates
     from inflowsim.diagnose import diagnose, ladder
+    from inflowsim.diagnose.rule import Rule
+    settings = {}
     if os.environ.get("INFLOWSIM_STUDY_RULE"):
-        candidates.RULE = tuple(os.environ["INFLOWSIM_STUDY_RULE"].split(","))
+        settings["tests"] = tuple(os.environ["INFLOWSIM_STUDY_RULE"].split(","))
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") == "excess":
-        from inflowsim.diagnose import search     # every record judged as coloured
-        search.COLOURED = 0.0
+        settings["coloured"] = 0.0          # every record judged as coloured
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") in ("level", "deviance"):
-        from inflowsim.diagnose import search     # what white records are judged on
-        search.WHITE_MEASURE = os.environ["INFLOWSIM_STUDY_MEASURE"]
+        settings["white_measure"] = os.environ["INFLOWSIM_STUDY_MEASURE"]
+    rule = Rule(**settings)
     kind, effect, hold, rate, noise, seed = job
     t0 = time.perf_counter()
     rec, truth = record_for(kind, effect, hold, rate, noise, seed)
@@ -163,7 +163,7 @@ def run_one(job):
     out = {"kind": kind, "effect": effect, "hold": hold, "rate": rate, "noise": noise,
            "seed": seed}
     if kind in ("null", "hidden"):
-        d = diagnose(rec, base)
+        d = diagnose(rec, base, rule=rule)
         out["missing_effect"] = d.missing_effect
         out["candidates"] = [c.to_json() for c in d.candidates]
         out["unexplained"] = [f.message for f in d.failures if f.kind == "unexplained"]
@@ -177,7 +177,7 @@ def run_one(job):
             out["z"] = {n: (win.fit.parameters[n] - p[n]) / win.fit.sigma[n]
                         for n in p if win.fit.sigma.get(n)}
     else:
-        lad = ladder(rec, base)
+        lad = ladder(rec, base, rule=rule)
         if kind.startswith("nonlinear"):
             out["noise_floor_ratio"] = _noise_ratio(kind, hold, rate, noise, seed, rec,
                                                     lad.final.fit)

@@ -1,4 +1,3 @@
-import pytest
 """The level deviance (:func:`inflowsim.diagnose.failures.level_deviance`): the
 measure of the candidate tests on white-noise records.  Checked on synthetic
 residuals made here (numpy's generator): its law for noise at the floor, its
@@ -7,10 +6,12 @@ over the band, which the per-bin deviance's scatter hides)."""
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from scipy import stats
 
 import inflowsim as ifs
 from inflowsim.diagnose import diagnose, search
+from inflowsim.diagnose.rule import Rule
 from inflowsim.diagnose.failures import (WHITE_DEVIANCE, floor_deviance, level_deviance,
                                          white_level_deviance)
 from inflowsim.presets import truth_parameters
@@ -62,7 +63,7 @@ def test_a_level_error_spread_over_the_band_shows_in_it_not_in_the_per_bin_devia
 
 
 @pytest.mark.slow
-def test_the_2rev_flap_is_named_where_the_per_bin_deviance_saw_nothing(monkeypatch):
+def test_the_2rev_flap_is_named_where_the_per_bin_deviance_saw_nothing():
     """``bench/README.md``: second-harmonic-flap hidden, continuous, 64 Hz, white
     noise, seed 2.  The 2/rev flap is significant (p ~ 1e-20) and raises beta1c's
     power about 1.9 times over the band, but the per-bin deviance (61.7) sits below
@@ -81,8 +82,7 @@ def test_the_2rev_flap_is_named_where_the_per_bin_deviance_saw_nothing(monkeypat
     k_beta2, sigma = c.added["k_beta2"]
     assert abs(k_beta2 - 1.0) < 3 * sigma
     # the per-bin deviance names nothing on the same record
-    monkeypatch.setattr(search, "WHITE_MEASURE", "deviance")
-    old = diagnose(rec, "basic")
+    old = diagnose(rec, "basic", rule=Rule(white_measure="deviance"))
     assert old.missing_effect is None
     assert "nothing to explain" in {c.effect: c for c in old.candidates}[
         "second-harmonic-flap"].reason

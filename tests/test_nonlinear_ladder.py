@@ -131,11 +131,12 @@ def test_without_the_glauert_coupling_in_the_truth_glauert_is_not_named():
 
 
 @pytest.mark.slow
-def test_without_the_pair_test_glauert_would_be_named(monkeypatch):
-    from inflowsim.diagnose import diagnose, rivals
+def test_without_the_pair_test_glauert_would_be_named():
+    from inflowsim.diagnose import diagnose
+    from inflowsim.diagnose.rule import Rule
     _, rec = _no_eq14_record()
-    monkeypatch.setattr(rivals, "PAIR_MIN_DOF", 99)
-    assert diagnose(rec, "basic+flap-inertia").missing_effect == "glauert"
+    assert diagnose(rec, "basic+flap-inertia",
+                    rule=Rule(pair_min_dof=99)).missing_effect == "glauert"
 
 
 def test_a_part_of_glauert_is_named_where_the_whole_is_not_worth_its_gains():
@@ -213,10 +214,10 @@ def test_the_direct_forcing_with_glauerts_F_is_named_before_glauert_whole():
 
 
 @pytest.mark.slow
-def test_without_part_pairs_glauert_whole_would_be_named(monkeypatch):
-    from inflowsim.diagnose import diagnose, rivals
+def test_without_part_pairs_glauert_whole_would_be_named():
+    from inflowsim.diagnose import diagnose
+    from inflowsim.diagnose.rule import Rule
     _, rec = _eq14_seed5()
-    monkeypatch.setattr(rivals, "MAX_PART_PAIRS", 0)
-    d = diagnose(rec, "basic+flap-inertia+second-harmonic-flap")
+    d = diagnose(rec, "basic+flap-inertia+second-harmonic-flap", rule=Rule(max_part_pairs=0))
     assert d.missing_effect == "glauert"
     assert {c.effect: c for c in d.candidates}["glauert"].held == ()

@@ -6,6 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from inflowsim.diagnose.rule import DEFAULT_RULE
+
 import inflowsim as ifs
 from inflowsim.diagnose import candidates
 from inflowsim.diagnose.candidates import try_effect
@@ -40,7 +42,7 @@ def test_a_significant_effect_must_be_worth_its_parameters(margin, worth):
                    _fit_fn(lambda held: 100.0 - stat / 2))
     assert c.significant and c.schwarz_gain == pytest.approx(margin)
     assert ("not worth its 6 parameters: Schwarz gain 1.0 <= 2" in c.reason) is not worth
-    assert candidates.SCHWARZ_MIN == 2.0
+    assert DEFAULT_RULE.schwarz_min == 2.0
 
 
 F_PART, G_PART = frozenset({"k0p", "kc", "ks"}), frozenset({"c1", "c2", "c3", "c4"})

@@ -1,4 +1,3 @@
-import pytest
 """The fifth test of the acceptance rule: a candidate is named only when no more
 likely candidate with no more parameters explains it (:mod:`inflowsim.diagnose.rivals`).
 
@@ -6,11 +5,14 @@ The logic is tested on stub fits whose costs set the two nested likelihood-ratio
 tests; the record test is the white-noise record of ``bench/README.md`` on which
 the four tests alone named a 1.1 ms ``time-delay`` for a hidden 2/rev flap.
 """
+
 import dataclasses
 import json
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from scipy import stats
 
 import inflowsim as ifs
@@ -18,6 +20,8 @@ from inflowsim.diagnose import candidates, diagnose, search
 from inflowsim.diagnose.candidates import Candidate
 from inflowsim.diagnose import rivals
 from inflowsim.diagnose.rivals import explained_by, resolve_rivals
+from inflowsim.diagnose.rule import Rule
+from inflowsim.errors import InputError
 from inflowsim.presets import theory_parameters, truth_parameters
 from inflowsim.virtual import VirtualTest, virtual_record
 
@@ -139,20 +143,20 @@ def test_an_accepted_candidate_still_significant_beside_the_named_one_stays_acce
 
 
 @pytest.mark.slow
-def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay(monkeypatch):
+def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay():
     """``bench/README.md``: second-harmonic-flap hidden, continuous, 64 Hz, white
     noise, seed 0, judged on the per-bin deviance (the measure before the level
     deviance, which names the 2/rev flap here by itself).  The 2/rev flap is far
     more likely (statistic 72 against 20) but explains 7.7 % of a deviance excess
     smaller than its own scatter; with it, the delay is not significant: the fifth
     test is what a noisy material measure leaves to catch."""
-    monkeypatch.setattr(search, "WHITE_MEASURE", "deviance")
+    per_bin = Rule(white_measure="deviance")
     s = BASE.with_effect("second-harmonic-flap")
     p = {n: v for n, v in (truth_parameters(s, K) | {"tau": 5.0}).items() if n in s.parameters}
     rec = virtual_record(VirtualTest(structure=s, parameters=p, seed=0, dt=1 / 64,
                                      noise_flap=1e-4, manoeuvres=TWO_AXES))
     assert p["k_beta2"] == 1.0
-    d = diagnose(rec, "basic")
+    d = diagnose(rec, "basic", rule=per_bin)
     assert d.missing_effect == "second-harmonic-flap"
     by = {c.effect: c for c in d.candidates}
     assert by["time-delay"].explained_by == "second-harmonic-flap"
@@ -160,8 +164,8 @@ def test_the_2rev_flap_is_named_where_the_four_tests_named_a_time_delay(monkeypa
     k, sk = by["second-harmonic-flap"].added["k_beta2"]
     assert abs(k - p["k_beta2"]) < 3 * sk
     # the four tests alone name the delay: the fifth is what changes the answer
-    monkeypatch.setattr(candidates, "RULE", ("significant", "plausible", "material", "whiter"))
-    assert diagnose(rec, "basic").missing_effect == "time-delay"
+    four = replace(per_bin, tests=("significant", "plausible", "material", "whiter"))
+    assert diagnose(rec, "basic", rule=four).missing_effect == "time-delay"
 
 
 # -- a flexible candidate against a pair of simple ones -------------------------------
@@ -235,11 +239,11 @@ def test_a_pair_with_the_smaller_schwarz_gain_is_not_tested_further():
     assert out[0].effect == GL and out[0].accepted
 
 
-def test_a_candidate_of_few_parameters_is_not_tested_against_pairs(monkeypatch):
+def test_a_candidate_of_few_parameters_is_not_tested_against_pairs():
     cands, table = _three(pair_cost=18.0, glauert_beside=18.0)
-    monkeypatch.setattr(rivals, "PAIR_MIN_DOF", 8)
     fit_fn, calls = _costs(table)
-    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn)
+    out = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn,
+                         rule=Rule(pair_min_dof=8))
     assert frozenset({ARP, STC}) not in calls and out[0].effect == GL
 
 
@@ -349,11 +353,30 @@ def test_a_candidate_already_one_part_is_not_paired_with_its_parts():
     assert out[0].effect == GL and out[0].accepted and out[0].displaced is None
 
 
-def test_without_part_pairs_the_whole_is_named(monkeypatch):
-    monkeypatch.setattr(rivals, "MAX_PART_PAIRS", 0)
+def test_without_part_pairs_the_whole_is_named():
     a = _glauert_with_parts()
     b = _cand(ARP, 40.0, accepted=True)
     fit_fn, calls = _by_fixed(_part_table(arp_f=22.0, arp_g=30.0, whole_beside=19.8))
-    out = resolve_rivals(None, BASE_FIT, [a, b], (0.2, 1.6), fit_fn)
+    out = resolve_rivals(None, BASE_FIT, [a, b], (0.2, 1.6), fit_fn,
+                         rule=Rule(max_part_pairs=0))
     assert all(not held for _, held in calls)
     assert out[0].effect == GL and out[0].accepted
+
+
+def test_the_rule_is_data_passed_as_an_argument():
+    """The rule's settings are one frozen object (issue #29): the defaults are the
+    library's, a bad setting is one line, and a study varies one by passing it."""
+    r = Rule()
+    assert r.alpha == 1e-3 and r.schwarz_min == 2.0 and r.tests[-1] == "unrivalled"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.alpha = 0.01
+    for bad in (dict(alpha=0.0), dict(tests=("significant", "lucky")),
+                dict(white_measure="vibes")):
+        with pytest.raises(InputError):
+            Rule(**bad)
+    # a study narrows the pair test by passing the setting, not by patching a module
+    cands, table = _three(pair_cost=18.0, glauert_beside=18.0)
+    fit_fn, calls = _costs(table)
+    strict = resolve_rivals(None, BASE_FIT, cands, (0.2, 1.6), fit_fn,
+                            rule=Rule(pair_min_dof=99))
+    assert frozenset({ARP, STC}) not in calls and strict[0].effect == GL

@@ -14,7 +14,7 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    is the 50:50 mixture of chi-square with 0 and 1 degree of freedom (Self and
    Liang, 1987).  Level ``alpha = 1e-3`` per candidate.
    **Parsimonious:** the Schwarz criterion prefers it with at least positive
-   evidence, ``2 (J_base - J_with) - dof ln(n_data) > SCHWARZ_MIN`` (2: the
+   evidence, ``2 (J_base - J_with) - dof ln(n_data) > schwarz_min`` (2: the
    approximate ``2 ln B`` of Kass and Raftery, JASA 90, 1995, whose "positive"
    starts at 2): for one added parameter this is weaker than the level above,
    for an effect of six or seven free gains it is stronger (the gains can fit a
@@ -35,7 +35,7 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    candidate: on the nonlinear blade truth at 256 Hz, seed 7, Glauert's ``F``
    alone gains 10.4 where all seven gains lose 2.1 (``bench/README.md``).  An
    effect of one part (``hub-velocity-coupling``'s gain matrix) is all or nothing.
-3. **Material.**  The candidate explains at least ``MATERIAL`` (10 %) of the
+3. **Material.**  The candidate explains at least ``material`` (10 %) of the
    base residual's excess over the noise floor: of ``D_base - D_white``, where
    ``D`` is the residual's level deviance from white noise at the floor
    (:func:`inflowsim.failures.level_deviance`, ``sum nf (m - 1 - ln m)`` over
@@ -86,15 +86,8 @@ from ..defaults import ALPHA
 from ..errors import InputError
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
+from .rule import DEFAULT_RULE, Rule, rule_with
 
-#: Share of the residual's excess over the noise floor an effect must explain.
-MATERIAL = 0.10
-#: Schwarz gain a candidate must exceed: positive evidence (Kass and Raftery, 1995).
-SCHWARZ_MIN = 2.0
-#: Estimates within this many sigma of their plausible range count as plausible.
-PLAUSIBLE_SIGMAS = 3.0
-#: The tests a candidate must pass (the acceptance rule; a study may narrow it).
-RULE = ("significant", "parsimonious", "plausible", "material", "whiter", "unrivalled")
 
 
 @dataclass(frozen=True)
@@ -221,9 +214,9 @@ def floor_cost(fit, floors) -> float:
     return out
 
 
-def _plausible(eff, fit, constants, held=()):
+def _plausible(eff, fit, constants, held=(), sigmas=DEFAULT_RULE.plausible_sigmas):
     """Every estimated parameter of the effect (all but ``held``) is determined by
-    the data and reaches its plausible range within ``PLAUSIBLE_SIGMAS``: an
+    the data and reaches its plausible range within ``sigmas``: an
     estimate the data do not determine cannot be shown plausible (fix or tie it,
     or add excitation, and try the effect again)."""
     ranges = eff.plausible_ranges(constants)
@@ -237,7 +230,7 @@ def _plausible(eff, fit, constants, held=()):
         if n not in ranges:
             continue
         lo, hi, why = ranges[n]
-        if est + PLAUSIBLE_SIGMAS * sig < lo or est - PLAUSIBLE_SIGMAS * sig > hi:
+        if est + sigmas * sig < lo or est - sigmas * sig > hi:
             return False, (f"{n} = {est:.4g} +- {sig:.2g} is outside [{lo:g}, {hi:g}]: "
                            f"{why}")
     return True, ""
@@ -275,11 +268,13 @@ def _best_parts(records, base_fit, eff, s, start, base_fixed, fit, dof, band_hz,
             tuple(variants))
 
 
-def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
-               judge=None) -> Candidate:
-    """Fit ``base + effect`` and test it (``judge(fit) -> (structure, floors)``
-    gives the residual structure and the noise floors; without it only the
-    significance is known)."""
+def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=None,
+               judge=None, rule: Rule | None = None) -> Candidate:
+    """Fit ``base + effect`` and test it by ``rule`` (default
+    :data:`~.rule.DEFAULT_RULE`, its level ``alpha`` where given; ``judge(fit)``
+    gives the residual measures; without it only the significance is known)."""
+    rule = rule_with(rule, alpha)
+    alpha = rule.alpha
     s = base_fit.structure.with_effect(effect)
     eff = CATALOGUE[effect]
     k = base_fit.constants[0]
@@ -314,7 +309,7 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
     added = {n: (float(fit.parameters[n]), fit.sigma.get(n)) for n in eff.parameters}
     dj = float(base_fit.cost - fit.cost)
     significant = bool(lp < np.log10(alpha))
-    plausible, why = _plausible(eff, fit, k, held)
+    plausible, why = _plausible(eff, fit, k, held, rule.plausible_sigmas)
     share, q0, q1, d0, d1 = 0.0, 0.0, 0.0, 0.0, 0.0
     reasons = []
     if judge is not None:
@@ -323,18 +318,18 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
         d0, d1 = base["deviance"], new["deviance"]
         excess = d0 - base["white_deviance"]
         share = (d0 - d1) / excess if excess > 0 else 0.0
-    if not significant and "significant" in RULE:
+    if not significant and rule.uses("significant"):
         reasons.append(f"not significant (p = {10 ** lp:.2g} >= {alpha:g})")
     gain = schwarz_gain(base_fit.cost, fit.cost, d, fit.n_freq)
-    if significant and gain <= SCHWARZ_MIN and "parsimonious" in RULE:
+    if significant and gain <= rule.schwarz_min and rule.uses("parsimonious"):
         reasons.append(f"not worth its {d} parameters: Schwarz gain {gain:.1f} <= "
-                       f"{SCHWARZ_MIN:g} (2 dJ = {stat:.1f} against {d} ln n = "
+                       f"{rule.schwarz_min:g} (2 dJ = {stat:.1f} against {d} ln n = "
                        f"{d * np.log(6 * fit.n_freq):.1f})")
-    if not plausible and "plausible" in RULE:
+    if not plausible and rule.uses("plausible"):
         reasons.append(f"implausible: {why}")
     label = base["measure"] if judge is not None else "level deviance"
     floor_based = label != "input-correlated excess"
-    if judge is not None and "material" in RULE:
+    if judge is not None and rule.uses("material"):
         if excess <= 0 and floor_based:
             reasons.append(f"the base residual is at the noise floor ({label} {d0:.1f} "
                            f"<= {base['white_deviance']:.1f} for noise): nothing to explain")
@@ -342,12 +337,12 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
             reasons.append(f"the base residual's input-correlated excess ({d0:.1f}) is no "
                            f"more than noise gives ({base['white_deviance']:.1f}): nothing "
                            "to explain")
-        elif share < MATERIAL:
+        elif share < rule.material:
             what = "excess over the noise floor" if floor_based else \
                 "input-correlated excess (coloured noise)"
             reasons.append(f"explains {100 * share:.1f} % of the residual's {what} "
-                           f"(< {100 * MATERIAL:g} %)")
-    if judge is not None and d1 >= d0 and "whiter" in RULE:
+                           f"(< {100 * rule.material:g} %)")
+    if judge is not None and d1 >= d0 and rule.uses("whiter"):
         reasons.append(f"does not move the residual toward white noise at the floor "
                        f"({label} {d0:.1f} -> {d1:.1f})" if floor_based else
                        f"does not reduce the input-correlated excess ({d0:.1f} -> {d1:.1f})")
@@ -363,15 +358,15 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=ALPHA,
                      variants=variants)
 
 
-def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=ALPHA,
-                    progress=None, judge=None) -> list[Candidate]:
+def rank_candidates(records, base_fit, band_hz, fit_fn, pool=None, alpha=None,
+                    progress=None, judge=None, rule: Rule | None = None) -> list[Candidate]:
     """Every applicable candidate tried and ranked: accepted ones first by Schwarz
     gain, then the rest by p-value."""
     out = []
     for name in applicable(base_fit.structure, pool):
         if progress:
             progress(f"trying {base_fit.structure.name}+{name}")
-        out.append(try_effect(records, base_fit, name, band_hz, fit_fn, alpha, judge))
+        out.append(try_effect(records, base_fit, name, band_hz, fit_fn, alpha, judge, rule))
     return rank(out)
 
 

@@ -27,13 +27,13 @@ nonlinear blade truth).  The rule acts only where a candidate was accepted, so i
 never names an effect on a record where the four tests name none.
 
 **A flexible candidate against a pair of simple ones.**  A candidate ``A`` of
-:data:`PAIR_MIN_DOF` parameters or more can mimic two simple effects at once:
+:attr:`Rule.pair_min_dof <inflowsim.diagnose.rule.Rule>` parameters or more can mimic two simple effects at once:
 on the nonlinear blade truth with no Eq. (14) coupling (no Glauert term in the
 truth), ``glauert``'s seven gains were named for what the direct in-plane forcing
 and the separate time constants explain with two parameters (Schwarz gain 251
 against 219; beside those two ``glauert`` has p = 0.4).  So ``A`` is also compared
 with pairs of significant, plausible candidates that have fewer parameters
-together (one at least accepted; the :data:`MAX_PAIRS` most likely): fitted
+together (one at least accepted; the ``max_pairs`` most likely): fitted
 together, a pair whose Schwarz gain over the base is larger than ``A``'s is the
 better model of the residual by the criterion the candidates are ranked by (it
 applies to non-nested models, as the likelihood-ratio test does not), and its
@@ -49,7 +49,7 @@ for its seven gains once the two simple effects are in (``bench/README.md``).
 an effect of several parts fitted whole (``Effect.parts``: Glauert's ``F`` and
 ``G``) and no pair of two candidates beats it, it is also compared with an
 accepted candidate ``B`` fitted together with one part of ``A`` alone (fewer
-parameters together than ``A``; at most :data:`MAX_PART_PAIRS`), counted only
+parameters together than ``A``; at most ``max_part_pairs``), counted only
 where ``A`` whole explains ``B`` (``B`` is not significant beside it): ``A``'s
 other part then stands in for ``B``.  If such a pair has the larger Schwarz gain,
 ``B`` is named and ``A`` is judged again, beside it, on the next rung (never
@@ -78,17 +78,10 @@ import numpy as np
 from ..errors import InputError
 from ..model.effects import CATALOGUE
 from .candidates import ALPHA, lr_test, nested_start, rank, schwarz_gain
+from .rule import DEFAULT_RULE, Rule, rule_with
 
-#: Rounds of displacement at most (each names a strictly more likely candidate).
-MAX_ROUNDS = 3
-#: A candidate with this many parameters or more is tested against pairs of smaller
-#: ones (a flexible effect can mimic two simple ones together).
-PAIR_MIN_DOF = 3
-#: Pairs tried against it at most (the most likely first).
-MAX_PAIRS = 3
-#: Pairs of an accepted candidate with one part of it alone, at most (an effect of
-#: several parts fitted whole: ``Effect.parts``).
-MAX_PART_PAIRS = 3
+# The numbers (rounds of displacement, the size of a candidate tested against
+# pairs, how many pairs) are the rule's settings: :class:`~.rule.Rule`.
 
 
 def _joint_fit(records, base_fit, first, others, held, band_hz, fit_fn):
@@ -173,25 +166,25 @@ def part_label(c) -> str:
     return f"{c.effect} ({', '.join(own)})"
 
 
-def _pairs(a, cands, base_fit=None):
+def _pairs(a, cands, base_fit=None, rule: Rule = DEFAULT_RULE):
     """``(simple, with_part)``: pairs of significant, plausible candidates with
     fewer parameters together than ``a``, most likely first, at most
-    :data:`MAX_PAIRS`; and, where ``a`` is an effect of several parts fitted whole,
+    ``rule.max_pairs``; and, where ``a`` is an effect of several parts fitted whole,
     pairs of an accepted candidate with one part of ``a`` alone, at most
-    :data:`MAX_PART_PAIRS`."""
+    ``rule.max_part_pairs``."""
     ok = [c for c in cands if c.effect != a.effect and c.significant and c.plausible
           and c.fit is not None and c.dof < a.dof]
     out = [(b, c) for i, b in enumerate(ok) for c in ok[i + 1:]
            if b.dof + c.dof < a.dof and (b.accepted or c.accepted)
            and c.effect not in CATALOGUE[b.effect].alternatives]
-    out = sorted(out, key=_less_likely)[:MAX_PAIRS]
+    out = sorted(out, key=_less_likely)[:rule.max_pairs]
     if a.held or not a.variants or base_fit is None:
         return out, []
     parts = [_part_of(a, v, base_fit) for v in a.variants]
     with_part = [(b, c) for b in ok for c in parts
                  if b.accepted and b.dof + c.dof < a.dof
                  and b.effect not in CATALOGUE[a.effect].alternatives]
-    return out, sorted(with_part, key=_less_likely)[:MAX_PART_PAIRS]
+    return out, sorted(with_part, key=_less_likely)[:rule.max_part_pairs]
 
 
 def _less_likely(pair):
@@ -226,18 +219,21 @@ def _best_pair(records, base_fit, a, pairs, band_hz, fit_fn, progress, alpha=ALP
     return best
 
 
-def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None, cache=None):
+def simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress=None, cache=None,
+                 rule: Rule | None = None):
     """``(b, c, p of A beside them or None, their Schwarz gain)``: the pair of
     smaller candidates that, fitted together, has a larger Schwarz gain than ``a``
     (the best such pair), or ``None``.  Pairs of two candidates are tried first;
     pairs of a candidate with a part of ``a`` only where none of those wins."""
-    if a.dof < PAIR_MIN_DOF or a.fit is None:
+    rule = rule or DEFAULT_RULE
+    if a.dof < rule.pair_min_dof or a.fit is None:
         return None
     cache = {} if cache is None else cache
-    simple, with_part = _pairs(a, cands, base_fit)
-    best = (_best_pair(records, base_fit, a, simple, band_hz, fit_fn, progress) or
+    simple, with_part = _pairs(a, cands, base_fit, rule)
+    best = (_best_pair(records, base_fit, a, simple, band_hz, fit_fn, progress,
+                       rule.alpha) or
             _best_pair(records, base_fit, a, with_part, band_hz, fit_fn, progress,
-                       cache=cache))
+                       rule.alpha, cache=cache))
     if best is None:
         return None
     b, c, both, gain = best
@@ -292,14 +288,17 @@ def _displace_by_pair(a, found, cands, alpha=ALPHA):
     return rank([new_a if x is a else new_n if x is name else x for x in cands])
 
 
-def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
-                   progress=None):
+def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=None,
+                   progress=None, rule: Rule | None = None):
     """Ranked candidates (:func:`~inflowsim.diagnose.candidates.rank_candidates`)
-    with the named one tested against its rivals; returns them ranked again."""
+    with the named one tested against its rivals by ``rule`` (its level ``alpha``
+    where given); returns them ranked again."""
+    rule = rule_with(rule, alpha)
+    alpha = rule.alpha
     cands = list(cands)
     tried, tried_pairs = set(), set()
     cache = {}        # joint fits, by (effect, held) of the two candidates
-    for _ in range(MAX_ROUNDS * max(1, len(cands))):
+    for _ in range(rule.max_rounds * max(1, len(cands))):
         a = next((c for c in cands if c.accepted), None)
         if a is None:
             break
@@ -328,7 +327,7 @@ def resolve_rivals(records, base_fit, cands, band_hz, fit_fn, alpha=ALPHA,
                 break
             tried_pairs.add(a.effect)
             found = simpler_pair(records, base_fit, a, cands, band_hz, fit_fn, progress,
-                                 cache)
+                                 cache, rule)
             if found is None:
                 break
             cands = _displace_by_pair(a, found, cands, alpha)

@@ -13,10 +13,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import candidates as _candidates
 from .candidates import ALPHA, Candidate, rank_candidates
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
 from .rivals import resolve_rivals
+from .rule import Rule, rule_with
 from .terms import missing_terms
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
@@ -120,10 +120,6 @@ def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
     return out
 
 
-#: What the material and whiter tests measure on a white-noise record: the level
-#: deviance (``"level"``), or the per-bin deviance (``"deviance"``, kept for studies:
-#: ``bench/detection.py --measure``).
-WHITE_MEASURE = "level"
 #: The floor-based measures: (deviance of an analysis against floors, its mean for
 #: noise at the floor, the name candidates report).
 FLOOR_MEASURES = {
@@ -133,7 +129,8 @@ FLOOR_MEASURES = {
 }
 
 
-def _judge(records, band_hz, base_fit, base_analyses):
+def _judge(records, band_hz, base_fit, base_analyses, white_measure="level",
+           coloured=COLOURED):
     """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.candidates`):
     the residual's level deviance from white noise at the floor and its structure
     across frequency, against the base fit's floors (the sensor noise does not
@@ -142,7 +139,7 @@ def _judge(records, band_hz, base_fit, base_analyses):
     (the in-band noise :data:`~inflowsim.failures.COLOURED` times the floor or
     more) the floor says little, and the measure is the residual's
     input-correlated excess (:mod:`inflowsim.diagnose.excess`) instead."""
-    if any(k >= COLOURED for ra in base_analyses for k in ra.in_band_over_floor):
+    if any(k >= coloured for ra in base_analyses for k in ra.in_band_over_floor):
         # the floor is far below the noise: measure without it
         bases = [smooth_input_basis(ra) for ra in base_analyses]
         levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
@@ -159,7 +156,7 @@ def _judge(records, band_hz, base_fit, base_analyses):
                                      for ra, Q, n in zip(base_analyses, bases, fitted))
         base["measure"] = "input-correlated excess"
     else:
-        deviance, white, label = FLOOR_MEASURES[WHITE_MEASURE]
+        deviance, white, label = FLOOR_MEASURES[white_measure]
         floors = [ra.floor for ra in base_analyses]
 
         def measure(analyses):
@@ -181,8 +178,8 @@ def _judge(records, band_hz, base_fit, base_analyses):
 
 
 def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
-             alpha=ALPHA, progress=None, base_fit=None, hold=None,
-             assess=True, manoeuvres=None) -> Diagnosis:
+             alpha=None, progress=None, base_fit=None, hold=None,
+             assess=True, manoeuvres=None, rule: Rule | None = None) -> Diagnosis:
     """Fit ``structure``, report where it fails, rank the missing effects.
 
     Parameters
@@ -195,10 +192,13 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         Start values (e.g. a parameter file); default theory and paper values.
     pool : list of str, optional
         Candidate effects to try (default: the whole catalogue).
-    alpha : float
-        Significance level per candidate.
+    alpha : float, optional
+        Significance level per test (default the rule's, 1e-3).
     hold : {"continuous", "zoh", "foh"}, optional
         Intersample behaviour of the records' inputs (default each record's own).
+    rule : Rule, optional
+        The acceptance rule's settings (:class:`~inflowsim.diagnose.rule.Rule`;
+        default :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
     assess : bool
         Say what the records determine of the base structure
         (``Diagnosis.identifiability``, with the standard manoeuvres that would
@@ -218,10 +218,14 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
 
     def fit_fn(r, st, band_hz, start, fixed=None):
         return identify(r, st, band_hz=band_hz, start=start, fixed=fixed, hold=hold)
-    judge = _judge(recs, band_hz, fit, analyses)
-    cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, alpha, progress, judge)
-    if "unrivalled" in _candidates.RULE:
-        cands = resolve_rivals(recs, fit, cands, band_hz, fit_fn, alpha, progress)
+    rule = rule_with(rule, alpha)
+    alpha = rule.alpha
+    judge = _judge(recs, band_hz, fit, analyses, rule.white_measure, rule.coloured)
+    cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, progress=progress,
+                            judge=judge, rule=rule)
+    if rule.uses("unrivalled"):
+        cands = resolve_rivals(recs, fit, cands, band_hz, fit_fn, progress=progress,
+                               rule=rule)
     best = next((c.effect for c in cands if c.accepted), None)
     if best is None:
         fails += unexplained(analyses, alpha)
@@ -278,15 +282,17 @@ class Ladder:
             for i, r in enumerate(self.rungs)]}
 
 
-def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=ALPHA,
-           progress=None, hold=None, manoeuvres=None) -> Ladder:
+def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=None,
+           progress=None, hold=None, manoeuvres=None, rule: Rule | None = None) -> Ladder:
     """Add the best accepted effect and rank again, until none is accepted.
 
     The next rung's fit is the winning candidate's own fit (already made while
     ranking), so each rung costs one ranking.
     """
     recs = _as_list(records)
-    d = diagnose(recs, structure, band_hz, pool=pool, alpha=alpha, progress=progress,
+    rule = rule_with(rule, alpha)
+    alpha = rule.alpha
+    d = diagnose(recs, structure, band_hz, pool=pool, rule=rule, progress=progress,
                  hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     for _ in range(max_steps):
@@ -295,7 +301,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         win: Candidate = next(c for c in d.candidates if c.effect == d.missing_effect)
         if progress:
             progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
-        d = diagnose(recs, win.fit.structure, band_hz, pool=pool, alpha=alpha,
+        d = diagnose(recs, win.fit.structure, band_hz, pool=pool, rule=rule,
                      progress=progress, base_fit=win.fit, hold=hold, assess=False)
         rungs.append(Rung(d.structure, d.fit, win.effect, d, d.analyses))
     added = tuple(r.added for r in rungs[1:])
