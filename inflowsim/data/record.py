@@ -11,7 +11,6 @@ import io
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 from typing import Mapping
 
 import numpy as np
@@ -20,6 +19,7 @@ from ..errors import RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
+from ..frozen import FrozenDict, ReadOnlyArrays
 from ..model.params import Constants
 from ..simulate.sampled import DEFAULT_HOLD, HOLDS
 
@@ -40,7 +40,7 @@ def _ro(a):
 
 
 @dataclass(frozen=True, eq=False)
-class Record:
+class Record(ReadOnlyArrays):
     """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
 
     t: np.ndarray
@@ -52,10 +52,26 @@ class Record:
     @classmethod
     def from_arrays(cls, t, channels: Mapping, meta: Mapping, source="<memory>"):
         ch = {k: _ro(v) for k, v in channels.items()}
-        rec = cls(_ro(t), MappingProxyType(ch), MappingProxyType(
+        rec = cls(_ro(t), FrozenDict(ch), FrozenDict(
             {k: str(v) for k, v in meta.items()}), source, tuple(ch))
         rec.check()
         return rec
+
+    def to_json(self) -> dict:
+        """The record as JSON-ready data (every float exact through ``repr``):
+        ``{"source", "meta", "t", "channels": {name: [...]}}`` in column order;
+        :meth:`from_json` reads it back."""
+        return {"source": self.source, "meta": dict(self.meta), "t": self.t.tolist(),
+                "channels": {k: self.channels[k].tolist() for k in self.order}}
+
+    @classmethod
+    def from_json(cls, doc: Mapping) -> "Record":
+        """A record from :meth:`to_json` data (checked as a file would be)."""
+        try:
+            return cls.from_arrays(doc["t"], doc["channels"], doc["meta"],
+                                   doc.get("source", "<json>"))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise RecordError(f"record JSON: {exc}") from None
 
     # -- metadata -----------------------------------------------------------
     def _meta_float(self, key):
@@ -223,14 +239,14 @@ class Record:
         ch = dict(self.channels)
         ch.update(cols)
         order = self.order + tuple(k for k in cols if k not in self.order)
-        r = Record(self.t, MappingProxyType({k: _ro(v) for k, v in ch.items()}),
+        r = Record(self.t, FrozenDict({k: _ro(v) for k, v in ch.items()}),
                    self.meta, self.source, order)
         return r.check()
 
     def with_meta(self, **meta) -> "Record":
         m = dict(self.meta)
         m.update({k: str(v) for k, v in meta.items()})
-        return Record(self.t, self.channels, MappingProxyType(m), self.source, self.order)
+        return Record(self.t, self.channels, FrozenDict(m), self.source, self.order)
 
 
 # -- trim ---------------------------------------------------------------------------
@@ -358,7 +374,7 @@ def find_trim(rec: Record, window=None) -> Trim:
                 "before the first control movement: the trim is uncertain; give a "
                 "trim window if the record has a longer quiet part")
     vals = {k: float(np.mean(v[i0:i1])) for k, v in rec.channels.items()}
-    return Trim(MappingProxyType(vals), method, float(t[i1 - 1]), i1 - i0,
+    return Trim(FrozenDict(vals), method, float(t[i1 - 1]), i1 - i0,
                 float(t[i0]), move, warn)
 
 
