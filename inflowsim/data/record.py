@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import math
+import weakref
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -378,10 +379,23 @@ def find_trim(rec: Record, window=None) -> Trim:
                 float(t[i0]), move, warn)
 
 
+#: Per record, its perturbation arrays by (columns, trim values): a diagnosis fits
+#: a record a dozen times, and each fit keeps the perturbations it was made from;
+#: they share one read-only array instead of a full-length copy each.
+_PERTURBATIONS: "weakref.WeakKeyDictionary[Record, dict]" = weakref.WeakKeyDictionary()
+
+
 def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
-    """Columns ``names`` minus trim, shape ``(N, len(names))``."""
+    """Columns ``names`` minus trim, shape ``(N, len(names))`` (read-only)."""
     rec.require(names)
-    return np.column_stack([rec[c] - trim.values[c] for c in names])
+    key = (tuple(names), tuple(float(trim.values[c]) for c in names))
+    cache = _PERTURBATIONS.setdefault(rec, {})
+    out = cache.get(key)
+    if out is None:
+        out = np.column_stack([rec[c] - trim.values[c] for c in names])
+        out.flags.writeable = False
+        cache[key] = out
+    return out
 
 
 def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:

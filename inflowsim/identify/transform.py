@@ -78,9 +78,21 @@ def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool,
         x = x * np.asarray(weights, dtype=float)[:, None]
     if on_grid:
         k = np.rint(np.asarray(f_hz) * n * dt).astype(int)
-        return np.fft.rfft(x, axis=0)[k]
-    e = np.exp(-2j * np.pi * np.outer(f_hz, np.arange(n)) * dt)
-    return e @ x
+        # a column at a time: only the band's bins are kept, so a long record never
+        # holds the whole (N/2, c) transform
+        out = np.empty((k.size, x.shape[1]), dtype=complex)
+        for c in range(x.shape[1]):
+            out[:, c] = np.fft.rfft(x[:, c])[k]
+        return out
+    out = np.zeros((np.size(f_hz), x.shape[1]), dtype=complex)
+    for i in range(0, n, _DFT_BLOCK):      # bounded (nf, block) phase matrix
+        m = np.arange(i, min(i + _DFT_BLOCK, n))
+        out += np.exp(-2j * np.pi * np.outer(f_hz, m) * dt) @ x[m]
+    return out
+
+
+#: Samples per block of the direct DFT on a chosen grid.
+_DFT_BLOCK = 65536
 
 
 @dataclass(frozen=True, eq=False)
