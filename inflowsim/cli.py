@@ -13,7 +13,7 @@ import sys
 from .errors import InputError
 
 COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "diagnose",
-            "ladder", "flighttest", "fmu")
+            "ladder", "campaign", "flighttest", "fmu")
 
 
 class _Parser(argparse.ArgumentParser):
