@@ -6,6 +6,7 @@ import io
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from conftest import assert_user_error, run, virtual
@@ -235,3 +236,27 @@ def test_local_dask_cluster_two_processes(plan_dir, tmp_path):
     assert [r["status"] for r in res.records] == [r["status"] for r in ref.records]
     again = run_campaign(plan, tmp_path / "dask", s, workers=2, progress=False)
     assert again.computed == {"records": 0, "conditions": 0}
+
+
+def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
+    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
+    items = campaign_items()
+    assert len({i.mu for i in items}) == 6 and len(items) == 6 * 3 * 2
+    assert len({i.seed for i in items}) == len(items)
+    plan = virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",),
+                            shapes=("3211",), duration=6.0, workers=1)
+    p = read_plan(plan)
+    (e,) = p.entries
+    assert (e.condition, e.manoeuvre, e.group, e.mu) == ("mu=0.150", "3211 theta1s",
+                                                         "repeat 0", 0.15)
+    from inflowsim.data.record import read_record
+    rec = read_record(e.path)
+    assert rec.meta["manoeuvre"] == "3211 theta1s" and float(rec.meta["mu"]) == 0.15
+    assert rec.dt == pytest.approx(1 / 64) and np.ptp(rec["theta1s"]) > 0.01
+    # a second generation keeps the record (resumable) and rewrites the plan only
+    mtime = Path(e.path).stat().st_mtime_ns
+    virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",), shapes=("3211",),
+                     duration=6.0, workers=1)
+    assert Path(e.path).stat().st_mtime_ns == mtime
+    code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "d", "--out", "x.csv")
+    assert_user_error(code, out, err, "--campaign")
