@@ -60,7 +60,7 @@ def test_blocks_equal_one_evaluation(monkeypatch):
     parts = freqmodel.flap_response(m, sp)
     assert _rel(parts[0], whole[0]) < 1e-13 and _rel(parts[1], whole[1]) < 1e-13
     cost = evaluate(rec, m.structure, dict(m.parameters)).cost
-    monkeypatch.setattr(freqmodel, "BLOCK", 4096)
+    monkeypatch.setattr(freqmodel, "BLOCK", 16384)
     assert evaluate(rec, m.structure, dict(m.parameters)).cost == pytest.approx(cost,
                                                                                  rel=1e-12)
 
