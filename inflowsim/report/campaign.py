@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .plots import new_figure, save_png
 
 
@@ -33,6 +35,16 @@ def estimates_vs_mu_plot(df, path=None):
                         yerr=None if sig is None else sig.fillna(0.0), fmt=style,
                         ms=4 if kind == "record" else 6, capsize=2, label=label,
                         alpha=0.6 if kind == "record" else 1.0)
+        # the estimates set the scale: a record that does not determine a
+        # parameter (a bound of thousands) must not flatten everyone else's
+        # (the joint estimates, and the middle 80 % of the records')
+        v = ok[f"est_{n}"].dropna().to_numpy(dtype=float)
+        joint = ok[ok["kind"] == "condition"][f"est_{n}"].dropna().to_numpy(dtype=float)
+        lo, hi = np.percentile(v, [10, 90])
+        if joint.size:
+            lo, hi = min(lo, joint.min()), max(hi, joint.max())
+        pad = 0.3 * (hi - lo) or 0.1 * max(abs(hi), 1e-12)
+        ax.set_ylim(lo - pad, hi + pad)
         ax.set_title(n)
         ax.set_xlabel(r"$\mu$")
         ax.grid(alpha=0.3)
