@@ -249,8 +249,12 @@ def _flap_response(model, sp, method):
     y_u = np.empty((nf, 3), dtype=complex)
     y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
     if dec is not None:
-        lam, V, Vi = dec
-        r = 1.0 / (s[:, None] - lam)                        # (nf, n) resolvent
+        den = s[:, None] - dec[0]
+        if not np.all(den != 0):           # a pole exactly on a bin: as the solve does
+            dec = None
+    if dec is not None:
+        _, V, Vi = dec
+        r = 1.0 / den                                        # (nf, n) resolvent
         vp = Vi @ P
         for g, (rows, _) in enumerate(groups):
             cv = C[rows] @ V
