@@ -420,6 +420,7 @@ def read_record(path) -> Record:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise RecordError(f"{src}: not UTF-8 text (byte {exc.start})") from None
+    del raw
     return parse_record(text, src)
 
 
@@ -455,7 +456,10 @@ def parse_record(text: str, source: str = "<text>") -> Record:
         raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
     if any(not h for h in header):
         raise RecordError(f"{source}: line {i + 1}: empty column name in the header")
-    rows = []
+    # straight into one float array: a list of rows of Python floats took five times
+    # the array's memory (735 MB for a 2-hour record at 64 Hz)
+    data = np.empty((len(lines) - i - 1, len(header)))
+    n_rows = 0
     for j in range(i + 1, len(lines)):
         ln = lines[j]
         if not ln.strip():
@@ -465,14 +469,15 @@ def parse_record(text: str, source: str = "<text>") -> Record:
             raise RecordError(f"{source}: line {j + 1}: {len(cells)} values, the header "
                               f"has {len(header)} columns")
         try:
-            rows.append([float(c) for c in cells])
+            data[n_rows] = [float(c) for c in cells]
         except ValueError:
             bad = next(k for k, c in enumerate(cells) if not _isfloat(c))
             raise RecordError(f"{source}: line {j + 1}: column {header[bad]}: "
                               f"{cells[bad].strip()!r} is not a number") from None
-    if not rows:
+        n_rows += 1
+    if not n_rows:
         raise RecordError(f"{source}: no data rows")
-    data = np.array(rows)
+    data = data[:n_rows]
     for k in REQUIRED_META:
         if k not in meta:
             raise RecordError(f"{source}: missing required metadata '# {k}: ...'")
