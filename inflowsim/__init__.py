@@ -6,8 +6,9 @@ flapping and loads), ``model`` (parameters, effects, structures, the equations'
 assembly), ``simulate`` (sampled-data relations, the fixed-step simulator, replay),
 ``data`` (records and trim), ``identify`` (frequency-domain output error),
 ``diagnose`` (validation, failures, candidate effects, the ladder), ``flighttest``
-(virtual records), ``report`` (figures and documents), ``fmu`` (the co-simulation
-FMU) and ``commands`` (the ``inflowsim`` command line).  Import paths of 0.1.0
+(virtual records), ``report`` (figures and documents), ``campaign`` (many records
+on Dask), ``fmu`` (the co-simulation FMU) and ``commands`` (the ``inflowsim``
+command line).  Import paths of 0.1.0
 (``inflowsim.record`` ...) still work (:mod:`._legacy`).
 """
 from . import _legacy

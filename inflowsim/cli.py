@@ -13,7 +13,7 @@ import sys
 from .errors import InputError
 
 COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "diagnose",
-            "ladder", "flighttest", "fmu", "frf", "design")
+            "ladder", "campaign", "flighttest", "fmu", "frf", "design")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -177,8 +177,10 @@ def json_text(doc) -> str:
 def _plain(o):
     import math
 
+    from collections.abc import Mapping
+
     import numpy as np
-    if isinstance(o, dict):
+    if isinstance(o, Mapping):
         return {str(k): _plain(v) for k, v in o.items()}
     if isinstance(o, (list, tuple)):
         return [_plain(v) for v in o]

@@ -12,8 +12,8 @@ from inflowsim import _legacy
 PKG = Path(inflowsim.__file__).parent
 #: Each layer may import itself and the layers before it (and the foundation).
 LAYERS = ["physics", "model", "simulate", "data", "identify", "diagnose", "flighttest",
-          "report", "fmu", "commands"]
-FOUNDATION = {"errors", "fileio", "channels", "defaults", "_legacy", "__init__"}
+          "report", "campaign", "fmu", "commands"]
+FOUNDATION = {"errors", "fileio", "channels", "defaults", "frozen", "_legacy", "__init__"}
 
 
 def _layer(module):

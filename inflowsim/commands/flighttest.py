@@ -63,10 +63,11 @@ def add_arguments(p):
                    help="time of the first control movement [s] (default 2)")
     p.add_argument("--width", type=float, default=0.4, metavar="S",
                    help="doublet half-width or 3211 unit [s] (default 0.4)")
-    p.add_argument("--duration", type=float, default=26.6, metavar="S",
-                   help="record length [s] (default 26.6: 0.0376 Hz resolution)")
-    p.add_argument("--dt", type=float, default=0.01, metavar="S",
-                   help="sample step [s] (default 0.01)")
+    p.add_argument("--duration", type=float, default=None, metavar="S",
+                   help="record length [s] (default 26.6: 0.0376 Hz resolution; "
+                        "--campaign 20)")
+    p.add_argument("--dt", type=float, default=None, metavar="S",
+                   help="sample step [s] (default 0.01; --campaign 0.015625)")
     p.add_argument("--noise", type=float, default=1e-4, metavar="R",
                    help="flap sensor noise, standard deviation [rad] (default 1e-4)")
     p.add_argument("--noise-color-hz", type=float, metavar="F",
@@ -90,7 +91,19 @@ def add_arguments(p):
                         "or the trim mu (then the inflow is the basic model)")
     p.add_argument("--no-body", action="store_true",
                    help="hold the hub fixed (no body motion)")
-    p.add_argument("--out", "-o", required=True, metavar="CSV", help="output record")
+    p.add_argument("--out", "-o", metavar="CSV", help="output record (required unless "
+                                                      "--campaign)")
+    p.add_argument("--campaign", metavar="DIR",
+                   help="write a virtual campaign instead: records from the nonlinear "
+                        "truth at every --speeds, a doublet and a 3-2-1-1 on each "
+                        "control, --repeats times, and DIR/plan.csv for 'inflowsim "
+                        "campaign' (default 20 s at 64 Hz each; existing records are kept)")
+    p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
+                   help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
+    p.add_argument("--repeats", type=int, default=1, metavar="N",
+                   help="--campaign: records per speed, control and shape (default 1)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="--campaign: generating processes (default: the cores)")
     p.add_argument("--truth-json", metavar="FILE",
                    help="also write the truth (parameters, trim, settings) as JSON")
     p.add_argument("--force", action="store_true", help="replace existing output files")
@@ -303,12 +316,38 @@ def _still_body():
     return BodyModel(m_theta=0.0, l_theta=0.0, z_theta=0.0)
 
 
+def _campaign(args) -> int:
+    from ..flighttest.campaign import MUS, virtual_campaign
+    if args.out or args.truth_json or args.json:
+        raise InputError("--campaign writes its own records and plan: drop --out, "
+                         "--truth-json and --json")
+    if args.truth != "nonlinear" or args.add or args.set or args.model:
+        raise InputError("--campaign flies the nonlinear truth as it is: drop --truth, "
+                         "--model, --add and --set")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers}: need at least 1")
+    args.duration = 20.0 if args.duration is None else args.duration
+    args.dt = 1.0 / 64 if args.dt is None else args.dt
+    _manoeuvre(args)                       # the shared checks of duration, step, noise
+    plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
+                            repeats=args.repeats, duration=args.duration, dt=args.dt,
+                            noise=args.noise, workers=args.workers, progress=progress)
+    progress(f"flighttest: wrote the campaign's plan {plan}")
+    return 0
+
+
 def run(args) -> int:
     import json
 
     from ..data.record import write_record
     from ..fileio import json_text, safe_write_text
     from ..flighttest.nonlinear import flighttest
+    if args.campaign:
+        return _campaign(args)
+    if not args.out:
+        raise InputError("--out CSV is required (or --campaign DIR)")
+    args.duration = 26.6 if args.duration is None else args.duration
+    args.dt = 0.01 if args.dt is None else args.dt
     _check_outputs(args)
     man = _manoeuvre(args)
     values = _settings(args.set)

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import io
 import math
+import weakref
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 from typing import Mapping
 
 import numpy as np
@@ -20,6 +20,7 @@ from ..errors import RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
+from ..frozen import FrozenDict, ReadOnlyArrays
 from ..model.params import Constants
 from ..simulate.sampled import DEFAULT_HOLD, HOLDS
 
@@ -59,7 +60,7 @@ def band_needs(band_hz) -> float:
 
 
 @dataclass(frozen=True, eq=False)
-class Record:
+class Record(ReadOnlyArrays):
     """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
 
     t: np.ndarray
@@ -71,10 +72,26 @@ class Record:
     @classmethod
     def from_arrays(cls, t, channels: Mapping, meta: Mapping, source="<memory>"):
         ch = {k: _ro(v) for k, v in channels.items()}
-        rec = cls(_ro(t), MappingProxyType(ch), MappingProxyType(
+        rec = cls(_ro(t), FrozenDict(ch), FrozenDict(
             {k: str(v) for k, v in meta.items()}), source, tuple(ch))
         rec.check()
         return rec
+
+    def to_json(self) -> dict:
+        """The record as JSON-ready data (every float exact through ``repr``):
+        ``{"source", "meta", "t", "channels": {name: [...]}}`` in column order;
+        :meth:`from_json` reads it back."""
+        return {"source": self.source, "meta": dict(self.meta), "t": self.t.tolist(),
+                "channels": {k: self.channels[k].tolist() for k in self.order}}
+
+    @classmethod
+    def from_json(cls, doc: Mapping) -> "Record":
+        """A record from :meth:`to_json` data (checked as a file would be)."""
+        try:
+            return cls.from_arrays(doc["t"], doc["channels"], doc["meta"],
+                                   doc.get("source", "<json>"))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise RecordError(f"record JSON: {exc}") from None
 
     # -- metadata -----------------------------------------------------------
     def _meta_float(self, key):
@@ -254,14 +271,14 @@ class Record:
         ch = dict(self.channels)
         ch.update(cols)
         order = self.order + tuple(k for k in cols if k not in self.order)
-        r = Record(self.t, MappingProxyType({k: _ro(v) for k, v in ch.items()}),
+        r = Record(self.t, FrozenDict({k: _ro(v) for k, v in ch.items()}),
                    self.meta, self.source, order)
         return r.check()
 
     def with_meta(self, **meta) -> "Record":
         m = dict(self.meta)
         m.update({k: str(v) for k, v in meta.items()})
-        return Record(self.t, self.channels, MappingProxyType(m), self.source, self.order)
+        return Record(self.t, self.channels, FrozenDict(m), self.source, self.order)
 
 
 # -- trim ---------------------------------------------------------------------------
@@ -410,14 +427,27 @@ def find_trim(rec: Record, window=None) -> Trim:
                 "before the first control movement: the trim is uncertain; give a "
                 "trim window if the record has a longer quiet part")
     vals = {k: float(np.mean(v[i0:i1])) for k, v in rec.channels.items()}
-    return Trim(MappingProxyType(vals), method, float(t[i1 - 1]), i1 - i0,
+    return Trim(FrozenDict(vals), method, float(t[i1 - 1]), i1 - i0,
                 float(t[i0]), move, warn)
 
 
+#: Per record, its perturbation arrays by (columns, trim values): a diagnosis fits
+#: a record a dozen times, and each fit keeps the perturbations it was made from;
+#: they share one read-only array instead of a full-length copy each.
+_PERTURBATIONS: "weakref.WeakKeyDictionary[Record, dict]" = weakref.WeakKeyDictionary()
+
+
 def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
-    """Columns ``names`` minus trim, shape ``(N, len(names))``."""
+    """Columns ``names`` minus trim, shape ``(N, len(names))`` (read-only)."""
     rec.require(names)
-    return np.column_stack([rec[c] - trim.values[c] for c in names])
+    key = (tuple(names), tuple(float(trim.values[c]) for c in names))
+    cache = _PERTURBATIONS.setdefault(rec, {})
+    out = cache.get(key)
+    if out is None:
+        out = np.column_stack([rec[c] - trim.values[c] for c in names])
+        out.flags.writeable = False
+        cache[key] = out
+    return out
 
 
 def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
@@ -442,6 +472,7 @@ def read_record(path) -> Record:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise RecordError(f"{src}: not UTF-8 text (byte {exc.start})") from None
+    del raw
     return parse_record(text, src)
 
 
@@ -480,7 +511,10 @@ def parse_record(text: str, source: str = "<text>") -> Record:
         raise RecordError(f"{source}: line {i + 1}: duplicate column {sorted(dup)[0]!r}")
     if any(not h for h in header):
         raise RecordError(f"{source}: line {i + 1}: empty column name in the header")
-    rows = []
+    # straight into one float array: a list of rows of Python floats took five times
+    # the array's memory (735 MB for a 2-hour record at 64 Hz)
+    data = np.empty((len(lines) - i - 1, len(header)))
+    n_rows = 0
     for j in range(i + 1, len(lines)):
         ln = lines[j]
         if not ln.strip():
@@ -490,14 +524,15 @@ def parse_record(text: str, source: str = "<text>") -> Record:
             raise RecordError(f"{source}: line {j + 1}: {len(cells)} values, the header "
                               f"has {len(header)} columns")
         try:
-            rows.append([float(c) for c in cells])
+            data[n_rows] = [float(c) for c in cells]
         except ValueError:
             bad = next(k for k, c in enumerate(cells) if not _isfloat(c))
             raise RecordError(f"{source}: line {j + 1}: column {header[bad]}: "
                               f"{cells[bad].strip()!r} is not a number") from None
-    if not rows:
+        n_rows += 1
+    if not n_rows:
         raise RecordError(f"{source}: no data rows")
-    data = np.array(rows)
+    data = data[:n_rows]
     for k in REQUIRED_META:
         if k not in meta:
             raise RecordError(f"{source}: missing required metadata '# {k}: ...'")

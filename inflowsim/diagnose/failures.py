@@ -71,7 +71,8 @@ class ResidualAnalysis:
     ``measured``, ``predicted`` ``(3, nf)`` flap transforms at ``f_hz``; ``floor``
     ``(3, nf)`` noise power per bin; ``ratio`` ``(3, nf)`` residual power over it;
     ``U`` ``(nf, m)`` the inputs' transforms (``inputs``); ``residual`` ``(N, 3)``
-    the time-domain residual of the replay from the fitted initial state.
+    the time-domain residual of the replay from the fitted initial state
+    (replayed when asked for: the diagnosis itself works in the band).
     """
 
     f_hz: np.ndarray
@@ -79,7 +80,7 @@ class ResidualAnalysis:
     predicted: np.ndarray
     floor: np.ndarray
     ratio: np.ndarray
-    residual: np.ndarray
+    replay_of: "TimeResidual" = field(repr=False)
     floor_band_hz: tuple
     inputs: tuple = ()
     U: np.ndarray | None = None
@@ -87,6 +88,11 @@ class ResidualAnalysis:
     #: per channel, the noise in the band estimated without a model over the
     #: floor (``()`` where it could not be estimated); far above 1: coloured noise
     in_band_over_floor: tuple = ()
+
+    @property
+    def residual(self) -> np.ndarray:
+        """Measured minus replayed flap in time ``(N, 3)`` [rad]."""
+        return self.replay_of()
 
     @property
     def whitened(self) -> np.ndarray:
@@ -102,6 +108,25 @@ class ResidualAnalysis:
     def excess(self) -> np.ndarray:
         """Mean in-band residual power over the floor, per channel."""
         return self.ratio.mean(axis=1)
+
+
+@dataclass(frozen=True, eq=False)
+class TimeResidual:
+    """The record replayed through the model from ``x0`` (its own hold), minus
+    the measured flap: ``(N, 3)`` when called.  Kept as the recipe, not the
+    array, so a long record's analyses do not each hold a full-length copy."""
+
+    record: object
+    model: object
+    trim: object
+    hold: str
+    x0: np.ndarray | None
+
+    def __call__(self) -> np.ndarray:
+        u = model_inputs(self.record, self.model, self.trim)
+        with np.errstate(all="ignore"):  # an unstable fitted model replays unbounded
+            y = replay(self.model, u, self.record.dt, self.hold, self.x0)[:, :3]
+        return perturbations(self.record, self.trim, FLAP_COLUMNS) - y
 
 
 def floor_band(record, band_hz):
@@ -151,9 +176,7 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
     sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False)
     y_u, y_nu, _ = flap_response(model, sp)
     e = sp.Z - y_u
-    a = y_nu.reshape(-1, y_nu.shape[2])
-    coef, *_ = np.linalg.lstsq(np.vstack([a.real, a.imag]),
-                               np.concatenate([e.ravel().real, e.ravel().imag]), rcond=None)
+    coef = _end_states(y_nu, e)
     p = np.abs(e - y_nu @ coef) ** 2
     chunks = np.array_split(np.arange(len(p)), FLOOR_SUBBANDS)
     level = np.median([np.median(p[c], axis=0) for c in chunks], axis=0) / np.log(2)
@@ -163,6 +186,32 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
     ratio = () if inside is None else tuple(
         float(inside[c].mean() / floor[c].mean()) for c in range(3))
     return floor, (float(fb[0]), float(fb[1])), ratio
+
+
+#: Floor-band bins above which the end states are solved block by block (a
+#: 2-hour record's floor band holds 150 000 bins).
+STREAM_BINS = 16384
+
+
+def _end_states(y_nu, e):
+    """Real ``coef`` minimising ``|e - y_nu coef|`` over every bin and channel:
+    ``lstsq`` on the stacked real system, or for a long record the same least
+    squares by a QR factor updated block by block (no full stacked copy)."""
+    nf, _, q = y_nu.shape
+    if nf <= STREAM_BINS:
+        a = y_nu.reshape(-1, q)
+        coef, *_ = np.linalg.lstsq(np.vstack([a.real, a.imag]),
+                                   np.concatenate([e.ravel().real, e.ravel().imag]),
+                                   rcond=None)
+        return coef
+    R, c = np.zeros((0, q)), np.zeros(0)
+    for i in range(0, nf, STREAM_BINS):
+        a = y_nu[i:i + STREAM_BINS].reshape(-1, q)
+        b = e[i:i + STREAM_BINS].ravel()
+        Q, R = np.linalg.qr(np.vstack([R, a.real, a.imag]))
+        c = Q.T @ np.concatenate([c, b.real, b.imag])
+    coef, *_ = np.linalg.lstsq(R, c, rcond=None)
+    return coef
 
 
 def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
@@ -187,10 +236,7 @@ def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
         f, Z, Y, x0 = ev.f_hz[0], ev.Z[0], ev.Y[0], None
     else:
         f, Z, Y, x0 = fit.f_hz, fit.Z, fit.Y, fit.x0
-    with np.errstate(all="ignore"):      # an unstable fitted model replays unbounded
-        y = replay(model, u, record.dt, hold, x0)[:, :3]
-    z = perturbations(record, trim, FLAP_COLUMNS)
-    e_t = z - y
+    e_t = TimeResidual(record, model, trim, hold, x0)
     floor, fb, colour = noise_floor(record, model, band_hz, hold, f, Z - Y, check_colour)
     ratio = (np.abs(Z - Y) ** 2).T / floor
     on_grid = np.allclose(f * len(record) * record.dt,

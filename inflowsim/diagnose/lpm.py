@@ -39,6 +39,8 @@ import numpy as np
 
 #: Half-width [bins] and degree of the local polynomial.
 LPM_HALF, LPM_DEGREE = 8, 1
+#: Bins whose local regressions are solved together.
+_BLOCK = 2048
 #: The trend is fitted from the band's lower edge to this many times its upper edge.
 LPM_SPAN = 4.0
 
@@ -54,15 +56,26 @@ def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray
     P = np.vander(j, degree + 1, increasing=True)
     scale = np.abs(U).max(axis=0)
     U = U[:, scale > 0] / scale[scale > 0]
-    for k in range(half, nf - half):
-        w = slice(k - half, k + half + 1)
-        X = np.hstack([P] + [U[w, [i]] * P for i in range(U.shape[1])])
-        Q, s, _ = np.linalg.svd(X, full_matrices=False)
-        r = int(np.sum(s > 1e-9 * s[0]))
-        if r >= 2 * half + 1:
-            continue
-        e = Z[w] - Q[:, :r] @ (Q[:, :r].conj().T @ Z[w])
-        out[k] = np.sum(np.abs(e) ** 2, axis=0) / (2 * half + 1 - r)
+    width = 2 * half + 1
+    # the windows' regressors all at once, a block of bins at a time (a 2-hour
+    # record holds tens of thousands of bins): batched SVDs instead of a loop
+    for start in range(half, nf - half, _BLOCK):
+        ks = np.arange(start, min(start + _BLOCK, nf - half))
+        idx = ks[:, None] + np.arange(-half, half + 1)[None, :]          # (b, width)
+        Uw = U[idx]                                                       # (b, width, m)
+        X = np.concatenate([np.broadcast_to(P, (ks.size,) + P.shape).astype(complex),
+                            (Uw[:, :, :, None] * P[None, :, None, :]).reshape(
+                                ks.size, width, -1)], axis=2)
+        sv = np.linalg.svd(X, compute_uv=False)
+        r = np.sum(sv > 1e-9 * sv[:, :1], axis=1)
+        for rank in np.unique(r):
+            if rank >= width:         # no degree of freedom left: no estimate
+                continue
+            sel = np.flatnonzero(r == rank)
+            Qr = np.linalg.svd(X[sel], full_matrices=False)[0][:, :, :rank]
+            Zw = Z[idx[sel]]                                              # (s, width, p)
+            e = Zw - Qr @ (np.conj(np.swapaxes(Qr, 1, 2)) @ Zw)
+            out[ks[sel]] = np.sum(np.abs(e) ** 2, axis=1) / (width - rank)
     return out
 
 

@@ -24,12 +24,12 @@ Conventions
 from __future__ import annotations
 
 from dataclasses import dataclass
-from types import MappingProxyType
 from typing import Mapping
 
 import numpy as np
 
 from ..errors import InputError
+from ..frozen import FrozenDict
 from ..identify.results import fit_percent
 from ..identify.transform import DEFAULT_BAND, dft, snap_band
 from ..data.record import (CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations,
@@ -340,9 +340,9 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
         structure=model.structure.name, source=record.source, trim=trim, hold=hold,
         t=record.t,
         inputs=tuple(model.inputs), u=u, measured=z, predicted=y,
-        channels=MappingProxyType(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
-        frequency=fc, magnitude_rms_db=MappingProxyType(mag_rms),
-        phase_rms_deg=MappingProxyType(ph_rms))
+        channels=FrozenDict(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
+        frequency=fc, magnitude_rms_db=FrozenDict(mag_rms),
+        phase_rms_deg=FrozenDict(ph_rms))
 
 
 _reference = reference_input     # the parameter of validate() shadows the function

@@ -193,14 +193,16 @@ def _colored(prob, st, blocks, cov):
         e = unstack(r, nf)
         for j in range(-lmax, lmax + 1):
             k = np.arange(max(j, 0), nf + min(j, 0))
-            prod = np.einsum("ki,kj->kij", e[k], e[k - j].conj())   # e_k e_{k-j}^H
+            prod = e[k][:, :, None] * e[k - j].conj()[:, None, :]    # e_k e_{k-j}^H
             # local mean over a window of frequencies (cumulative sums)
             cs = np.concatenate([np.zeros((1, 3, 3), complex), np.cumsum(prod, axis=0)])
             lo = np.clip(np.arange(k.size) - HALF_WINDOW, 0, k.size)
             hi = np.clip(np.arange(k.size) + HALF_WINDOW + 1, 0, k.size)
             R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
             w = 1 - abs(j) / (lmax + 1)
-            V += 2.0 * w * np.real(np.einsum("kip,kij,kjq->pq", G[k].conj(), R, G[k - j]))
+            # sum_k G_k^H R_k G_{k-j} as one product over (k, i) (BLAS, not einsum)
+            RG = (R @ G[k - j]).reshape(-1, G.shape[2])
+            V += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
     return cov @ V @ cov
 
 

@@ -147,7 +147,16 @@ def _continuous_input(sp, d):
     return np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
 
 
-def flap_response(model, sp):
+#: Largest condition number of the eigenvector matrix for which the response is
+#: taken from the eigen-decomposition (relative error about ``cond * 1e-16``);
+#: beyond it (near-repeated poles) each frequency's system is solved directly.
+EIG_COND = 1e6
+#: Frequencies evaluated at once: bounds the temporary ``(nf, n, n)`` arrays of a
+#: long record (a 2-hour record's floor band holds 150 000 bins; its band 9 750).
+BLOCK = 16384
+
+
+def flap_response(model, sp, method="auto"):
     """Predicted flap transforms, affine in the end-effect nuisance.
 
     Parameters
@@ -156,6 +165,11 @@ def flap_response(model, sp):
         SI state space (``a, b, c, delays, input_delays``, end-state map).
     sp : Spectra
         The record's transforms, its hold and its time inputs.
+    method : {"auto", "eig", "solve"}
+        How ``(s I - A)^-1`` is applied at every frequency: through the
+        eigen-decomposition of ``A`` (``O(n^2)`` a frequency; ``auto`` uses it
+        when the eigenvectors are well conditioned, :data:`EIG_COND`) or by
+        solving each frequency's system (``solve``).  The two agree to rounding.
 
     Returns
     -------
@@ -168,6 +182,30 @@ def flap_response(model, sp):
     groups : list
         :func:`shift_groups`.
     """
+    nf = sp.f_hz.size
+    if nf <= BLOCK:
+        return _flap_response(model, sp, method)
+    from dataclasses import replace
+    parts = []
+    for i in range(0, nf, BLOCK):
+        blk = slice(i, min(i + BLOCK, nf))
+        parts.append(_flap_response(model, replace(sp, f_hz=sp.f_hz[blk], U=sp.U[blk],
+                                                    Z=sp.Z[blk]), method))
+    return (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
+            parts[0][2])
+
+
+def _eig(a):
+    """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned."""
+    if not np.all(np.isfinite(a)):
+        return None
+    lam, V = np.linalg.eig(a)
+    if np.linalg.cond(V) > EIG_COND:
+        return None
+    return lam, V, np.linalg.inv(V)
+
+
+def _flap_response(model, sp, method):
     a, b, C = model.a, model.b, model.c[:3]
     n = a.shape[0]
     P, q = model.end_basis, model.end_input
@@ -176,15 +214,14 @@ def flap_response(model, sp):
     nf = f.size
     groups = shift_groups(model)
     sigma = np.asarray(model.input_delays, float)
-    eye = np.eye(n)
     G = len(groups)
     u0, u1 = sp.u_time[0], sp.u_time[-1]
-    # one solve for every group's input term and the shared end-state basis
-    rhs = np.empty((nf, n, G + 2 * k), dtype=complex)
+    # per group the input term (nf, n) of  (s I - A) x = input + zs x_0 + ze x_end
+    inp = np.empty((G, nf, n), dtype=complex)
     if sp.hold == "continuous":
         w = 2 * np.pi * f
         T = (sp.n_samples - 1) * sp.dt
-        M = 1j * w[:, None, None] * eye - a
+        s, A = 1j * w, a
         zs, ze = np.ones(nf), -np.exp(-1j * w * T)        # start, end factors
         for g, (_, tau) in enumerate(groups):
             d = tau - sigma
@@ -192,7 +229,7 @@ def flap_response(model, sp):
             for v in np.unique(d):
                 cols = np.flatnonzero(d == v)
                 ud[:, cols] = _continuous_input(sp, v)[:, cols]
-            rhs[:, :, g] = ud @ b.T
+            inp[g] = ud @ b.T
     else:
         zs = _powers(1, f, sp.dt)
         ze = -_powers(1 - sp.n_samples, f, sp.dt)
@@ -202,17 +239,40 @@ def flap_response(model, sp):
             acc = np.zeros((nf, n), dtype=complex)
             for o, Go in taps.items():
                 acc += shifted_transform(sp.U, sp.u_time, f, sp.dt, o) @ Go.T
-            rhs[:, :, g] = acc
-        M = zs[:, None, None] * eye - phi
+            inp[g] = acc
+        s, A = zs, phi
     # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping)
-    rhs[:, :, :G] += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[:, :, None]
-    rhs[:, :, G:G + k] = zs[:, None, None] * P
-    rhs[:, :, G + k:] = ze[:, None, None] * P
-    sol = np.linalg.solve(M, rhs)
+    inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
+    dec = None if method == "solve" else _eig(A)
+    if dec is None and method == "eig":
+        raise ValueError("flap_response: the eigenvectors are ill conditioned")
     y_u = np.empty((nf, 3), dtype=complex)
     y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
+    if dec is not None:
+        den = s[:, None] - dec[0]
+        if not np.all(den != 0):           # a pole exactly on a bin: as the solve does
+            dec = None
+    if dec is not None:
+        _, V, Vi = dec
+        r = 1.0 / den                                        # (nf, n) resolvent
+        vp = Vi @ P
+        for g, (rows, _) in enumerate(groups):
+            cv = C[rows] @ V
+            y_u[:, rows] = ((inp[g] @ Vi.T) * r) @ cv.T
+            # C V diag(r) V^-1 P at every frequency as one product (nf, n) x (n, rows k)
+            e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(
+                nf, len(rows), k)
+            y_nu[:, rows, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
+            y_nu[:, rows, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
+        return y_u, y_nu, groups
+    # one solve for every group's input term and the shared end-state basis
+    rhs = np.empty((nf, n, G + 2 * k), dtype=complex)
+    rhs[:, :, :G] = np.moveaxis(inp, 0, 2)
+    rhs[:, :, G:G + k] = zs[:, None, None] * P
+    rhs[:, :, G + k:] = ze[:, None, None] * P
+    sol = np.linalg.solve(s[:, None, None] * np.eye(n) - A, rhs)
     for g, (rows, _) in enumerate(groups):
         cr = C[rows]
         y_u[:, rows] = sol[:, :, g] @ cr.T
-        y_nu[:, rows, 2 * k * g:2 * k * (g + 1)] = np.einsum("ij,fjk->fik", cr, sol[:, :, G:])
+        y_nu[:, rows, 2 * k * g:2 * k * (g + 1)] = cr @ sol[:, :, G:]
     return y_u, y_nu, groups

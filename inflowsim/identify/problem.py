@@ -113,7 +113,7 @@ class Problem:
         out = []
         for sp, (y_u, y_nu), W in zip(self.spectra, resp, weights):
             b = _stack((sp.Z - y_u) @ W.T)
-            A = _stack(np.einsum("ij,fjk->fik", W, y_nu))
+            A = _stack(W @ y_nu)
             U, s, Vt = np.linalg.svd(A, full_matrices=False)
             keep = s > s[0] * 1e-10 if s.size and s[0] > 0 else np.zeros(s.size, bool)
             Uk, sk, Vk = U[:, keep], s[keep], Vt[keep]

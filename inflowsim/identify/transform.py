@@ -19,6 +19,7 @@ frequency model's initial and final states (see :mod:`.freqmodel`).
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -77,9 +78,21 @@ def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool,
         x = x * np.asarray(weights, dtype=float)[:, None]
     if on_grid:
         k = np.rint(np.asarray(f_hz) * n * dt).astype(int)
-        return np.fft.rfft(x, axis=0)[k]
-    e = np.exp(-2j * np.pi * np.outer(f_hz, np.arange(n)) * dt)
-    return e @ x
+        # a column at a time: only the band's bins are kept, so a long record never
+        # holds the whole (N/2, c) transform
+        out = np.empty((k.size, x.shape[1]), dtype=complex)
+        for c in range(x.shape[1]):
+            out[:, c] = np.fft.rfft(x[:, c])[k]
+        return out
+    out = np.zeros((np.size(f_hz), x.shape[1]), dtype=complex)
+    for i in range(0, n, _DFT_BLOCK):      # bounded (nf, block) phase matrix
+        m = np.arange(i, min(i + _DFT_BLOCK, n))
+        out += np.exp(-2j * np.pi * np.outer(f_hz, m) * dt) @ x[m]
+    return out
+
+
+#: Samples per block of the direct DFT on a chosen grid.
+_DFT_BLOCK = 65536
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,6 +186,22 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
     """
     rec = as_record(rec)
     hold = rec.hold_or(hold)
+    key = (tuple(inputs), tuple(float(b) for b in band_hz), None if grid_hz is None else
+           tuple(np.asarray(grid_hz, dtype=float).ravel().tolist()), hold, require_motion)
+    cache = _SPECTRA.setdefault(rec, {})
+    if key not in cache:
+        cache[key] = _record_spectra(rec, inputs, band_hz, grid_hz, hold, require_motion)
+    return cache[key]
+
+
+#: Per record, its spectra by (inputs, band, grid, hold): a diagnosis transforms a
+#: record for every fit and every analysis; once is enough (a 2-hour record's
+#: transforms are a few seconds each).  Spectra are immutable, their arrays
+#: read-only.
+_SPECTRA: "weakref.WeakKeyDictionary[Record, dict]" = weakref.WeakKeyDictionary()
+
+
+def _record_spectra(rec, inputs, band_hz, grid_hz, hold, require_motion):
     rec.require(tuple(inputs) + FLAP_COLUMNS)
     rec.require_measured(FLAP_COLUMNS)
     require_control_movement(rec)
@@ -200,5 +229,7 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
     if require_motion and not np.any(np.abs(Z) > 0):
         raise RecordError(f"{rec.source}: the flap channels do not move in the band "
                           f"{f[0]:.4g}-{f[-1]:.4g} Hz; nothing to fit")
+    for a in (f, U, Z):
+        a.flags.writeable = False
     return Spectra(rec.source, k_const, dt, n, f, on_grid, tuple(inputs), U, Z, u, y,
                    trim.values, trim.describe(), hold)

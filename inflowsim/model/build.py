@@ -7,11 +7,11 @@ space into a frozen :class:`Model`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import Mapping
 
 import numpy as np
 
+from ..frozen import FrozenDict, ReadOnlyArrays
 from ..physics import flapping as fl
 from ..physics import loads as ld
 from .effects import CATALOGUE
@@ -80,7 +80,7 @@ def _frozen(a):
 
 
 @dataclass(frozen=True, eq=False)
-class Model:
+class Model(ReadOnlyArrays):
     """A linear model of flap and inflow: descriptor and SI state space.
 
     ``x_dot = a x + b u``, ``y = c x`` with ``u`` the SI perturbation inputs
@@ -230,7 +230,7 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
         end_basis, end_input = np.eye(n), np.zeros((n, n_inputs))
     in_delay = dict(meas.input_delays)
     input_delays = np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
-    return Model(structure=s, parameters=MappingProxyType(dict(p)), constants=constants,
+    return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
                  E=_frozen(e), A=_frozen(a_az), B=_frozen(b_az), a=_frozen(a_s),
                  b=_frozen(b_s), c=_frozen(c), d=_frozen(np.zeros((6, n_inputs))),
                  delays=_frozen(delays), measurement=meas,

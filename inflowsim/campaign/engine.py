@@ -1,0 +1,229 @@
+"""Running a campaign on Dask, resumably.
+
+:func:`run_campaign` keys every record and condition (:mod:`.work`), skips what
+the store under ``out/results`` already holds, sends the rest to a Dask cluster
+(a local cluster of processes by default, or the scheduler at ``scheduler``),
+writes each result the moment it arrives (so a campaign killed halfway restarts
+where it stopped), then the joint fits per condition, then the tables and the
+report (:mod:`.tables`).
+
+Workers on other machines: start a scheduler (``dask scheduler``) and workers
+that point at it (``dask worker tcp://HOST:8786 --nworkers N --nthreads 1``),
+with ``inflowsim`` installed and the records at the same paths (a shared file
+system); then ``inflowsim campaign PLAN --out DIR --scheduler tcp://HOST:8786``.
+Results are written by this process only.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from .plan import Plan
+from .work import (OK, Settings, agreement, condition_key, condition_task, file_hash,
+                   record_key, record_task, version)
+
+
+class Store:
+    """Results as JSON files ``out/results/{records,conditions}/KEY.json``,
+    each written atomically (a temporary file renamed)."""
+
+    def __init__(self, out):
+        self.root = Path(out) / "results"
+
+    def _path(self, kind, key):
+        return self.root / kind / f"{key}.json"
+
+    def get(self, kind, key):
+        p = self._path(kind, key)
+        try:
+            return json.loads(p.read_text())
+        except (OSError, ValueError):
+            return None
+
+    def put(self, kind, key, doc):
+        from ..fileio import atomic_path, json_text
+        p = self._path(kind, key)
+        p.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(p) as tmp:
+            Path(tmp).write_text(json_text(doc))
+
+
+class Progress:
+    """A one-line progress bar on stderr (a line per step when not a terminal)."""
+
+    def __init__(self, total, label, stream=None, enabled=True):
+        self.total, self.label, self.done = total, label, 0
+        self.stream = stream or sys.stderr
+        self.enabled = enabled and total > 0
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        if self.enabled:
+            self._draw("")
+
+    def _draw(self, note):
+        width = 30
+        k = int(width * self.done / max(self.total, 1))
+        line = f"{self.label} [{'#' * k}{'.' * (width - k)}] {self.done}/{self.total} {note}"
+        if self.tty:
+            self.stream.write("\r" + line[:120].ljust(120))
+        else:
+            self.stream.write(line + "\n")
+        self.stream.flush()
+
+    def step(self, note=""):
+        self.done += 1
+        if self.enabled:
+            self._draw(note)
+
+    def close(self):
+        if self.enabled and self.tty:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+@dataclass
+class CampaignResult:
+    """What a run produced: per-record and per-condition results (plan order),
+    the agreement across conditions, how much was computed and reused."""
+
+    records: list
+    conditions: list
+    agreement: dict
+    settings: dict
+    computed: dict = field(default_factory=dict)
+    reused: dict = field(default_factory=dict)
+    files: dict = field(default_factory=dict)
+
+
+def _client(scheduler, workers):
+    """A Dask client: the scheduler at ``scheduler``, or a local cluster of
+    ``workers`` single-threaded processes (default: the machine's cores)."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            return Client(scheduler, timeout="20s"), None
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           dashboard_address=None, silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
+                 progress=True, stream=None) -> CampaignResult:
+    """Run (or resume) the campaign of ``plan`` into the folder ``out``.
+
+    ``workers = 0``: no cluster, everything in this process (debugging, tests).
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    store = Store(out)
+    entries = list(plan.entries)
+    infos = [{"condition": e.condition, "manoeuvre": e.manoeuvre, "group": e.group,
+              "plan_mu": e.mu} for e in entries]
+    hashes = [file_hash(e.path) for e in entries]
+    keys = [record_key(h, settings) for h in hashes]
+    records: list = [store.get("records", k) for k in keys]
+    todo = [i for i, r in enumerate(records) if r is None]
+    computed = {"records": 0, "conditions": 0}
+    reused = {"records": len(entries) - len(todo), "conditions": 0}
+
+    client = cluster = None
+    try:
+        if workers != 0 and todo:
+            client, cluster = _client(scheduler, workers)
+        bar = Progress(len(todo), "records", stream, progress)
+
+        def done_record(i, res):
+            res["key"] = keys[i]
+            if not res.get("transient"):
+                store.put("records", keys[i], res)
+            records[i] = res
+            computed["records"] += 1
+            bar.step(Path(entries[i].path).name)
+
+        _map(client, record_task, [((entries[i].path, settings, infos[i]), i) for i in todo],
+             done_record)
+        bar.close()
+
+        groups = plan.conditions
+        cond_keys, cond_args = [], []
+        for cond, members in groups.items():
+            idx = [entries.index(m) for m in members]
+            usable = [i for i in idx if records[i].get("status") == OK]
+            cond_keys.append(condition_key(cond, [hashes[i] for i in usable], settings))
+            cond_args.append((cond, [entries[i].path for i in usable]))
+        conditions: list = [store.get("conditions", k) for k in cond_keys]
+        ctodo = [j for j, c in enumerate(conditions) if c is None]
+        reused["conditions"] = len(conditions) - len(ctodo)
+        for j in list(ctodo):
+            if not cond_args[j][1]:             # no usable record: an error row, no fit
+                cond, _ = cond_args[j]
+                conditions[j] = {"kind": "condition", "condition": cond, "records": [],
+                                 "status": "error", "verdict": "error",
+                                 "missing_effect": None, "key": cond_keys[j],
+                                 "error": "no record of this condition could be analysed"}
+                ctodo.remove(j)
+        if ctodo and client is None and workers != 0:
+            client, cluster = _client(scheduler, workers)
+        cbar = Progress(len(ctodo), "conditions", stream, progress)
+
+        def done_condition(j, res):
+            res["key"] = cond_keys[j]
+            if not res.get("transient"):
+                store.put("conditions", cond_keys[j], res)
+            conditions[j] = res
+            computed["conditions"] += 1
+            cbar.step(cond_args[j][0])
+
+        _map(client, condition_task, [((cond_args[j][0], cond_args[j][1], settings), j)
+                                      for j in ctodo], done_condition)
+        cbar.close()
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+
+    for r, info in zip(records, infos):        # the plan's labels, not the stored ones
+        r.update({k: v for k, v in info.items() if k != "plan_mu"})
+    res = CampaignResult(records, conditions, agreement(records, conditions),
+                         {**settings.as_dict(), "version": version(), "plan": plan.source},
+                         computed, reused)
+    from .tables import write_outputs
+    res.files = write_outputs(res, out)
+    return res
+
+
+def _map(client, fn, jobs, done):
+    """Run ``fn(*args)`` for every ``(args, tag)`` of ``jobs``; ``done(tag, result)``
+    as each finishes (in completion order)."""
+    if not jobs:
+        return
+    if client is None:
+        for args, tag in jobs:
+            done(tag, fn(*args))
+        return
+    from dask.distributed import as_completed
+    futures = {}
+    for args, tag in jobs:
+        fut = client.submit(fn, *args, pure=False)
+        futures[fut] = tag
+    for fut in as_completed(list(futures)):
+        try:
+            res = fut.result()
+        except Exception as exc:               # a worker lost: the task's own error row
+            args = jobs[[t for _, t in jobs].index(futures[fut])][0]
+            res = {"kind": "record" if fn is record_task else "condition",
+                   "record" if fn is record_task else "condition": str(args[0]),
+                   **(args[2] if fn is record_task and len(args) > 2 else {}),
+                   "status": "error", "verdict": "error", "missing_effect": None,
+                   "error": f"the worker failed: {type(exc).__name__}: {exc}",
+                   "transient": True}          # not stored: a restart tries again
+        done(futures[fut], res)

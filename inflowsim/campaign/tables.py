@@ -1,0 +1,178 @@
+"""A campaign's results as tables and a report.
+
+One table (pandas), one row per record and one per flight condition (``kind``),
+written as ``campaign.parquet`` and ``campaign.csv``: where the row comes from
+(record, condition, ``mu``, manoeuvre, group), its status and error, the
+decision (``missing_effect``, ``verdict``, the effects the ladder added, its
+final structure), the base fit's figures (cost, frequencies, fit per flap
+channel) and every estimate with its bound (``est_NAME``, ``sigma_NAME``).
+``report.md`` puts the estimates against ``mu`` with their bounds and the
+missing effect by condition; the figure (:mod:`inflowsim.report.campaign`) is
+drawn from the table, apart from the computing.  ``campaign.json`` is the
+``--json`` document.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..fileio import atomic_path, json_text
+
+TABLE_COLUMNS = ("kind", "record", "condition", "mu", "manoeuvre", "group", "status",
+                 "error", "missing_effect", "verdict", "accepted", "ladder_added",
+                 "final_structure", "structure", "cost", "n_freq", "converged",
+                 "fit_beta0", "fit_beta1c", "fit_beta1s", "n_records", "seconds", "key")
+
+
+def _row(doc: dict) -> dict:
+    base = doc.get("base_fit") or {}
+    fitp = base.get("fit_percent") or {}
+    row = {"kind": doc.get("kind"),
+           "record": doc.get("record") if doc.get("kind") == "record" else None,
+           "condition": doc.get("condition"), "mu": doc.get("mu", doc.get("plan_mu")),
+           "manoeuvre": doc.get("manoeuvre"), "group": doc.get("group"),
+           "status": doc.get("status"), "error": doc.get("error"),
+           "missing_effect": doc.get("missing_effect"), "verdict": doc.get("verdict"),
+           "accepted": ";".join(doc.get("accepted") or []),
+           "ladder_added": ";".join(doc.get("ladder_added") or []),
+           "final_structure": doc.get("final_structure"),
+           "structure": base.get("structure"), "cost": base.get("cost"),
+           "n_freq": base.get("n_freq"), "converged": base.get("converged"),
+           "fit_beta0": fitp.get("beta0"), "fit_beta1c": fitp.get("beta1c"),
+           "fit_beta1s": fitp.get("beta1s"),
+           "n_records": len(doc.get("records") or []) if doc.get("kind") == "condition"
+           else 1, "seconds": doc.get("seconds"), "key": doc.get("key")}
+    for n, v in (base.get("parameters") or {}).items():
+        row[f"est_{n}"] = v.get("estimate")
+        row[f"sigma_{n}"] = v.get("sigma")
+    return row
+
+
+def campaign_table(result):
+    """The campaign table (``pandas.DataFrame``): records first, then conditions."""
+    import pandas as pd
+    rows = [_row(r) for r in result.records] + [_row(c) for c in result.conditions]
+    df = pd.DataFrame(rows)
+    cols = [c for c in TABLE_COLUMNS if c in df.columns]
+    est = sorted(c for c in df.columns if c.startswith(("est_", "sigma_")))
+    df = df[cols + [c for c in est if c not in cols]]
+    for c in ("record", "condition", "manoeuvre", "group", "error", "missing_effect",
+              "verdict", "accepted", "ladder_added", "final_structure", "structure", "key"):
+        if c in df.columns:
+            df[c] = df[c].astype("string")
+    for c in ("mu", "cost", "seconds", "fit_beta0", "fit_beta1c", "fit_beta1s",
+              *[c for c in df.columns if c.startswith(("est_", "sigma_"))]):
+        if c in df.columns:
+            df[c] = pd.to_numeric(df[c], errors="coerce").astype("float64")
+    return df
+
+
+def json_document(result, files=None) -> dict:
+    """The ``--json`` document: ``records``, ``conditions``, ``agreement``,
+    ``tables`` (file paths), ``work`` (computed and reused counts), ``settings``."""
+    keep = ("record", "condition", "manoeuvre", "group", "mu", "status", "error",
+            "missing_effect", "verdict", "accepted", "ladder_added", "final_structure",
+            "warnings", "seconds", "key")
+
+    def slim(d, extra=()):
+        out = {k: d.get(k) for k in keep + tuple(extra) if k in d}
+        base = d.get("base_fit")
+        if base:
+            out["estimates"] = base.get("parameters")
+            out["fit_percent"] = base.get("fit_percent")
+        return out
+
+    return {"records": [slim(r) for r in result.records],
+            "conditions": [slim(c, ("records",)) for c in result.conditions],
+            "agreement": result.agreement,
+            "tables": dict(files or {}),
+            "work": {"computed": result.computed, "reused": result.reused},
+            "settings": result.settings}
+
+
+def _fmt(v, sig=None):
+    if v is None or v != v:
+        return "-"
+    s = f"{v:.4g}"
+    return s if sig is None or sig != sig else f"{s} +- {sig:.2g}"
+
+
+def report_markdown(result, df, figure=None) -> str:
+    """The campaign report (markdown)."""
+    ag = result.agreement
+    lines = [f"# Campaign report", "",
+             f"Plan: `{result.settings.get('plan')}`; model `{result.settings['model']}`, "
+             f"band {result.settings['band'][0]:g}-{result.settings['band'][1]:g} Hz, "
+             f"inflowsim {result.settings['version']}.", "",
+             f"{len(result.records)} records "
+             f"({sum(r.get('status') == 'ok' for r in result.records)} analysed), "
+             f"{len(result.conditions)} flight conditions.  Work: "
+             f"{result.computed['records']} records and {result.computed['conditions']} "
+             f"conditions computed, {result.reused['records']} and "
+             f"{result.reused['conditions']} found from an earlier run.", "",
+             "## The missing effect by condition", "",
+             "| condition | mu | records | joint fit names | records name |",
+             "|---|---:|---:|---|---|"]
+    for c in result.conditions:
+        by = ag["by_condition"].get(c["condition"], {})
+        names = ", ".join(f"{k} x{v}" for k, v in sorted(by.get("records", {}).items()))
+        joint = c.get("missing_effect") if c.get("status") == "ok" else \
+            f"error: {c.get('error')}"
+        lines.append(f"| {c['condition']} | {_fmt(c.get('mu'))} | "
+                     f"{len(c.get('records') or [])} | {joint or 'none'} | {names} |")
+    lines += ["", f"Consensus across conditions: **{ag['consensus'] or 'none'}**"
+              f"{' (every condition)' if ag['unanimous'] else ''}.", ""]
+    lines += ["| effect | records naming it | conditions naming it |", "|---|---:|---:|"]
+    for e, v in sorted(ag["effects"].items(), key=lambda kv: -kv[1]["records"]):
+        lines.append(f"| {e if e != 'None' else 'none'} | {v['records']} | "
+                     f"{v['conditions']} |")
+    if ag["disagreements"]:
+        lines += ["", "### Where records disagree with their condition", ""]
+        for d in ag["disagreements"]:
+            lines.append(f"- `{Path(d['record']).name}` ({d['condition']}): names "
+                         f"{d['record_says'] or 'none'}, the condition "
+                         f"{d['condition_says'] or 'none'}: {d['why']}")
+    conds = df[(df["kind"] == "condition") & (df["status"] == "ok")].sort_values("mu")
+    est = [c[4:] for c in df.columns if c.startswith("est_")]
+    if len(conds) and est:
+        lines += ["", "## Estimates against mu (joint fit per condition, 1-sigma bounds)",
+                  "", "| parameter | " + " | ".join(f"mu {m:.3g}" for m in conds["mu"]) + " |",
+                  "|---|" + "---:|" * len(conds)]
+        for n in est:
+            vals = [_fmt(r.get(f"est_{n}"), r.get(f"sigma_{n}"))
+                    for _, r in conds.iterrows()]
+            if any(v != "-" for v in vals):
+                lines.append(f"| {n} | " + " | ".join(vals) + " |")
+    if figure:
+        lines += ["", f"![estimates against mu]({figure})"]
+    errs = [r for r in result.records if r.get("status") != "ok"]
+    if errs:
+        lines += ["", "## Records that could not be analysed", ""]
+        lines += [f"- `{r['record']}`: {r.get('error')}" for r in errs]
+    return "\n".join(lines) + "\n"
+
+
+def write_outputs(result, out) -> dict:
+    """Write the table (Parquet, CSV), the report and its figure, and the JSON
+    document under ``out``; returns their paths."""
+    out = Path(out)
+    df = campaign_table(result)
+    files = {"parquet": str(out / "campaign.parquet"), "csv": str(out / "campaign.csv"),
+             "report": str(out / "report.md"), "json": str(out / "campaign.json")}
+    with atomic_path(files["parquet"]) as tmp:
+        df.to_parquet(tmp, index=False)
+    with atomic_path(files["csv"]) as tmp:
+        df.to_csv(tmp, index=False)
+    fig_name = None
+    from ..report.campaign import estimates_vs_mu_plot
+    from ..report.plots import save_png
+    fig = estimates_vs_mu_plot(df)
+    if fig is not None:
+        fig_path = out / "estimates_vs_mu.png"
+        with atomic_path(fig_path) as tmp:
+            save_png(fig, tmp)
+        fig_name, files["figure"] = fig_path.name, str(fig_path)
+    with atomic_path(files["report"]) as tmp:
+        Path(tmp).write_text(report_markdown(result, df, fig_name))
+    with atomic_path(files["json"]) as tmp:
+        Path(tmp).write_text(json_text(json_document(result, files)))
+    return files

@@ -1,0 +1,117 @@
+"""``inflowsim campaign``: a flight-test campaign on Dask, resumable.
+
+``PLAN`` is a folder of records or a manifest (CSV or TOML: record, flight
+condition, manoeuvre, group; :mod:`inflowsim.campaign.plan`).  Per record:
+validate, diagnose and ladder; per flight condition: the records fitted
+together (a joint diagnosis and ladder); across conditions: agreement on the
+missing effect.  Runs on a local Dask cluster of the machine's cores, or on the
+cluster at ``--scheduler``.  Results are stored under ``--out`` keyed by each
+record's hash, the settings and the package version: a restarted campaign skips
+what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.md``,
+``estimates_vs_mu.png`` and ``campaign.json`` there; ``--json`` prints the
+document on stdout (the progress bar is on stderr).
+"""
+from __future__ import annotations
+
+from ._common import print_json, progress
+
+HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
+
+
+def add_arguments(p):
+    from ..identify.transform import DEFAULT_BAND
+    p.add_argument("plan", metavar="PLAN",
+                   help="folder of records (*.csv) or manifest (.csv or .toml)")
+    p.add_argument("--out", "-o", required=True, metavar="DIR",
+                   help="results folder (created; reused by a restarted campaign)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="Dask scheduler address (tcp://host:8786); default a local "
+                        "cluster of this machine's cores")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="local cluster worker processes (default: the cores; 0: no "
+                        "cluster, run in this process)")
+    p.add_argument("--model", "-m", default=None,
+                   help="starting structure of every diagnosis and ladder "
+                        "(default: the plan's, else glauert)")
+    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"), default=None,
+                   help=f"band [Hz] (default {DEFAULT_BAND[0]:g} {DEFAULT_BAND[1]:g})")
+    p.add_argument("--candidates", nargs="+", metavar="EFFECT",
+                   help="effects to try (default: every applicable one)")
+    p.add_argument("--alpha", type=float, default=None,
+                   help="significance level per candidate")
+    p.add_argument("--max-steps", type=int, default=None, help="ladder steps at most "
+                                                                "(default 6)")
+    p.add_argument("--hold", choices=("continuous", "zoh", "foh"),
+                   help="intersample behaviour of every record (default each record's)")
+    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _settings(args, plan):
+    from ..campaign.work import Settings
+    from ..diagnose.candidates import ALPHA
+    from ..errors import InputError
+    from ..identify.transform import DEFAULT_BAND
+    from ..model.structure import Structure
+    s = plan.settings
+    model = args.model or s.get("model", "glauert")
+    Structure.parse(model)                            # refuses an unknown structure
+    band = tuple(float(b) for b in (args.band or s.get("band", DEFAULT_BAND)))
+    if len(band) != 2 or not 0 < band[0] < band[1]:
+        raise InputError(f"band {band}: need 0 < F1 < F2")
+    alpha = args.alpha if args.alpha is not None else s.get("alpha", ALPHA)
+    if not 0 < float(alpha) < 0.5:
+        raise InputError(f"--alpha {alpha:g}: choose a level in (0, 0.5)")
+    steps = args.max_steps if args.max_steps is not None else int(s.get("max_steps", 6))
+    if steps < 0:
+        raise InputError("--max-steps must be >= 0")
+    pool = args.candidates or s.get("candidates")
+    if pool is not None:
+        from ..model.effects import CATALOGUE
+        for e in pool:
+            if e not in CATALOGUE:
+                raise InputError(f"candidate {e!r}: not an effect (known: "
+                                 f"{', '.join(n for n, x in CATALOGUE.items() if x.offered)})")
+    return Settings(model=model, band=band, pool=None if pool is None else tuple(pool),
+                    alpha=float(alpha), max_steps=steps, hold=args.hold or s.get("hold"))
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from ..campaign.plan import read_plan
+    from ..errors import InputError
+    from ..fileio import check_folder
+    if args.workers is not None and args.workers < 0:
+        raise InputError(f"--workers {args.workers}: must be >= 0")
+    if args.scheduler and args.workers is not None:
+        raise InputError("--scheduler and --workers: the scheduler's cluster has its own "
+                         "workers; give one of them")
+    out = check_folder(args.out)
+    plan = read_plan(args.plan, exclude=[out])
+    for e in plan.entries:
+        if Path(e.path).resolve() == out.resolve() or out.resolve() in Path(e.path).parents:
+            raise InputError(f"--out {out}: holds the plan's record {e.path}")
+    settings = _settings(args, plan)
+    from ..campaign.engine import run_campaign
+    from ..campaign.tables import json_document
+    res = run_campaign(plan, out, settings, scheduler=args.scheduler, workers=args.workers,
+                       progress=not args.quiet)
+    doc = json_document(res, res.files)
+    if args.json:
+        print_json(doc)
+    else:
+        ag = res.agreement
+        print(f"{len(res.records)} records, {len(res.conditions)} conditions "
+              f"({res.computed['records']} records and {res.computed['conditions']} "
+              f"conditions computed, the rest found in {out})")
+        for c in res.conditions:
+            print(f"  {c['condition']}: {c.get('missing_effect') or 'none'}"
+                  + (f" (error: {c.get('error')})" if c.get("status") != "ok" else ""))
+        print(f"consensus: {ag['consensus'] or 'none'}; "
+              f"{len(ag['disagreements'])} record(s) disagree with their condition")
+        bad = [r for r in res.records if r.get("status") != "ok"]
+        for r in bad:
+            progress(f"error: {r.get('error')}")
+        print(f"report: {res.files['report']}")
+    return 0

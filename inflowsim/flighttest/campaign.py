@@ -1,0 +1,150 @@
+"""A virtual flight-test campaign: records from the nonlinear truth at several speeds.
+
+At every advance ratio of ``mus`` (default 0.10 to 0.35 in steps of 0.05), every
+input shape of ``shapes`` on every control of ``controls``, ``repeats`` times
+with its own noise seed: one record each from the nonlinear individual-blade
+truth (:func:`inflowsim.flighttest.nonlinear.nonlinear_flighttest`; its Pitt-Peters
+time constants and the Eq. (14) coupling change with ``mu``, so what the
+campaign estimates has a trend to find).  Written as CSV records with a CSV
+manifest ``plan.csv`` (record, condition ``mu=0.100``, manoeuvre, group
+``repeat N``) that ``inflowsim campaign`` reads.
+
+The shapes are the doublet and the 3-2-1-1 of :mod:`inflowsim.data.inputs`
+(a frequency sweep is not among the pilot input shapes of this version).
+Records are generated in parallel by a process pool (they pickle).
+"""
+from __future__ import annotations
+
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..channels import CONTROLS
+from ..data.inputs import SHAPES
+from ..errors import InputError
+
+#: The campaign's speeds [-]: 0.10 to 0.35.
+MUS = tuple(round(0.10 + 0.05 * i, 2) for i in range(6))
+#: Input unit [s] per shape: a doublet of 0.4 s half-width, a 3-2-1-1 of 0.3 s units.
+WIDTH = {"doublet": 0.4, "3211": 0.3}
+
+
+@dataclass(frozen=True)
+class CampaignItem:
+    """One record of the campaign: speed ``mu``, ``control``, input ``shape``,
+    ``repeat`` (its noise seed is derived from all four)."""
+
+    mu: float
+    control: str
+    shape: str
+    repeat: int
+
+    @property
+    def name(self) -> str:
+        return f"mu{self.mu:.3f}_{self.control}_{self.shape}_r{self.repeat}.csv"
+
+    @property
+    def condition(self) -> str:
+        return f"mu={self.mu:.3f}"
+
+    @property
+    def manoeuvre(self) -> str:
+        return f"{self.shape} {self.control}"
+
+    @property
+    def seed(self) -> int:
+        return (int(round(self.mu * 1000)) * 1009 + CONTROLS.index(self.control) * 101
+                + list(SHAPES).index(self.shape) * 13 + self.repeat) % (2 ** 32)
+
+
+def campaign_items(mus=MUS, controls=CONTROLS, shapes=tuple(SHAPES), repeats=1):
+    """Every record of the campaign, in plan order (speed, control, shape, repeat)."""
+    for s in shapes:
+        if s not in SHAPES:
+            raise InputError(f"input shape {s!r}: choose {', '.join(SHAPES)}")
+    for c in controls:
+        if c not in CONTROLS:
+            raise InputError(f"control {c!r}: choose {', '.join(CONTROLS)}")
+    for m in mus:
+        if not 0.05 <= m <= 0.45:
+            raise InputError(f"mu {m:g}: the virtual campaign flies 0.05 <= mu <= 0.45")
+    if repeats < 1:
+        raise InputError(f"repeats {repeats}: need at least 1")
+    return [CampaignItem(float(m), c, s, r) for m in mus for c in controls for s in shapes
+            for r in range(repeats)]
+
+
+def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4):
+    """The record of one campaign item (the nonlinear truth at ``item.mu``)."""
+    from ..model.params import PUMA
+    from .bladesim import RotorSpec
+    from .nonlinear import FlightTest, nonlinear_flighttest
+    from .virtual import Manoeuvre
+    man = Manoeuvre(channel=item.control, shape=item.shape, amplitude=np.radians(1.0),
+                    t_start=2.0, width=WIDTH[item.shape])
+    test = FlightTest(rotor=RotorSpec(constants=PUMA.with_mu(item.mu)), manoeuvres=(man,),
+                      duration=duration, dt=dt, noise_flap=noise, seed=item.seed,
+                      description=f"{item.manoeuvre} at mu {item.mu:g}, nonlinear "
+                                  "blade-element truth")
+    rec = nonlinear_flighttest(test).record
+    return rec.with_meta(manoeuvre=item.manoeuvre, condition=item.condition)
+
+
+def _make(args):
+    item, folder, duration, dt, noise = args
+    from ..data.record import write_record
+    path = Path(folder) / item.name
+    if path.exists():                          # a restarted generation keeps what it has
+        return str(path), False
+    write_record(campaign_record(item, duration, dt, noise), path)
+    return str(path), True
+
+
+def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=tuple(SHAPES), repeats=1,
+                     duration=20.0, dt=1.0 / 64, noise=1e-4, workers=None,
+                     progress=None) -> Path:
+    """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
+
+    Records already in ``folder`` (same name) are kept, so an interrupted
+    generation resumes; ``workers`` processes (default the machine's cores)."""
+    import os
+
+    from ..fileio import check_folder, safe_write_text
+    folder = check_folder(folder)
+    folder.mkdir(exist_ok=True)
+    items = campaign_items(mus, controls, shapes, repeats)
+    jobs = [(it, str(folder), duration, dt, noise) for it in items]
+    n = workers or os.cpu_count() or 1
+    done = 0
+    if n == 1:
+        results = map(_make, jobs)
+    else:
+        ex = ProcessPoolExecutor(max_workers=n)
+        results = ex.map(_make, jobs)
+    try:
+        for path, made in results:
+            done += 1
+            if progress:
+                progress(f"flighttest campaign: {done}/{len(items)} {Path(path).name}"
+                         f"{'' if made else ' (kept)'}")
+    finally:
+        if n != 1:
+            ex.shutdown()
+    plan = folder / "plan.csv"
+    safe_write_text(plan, plan_text(items), overwrite=True)
+    return plan
+
+
+def plan_text(items) -> str:
+    """The CSV manifest of ``items`` (``inflowsim.campaign.plan``): record names
+    relative to the plan's folder."""
+    import csv
+    import io
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["record", "condition", "manoeuvre", "group"])
+    for it in items:
+        w.writerow([it.name, it.condition, it.manoeuvre, f"repeat {it.repeat}"])
+    return buf.getvalue()
