@@ -17,9 +17,9 @@ import time
 import pytest
 
 from inflowsim.diagnose import diagnose, ladder
-from inflowsim.effects import CATALOGUE
+from inflowsim.model.effects import CATALOGUE
 from inflowsim.flighttest import FlightTest, nonlinear_flighttest
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 TWO_AXES = (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
 OFFERED = [n for n, e in CATALOGUE.items() if e.offered]

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from inflowsim.identify import band_study, evaluate, identify
-from inflowsim.presets import preset_parameters
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.presets import preset_parameters
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 THREE = (Manoeuvre("theta1s", "doublet", np.radians(1.0), 2.0, 0.4),
          Manoeuvre("theta1c", "doublet", np.radians(1.0), 8.0, 0.4),

@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 
 from inflowsim.model import build_model
-from inflowsim.params import PUMA
-from inflowsim.presets import preset_parameters
-from inflowsim.simulator import Simulator
+from inflowsim.model.params import PUMA
+from inflowsim.model.presets import preset_parameters
+from inflowsim.simulate.simulator import Simulator
 
 DT = 1e-3                        # 1 kHz
 N_RECORD = 26600                 # 26.6 s at 1 kHz

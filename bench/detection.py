@@ -1,6 +1,6 @@
 """Detection and false-alarm study of the diagnosis (issue #9): ``bench/README.md``.
 
-Records from the independent route (:func:`inflowsim.virtual.virtual_record`:
+Records from the independent route (:func:`inflowsim.flighttest.virtual.virtual_record`:
 the truth integrated by an adaptive ODE solver with smooth inputs, then
 sampled; or inputs held, ``zoh``) at two sample rates, with white or coloured
 (first-order low-pass, 2 Hz) flap noise of 1e-4 rad, or the coloured noise scaled
@@ -61,7 +61,7 @@ def noise_of(noise, rate):
         return NOISE, COLOUR_HZ
     if noise == "coloured-level":
         from inflowsim.identify.transform import DEFAULT_BAND
-        from inflowsim.virtual import noise_psd
+        from inflowsim.flighttest.virtual import noise_psd
         f = np.linspace(*DEFAULT_BAND, 200)
         return NOISE / np.sqrt(np.mean(noise_psd(1.0, 1 / rate, f, COLOUR_HZ))), COLOUR_HZ
     raise ValueError(f"unknown noise kind {noise!r} (known: {', '.join(NOISE_KINDS)})")
@@ -72,15 +72,15 @@ CONFIGS = [(hold, rate, noise) for hold in ("continuous", "zoh") for rate in (64
 
 
 def _manoeuvres():
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     return (Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0))
 
 
 def truth_of(kind, effect):
     """(truth structure, parameters, base structure)."""
     import inflowsim as ifs
-    from inflowsim.presets import paper_table, theory_parameters, truth_parameters
-    from inflowsim.virtual import VirtualTest, virtual_record
+    from inflowsim.model.presets import paper_table, theory_parameters, truth_parameters
+    from inflowsim.flighttest.virtual import VirtualTest, virtual_record
     k = virtual_record(VirtualTest(duration=1.0)).constants
     if kind == "null":
         if effect == "basic":
@@ -99,7 +99,7 @@ def truth_of(kind, effect):
 
 
 def record_for(kind, effect, hold, rate, noise, seed):
-    from inflowsim.virtual import VirtualTest, virtual_record
+    from inflowsim.flighttest.virtual import VirtualTest, virtual_record
     sigma, col = noise_of(noise, rate)
     if kind.startswith("nonlinear"):
         return nonlinear_flighttest_of(kind, hold, rate, sigma, col, seed).record, None
@@ -121,7 +121,7 @@ def nonlinear_flighttest_of(kind, hold, rate, sigma, col, seed):
 
 def _floor_ratio(fit, rec, noise, rate):
     """Residual power per flap channel over the true noise level in the band."""
-    from inflowsim.virtual import noise_psd
+    from inflowsim.flighttest.virtual import noise_psd
     sigma, col = noise_of(noise, rate)
     d = fit.data[0]
     level = len(rec) * np.mean(noise_psd(sigma, 1 / rate, d.f_hz, col))
@@ -132,7 +132,7 @@ def _noise_ratio(kind, hold, rate, noise, seed, rec, fit):
     """The record's own noise (record minus its noise-free twin) in the fit's band,
     per flap channel, over the same expected level as :func:`_floor_ratio`: what a
     perfect model would leave (37 bins scatter by about 16 %)."""
-    from inflowsim.virtual import noise_psd
+    from inflowsim.flighttest.virtual import noise_psd
     sigma, col = noise_of(noise, rate)
     clean = nonlinear_flighttest_of(kind, hold, rate, 0.0, col, seed).record
     f = fit.data[0].f_hz
@@ -204,7 +204,7 @@ def run_one(job):
 
 
 def jobs(kind, seeds, configs):
-    from inflowsim.effects import CATALOGUE
+    from inflowsim.model.effects import CATALOGUE
     if kind == "null":
         effects = ["glauert", "basic"]
     elif kind == "hidden":

@@ -34,7 +34,7 @@ def main(argv=None):
     from inflowsim.flighttest import FlightTest, nonlinear_flighttest
     from inflowsim.flighttest.bladesim import BladeRotor, RotorSpec
     from inflowsim.model.params import PUMA
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mu", type=float, default=0.249)
     ap.add_argument("--rate", type=float, default=256.0)

@@ -3,7 +3,7 @@
 For each seed: a virtual record (paper parameters as truth, three doublets so every
 parameter is excited, flap noise ``1e-4`` rad), fitted by ``identify``.  Records are
 continuous-time by default (smooth inputs, the truth integrated by an adaptive ODE
-solver, then sampled: :func:`inflowsim.virtual.virtual_record`), or held
+solver, then sampled: :func:`inflowsim.flighttest.virtual.virtual_record`), or held
 (``--hold zoh``), at ``--rate`` Hz.  Compares the spread of the estimates over
 seeds with the mean reported 1-sigma bound (plain and coloured-residual
 corrected).  Ratio spread / mean bound near 1 means honest bounds; above 1
@@ -22,8 +22,8 @@ import time
 import numpy as np
 
 from inflowsim.identify import identify
-from inflowsim.presets import preset_parameters
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.presets import preset_parameters
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 MANOEUVRES = (Manoeuvre("theta1s", "doublet", np.radians(1.0), 2.0, 0.4),
               Manoeuvre("theta1c", "doublet", np.radians(1.0), 8.0, 0.4),

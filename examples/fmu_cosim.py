@@ -20,10 +20,10 @@ import fmpy  # noqa: E402
 
 from inflowsim.fmu import build_fmu, start_values  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
-from inflowsim.presets import preset_parameters  # noqa: E402
-from inflowsim.record import find_trim, model_inputs  # noqa: E402
-from inflowsim.simulator import Simulator  # noqa: E402
-from inflowsim.virtual import VirtualTest, virtual_record  # noqa: E402
+from inflowsim.model.presets import preset_parameters  # noqa: E402
+from inflowsim.data.record import find_trim, model_inputs  # noqa: E402
+from inflowsim.simulate.simulator import Simulator  # noqa: E402
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record  # noqa: E402
 
 FLAP = ("beta0", "beta1c", "beta1s")
 

@@ -13,9 +13,9 @@ from pathlib import Path
 
 from inflowsim import build_model, preset_parameters
 from inflowsim.report.validation import format_table, validation_report
-from inflowsim.record import read_record, write_record
-from inflowsim.validation import validate
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.data.record import read_record, write_record
+from inflowsim.diagnose.validation import validate
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
 def main(out_dir="validate-doublet"):

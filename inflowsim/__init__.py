@@ -9,7 +9,7 @@ assembly), ``simulate`` (sampled-data relations, the fixed-step simulator, repla
 (virtual records), ``report`` (figures and documents), ``campaign`` (many records
 on Dask), ``fmu`` (the co-simulation FMU) and ``commands`` (the ``inflowsim``
 command line).  Import paths of 0.1.0
-(``inflowsim.record`` ...) still work (:mod:`._legacy`).
+(``inflowsim.data.record`` ...) still work (:mod:`._legacy`).
 """
 from . import _legacy
 

@@ -4,7 +4,8 @@
 keep working (``inflowsim.model``, ``inflowsim.diagnose``, ``inflowsim.flighttest``
 and ``inflowsim.report`` are packages now that re-export what the modules had): each name below resolves to the module that now holds the code (the
 same module object, so ``isinstance`` and monkeypatching behave).  New code uses
-the layered paths.
+the layered paths; an old path warns (``DeprecationWarning``) naming its
+replacement.
 """
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import warnings
 
 #: Old path under ``inflowsim`` -> new path (a prefix maps its submodules too).
 ALIASES = {
@@ -51,7 +53,10 @@ class _AliasFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec):
-        module = importlib.import_module(target(spec.name))
+        new = target(spec.name)
+        warnings.warn(f"{spec.name} is an old import path: use {new} (inflowsim 0.2; "
+                      "the old paths will be removed)", DeprecationWarning, stacklevel=2)
+        module = importlib.import_module(new)
         self._specs[spec.name] = module.__spec__
         sys.modules[spec.name] = module
         return module

@@ -1,7 +1,7 @@
 """Shared test helpers: the virtual records most tests use, built once a session.
 
-``virtual(**settings)`` returns a :func:`inflowsim.virtual.virtual_record` for the
-given :class:`~inflowsim.virtual.VirtualTest` settings, cached (records are
+``virtual(**settings)`` returns a :func:`inflowsim.flighttest.virtual.virtual_record` for the
+given :class:`~inflowsim.flighttest.virtual.VirtualTest` settings, cached (records are
 immutable); ``TWO_AXES`` is a longitudinal then a lateral cyclic doublet.  Test
 modules import the helpers they need from here (``from conftest import ...``);
 pytest puts this folder on the path.

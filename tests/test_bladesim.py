@@ -1,13 +1,13 @@
-"""The nonlinear individual-blade truth (inflowsim.bladesim)."""
+"""The nonlinear individual-blade truth (inflowsim.flighttest.bladesim)."""
 import numpy as np
 import pytest
 
-from inflowsim.bladesim import BladeRotor, RotorSpec, multiblade_derivatives
-from inflowsim.equations import assemble
+from inflowsim.flighttest.bladesim import BladeRotor, RotorSpec, multiblade_derivatives
+from inflowsim.model.equations import assemble
 from inflowsim.errors import InputError
 from inflowsim.model import equations
-from inflowsim.multiblade import multiblade
-from inflowsim.params import PUMA
+from inflowsim.physics.multiblade import multiblade
+from inflowsim.model.params import PUMA
 
 U_TRIM = np.array([0.17, 0.01, -0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.249, 0.0])
 

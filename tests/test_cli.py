@@ -9,11 +9,11 @@ import pytest
 from conftest import assert_user_error, run
 from inflowsim.cli import main
 from inflowsim.model import build_model, descriptor
-from inflowsim.params import PUMA
-from inflowsim.presets import preset_parameters
-from inflowsim.record import FLAP_COLUMNS, find_trim, read_record, write_record
-from inflowsim.simulator import Simulator
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.model.params import PUMA
+from inflowsim.model.presets import preset_parameters
+from inflowsim.data.record import FLAP_COLUMNS, find_trim, read_record, write_record
+from inflowsim.simulate.simulator import Simulator
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
 @pytest.fixture(scope="module")

@@ -20,14 +20,14 @@ from scipy import stats
 
 import inflowsim as ifs
 from conftest import TWO_AXES
-from inflowsim.candidates import lr_test
+from inflowsim.diagnose.candidates import lr_test
 from inflowsim.cli import main
 from inflowsim.diagnose import diagnose, explicit_ladder, ladder
-from inflowsim.effects import CATALOGUE
+from inflowsim.model.effects import CATALOGUE
 from inflowsim.identify import DEFAULT_BAND
-from inflowsim.presets import paper_table, theory_parameters, truth_parameters
-from inflowsim.record import write_record
-from inflowsim.virtual import Manoeuvre, VirtualTest, noise_psd, virtual_record
+from inflowsim.model.presets import paper_table, theory_parameters, truth_parameters
+from inflowsim.data.record import write_record
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, noise_psd, virtual_record
 
 SEED = 1
 NOISE = 1e-4
@@ -334,7 +334,7 @@ def _controls_only_record(path, rate=64.0, duration=30.0, seed=7):
         lines.append(",".join(repr(float(v)) for v in
                               [tt, *u[i], *(y[i, :3] + noise[i])]))
     path.write_text("\n".join(lines) + "\n")
-    from inflowsim.record import read_record
+    from inflowsim.data.record import read_record
     return read_record(path), p
 
 

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 
 from inflowsim import PUMA, Structure, build_model, descriptor, preset_parameters
-from inflowsim import bladeelement as be
-from inflowsim import loads as ld
-from inflowsim.effects import CATALOGUE
-from inflowsim.equations import assemble, rotation
+from inflowsim.physics import bladeelement as be
+from inflowsim.physics import loads as ld
+from inflowsim.model.effects import CATALOGUE
+from inflowsim.model.equations import assemble, rotation
 from inflowsim.model import base_equations
 from inflowsim.errors import InputError
-from inflowsim.virtual import PUMA_TRIM, VirtualTest, virtual_record
+from inflowsim.flighttest.virtual import PUMA_TRIM, VirtualTest, virtual_record
 
 from test_quadrature import (COS, RR, SIN, avg, flap_residual_quad, loads_quad, radial,
                              single_blade, zero_state)
@@ -243,7 +243,7 @@ def test_virtual_record_carries_the_trim_it_needs():
 def test_columns_match_the_nonlinear_individual_blade_truth():
     # a third route: the team's individual-blade rotor (8 blades, speed = mu so the
     # inflow has no Glauert terms), differentiated in the total mux, muy at trim
-    bladesim = pytest.importorskip("inflowsim.bladesim")
+    bladesim = pytest.importorskip("inflowsim.flighttest.bladesim")
     spec = bladesim.RotorSpec(n_blades=8, speed="mu")
     rotor = bladesim.BladeRotor(spec)
     theta = np.array([PUMA_TRIM[n] for n in ("theta0", "theta1c", "theta1s")])

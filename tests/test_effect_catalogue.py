@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from inflowsim import PUMA, Structure, build_model, theory_parameters
-from inflowsim.effects import CATALOGUE
+from inflowsim.model.effects import CATALOGUE
 from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.params import SPECS
 from inflowsim.flighttest.virtual import PUMA_TRIM

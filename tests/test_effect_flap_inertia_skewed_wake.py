@@ -1,6 +1,6 @@
 """``flap-inertia`` and ``skewed-wake``: descriptor entries, neutral values,
 stability with Puma theory values, parsing.  Expected blocks are built from
-model.md's matrices (``inflowsim.flapping`` / ``inflowsim.loads``, themselves
+model.md's matrices (``inflowsim.physics.flapping`` / ``inflowsim.physics.loads``, themselves
 checked against quadrature in ``test_quadrature.py``)."""
 import math
 
@@ -9,12 +9,12 @@ import pytest
 from scipy.optimize import fsolve
 
 from inflowsim import PUMA, Structure, build_model, descriptor, preset_parameters
-from inflowsim import flapping as fl
-from inflowsim import loads as ld
-from inflowsim.effects.skewed_wake import theory_skew
-from inflowsim.equations import rotation
-from inflowsim.simulator import Simulator
-from inflowsim.virtual import PUMA_TRIM
+from inflowsim.physics import flapping as fl
+from inflowsim.physics import loads as ld
+from inflowsim.model.effects.skewed_wake import theory_skew
+from inflowsim.model.equations import rotation
+from inflowsim.simulate.simulator import Simulator
+from inflowsim.flighttest.virtual import PUMA_TRIM
 
 from test_quadrature import loads_quad, zero_state
 
@@ -124,8 +124,8 @@ def test_flap_inertia_nests_the_first_order_model(structure):
 
 
 def test_flap_inertia_floor_is_the_neutral_start():
-    from inflowsim.effects import CATALOGUE
-    from inflowsim.effects.flap_inertia import FLOOR
+    from inflowsim.model.effects import CATALOGUE
+    from inflowsim.model.effects.flap_inertia import FLOOR
     eff = CATALOGUE["flap-inertia"]
     assert eff.neutral_values(PUMA) == {"flap_inertia": FLOOR}
     assert eff.theory(PUMA) == {"flap_inertia": 1.0}

@@ -29,7 +29,7 @@ def test_validate_doublet_writes_its_report(tmp_path):
         assert (tmp_path / "out" / f).stat().st_size > 0
 
 
-@pytest.mark.parametrize("version", ["2", "3"])
+@pytest.mark.parametrize("version", ["2", pytest.param("3", marks=pytest.mark.slow)])
 def test_fmu_cosim_matches_the_simulator(version, tmp_path):
     pytest.importorskip("fmpy")
     res = run("fmu_cosim.py", tmp_path / "out", version)

@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 
 import inflowsim as ifs
-from inflowsim.failures import (parameter_failures, residual_analysis, residual_tests,
+from inflowsim.diagnose.failures import (parameter_failures, residual_analysis, residual_tests,
                                 spectrum_failures)
-from inflowsim.presets import paper_table
+from inflowsim.model.presets import paper_table
 from conftest import virtual
 
 

@@ -2,15 +2,15 @@
 import numpy as np
 import pytest
 
-from inflowsim.bladesim import RotorSpec
-from inflowsim.discrete import zoh
-from inflowsim.equations import assemble, rotation
+from inflowsim.flighttest.bladesim import RotorSpec
+from inflowsim.simulate.discrete import zoh
+from inflowsim.model.equations import assemble, rotation
 from inflowsim.errors import InputError
 from inflowsim.flighttest import FlightTest, blade_response, flighttest
 from inflowsim.model import equations
-from inflowsim.params import PUMA
-from inflowsim.record import find_trim, read_record, write_record
-from inflowsim.virtual import Manoeuvre, VirtualTest, pilot_controls, virtual_record
+from inflowsim.model.params import PUMA
+from inflowsim.data.record import find_trim, read_record, write_record
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, pilot_controls, virtual_record
 
 HUB0 = ("muz", "p", "q", "pdot", "qdot", "mux", "muy")
 

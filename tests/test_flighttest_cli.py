@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from inflowsim.cli import main
-from inflowsim.record import find_trim, read_record
+from inflowsim.data.record import find_trim, read_record
 
 
 def test_writes_a_record_and_the_truth(tmp_path, capsys):
@@ -75,7 +75,7 @@ def test_linear_truth_added_effect_acts(tmp_path, capsys):
                      "--duration", "8", "--noise", "0", "--out", str(out), "--json"]) == 0
         outs[len(add)] = (json.loads(capsys.readouterr().out), read_record(out))
     doc, rec = outs[2]
-    from inflowsim.presets import paper_table
+    from inflowsim.model.presets import paper_table
     assert doc["parameters"]["c3"] == paper_table(3)[1]["c3"] != 0
     assert doc["parameters"]["k0p"] == paper_table(3)[1]["k0p"]
     assert np.max(np.abs(rec["beta1s"] - outs[0][1]["beta1s"])) > 1e-4
@@ -84,8 +84,8 @@ def test_linear_truth_added_effect_acts(tmp_path, capsys):
 def test_3211_body_motion_stays_bounded():
     """Issue 11: with a 3-2-1-1 the speed used to run away (mux 0.25 -> 0.8 in
     200 s): the body model now holds attitude, every mode is stable."""
-    from inflowsim.body import BodyModel
-    from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+    from inflowsim.flighttest.body import BodyModel
+    from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
     a, _ = BodyModel().matrices()
     assert np.all(np.linalg.eigvals(a).real < 0)
     rec = virtual_record(VirtualTest(duration=200.0, dt=0.05, noise_flap=0.0,

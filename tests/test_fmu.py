@@ -30,12 +30,12 @@ from inflowsim.fmu import VR, apply_parameters, build_fmu, start_values  # noqa:
 from inflowsim.fmu.generate import GENERATED, TIME_VR, generated_files  # noqa: E402
 from inflowsim.fmu.build import compile_library, source_dir, sources  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
-from inflowsim.paramfile import read_parameters  # noqa: E402
-from inflowsim.params import PUMA  # noqa: E402
-from inflowsim.presets import preset_parameters  # noqa: E402
-from inflowsim.record import find_trim, model_inputs  # noqa: E402
-from inflowsim.simulator import Simulator  # noqa: E402
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record  # noqa: E402
+from inflowsim.model.paramfile import read_parameters  # noqa: E402
+from inflowsim.model.params import PUMA  # noqa: E402
+from inflowsim.model.presets import preset_parameters  # noqa: E402
+from inflowsim.data.record import find_trim, model_inputs  # noqa: E402
+from inflowsim.simulate.simulator import Simulator  # noqa: E402
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record  # noqa: E402
 
 DT = 0.01
 OUTPUTS = ("beta0", "beta1c", "beta1s", "lambda0", "lambda1c", "lambda1s")

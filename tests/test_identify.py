@@ -9,8 +9,8 @@ from inflowsim.identify import evaluate, identify
 from inflowsim.identify.estimator import _relax_S
 from inflowsim.identify.problem import Problem
 from inflowsim.identify.transform import record_spectra
-from inflowsim.paramfile import parse_parameter_doc
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.paramfile import parse_parameter_doc
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 #: Longitudinal, lateral and collective doublets: every parameter excited
 #: (mux through pitch, muy through roll).
@@ -174,7 +174,7 @@ def test_failure_modes_are_reported_by_name():
 def test_missing_channel_is_named():
     rec = record("basic")
     cols = {k: v for k, v in rec.channels.items() if k != "pdot"}
-    from inflowsim.record import Record
+    from inflowsim.data.record import Record
     bare = Record.from_arrays(rec.t, cols, rec.meta, "bare.csv")
     with pytest.raises(RecordError, match="pdot"):
         identify(bare, "basic")

@@ -9,9 +9,9 @@ from inflowsim.cli import main
 from inflowsim.identify import band_study
 from inflowsim.identify.tables import markdown_table
 from inflowsim.report.fit import fit_report
-from inflowsim.paramfile import read_parameters
-from inflowsim.record import write_record
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.paramfile import read_parameters
+from inflowsim.data.record import write_record
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 TWO = (Manoeuvre("theta1s", "doublet", np.radians(1.0), 2.0, 0.4),
        Manoeuvre("theta1c", "doublet", np.radians(1.0), 8.0, 0.4))
@@ -83,7 +83,7 @@ def test_outputs_are_never_clobbered(rec_path, tmp_path, capsys):
 def test_record_lacking_a_channel(tmp_path, capsys):
     rec = virtual_record(VirtualTest(manoeuvres=TWO))
     cols = {k: v for k, v in rec.channels.items() if k != "muy"}
-    from inflowsim.record import Record
+    from inflowsim.data.record import Record
     p = tmp_path / "nomuy.csv"
     write_record(Record.from_arrays(rec.t, cols, rec.meta), p)
     assert main(["identify", str(p), "--model", "glauert"]) == 2

@@ -16,9 +16,9 @@ from scipy.integrate import solve_ivp
 
 import inflowsim as ifs
 from inflowsim.diagnose import diagnose
-from inflowsim.presets import truth_parameters
-from inflowsim.record import read_record
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.model.presets import truth_parameters
+from inflowsim.data.record import read_record
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 DURATION = 30.0
 NOISE = 1e-4          # [rad], standard deviation per sample

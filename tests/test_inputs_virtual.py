@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 
 from inflowsim import PUMA, build_model, preset_parameters
-from inflowsim.inputs import doublet, input_3211
-from inflowsim.record import find_trim, model_inputs
-from inflowsim.simulator import Simulator
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.data.inputs import doublet, input_3211
+from inflowsim.data.record import find_trim, model_inputs
+from inflowsim.simulate.simulator import Simulator
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 
 def test_doublet_and_3211_shapes():
@@ -55,7 +55,7 @@ def test_smooth_inputs():
 
 
 def test_coloured_noise_has_its_spectrum():
-    from inflowsim.virtual import noise_psd, sensor_noise
+    from inflowsim.flighttest.virtual import noise_psd, sensor_noise
     rng = np.random.default_rng(0)
     dt, n = 0.01, 2 ** 16
     e = sensor_noise(rng, n, 1e-4, dt, color_hz=2.0)

@@ -87,23 +87,44 @@ def test_no_global_matplotlib_backend_switch():
 
 
 @pytest.mark.parametrize("old", sorted(_legacy.ALIASES))
-def test_old_import_paths_still_work(old):
-    a = importlib.import_module(f"inflowsim.{old}")
-    b = importlib.import_module(_legacy.target(f"inflowsim.{old}"))
+def test_old_import_paths_still_work_and_warn(old):
+    import sys
+    sys.modules.pop(f"inflowsim.{old}", None)        # import it afresh
+    new = _legacy.target(f"inflowsim.{old}")
+    with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
+        a = importlib.import_module(f"inflowsim.{old}")
+    b = importlib.import_module(new)
     assert a is b and a.__spec__.name == b.__name__
+
+
+def test_nothing_of_the_package_uses_an_old_path():
+    """New code, docs and tests use the layered paths (issue #28 item 6)."""
+    import re
+    old = "|".join(re.escape(k) for k in sorted(_legacy.ALIASES, key=len, reverse=True))
+    pat = re.compile(r"\binflowsim\.(" + old + r")\b(?=[\s.,;:)`'\"\]]|$)"
+                     r"|from inflowsim import [\w, ]*\b(" + old + r")\b")
+    root = Path(__file__).resolve().parents[1]
+    files = [root / "README.md", *root.glob("docs/*.md"), *root.glob("examples/**/*.py"),
+             *root.glob("bench/*.py"), *root.glob("tests/*.py"),
+             *root.glob("inflowsim/**/*.py")]
+    bad = [f"{p.relative_to(root)}:{i + 1}" for p in files
+           if p.name not in ("_legacy.py", "test_layout.py")
+           for i, line in enumerate(p.read_text(encoding="utf-8").splitlines())
+           if pat.search(line)]
+    assert not bad, bad
 
 
 def test_documented_imports():
     """The README's tour and every path in its prose."""
     from inflowsim.diagnose import diagnose, ladder  # noqa: F401
-    from inflowsim.effects.skewed_wake import theory_skew  # noqa: F401
+    from inflowsim.model.effects.skewed_wake import theory_skew  # noqa: F401
     from inflowsim.fmu import build_fmu, start_values  # noqa: F401
     from inflowsim.identify import identify  # noqa: F401
     from inflowsim.model import Model, build_model  # noqa: F401
-    from inflowsim.paramfile import read_parameters  # noqa: F401
-    from inflowsim.presets import truth_parameters  # noqa: F401
-    from inflowsim.record import find_trim, model_inputs, read_record  # noqa: F401
-    from inflowsim.simulator import Simulator
+    from inflowsim.model.paramfile import read_parameters  # noqa: F401
+    from inflowsim.model.presets import truth_parameters  # noqa: F401
+    from inflowsim.data.record import find_trim, model_inputs, read_record  # noqa: F401
+    from inflowsim.simulate.simulator import Simulator
     from inflowsim.simulate.simulator import Simulator as S2
     assert Simulator is S2
 

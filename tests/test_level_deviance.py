@@ -14,8 +14,8 @@ from inflowsim.diagnose import diagnose, search
 from inflowsim.diagnose.rule import Rule
 from inflowsim.diagnose.failures import (WHITE_DEVIANCE, floor_deviance, level_deviance,
                                          white_level_deviance)
-from inflowsim.presets import truth_parameters
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.model.presets import truth_parameters
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 from conftest import TWO_AXES
 

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from inflowsim import PUMA, build_model, descriptor, preset_parameters
-from inflowsim import flapping as fl
-from inflowsim import loads as ld
+from inflowsim.physics import flapping as fl
+from inflowsim.physics import loads as ld
 from inflowsim.errors import InputError
-from inflowsim.params import Constants
+from inflowsim.model.params import Constants
 
 MUS = [0.1, 0.249, 0.35]
 

@@ -1,11 +1,11 @@
-"""Multiblade extraction as a flight-test system does it (inflowsim.multiblade)."""
+"""Multiblade extraction as a flight-test system does it (inflowsim.physics.multiblade)."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from inflowsim.equations import rotation
+from inflowsim.model.equations import rotation
 from inflowsim.errors import InputError
-from inflowsim.multiblade import (blade_angles, blade_azimuths, multiblade,
+from inflowsim.physics.multiblade import (blade_angles, blade_azimuths, multiblade,
                                   multiblade_rates, reactionless)
 
 finite = st.floats(-0.2, 0.2)

@@ -15,7 +15,7 @@ from inflowsim.diagnose.failures import COLOURED, residual_analysis, spectrum_fa
 from inflowsim.diagnose.lpm import in_band_noise, local_polynomial_noise
 from inflowsim.identify import DEFAULT_BAND, identify
 from inflowsim.model.build import build_model
-from inflowsim.virtual import VirtualTest, noise_psd, virtual_record
+from inflowsim.flighttest.virtual import VirtualTest, noise_psd, virtual_record
 
 
 def test_local_polynomial_noise_is_unbiased_whatever_the_response():

@@ -61,7 +61,7 @@ def test_at_256_hz_the_ladder_names_the_blades_2rev_flap():
     ``glauert`` is not named before them, and beside them it is not worth its seven
     gains.  ``k_mu`` comes out above its theory value 1: it also carries the Eq. (14)
     in-plane coupling of the truth, which acts the same way on the flap."""
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     test = FlightTest(dt=1 / 256, seed=0, noise_flap=1e-4,
                       manoeuvres=(Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)))
     rec = nonlinear_flighttest(test).record
@@ -96,7 +96,7 @@ def _no_eq14_record():
     term in the truth; the direct in-plane forcing and the Pitt-Peters time
     constants (``tau0 != tau_cs``) stay."""
     from inflowsim.flighttest.bladesim import RotorSpec
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     test = FlightTest(rotor=RotorSpec(speed="mu"), dt=1 / 256, seed=0, noise_flap=1e-4,
                       manoeuvres=(Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)))
     return test, nonlinear_flighttest(test).record
@@ -148,7 +148,7 @@ def test_a_part_of_glauert_is_named_where_the_whole_is_not_worth_its_gains():
     10.4 and brings ``beta0`` to within 1.5 times the record's noise."""
     from inflowsim.diagnose import diagnose
     from inflowsim.identify import identify
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     test = FlightTest(dt=1 / 256, seed=7, noise_flap=1e-4,
                       manoeuvres=(Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)))
     rec = nonlinear_flighttest(test).record
@@ -170,7 +170,7 @@ def test_a_part_of_glauert_is_named_where_the_whole_is_not_worth_its_gains():
 @functools.lru_cache(maxsize=1)
 def _eq14_seed5():
     """256 Hz, seed 5 of ``bench/detection.py --kind nonlinear`` (white noise)."""
-    from inflowsim.virtual import Manoeuvre
+    from inflowsim.flighttest.virtual import Manoeuvre
     test = FlightTest(dt=1 / 256, seed=5, noise_flap=1e-4,
                       manoeuvres=(Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)))
     return test, nonlinear_flighttest(test).record

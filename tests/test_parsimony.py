@@ -11,8 +11,8 @@ from inflowsim.diagnose.rule import DEFAULT_RULE
 import inflowsim as ifs
 from inflowsim.diagnose import candidates
 from inflowsim.diagnose.candidates import try_effect
-from inflowsim.presets import theory_parameters
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.model.presets import theory_parameters
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 K = virtual_record(VirtualTest(duration=1.0)).constants
 BASE = ifs.Structure.parse("basic")

@@ -3,7 +3,7 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from inflowsim import PUMA, Structure, build_model, theory_parameters
-from inflowsim.record import Record, format_record, parse_record
+from inflowsim.data.record import Record, format_record, parse_record
 
 PAPER_EFFECTS = ["separate-time-constants", "hub-velocity-coupling", "glauert",
                  "azimuth-bias", "time-delay"]

@@ -1,6 +1,6 @@
 """Physics of the base matrices: every entry against numerical quadrature.
 
-An independent route to ``inflowsim.loads`` and ``inflowsim.flapping``: the
+An independent route to ``inflowsim.physics.loads`` and ``inflowsim.physics.flapping``: the
 blade-element integrals of model.md section 3 and the single-blade flap equation
 are evaluated on a grid (Gauss-Legendre over ``r``, a uniform rule over ``psi``,
 both exact for these polynomial / trigonometric integrands), with one unit
@@ -21,9 +21,8 @@ single-blade ``beta''`` then projects with unit coefficient on each row (``m2 = 
 import numpy as np
 import pytest
 
-from inflowsim import flapping as fl
-from inflowsim import loads as ld
-
+from inflowsim.physics import flapping as fl
+from inflowsim.physics import loads as ld
 MUS = [0.1, 0.2, 0.249, 0.35, 0.5]
 ATOL = 1e-12
 

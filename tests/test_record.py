@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from inflowsim.errors import RecordError, InputError
-from inflowsim.record import TRIM_MARGIN, find_trim, read_record, write_record, perturbations
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.data.record import TRIM_MARGIN, find_trim, read_record, write_record, perturbations
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 HEADER = "t,theta0,theta1c,theta1s,muz,p,q,pdot,qdot,mux,muy,beta0,beta1c,beta1s"
 META = "# omega: 27.5\n# mu: 0.249\n# a0: 5.73\n# solidity: 0.0917\n"

@@ -2,7 +2,7 @@
 import pytest
 
 from inflowsim.errors import InputError
-from inflowsim.plots import new_figure
+from inflowsim.report.plots import new_figure
 from inflowsim.report import MANIFEST, Report, format_cell
 
 

@@ -22,8 +22,8 @@ from inflowsim.diagnose import rivals
 from inflowsim.diagnose.rivals import explained_by, resolve_rivals
 from inflowsim.diagnose.rule import Rule
 from inflowsim.errors import InputError
-from inflowsim.presets import theory_parameters, truth_parameters
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.model.presets import theory_parameters, truth_parameters
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 from conftest import TWO_AXES
 

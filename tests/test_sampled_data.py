@@ -1,7 +1,7 @@
 """Intersample behaviour (issue #9): identification is exact for the record's hold.
 
 Continuous records come from the independent route of
-:func:`inflowsim.virtual.virtual_record`: body and rotor integrated together by
+:func:`inflowsim.flighttest.virtual.virtual_record`: body and rotor integrated together by
 an adaptive ODE solver (DOP853, rtol 1e-12) with smooth pilot inputs, then
 sampled, at 64 and 256 Hz; no sampled-data code is on that route.  Held records
 come from the exact ZOH replay; linear-input records from scipy's ``lsim``.
@@ -15,9 +15,9 @@ import inflowsim as ifs
 from conftest import TWO_AXES
 from inflowsim import PUMA, build_model, preset_parameters
 from inflowsim.identify import identify
-from inflowsim.record import FLAP_COLUMNS, INPUT_COLUMNS, Record
-from inflowsim.sampled import HOLDS, gregory_weights, shift_taps
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.data.record import FLAP_COLUMNS, INPUT_COLUMNS, Record
+from inflowsim.simulate.sampled import HOLDS, gregory_weights, shift_taps
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 THREE = TWO_AXES + (Manoeuvre(channel="theta0", t_start=18.0),)
 
@@ -43,8 +43,9 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("rate", [64, 256])
-@pytest.mark.parametrize("structure, extra", CASES)
+@pytest.mark.parametrize("structure, extra, rate", [
+    *((s, e, 64) for s, e in CASES), (*CASES[0], 256),
+    *(pytest.param(s, e, 256, marks=pytest.mark.slow) for s, e in CASES[1:])])
 def test_continuous_records_are_recovered_to_1e6(structure, extra, rate):
     truth = moved(structure, **extra)
     rec = virtual_record(VirtualTest(structure=structure, parameters=truth, dt=1 / rate,
@@ -154,7 +155,7 @@ def test_shift_taps_compose_like_time():
 
 def test_record_hold_metadata_and_override(tmp_path):
     from inflowsim.errors import RecordError
-    from inflowsim.record import read_record, write_record
+    from inflowsim.data.record import read_record, write_record
     rec = virtual_record(VirtualTest(duration=4.0, hold="zoh"))
     p = write_record(rec, tmp_path / "r.csv")
     assert "# hold: zoh" in p.read_text() and read_record(p).hold == "zoh"
@@ -172,7 +173,7 @@ def test_record_hold_metadata_and_override(tmp_path):
 
 def test_simulator_refuses_what_it_cannot_step_causally():
     m = build_model("basic+time-delay", preset_parameters("basic") | {"delay": -0.01}, PUMA)
-    from inflowsim.simulator import Simulator
+    from inflowsim.simulate.simulator import Simulator
     with pytest.raises(ifs.InputError, match="lead"):
         Simulator(m, 0.01)
     m2 = build_model("basic+delay-theta0", preset_parameters("basic") | {"delay_theta0": 0.02},

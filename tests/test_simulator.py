@@ -7,8 +7,8 @@ from scipy.integrate import solve_ivp
 
 from inflowsim import PUMA, build_model, preset_parameters
 from inflowsim.errors import InputError
-from inflowsim.inputs import doublet
-from inflowsim.simulator import Simulator
+from inflowsim.data.inputs import doublet
+from inflowsim.simulate.simulator import Simulator
 
 
 def model(preset="glauert", **changes):

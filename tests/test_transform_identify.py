@@ -4,14 +4,14 @@ import pytest
 
 import inflowsim as ifs
 from inflowsim import PUMA, build_model, preset_parameters
-from inflowsim.sampled import gregory_weights
-from inflowsim.discrete import zoh
+from inflowsim.simulate.sampled import gregory_weights
+from inflowsim.simulate.discrete import zoh
 from inflowsim.errors import InputError, RecordError
 from inflowsim.identify import record_spectra, snap_band
 from inflowsim.identify.freqmodel import flap_response
 from inflowsim.identify.transform import Spectra, dft
-from inflowsim.record import find_trim
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.data.record import find_trim
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
 def test_band_snaps_to_the_paper_grid():

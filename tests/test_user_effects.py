@@ -1,5 +1,5 @@
 """Effects written outside the package (issue #24, item 2): loaded from a file
-(``--effect-file``) or an installed package's ``inflowsim.effects`` entry point,
+(``--effect-file``) or an installed package's ``inflowsim.model.effects`` entry point,
 checked, registered beside the catalogue and usable everywhere a catalogue effect
 is; a bad effect file is refused with one line naming the file, exit 2."""
 import json
@@ -201,7 +201,7 @@ def test_an_installed_package_s_effect_is_found_by_entry_point(tmp_path, monkeyp
     dist = pkg / "my_fx-0.1.dist-info"
     dist.mkdir()
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: my-fx\nVersion: 0.1\n")
-    (dist / "entry_points.txt").write_text("[inflowsim.effects]\ninstalled-fx = my_fx\n")
+    (dist / "entry_points.txt").write_text("[inflowsim.model.effects]\ninstalled-fx = my_fx\n")
     monkeypatch.syspath_prepend(str(pkg))
     monkeypatch.setattr(user_module, "_installed_loaded", False)
     # a structure naming it finds it without any file
@@ -219,7 +219,7 @@ def test_a_bad_installed_effect_is_refused_naming_the_entry_point(tmp_path, monk
     dist = pkg / "bad_fx-0.1.dist-info"
     dist.mkdir()
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: bad-fx\nVersion: 0.1\n")
-    (dist / "entry_points.txt").write_text("[inflowsim.effects]\nbad = bad_fx\n")
+    (dist / "entry_points.txt").write_text("[inflowsim.model.effects]\nbad = bad_fx\n")
     monkeypatch.syspath_prepend(str(pkg))
     monkeypatch.setattr(user_module, "_installed_loaded", False)
     with pytest.raises(InputError, match="entry point bad .*defines no EFFECT"):

@@ -4,11 +4,11 @@ import pytest
 
 from inflowsim.errors import InputError, RecordError
 from inflowsim.model import build_model
-from inflowsim.params import PUMA
-from inflowsim.presets import preset_parameters
-from inflowsim.record import FLAP_COLUMNS, Record
-from inflowsim.validation import PAPER_BAND_HZ, dft_bins, fit_metrics, validate
-from inflowsim.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.params import PUMA
+from inflowsim.model.presets import preset_parameters
+from inflowsim.data.record import FLAP_COLUMNS, Record
+from inflowsim.diagnose.validation import PAPER_BAND_HZ, dft_bins, fit_metrics, validate
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 
 
 def _model(structure, rec=None, **changes):

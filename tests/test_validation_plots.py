@@ -1,9 +1,9 @@
 """Plots of validation results: labelled axes with units, titles naming the structures."""
 from inflowsim.model import build_model
-from inflowsim.plots import error_spectrum_plot, frequency_response_plot, time_response_plot
-from inflowsim.presets import preset_parameters
-from inflowsim.validation import validate
-from inflowsim.virtual import VirtualTest, virtual_record
+from inflowsim.report.plots import error_spectrum_plot, frequency_response_plot, time_response_plot
+from inflowsim.model.presets import preset_parameters
+from inflowsim.diagnose.validation import validate
+from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
 def _results():

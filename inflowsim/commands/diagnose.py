@@ -4,7 +4,7 @@ Fits ``--model`` (starting from ``--params`` when given), reports where model an
 measurement part (per channel and frequency, magnitude or phase), residual
 whiteness and correlation with the inputs, implausible or poorly determined
 estimates, then adds every candidate effect in turn, refits, and ranks them by a
-likelihood-ratio test (``inflowsim.candidates``).
+likelihood-ratio test (``inflowsim.diagnose.candidates``).
 """
 from __future__ import annotations
 

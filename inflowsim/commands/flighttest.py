@@ -1,11 +1,11 @@
 """``inflowsim flighttest``: a virtual flight test that writes a record (CSV).
 
 Default truth: the nonlinear individual-blade rotor (:mod:`inflowsim.flighttest`,
-:mod:`inflowsim.bladesim`); its physics is built in, so ``--add`` takes only the
+:mod:`inflowsim.flighttest.bladesim`); its physics is built in, so ``--add`` takes only the
 measurement effects ``azimuth-bias`` and ``time-delay`` there.  ``--truth linear``
 generates from any structure plus effects (paper values for the preset's
 parameters, theory values for added effects or, where theory means "no effect",
-the paper's estimates: :func:`inflowsim.presets.truth_parameters`; ``--set
+the paper's estimates: :func:`inflowsim.model.presets.truth_parameters`; ``--set
 NAME=VALUE`` to change any).  Records are continuous-time by default (smooth pilot
 inputs, the truth integrated with them); ``--hold zoh`` holds the inputs over each
 sample instead.

@@ -1,7 +1,7 @@
 """``inflowsim simulate``: replay a record's inputs through the fixed-step simulator.
 
 The record's input columns, as perturbations about its trim
-(:func:`inflowsim.record.find_trim`), drive :class:`inflowsim.simulator.Simulator`
+(:func:`inflowsim.data.record.find_trim`), drive :class:`inflowsim.simulate.simulator.Simulator`
 from a zero state.  With ``--dt`` other than the record's step the inputs are
 held (zero-order hold of the record samples): the simulator's step ``k`` at
 ``t0 + k dt`` uses the last record sample at or before that time, and the run

@@ -38,7 +38,7 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
 3. **Material.**  The candidate explains at least ``material`` (10 %) of the
    base residual's excess over the noise floor: of ``D_base - D_white``, where
    ``D`` is the residual's level deviance from white noise at the floor
-   (:func:`inflowsim.failures.level_deviance`, ``sum nf (m - 1 - ln m)`` over
+   (:func:`inflowsim.diagnose.failures.level_deviance`, ``sum nf (m - 1 - ln m)`` over
    the channels, ``m`` a channel's mean power over the floor in the band: the
    likelihood-ratio statistic of the level) and ``D_white`` its mean for noise
    alone; a base residual with no excess has nothing to explain.  (The per-bin
@@ -47,7 +47,7 @@ reproduces the base fit: every candidate *nests* the base).  A candidate is
    band: ``bench/README.md``.)  An effect
    that is significant only because the record is long is not what the
    residual is made of.  Where a record's sensor noise is coloured (its level
-   in the band :data:`~inflowsim.failures.COLOURED` times the floor or more,
+   in the band :data:`~inflowsim.diagnose.failures.COLOURED` times the floor or more,
    :mod:`inflowsim.diagnose.lpm`) the floor says little, and both the excess and
    the share are taken of the residual's *input-correlated excess*
    (:mod:`inflowsim.diagnose.excess`: its power in the span of smooth response
@@ -71,7 +71,7 @@ Accepted candidates are ranked by the Schwarz criterion gain ``2 (J_base -
 J_with) - dof ln(n_data)`` (``n_data`` the real numbers fitted), so an effect
 with one parameter that explains nearly as much as one with seven comes first;
 the rest follow by p-value.  When nothing is accepted and the residual is still
-structured, the diagnosis says so (:func:`inflowsim.failures.unexplained`)
+structured, the diagnosis says so (:func:`inflowsim.diagnose.failures.unexplained`)
 instead of adding a small spurious effect.
 """
 from __future__ import annotations
@@ -286,12 +286,15 @@ def try_effect(records, base_fit, effect: str, band_hz, fit_fn, alpha=None,
     held, held_why, variants = (), "not determined by the data", ()
     try:
         fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=base_fixed or None)
-        # only what the record leaves undetermined (a null direction of the
-        # information) is held: it has no information, so holding it biases nothing
-        # else, while holding a determined parameter of the same part would (a
-        # single-axis record moves mux a little: Glauert's c1, c3, c4 show, c2 not)
+        # an effect of separate physical terms holds only what the record leaves
+        # undetermined (a null direction of the information): it has no
+        # information, so holding it biases nothing else, while holding a determined
+        # parameter would (a single-axis record moves mux a little: Glauert's c1,
+        # c3, c4 show, c2 not).  An effect of one term is all or nothing: half a
+        # gain matrix is not that effect's physics, and its free half mimics others
+        # (the nonlinear truth's direct in-plane forcing, one doublet)
         held = tuple(n for n in eff.parameters if fit.sigma.get(n) is None
-                     and n not in base_fixed)
+                     and n not in base_fixed) if len(eff.parts) > 1 else ()
         if held and len(held) < len(eff.parameters):
             fit = fit_fn(records, s, band_hz=band_hz, start=start,
                          fixed={**base_fixed, **{n: start[n] for n in held}})

@@ -33,7 +33,7 @@ def project(e: np.ndarray, Q: np.ndarray) -> np.ndarray:
 
 def smooth_input_basis(ra) -> np.ndarray:
     """Orthonormal basis ``(nf, r)`` of the smooth input-correlated residuals of a
-    :class:`~inflowsim.failures.ResidualAnalysis`."""
+    :class:`~inflowsim.diagnose.failures.ResidualAnalysis`."""
     f = ra.f_hz
     x = 2 * (f - f.min()) / max(f.max() - f.min(), np.finfo(float).tiny) - 1
     L = np.polynomial.legendre.legvander(x, DEGREES - 1)

@@ -299,7 +299,7 @@ def floor_deviance(ra: ResidualAnalysis, floors=None) -> float:
     default the analysis's own).  Zero only for a residual exactly at the floor;
     for white noise at the floor its mean is ``0.5772`` a bin (Euler's constant),
     and it grows with any excess (model error) and any deficit (a fit of the
-    noise).  :mod:`inflowsim.candidates` asks a candidate to lower it."""
+    noise).  :mod:`inflowsim.diagnose.candidates` asks a candidate to lower it."""
     fl = ra.floor if floors is None else np.asarray(floors)
     r = np.maximum(np.abs(ra.error) ** 2 / fl, 1e-300)
     return float(np.sum(r - 1.0 - np.log(r)))

@@ -1,6 +1,6 @@
 """The sensor noise *in* the band, whatever its colour, without a parametric model.
 
-The floor of :func:`inflowsim.failures.noise_floor` is measured above the band,
+The floor of :func:`inflowsim.diagnose.failures.noise_floor` is measured above the band,
 where the rotor barely answers, and carried into the band as white noise.  A
 sensor whose noise is louder in the band than above it (a low-pass in the data
 system, turbulence seen by the flap) then puts the whole band above that floor,

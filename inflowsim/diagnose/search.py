@@ -2,8 +2,8 @@
 and watch the error fall (``workflow.md``).
 
 :func:`diagnose` fits the structure (or evaluates given parameters), reports the
-failures of :mod:`inflowsim.failures`, and ranks every candidate effect with
-:mod:`inflowsim.candidates`.  :func:`ladder` adds the best accepted effect and
+failures of :mod:`inflowsim.diagnose.failures`, and ranks every candidate effect with
+:mod:`inflowsim.diagnose.candidates`.  :func:`ladder` adds the best accepted effect and
 ranks again until nothing is accepted: one-shot ranking is not enough
 when two effects explain similar residuals.
 """
@@ -37,7 +37,7 @@ class Diagnosis:
     ``failures`` where the fitted structure and the measurements part (with an
     ``unexplained`` finding when the residual keeps structure no candidate
     explains); ``candidates`` ranked best first; ``missing_effect`` the best
-    accepted candidate (:mod:`inflowsim.candidates`) or ``None``.
+    accepted candidate (:mod:`inflowsim.diagnose.candidates`) or ``None``.
     """
 
     structure: Structure
@@ -46,7 +46,7 @@ class Diagnosis:
     candidates: tuple
     missing_effect: str | None
     band_hz: tuple
-    #: the base fit's :class:`~inflowsim.failures.ResidualAnalysis` per record
+    #: the base fit's :class:`~inflowsim.diagnose.failures.ResidualAnalysis` per record
     analyses: tuple = field(repr=False, default=())
     #: how much is left unexplained (:mod:`inflowsim.diagnose.verdict`)
     verdict: Verdict | None = None
@@ -131,12 +131,12 @@ FLOOR_MEASURES = {
 
 def _judge(records, band_hz, base_fit, base_analyses, white_measure="level",
            coloured=COLOURED):
-    """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.candidates`):
+    """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.diagnose.candidates`):
     the residual's level deviance from white noise at the floor and its structure
     across frequency, against the base fit's floors (the sensor noise does not
     change with the model); ``judge(None)`` describes the base, with the
     deviance expected of noise at the floor.  Where a record's noise is coloured
-    (the in-band noise :data:`~inflowsim.failures.COLOURED` times the floor or
+    (the in-band noise :data:`~inflowsim.diagnose.failures.COLOURED` times the floor or
     more) the floor says little, and the measure is the residual's
     input-correlated excess (:mod:`inflowsim.diagnose.excess`) instead."""
     if any(k >= coloured for ra in base_analyses for k in ra.in_band_over_floor):

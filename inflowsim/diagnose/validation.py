@@ -7,10 +7,10 @@ band.
 
 Conventions
 -----------
-* Trim is :func:`inflowsim.record.find_trim` (mean of the quiet lead-in before
+* Trim is :func:`inflowsim.data.record.find_trim` (mean of the quiet lead-in before
   the first control movement) unless given; every channel is used as a
   perturbation about it, and ``ValidationResult.trim`` says how it was taken.
-* The prediction is :func:`inflowsim.replay.replay` of the measured input
+* The prediction is :func:`inflowsim.simulate.replay.replay` of the measured input
   perturbations at the record's step ``dt`` with the record's intersample
   behaviour (``# hold:``, or ``hold=``: exact for held or linear inputs, local
   cubics for continuous records; the model's time shifts included), from rest
@@ -279,7 +279,7 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     model : Model
         Built at the record's flight condition (``record.constants``).
     trim : Trim, optional
-        Default :func:`~inflowsim.record.find_trim` of the record.
+        Default :func:`~inflowsim.data.record.find_trim` of the record.
     band_hz : (float, float), optional
         Frequency band [Hz], default :data:`PAPER_BAND_HZ`, snapped to the
         record's transform frequencies ``k / (N dt)``.

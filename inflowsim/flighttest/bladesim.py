@@ -57,7 +57,7 @@ inflow with the perturbations of ``V`` (blade normal velocity, in-plane speed) a
 the Glauert-type coupling ``F nu_lambda + G mu_xy`` of Eq. (19), from the physics.
 
 State ``x = (beta_1..beta_Nb, beta_1'..beta_Nb', lambda0, lambda1c, lambda1s)``;
-inputs ``u`` in azimuth units, the order of ``inflowsim.equations.INPUTS_AZ``
+inputs ``u`` in azimuth units, the order of ``inflowsim.model.equations.INPUTS_AZ``
 (``theta0 theta1c theta1s muz qbar pbar qbar' pbar' mux muy``), totals, true pitch.
 Integration: classical RK4 in azimuth, fixed step, inputs held per step.
 """

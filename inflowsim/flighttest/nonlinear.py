@@ -2,14 +2,14 @@
 
 Two truths:
 
-- ``"nonlinear"`` (default): the individual-blade rotor of :mod:`inflowsim.bladesim`
+- ``"nonlinear"`` (default): the individual-blade rotor of :mod:`inflowsim.flighttest.bladesim`
   (4 blades, blade-element lift, each blade's flap integrated by RK4 in azimuth,
   dynamic inflow driven by blade-element minus local-momentum loads with the
   Eq. (14) speed through the disc), flap measured as a flight-test system does:
   multiblade coordinates from the blades with the *recorded* azimuth
-  (:mod:`inflowsim.multiblade`), optional azimuth bias and time delay, noise.
+  (:mod:`inflowsim.physics.multiblade`), optional azimuth bias and time delay, noise.
 - ``"linear"``: any structure plus effects, delegated to
-  :func:`inflowsim.virtual.virtual_record` (the truth is then the linear model).
+  :func:`inflowsim.flighttest.virtual.virtual_record` (the truth is then the linear model).
 
 Trim (nonlinear truth): the controls are *given* (``trim_controls``, true blade
 pitch; default the virtual Puma's ``theta0 0.17, theta1c 0.01, theta1s -0.05`` rad)
@@ -18,7 +18,7 @@ flap and inflow for them is solved by marching blade passages to a fixed point
 (:meth:`BladeRotor.periodic_trim`).  The record then holds totals: trim plus
 perturbations.  The pilot input (doublet or 3-2-1-1) is added in the *recorded*
 control frame; the true pitch is the recorded one rotated back by the azimuth
-bias (``model.md`` section 6).  Hub motion: :class:`inflowsim.body.BodyModel`
+bias (``model.md`` section 6).  Hub motion: :class:`inflowsim.flighttest.body.BodyModel`
 driven by the true control perturbations (``body=None``: hub fixed).
 """
 from __future__ import annotations
@@ -65,7 +65,7 @@ class FlightTest:
         Standard deviation of Gaussian sensor noise on the flap [rad] and inputs.
     noise_color_hz : float or None
         White flap noise (``None``) or first-order low-pass with this corner [Hz]
-        (:func:`inflowsim.virtual.sensor_noise`).
+        (:func:`inflowsim.flighttest.virtual.sensor_noise`).
     seed : int
         Noise seed.
     azimuth_bias : float
@@ -372,7 +372,7 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
 
 def flighttest(test) -> FlightTestResult:
     """Run a virtual flight test: :class:`FlightTest` (nonlinear truth) or
-    :class:`~inflowsim.virtual.VirtualTest` (linear truth)."""
+    :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth)."""
     if isinstance(test, VirtualTest):
         return linear_flighttest(test)
     return nonlinear_flighttest(test)

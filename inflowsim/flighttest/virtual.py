@@ -2,7 +2,7 @@
 
 The truth here is the linear model itself (a chosen structure plus effects and
 parameters), driven by a pilot doublet or 3-2-1-1 and hub motion from
-:class:`~inflowsim.body.BodyModel`, with seeded sensor noise (white, or coloured:
+:class:`~inflowsim.flighttest.body.BodyModel`, with seeded sensor noise (white, or coloured:
 first-order low-pass).  The record holds totals: trim plus perturbations.
 
 Two kinds of record (``VirtualTest.hold``):
@@ -13,10 +13,10 @@ Two kinds of record (``VirtualTest.hold``):
     relative tolerance 1e-12) with the inputs evaluated where the solver asks,
     then *sampled*.  Output time shifts sample the solution at ``t_n - delay``,
     input shifts record the input at ``t_n - delay``.  No code of the sampled-data
-    model (:mod:`inflowsim.sampled`, the simulator) is on this route.
+    model (:mod:`inflowsim.simulate.sampled`, the simulator) is on this route.
 ``zoh``
     Inputs held over each sample (the smooth signals sampled, then held) and the
-    exact zero-order-hold replay (:func:`inflowsim.replay.replay`), as a
+    exact zero-order-hold replay (:func:`inflowsim.simulate.replay.replay`), as a
     digital controller's record; the record says ``# hold: zoh``.
 """
 from __future__ import annotations

@@ -12,7 +12,7 @@
   equations from it.
 
 Inputs and outputs are perturbations about trim in SI units, the convention of
-:class:`inflowsim.simulator.Simulator`; ``mu`` is the total trim advance ratio.
+:class:`inflowsim.simulate.simulator.Simulator`; ``mu`` is the total trim advance ratio.
 """
 from .build import build_fmu, description_for
 from .values import apply_parameters, start_values, structure_code

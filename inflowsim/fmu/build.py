@@ -142,7 +142,7 @@ def description_for(model=None) -> Description:
         structure, params = model.structure, dict(model.parameters)
     except AttributeError:
         raise InputError("an FMU is built for a structure, a Model or a parameter file "
-                         f"(inflowsim.paramfile.read_parameters), not {type(model).__name__}"
+                         f"(inflowsim.model.paramfile.read_parameters), not {type(model).__name__}"
                          ) from None
     s = supported(structure)
     refuse_leads(params)

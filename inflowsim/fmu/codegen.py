@@ -69,7 +69,7 @@ def supported(structure) -> Structure:
     for name in s.effects:
         if name.startswith("delay-") and name[len("delay-"):] not in FLAP:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
-                             "input cannot be applied by a causal step (inflowsim.replay "
+                             "input cannot be applied by a causal step (inflowsim.simulate.replay "
                              "applies it to a whole record)")
     from ..model.effects import USER_EFFECTS
     if any(name in USER_EFFECTS for name in s.effects):

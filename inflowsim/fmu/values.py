@@ -48,7 +48,7 @@ def start_values(source, constants=None, description: Description = DEFAULT) -> 
     ----------
     source : Model or ParameterSet
         A :class:`inflowsim.model.Model`, or what
-        :func:`inflowsim.paramfile.read_parameters` returns (an ``identify`` fit).
+        :func:`inflowsim.model.paramfile.read_parameters` returns (an ``identify`` fit).
     constants : Constants, optional
         Overrides the source's constants (``mu``, ``a0``, ``solidity``, ``omega``).
     description : Description, optional
@@ -66,7 +66,7 @@ def start_values(source, constants=None, description: Description = DEFAULT) -> 
         structure, params = source.structure, dict(source.parameters)
     except AttributeError:
         raise InputError("start_values needs a Model or a ParameterSet "
-                         "(inflowsim.paramfile.read_parameters)") from None
+                         "(inflowsim.model.paramfile.read_parameters)") from None
     k = constants if constants is not None else getattr(source, "constants", None)
     s = Structure.parse(structure)
     vals = {name: float(v) for name, v in params.items()}
@@ -97,7 +97,7 @@ def refuse_leads(params: Mapping[str, float]) -> None:
     for name, x in params.items():
         if name.startswith("delay") and x < 0:
             raise InputError(f"{name} = {x:g} s is a lead: the FMU steps causally "
-                             "and applies lags only (inflowsim.replay.replay applies "
+                             "and applies lags only (inflowsim.simulate.replay.replay applies "
                              "leads)")
 
 

@@ -4,7 +4,7 @@ C variable table (``fmu/inflow_vars.[ch]``) are generated from.
 Names are the project's one name per quantity (``interface.md``): inputs as the
 record columns, outputs as the model outputs, parameters and constants by their
 canonical names.  Inputs and outputs are PERTURBATIONS about trim in SI units,
-the convention of :class:`inflowsim.simulator.Simulator`; only ``mu`` (the trim
+the convention of :class:`inflowsim.simulate.simulator.Simulator`; only ``mu`` (the trim
 advance ratio, the flight condition) is a total.
 
 Value references are the position in :data:`VARIABLES` (reals first, contiguous

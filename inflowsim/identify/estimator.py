@@ -10,7 +10,7 @@ after every accepted step (:func:`_lm`).  End effects are eliminated inside ever
 (:mod:`.freqmodel`, :mod:`.problem`).
 
 Starting points: a user ``start`` where given, the theory values
-(:func:`inflowsim.presets.theory_parameters`), the paper's table for the matching
+(:func:`inflowsim.model.presets.theory_parameters`), the paper's table for the matching
 preset, and theory with slow inflow (time constants 20 azimuth rad: from the
 apparent-mass values the search can fall into a quasi-static local minimum).
 Each start gets a short run (``SHORT_RUN`` = 6 iterations); the lowest cost

@@ -2,10 +2,10 @@
 
 The record's transforms (:mod:`.transform`) are ``X = sum_n c_n x_n z^-n``,
 ``z = exp(j w dt)``, with ``c_n = 1`` for held inputs and Gregory's end-corrected
-weights for continuous records.  Per intersample behaviour (:mod:`inflowsim.sampled`):
+weights for continuous records.  Per intersample behaviour (:mod:`inflowsim.simulate.sampled`):
 
 *Discrete (``zoh``, ``foh``).*  The state sampled at ``t_n - d`` obeys
-``xi_{n+1} = phi xi_n + sum_o G_o u_{n+o}`` exactly (:func:`inflowsim.sampled.shift_taps`),
+``xi_{n+1} = phi xi_n + sum_o G_o u_{n+o}`` exactly (:func:`inflowsim.simulate.sampled.shift_taps`),
 so at ANY frequency
 
     ``(z I - phi) XI = sum_o G_o U_o + z xi_0 - z^(1-N) xi_N``,
@@ -44,7 +44,7 @@ __all__ = ["flap_response", "shift_groups", "window_integral", "shifted_transfor
 
 def zoh(a, b, dt):
     """``(phi, gam)`` of the zero-order hold over ``dt`` (as
-    :func:`inflowsim.discrete.zoh`, by :func:`inflowsim.sampled.expm`)."""
+    :func:`inflowsim.simulate.discrete.zoh`, by :func:`inflowsim.simulate.sampled.expm`)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a

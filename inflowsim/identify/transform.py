@@ -4,14 +4,14 @@ Convention (no scaling): ``X(f) = sum_{n=0}^{N-1} c_n x_n z^-n`` with
 ``z = exp(j 2 pi f dt)``.  For held inputs (``zoh``, ``foh``) ``c_n = 1``: the DFT,
 whose relation to the model is exact for the hold.  For continuous records
 ``c_n`` are Gregory's end-corrected trapezoid weights
-(:func:`inflowsim.sampled.gregory_weights`): the sum is then the finite Fourier
+(:func:`inflowsim.simulate.sampled.gregory_weights`): the sum is then the finite Fourier
 integral ``(1/dt) int_0^T x(t) e^{-j w t} dt`` of the continuous signals to
 aliasing accuracy, which the continuous transfer function relates exactly
 (:mod:`.freqmodel`).  On the record's own grid ``f = k / (N dt)`` (resolution
 ``1/duration``) the sum is ``numpy.fft.rfft`` of ``c x``; any other chosen grid
 is a direct sum at those frequencies (no windowing or interpolation).
 
-Trim: the quiet lead-in mean of every channel (:func:`inflowsim.record.find_trim`)
+Trim: the quiet lead-in mean of every channel (:func:`inflowsim.data.record.find_trim`)
 is subtracted before transforming, so the model sees perturbations about trim.
 The DC bin is never in a band (``f1 > 0``).  End effects (the record not starting
 and ending at rest) are not windowed away: they are modelled exactly by the

@@ -4,13 +4,13 @@ The time-domain counterpart of :mod:`inflowsim.identify.freqmodel`: outputs at
 every sample ``t_n`` for input samples ``u_n``, exact for held (``zoh``) and
 linear (``foh``) inputs, and for ``continuous`` records exact for the local-cubic
 interpolation of the samples (error ``O(dt^4)`` for smooth inputs;
-:mod:`inflowsim.sampled`).  Time shifts of either sign on outputs and inputs
+:mod:`inflowsim.simulate.sampled`).  Time shifts of either sign on outputs and inputs
 (``Model.delays``, ``Model.input_delays``) are exact too: each group of outputs
 with one delay is the state sampled at shifted times, driven by the recorded
 inputs through its own taps.  Samples before the record continue the first one
 (the record starts in trim), after it the last one.
 
-Unlike :class:`inflowsim.simulator.Simulator` (a step-by-step loop, causal, inputs
+Unlike :class:`inflowsim.simulate.simulator.Simulator` (a step-by-step loop, causal, inputs
 held), a replay sees the whole record, so leads are possible.
 """
 from __future__ import annotations

@@ -110,7 +110,7 @@ class Simulator:
                 + ("a lead on a flap output" if np.any(model.delays < 0)
                    else "time shifts on its inputs")
                 + ", which a step-by-step loop cannot apply causally; replay a whole "
-                  "record with inflowsim.replay.replay, or drop the time-shift effects "
+                  "record with inflowsim.simulate.replay.replay, or drop the time-shift effects "
                   "(they describe the recording, not the rotor)")
         a, b, c = model.a, model.b, model.c
         if self.method == "rk4":

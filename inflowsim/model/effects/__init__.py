@@ -6,7 +6,7 @@ model plus a set of these; they are always applied in catalogue order so a
 structure is a set, not a sequence.  To add an effect: write one module that
 defines ``EFFECT`` and append its import to ``_MODULES`` below.  Effects written
 outside the package (a file, ``--effect-file``, or an installed package's
-``inflowsim.effects`` entry point) are checked and registered by :mod:`.user`.
+``inflowsim.model.effects`` entry point) are checked and registered by :mod:`.user`.
 """
 from __future__ import annotations
 

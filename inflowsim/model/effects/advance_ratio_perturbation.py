@@ -8,9 +8,9 @@ muy sin psi)`` in ``U_P``.  Linearising the flap equation (1) and the loads (4)
 about the trim state gives new ``mux, muy`` input columns in BOTH
 
 * the flap rows: ``H_u[:, mux:muy] += k_mu n_beta H_mu`` with ``H_mu`` of
-  :func:`inflowsim.bladeelement.inplane_flap_derivatives`, and
+  :func:`inflowsim.physics.bladeelement.inplane_flap_derivatives`, and
 * the inflow forcing: ``P_u[:, mux:muy] += k_mu L dc/dmu_xy`` with ``dc/dmu_xy`` of
-  :func:`inflowsim.bladeelement.inplane_load_derivatives`.
+  :func:`inflowsim.physics.bladeelement.inplane_load_derivatives`.
 
 The coefficients depend on the trim state: pitch and flap totals and ``muz`` from
 the record (``Constants.trim``, record-column names; without them the model is
@@ -19,7 +19,7 @@ cyclic trim is rotated to the true one (``R(-dpsi)``, as the effect does for the
 pitch inputs).  The trim inflow is not measured: it is the steady state of the
 basic inflow model (2) at that trim, whose first row is the momentum balance
 ``lambda0 = C_T/(2 mu)`` with the blade-element ``C_T``
-(:func:`inflowsim.bladeelement.trim_inflow`).  The change of ``L`` itself with the
+(:func:`inflowsim.physics.bladeelement.trim_inflow`).  The change of ``L`` itself with the
 speed (mass flow, ``V ~ mu``) is left out: that is inflow physics, what
 ``glauert`` / ``hub-velocity-coupling`` describe.
 

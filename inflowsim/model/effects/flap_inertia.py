@@ -12,7 +12,7 @@ with the same right-hand side.  The state grows by ``beta' = (beta0_prime,
 beta1c_prime, beta1s_prime)`` (nine states, appended so the outputs stay the first
 six) and every ``beta'`` term of the inflow equation (the loads' ``L G_beta'`` and
 the Glauert ``-beta1s'``, ``-beta1c'`` of ``p*``, ``q*``) moves from ``E21`` into
-``A`` (:func:`inflowsim.equations.assemble`).
+``A`` (:func:`inflowsim.model.equations.assemble`).
 
 Parameter ``flap_inertia`` [-]: the coefficient of ``beta''``.  Its theory value is
 exactly 1: the flap equation is normalised by the blade's own flap inertia
@@ -25,7 +25,7 @@ fit are taken on the slow manifold (``beta'`` quasi-steady, :mod:`inflowsim.mode
 so that the limit holds for the record's end effects too.  The likelihood-ratio
 statistic of a parameter on the boundary of its range is distributed as the
 50:50 mixture of chi-square with 0 and 1 degree of freedom (Chernoff, 1954;
-Self and Liang, 1987): :mod:`inflowsim.candidates` uses that.  The search keeps
+Self and Liang, 1987): :mod:`inflowsim.diagnose.candidates` uses that.  The search keeps
 ``flap_inertia >= FLOOR`` (1e-6: the first-order model to a part in a million).
 """
 import numpy as np

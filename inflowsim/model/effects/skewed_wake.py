@@ -32,7 +32,7 @@ Only the off-diagonal pair is added: the diagonal stays the paper's local moment
 
 Parameter ``k_skew`` [-]: the coupling gain itself, neutral 0.  Theory value
 ``15 pi/64 tan(chi/2)``: with the record's trim (``Constants.trim``) ``chi`` uses
-the trim inflow of :func:`inflowsim.bladeelement.trim_inflow` and the trim
+the trim inflow of :func:`inflowsim.physics.bladeelement.trim_inflow` and the trim
 ``muz``; without it, ``chi = 90 deg``, the edgewise limit the paper's ``V ~ mu``
 already assumes (``k_skew = 15 pi/64 = 0.736``).  For the Puma at 100 kt with the
 virtual trim (``theta0 = 0.17 rad``, ``muz = 0``) ``chi = 84.7 deg`` and

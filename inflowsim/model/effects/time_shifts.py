@@ -6,7 +6,7 @@ by its own time [s], for example a control position sampled by another data
 system than the blade sensors.  Outputs: ``delay-beta0``, ``delay-beta1c``,
 ``delay-beta1s`` (alternatives to the shared ``time-delay``); inputs:
 ``delay-theta0`` ... ``delay-muy``.  The sampled-data relations of every hold are
-exact for any shift (:mod:`inflowsim.sampled`).
+exact for any shift (:mod:`inflowsim.simulate.sampled`).
 
 Not offered to the diagnosis by default (13 more candidates, each one degree of
 freedom, would raise the chance of a false alarm over the catalogue and the

@@ -8,7 +8,7 @@ sentence of physics, where it comes from, its parameters with a
 plausible range), the theory and neutral values, and its contribution to the
 structured equations and the measurement map as pure functions.  A file defines
 ``EFFECT`` (or ``EFFECTS``, a sequence); an installed package names one in the
-entry-point group ``inflowsim.effects`` (the object, or a module defining
+entry-point group ``inflowsim.model.effects`` (the object, or a module defining
 ``EFFECT``/``EFFECTS``).  Once registered it is a candidate like any other
 (offered to the diagnosis unless ``offered=False``).
 
@@ -39,7 +39,7 @@ __all__ = ["check_effect", "load_effect_file", "load_effect_files", "load_instal
            "register_user", "unregister", "registered", "USER_EFFECTS", "ENTRY_POINT_GROUP"]
 
 #: Entry-point group an installed package names its effects in.
-ENTRY_POINT_GROUP = "inflowsim.effects"
+ENTRY_POINT_GROUP = "inflowsim.model.effects"
 #: ``{effect name: where it came from}`` of the registered user effects.
 USER_EFFECTS: dict[str, str] = {}
 _NAME = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
@@ -318,7 +318,7 @@ def load_effect_file(path) -> tuple:
 
 
 def load_installed() -> tuple:
-    """Register the effects installed packages name in the ``inflowsim.effects``
+    """Register the effects installed packages name in the ``inflowsim.model.effects``
     entry-point group (once per process)."""
     global _installed_loaded
     if _installed_loaded:
