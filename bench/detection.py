@@ -22,9 +22,12 @@ to the white noise's power in the band (``coloured-level``: :func:`noise_of`):
 Every candidate's statistics are written, one JSON document a line, so the
 acceptance rule can be studied offline; a summary table is printed.
 
-    python bench/detection.py --kind null --seeds 50 --out bench/results/null.jsonl
-    python bench/detection.py --kind hidden --seeds 5 --out bench/results/hidden.jsonl
-    python bench/detection.py --summary bench/results/*.jsonl
+    python bench/detection.py --kind null --seeds 8 --out /tmp/null.jsonl
+    python bench/detection.py --kind hidden --seeds 8 --out /tmp/hidden.jsonl
+    python bench/detection.py --summary bench/results/current/*.jsonl.gz
+
+``bench/results/`` keeps, gzipped, only the results the tables of ``bench/README.md``
+are made from.
 """
 from __future__ import annotations
 
