@@ -8,8 +8,8 @@ assembly), ``simulate`` (sampled-data relations, the fixed-step simulator, repla
 ``diagnose`` (validation, failures, candidate effects, the ladder), ``flighttest``
 (virtual records), ``report`` (figures and documents), ``campaign`` (many records
 on Dask), ``fmu`` (the co-simulation FMU) and ``commands`` (the ``inflowsim``
-command line).  Import paths of 0.1.0
-(``inflowsim.data.record`` ...) still work (:mod:`._legacy`).
+command line).  The import paths of 0.1.0 (``record``, ``simulator`` ... directly
+under the package) still work and warn (:mod:`._legacy`).
 """
 from . import _legacy
 

@@ -19,7 +19,7 @@ HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
 
 
 def add_arguments(p):
-    from ..identify.transform import DEFAULT_BAND
+    from ..defaults import DEFAULT_BAND
     p.add_argument("plan", metavar="PLAN",
                    help="folder of records (*.csv) or manifest (.csv or .toml)")
     p.add_argument("--out", "-o", required=True, metavar="DIR",
@@ -51,7 +51,7 @@ def _settings(args, plan):
     from ..campaign.work import Settings
     from ..diagnose.candidates import ALPHA
     from ..errors import InputError
-    from ..identify.transform import DEFAULT_BAND
+    from ..defaults import DEFAULT_BAND
     from ..model.structure import Structure
     s = plan.settings
     model = args.model or s.get("model", "glauert")
