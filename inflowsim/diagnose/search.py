@@ -9,6 +9,7 @@ when two effects explain similar residuals.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -271,6 +272,10 @@ class Ladder:
                 "verdict": self.verdict.to_json() if self.verdict else None,
                 "identifiability": (self.identifiability.to_json()
                                     if self.identifiability else None),
+                "missing_terms": (self.final.diagnosis.missing_terms.to_json()
+                                  if self.final.diagnosis is not None
+                                  and self.final.diagnosis.missing_terms is not None
+                                  else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "cost": float(r.fit.cost), "fit": r.fit.fit,
@@ -306,8 +311,13 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         rungs.append(Rung(d.structure, d.fit, win.effect, d, d.analyses))
     added = tuple(r.added for r in rungs[1:])
     verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
-    return Ladder(tuple(rungs), d.band_hz, verd,
-                  identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))
+    # the last rung is the answer: it says what the records determine of it and,
+    # where excess is left, where a term is missing
+    ident = identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres)
+    last = dataclasses.replace(d, identifiability=ident,
+                               missing_terms=missing_terms(recs, d.fit, band_hz, hold))
+    rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=last)
+    return Ladder(tuple(rungs), d.band_hz, verd, ident)
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,

@@ -52,6 +52,12 @@ def ladder_markdown(ladder) -> str:
     out = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     out += identifiability_lines(ladder.identifiability, ladder.final.structure.name)
+    last = ladder.final.diagnosis
+    if (ladder.verdict is not None and ladder.verdict.status in
+            ("unexplained", "partly-explained") and last is not None
+            and last.missing_terms is not None):
+        out.append("where a term is missing (score test of every single-entry addition):")
+        out += [f"  {line}" for line in last.missing_terms.describe()]
     if ladder.verdict is not None:
         out.append(ladder.verdict.describe())
     return "\n".join(out)
