@@ -31,10 +31,9 @@ def test_python_tour_runs_as_written(tmp_path, monkeypatch):
     blocks = python_blocks(README)
     assert len(blocks) >= 3
     monkeypatch.chdir(tmp_path)
-    # a short, coarse record with one missing effect: the tour runs diagnose and a
-    # ladder on it as written (two rungs); the searches' decisions are tested on
-    # their own records (test_diagnose)
-    write_record(virtual(structure="basic+azimuth-bias", duration=12.0, dt=0.02),
+    # a short, coarse record: the tour runs diagnose and a ladder on it as written,
+    # and the searches' decisions are tested on their own records (test_diagnose)
+    write_record(virtual(structure="glauert+azimuth-bias", duration=12.0, dt=0.02),
                  tmp_path / "flight.csv")
     has_cc = any(shutil.which(c) for c in ("cc", "gcc"))
     scope = {}
