@@ -6,7 +6,14 @@ immutable); ``TWO_AXES`` is a longitudinal then a lateral cyclic doublet.  Test
 modules import the helpers they need from here (``from conftest import ...``);
 pytest puts this folder on the path.
 """
+import os
 from functools import lru_cache
+
+# two test workers share two cores (pytest-xdist, -n auto): BLAS threads beyond one a
+# worker only spin against each other (set before NumPy is imported; a value the
+# caller set is kept)
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
 import pytest
 

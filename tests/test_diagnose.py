@@ -144,6 +144,7 @@ def test_hidden_effect_under_coloured_noise(effect):
     assert any("input-correlated excess" in c.reason for c in d2.candidates)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("effect, hold, rate", [("advance-ratio-perturbation", "continuous", 256),
                                                 ("second-harmonic-flap", "zoh", 64)])
 def test_weakest_effects_under_coloured_noise_of_the_same_level(effect, hold, rate):

@@ -145,6 +145,7 @@ def test_without_the_pair_test_glauert_would_be_named():
                     rule=Rule(pair_min_dof=99)).missing_effect == "glauert"
 
 
+@pytest.mark.slow
 def test_a_part_of_glauert_is_named_where_the_whole_is_not_worth_its_gains():
     """256 Hz, seed 7 (``bench/README.md``): after flap inertia, the in-plane
     forcing, the 2/rev flap and the separate time constants, ``beta0`` is still
