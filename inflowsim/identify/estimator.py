@@ -206,18 +206,28 @@ def _colored(prob, st, blocks, cov):
     return cov @ V @ cov
 
 
+def null_directions(M):
+    """``(undetermined indices, flat directions)`` of an information matrix: the
+    flat directions ``(relative eigenvalue, unit vector)`` of the scaled ``M`` at
+    ``RANK_TOL`` of the largest or below, and every parameter with no information or
+    a weight above 0.3 in one of them."""
+    p = M.shape[0]
+    dg = np.diag(M).copy()
+    scale = np.sqrt(np.where(dg > 0, dg, 1.0))
+    w, v = np.linalg.eigh(M / np.outer(scale, scale))
+    top = max(w.max(), 1e-300)
+    dead = set(np.flatnonzero(dg <= 1e-14 * max(dg.max(), 1e-300)).tolist())
+    flat = [(float(max(w[i], 0.0) / top), v[:, i]) for i in range(p) if w[i] < RANK_TOL * top]
+    for _, vec in flat:
+        dead.update(np.flatnonzero(np.abs(vec) > 0.3).tolist())
+    return sorted(dead), flat
+
+
 def _bounds(prob, st):
     """Covariance (determined directions), undetermined parameter indices."""
     M, blocks = _information(prob, st)
     p = M.shape[0]
-    dg = np.diag(M).copy()
-    scale = np.sqrt(np.where(dg > 0, dg, 1.0))
-    Mn = M / np.outer(scale, scale)
-    w, v = np.linalg.eigh(Mn)
-    dead = set(np.flatnonzero(dg <= 1e-14 * max(dg.max(), 1e-300)).tolist())
-    null_dirs = [v[:, i] for i in range(p) if w[i] < RANK_TOL * max(w.max(), 1e-300)]
-    for vec in null_dirs:
-        dead.update(np.flatnonzero(np.abs(vec) > 0.3).tolist())
+    dead, null_dirs = null_directions(M)
     ok = np.array([i for i in range(p) if i not in dead], dtype=int)
     cov = np.full((p, p), np.nan)
     cov_c = np.full((p, p), np.nan)

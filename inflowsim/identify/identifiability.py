@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..model.params import SPECS
-from .estimator import RANK_TOL, _state
+from .estimator import _state, null_directions
 from .problem import Problem
 from .transform import DEFAULT_BAND, dft, record_spectra, transform_weights
 
@@ -193,18 +193,8 @@ def _information(prob, S):
 
 def _determined(M):
     """Indices in no flat direction, and the flat directions ``(w_rel, vec)``."""
-    p = M.shape[0]
-    dg = np.diag(M).copy()
-    scale = np.sqrt(np.where(dg > 0, dg, 1.0))
-    w, v = np.linalg.eigh(M / np.outer(scale, scale))
-    top = max(w.max(), 1e-300)
-    dead = set(np.flatnonzero(dg <= 1e-14 * max(dg.max(), 1e-300)).tolist())
-    flat = []
-    for i in range(p):
-        if w[i] < RANK_TOL * top:
-            dead.update(np.flatnonzero(np.abs(v[:, i]) > 0.3).tolist())
-            flat.append((float(max(w[i], 0.0) / top), v[:, i]))
-    return [i for i in range(p) if i not in dead], flat
+    dead, flat = null_directions(M)
+    return [i for i in range(M.shape[0]) if i not in dead], flat
 
 
 def _manoeuvre_spectra(sp, structure, cols):
