@@ -47,7 +47,7 @@ def single_axis_ladder(tmp_path, capsys, channel, seed=0):
 def test_single_axis_ladder_adds_nothing_false_and_says_what_it_cannot_see(
         tmp_path, capsys, channel):
     rec, doc, _ = single_axis_ladder(tmp_path, capsys, channel)
-    added = [r["added"] for r in doc["rungs"][1:]]
+    added = [e for r in doc["rungs"][1:] for e in r["added"].split("+")]
     assert set(added) <= TRUTH_EFFECTS, added
     truth = paper_table(3)[1]
     final = doc["rungs"][-1]["parameters"]

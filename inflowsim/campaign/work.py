@@ -100,12 +100,13 @@ def _fit_summary(fit) -> dict:
 def _ladder_summary(lad, diag) -> dict:
     return {"missing_effect": diag.missing_effect,
             "verdict": _verdict(diag.missing_effect),
-            "accepted": [c.effect for c in diag.candidates if c.accepted],
+            "accepted": list(diag.missing_effects),
             "ladder_added": [r.added for r in lad.rungs if r.added],
             "final_structure": lad.final.structure.name,
             "base_fit": _fit_summary(diag.fit),
             "final_fit": _fit_summary(lad.final.fit),
-            "candidates": {c.effect: {"accepted": bool(c.accepted), "reason": c.reason}
+            "candidates": {c.atom: {"accepted": bool(c.accepted), "reason": c.reason,
+                                    "failed": list(c.failed)}
                            for c in diag.candidates},
             "diagnosis": diag.to_json(), "ladder": lad.to_json()}
 

@@ -3,8 +3,10 @@
 Fits ``--model`` (starting from ``--params`` when given), reports where model and
 measurement part (per channel and frequency, magnitude or phase), residual
 whiteness and correlation with the inputs, implausible or poorly determined
-estimates, then adds every candidate effect in turn, refits, and ranks them by a
-likelihood-ratio test (``inflowsim.diagnose.candidates``).
+estimates, then applies the diagnosis's rule (``inflowsim.diagnose.rule``: every
+candidate effect, or part of one, added alone and in pairs, scored by the Schwarz
+gain, the best admissible one accepted when it is worth its parameters and
+material), and says how much excess is left (the verdict).
 """
 from __future__ import annotations
 

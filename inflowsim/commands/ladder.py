@@ -1,7 +1,8 @@
 """``inflowsim ladder``: add the missing effect, refit, repeat; or climb given structures.
 
-Without ``--structures``: from ``--model``, diagnose, add the best significant
-effect, refit and diagnose again until nothing significant is left.  With
+Without ``--structures``: from ``--model``, diagnose, add what the rule accepts
+(``inflowsim.diagnose.rule``: an effect, a part of one, or a pair), and diagnose
+again until nothing is accepted; the last line is the verdict.  With
 ``--structures basic empirical glauert``: fit each (the paper's Tables 1 -> 2 -> 3).
 Prints the table of parameters with bounds side by side; ``--report DIR`` adds
 the plot of the error falling.

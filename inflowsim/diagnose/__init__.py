@@ -1,5 +1,5 @@
 """Diagnosis layer: compare a model with measurements (:mod:`.validation`), see where
-it fails (:mod:`.failures`), which effect is missing (:mod:`.candidates`), and the
+it fails (:mod:`.failures`), which effect is missing (the rule, :mod:`.rule`, on the lattice of :mod:`.candidates`), and the
 ladder that adds it and ranks again (:mod:`.search`).
 
 ``inflowsim.diagnose`` was a module before the package was split into layers; its

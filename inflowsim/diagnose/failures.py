@@ -471,26 +471,35 @@ def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=ALPHA
     return out
 
 
-def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
-    """The structured excess no candidate explains, in one line per channel:
-    ``unexplained residual: X times the noise floor at F Hz in beta1s``."""
+def excess_channels(analyses, alpha=ALPHA) -> list:
+    """``(channel, peak_hz, peak ratio, mean ratio)`` of every channel, over the
+    records, whose residual keeps excess over the floor (level test at ``alpha``)
+    that is structured (:func:`channel_structure`): the verdict's ``where`` and the
+    ``unexplained`` findings both come from here."""
     out = []
     for ra in analyses:
         for c, ch in enumerate(FLAP_COLUMNS):
-            r = ra.ratio[c]
             if level_p_value(ra, c) >= alpha:
                 continue
             if not channel_structure(ra, c, alpha)["structured"]:
                 continue
+            r = ra.ratio[c]
             k = int(np.argmax(r))
-            out.append(Failure(
-                "unexplained", ch,
-                f"unexplained residual: {r.mean():.3g} times the noise floor over the band, "
-                f"{r[k]:.3g} at {ra.f_hz[k]:.3g} Hz in {ch}; outside the candidate "
-                "catalogue (no candidate is significant, plausible and material)",
-                {"excess_power": float(r.mean()), "peak_hz": float(ra.f_hz[k]),
-                 "peak_excess": float(r[k])}))
+            out.append((ch, float(ra.f_hz[k]), float(r[k]), float(r.mean())))
     return out
+
+
+def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
+    """The structured excess no candidate explains (:func:`excess_channels`), in one
+    line per channel: ``unexplained residual: X times the noise floor at F Hz in
+    beta1s``."""
+    return [Failure(
+        "unexplained", ch,
+        f"unexplained residual: {mean:.3g} times the noise floor over the band, "
+        f"{peak:.3g} at {f:.3g} Hz in {ch}; outside the candidate catalogue (no "
+        "structure of candidate effects is accepted)",
+        {"excess_power": mean, "peak_hz": f, "peak_excess": peak})
+        for ch, f, peak, mean in excess_channels(analyses, alpha)]
 
 
 def parameter_failures(parameters, sigma, correlation=None, names=None, omega=None,

@@ -1,86 +1,134 @@
-"""The settings of the diagnosis's acceptance rule, as data passed as an argument.
+"""The diagnosis's acceptance rule: stated here, decided here, its settings an argument.
 
-The rule itself is stated in :mod:`inflowsim.diagnose.candidates` (the tests a
-candidate passes) and :mod:`inflowsim.diagnose.rivals` (naming one among rivals);
-its numbers live here, in one frozen object that :func:`~inflowsim.diagnose.diagnose`,
-:func:`~inflowsim.diagnose.ladder` and the pieces they call take as ``rule=``.  A
-study varies a setting by passing ``Rule(...)`` (``dataclasses.replace``), never by
-patching a module.
+The rule, in five lines (``docs/workflow.md`` states the same five):
+
+1. **Atoms.** Each catalogue effect the structure lacks is an atom, one per physical part
+   where it has several (Glauert: ``F``, ``G``); what the record leaves flat is held, said.
+2. **Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
+   of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
+3. **Admissible.** Each atom of the structure is significant beside the others (level
+   ``alpha``) and its estimates are plausible for this rotor (``plausible_sigmas``).
+4. **Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
+   it takes at least ``material`` of the residual's excess over the noise (whiter).
+5. **Added.** Its atoms are what is missing (the ladder's next rung); nothing accepted:
+   nothing added, and the verdict says how much excess is left and where.
+
+What the terms mean, and why:
+
+- ``J`` is the cost (12), the negative log-likelihood of the complex residuals with
+  their error covariance estimated; ``k`` the parameters an atom adds, ``n`` the real
+  numbers fitted (six a frequency bin).  ``G`` is Schwarz's criterion: ``G > 2`` is
+  "positive evidence" (Kass and Raftery, JASA 90, 1995).  One criterion ranks every
+  structure, single or pair, nested or not.
+- An atom is fitted from the base estimates (so it nests the base).  Directions of it
+  the record leaves flat (no information: ``c2`` on a single ``theta1s`` doublet) are
+  held at neutral and said (``held``); an atom with no direction determined is not
+  tried.  Holding a flat direction biases nothing else.
+- *Significant beside the others*: the likelihood-ratio statistic of the structure
+  against the same structure without that atom, chi-square with the atom's ``k``
+  degrees of freedom (``model.md`` section 7); for a parameter whose neutral value is
+  its range's edge (``flap_inertia = 0``) the 50:50 mixture of Self and Liang (1987).
+  A single atom is tested against the base.  A flexible atom that only mimics a
+  simpler one is not significant beside it, so that pair is not admissible, and the
+  simpler atom's own structure then competes on ``G``.
+- *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
+  range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
+- *Material*: the structure removes at least ``material`` of the base residual's excess
+  over the noise floor (its level deviance from white noise at the floor; on a record
+  whose sensor noise is coloured, :data:`~inflowsim.diagnose.failures.COLOURED` times
+  the floor or more, the residual's input-correlated excess, :mod:`.excess`), and the
+  residual moves toward the floor (*whiter*): an effect significant only because the
+  record is long, or that fits the noise, is not what the residual is made of.  Only
+  the structure chosen by ``G`` is put to it: a weaker structure is never named
+  because a stronger one explains a small share of a noisy excess.
+
+:func:`decide` applies the rule to a table of scored structures (:class:`Scored`, made
+by :func:`inflowsim.diagnose.candidates.lattice`): the decision is data
+(:class:`Decision`, with ``to_json``), and the text and reports are rendered from it.
+A study varies a setting by passing ``Rule(...)``, never by patching a module.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 
 from ..defaults import ALPHA
 from ..errors import InputError
 from .failures import COLOURED
 
-#: Every test a candidate can be put to, in the order they are stated.
-TESTS = ("significant", "parsimonious", "plausible", "material", "whiter", "unrivalled")
-#: What the material and whiter tests measure on a white-noise record.
+def _statement(doc: str) -> tuple:
+    """The numbered lines of the docstring's first list, each joined to one line."""
+    out, cur = [], None
+    for line in doc.split("What the terms mean")[0].splitlines():
+        t = line.strip()
+        if t[:2] in {f"{i}." for i in range(1, 10)}:
+            cur = [t]
+            out.append(cur)
+        elif cur is not None and t:
+            cur.append(t)
+    return tuple(" ".join(c).replace("**", "").replace("``", "") for c in out)
+
+
+#: The rule's five lines, from the module docstring (``docs/workflow.md`` and the
+#: reports say the same; a test checks they agree).
+STATEMENT = _statement(__doc__)
+
+
+#: What the material test measures on a white-noise record (studies may ask the other).
 WHITE_MEASURES = ("level", "deviance")
+#: The tests of lines 3 and 4, in the order they are stated.
+TESTS = ("determined", "significant", "plausible", "parsimonious", "material", "whiter")
 
 
 @dataclass(frozen=True)
 class Rule:
-    """Settings of the acceptance rule.
+    """Settings of the rule (module docstring, lines 1-5).
 
     Attributes
     ----------
     alpha : float
-        Significance level of each likelihood-ratio test [-].
-    schwarz_min : float
-        Schwarz gain a candidate must exceed: 2 is "positive evidence" (Kass and
-        Raftery, JASA 90, 1995).
+        Level of each likelihood-ratio test [-] (line 3).
+    width : int
+        Significant atoms of largest gain paired with each other (line 2).
     plausible_sigmas : float
-        Estimates within this many sigma of their plausible range are plausible.
+        An estimate within this many sigma of its range is plausible [-] (line 3).
+    schwarz_min : float
+        Schwarz gain the accepted structure must exceed [-] (line 4).
     material : float
-        Share of the base residual's excess over the noise floor a candidate must
-        explain [-].
-    tests : tuple of str
-        The tests applied (:data:`TESTS`; a study may narrow them).
+        Share of the base residual's excess over the noise the accepted structure
+        must remove [-] (line 4).
     white_measure : {"level", "deviance"}
-        The measure of the material and whiter tests on white-noise records: the
-        level deviance, or the per-bin deviance (kept for studies).
+        The excess on white-noise records: the level deviance (default) or the
+        per-bin deviance (kept for studies).
     coloured : float
-        A record whose in-band sensor noise is this many times the floor or more
-        is judged on the residual's input-correlated excess instead (0: every
-        record; :data:`inflowsim.diagnose.failures.COLOURED`).
-    pair_min_dof : int
-        A candidate with this many parameters or more is tested against pairs of
-        smaller ones.
-    max_pairs, max_part_pairs : int
-        Pairs of candidates, and of a candidate with a part of a whole effect,
-        tried at most.
-    max_rounds : int
-        Rounds of displacement among rivals, per candidate, at most.
+        In-band sensor noise this many times the floor or more makes the excess the
+        input-correlated one (0: every record).
     """
 
     alpha: float = ALPHA
-    schwarz_min: float = 2.0
+    width: int = 3
     plausible_sigmas: float = 3.0
+    schwarz_min: float = 2.0
     material: float = 0.10
-    tests: tuple = TESTS
     white_measure: str = "level"
     coloured: float = COLOURED
-    pair_min_dof: int = 3
-    max_pairs: int = 3
-    max_part_pairs: int = 3
-    max_rounds: int = 3
 
     def __post_init__(self):
         if not 0 < self.alpha < 1:
             raise InputError(f"alpha = {self.alpha:g}: give a level between 0 and 1")
-        bad = [t for t in self.tests if t not in TESTS]
-        if bad:
-            raise InputError(f"rule test {bad[0]!r}: choose from {', '.join(TESTS)}")
+        if int(self.width) != self.width or self.width < 0:
+            raise InputError(f"width = {self.width!r}: give a whole number of atoms >= 0")
+        if self.plausible_sigmas < 0 or not 0 <= self.material < 1:
+            raise InputError("plausible_sigmas >= 0 and 0 <= material < 1, please")
         if self.white_measure not in WHITE_MEASURES:
             raise InputError(f"white_measure {self.white_measure!r}: choose "
                              f"{' or '.join(WHITE_MEASURES)}")
-        object.__setattr__(self, "tests", tuple(self.tests))
 
-    def uses(self, test: str) -> bool:
-        return test in self.tests
+    def to_json(self) -> dict:
+        return {"alpha": self.alpha, "width": self.width,
+                "plausible_sigmas": self.plausible_sigmas,
+                "schwarz_min": self.schwarz_min, "material": self.material,
+                "white_measure": self.white_measure, "coloured": self.coloured}
 
 
 #: The rule as the library applies it by default.
@@ -92,3 +140,155 @@ def rule_with(rule: Rule | None, alpha: float | None = None) -> Rule:
     from dataclasses import replace
     rule = rule or DEFAULT_RULE
     return rule if alpha is None or alpha == rule.alpha else replace(rule, alpha=alpha)
+
+
+@dataclass(frozen=True)
+class Scored:
+    """One structure of the lattice: the base plus ``atoms``, fitted and scored.
+
+    Attributes
+    ----------
+    atoms : tuple of str
+        The atoms added (an effect's name, or ``"effect (p1, p2)"`` for one part).
+    effects : tuple of str
+        The catalogue effects they belong to.
+    structure : str
+        The structure fitted.
+    dof : int
+        Parameters added, ``k`` (held ones not counted).
+    statistic : float
+        ``2 (J_base - J)`` [-].
+    schwarz_gain : float
+        ``G = 2 (J_base - J) - k ln n`` [-].
+    beside : tuple
+        ``((atom, log10 p), ...)``: each atom's likelihood-ratio p-value beside the
+        others (a single atom: against the base).
+    implausible : tuple
+        ``((parameter, estimate, sigma, low, high, why), ...)`` of estimates outside
+        their range by more than the rule's sigmas (empty: plausible).
+    held : tuple
+        Parameters of the atoms held at neutral: directions the record leaves flat
+        and, for a part, the effect's other parts.
+    flat : tuple
+        Of ``held``, the parameters held because the record leaves them flat.
+    excess_before, excess_after : float or None
+        The base residual's excess measure and this structure's (``None``: not
+        measured); ``excess_noise`` what noise alone gives.
+    measure : str
+        What the excess measures (``"level deviance"``, ``"input-correlated excess"``,
+        ``"deviance"``).
+    error : str or None
+        Why the structure could not be fitted or judged (then never admissible).
+    fit : IdentResult
+        Its fit (not in the JSON).
+    """
+
+    atoms: tuple
+    effects: tuple
+    structure: str
+    dof: int
+    statistic: float = 0.0
+    schwarz_gain: float = -math.inf
+    beside: tuple = ()
+    implausible: tuple = ()
+    held: tuple = ()
+    flat: tuple = ()
+    excess_before: float | None = None
+    excess_after: float | None = None
+    excess_noise: float | None = None
+    measure: str = "level deviance"
+    error: str | None = None
+    fit: object = field(repr=False, compare=False, default=None)
+
+    @property
+    def share(self) -> float | None:
+        """Share of the base residual's excess over noise this structure removes."""
+        if self.excess_before is None or self.excess_after is None:
+            return None
+        room = self.excess_before - self.excess_noise
+        return (self.excess_before - self.excess_after) / room if room > 0 else 0.0
+
+    def failed(self, rule: Rule = DEFAULT_RULE) -> tuple:
+        """The tests of lines 3-4 (:data:`TESTS`) this structure fails, as data."""
+        if self.error is not None:
+            return ("determined",)
+        out = []
+        lim = math.log10(rule.alpha)
+        if any(lp >= lim for _, lp in self.beside) or not self.beside:
+            out.append("significant")
+        if self.implausible:
+            out.append("plausible")
+        if self.schwarz_gain <= rule.schwarz_min:
+            out.append("parsimonious")
+        share = self.share
+        if share is not None and (self.excess_before <= self.excess_noise
+                                  or share < rule.material):
+            out.append("material")
+        if self.excess_after is not None and self.excess_after >= self.excess_before:
+            out.append("whiter")
+        return tuple(out)
+
+    def admissible(self, rule: Rule = DEFAULT_RULE) -> bool:
+        """Line 3: fitted, each atom significant beside the others, plausible."""
+        return not {"determined", "significant", "plausible"} & set(self.failed(rule))
+
+    def to_json(self, rule: Rule = DEFAULT_RULE) -> dict:
+        return {"atoms": list(self.atoms), "effects": list(self.effects),
+                "structure": self.structure, "dof": self.dof,
+                "statistic": self.statistic, "schwarz_gain": self.schwarz_gain,
+                "log10_p_beside_others": dict(self.beside),
+                "implausible": [{"parameter": n, "estimate": e, "sigma": s, "low": lo,
+                                 "high": hi, "why": w}
+                                for n, e, s, lo, hi, w in self.implausible],
+                "held_at_neutral": list(self.held), "not_determined": list(self.flat),
+                "share_of_excess": self.share, "measure": self.measure,
+                "excess_before": self.excess_before, "excess_after": self.excess_after,
+                "excess_of_noise": self.excess_noise,
+                "admissible": self.admissible(rule), "failed": list(self.failed(rule)),
+                **({"error": self.error} if self.error else {})}
+
+
+@dataclass(frozen=True)
+class Decision:
+    """The rule applied to a lattice: ``rows`` ranked (admissible first, by ``G``),
+    ``best`` the index of the admissible row of largest ``G`` (``None``: none
+    admissible), ``accepted`` whether it passed line 4."""
+
+    rows: tuple
+    best: int | None
+    accepted: bool
+    rule: Rule = DEFAULT_RULE
+
+    @property
+    def chosen(self) -> Scored | None:
+        return None if self.best is None else self.rows[self.best]
+
+    @property
+    def added(self) -> tuple:
+        """The atoms the rule adds (line 5)."""
+        return self.chosen.atoms if self.accepted else ()
+
+    @property
+    def effects(self) -> tuple:
+        return self.chosen.effects if self.accepted else ()
+
+    def to_json(self) -> dict:
+        c = self.chosen
+        return {"rule": self.rule.to_json(), "criterion": "schwarz_gain",
+                "best": None if c is None else list(c.atoms),
+                "accepted": self.accepted, "added": list(self.added),
+                "best_failed": [] if c is None else
+                [t for t in c.failed(self.rule) if t in ("parsimonious", "material",
+                                                         "whiter")],
+                "structures": [r.to_json(self.rule) for r in self.rows]}
+
+
+def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
+    """Lines 3-5 of the rule on scored structures (the module docstring)."""
+    def key(r):
+        return (not r.admissible(rule), -r.schwarz_gain, r.dof)
+    rows = tuple(sorted(rows, key=key))
+    if not rows or not rows[0].admissible(rule):
+        return Decision(rows, None, False, rule)
+    failed = set(rows[0].failed(rule))
+    return Decision(rows, 0, not failed & {"parsimonious", "material", "whiter"}, rule)

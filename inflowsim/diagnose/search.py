@@ -14,10 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import ALPHA, Candidate, rank_candidates
+from .candidates import candidates_of, lattice
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
-from .rivals import resolve_rivals
-from .rule import Rule, rule_with
+from .rule import Decision, Rule, decide, rule_with
 from .terms import missing_terms
 from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
                        WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
@@ -37,8 +36,10 @@ class Diagnosis:
 
     ``failures`` where the fitted structure and the measurements part (with an
     ``unexplained`` finding when the residual keeps structure no candidate
-    explains); ``candidates`` ranked best first; ``missing_effect`` the best
-    accepted candidate (:mod:`inflowsim.diagnose.candidates`) or ``None``.
+    explains); ``decision`` the rule's table of scored structures and what it
+    accepted (:mod:`inflowsim.diagnose.rule`); ``candidates`` its atoms, added ones
+    first; ``missing_effect`` the first effect the rule adds, or ``None``
+    (``missing_effects`` all of them: a pair may be accepted).
     """
 
     structure: Structure
@@ -57,6 +58,19 @@ class Diagnosis:
     #: the score map of single-entry additions at the base fit
     #: (:class:`~inflowsim.diagnose.terms.MissingTerms`)
     missing_terms: object = field(repr=False, default=None)
+    #: the rule's decision (:class:`~inflowsim.diagnose.rule.Decision`)
+    decision: Decision | None = field(repr=False, default=None)
+
+    @property
+    def missing_effects(self) -> tuple:
+        return self.decision.effects if self.decision is not None else ()
+
+    @property
+    def accepted(self):
+        """The accepted structure's row (:class:`~inflowsim.diagnose.rule.Scored`), or
+        ``None``."""
+        d = self.decision
+        return d.chosen if d is not None and d.accepted else None
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -65,6 +79,8 @@ class Diagnosis:
                 "failures": [f.to_json() for f in self.failures],
                 "candidates": [c.to_json() for c in self.candidates],
                 "missing_effect": self.missing_effect,
+                "missing_effects": list(self.missing_effects),
+                "decision": self.decision.to_json() if self.decision else None,
                 "parameters": parameter_entries(self.fit, self.identifiability),
                 "identifiability": (self.identifiability.to_json()
                                     if self.identifiability else None),
@@ -222,23 +238,19 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     rule = rule_with(rule, alpha)
     alpha = rule.alpha
     judge = _judge(recs, band_hz, fit, analyses, rule.white_measure, rule.coloured)
-    cands = rank_candidates(recs, fit, band_hz, fit_fn, pool, progress=progress,
-                            judge=judge, rule=rule)
-    if rule.uses("unrivalled"):
-        cands = resolve_rivals(recs, fit, cands, band_hz, fit_fn, progress=progress,
-                               rule=rule)
-    best = next((c.effect for c in cands if c.accepted), None)
-    if best is None:
+    dec = decide(lattice(recs, fit, band_hz, fit_fn, pool, judge, rule, progress), rule)
+    cands = candidates_of(dec)
+    if dec.accepted:
+        verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
+                                             check_colour=False), dec.effects, alpha)
+    else:
         fails += unexplained(analyses, alpha)
         verd = verdict(analyses, analyses, (), alpha)
-    else:
-        win = next(c for c in cands if c.effect == best)
-        verd = verdict(analyses, analyses_of(recs, win.fit, band_hz, check_colour=False),
-                       (best,), alpha)
+    best = dec.effects[0] if dec.accepted else None
     ident = identifiability(recs, fit, band_hz, hold, manoeuvres) if assess else None
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
-                     missing_terms(recs, fit, band_hz, hold) if assess else None)
+                     missing_terms(recs, fit, band_hz, hold) if assess else None, dec)
 
 
 @dataclass(frozen=True)
@@ -247,10 +259,13 @@ class Rung:
 
     structure: Structure
     fit: object = field(repr=False)
+    #: the effects added on this rung, ``"a+b"`` (``None`` on the first)
     added: str | None
     diagnosis: Diagnosis | None = field(repr=False, default=None)
     #: the fit's residual analyses per record (its diagnosis's, when it has one)
     analyses: tuple = field(repr=False, default=())
+    #: the rule's atoms added on this rung (an effect, or one part of one)
+    atoms: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -278,21 +293,25 @@ class Ladder:
                                   else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
-             "added": r.added, "cost": float(r.fit.cost), "fit": r.fit.fit,
+             "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
+             "fit": r.fit.fit,
              "S_diag": [[float(v) for v in abs(S.diagonal())] for S in r.fit.S],
              "parameters": parameter_entries(r.fit, self.identifiability
                                              if i == last else None),
              "candidates": [c.to_json() for c in r.diagnosis.candidates] if r.diagnosis else [],
-             "missing_effect": r.diagnosis.missing_effect if r.diagnosis else None}
+             "missing_effect": r.diagnosis.missing_effect if r.diagnosis else None,
+             "decision": (r.diagnosis.decision.to_json()
+                          if r.diagnosis and r.diagnosis.decision else None)}
             for i, r in enumerate(self.rungs)]}
 
 
 def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=None,
            progress=None, hold=None, manoeuvres=None, rule: Rule | None = None) -> Ladder:
-    """Add the best accepted effect and rank again, until none is accepted.
+    """Add what the rule accepts (:mod:`inflowsim.diagnose.rule`: one atom, or a pair)
+    and diagnose again, until nothing is accepted.
 
-    The next rung's fit is the winning candidate's own fit (already made while
-    ranking), so each rung costs one ranking.
+    The next rung's fit is the accepted structure's own fit (already made on the
+    lattice), so each rung costs one lattice.
     """
     recs = _as_list(records)
     rule = rule_with(rule, alpha)
@@ -301,15 +320,17 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
                  hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     for _ in range(max_steps):
-        if d.missing_effect is None:
+        win = d.accepted
+        if win is None:
             break
-        win: Candidate = next(c for c in d.candidates if c.effect == d.missing_effect)
         if progress:
-            progress(f"adding {win.effect}: cost {d.fit.cost:.6g} -> {win.fit.cost:.6g}")
+            progress(f"adding {' + '.join(win.atoms)}: cost {d.fit.cost:.6g} -> "
+                     f"{win.fit.cost:.6g}")
         d = diagnose(recs, win.fit.structure, band_hz, pool=pool, rule=rule,
                      progress=progress, base_fit=win.fit, hold=hold, assess=False)
-        rungs.append(Rung(d.structure, d.fit, win.effect, d, d.analyses))
-    added = tuple(r.added for r in rungs[1:])
+        rungs.append(Rung(d.structure, d.fit, "+".join(win.effects), d, d.analyses,
+                          win.atoms))
+    added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")))
     verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
     # the last rung is the answer: it says what the records determine of it and,
     # where excess is left, where a term is missing

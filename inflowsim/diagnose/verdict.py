@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data.record import FLAP_COLUMNS
-from .failures import ALPHA, channel_structure, level_p_value
+from .failures import ALPHA, excess_channels
 
 STATUSES = ("no-missing-effect", "explained", "partly-explained", "unexplained")
 
@@ -71,21 +71,6 @@ class Verdict:
         return f"verdict: {text}; residual power over the floor: {left}"
 
 
-def excess_channels(analyses, alpha=ALPHA) -> list:
-    """``(channel, peak_hz, peak ratio)`` of every channel, over the records, whose
-    residual keeps structured excess over the floor."""
-    out = []
-    for ra in analyses:
-        for c, ch in enumerate(FLAP_COLUMNS):
-            if level_p_value(ra, c) >= alpha:
-                continue
-            if not channel_structure(ra, c, alpha)["structured"]:
-                continue
-            k = int(np.argmax(ra.ratio[c]))
-            out.append((ch, float(ra.f_hz[k]), float(ra.ratio[c][k])))
-    return out
-
-
 def power_over_floor(analyses) -> tuple:
     """Per channel the mean in-band residual power over the floor, over records."""
     return tuple((ch, float(np.mean([ra.ratio[c].mean() for ra in analyses])))
@@ -96,7 +81,7 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA) -> Verdic
     """The verdict from the starting structure's and the final structure's residual
     analyses (the same when nothing was named)."""
     final = final_analyses if effects else initial_analyses
-    where = tuple(excess_channels(final, alpha))
+    where = tuple(w[:3] for w in excess_channels(final, alpha))
     if effects:
         status = "partly-explained" if where else "explained"
     else:

@@ -142,7 +142,7 @@ def candidate_plot(diagnosis, path=None):
            for c in cands]
     colors = ["C2" if c.accepted else "0.6" for c in cands]
     a.barh(y, red, color=colors)
-    a.set_yticks(y, [c.effect for c in cands])
+    a.set_yticks(y, [c.atom for c in cands])
     a.set_xscale("log")
     a.set_xlabel("cost reduction when added (green: accepted)")
     a.grid(True, axis="x", which="both", alpha=0.3)
@@ -153,14 +153,29 @@ def candidate_plot(diagnosis, path=None):
 
 
 def candidate_rows(diagnosis):
-    return [[c.effect, c.cost_reduction, c.dof, c.log10_p, 100 * c.share,
+    return [[c.atom, c.cost_reduction, c.dof, c.log10_p, 100 * c.share,
              "yes" if c.accepted else "no",
              c.physics if c.accepted else (c.error or c.reason)]
             for c in diagnosis.candidates]
 
 
-CANDIDATE_HEADER = ["effect", "cost reduction", "added parameters", "log10 p",
+CANDIDATE_HEADER = ["atom", "cost reduction [-]", "added parameters", "log10 p",
                     "share of excess [%]", "accepted", "physics, or why not"]
+
+STRUCTURE_HEADER = ["atoms added", "parameters", "Schwarz gain [-]",
+                    "log10 p beside the others", "share of excess [%]", "admissible",
+                    "tests failed"]
+
+
+def structure_rows(decision):
+    """The rule's table (:class:`~inflowsim.diagnose.rule.Decision`), one row a
+    structure, as the report prints it."""
+    rule = decision.rule
+    return [[" + ".join(r.atoms), r.dof, r.schwarz_gain,
+             ", ".join(f"{lp:.1f}" for _, lp in r.beside),
+             "" if r.share is None else 100 * r.share,
+             "yes" if r.admissible(rule) else "no",
+             ", ".join(r.failed(rule)) or "none"] for r in decision.rows]
 
 
 def format_diagnosis(d) -> str:
@@ -169,37 +184,32 @@ def format_diagnosis(d) -> str:
              f"{d.band_hz[0]:.4g}-{d.band_hz[1]:.4g} Hz"]
     lines.append("where it fails:" if d.failures else "where it fails: nothing found")
     lines += [f"  - {f.message}" for f in d.failures]
-    lines.append("candidate effects (accepted first; * = accepted):")
+    lines.append("candidate effects, one atom each (* = added):")
     for c in d.candidates:
         mark = "*" if c.accepted else " "
-        lines.append(f" {mark} {c.effect:<28} cost -{c.cost_reduction:9.2f}  "
-                     f"dof {c.dof}  log10 p {c.log10_p:8.1f}  share {100 * c.share:5.1f} %"
+        lines.append(f" {mark} {c.atom:<28} cost -{c.cost_reduction:9.2f}  "
+                     f"dof {c.dof}  log10 p {c.log10_p:8.1f}  gain {c.schwarz_gain:8.1f}"
                      + ("" if c.accepted else f"  ({c.error or c.reason})"))
+    lines += decision_lines(d.decision)
     if d.missing_effect:
         c = next(c for c in d.candidates if c.effect == d.missing_effect)
+        named = " + ".join(d.missing_effects)
+        physics = "; ".join(next(x.physics for x in d.candidates if x.effect == e)
+                            for e in d.missing_effects)
         v = d.verdict
         if v is not None and v.status == "partly-explained":
             share = v.excess_explained
             part = "" if share is None else f" {100 * share:.0f} % of the excess over the floor;"
-            lines.append(f"part of the missing physics: {d.missing_effect} explains{part} "
-                         f"excess is left (see the verdict): {c.physics}")
+            lines.append(f"part of the missing physics: {named} explains{part} "
+                         f"excess is left (see the verdict): {physics}")
         else:
-            lines.append(f"missing effect: {d.missing_effect}: {c.physics}")
-        covered = [o.effect for o in d.candidates if o.explained_by == d.missing_effect]
+            lines.append(f"missing effect: {named}: {physics}")
+        covered = [o.atom for o in d.candidates if o.explained_by in d.decision.added]
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
                          f"significant beside it, so not shown apart by this record")
-        # a flexible candidate a pair outranked (rivals.simpler_pair); one a single
-        # rival displaced is explained by the named candidate itself
-        first = next((o for o in d.candidates if o.effect == c.displaced
-                      and o.explained_by != c.effect), None)
-        if first is not None:
-            then = (f"beside them {first.effect} is not significant" if first.explained_by
-                    else f"{first.effect} is judged again beside them")
-            lines.append(f"  named before {first.effect}: "
-                         f"{c.reason.removeprefix('accepted: ')}; {then}")
         lines.append(f"  add it: inflowsim identify RECORD --model {d.structure.name} "
-                     f"--add {d.missing_effect}")
+                     + " ".join(f"--add {e}" for e in d.missing_effects))
     else:
         lines.append("missing effect: none accepted")
     if d.missing_terms is not None:
@@ -215,20 +225,20 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     rep = rep or Report(f"Diagnosis of {d.structure.name}")
     rep.heading(f"Diagnosis of {d.structure.name}")
     rep.paragraph(f"Fitted over {d.band_hz[0]:.4g}-{d.band_hz[1]:.4g} Hz: cost "
-                  f"{d.fit.cost:.2f}. Every candidate effect was added in turn and "
-                  "refitted from the base estimates. A candidate is accepted when it is "
-                  "significant (2 (J_base - J_with) tested as chi-square with the added "
-                  "parameters as degrees of freedom, level 1e-3), its estimates are "
-                  "physically plausible, it explains at least 10 % of the residual's "
-                  "excess over the noise floor, and it leaves less structure across "
-                  "frequency; accepted candidates rank by the Schwarz gain.")
+                  f"{d.fit.cost:.2f}. The diagnosis applies one rule "
+                  "(inflowsim.diagnose.rule), in five lines:")
+    from ..diagnose.rule import STATEMENT
+    rep.paragraph(" ".join(STATEMENT))
     if d.failures:
         rep.heading("Where it fails", 3)
         rep.table([[f.kind, f.subject, f.message] for f in d.failures],
                   ["kind", "subject", "finding"])
     rep.heading("Candidate effects, best first", 3)
     rep.table(candidate_rows(d), CANDIDATE_HEADER, digits=4)
-    rep.paragraph(f"Missing effect: {d.missing_effect or 'none accepted'}.")
+    if d.decision is not None:
+        rep.heading("Structures scored by the rule", 3)
+        rep.table(structure_rows(d.decision), STRUCTURE_HEADER, digits=4)
+    rep.paragraph(f"Missing effect: {' + '.join(d.missing_effects) or 'none accepted'}.")
     from .fit_plots import fit_plot
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
@@ -283,3 +293,33 @@ def ladder_report(ladder, rep: Report | None = None, record=None) -> Report:
                           fits={r.structure.name: r.fit for r in ends}, prefix="ladder",
                           heading="Where it fails, in frequency: first and last structure")
     return rep
+
+
+def decision_lines(decision) -> list:
+    """The rule's decision in a few lines, rendered from its table (structures of
+    more than one atom; the single atoms are the candidate lines above)."""
+    if decision is None:
+        return []
+    rule = decision.rule
+    out = []
+    pairs = [r for r in decision.rows if len(r.atoms) > 1]
+    if pairs:
+        out.append("pairs fitted together (log10 p of each atom beside the other):")
+        for r in pairs:
+            if r.error is not None:
+                continue
+            beside = ", ".join(f"{a} {lp:.1f}" for a, lp in r.beside)
+            ok = "admissible" if r.admissible(rule) else "not admissible"
+            out.append(f"   {' + '.join(r.atoms):<44} gain {r.schwarz_gain:8.1f}  "
+                       f"({beside}; {ok})")
+    c = decision.chosen
+    if c is None:
+        out.append("rule: no structure is admissible (significant and plausible)")
+    elif decision.accepted:
+        out.append(f"rule: accepted {' + '.join(c.atoms)}, the admissible structure of "
+                   f"largest Schwarz gain ({c.schwarz_gain:.1f}, {c.dof} parameter(s))")
+    else:
+        from ..diagnose.candidates import describe
+        out.append(f"rule: the admissible structure of largest gain, "
+                   f"{' + '.join(c.atoms)}, is not accepted: {describe(c, decision)}")
+    return out
