@@ -1,27 +1,22 @@
-"""What a looser significance level would buy: detections under strong colour
-against false alarms on the null records (issue #9, ``bench/README.md``).
+"""What another significance level would buy: detections under strong colour against
+false alarms on the null records (issue #9, ``bench/README.md``).
 
-Offline, from the stored results of ``bench/detection.py``: at level ``alpha`` a
-candidate whose *only* failed test was significance (its ``reason`` is "not
-significant (p = ...)" and nothing else) counts as accepted when its p-value is below
-``alpha``; on a null record any accepted candidate is a false alarm; on a hidden-effect
-record the accepted candidate with the largest Schwarz gain is the one named.  The
-rivals and pair tests are not re-run (they act on fitted pairs the results do not
-hold), so the figures are an estimate of the trade-off, not a re-run of the rule.
+Offline, from the stored decisions of ``bench/detection.py`` (each record's
+``"decision"``: every structure scored, as data).  The rule is applied again to each
+stored table by :func:`inflowsim.diagnose.rule.decide` at each level ``alpha``; the
+tables are not refitted, so the pairs are those of the level the study ran at (a
+looser level could have paired atoms the stored table did not): an estimate of the
+trade-off, exact for every single-atom decision.
 
-    python bench/alpha_tradeoff.py --null bench/results/parts/null.jsonl.gz \\
-        --hidden bench/results/parts/hidden_simple.jsonl.gz \\
-                 bench/results/parts/hidden_flexible.jsonl.gz \\
-                 bench/results/partpairs/hidden_affected.jsonl.gz
+    python bench/alpha_tradeoff.py --null bench/results/current/null.jsonl.gz \\
+        --hidden bench/results/current/hidden.jsonl.gz
 """
 from __future__ import annotations
 
 import argparse
 import gzip
 import json
-from pathlib import Path
-
-import numpy as np
+from dataclasses import replace
 
 ALPHAS = (1e-3, 3e-3, 1e-2, 3e-2, 1e-1)
 
@@ -36,49 +31,53 @@ def _rows(paths):
             for line in f:
                 if line.strip():
                     r = json.loads(line)
-                    out[(r["effect"], r["hold"], r["rate"], r["noise"], r["seed"])] = r
+                    if "decision" in r:
+                        out[(r["effect"], r["hold"], r["rate"], r["noise"], r["seed"])] = r
     return out
 
 
-def _only_significance_failed(c):
-    return c["reason"].startswith("not significant") and ";" not in c["reason"]
-
-
-def _accepted_at(r, alpha):
-    lim = np.log10(alpha)
-    return [c for c in r["candidates"] if c["accepted"] or (
-        _only_significance_failed(c) and c["log10_p_value"] < lim)]
+def decided_at(record: dict, alpha: float):
+    """The stored decision of ``record`` made again at level ``alpha``."""
+    from inflowsim.diagnose.rule import Scored, decide, rule_from_json
+    doc = record["decision"]
+    rule = replace(rule_from_json(doc["rule"]), alpha=alpha)
+    return decide([Scored.from_json(s) for s in doc["structures"]], rule)
 
 
 def tradeoff(null, hidden, noise="coloured", alphas=ALPHAS):
-    """Rows ``(alpha, null records with an alarm, misses now named right, named
-    wrong)`` over the hidden records of ``noise`` the rule at 1e-3 missed."""
+    """Rows ``(alpha, null records with an alarm, misses at the stored level, of
+    those named right, named wrong, hidden records of that noise)``: a miss is a
+    hidden record of ``noise`` whose stored decision does not add its effect."""
     missed = [r for r in hidden.values() if r["noise"] == noise
-              and r["missing_effect"] != r["effect"]]
+              and r["effect"] not in (r.get("missing_effects") or [])]
+    n = sum(r["noise"] == noise for r in hidden.values())
     out = []
     for a in alphas:
-        alarms = sum(bool(_accepted_at(r, a)) for r in null.values())
+        alarms = sum(decided_at(r, a).accepted for r in null.values())
         right = wrong = 0
         for r in missed:
-            acc = _accepted_at(r, a)
-            if acc:
-                best = max(acc, key=lambda c: c["schwarz_gain"])
-                right += best["effect"] == r["effect"]
-                wrong += best["effect"] != r["effect"]
-        out.append((a, alarms, len(null), right, wrong, len(missed)))
+            d = decided_at(r, a)
+            if d.accepted:
+                if r["effect"] in d.effects:
+                    right += 1
+                else:
+                    wrong += 1
+        out.append((a, alarms, len(missed), right, wrong, n))
     return out
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--null", nargs="+", type=Path, required=True)
-    ap.add_argument("--hidden", nargs="+", type=Path, required=True)
+    ap.add_argument("--null", nargs="+", required=True)
+    ap.add_argument("--hidden", nargs="+", required=True)
     ap.add_argument("--noise", default="coloured")
     a = ap.parse_args(argv)
-    print("| alpha | null records with an alarm | misses named right | named wrong |")
-    print("| --- | --- | --- | --- |")
-    for alpha, fa, n, right, wrong, m in tradeoff(_rows(a.null), _rows(a.hidden), a.noise):
-        print(f"| {alpha:g} | {fa}/{n} | {right}/{m} | {wrong} |")
+    null, hidden = _rows(a.null), _rows(a.hidden)
+    print(f"| alpha | null records with an alarm (of {len(null)}) | misses | named right "
+          "| named wrong |")
+    print("| --- | --- | --- | --- | --- |")
+    for alpha, alarms, missed, right, wrong, _ in tradeoff(null, hidden, a.noise):
+        print(f"| {alpha:g} | {alarms} | {missed} | {right} | {wrong} |")
     return 0
 
 

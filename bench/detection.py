@@ -152,8 +152,8 @@ def run_one(job):
     from inflowsim.diagnose import diagnose, ladder
     from inflowsim.diagnose.rule import Rule
     settings = {}
-    if os.environ.get("INFLOWSIM_STUDY_RULE"):
-        settings["tests"] = tuple(os.environ["INFLOWSIM_STUDY_RULE"].split(","))
+    if os.environ.get("INFLOWSIM_STUDY_WIDTH"):
+        settings["width"] = int(os.environ["INFLOWSIM_STUDY_WIDTH"])
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") == "excess":
         settings["coloured"] = 0.0          # every record judged as coloured
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") in ("level", "deviance"):
@@ -168,13 +168,15 @@ def run_one(job):
     if kind in ("null", "hidden"):
         d = diagnose(rec, base, rule=rule)
         out["missing_effect"] = d.missing_effect
+        out["missing_effects"] = list(d.missing_effects)
         out["candidates"] = [c.to_json() for c in d.candidates]
+        out["decision"] = d.decision.to_json()
         out["unexplained"] = [f.message for f in d.failures if f.kind == "unexplained"]
         out["base_floor_ratio"] = _floor_ratio(d.fit, rec, noise, rate)
         out["in_band_over_floor"] = list(d.analyses[0].in_band_over_floor)
         out["base_level_over_floor"] = [float(v) for v in d.analyses[0].ratio.mean(axis=1)]
-        win = next((c for c in d.candidates if c.effect == effect), None)
-        if win is not None and win.fit is not None:
+        win = d.accepted if effect in d.missing_effects else None
+        if win is not None:
             out["with_floor_ratio"] = _floor_ratio(win.fit, rec, noise, rate)
             s, p, _ = truth
             out["z"] = {n: (win.fit.parameters[n] - p[n]) / win.fit.sigma[n]
@@ -195,7 +197,8 @@ def run_one(job):
         out["rungs"] = [{"structure": r.structure.name, "added": r.added,
                          "cost": r.fit.cost,
                          "floor_ratio": _floor_ratio(r.fit, rec, noise, rate),
-                         "candidates": [c.to_json() for c in r.diagnosis.candidates]}
+                         "candidates": [c.to_json() for c in r.diagnosis.candidates],
+                         "decision": r.diagnosis.decision.to_json()}
                         for r in lad.rungs]
         if truth is not None:
             s, p, _ = truth
@@ -243,7 +246,8 @@ def summary(paths):
             res = f"false alarms {fa}/{len(rs)}, unexplained-residual claims {un}/{len(rs)}"
         elif kind == "hidden":
             ok = sum(r["missing_effect"] == effect for r in rs)
-            res = f"named first {ok}/{len(rs)}"
+            extra = sum(bool(set(r.get("missing_effects") or []) - {effect}) for r in rs)
+            res = f"named first {ok}/{len(rs)}, another effect beside it {extra}/{len(rs)}"
         else:
             finals = sorted({r["final"] for r in rs})
             res = f"final {', '.join(finals)}; max floor ratio " + ", ".join(
@@ -261,8 +265,8 @@ def main(argv=None):
     ap.add_argument("--effects", help="comma-separated effects (hidden, null: a subset)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out")
-    ap.add_argument("--rule", help="comma-separated tests of the acceptance rule to apply "
-                                   "(study only; default the library's)")
+    ap.add_argument("--width", type=int,
+                    help="atoms paired on the lattice (study only; default the rule's, 3)")
     ap.add_argument("--measure", choices=("auto", "excess", "level", "deviance"),
                     default="auto",
                     help="what the material and whiter tests measure (study only): the "
@@ -278,9 +282,9 @@ def main(argv=None):
         (h, int(r), n) for h, r, n in (c.split(":") for c in a.configs.split(","))]
     todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs)
             if not a.effects or j[1] in a.effects.split(",")]
-    if a.rule:
+    if a.width is not None:
         import os
-        os.environ["INFLOWSIM_STUDY_RULE"] = a.rule
+        os.environ["INFLOWSIM_STUDY_WIDTH"] = str(a.width)
     if a.measure != "auto":
         import os
         os.environ["INFLOWSIM_STUDY_MEASURE"] = a.measure

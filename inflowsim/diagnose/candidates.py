@@ -200,7 +200,9 @@ def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
                       error=str(exc))
     dof = len(atom.params) - len(flat)
     lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held))[2]
-    return _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
+    row = _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
+    from dataclasses import replace
+    return replace(row, beside_gain=((atom.label, row.schwarz_gain),))
 
 
 def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | None:
@@ -221,10 +223,16 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     dx = rx.dof
     beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held))[2]),
               (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held))[2]))
-    order = sorted(((x, rx), (y, ry)), key=lambda t: -t[1].schwarz_gain)
+    ln_n = np.log(6 * fit.n_freq)
+    gains = ((x.label, float(2 * (ry.fit.cost - fit.cost) - dx * ln_n)),
+             (y.label, float(2 * (rx.fit.cost - fit.cost) - dy * ln_n)))
+    order = sorted(((x, rx), (y, ry)), key=lambda t: -dict(gains)[t[0].label])
     add = tuple(t[0] for t in order)
-    beside = tuple(sorted(beside, key=lambda t: [u.label for u in add].index(t[0])))
-    return _row(base_fit, add, fit, held, flat, beside, rule)
+    rank = [u.label for u in add]
+    row = _row(base_fit, add, fit, held, flat,
+               tuple(sorted(beside, key=lambda t: rank.index(t[0]))), rule)
+    from dataclasses import replace
+    return replace(row, beside_gain=tuple(sorted(gains, key=lambda t: rank.index(t[0]))))
 
 
 def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
@@ -329,8 +337,14 @@ def describe(row: Scored, decision: Decision) -> str:
     if row.error is not None:
         return row.error
     chosen = decision.chosen
-    if decision.accepted and row is chosen:
-        return "accepted" + _held_words(row)
+    if decision.accepted and row == decision.added_row:
+        via = "" if row == chosen else (
+            f" (the accepted structure is {' + '.join(chosen.atoms)}; the rest is judged "
+            "on the next rung, beside it)")
+        return "accepted" + via + _held_words(row)
+    if decision.accepted and row == chosen:
+        return (f"accepted structure (Schwarz gain {row.schwarz_gain:.1f}); "
+                f"{decision.added[0]} is added first, as it adds most beside the others")
     words = []
     lim = math.log10(rule.alpha)
     for atom, lp in row.beside:
@@ -341,11 +355,14 @@ def describe(row: Scored, decision: Decision) -> str:
     for n, e, s, lo, hi, why in row.implausible:
         words.append(f"implausible: {n} = {e:.4g} +- {s:.2g} is outside [{lo:g}, {hi:g}]: "
                      f"{why}")
+    for atom, by in row.explained_by:
+        words.append(f"{atom} explained by the simpler {by}: not significant beside it")
     failed = row.failed(rule)
-    if not words and chosen is not None and row is not chosen:
+    if not words and chosen is not None and row != chosen and \
+            not (decision.accepted and set(row.atoms) <= set(chosen.atoms)):
         words.append(f"admissible, but {' + '.join(chosen.atoms)} scores more (Schwarz "
                      f"gain {chosen.schwarz_gain:.1f} against {row.schwarz_gain:.1f})")
-    if row is chosen:
+    if row == chosen:
         if "parsimonious" in failed:
             words.append(f"not worth its {row.dof} parameter(s): Schwarz gain "
                          f"{row.schwarz_gain:.1f} <= {rule.schwarz_min:g}")
@@ -384,8 +401,8 @@ def candidates_of(decision: Decision) -> list[Candidate]:
         if len(r.atoms) != 1:
             continue
         eff = CATALOGUE[r.effects[0]]
-        by = None
-        for p in pairs:
+        by = dict(r.explained_by).get(r.atoms[0])
+        for p in pairs if by is None else ():
             if r.atoms[0] in p.atoms:
                 mine = dict(p.beside)
                 other = next(a for a in p.atoms if a != r.atoms[0])

@@ -6,12 +6,12 @@ The rule, in five lines (``docs/workflow.md`` states the same five):
    where it has several (Glauert: ``F``, ``G``); what the record leaves flat is held, said.
 2. **Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
    of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
-3. **Admissible.** Each atom of the structure is significant beside the others (level
-   ``alpha``) and its estimates are plausible for this rotor (``plausible_sigmas``).
+3. **Admissible.** Each atom is significant beside the others and beside any simpler atom
+   it was paired with (level ``alpha``), and plausible for the rotor (``plausible_sigmas``).
 4. **Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
    it takes at least ``material`` of the residual's excess over the noise (whiter).
-5. **Added.** Its atoms are what is missing (the ladder's next rung); nothing accepted:
-   nothing added, and the verdict says how much excess is left and where.
+5. **Added.** Its atom of largest gain beside the others is added (the ladder's next rung
+   judges the rest); nothing accepted: the verdict says how much excess is left, where.
 
 What the terms mean, and why:
 
@@ -28,9 +28,11 @@ What the terms mean, and why:
   against the same structure without that atom, chi-square with the atom's ``k``
   degrees of freedom (``model.md`` section 7); for a parameter whose neutral value is
   its range's edge (``flap_inertia = 0``) the 50:50 mixture of Self and Liang (1987).
-  A single atom is tested against the base.  A flexible atom that only mimics a
-  simpler one is not significant beside it, so that pair is not admissible, and the
-  simpler atom's own structure then competes on ``G``.
+  A single atom is tested against the base.  A flexible atom that a simpler one
+  (fewer parameters) explains, not significant beside it while the simpler one is
+  beside it, shows no physics of its own: no structure holding it is admissible
+  (``explained_by``; Glauert's four in-plane gains mimic the blades' direct
+  in-plane forcing, one gain ``k_mu``, on the nonlinear blade truth).
 - *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
   range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
 - *Material*: the structure removes at least ``material`` of the base residual's excess
@@ -41,6 +43,11 @@ What the terms mean, and why:
   record is long, or that fits the noise, is not what the residual is made of.  Only
   the structure chosen by ``G`` is put to it: a weaker structure is never named
   because a stronger one explains a small share of a noisy excess.
+- *Gain beside the others*: ``2 (J_without - J) - k_atom ln n``, what the atom adds to
+  the structure without it.  One atom is added a rung, the one the accepted structure
+  needs most; its partner is judged again on the next rung, beside it, where a
+  simpler pair can still take what a flexible atom (Glauert's four in-plane gains)
+  would mimic.
 
 :func:`decide` applies the rule to a table of scored structures (:class:`Scored`, made
 by :func:`inflowsim.diagnose.candidates.lattice`): the decision is data
@@ -77,7 +84,8 @@ STATEMENT = _statement(__doc__)
 #: What the material test measures on a white-noise record (studies may ask the other).
 WHITE_MEASURES = ("level", "deviance")
 #: The tests of lines 3 and 4, in the order they are stated.
-TESTS = ("determined", "significant", "plausible", "parsimonious", "material", "whiter")
+TESTS = ("determined", "significant", "own", "plausible", "parsimonious", "material",
+         "whiter")
 
 
 @dataclass(frozen=True)
@@ -106,7 +114,7 @@ class Rule:
     """
 
     alpha: float = ALPHA
-    width: int = 3
+    width: int = 4
     plausible_sigmas: float = 3.0
     schwarz_min: float = 2.0
     material: float = 0.10
@@ -190,9 +198,13 @@ class Scored:
     statistic: float = 0.0
     schwarz_gain: float = -math.inf
     beside: tuple = ()
+    #: ``((atom, gain beside the others), ...)``; a single atom: its own gain
+    beside_gain: tuple = ()
     implausible: tuple = ()
     held: tuple = ()
     flat: tuple = ()
+    #: ``((atom, simpler atom that explains it), ...)``, set by :func:`decide`
+    explained_by: tuple = ()
     excess_before: float | None = None
     excess_after: float | None = None
     excess_noise: float | None = None
@@ -216,6 +228,8 @@ class Scored:
         lim = math.log10(rule.alpha)
         if any(lp >= lim for _, lp in self.beside) or not self.beside:
             out.append("significant")
+        if self.explained_by:
+            out.append("own")
         if self.implausible:
             out.append("plausible")
         if self.schwarz_gain <= rule.schwarz_min:
@@ -230,17 +244,38 @@ class Scored:
 
     def admissible(self, rule: Rule = DEFAULT_RULE) -> bool:
         """Line 3: fitted, each atom significant beside the others, plausible."""
-        return not {"determined", "significant", "plausible"} & set(self.failed(rule))
+        return not {"determined", "significant", "own", "plausible"} & set(
+            self.failed(rule))
+
+    @classmethod
+    def from_json(cls, doc: dict) -> "Scored":
+        """A row from its JSON (without its fit): a stored table can be decided
+        again by :func:`decide` under other settings."""
+        return cls(
+            atoms=tuple(doc["atoms"]), effects=tuple(doc["effects"]),
+            structure=doc["structure"], dof=int(doc["dof"]),
+            statistic=float(doc["statistic"]), schwarz_gain=float(doc["schwarz_gain"]),
+            beside=tuple((a, float(v)) for a, v in doc["log10_p_beside_others"].items()),
+            beside_gain=tuple((a, float(v)) for a, v in doc["gain_beside_others"].items()),
+            implausible=tuple((x["parameter"], x["estimate"], x["sigma"], x["low"],
+                               x["high"], x["why"]) for x in doc["implausible"]),
+            held=tuple(doc["held_at_neutral"]), flat=tuple(doc["not_determined"]),
+            explained_by=tuple(doc.get("explained_by", {}).items()),
+            excess_before=doc["excess_before"], excess_after=doc["excess_after"],
+            excess_noise=doc["excess_of_noise"], measure=doc["measure"],
+            error=doc.get("error"))
 
     def to_json(self, rule: Rule = DEFAULT_RULE) -> dict:
         return {"atoms": list(self.atoms), "effects": list(self.effects),
                 "structure": self.structure, "dof": self.dof,
                 "statistic": self.statistic, "schwarz_gain": self.schwarz_gain,
                 "log10_p_beside_others": dict(self.beside),
+                "gain_beside_others": dict(self.beside_gain),
                 "implausible": [{"parameter": n, "estimate": e, "sigma": s, "low": lo,
                                  "high": hi, "why": w}
                                 for n, e, s, lo, hi, w in self.implausible],
                 "held_at_neutral": list(self.held), "not_determined": list(self.flat),
+                "explained_by": dict(self.explained_by),
                 "share_of_excess": self.share, "measure": self.measure,
                 "excess_before": self.excess_before, "excess_after": self.excess_after,
                 "excess_of_noise": self.excess_noise,
@@ -265,12 +300,29 @@ class Decision:
 
     @property
     def added(self) -> tuple:
-        """The atoms the rule adds (line 5)."""
-        return self.chosen.atoms if self.accepted else ()
+        """The atom the rule adds (line 5): the accepted structure's atom of largest
+        gain beside the others, as a 1-tuple; ``()`` when nothing is accepted."""
+        if not self.accepted:
+            return ()
+        c = self.chosen
+        gains = dict(c.beside_gain) or {c.atoms[0]: c.schwarz_gain}
+        return (max(c.atoms, key=lambda a: gains.get(a, -math.inf)),)
+
+    @property
+    def added_row(self) -> Scored | None:
+        """The added atom's own row (fitted alone): the ladder's next rung."""
+        if not self.accepted:
+            return None
+        return next((r for r in self.rows if r.atoms == self.added), None)
 
     @property
     def effects(self) -> tuple:
-        return self.chosen.effects if self.accepted else ()
+        """The effect added (a 1-tuple), or ``()``."""
+        if not self.accepted:
+            return ()
+        c = self.chosen
+        return (c.effects[list(c.atoms).index(self.added[0])] if len(c.effects) ==
+                len(c.atoms) else c.effects[0],)
 
     def to_json(self) -> dict:
         c = self.chosen
@@ -283,8 +335,35 @@ class Decision:
                 "structures": [r.to_json(self.rule) for r in self.rows]}
 
 
+def explain(rows, rule: Rule = DEFAULT_RULE) -> tuple:
+    """The rows with ``explained_by`` set (line 3): an atom is explained by a simpler
+    atom (fewer parameters, from their single rows) when, in their pair, it is not
+    significant beside it while the simpler one is significant beside it."""
+    from dataclasses import replace
+    lim = math.log10(rule.alpha)
+    dof = {r.atoms[0]: r.dof for r in rows if len(r.atoms) == 1}
+    by = {}
+    for r in rows:
+        if len(r.atoms) != 2 or r.error is not None:
+            continue
+        lp = dict(r.beside)
+        for a, b in (r.atoms, r.atoms[::-1]):
+            if (a in dof and b in dof and dof[b] < dof[a] and lp[a] >= lim
+                    and lp[b] < lim):
+                by.setdefault(a, b)
+    return tuple(replace(r, explained_by=tuple((a, by[a]) for a in r.atoms if a in by))
+                 for r in rows)
+
+
+def rule_from_json(doc: dict) -> Rule:
+    """The settings a decision's JSON records (``Decision.to_json()["rule"]``)."""
+    return Rule(**doc)
+
+
 def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     """Lines 3-5 of the rule on scored structures (the module docstring)."""
+    rows = explain(rows, rule)
+
     def key(r):
         return (not r.admissible(rule), -r.schwarz_gain, r.dof)
     rows = tuple(sorted(rows, key=key))

@@ -37,9 +37,8 @@ class Diagnosis:
     ``failures`` where the fitted structure and the measurements part (with an
     ``unexplained`` finding when the residual keeps structure no candidate
     explains); ``decision`` the rule's table of scored structures and what it
-    accepted (:mod:`inflowsim.diagnose.rule`); ``candidates`` its atoms, added ones
-    first; ``missing_effect`` the first effect the rule adds, or ``None``
-    (``missing_effects`` all of them: a pair may be accepted).
+    accepted (:mod:`inflowsim.diagnose.rule`); ``candidates`` its atoms, the added
+    one first; ``missing_effect`` the effect the rule adds, or ``None``.
     """
 
     structure: Structure
@@ -63,14 +62,15 @@ class Diagnosis:
 
     @property
     def missing_effects(self) -> tuple:
+        """The effect added, as a 1-tuple (``()``: none)."""
         return self.decision.effects if self.decision is not None else ()
 
     @property
     def accepted(self):
-        """The accepted structure's row (:class:`~inflowsim.diagnose.rule.Scored`), or
-        ``None``."""
+        """The added atom's own row (:class:`~inflowsim.diagnose.rule.Scored`, its
+        ``fit`` the ladder's next rung), or ``None``."""
         d = self.decision
-        return d.chosen if d is not None and d.accepted else None
+        return d.added_row if d is not None else None
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -241,7 +241,7 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     dec = decide(lattice(recs, fit, band_hz, fit_fn, pool, judge, rule, progress), rule)
     cands = candidates_of(dec)
     if dec.accepted:
-        verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
+        verd = verdict(analyses, analyses_of(recs, dec.added_row.fit, band_hz,
                                              check_colour=False), dec.effects, alpha)
     else:
         fails += unexplained(analyses, alpha)

@@ -317,7 +317,10 @@ def decision_lines(decision) -> list:
         out.append("rule: no structure is admissible (significant and plausible)")
     elif decision.accepted:
         out.append(f"rule: accepted {' + '.join(c.atoms)}, the admissible structure of "
-                   f"largest Schwarz gain ({c.schwarz_gain:.1f}, {c.dof} parameter(s))")
+                   f"largest Schwarz gain ({c.schwarz_gain:.1f}, {c.dof} parameter(s)); "
+                   f"adds {decision.added[0]}"
+                   + ("" if len(c.atoms) == 1 else ", the atom it needs most (the rest "
+                      "is judged on the next rung)"))
     else:
         from ..diagnose.candidates import describe
         out.append(f"rule: the admissible structure of largest gain, "
