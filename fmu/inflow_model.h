@@ -266,6 +266,30 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
                 ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i] *               \
                       u[4 * ((b) - IFS_XB) + (l)]                                      \
                 : 0.0 * 0.0))
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+/* lanes 2h, 2h + 1 of block b as a pair (the baseline code's vectors; 0 * 0 in the
+ * padding as above): lanes 0, 1 and 2, 3 summed apart, then added, are
+ * (l0 + l2, l1 + l3) */
+#define IFS_RCOEF(b, l)                                                                \
+    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? pg[(4 * (b) + (l)) * IFS_LD + i] : 0.0)   \
+                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU                                 \
+                         ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i]        \
+                         : 0.0))
+#define IFS_RZ(b, l)                                                                   \
+    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? x[4 * (b) + (l)] : 0.0)                  \
+                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU ? u[4 * ((b) - IFS_XB) + (l)] : 0.0))
+#define IFS_RPROD(b, h)                                                                \
+    ((ifs_v2){IFS_RCOEF(b, 2 * (h)), IFS_RCOEF(b, 2 * (h) + 1)} *                      \
+     (ifs_v2){IFS_RZ(b, 2 * (h)), IFS_RZ(b, 2 * (h) + 1)})
+IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
+{
+    ifs_v2 lo, hi, h;
+    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 0), IFS_RPROD(IFS_RBLOCK(j_), 0), lo);
+    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 1), IFS_RPROD(IFS_RBLOCK(j_), 1), hi);
+    h = lo + hi;
+    return h[0] + h[1];
+}
+#else
 IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
 {
     double p[4];
@@ -276,6 +300,7 @@ IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const do
                      IFS_RTERM(IFS_RBLOCK(j_), l), p[l]);
     return (p[0] + p[2]) + (p[1] + p[3]);
 }
+#endif
 #endif
 
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
