@@ -11,8 +11,10 @@ both libraries (and on the FMI 3.0 library, built as ``inflowsim fmu build
 getReal outputs).  ``--model`` benchmarks an FMU generated for that structure
 (``inflowsim fmu build --model``; e.g. ``glauert+flap-inertia``, nine states)
 instead of the presets' FMU; its baseline library is compiled from the FMU's own
-``sources/`` and the FMI 3.0 rows are left out.  Prints a Markdown table; results
-and method are kept in ``bench/fmu.md``.
+``sources/`` and the FMI 3.0 rows are left out.  ``bench/fp_rate.c`` measures the
+machine's rate of 4-wide multiplies: the step's arithmetic floor is its products in
+whole vectors of four at that rate.  Prints a Markdown table; results and method are
+kept in ``bench/fmu.md``.
 """
 from __future__ import annotations
 
@@ -72,6 +74,8 @@ def main(argv=None):
                     continue
                 rows[tag + name] = value
 
+        rows.update(arithmetic_floor(cc, tmp, Path(unz) / "sources"))
+
         frame_rows = frame_beside_peers(args, tmp, so, baseline, guid, cc, inc,
                                         Path(unz) / "sources")
 
@@ -114,6 +118,26 @@ def main(argv=None):
     print(f"\nglauert / one-state fmi2DoStep: {float(rows['glauert_dostep']) / one:.1f}x "
           f"(shipped binary), {float(rows['baseline_glauert_dostep']) / one:.1f}x "
           f"(baseline code, no AVX2 clone)")
+
+
+def arithmetic_floor(cc, tmp, fmu_sources) -> dict:
+    """The machine's rate of 4-wide multiplies and adds (``bench/fp_rate.c``) and the
+    step's floor: its ``NX (NX + NU)`` products in whole vectors of four, at that
+    rate of multiplies [ns] (no fused multiply-add: every build rounds alike)."""
+    import math
+    import re
+    exe = tmp / "fp_rate"
+    subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
+                    "-Werror", "-o", str(exe), str(HERE / "fp_rate.c")], check=True)
+    out = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
+    rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
+    text = (fmu_sources / "inflow_vars.h").read_text()
+    nx = int(re.search(r"#define IFS_NX (\d+)", text).group(1))
+    nu = int(re.search(r"#define IFS_N_INPUTS (\d+)", text).group(1))
+    muls = math.ceil(nx * (nx + nu) / 4)
+    return {"vector_mul_per_ns": f"{rates['mul_per_ns']:.2f}",
+            "vector_add_per_ns": f"{rates['add_per_ns']:.2f}",
+            f"step_floor_{muls}_vector_muls": f"{muls / rates['mul_per_ns']:.1f}"}
 
 
 #: The FMU's generated C (inflowsim.fmu.generate.GENERATED): a ``--model`` peer is

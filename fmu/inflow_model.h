@@ -61,7 +61,7 @@ typedef struct {
     /* the last IFS_NX % 4 rows of pg again, row by row (IFS_RL each: the x part and
      * the u part each padded with zeros to whole vectors of four), so the four-wide
      * step (ifs_step_wide) loads four of their coefficients at a time; refreshed
-     * with pg (ifs_pack_rows) */
+     * with pg (pack_rows in inflow_model.c) */
     double prow[IFS_NLEFT * IFS_RL];
 #endif
     /* cached [phi gam] (by columns) of a remainder step (h not n dt) */
@@ -125,10 +125,6 @@ void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
 void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, double *lc,
                   double *ld);
 double ifs_flow_speed(const IfsVariables *v);
-
-/* Copy the rows of m->pg after its whole groups of four into m->prow (IFS_ROW_STEP;
- * else nothing): after every change of m->pg. */
-void ifs_pack_rows(IfsModel *m);
 
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
  * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
@@ -253,7 +249,7 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #ifdef IFS_ROW_STEP
 /* A row after the whole groups of four (ifs_step, ifs_step_wide): lane l of block b
  * of [x; u] is coefficient * entry, or 0 * 0 in the padding, exactly as the four-wide
- * step multiplies a packed row (ifs_pack_rows) by the zero-padded blocks.  Each lane
+ * step multiplies a packed row (m->prow) by the zero-padded blocks.  Each lane
  * is a pairwise tree over the blocks, the u blocks first (gam u), then the lanes
  * (l0 + l2) + (l1 + l3) (two vector adds from four lanes): the same operations in
  * the same order on every path. */
