@@ -195,9 +195,9 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
  * time (native on every x86-64, SSE2, so the baseline code is fast too), four in the
  * AVX2 clone (ifs_step_wide below), one in plain C; the rows after them (nine
  * states: row 8) row by row, four products at a time (ifs_row_sum): a column-wise
- * vector would carry one useful lane of four, and the step is bound by its vector
- * arithmetic.  The same operations per row in the same order on every path, so the
- * same numbers. */
+ * vector would carry one useful lane of four, and every vector operation and load
+ * counts in the step.  The same operations per row in the same order on every path,
+ * so the same numbers. */
 /* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
  * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
  * by size, as a binary counter), so only a few values are live at once: the terms
