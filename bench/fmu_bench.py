@@ -11,8 +11,10 @@ both libraries (and on the FMI 3.0 library, built as ``inflowsim fmu build
 getReal outputs).  ``--model`` benchmarks an FMU generated for that structure
 (``inflowsim fmu build --model``; e.g. ``glauert+flap-inertia``, nine states)
 instead of the presets' FMU; its baseline library is compiled from the FMU's own
-``sources/`` and the FMI 3.0 rows are left out.  Prints a Markdown table; results
-and method are kept in ``bench/fmu.md``.
+``sources/`` and the FMI 3.0 rows are left out.  ``bench/fp_rate.c`` measures the
+machine's rate of 4-wide multiplies: the step's arithmetic floor is its products in
+whole vectors of four at that rate.  Prints a Markdown table; results and method are
+kept in ``bench/fmu.md``.
 """
 from __future__ import annotations
 
@@ -31,11 +33,14 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=2_000_000)
     ap.add_argument("--fmpy-steps", type=int, default=20_000)
     ap.add_argument("--model", default=None, help="a structure (default: the presets' FMU)")
-    ap.add_argument("--peers", default="4ddf183,c2cf520",
-                    help="commits whose presets' FMU is timed beside (comma-separated)")
+    ap.add_argument("--peers", default=None,
+                    help="commits whose FMU is timed beside (comma-separated; default "
+                         "4ddf183,c2cf520 for the presets' FMU, none with --model)")
     ap.add_argument("--rounds", type=int, default=41)
     ap.add_argument("--frame-steps", type=int, default=30_000)
     args = ap.parse_args(argv)
+    if args.peers is None:
+        args.peers = "4ddf183,c2cf520" if args.model is None else ""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
     from inflowsim.fmu import VR, build_fmu
@@ -69,7 +74,10 @@ def main(argv=None):
                     continue
                 rows[tag + name] = value
 
-        frame_rows = frame_beside_peers(args, tmp, so, baseline, guid, cc, inc)
+        rows.update(arithmetic_floor(cc, tmp, Path(unz) / "sources"))
+
+        frame_rows = frame_beside_peers(args, tmp, so, baseline, guid, cc, inc,
+                                        Path(unz) / "sources")
 
         s = FMU2Slave(guid=guid, unzipDirectory=unz, modelIdentifier="inflowsim",
                       instanceName="bench")
@@ -112,29 +120,65 @@ def main(argv=None):
           f"(baseline code, no AVX2 clone)")
 
 
-def frame_beside_peers(args, tmp, so, baseline, guid, cc, inc) -> dict:
+def arithmetic_floor(cc, tmp, fmu_sources) -> dict:
+    """The machine's rate of 4-wide multiplies and adds (``bench/fp_rate.c``) and the
+    step's floor: its ``NX (NX + NU)`` products in whole vectors of four, at that
+    rate of multiplies [ns] (no fused multiply-add: every build rounds alike)."""
+    import math
+    import re
+    exe = tmp / "fp_rate"
+    subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
+                    "-Werror", "-o", str(exe), str(HERE / "fp_rate.c")], check=True)
+    out = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
+    rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
+    text = (fmu_sources / "inflow_vars.h").read_text()
+    nx = int(re.search(r"#define IFS_NX (\d+)", text).group(1))
+    nu = int(re.search(r"#define IFS_N_INPUTS (\d+)", text).group(1))
+    muls = math.ceil(nx * (nx + nu) / 4)
+    return {"vector_mul_per_ns": f"{rates['mul_per_ns']:.2f}",
+            "vector_add_per_ns": f"{rates['add_per_ns']:.2f}",
+            f"step_floor_{muls}_vector_muls": f"{muls / rates['mul_per_ns']:.1f}"}
+
+
+#: The FMU's generated C (inflowsim.fmu.generate.GENERATED): a ``--model`` peer is
+#: the peer commit's hand-written C compiled with this FMU's generated files.
+GENERATED_C = ("inflow_vars.h", "inflow_vars.c", "inflow_equations.c")
+
+
+def frame_beside_peers(args, tmp, so, baseline, guid, cc, inc, fmu_sources) -> dict:
     """``{label: {"dostep": (best, median), "frame": (best, median)}}`` [ns] from one
-    run of ``fmu_frame`` over this FMU, its baseline build and each peer commit's."""
+    run of ``fmu_frame`` over this FMU, its baseline build and each peer commit's
+    (the presets' FMU of that commit; with ``--model``, that commit's hand-written C
+    with this FMU's generated files, if they still build together)."""
+    import shutil
     from inflowsim.fmu.build import CFLAGS
     exe = tmp / "frame"
     subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
                     str(exe), str(HERE / "fmu_frame.c"), "-ldl"], check=True)
     libs = [("this", so, guid), ("this_baseline", baseline, guid)]
-    if args.model is None:
-        for commit in filter(None, args.peers.split(",")):
-            d = tmp / f"peer_{commit}"
-            d.mkdir()
-            tar = subprocess.run(["git", "-C", str(HERE.parent), "archive", commit, "fmu"],
-                                 check=True, capture_output=True).stdout
-            subprocess.run(["tar", "-x", "-C", str(d)], input=tar, check=True)
-            src = d / "fmu"
-            peer = tmp / f"peer_{commit}.so"
-            cfiles = sorted(str(f) for f in src.glob("inflow_*.c") if "fmi3" not in f.name)
-            subprocess.run([cc, *CFLAGS, f"-I{src}", "-o", str(peer), *cfiles, "-lm"],
-                           check=True)
+    for commit in filter(None, args.peers.split(",")):
+        d = tmp / f"peer_{commit}"
+        d.mkdir()
+        tar = subprocess.run(["git", "-C", str(HERE.parent), "archive", commit, "fmu"],
+                             check=True, capture_output=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(d)], input=tar, check=True)
+        src = d / "fmu"
+        pguid = guid
+        if args.model is None:
             text = (src / "modelDescription.xml").read_text()
             pguid = text.split('guid="', 1)[1].split('"', 1)[0]
-            libs.append((commit, peer, pguid))
+        else:
+            for f in GENERATED_C:
+                shutil.copyfile(fmu_sources / f, src / f)
+        peer = tmp / f"peer_{commit}.so"
+        cfiles = sorted(str(f) for f in src.glob("inflow_*.c") if "fmi3" not in f.name)
+        res = subprocess.run([cc, *CFLAGS, f"-I{src}", "-o", str(peer), *cfiles, "-lm"],
+                             capture_output=True, text=True)
+        if res.returncode != 0:
+            print(f"peer {commit}: its C does not build with this FMU's generated files; "
+                  "left out")
+            continue
+        libs.append((commit, peer, pguid))
     cmd = [str(exe), str(args.frame_steps), str(args.rounds)]
     for label, lib, g in libs:
         cmd += [label, str(lib), g]

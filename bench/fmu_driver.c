@@ -10,69 +10,10 @@
  * FMI 3.0 binary also its fmi3DoStep and SetFloat64 + DoStep + GetFloat64.
  */
 #define _POSIX_C_SOURCE 199309L
-#include <dlfcn.h>
-#include <stdarg.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-
-#include "fmi2Functions.h"
+#include "fmu_load.h"
 #include "fmi3Functions.h"
 
 #define REPEATS 5
-
-typedef struct {
-    fmi2InstantiateTYPE *instantiate;
-    fmi2FreeInstanceTYPE *free_instance;
-    fmi2SetupExperimentTYPE *setup;
-    fmi2EnterInitializationModeTYPE *enter_init;
-    fmi2ExitInitializationModeTYPE *exit_init;
-    fmi2SetRealTYPE *set_real;
-    fmi2GetRealTYPE *get_real;
-    fmi2DoStepTYPE *do_step;
-} Api;
-
-static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st,
-                   fmi2String cat, fmi2String msg, ...)
-{
-    va_list ap;
-    (void)env; (void)cat;
-    va_start(ap, msg);
-    fprintf(stderr, "[%s %d] ", name, (int)st);
-    vfprintf(stderr, msg, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-}
-
-static void *sym(void *lib, const char *name)
-{
-    void *p = dlsym(lib, name);
-    if (!p) { fprintf(stderr, "missing %s\n", name); exit(1); }
-    return p;
-}
-
-static Api load(const char *path)
-{
-    Api a;
-    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) { fprintf(stderr, "%s\n", dlerror()); exit(1); }
-    *(void **)&a.instantiate = sym(lib, "fmi2Instantiate");
-    *(void **)&a.free_instance = sym(lib, "fmi2FreeInstance");
-    *(void **)&a.setup = sym(lib, "fmi2SetupExperiment");
-    *(void **)&a.enter_init = sym(lib, "fmi2EnterInitializationMode");
-    *(void **)&a.exit_init = sym(lib, "fmi2ExitInitializationMode");
-    *(void **)&a.set_real = sym(lib, "fmi2SetReal");
-    *(void **)&a.get_real = sym(lib, "fmi2GetReal");
-    *(void **)&a.do_step = sym(lib, "fmi2DoStep");
-    return a;
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static fmi2Component start(const Api *a, const char *guid)
 {
@@ -220,8 +161,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: %s INFLOWSIM_SO GUID ONESTATE_SO [N]\n", argv[0]);
         return 2;
     }
-    fmu = load(argv[1]);
-    one = load(argv[3]);
+    load(&fmu, argv[1]);
+    load(&one, argv[3]);
     printf("onestate_dostep %.2f\n", run(&one, "", n, 0, in1, 1, out1, 1, 0));
     printf("onestate_set_dostep_get %.2f\n", run(&one, "", n, 1, in1, 1, out1, 1, 0));
     printf("glauert_dostep %.2f\n", run(&fmu, argv[2], n, 0, in10, 10, out6, 6, 10));

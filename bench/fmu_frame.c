@@ -10,83 +10,31 @@
  * rounds, ns per step or frame:  LABEL dostep BEST MEDIAN / LABEL frame BEST MEDIAN.
  */
 #define _POSIX_C_SOURCE 199309L
-#include <dlfcn.h>
-#include <stdarg.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-
-#include "fmi2Functions.h"
+#include "fmu_load.h"
 
 #define MAX_LIBS 8
 #define MAX_ROUNDS 64
 
 typedef struct {
     const char *label, *guid;
-    fmi2InstantiateTYPE *instantiate;
-    fmi2FreeInstanceTYPE *free_instance;
-    fmi2SetupExperimentTYPE *setup;
-    fmi2EnterInitializationModeTYPE *enter_init;
-    fmi2ExitInitializationModeTYPE *exit_init;
-    fmi2SetRealTYPE *set_real;
-    fmi2GetRealTYPE *get_real;
-    fmi2DoStepTYPE *do_step;
-} Api;
-
-static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st,
-                   fmi2String cat, fmi2String msg, ...)
-{
-    va_list ap;
-    (void)env; (void)cat;
-    va_start(ap, msg);
-    fprintf(stderr, "[%s %d] ", name, (int)st);
-    vfprintf(stderr, msg, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-}
-
-static void *sym(void *lib, const char *name)
-{
-    void *p = dlsym(lib, name);
-    if (!p) { fprintf(stderr, "missing %s\n", name); exit(1); }
-    return p;
-}
-
-static void load(Api *a, const char *path)
-{
-    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) { fprintf(stderr, "%s\n", dlerror()); exit(1); }
-    *(void **)&a->instantiate = sym(lib, "fmi2Instantiate");
-    *(void **)&a->free_instance = sym(lib, "fmi2FreeInstance");
-    *(void **)&a->setup = sym(lib, "fmi2SetupExperiment");
-    *(void **)&a->enter_init = sym(lib, "fmi2EnterInitializationMode");
-    *(void **)&a->exit_init = sym(lib, "fmi2ExitInitializationMode");
-    *(void **)&a->set_real = sym(lib, "fmi2SetReal");
-    *(void **)&a->get_real = sym(lib, "fmi2GetReal");
-    *(void **)&a->do_step = sym(lib, "fmi2DoStep");
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+    Api api;
+} Lib;
 
 /* ns per step: mode 0 DoStep only, mode 1 SetReal + DoStep + GetReal */
-static double run(const Api *a, long n, int mode, double *sink)
+static double run(const Lib *lib, long n, int mode, double *sink)
 {
+    const Api *a = &lib->api;
     static const fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
     static const fmi2ValueReference in[10] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
     static const fmi2ValueReference out[6] = {11, 12, 13, 14, 15, 16};
-    fmi2Component c = a->instantiate("bench", fmi2CoSimulation, a->guid, "", &cb,
+    fmi2Component c = a->instantiate("bench", fmi2CoSimulation, lib->guid, "", &cb,
                                      fmi2False, fmi2False);
     double u[10], y[6], t0, t1;
     long k;
     int i;
     if (!c || a->setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK ||
         a->enter_init(c) != fmi2OK || a->exit_init(c) != fmi2OK) {
-        fprintf(stderr, "%s: initialisation failed\n", a->label);
+        fprintf(stderr, "%s: initialisation failed\n", lib->label);
         exit(1);
     }
     for (i = 0; i < 10; i++) u[i] = 1e-3 * (double)(i + 1);
@@ -98,7 +46,7 @@ static double run(const Api *a, long n, int mode, double *sink)
             a->set_real(c, in, 10, u);
         }
         if (a->do_step(c, (double)k * 0.01, 0.01, fmi2True) != fmi2OK) {
-            fprintf(stderr, "%s: fmi2DoStep failed\n", a->label);
+            fprintf(stderr, "%s: fmi2DoStep failed\n", lib->label);
             exit(1);
         }
         if (mode == 1) a->get_real(c, out, 6, y);
@@ -118,7 +66,7 @@ static int cmp(const void *x, const void *y)
 
 int main(int argc, char **argv)
 {
-    Api libs[MAX_LIBS];
+    Lib libs[MAX_LIBS];
     double t[MAX_LIBS][2][MAX_ROUNDS], sink = 0.0;
     long n;
     int rounds, nl = 0, r, l, mode;
@@ -132,7 +80,7 @@ int main(int argc, char **argv)
     for (l = 3; l + 2 < argc && nl < MAX_LIBS; l += 3, nl++) {
         libs[nl].label = argv[l];
         libs[nl].guid = argv[l + 2];
-        load(&libs[nl], argv[l + 1]);
+        load(&libs[nl].api, argv[l + 1]);
     }
     for (r = 0; r < rounds; r++)
         for (l = 0; l < nl; l++)

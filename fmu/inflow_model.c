@@ -79,6 +79,24 @@ static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[NX
     for (i = 0; i < NX; i++) x[i] += acc[i];
 }
 
+/* The rows of m->pg after its whole groups of four, copied into m->prow
+ * (IFS_ROW_STEP; else nothing): after every change of m->pg. */
+static void pack_rows(IfsModel *m)
+{
+#ifdef IFS_ROW_STEP
+    int l, j;
+    memset(m->prow, 0, sizeof m->prow);       /* the padding */
+    for (l = 0; l < IFS_NLEFT; l++) {
+        const int i = 4 * IFS_NG4 + l;
+        for (j = 0; j < NX; j++) m->prow[l * IFS_RL + j] = m->pg[j * IFS_LD + i];
+        for (j = 0; j < NU; j++)
+            m->prow[l * IFS_RL + 4 * IFS_XB + j] = m->pg[(NX + j) * IFS_LD + i];
+    }
+#else
+    (void)m;
+#endif
+}
+
 /* The azimuth bias: the outputs' rotation (recorded flap = true one rotated) and the
  * loads' true pitch. */
 static void set_bias(IfsModel *m, const IfsVariables *v)
@@ -86,6 +104,10 @@ static void set_bias(IfsModel *m, const IfsVariables *v)
     const double bias = ifs_bias_of(v);
     m->cos_bias = cos(bias);
     m->sin_bias = sin(bias);
+    m->rot[0] = m->cos_bias;
+    m->rot[1] = m->sin_bias;
+    m->rot[2] = -m->sin_bias;
+    m->rot[3] = m->cos_bias;
     build_loads(m, v);
 }
 
@@ -157,6 +179,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  "matrices)", n.dt);
         return -1;
     }
+    pack_rows(&n);
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
     n.h_last = -1.0;
@@ -268,6 +291,7 @@ void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
     int j;
     ifs_mu_table_eval(t, v->mu, 0, f);
     for (j = 0; j < NA; j++) memcpy(m->pg + j * IFS_LD, f + j * NX, sizeof(double) * NX);
+    pack_rows(m);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;

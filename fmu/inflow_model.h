@@ -25,6 +25,19 @@
  * from the generated inflow_vars.h: the structures this FMU was generated for */
 #define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
 
+/* Rows past the last whole group of four (nine states: row 8) are summed row by row
+ * in the generic step (see ifs_step): the products of a row are taken in vectors of
+ * four over [x; u] (IFS_ZB blocks, x and u each padded with zeros to whole blocks),
+ * not in a quarter-used vector per column.  The six-state step keeps its own sums. */
+#define IFS_NG4 (IFS_NX / 4)               /* whole groups of four rows */
+#define IFS_NLEFT (IFS_NX % 4)             /* the rows after them */
+#define IFS_XB ((IFS_NX + 3) / 4)          /* blocks of four of x */
+#define IFS_ZB (IFS_XB + (IFS_NU + 3) / 4) /* ... of [x; u] */
+#define IFS_RL (4 * IFS_ZB)                /* a packed row's length */
+#if IFS_NX != 6 && IFS_NLEFT > 0
+#define IFS_ROW_STEP 1
+#endif
+
 
 typedef struct {
     /* continuous SI state space, row-major */
@@ -32,6 +45,9 @@ typedef struct {
     double b[IFS_NX * IFS_NU];
     /* outputs y = c x: identity but the recorded flap rotated by the azimuth bias */
     double cos_bias, sin_bias;
+    /* the same rotation by columns: cos, sin | -sin, cos (the four-wide step's
+     * outputs, two at a time) */
+    double rot[4];
     /* loads = lc x + ld u (inflowsim.model.loads: Eq. (4) times a0 s, the flap rate
      * from the dynamics, the true pitch; the flap springs' hub moments), row-major */
     double lc[IFS_NL * IFS_NX];
@@ -41,6 +57,13 @@ typedef struct {
      * two rows at a time (see ifs_step) */
     double pg[IFS_NA * IFS_LD];
     double dt;
+#ifdef IFS_ROW_STEP
+    /* the last IFS_NX % 4 rows of pg again, row by row (IFS_RL each: the x part and
+     * the u part each padded with zeros to whole vectors of four), so the four-wide
+     * step (ifs_step_wide) loads four of their coefficients at a time; refreshed
+     * with pg (pack_rows in inflow_model.c) */
+    double prow[IFS_NLEFT * IFS_RL];
+#endif
     /* cached [phi gam] (by columns) of a remainder step (h not n dt) */
     double pg_rem[IFS_NA * IFS_LD];
     double rem;                    /* its length [s]; 0 = no cache */
@@ -111,6 +134,18 @@ int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_LD]);
  * remainder step.  Returns 0, or -1 if the remainder discretisation failed. */
 int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
 
+/* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
+IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
+{
+    const double *x = m->x;
+    y[0] = x[0];
+    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
+    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
+    y[3] = x[3];
+    y[4] = x[4];
+    y[5] = x[5];
+}
+
 /*
  * x <- phi x + gam u with [phi gam] = pg: one step, the simulator loop's hot path,
  * inline so that it is compiled for the caller's target (see IFS_HOT in
@@ -156,10 +191,13 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 /* other state counts (flap-inertia's nine): each new row is gam u and phi x, each
  * summed as a fixed pairwise tree ((gam u) + phi_0 x_0 first), so the chain from x
  * to the new x is one multiply and four adds for nine states and gam u's ten terms
- * no longer make a chain of ten adds.  Rows two at a time (native on every x86-64,
- * SSE2, so the baseline code is fast too), four in the AVX2 clone (ifs_step_wide
- * below), one in plain C: the same operations per row in the same order, so the
- * same numbers. */
+ * no longer make a chain of ten adds.  Whole groups of four rows go two rows at a
+ * time (native on every x86-64, SSE2, so the baseline code is fast too), four in the
+ * AVX2 clone (ifs_step_wide below), one in plain C; the rows after them (nine
+ * states: row 8) row by row, four products at a time (ifs_row_sum): a column-wise
+ * vector would carry one useful lane of four, and every vector operation and load
+ * counts in the step.  The same operations per row in the same order on every path,
+ * so the same numbers. */
 /* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
  * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
  * by size, as a binary counter), so only a few values are live at once: the terms
@@ -208,47 +246,164 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
                      out);                                                             \
     } while (0)
 
+#ifdef IFS_ROW_STEP
+/* A row after the whole groups of four (ifs_step, ifs_step_wide): lane l of block b
+ * of [x; u] is coefficient * entry, or 0 * 0 in the padding, exactly as the four-wide
+ * step multiplies a packed row (m->prow) by the zero-padded blocks.  Each lane
+ * is a pairwise tree over the blocks, the u blocks first (gam u), then the lanes
+ * (l0 + l2) + (l1 + l3) (two vector adds from four lanes): the same operations in
+ * the same order on every path. */
+#define IFS_RBLOCK(k) (((k) + IFS_XB) % IFS_ZB)
+#define IFS_RTERM(b, l)                                                                \
+    ((b) < IFS_XB                                                                      \
+         ? (4 * (b) + (l) < IFS_NX ? pg[(4 * (b) + (l)) * IFS_LD + i] * x[4 * (b) + (l)] \
+                                   : 0.0 * 0.0)                                        \
+         : (4 * ((b) - IFS_XB) + (l) < IFS_NU                                          \
+                ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i] *               \
+                      u[4 * ((b) - IFS_XB) + (l)]                                      \
+                : 0.0 * 0.0))
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+/* lanes 2h, 2h + 1 of block b as a pair (the baseline code's vectors; 0 * 0 in the
+ * padding as above): lanes 0, 1 and 2, 3 summed apart, then added, are
+ * (l0 + l2, l1 + l3) */
+#define IFS_RCOEF(b, l)                                                                \
+    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? pg[(4 * (b) + (l)) * IFS_LD + i] : 0.0)   \
+                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU                                 \
+                         ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i]        \
+                         : 0.0))
+#define IFS_RZ(b, l)                                                                   \
+    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? x[4 * (b) + (l)] : 0.0)                  \
+                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU ? u[4 * ((b) - IFS_XB) + (l)] : 0.0))
+#define IFS_RPROD(b, h)                                                                \
+    ((ifs_v2){IFS_RCOEF(b, 2 * (h)), IFS_RCOEF(b, 2 * (h) + 1)} *                      \
+     (ifs_v2){IFS_RZ(b, 2 * (h)), IFS_RZ(b, 2 * (h) + 1)})
+IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
+{
+    ifs_v2 lo, hi, h;
+    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 0), IFS_RPROD(IFS_RBLOCK(j_), 0), lo);
+    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 1), IFS_RPROD(IFS_RBLOCK(j_), 1), hi);
+    h = lo + hi;
+    return h[0] + h[1];
+}
+#else
+IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
+{
+    double p[4];
+    int l;
+    IFS_UNROLL
+    for (l = 0; l < 4; l++)
+        IFS_TREE_SUM(double, IFS_ZB, IFS_RTERM(IFS_RBLOCK(0), l),
+                     IFS_RTERM(IFS_RBLOCK(j_), l), p[l]);
+    return (p[0] + p[2]) + (p[1] + p[3]);
+}
+#endif
+#endif
+
 IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    /* every pair's sums before any store (each reads all of x), then straight into
-     * x: a copy through a buffer stalls store forwarding every step */
-    ifs_v2 y[(IFS_NX + 1) / 2];
+    /* every sum before any store (each reads all of x), then straight into x: a
+     * copy through a buffer stalls store forwarding every step */
+    ifs_v2 y[IFS_NG4 > 0 ? 2 * IFS_NG4 : 1];
     int r;
+#ifdef IFS_ROW_STEP
+    double tail[IFS_NLEFT];
+#endif
     IFS_UNROLL
-    for (r = 0; r < (IFS_NX + 1) / 2; r++) IFS_GROUP(ifs_v2, pg + 2 * r, y[r]);
+    for (r = 0; r < 2 * IFS_NG4; r++) IFS_GROUP(ifs_v2, pg + 2 * r, y[r]);
+#ifdef IFS_ROW_STEP
     IFS_UNROLL
-    for (r = 0; r < IFS_NX / 2; r++) *(ifs_v2 *)(x + 2 * r) = y[r];
-    if (IFS_NX % 2) x[IFS_NX - 1] = y[IFS_NX / 2][0];
+    for (r = 0; r < IFS_NLEFT; r++) tail[r] = ifs_row_sum(pg, 4 * IFS_NG4 + r, x, u);
+#endif
+    IFS_UNROLL
+    for (r = 0; r < 2 * IFS_NG4; r++) *(ifs_v2 *)(x + 2 * r) = y[r];
+#ifdef IFS_ROW_STEP
+    IFS_UNROLL
+    for (r = 0; r < IFS_NLEFT; r++) x[4 * IFS_NG4 + r] = tail[r];
+#endif
 #else
     double y[IFS_NX];
     int i;
-    for (i = 0; i < IFS_NX; i++) IFS_GROUP(double, pg + i, y[i]);
+    for (i = 0; i < 4 * IFS_NG4; i++) IFS_GROUP(double, pg + i, y[i]);
+#ifdef IFS_ROW_STEP
+    for (i = 4 * IFS_NG4; i < IFS_NX; i++) y[i] = ifs_row_sum(pg, i, x, u);
+#endif
     memcpy(x, y, sizeof y);
 #endif
 }
 
 /* The same step four rows at a time, for the AVX2 clone of the DoStep functions
  * (IFS_WIDE_STEP; ifs_slave_step_fast picks it where the CPU has AVX2: 256-bit
- * vectors on the baseline x86-64 code are split badly, so that keeps the pairs). */
+ * vectors on the baseline x86-64 code are split badly, so that keeps the pairs), on
+ * m's [phi gam] at dt: the whole groups of four rows by columns, the rows after them
+ * from the packed rows (m->prow) four products at a time.  It also leaves the six
+ * outputs (ifs_outputs: beta0 .. lambda1s) in out, from the new rows in registers
+ * (read back from x, they waited for the stores). */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
 static inline __attribute__((target("avx2"))) void
-ifs_step_wide(const double *pg, double x[IFS_NX], const double u[IFS_NU])
+ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
 {
-    ifs_v4 y[IFS_LD / 4];
-    int g, j;
+    const double *pg = m->pg;
+    double *x = m->x;
+    ifs_v4 y[IFS_NG4 > 0 ? IFS_NG4 : 1];
+    int g;
+#ifdef IFS_ROW_STEP
+    double tail[IFS_NLEFT];
+    ifs_v4 z[IFS_ZB];
+    int b, l;
     IFS_UNROLL
-    for (g = 0; g < IFS_LD / 4; g++) IFS_GROUP(ifs_v4, pg + 4 * g, y[g]);
-    IFS_UNROLL
-    for (g = 0; g < IFS_LD / 4; g++) {
-        if (4 * g + 4 <= IFS_NX) {
-            *(ifs_v4 *)(x + 4 * g) = y[g];
+    for (b = 0; b < IFS_ZB; b++) {     /* [x; u] in blocks of four, zero-padded */
+        const double *src = b < IFS_XB ? x + 4 * b : u + 4 * (b - IFS_XB);
+        const int n = b < IFS_XB ? IFS_NX - 4 * b : IFS_NU - 4 * (b - IFS_XB);
+        if (n >= 4) {
+            z[b] = *(const ifs_v4 *)src;
+        } else if (n >= 2) {       /* one 16-byte load, the upper half zero */
+            const ifs_v2 h = *(const ifs_v2 *)src;
+            const ifs_v4 t = {h[0], h[1], n == 3 ? src[2] : 0.0, 0.0};
+            z[b] = t;
         } else {
-            IFS_UNROLL
-            for (j = 4 * g; j < IFS_NX; j++) x[j] = y[g][j - 4 * g];
+            const ifs_v4 t = {src[0], 0.0, 0.0, 0.0};
+            z[b] = t;
         }
     }
+#endif
+    IFS_UNROLL
+    for (g = 0; g < IFS_NG4; g++) IFS_GROUP(ifs_v4, pg + 4 * g, y[g]);
+#ifdef IFS_ROW_STEP
+    IFS_UNROLL
+    for (l = 0; l < IFS_NLEFT; l++) {
+        const double *c = m->prow + l * IFS_RL;
+        ifs_v4 p;
+        IFS_TREE_SUM(ifs_v4, IFS_ZB, *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(0)) * z[IFS_RBLOCK(0)],
+                     *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(j_)) * z[IFS_RBLOCK(j_)], p);
+        {
+            const ifs_v2 lo = {p[0], p[1]}, hi = {p[2], p[3]}, h = lo + hi;
+            tail[l] = h[0] + h[1];
+        }
+    }
+#endif
+    IFS_UNROLL
+    for (g = 0; g < IFS_NG4; g++) *(ifs_v4 *)(x + 4 * g) = y[g];
+#ifdef IFS_ROW_STEP
+    IFS_UNROLL
+    for (l = 0; l < IFS_NLEFT; l++) x[4 * IFS_NG4 + l] = tail[l];
+#endif
+#if IFS_NG4 >= 2
+    {
+        /* [c x1 + (-s) x2, s x1 + c x2]: ifs_outputs' c x1 - s x2 and s x1 + c x2,
+         * exactly (a - b is a + (-b) in IEEE arithmetic) */
+        const ifs_v2 x1 = {y[0][1], y[0][1]}, x2 = {y[0][2], y[0][2]};
+        const ifs_v2 r = x1 * *(const ifs_v2 *)m->rot + x2 * *(const ifs_v2 *)(m->rot + 2);
+        out[0] = y[0][0];
+        *(ifs_v2 *)(out + 1) = r;
+        out[3] = y[0][3];
+        out[4] = y[1][0];
+        out[5] = y[1][1];
+    }
+#else
+    ifs_outputs(m, out);
+#endif
 }
 #endif
 #endif
@@ -305,18 +460,6 @@ static inline double ifs_load(const IfsModel *m, int i, const double u[IFS_NU])
     for (j = 0; j < IFS_NX; j++) s += m->lc[i * IFS_NX + j] * m->x[j];
     for (j = 0; j < IFS_NU; j++) s += m->ld[i * IFS_NU + j] * u[j];
     return s;
-}
-
-/* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
-IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
-{
-    const double *x = m->x;
-    y[0] = x[0];
-    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
-    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
-    y[3] = x[3];
-    y[4] = x[4];
-    y[5] = x[5];
 }
 
 #endif

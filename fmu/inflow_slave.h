@@ -128,6 +128,16 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
     return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
 }
 
+/* the outputs beta0 .. lambda1s in order (ifs_outputs' y), contiguous like the inputs */
+typedef char ifs_outputs_are_contiguous[offsetof(IfsVariables, lambda1s) -
+                                        offsetof(IfsVariables, beta0) ==
+                                        5 * sizeof(double) ? 1 : -1];
+
+static inline double *ifs_slave_outputs(IfsSlave *s)
+{
+    return (double *)((char *)&s->v + offsetof(IfsVariables, beta0));
+}
+
 /* The state delayed by flap channel i's time shift. */
 void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX]);
 
@@ -166,11 +176,13 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
         const double now = ifs_slave_time(s);
         if (fabs(t - now) <= 1e-9 * (1.0 + fabs(now)) && now + h <= s->t_stop) {
 #ifdef IFS_WIDE_STEP
-            if (s->wide)
-                ifs_step_wide(s->m.pg, s->m.x, ifs_slave_inputs(s));
-            else
+            if (s->wide) {
+                ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s));
+                s->n_comm++;
+                return 1;
+            }
 #endif
-                ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
+            ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s));
             s->n_comm++;
             ifs_slave_update_outputs(s);
             return 1;
