@@ -18,12 +18,6 @@ from inflowsim.flighttest import FlightTest, nonlinear_flighttest
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "issue #29: on one doublet mux moves a little, so Glauert's c1, c3, c4 are now "
-    "estimated (no longer held whole with the undetermined c2) and G mimics the direct "
-    "in-plane forcing: the ladder names glauert where the truth has "
-    "advance-ratio-perturbation.  The record does not separate the two; the redesigned "
-    "rule must say so (each atom significant beside the other) instead of naming either"))
 def test_ladder_on_nonlinear_truth_names_flap_inertia_and_inplane_forcing():
     test = FlightTest(seed=1)
     rec = nonlinear_flighttest(test).record
@@ -100,11 +94,12 @@ def _no_eq14_record():
 @pytest.mark.slow
 def test_without_the_glauert_coupling_in_the_truth_glauert_is_not_named():
     """Glauert's four in-plane gains fit what the direct in-plane forcing explains
-    with one parameter, and more (their Schwarz gain alone is the larger); beside
-    ``k_mu`` they are not significant, so the rule's line 3 (an atom a simpler
-    one explains is not admissible) leaves them out.  The ladder names the truth's
-    effects: flap inertia, the time constants, the in-plane forcing with ``k_mu``
-    at its theory value, the 2/rev flap, and no Glauert term."""
+    with one parameter, and more: alone they gain more than ``k_mu`` (53 against
+    47 after flap inertia), but the pairs the lattice fits beside the 2/rev flap
+    and the time constants favour the direct forcing (207 against 194).  The
+    ladder names the truth's effects: flap inertia, the time constants, the
+    in-plane forcing with ``k_mu`` at its theory value, the 2/rev flap, and no
+    Glauert term."""
     test, rec = _no_eq14_record()
     lad = ladder(rec, "basic")
     added = [e for r in lad.rungs[1:] for e in r.added.split("+")]
@@ -117,19 +112,7 @@ def test_without_the_glauert_coupling_in_the_truth_glauert_is_not_named():
     ratio = np.array([abs(final.S[0][i, i]) for i in range(3)]) / (
         len(rec) * test.noise_flap ** 2)
     assert np.all(ratio < 1.5), ratio
-    explained = {a: b for r in lad.rungs for row in r.diagnosis.decision.rows
-                 for a, b in row.explained_by}
-    assert explained.get("glauert (c1, c2, c3, c4)") == "advance-ratio-perturbation"
-
-
-@pytest.mark.slow
-def test_without_pairs_glauerts_in_plane_gains_would_be_named():
-    """The same record with ``Rule(width=0)``: no pairs, so nothing shows that the
-    simpler direct forcing explains Glauert's in-plane gains, and they are added."""
-    from inflowsim.diagnose.rule import Rule
-    _, rec = _no_eq14_record()
-    lad = ladder(rec, "basic", rule=Rule(width=0))
-    assert any(a == "glauert (c1, c2, c3, c4)" for r in lad.rungs for a in r.atoms)
+    assert not any(a.startswith("glauert") for r in lad.rungs for a in r.atoms)
 
 
 @pytest.mark.slow

@@ -317,12 +317,11 @@ class Decision:
 
     @property
     def effects(self) -> tuple:
-        """The effect added (a 1-tuple), or ``()``."""
+        """The effects of the accepted structure, the added atom's first; ``()``."""
         if not self.accepted:
             return ()
-        c = self.chosen
-        return (c.effects[list(c.atoms).index(self.added[0])] if len(c.effects) ==
-                len(c.atoms) else c.effects[0],)
+        first = self.added_row.effects if self.added_row is not None else ()
+        return tuple(dict.fromkeys(first + self.chosen.effects))
 
     def to_json(self) -> dict:
         c = self.chosen

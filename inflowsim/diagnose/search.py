@@ -38,7 +38,8 @@ class Diagnosis:
     ``unexplained`` finding when the residual keeps structure no candidate
     explains); ``decision`` the rule's table of scored structures and what it
     accepted (:mod:`inflowsim.diagnose.rule`); ``candidates`` its atoms, the added
-    one first; ``missing_effect`` the effect the rule adds, or ``None``.
+    one first; ``missing_effect`` the effect of the atom the rule adds first, or
+    ``None``; ``missing_effects`` those of the whole accepted structure.
     """
 
     structure: Structure
@@ -62,15 +63,17 @@ class Diagnosis:
 
     @property
     def missing_effects(self) -> tuple:
-        """The effect added, as a 1-tuple (``()``: none)."""
+        """The effects of the accepted structure, the one added first (``()``:
+        none)."""
         return self.decision.effects if self.decision is not None else ()
 
     @property
     def accepted(self):
-        """The added atom's own row (:class:`~inflowsim.diagnose.rule.Scored`, its
-        ``fit`` the ladder's next rung), or ``None``."""
+        """The accepted structure's row (:class:`~inflowsim.diagnose.rule.Scored`),
+        or ``None``; the ladder's next rung is ``decision.added_row``, its atom
+        added first."""
         d = self.decision
-        return d.added_row if d is not None else None
+        return d.chosen if d is not None and d.accepted else None
 
     def to_json(self) -> dict:
         return {"structure": self.structure.name, "effects": list(self.structure.effects),
@@ -241,7 +244,7 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     dec = decide(lattice(recs, fit, band_hz, fit_fn, pool, judge, rule, progress), rule)
     cands = candidates_of(dec)
     if dec.accepted:
-        verd = verdict(analyses, analyses_of(recs, dec.added_row.fit, band_hz,
+        verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
                                              check_colour=False), dec.effects, alpha)
     else:
         fails += unexplained(analyses, alpha)
@@ -320,7 +323,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
                  hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     for _ in range(max_steps):
-        win = d.accepted
+        win = d.decision.added_row if d.decision is not None else None
         if win is None:
             break
         if progress:
