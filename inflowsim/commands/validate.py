@@ -1,10 +1,12 @@
 """``inflowsim validate``: compare a model with a record's measured flap.
 
 Prints per-channel fit figures (RMS error, Theil inequality coefficient, fit
-percent, RMS magnitude and phase errors of the responses over the band), or
-with ``--json`` the document of ``interface.md`` (``{"channels": {channel: {"rms",
-"tic", "fit_percent", ...}}, ...}``); ``--report DIR`` writes plots and
-``DIR/index.html`` (:func:`validation_report`).
+percent, RMS magnitude and phase errors of the measured responses, each conditioned
+on the other moving controls, against the model's analytic ones where coherence >=
+0.6) and Tischler's cost per response pair and overall, or with ``--json`` the
+document of ``interface.md`` (``{"channels": {channel: {"rms", "tic",
+"fit_percent", ...}}, "responses": [...], "cost": {...}, ...}``); ``--report DIR``
+writes plots and ``DIR/index.html`` (:func:`validation_report`).
 """
 from __future__ import annotations
 
