@@ -10,9 +10,12 @@ theta1s (one input) and a multisine on the three controls (three inputs), each
 with the three flap outputs.  Timed: ``frequency_response`` on the record in
 memory (CPU time of the process, ``time.process_time``, median of 5), and the whole
 ``inflowsim frf RECORD --json`` command in a fresh interpreter (CPU time of the
-child: start-up, imports, reading the CSV included).  Peer, same run: one
-``scipy.signal.csd`` Welch estimate (one window length, 75 % overlap) of every
-input-output pair, the cost of the textbook single-window ordinary estimate.
+child, ``resource.getrusage(RUSAGE_CHILDREN)``: start-up, imports, reading the
+CSV included; median of 3).  Peers, same run: one ``scipy.signal.csd`` Welch
+estimate (one window length, 75 % overlap) of every input-output pair, the cost of
+the textbook single-window ordinary estimate; and for the command, a fresh
+interpreter that imports NumPy and reads the same CSV with ``numpy.loadtxt`` (the
+least any Python command reading that file costs), median of 3.
 """
 from __future__ import annotations
 
@@ -66,12 +69,23 @@ def peer(rec, inputs):
                        noverlap=3 * n // 4)
 
 
-def command_cpu(path):
+def child_cpu(argv):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, "-m", "inflowsim.cli", "frf", path, "--json"],
-                   check=True, stdout=subprocess.DEVNULL, env=dict(os.environ))
+    subprocess.run(argv, check=True, stdout=subprocess.DEVNULL, env=dict(os.environ))
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def command_cpu(path):
+    return child_cpu([sys.executable, "-m", "inflowsim.cli", "frf", path, "--json"])
+
+
+def command_peer_cpu(path):
+    code = ("import sys, numpy\n"
+            "lines = open(sys.argv[1]).read().splitlines()\n"
+            "k = next(i for i, ln in enumerate(lines) if ln.startswith('t,'))\n"
+            "numpy.loadtxt(lines[k + 1:], delimiter=',')\n")
+    return child_cpu([sys.executable, "-c", code, path])
 
 
 def main():
@@ -84,15 +98,18 @@ def main():
             path = os.path.join(d, "r.csv")
             write_record(rec, path, overwrite=True)
             t_cmd = statistics.median(command_cpu(path) for _ in range(3))
+            t_cpeer = statistics.median(command_peer_cpu(path) for _ in range(3))
             rows.append((name, len(rec), fr.frequency_hz.size, len(fr.windows_s), t_frf,
-                         t_peer, t_cmd))
+                         t_peer, t_cmd, t_cpeer))
     print(f"load average {os.getloadavg()[0]:.2f}; OPENBLAS_NUM_THREADS="
           f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}")
     print("| record | samples | frequencies | windows | frequency_response CPU [s] | "
-          "peer: scipy csd, 1 window [s] | ratio | `inflowsim frf --json` CPU [s] |")
-    print("|---|---|---|---|---|---|---|---|")
-    for name, n, nf, nw, a, b, c in rows:
-        print(f"| {name} | {n} | {nf} | {nw} | {a:.3f} | {b:.3f} | {a / b:.1f} | {c:.2f} |")
+          "peer: scipy csd, 1 window [s] | ratio | `inflowsim frf --json` CPU [s] | "
+          "peer: python + numpy.loadtxt of the CSV [s] | ratio |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for name, n, nf, nw, a, b, c, d in rows:
+        print(f"| {name} | {n} | {nf} | {nw} | {a:.3f} | {b:.3f} | {a / b:.1f} | {c:.2f} "
+              f"| {d:.2f} | {c / d:.1f} |")
 
 
 if __name__ == "__main__":

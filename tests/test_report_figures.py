@@ -49,7 +49,7 @@ def test_validate_and_identify_report_the_same_fit(rec, basic_fit):
     for c in ("beta0", "beta1c", "beta1s"):
         assert v.channels[c].fit_percent == pytest.approx(
             basic_fit.fit[c]["fit_percent"], abs=2.0)
-    z, y = v.frequency.measured_dft, v.frequency.predicted_dft
+    z, y = v.measured_dft, v.predicted_dft
     for i, c in enumerate(("beta0", "beta1c", "beta1s")):
         assert v.channels[c].fit_percent == pytest.approx(fit_percent(z[i], y[i]),
                                                           rel=1e-12)

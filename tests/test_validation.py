@@ -40,12 +40,18 @@ def test_perfect_model_on_noise_free_record(structure, extra):
         assert f.rms < 1e-13
         assert f.tic < 1e-10
         assert f.fit_percent == pytest.approx(100.0, abs=1e-8)
-        assert res.magnitude_rms_db[c] < 1e-9
-        assert res.phase_rms_deg[c] < 1e-8
+    np.testing.assert_allclose(res.measured_dft, res.predicted_dft, rtol=0, atol=1e-12)
+    # the responses are estimates from windows of transients (noise-free, so their
+    # stated random error is near zero and says nothing): the model's analytic
+    # responses, hold and hub path included, lie within a few percent of them (the
+    # estimator itself is that far from the truth on these 26.6 s doublet records)
     fc = res.frequency
-    scale = np.max(np.abs(fc.measured))
-    assert np.max(np.abs(fc.measured - fc.model)) < 1e-12 * max(scale, 1.0)
-    np.testing.assert_allclose(fc.measured_dft, fc.predicted_dft, rtol=0, atol=1e-12)
+    fr, v = fc.measured, fc.valid
+    assert fr.inputs == ("theta1c", "theta1s") and v.mean() > 0.4
+    rel = np.abs(fr.h[v] / fc.model[v] - 1)
+    assert np.median(rel) < 0.08 and np.quantile(rel, 0.9) < 0.25
+    assert max(res.magnitude_rms_db.values()) < 1.5
+    assert max(res.phase_rms_deg.values()) < 10.0
 
 
 @pytest.mark.parametrize("structure, extra", [
@@ -114,7 +120,9 @@ def test_default_band_is_the_paper_grid(clean):
     assert (bins[0], bins[-1]) == (6, 42)
     res = validate(clean, _model("glauert", clean))
     assert res.band_hz == pytest.approx((6 / 26.6, 42 / 26.6))
-    assert res.frequency.reference_input == "theta1s"
+    assert res.frequency.inputs == ("theta1s",)
+    f = res.frequency.f_hz
+    assert (f[0], f[-1]) == pytest.approx(res.band_hz)
     assert PAPER_BAND_HZ[0] <= res.band_hz[0] + 1e-3
 
 
@@ -129,11 +137,17 @@ def test_trim_is_reported(clean):
     assert np.max(np.abs(res.u[res.t < 1.6])) < 1e-12
 
 
-def test_explicit_reference_input(clean):
-    res = validate(clean, _model("glauert", clean), reference_input="qdot")
-    assert res.frequency.reference_input == "qdot"
-    with pytest.raises(InputError, match="reference input 'beta0'"):
-        validate(clean, _model("glauert", clean), reference_input="beta0")
+def test_explicit_inputs(clean):
+    m = _model("glauert", clean)
+    res = validate(clean, m, inputs=["theta1s", "muz"])
+    assert res.frequency.inputs == ("theta1s", "muz")
+    assert "muz" not in res.frequency.paths and "qdot" in res.frequency.paths
+    assert res.frequency.model.shape == res.frequency.measured.h.shape == (
+        3, 2, res.frequency.f_hz.size)
+    with pytest.raises(InputError, match="input 'beta0'"):
+        validate(clean, m, inputs=["beta0"])
+    with pytest.raises(InputError, match="theta0 does not move"):
+        validate(clean, m, inputs=["theta0"])
 
 
 def test_missing_channel_named(clean):

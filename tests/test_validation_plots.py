@@ -24,15 +24,20 @@ def test_plots_are_labelled(tmp_path):
     assert [t.get_text() for t in axes[0].get_legend().get_texts()][0] == "measured"
     assert (tmp_path / "t.png").read_bytes().startswith(b"\x89PNG")
 
-    fig = frequency_response_plot(res[1], path=tmp_path / "f.png")
+    fig = frequency_response_plot(res, path=tmp_path / "f.png")
     axes = fig.get_axes()
-    assert len(axes) == 6
-    assert {a.get_ylabel() for a in axes} == {"magnitude [dB]", "phase [deg]"}
+    assert len(axes) == 3 * 3               # magnitude, phase, coherence per flap channel
+    assert {a.get_ylabel() for a in axes} == {"magnitude [dB]", "phase [deg]",
+                                              r"coherence $\gamma^2$", ""}
     assert "frequency [Hz]" in {a.get_xlabel() for a in axes}
-    assert "glauert" in fig._suptitle.get_text()
-    # one marker per transform frequency in the band
+    assert "glauert" in fig._suptitle.get_text() and "conditioned" in fig._suptitle.get_text()
+    # one point per grid frequency, and each model's analytic response on top
     n = res[1].frequency.f_hz.size
-    assert len(axes[0].get_lines()[0].get_xdata()) == n
+    labels = [ln.get_label() for ln in axes[0].get_lines()]
+    assert labels[0] == "measured" and len(axes[0].get_lines()[0].get_xdata()) == n
+    assert any(s.startswith("basic (J ") for s in labels)
+    assert any(s.startswith("glauert (J ") for s in labels)
+    assert (tmp_path / "f.png").read_bytes().startswith(b"\x89PNG")
 
     fig = error_spectrum_plot(res)
     assert len(fig.get_axes()[0].get_lines()) == 3 * 2 + 1     # + the 0 dB line

@@ -17,13 +17,91 @@ if TYPE_CHECKING:
 
 
 def add_model_arguments(p, params=True):
-    p.add_argument("--model", "-m", required=True,
-                   help="structure: basic, empirical, glauert, then +effect terms")
+    add_model_option(p)
     add_effect_arguments(p)
     if params:
-        p.add_argument("--params", "-p", metavar="FILE",
-                       help="parameter file (JSON; identify --out writes one); "
-                            "default: the paper's table values for the preset")
+        add_params_option(p)
+
+
+MODEL_HELP = "structure: basic, empirical, glauert, then +effect terms"
+PARAMS_HELP = ("parameter file (JSON; identify --out writes one); default: the paper's "
+               "table values for the preset")
+
+
+def add_model_option(p, help=MODEL_HELP, required=True):
+    """``--model/-m M``: a structure (preset, then ``+effect`` terms)."""
+    p.add_argument("--model", "-m", required=required, metavar="M" if not required else None,
+                   help=help)
+
+
+def add_params_option(p, help=PARAMS_HELP):
+    """``--params/-p FILE``: a parameter file for ``--model``."""
+    p.add_argument("--params", "-p", metavar="FILE", help=help)
+
+
+def add_add_option(p, help):
+    """``--add EFFECT`` (repeatable)."""
+    p.add_argument("--add", action="append", default=[], metavar="EFFECT", help=help)
+
+
+def add_band_option(p, default=None, what="frequency band [Hz]", default_text=None):
+    """``--band F1 F2`` [Hz]; the help names ``default`` (or ``default_text``)."""
+    if default_text is None:
+        default_text = f"{default[0]:g} {default[1]:g}"
+    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"), default=default,
+                   help=f"{what} (default {default_text})")
+
+
+def add_report_option(p, what="plots"):
+    """``--report DIR``: a report folder."""
+    p.add_argument("--report", metavar="DIR",
+                   help=f"write {what} and DIR/index.html (the folder is created)")
+
+
+def add_json_option(p, help="one JSON document on stdout"):
+    p.add_argument("--json", action="store_true", help=help)
+
+
+def add_out_options(p, metavar, help, force_help="replace existing output files"):
+    """``--out/-o`` and ``--force`` (replace a regular file only)."""
+    p.add_argument("--out", "-o", metavar=metavar, help=help)
+    p.add_argument("--force", action="store_true", help=force_help)
+
+
+def add_channels_option(p, default=None, help="controls moved at once (default all three)"):
+    """``--channels CH...``: pilot controls."""
+    from ..channels import CONTROLS
+    p.add_argument("--channels", nargs="+", choices=CONTROLS, metavar="CH",
+                   default=default, help=help)
+
+
+def add_flight_options(p, duration=None, dt=None, duration_help=None, dt_help=None,
+                       noise_help="flap sensor noise, standard deviation [rad] "
+                                  "(default 1e-4)"):
+    """``--start``, ``--duration``, ``--dt``, ``--noise``: the record a (virtual)
+    flight test makes."""
+    p.add_argument("--start", type=float, default=2.0, metavar="S",
+                   help="time of the first control movement [s] (default 2: a quiet "
+                        "lead-in for trim)")
+    p.add_argument("--duration", type=float, default=duration, metavar="S",
+                   help=duration_help or f"record length [s] (default {duration:g})")
+    p.add_argument("--dt", type=float, default=dt, metavar="S",
+                   help=dt_help or f"sample step [s] (default {dt:g})")
+    p.add_argument("--noise", type=float, default=1e-4, metavar="R", help=noise_help)
+
+
+def check_finite(args, *names):
+    """Refuse a non-finite value of the options ``names`` (``args`` attributes; a
+    pair such as ``--band`` is checked element by element)."""
+    import math
+    for name in names:
+        v = getattr(args, name)
+        if v is None:
+            continue
+        vals = v if isinstance(v, (list, tuple)) else [v]
+        if not all(math.isfinite(x) for x in vals):
+            shown = " ".join(f"{x:g}" for x in vals)
+            raise InputError(f"--{name.replace('_', '-')} {shown}: must be finite")
 
 
 def add_effect_arguments(p):
@@ -46,16 +124,23 @@ def load_model(args, constants=None):
     from ..model.build import build_model
     from ..model.params import PUMA
     from ..model.presets import preset_parameters
-    from ..model.structure import Structure
     k = constants or PUMA
     if getattr(args, "params", None):
-        ps = read_parameter_file(args.params)
-        s = Structure.parse(args.model)
-        if set(ps.structure.effects) != set(s.effects):
-            raise InputError(f"{args.params}: parameters are for structure "
-                             f"{ps.structure.name}, not {s.name}")
+        s, ps = read_structure_parameters(args.params, args.model)
         return build_model(s, ps.parameters, k)
     return build_model(args.model, preset_parameters(args.model, k, "paper"), k)
+
+
+def read_structure_parameters(path, model):
+    """``(structure, parameter file)``: ``model`` parsed and the file ``path`` read
+    for it (refused, naming both, when the file's structure is another)."""
+    from ..model.structure import Structure
+    ps = read_parameter_file(path)
+    s = Structure.parse(model)
+    if set(ps.structure.effects) != set(s.effects):
+        raise InputError(f"{path}: parameters are for structure "
+                         f"{ps.structure.name}, not {s.name}")
+    return s, ps
 
 
 def read_parameter_file(path):
@@ -75,6 +160,10 @@ def add_record_arguments(p):
                         "(samples of continuous signals, measured data), zoh (held over "
                         "each sample), foh (linear between samples); default each "
                         "record's '# hold:' line, else continuous")
+    add_trim_window_option(p)
+
+
+def add_trim_window_option(p):
     p.add_argument("--trim-window", nargs=2, type=float, metavar=("T0", "T1"),
                    help="trim is the mean over T0-T1 s (default: the quiet lead-in "
                         "before the first control movement)")

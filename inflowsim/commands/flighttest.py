@@ -17,7 +17,9 @@ from pathlib import Path
 
 from ..channels import CONTROLS
 from ..errors import InputError
-from ._common import check_seed, print_json, progress
+from ._common import (add_add_option, add_channels_option, add_flight_options,
+                      add_json_option, add_model_option, add_out_options, check_finite,
+                      check_seed, print_json, progress)
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
@@ -28,12 +30,11 @@ NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs")
 def add_arguments(p):
     p.add_argument("--truth", choices=("nonlinear", "linear"), default="nonlinear",
                    help="nonlinear individual-blade rotor (default) or a linear model")
-    p.add_argument("--model", "-m", metavar="M",
-                   help="linear truth: structure (preset, then +effect terms); "
-                        "default glauert")
-    p.add_argument("--add", action="append", default=[], metavar="EFFECT",
-                   help="add an effect (repeatable); nonlinear truth: azimuth-bias, "
-                        "time-delay")
+    add_model_option(p, required=False,
+                     help="linear truth: structure (preset, then +effect terms); "
+                          "default glauert")
+    add_add_option(p, help="add an effect (repeatable); nonlinear truth: azimuth-bias, "
+                           "time-delay")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a truth parameter value (repeatable), e.g. tau_cs=21.4")
     p.add_argument("--input", choices=("doublet", "3211", "sweep", "multisine"),
@@ -46,8 +47,8 @@ def add_arguments(p):
     p.add_argument("--design", metavar="FILE",
                    help="fly an input design (inflowsim design --out): its multisines, "
                         "record length and step replace --input, --duration, --dt")
-    p.add_argument("--channels", nargs="+", choices=CONTROLS, metavar="CH",
-                   help="multisine: the controls moved at once (default all three)")
+    add_channels_option(p, help="multisine: the controls moved at once (default all "
+                                "three)")
     p.add_argument("--sweep-range", "--freq-range", nargs=2, type=float,
                    metavar=("F1", "F2"), default=None,
                    help="sweep or multisine: frequency range [Hz] (default 0.15 3)")
@@ -59,17 +60,11 @@ def add_arguments(p):
     p.add_argument("--amplitude-deg", type=float, default=1.0, metavar="A",
                    help="input amplitude [deg], the peak of a sweep or of each "
                         "multisine channel (default 1)")
-    p.add_argument("--start", type=float, default=2.0, metavar="S",
-                   help="time of the first control movement [s] (default 2)")
     p.add_argument("--width", type=float, default=0.4, metavar="S",
                    help="doublet half-width or 3211 unit [s] (default 0.4)")
-    p.add_argument("--duration", type=float, default=None, metavar="S",
-                   help="record length [s] (default 26.6: 0.0376 Hz resolution; "
-                        "--campaign 20)")
-    p.add_argument("--dt", type=float, default=None, metavar="S",
-                   help="sample step [s] (default 0.01; --campaign 0.015625)")
-    p.add_argument("--noise", type=float, default=1e-4, metavar="R",
-                   help="flap sensor noise, standard deviation [rad] (default 1e-4)")
+    add_flight_options(p, duration_help="record length [s] (default 26.6: 0.0376 Hz "
+                                        "resolution; --campaign 20)",
+                       dt_help="sample step [s] (default 0.01; --campaign 0.015625)")
     p.add_argument("--noise-color-hz", type=float, metavar="F",
                    help="colour the flap noise by a first-order low-pass with corner F "
                         "[Hz] (default white)")
@@ -91,8 +86,6 @@ def add_arguments(p):
                         "or the trim mu (then the inflow is the basic model)")
     p.add_argument("--no-body", action="store_true",
                    help="hold the hub fixed (no body motion)")
-    p.add_argument("--out", "-o", metavar="CSV", help="output record (required unless "
-                                                      "--campaign)")
     p.add_argument("--campaign", metavar="DIR",
                    help="write a virtual campaign instead: records from the nonlinear "
                         "truth at every --speeds, a doublet and a 3-2-1-1 on each "
@@ -106,8 +99,8 @@ def add_arguments(p):
                    help="--campaign: generating processes (default: the cores)")
     p.add_argument("--truth-json", metavar="FILE",
                    help="also write the truth (parameters, trim, settings) as JSON")
-    p.add_argument("--force", action="store_true", help="replace existing output files")
-    p.add_argument("--json", action="store_true", help="print the truth JSON on stdout")
+    add_out_options(p, "CSV", "output record (required unless --campaign)")
+    add_json_option(p, help="print the truth JSON on stdout")
 
 
 def _settings(items) -> dict:
@@ -144,10 +137,7 @@ def _manoeuvre(args):
     from ..data.record import MAX_SAMPLES
     from ..flighttest.virtual import Manoeuvre
     designed = _designed(args) if args.design else None
-    for name in ("amplitude_deg", "start", "width", "duration", "dt", "noise", "rise"):
-        v = getattr(args, name)
-        if not math.isfinite(v):
-            raise InputError(f"--{name.replace('_', '-')} {v}: must be finite")
+    check_finite(args, "amplitude_deg", "start", "width", "duration", "dt", "noise", "rise")
     check_seed(args.seed)
     if not MIN_DT <= args.dt <= 1.0:
         raise InputError(f"--dt {args.dt:g}: the sample step must be in [{MIN_DT:g}, 1] s")

@@ -9,12 +9,13 @@ random error), or with ``--json`` the document of ``interface.md`` (``{"response
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from ..channels import FLAP, INPUTS
 from ..errors import InputError
-from ._common import print_json, progress, read_records
+from ._common import (add_band_option, add_json_option, add_report_option,
+                      add_trim_window_option, check_finite, print_json, progress,
+                      read_records)
 
 HELP = "frequency responses of records: composite, conditioned, with coherence and errors"
 
@@ -27,20 +28,17 @@ def add_arguments(p):
                    help="input channels (default: the controls that move)")
     p.add_argument("--outputs", nargs="+", metavar="CH", default=list(FLAP),
                    help="output channels (default beta0 beta1c beta1s)")
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   help="band [Hz] of the log-spaced grid (default 0.1 5)")
+    add_band_option(p, what="band [Hz] of the log-spaced grid", default_text="0.1 5")
     p.add_argument("--windows", nargs="+", type=float, metavar="S",
                    help="window lengths [s] of the composite (default: five from half "
                         "the shortest record down)")
     p.add_argument("--overlap", type=float, default=0.75, metavar="R",
                    help="overlap of consecutive windows (default 0.75)")
-    p.add_argument("--trim-window", nargs=2, type=float, metavar=("T0", "T1"),
-                   help="trim is the mean over T0-T1 s (default: the quiet lead-in "
-                        "before the first control movement)")
+    add_trim_window_option(p)
     p.add_argument("--unwrap", action="store_true",
                    help="report plots: unwrap the phase (labelled); default +-180 deg")
-    p.add_argument("--report", metavar="DIR", help="write Bode plots and DIR/index.html")
-    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    add_report_option(p, "Bode plots")
+    add_json_option(p)
 
 
 def _check(args):
@@ -50,10 +48,7 @@ def _check(args):
                                                                "lambda1s"):
                 raise InputError(f"--{name} {c}: not a record channel (inputs "
                                  f"{', '.join(INPUTS)}; flap {', '.join(FLAP)})")
-    if args.band is not None and not all(math.isfinite(x) for x in args.band):
-        raise InputError(f"--band {args.band[0]:g} {args.band[1]:g}: must be finite")
-    if not math.isfinite(args.overlap):
-        raise InputError(f"--overlap {args.overlap}: must be finite")
+    check_finite(args, "band", "overlap")
 
 
 def run(args) -> int:

@@ -1,17 +1,20 @@
 """``inflowsim validate``: compare a model with a record's measured flap.
 
 Prints per-channel fit figures (RMS error, Theil inequality coefficient, fit
-percent, RMS magnitude and phase errors of the responses over the band), or
-with ``--json`` the document of ``interface.md`` (``{"channels": {channel: {"rms",
-"tic", "fit_percent", ...}}, ...}``); ``--report DIR`` writes plots and
-``DIR/index.html`` (:func:`validation_report`).
+percent, RMS magnitude and phase errors of the measured responses, each conditioned
+on the other moving controls, against the model's analytic ones where coherence >=
+0.6) and Tischler's cost per response pair and overall, or with ``--json`` the
+document of ``interface.md`` (``{"channels": {channel: {"rms", "tic",
+"fit_percent", ...}}, "responses": [...], "cost": {...}, ...}``); ``--report DIR``
+writes plots and ``DIR/index.html`` (:func:`validation_report`).
 """
 from __future__ import annotations
 
 from pathlib import Path
 
 from ..defaults import DEFAULT_BAND
-from ._common import (add_model_arguments, add_record_arguments, load_model, print_json,
+from ._common import (add_band_option, add_json_option, add_model_arguments,
+                      add_record_arguments, add_report_option, load_model, print_json,
                       progress, read_records)
 
 HELP = "compare a model with the measured flap: per-channel figures, plots, report"
@@ -20,13 +23,11 @@ HELP = "compare a model with the measured flap: per-channel figures, plots, repo
 def add_arguments(p):
     p.add_argument("record", metavar="RECORD", help="flight-test record (CSV)")
     add_model_arguments(p)
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
-                   help=f"frequency band [Hz] (default {DEFAULT_BAND[0]:g} "
-                        f"{DEFAULT_BAND[1]:g}, snapped to the record's transform grid)")
+    add_band_option(p, default_text=f"{DEFAULT_BAND[0]:g} {DEFAULT_BAND[1]:g}, snapped "
+                                    "to the record's transform grid")
     add_record_arguments(p)
-    p.add_argument("--report", metavar="DIR",
-                   help="write plots and DIR/index.html (the folder is created)")
-    p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    add_report_option(p)
+    add_json_option(p)
 
 
 def run(args) -> int:

@@ -12,7 +12,7 @@ import math
 import weakref
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
@@ -21,7 +21,8 @@ from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
 from ..frozen import FrozenDict, ReadOnlyArrays
-from ..model.params import Constants
+if TYPE_CHECKING:
+    from ..model.params import Constants
 from ..simulate.sampled import DEFAULT_HOLD, HOLDS
 
 REQUIRED_META = ("omega", "mu", "a0", "solidity")
@@ -115,6 +116,8 @@ class Record(ReadOnlyArrays):
         if "hub" in self.meta:
             vals["hub"] = self.meta["hub"]
         try:
+            # imported here: the model package is not needed to read a record's samples
+            from ..model.params import Constants
             return Constants.from_mapping(vals)
         except InputError as exc:
             raise RecordError(f"{self.source}: metadata {exc}") from None

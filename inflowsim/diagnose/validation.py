@@ -1,9 +1,9 @@
 """Validation: replay a record's measured inputs through a model and compare flap.
 
 Workflow step 1 of ``workflow.md`` (the paper's Figures 1-5): time-domain
-reconstruction of the measured multiblade flap, per-channel fit figures, and
-frequency responses estimated from the record compared with the model's over a
-band.
+reconstruction of the measured multiblade flap, per-channel fit figures, and the
+measured frequency responses, each conditioned on the other inputs, with the
+model's analytic responses on top and Tischler's cost per response pair.
 
 Conventions
 -----------
@@ -15,11 +15,22 @@ Conventions
   behaviour (``# hold:``, or ``hold=``: exact for held or linear inputs, local
   cubics for continuous records; the model's time shifts included), from rest
   in trim.
-* Frequency responses are ratios of DFTs at the record's own transform
-  frequencies ``k / (N dt)``: measured flap over the reference input, and the
-  *predicted* flap over the same input DFT, so measured and model responses see
-  the same input spectrum (leakage and multi-input effects cancel in the
-  comparison).
+* Fit percent is over the band's transforms at the record's own frequencies
+  ``k / (N dt)`` (the figure ``identify`` reports).
+* Frequency responses are :func:`inflowsim.identify.frf.response_of_series` of the
+  record over the band: composite Hann windows, each output's response to each
+  moving control conditioned on the other moving controls, with partial coherence
+  and random error.  The model's response to the same inputs is analytic
+  (:meth:`Model.frequency_response`, time shifts included, times the hold's factor:
+  1 for continuous records, ``exp(-j w dt/2) sinc(w dt/2)`` for ``zoh``,
+  ``sinc^2(w dt/2)`` for ``foh``, to aliasing accuracy); the model inputs that
+  move but are not conditioned on (the hub motion the controls drive) are closed
+  through their own measured responses to the conditioning inputs:
+  ``H_c + H_hub T_hub``.  That is the response the model would have shown on this
+  aircraft, with the hub moving as it did.
+* Response errors (``magnitude_rms_db``, ``phase_rms_deg``) and Tischler's ``J``
+  (:func:`inflowsim.identify.frf.tischler_cost`) are taken where a response is read
+  (:meth:`FrequencyResponse.valid`: coherence ``>= 0.6`` and two windows or more).
 """
 from __future__ import annotations
 
@@ -66,49 +77,70 @@ class ChannelFit:
 
 @dataclass(frozen=True, eq=False)
 class FrequencyComparison:
-    """Measured and model frequency responses of the flap to one reference input.
+    """Measured frequency responses of the flap and the model's on top.
 
     Attributes
     ----------
-    f_hz : ndarray, shape (nf,)
-        Transform frequencies in the band [Hz].
-    reference_input : str
-        Input column the responses are ratios to.
-    input_dft : ndarray, shape (nf,)
-        DFT of the reference input perturbation (``dt`` times the FFT) [unit s].
-    measured_dft, predicted_dft : ndarray, shape (3, nf)
-        DFT of measured and predicted flap perturbations [rad s].
-    measured, model : ndarray, shape (3, nf)
-        Responses ``measured_dft / input_dft`` and ``predicted_dft / input_dft``.
+    measured : FrequencyResponse
+        Composite responses of ``beta0, beta1c, beta1s`` to the conditioning inputs
+        (:mod:`inflowsim.identify.frf`), with coherence and random error.
+    model : ndarray, shape (3, q, nf)
+        The model's analytic responses at ``measured.frequency_hz``, hold factor
+        included, hub path closed through the measured hub responses (module doc)
+        [rad / input unit].
+    paths : tuple of str
+        Moving model inputs not conditioned on, closed through their measured
+        responses to the inputs (empty when only the inputs move).
+    cost : mapping
+        Tischler's ``J`` by ``(output, input)`` (NaN where no point is read).
     """
 
-    f_hz: np.ndarray
-    reference_input: str
-    input_dft: np.ndarray
-    measured_dft: np.ndarray
-    predicted_dft: np.ndarray
-    measured: np.ndarray
+    measured: object
     model: np.ndarray
+    paths: tuple
+    cost: Mapping
 
-    @staticmethod
-    def magnitude_db(h) -> np.ndarray:
-        """``20 log10 |h|`` [dB]."""
-        return 20.0 * np.log10(np.abs(h))
+    @property
+    def f_hz(self) -> np.ndarray:
+        """Grid frequencies [Hz]."""
+        return self.measured.frequency_hz
 
-    @staticmethod
-    def phase_deg(h) -> np.ndarray:
-        """Phase unwrapped along frequency [deg]."""
-        return np.degrees(np.unwrap(np.angle(h), axis=-1))
+    @property
+    def inputs(self) -> tuple:
+        """Input columns the responses are to (each conditioned on the others)."""
+        return self.measured.inputs
+
+    @property
+    def valid(self) -> np.ndarray:
+        """Where a measured point is read as a response, ``[output, input, f]``."""
+        return self.measured.valid()
 
     @property
     def magnitude_error_db(self) -> np.ndarray:
-        """``20 log10 |measured / model|`` per channel and frequency [dB]."""
-        return 20.0 * np.log10(np.abs(self.measured) / np.abs(self.model))
+        """``20 log10 |measured / model|`` per pair and frequency [dB]."""
+        with np.errstate(all="ignore"):
+            return 20.0 * np.log10(np.abs(self.measured.h) / np.abs(self.model))
 
     @property
     def phase_error_deg(self) -> np.ndarray:
         """Phase of ``measured / model``, wrapped to (-180, 180] [deg]."""
-        return np.degrees(np.angle(self.measured / self.model))
+        with np.errstate(all="ignore"):
+            return np.degrees(np.angle(self.measured.h / self.model))
+
+    @property
+    def overall_cost(self) -> float:
+        """Mean ``J`` over the pairs with points read (NaN if none)."""
+        js = [j for j in self.cost.values() if np.isfinite(j)]
+        return float(np.mean(js)) if js else float("nan")
+
+
+def cost_verdict(j: float) -> str:
+    """Tischler's guideline for ``J``: ``good`` (<= 50), ``acceptable`` (<= 100),
+    ``poor``; ``-`` when undefined."""
+    from ..identify.frf import J_ACCEPTABLE, J_GOOD
+    if not np.isfinite(j):
+        return "-"
+    return "good" if j <= J_GOOD else "acceptable" if j <= J_ACCEPTABLE else "poor"
 
 
 @dataclass(frozen=True, eq=False)
@@ -137,10 +169,15 @@ class ValidationResult:
         :class:`ChannelFit` by flap channel name.
     band_hz : tuple of float
         Band actually used: first and last transform frequency [Hz].
+    dft_f_hz : ndarray, shape (nf,)
+        The band's transform frequencies ``k / (N dt)`` [Hz].
+    measured_dft, predicted_dft : ndarray, shape (3, nf)
+        Transforms of measured and predicted flap there [rad s] (fit percent).
     frequency : FrequencyComparison
+        Conditioned measured responses over the band and the model's.
     magnitude_rms_db, phase_rms_deg : mapping
-        RMS over the band of the magnitude error [dB] and phase error [deg] per
-        channel.
+        Per flap channel, RMS of the magnitude error [dB] and phase error [deg] of
+        its responses to every input, over the points read (NaN if none).
     """
 
     structure: str
@@ -154,6 +191,9 @@ class ValidationResult:
     predicted: np.ndarray
     channels: Mapping[str, ChannelFit]
     band_hz: tuple
+    dft_f_hz: np.ndarray
+    measured_dft: np.ndarray
+    predicted_dft: np.ndarray
     frequency: FrequencyComparison
     magnitude_rms_db: Mapping[str, float]
     phase_rms_deg: Mapping[str, float]
@@ -164,7 +204,17 @@ class ValidationResult:
         return self.measured - self.predicted
 
     def to_json(self) -> dict:
-        """The ``validate --json`` document (``interface.md``), plus extras."""
+        """The ``validate --json`` document (``interface.md``), plus extras: the
+        responses as ``frf --json`` gives them with the model's (``model_real``,
+        ``model_imag``) and ``J`` per pair, and the overall cost."""
+        fc = self.frequency
+        doc = fc.measured.to_json()
+        for r in doc["responses"]:
+            o, i = fc.measured.index(r["output"], r["input"])
+            r["model_real"] = fc.model[o, i].real.tolist()
+            r["model_imag"] = fc.model[o, i].imag.tolist()
+            r["J"] = _num(fc.cost[(r["output"], r["input"])])
+        overall = fc.overall_cost
         return {
             "structure": self.structure,
             "record": self.source,
@@ -175,8 +225,17 @@ class ValidationResult:
                              "phase_rms_deg": _num(self.phase_rms_deg[c])}
                          for c, f in self.channels.items()},
             "band_hz": list(self.band_hz),
-            "n_frequencies": int(self.frequency.f_hz.size),
-            "reference_input": self.frequency.reference_input,
+            "n_frequencies": int(self.dft_f_hz.size),
+            "inputs": list(fc.inputs),
+            "hub_paths": list(fc.paths),
+            "cost": {"overall": _num(overall), "verdict": cost_verdict(overall),
+                     "per_pair": [{"output": o, "input": i, "J": _num(j),
+                                   "verdict": cost_verdict(j)}
+                                  for (o, i), j in fc.cost.items()]},
+            "responses": doc["responses"],
+            "response_grid": {k: doc[k] for k in ("windows_s", "n_averages", "overlap",
+                                                  "window", "composite",
+                                                  "coherence_threshold", "notes")},
             "trim": {"description": self.trim.describe(),
                      "values": {c: self.trim.values[c]
                                 for c in (*self.inputs, *FLAP_COLUMNS)}},
@@ -251,24 +310,44 @@ def _dft(x, bins, dt):
     return dt * dft(x, dt, bins / (len(x) * dt), True)
 
 
-def reference_input(u_dft, inputs) -> str:
-    """The pilot control (``theta0, theta1c, theta1s``) with most in-band energy.
+def response_inputs(u, inputs) -> tuple:
+    """The pilot controls (``theta0, theta1c, theta1s``) that move in ``u`` (columns
+    ``inputs``), the default inputs of the responses."""
+    moving = [c for c in CONTROL_COLUMNS if c in inputs
+              and np.ptp(u[:, list(inputs).index(c)]) > 0]
+    if not moving:
+        raise InputError("no control moves: no frequency response to compare")
+    return tuple(moving)
 
-    Controls share a unit (rad), so their energies compare; only when no control
-    moves in the band is the input with most in-band energy (in its own SI unit)
-    taken.
-    """
-    energy = np.sum(np.abs(u_dft) ** 2, axis=0)
-    ctl = [i for i, n in enumerate(inputs) if n in CONTROL_COLUMNS and energy[i] > 0]
-    pool = ctl or [i for i in range(len(inputs)) if energy[i] > 0]
-    if not pool:
-        raise InputError("no input moves in the band: nothing to compare responses to")
-    return inputs[max(pool, key=lambda i: energy[i])]
+
+def hold_factor(hold: str, f_hz, dt: float) -> np.ndarray:
+    """What the record's intersample behaviour does to a response, to aliasing
+    accuracy: 1 (continuous), ``exp(-j w dt/2) sinc(w dt/2)`` (``zoh``: each sample
+    held over its step), ``sinc^2(w dt/2)`` (``foh``: linear between samples)."""
+    x = np.asarray(f_hz, dtype=float) * dt            # np.sinc(x) = sin(pi x)/(pi x)
+    if hold == "zoh":
+        return np.exp(-1j * np.pi * x) * np.sinc(x)
+    if hold == "foh":
+        return np.sinc(x) ** 2 + 0j
+    return np.ones_like(x, dtype=complex)
+
+
+def model_responses(model, fr_paths, inputs, paths, f_hz, hold, dt) -> np.ndarray:
+    """The model's flap responses to ``inputs``, shape ``(3, q, nf)``:
+    ``H[:, inputs] + H[:, paths] T`` with ``T`` (``fr_paths``, ``(len(paths), q,
+    nf)``) the measured responses of the path channels to the inputs, times the
+    hold's factor (:func:`hold_factor`)."""
+    h = model.frequency_response(f_hz)[:3]
+    cols = [model.inputs.index(c) for c in inputs]
+    out = h[:, cols]
+    if paths:
+        pc = [model.inputs.index(c) for c in paths]
+        out = out + np.einsum("ojf,jif->oif", h[:, pc], fr_paths)
+    return out * hold_factor(hold, f_hz, dt)
 
 
 def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
-             reference_input: str | None = None, hold: str | None = None
-             ) -> ValidationResult:
+             inputs=None, hold: str | None = None) -> ValidationResult:
     """Compare ``model`` with the measured flap of ``record``.
 
     Parameters
@@ -282,10 +361,11 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
         Default :func:`~inflowsim.data.record.find_trim` of the record.
     band_hz : (float, float), optional
         Frequency band [Hz], default :data:`PAPER_BAND_HZ`, snapped to the
-        record's transform frequencies ``k / (N dt)``.
-    reference_input : str, optional
-        Input column the responses are ratios to; default the pilot control
-        with most in-band energy (:func:`reference_input`).
+        record's transform frequencies ``k / (N dt)``; the responses' grid spans
+        the snapped band.
+    inputs : sequence of str, optional
+        Model inputs the responses are to, each conditioned on the others;
+        default the controls that move (:func:`response_inputs`).
     hold : {"continuous", "zoh", "foh"}, optional
         Intersample behaviour of the inputs; default the record's (``# hold:``).
 
@@ -298,7 +378,10 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     RecordError
         The record lacks a column the model needs, no control moves in it, or it
         is too short for the band.
+    InputError
+        An input is not one of the model's or does not move.
     """
+    from ..identify.frf import response_of_series, tischler_cost
     record.require((*model.inputs, *FLAP_COLUMNS))
     record.require_measured(FLAP_COLUMNS)
     require_control_movement(record)
@@ -310,42 +393,74 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     hold = record.hold_or(hold)
     y = replay(model, u, dt, hold)[:, :3]
 
-    u_dft = _dft(u, bins, dt)
-    if reference_input is None:
-        ref = _reference(u_dft, model.inputs)
-    elif reference_input not in model.inputs:
-        raise InputError(f"reference input {reference_input!r} is not an input of the "
-                         f"model (inputs: {', '.join(model.inputs)})")
-    else:
-        ref = reference_input
-    x = u_dft[:, model.inputs.index(ref)]
-    if np.any(x == 0):
-        raise InputError(f"reference input {ref} has no energy at some band frequency")
+    if inputs is None:
+        inputs = response_inputs(u, model.inputs)
+    inputs = tuple(inputs)
+    for c in inputs:
+        if c not in model.inputs:
+            raise InputError(f"input {c!r} is not an input of the model (inputs: "
+                             f"{', '.join(model.inputs)})")
+        if np.ptp(u[:, model.inputs.index(c)]) == 0:
+            raise InputError(f"input {c} does not move: no response to it can be measured")
+    paths = tuple(c for j, c in enumerate(model.inputs)
+                  if c not in inputs and np.ptp(u[:, j]) > 0)
+    f_band = bins / record.duration
+    cols = [model.inputs.index(c) for c in inputs + paths]
+    fr_all = response_of_series([np.hstack([u[:, cols], z])], dt, inputs,
+                                paths + tuple(FLAP_COLUMNS),
+                                (float(f_band[0]), float(f_band[-1])),
+                                sources=(record.source,))
+    fr = _outputs(fr_all, FLAP_COLUMNS)
+    h_model = model_responses(model, fr_all.h[:len(paths)], inputs, paths,
+                              fr.frequency_hz, hold, dt)
+    cost = {(o, i): tischler_cost(fr, h_model, o, i) for o in FLAP_COLUMNS for i in inputs}
+    fc = FrequencyComparison(measured=fr, model=_ro(h_model), paths=paths,
+                             cost=FrozenDict(cost))
+
     z_dft = _dft(z, bins, dt).T
     y_dft = _dft(y, bins, dt).T
-    fc = FrequencyComparison(f_hz=bins / record.duration, reference_input=ref,
-                             input_dft=x, measured_dft=z_dft, predicted_dft=y_dft,
-                             measured=z_dft / x, model=y_dft / x)
     # one definition of fit everywhere: over the band, as identify reports it
     fits = {}
     for i, c in enumerate(FLAP_COLUMNS):
         f = fit_metrics(z[:, i], y[:, i])
         band = fit_percent(z_dft[i], y_dft[i])
         fits[c] = ChannelFit(f.rms, f.tic, float("nan") if band is None else band)
-    mag = fc.magnitude_error_db
-    ph = fc.phase_error_deg
-    mag_rms = {c: float(np.sqrt(np.mean(mag[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
-    ph_rms = {c: float(np.sqrt(np.mean(ph[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
+    valid = fc.valid
+    mag, ph = fc.magnitude_error_db, fc.phase_error_deg
+    mag_rms, ph_rms = {}, {}
+    for o, c in enumerate(FLAP_COLUMNS):
+        v = valid[o]
+        mag_rms[c] = float(np.sqrt(np.mean(mag[o][v] ** 2))) if v.any() else float("nan")
+        ph_rms[c] = float(np.sqrt(np.mean(ph[o][v] ** 2))) if v.any() else float("nan")
     return ValidationResult(
         structure=model.structure.name, source=record.source, trim=trim, hold=hold,
         t=record.t,
         inputs=tuple(model.inputs), u=u, measured=z, predicted=y,
-        channels=FrozenDict(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
+        channels=FrozenDict(fits), band_hz=(float(f_band[0]), float(f_band[-1])),
+        dft_f_hz=f_band, measured_dft=z_dft, predicted_dft=y_dft,
         frequency=fc, magnitude_rms_db=FrozenDict(mag_rms),
         phase_rms_deg=FrozenDict(ph_rms))
 
 
-_reference = reference_input     # the parameter of validate() shadows the function
+def _outputs(fr, outputs):
+    """``fr`` restricted to ``outputs`` (the flap, without the path channels)."""
+    from dataclasses import replace
+    rows = [fr.outputs.index(c) for c in outputs]
+    return replace(fr, outputs=tuple(outputs), h=_ro(fr.h[rows], complex),
+                   coherence=_ro(fr.coherence[rows]),
+                   random_error=_ro(fr.random_error[rows]),
+                   bias_error=_ro(fr.bias_error[rows]),
+                   multiple_coherence=_ro(fr.multiple_coherence[rows]),
+                   ordinary_coherence=_ro(fr.ordinary_coherence[rows]),
+                   window_weight=_ro(fr.window_weight[:, rows]))
+
+
+def _ro(a, dtype=None):
+    a = np.array(a, dtype=dtype)
+    a.flags.writeable = False
+    return a
+
 
 __all__ = ["PAPER_BAND_HZ", "ChannelFit", "FrequencyComparison", "ValidationResult",
-           "fit_metrics", "dft_bins", "reference_input", "validate"]
+           "fit_metrics", "dft_bins", "response_inputs", "hold_factor",
+           "model_responses", "cost_verdict", "validate"]

@@ -20,13 +20,20 @@ included (``d_c`` from the body model of the virtual flight test).  Harmonics of
 different controls are distinct frequencies (interleaved), so their
 informations add.
 
-*Optimisation.*  Each control's power ``sum_k a_k^2 / 2`` is held (its amplitude
-limit is used fully: information grows with power); the split among its harmonics
-is found by the multiplicative algorithm ``p_k <- p_k g_k / sum_j p_j g_j`` per
-control, ``g_k = tr(A M_k)``, ``A = M^-1_{:,s} ((M^-1)_ss)^-1 M^-1_{s,:}`` the
-gradient of the criterion (Silvey, Titterington and Torsney 1978), which
-increases the criterion at each step.  Schroeder phases for the chosen powers keep
-the peak factor low; the signal is scaled to the peak limit (or to the rms limit).
+*Optimisation.*  The constraint is each control's amplitude: the peak of its
+signal never exceeds the limit (``limit="peak"``, the default), or its rms equals
+the limit (``limit="rms"``, a power budget).  First the split of a control's
+power among its harmonics is found for a fixed power by the multiplicative
+algorithm ``p_k <- p_k g_k / sum_j p_j g_j`` per control, ``g_k = tr(A M_k)``, ``A =
+M^-1_{:,s} ((M^-1)_ss)^-1 M^-1_{s,:}`` the gradient of the criterion (Silvey,
+Titterington and Torsney 1978), which increases the criterion at each step: under
+an rms limit that is the design.  Under a peak limit the power a control can carry
+depends on the split (a spectrum piled on a few harmonics has a higher peak
+factor), so the criterion is evaluated for the peak-limited signals of the family
+``p_k^gamma`` (``gamma`` from 0, equal powers, to 1.5; 1 is the power-optimal
+split) with each control's signal scaled to the limit by a guaranteed bound on its
+peak (:func:`peak_bound`), and the best is taken.  Schroeder phases for the chosen
+powers keep the peak factor low.
 
 *Expected bounds.*  The identification's own information and bound formulas
 (:mod:`inflowsim.identify.estimator`: the variable-projection sensitivities of
@@ -211,6 +218,70 @@ def optimise_powers(info, blocks, iterations=ITERATIONS, interest_idx=None):
     return w, crit - crit0
 
 
+def peak_bound(base_hz: float, harmonics, weights, phases, n_grid: int = 4096,
+               refine: int = 32) -> float:
+    """An upper bound on the peak of ``sum_k w_k cos(2 pi k base_hz tau + phi_k)``
+    over one period, tight to a few parts in a million.
+
+    The dense grid of :func:`~inflowsim.data.inputs.multisine_peak` can miss the
+    peak by up to ``L dtau / 2`` (``L = sum |w_k| 2 pi k base_hz``, the largest
+    slope); every grid cell that could hold a higher value is refined ``refine``
+    times, and inside a refined cell the true maximum exceeds the nearest sample by
+    at most ``S dtau'^2 / 8`` (``S = sum |w_k| (2 pi k base_hz)^2``, the largest
+    curvature; the derivative vanishes at an interior maximum).
+    """
+    from ..data.inputs import multisine_unit
+    h = np.asarray(harmonics, dtype=float)
+    w = np.abs(np.asarray(weights, dtype=float))
+    n = max(n_grid, 16 * int(h.max()))
+    dtau = 1.0 / (n * base_hz)
+    tau = np.arange(n) * dtau
+    x = np.abs(multisine_unit(tau, base_hz, harmonics, weights, phases))
+    om = 2 * np.pi * h * base_hz
+    slope, curv = float(np.sum(w * om)), float(np.sum(w * om ** 2))
+    top = float(x.max())
+    cand = np.flatnonzero(x + slope * dtau / 2 >= top)
+    sub = (np.arange(-refine, refine + 1) / (2 * refine)) * dtau      # the cell, both sides
+    t2 = (tau[cand][:, None] + sub[None, :]).ravel()
+    best = float(np.max(np.abs(multisine_unit(t2, base_hz, harmonics, weights, phases))))
+    return max(best, top) + curv * (dtau / (2 * refine)) ** 2 / 8
+
+
+def _keep(wb):
+    """Harmonics the design keeps: over 0.1 % of the largest power."""
+    wb = wb / max(wb.max(), 1e-300)
+    return np.where(wb > 1e-3, wb, 0.0)
+
+
+def peak_limited(w, blocks, hs, length, lim):
+    """Per control: the amplitudes ``a`` [rad] (dropped harmonics 0) of the split
+    ``w`` scaled so the signal's peak bound (:func:`peak_bound`) is ``lim``, and the
+    commanded amplitude (the multisine's nominal peak, which
+    :func:`~inflowsim.data.inputs.multisine` scales its grid peak to)."""
+    from ..data.inputs import multisine_plan
+    amps, commanded = [], []
+    for b, h in zip(blocks, hs):
+        a = np.sqrt(_keep(w[b]))
+        keep = a > 0
+        hk = tuple(int(x) for x, kp in zip(h, keep) if kp)
+        wts = tuple(float(x) for x in a[keep] / a[keep].max())
+        wu, ph, grid_peak = multisine_plan(1.0 / length, hk, wts, ())
+        bound = peak_bound(1.0 / length, hk, wu, ph)
+        scale = lim / bound                 # amplitude of the unit weights
+        amps.append(a / a[keep].max() * scale)
+        commanded.append(float(grid_peak * scale))
+    return amps, commanded
+
+
+def _criterion(amps, blocks, info, s_idx):
+    M = sum(np.einsum("k,kpq->pq", a ** 2, info[b]) for a, b in zip(amps, blocks))
+    return _ds_gradient(M, s_idx)[1]
+
+
+#: Exponents of the peak-limited search (0: equal powers; 1: the power-optimal split).
+GAMMAS = tuple(np.round(np.arange(0.0, 1.51, 0.125), 3))
+
+
 def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     """1-sigma Cramer-Rao bounds the identification would report for a record of
     ``test`` (a :class:`~inflowsim.flighttest.virtual.VirtualTest`) at ``params``:
@@ -333,20 +404,34 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
     s_idx = [free.index(n) for n in interest]
     w, gain = optimise_powers(info, blocks, iterations, s_idx)
     lim = np.radians(limit_deg)
-    amps, peaks = [], []
-    for b, h in zip(blocks, hs):
-        wb = w[b] / max(w[b].max(), 1e-300)
-        # drop harmonics the design starves (under 0.1 % of the largest power)
-        a = np.where(wb > 1e-3, np.sqrt(wb), 0.0)
-        keep = a > 0
-        hk = tuple(int(x) for x, kp in zip(h, keep) if kp)
-        _, _, unit_peak = multisine_plan(1.0 / length, hk, tuple(a[keep]), ())
-        if limit == "peak":
-            scale = lim / unit_peak
-        else:
-            scale = lim / np.sqrt(0.5 * np.sum(a[keep] ** 2))
-        amps.append(tuple(float(x) for x in a * scale))
-        peaks.append(float(unit_peak * scale))
+    if limit == "peak":
+        # the power-optimal split is not the peak-limited optimum: search the family
+        # w^gamma, each control's signal scaled to the limit by a bound on its peak
+        def split(g):
+            out = np.zeros_like(w)
+            for b in blocks:
+                wb = np.where(w[b] > 0, w[b], 0.0) ** g
+                out[b] = wb / wb.sum()
+            return out
+        tried = {g: peak_limited(split(g), blocks, hs, length, lim) for g in GAMMAS}
+        crit = {g: _criterion(t[0], blocks, info, s_idx) for g, t in tried.items()}
+        g_best = max(crit, key=crit.get)
+        amps_arr, peaks = tried[g_best]
+        gain = crit[g_best] - crit[0.0]
+        amps = [tuple(float(x) for x in a) for a in amps_arr]
+    else:
+        amps, peaks = [], []
+        for b in blocks:
+            a = np.sqrt(_keep(w[b]))
+            scale = lim / np.sqrt(0.5 * np.sum(a ** 2))
+            amps.append(tuple(float(x) for x in a * scale))
+        from ..data.inputs import multisine_plan
+        for a, h in zip(amps, hs):
+            keep = [i for i, x in enumerate(a) if x > 0]
+            wts = tuple(a[i] / max(a) for i in keep)
+            _, _, grid_peak = multisine_plan(1.0 / length, tuple(h[i] for i in keep),
+                                             wts, ())
+            peaks.append(float(grid_peak * max(a)))
     design = InputDesign(
         structure=s.name, parameters=dict(params), interest=interest, channels=channels,
         limit=float(lim), limit_kind=limit, length=float(length), t_start=float(t_start),
@@ -390,4 +475,5 @@ def format_design(d) -> str:
 
 
 __all__ = ["format_design", "InputDesign", "design_input", "manoeuvres_from_json",
-           "expected_bounds", "harmonic_information", "optimise_powers", "pilot_directions"]
+           "expected_bounds", "harmonic_information", "optimise_powers", "pilot_directions",
+           "peak_bound", "peak_limited"]

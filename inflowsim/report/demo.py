@@ -40,12 +40,6 @@ def demo_record(seed=0):
         description="longitudinal then lateral cyclic doublet, 100 kt"))
 
 
-def _fit_rows(v):
-    # the response errors of fit_rows are ratios to one reference input, meaningless
-    # when two controls move: the Bode section's conditioned responses replace them
-    return [row[:4] for row in fit_rows(v)]
-
-
 def run_demo(out_dir, seed=0, say=None):
     """Write the demo into ``out_dir``; return ``(index.html path, summary dict)``."""
     from .model_frf import model_frf_section
@@ -70,7 +64,7 @@ def run_demo(out_dir, seed=0, say=None):
                   "name the missing effect, add it, refit, and repeat until nothing "
                   "is accepted.")
     rep.heading("1. Compare: the basic model, fitted, against the measurements")
-    rep.table(_fit_rows(v_first), FIT_HEADER[:4])
+    rep.table(fit_rows(v_first), FIT_HEADER)
     rep.figure(time_response_plot([v_first, v_last]), "time",
                "Time-domain reconstruction: measured flap, the basic model and the final "
                "structure (the paper's Figures 1, 3, 5).")
@@ -86,7 +80,7 @@ def run_demo(out_dir, seed=0, say=None):
     rep.table(candidate_rows(d0), CANDIDATE_HEADER)
     ladder_report(lad, rep)
     rep.heading("5. The final structure against the measurements")
-    rep.table(_fit_rows(v_last), FIT_HEADER[:4])
+    rep.table(fit_rows(v_last), FIT_HEADER)
     rep.heading("6. The hidden truth revealed")
     rows = []
     for n, tv in truth.items():

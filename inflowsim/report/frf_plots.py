@@ -2,9 +2,9 @@
 magnitude [dB], phase [deg] and coherence, with the error bands, and models on top.
 
 Computing stays in :func:`inflowsim.identify.frf.frequency_response`; this module
-only draws its :class:`~inflowsim.identify.frf.FrequencyResponse`.  (Not to be
-confused with :func:`inflowsim.report.plots.frequency_response_plot`, which draws
-a validation's DFT ratios.)
+only draws its :class:`~inflowsim.identify.frf.FrequencyResponse`
+(:func:`inflowsim.report.plots.frequency_response_plot` draws a validation through
+it).
 """
 from __future__ import annotations
 

@@ -1,77 +1,96 @@
 """Report sections: measured frequency responses with the models on top, Tischler's
 cost per response pair, and the parameters' Cramer-Rao and insensitivity percent
-(issue #25, item 2).  Used by the ``validate``, ``ladder`` and ``demo`` reports."""
+(issue #25, item 2).  Used by the ``validate``, ``ladder`` and ``demo`` reports.
+
+Everything comes from validations of the models on one record
+(:func:`inflowsim.diagnose.validation.validate`): their measured responses (each
+conditioned on the other inputs, the same for every model) and each model's
+analytic responses and costs.
+"""
 from __future__ import annotations
 
 import numpy as np
 
 
-def cost_rows(fr, models: dict):
-    """Rows ``output, input, coherent points, J per model`` and the overall row
-    (the mean over the pairs with coherent points), with the guideline verdict."""
-    from ..identify.frf import J_ACCEPTABLE, J_GOOD, tischler_cost
-    rows, per_model = [], {k: [] for k in models}
+def cost_rows(results, labels=None):
+    """Rows ``output, input, points read, J per model`` and the overall row (the
+    mean over the pairs with points read), then the guideline verdict."""
+    from ..diagnose.validation import cost_verdict
+    res = list(results)
+    labels = list(labels or [r.structure for r in res])
+    fr = res[0].frequency.measured
     valid = fr.valid()
+    rows = []
     for o, out in enumerate(fr.outputs):
         for i, inp in enumerate(fr.inputs):
             row = [out, inp, int(valid[o, i].sum())]
-            for label, h in models.items():
-                j = tischler_cost(fr, h, out, inp)
-                row.append(None if np.isnan(j) else j)
-                if np.isfinite(j):
-                    per_model[label].append(j)
+            for r in res:
+                j = r.frequency.cost[(out, inp)]
+                row.append(float(j) if np.isfinite(j) else None)
             rows.append(row)
     overall = ["overall", "", int(valid.sum())]
     verdict = ["guideline", "", ""]
-    for label in models:
-        js = per_model[label]
-        m = float(np.mean(js)) if js else None
-        overall.append(m)
-        verdict.append("-" if m is None else "good" if m <= J_GOOD else
-                       "acceptable" if m <= J_ACCEPTABLE else "poor")
+    for r in res:
+        m = r.frequency.overall_cost
+        overall.append(m if np.isfinite(m) else None)
+        verdict.append(cost_verdict(m))
     return rows + [overall, verdict]
 
 
-def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", heading=None):
+def cost_caption() -> str:
+    from ..identify.frf import J_ACCEPTABLE, J_GOOD, W_GAIN, W_PHASE
+    return (f"Tischler's cost J per response pair over the points read (coherence >= "
+            f"0.6; W_gain {W_GAIN:g}, W_phase {W_PHASE:g}; J <= {J_GOOD:g} good, <= "
+            f"{J_ACCEPTABLE:g} acceptable)")
+
+
+def responses_paragraph(r0) -> str:
+    """How the responses were measured and the models' computed (one paragraph)."""
+    from .frf_plots import BAND_SIGMA
+    fc = r0.frequency
+    fr = fc.measured
+    cond = (", each conditioned on the other" + ("s" if len(fr.inputs) > 2 else "")
+            if len(fr.inputs) > 1 else "")
+    hub = (f" The models' hub inputs ({', '.join(fc.paths)}) moved with the controls: "
+           "they are closed through their own measured responses to the controls, so "
+           "each model is shown as it would have answered with the hub moving as it "
+           "did." if fc.paths else "")
+    return ("Measured responses of the flap to " + ", ".join(fr.inputs) + cond +
+            " (composite of Hann windows " + ", ".join(f"{w:.3g}" for w in fr.windows_s)
+            + f" s over {r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz; +-{BAND_SIGMA:g} "
+            "stated-error bands; grey: coherence below 0.6). The models' responses are "
+            "their analytic transfer functions (time shifts and the record's "
+            f"intersample behaviour, {r0.hold}, included)." + hub +
+            " Phases wrapped to +-180 deg.")
+
+
+def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", heading=None,
+                      bode=True):
     """Add to ``rep``: Bode plots per input (measured with coherence and error
-    bands, the models of ``results`` on top), Tischler's ``J`` per pair and
-    overall, and for each of ``fits`` (``{label: FitResult}``) the CR% and
-    insensitivity% table.  ``results``: validations of the models on one record."""
-    from ..diagnose.responses import validation_responses
+    bands, the models of ``results`` on top; unless ``bode`` is false), Tischler's
+    ``J`` per pair and overall, and for each of ``fits`` (``{label: FitResult}``)
+    the CR% and insensitivity% table.  ``results``: validations of the models on
+    one record.  Returns the measured responses."""
     from ..identify.accuracy import CR_LIMIT, HEADER, INSENSITIVITY_LIMIT, parameter_accuracy
-    from ..identify.frf import J_ACCEPTABLE, J_GOOD
-    from .frf_plots import BAND_SIGMA, frequency_response_plot
-    from ..errors import InputError
+    from .frf_plots import frequency_response_plot
     res = list(results)
     labels = list(labels or [r.structure for r in res])
-    try:
-        fr, models = validation_responses(res, labels)
-    except InputError as exc:
-        rep.paragraph(f"No frequency responses: {exc}.")
-        return None, {}
+    fr = res[0].frequency.measured
+    models = {lab: r.frequency.model for lab, r in zip(labels, res)}
     rep.heading(heading or "Frequency responses: the models on the measurements")
-    rep.paragraph(
-        "Measured responses of the flap to each control that moves, each conditioned on "
-        "the other controls (composite of Hann windows "
-        + ", ".join(f"{w:.3g}" for w in fr.windows_s)
-        + f" s; +-{BAND_SIGMA:g} stated-error bands; grey: coherence below 0.6). The "
-        "models' responses are their predicted flap through the same estimator, so "
-        "hub motion and conditioning are the same on both sides. Phases wrapped to "
-        "+-180 deg.")
-    for inp in fr.inputs:
-        fig = frequency_response_plot(fr, pairs=[(o, inp) for o in fr.outputs],
-                                      models=models, title=f"Responses to {inp}: "
-                                      + ", ".join(labels))
-        rep.figure(fig, f"{prefix}-bode-{inp}",
-                   f"Flap responses to {inp}: measured (markers, bands) and "
-                   + ", ".join(labels) + " (lines).")
-    rep.table(cost_rows(fr, models), ["output", "input", "coherent points"] +
-              [f"J {lab}" for lab in labels],
-              caption=f"Tischler's cost J per response pair over the coherent points "
-                      f"(W_gain 1, W_phase 0.01745; J <= {J_GOOD:g} good, <= "
-                      f"{J_ACCEPTABLE:g} acceptable)")
+    if bode:
+        rep.paragraph(responses_paragraph(res[0]))
+        for inp in fr.inputs:
+            fig = frequency_response_plot(fr, pairs=[(o, inp) for o in fr.outputs],
+                                          models=models, title=f"Responses to {inp}: "
+                                          + ", ".join(labels))
+            rep.figure(fig, f"{prefix}-bode-{inp}",
+                       f"Flap responses to {inp}: measured (markers, bands) and "
+                       + ", ".join(labels) + " (lines).")
+    rep.table(cost_rows(res, labels), ["output", "input", "points read"] +
+              [f"J {lab}" for lab in labels], caption=cost_caption())
     for lab, fit in (fits or {}).items():
         rep.table([a.as_row() for a in parameter_accuracy(fit)], HEADER,
                   caption=f"{lab}: Cramer-Rao and insensitivity percent (guidelines: CR "
                           f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %)")
-    return fr, models
+    return fr

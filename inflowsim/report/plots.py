@@ -96,12 +96,10 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
     return fig
 
 
-def frequency_response_plot(results, path=None, title=None):
-    """Magnitude [dB] and phase [deg] of the flap responses against frequency.
-
-    Measured responses (markers) are ratios of the measured flap DFT to the
-    reference input DFT; model responses (lines) are the predicted flap over the
-    same input DFT (``validation`` module).  One column per flap channel.
+def frequency_response_plot(results, path=None, title=None, unwrap: bool = False):
+    """Bode plot of a validation: the measured responses of the flap to each input,
+    conditioned on the others, with error bands and coherence, and each model's
+    analytic responses on top (:class:`~inflowsim.diagnose.validation.FrequencyComparison`).
 
     Parameters
     ----------
@@ -110,60 +108,76 @@ def frequency_response_plot(results, path=None, title=None):
     path : path-like, optional
         Save as PNG.
     title : str, optional
+    unwrap : bool
+        Unwrap the phases (labelled); default wrapped to +-180 deg.
 
     Returns
     -------
     matplotlib.figure.Figure
+        One column per response pair (inputs, then outputs); rows magnitude [dB],
+        phase [deg], coherence (:func:`inflowsim.report.frf_plots.frequency_response_plot`).
     """
+    from .frf_plots import frequency_response_plot as bode
     res = _as_list(results)
-    f0 = res[0].frequency
-    fig, ax = new_figure(2, 3, size=(11.0, 6.0))
-    for i, c in enumerate(FLAP_COLUMNS):
-        am, ap = ax[0, i], ax[1, i]
-        am.plot(f0.f_hz, f0.magnitude_db(f0.measured[i]), "ko", ms=3.5, label="measured")
-        ap.plot(f0.f_hz, f0.phase_deg(f0.measured[i]), "ko", ms=3.5, label="measured")
-        for r in res:
-            fr = r.frequency
-            lab = (f"{r.structure} ({r.magnitude_rms_db[c]:.2f} dB, "
-                   f"{r.phase_rms_deg[c]:.1f}°)")
-            am.plot(fr.f_hz, fr.magnitude_db(fr.model[i]), lw=1.3, label=lab)
-            ap.plot(fr.f_hz, fr.phase_deg(fr.model[i]), lw=1.3, label=r.structure)
-        am.set_title(f"{FLAP_LABELS[c]} / {f0.reference_input}")
-        am.set_ylabel("magnitude [dB]")
-        ap.set_ylabel("phase [deg]")
-        ap.set_xlabel("frequency [Hz]")
-        for a in (am, ap):
-            a.grid(True, alpha=0.3)
-        am.legend(fontsize="x-small")
+    fr = res[0].frequency.measured
+    models = {f"{r.structure} (J {r.frequency.overall_cost:.3g})": r.frequency.model
+              for r in res}
     names = ", ".join(r.structure for r in res)
-    fig.suptitle(title or f"Flap frequency responses: measured and {names}, band "
-                 f"{res[0].band_hz[0]:.4g}-{res[0].band_hz[1]:.4g} Hz")
-    if path is not None:
-        save_png(fig, path)
-    return fig
+    return bode(fr, pairs=[(o, i) for i in fr.inputs for o in fr.outputs], models=models,
+                path=path, unwrap=unwrap,
+                title=title or f"Flap responses, each conditioned on the other inputs: "
+                               f"measured and {names}, {res[0].band_hz[0]:.4g}-"
+                               f"{res[0].band_hz[1]:.4g} Hz")
+
+
+def _log_frequency_axis(ax):
+    from matplotlib.ticker import FormatStrFormatter, NullFormatter
+    ax.set_xscale("log")
+    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def error_spectrum_plot(results: Sequence, path=None, title=None):
-    """Magnitude error [dB] and phase error [deg] against frequency per channel."""
+    """Measured over model response against frequency: magnitude [dB] and phase
+    [deg] per response pair, where the measurement is read (coherence >= 0.6, two
+    windows); the shaded band is the measurement's +-2 stated errors about 0."""
+    from .frf_plots import BAND_SIGMA
     res = _as_list(results)
     fig, ax = new_figure(2, 1, size=(8.0, 5.5))
     styles = ("-", "--", ":", "-.")
-    for k, r in enumerate(res):              # colour per channel, line style per model
-        fr = r.frequency
+    fr0 = res[0].frequency.measured
+    valid = fr0.valid()
+    err = np.hypot(fr0.random_error, fr0.bias_error)
+    f = fr0.frequency_hz
+    # the measurement's own error: a model inside it is as good as the data can tell
+    band = np.max(np.where(valid, err, -np.inf), axis=(0, 1))
+    band = np.where(np.isfinite(band), band, np.nan)
+    ax[0, 0].fill_between(f, -20 * np.log10(1 + BAND_SIGMA * band),
+                          20 * np.log10(1 + BAND_SIGMA * band), color="0.85", lw=0,
+                          label=f"±{BAND_SIGMA:g} measurement errors (largest pair)")
+    ax[1, 0].fill_between(f, -np.degrees(BAND_SIGMA * band), np.degrees(BAND_SIGMA * band),
+                          color="0.85", lw=0)
+    pairs = [(o, i) for i in range(len(fr0.inputs)) for o in range(len(fr0.outputs))]
+    for k, r in enumerate(res):              # colour per pair, line style per model
+        fc = r.frequency
+        mag, ph = fc.magnitude_error_db, fc.phase_error_deg
         ls = styles[k % len(styles)]
-        for i, c in enumerate(FLAP_COLUMNS):
-            lab = f"{c} ({r.structure})" if len(res) > 1 else c
-            kw = dict(lw=1.2, ls=ls, color=f"C{i}", label=lab)
-            ax[0, 0].plot(fr.f_hz, fr.magnitude_error_db[i], **kw)
-            ax[1, 0].plot(fr.f_hz, fr.phase_error_deg[i], **kw)
+        for n, (o, i) in enumerate(pairs):
+            name = f"{fr0.outputs[o]}/{fr0.inputs[i]}"
+            lab = f"{name} ({r.structure})" if len(res) > 1 else name
+            kw = dict(lw=1.2, ls=ls, color=f"C{n % 10}", label=lab)
+            ax[0, 0].plot(f, np.where(valid[o, i], mag[o, i], np.nan), **kw)
+            ax[1, 0].plot(f, np.where(valid[o, i], ph[o, i], np.nan), **kw)
     ax[0, 0].set_ylabel("magnitude error [dB]")
     ax[1, 0].set_ylabel("phase error [deg]")
     ax[1, 0].set_xlabel("frequency [Hz]")
     for a in ax[:, 0]:
         a.axhline(0.0, color="k", lw=0.6)
-        a.grid(True, alpha=0.3)
-        a.legend(fontsize="x-small", ncol=3)
-    fig.suptitle(title or "Measured over model response (0 dB, 0° is a perfect match)")
+        _log_frequency_axis(a)
+        a.grid(True, which="both", alpha=0.3)
+    ax[0, 0].legend(fontsize="x-small", ncol=3)
+    fig.suptitle(title or "Measured over model response where coherence >= 0.6 "
+                          "(0 dB, 0° is a perfect match)")
     if path is not None:
         save_png(fig, path)
     return fig
@@ -208,36 +222,39 @@ def residual_spectrum_plot(analyses, path=None, title=None):
     return fig
 
 
-def coherence_plot(results, path=None, title=None, segment_s=None):
-    """Coherence of each measured flap channel with the reference input.
+def coherence_plot(results, path=None, title=None):
+    """Coherence of the measured flap with each input, conditioned on the others.
 
-    Where it is near 1 the flap is a linear response to that input; where it falls,
-    noise, other inputs or nonlinearity dominate, and no model can match those
-    frequencies. Welch estimate (``scipy.signal.coherence``, Hann windows of
-    ``segment_s`` seconds, default a quarter of the record, 50 % overlap); the
-    analysis band is shaded.
+    Where the partial coherence is near 1 the flap is a linear response to that
+    input; where it falls, noise, unmeasured inputs or nonlinearity dominate, and no
+    model can match those frequencies.  One panel per input: the partial coherence
+    of each flap channel (the ordinary one with a single input) and, with several
+    inputs, the multiple coherence (all inputs together); the line at 0.6 is where a
+    response is read.  From the validation's composite responses
+    (:mod:`inflowsim.identify.frf`).
     """
-    from scipy.signal import coherence
+    from ..identify.frf import COHERENCE_OK
     r0 = _as_list(results)[0]
-    fs = 1.0 / float(r0.t[1] - r0.t[0])
-    n = len(r0.t)
-    nper = int(min(n, max(16, round((segment_s or n / fs / 4) * fs))))
-    ref = r0.frequency.reference_input
-    x = r0.u[:, r0.inputs.index(ref)]
-    fig, ax = new_figure(1, 1, size=(8.0, 3.8))
-    a = ax[0, 0]
-    for i, c in enumerate(FLAP_COLUMNS):
-        f, g = coherence(x, r0.measured[:, i], fs=fs, nperseg=nper)
-        keep = f <= max(3 * r0.band_hz[1], 2.0)
-        a.plot(f[keep], g[keep], lw=1.2, label=c)
-    a.axvspan(*r0.band_hz, color="0.85", zorder=0, label="analysis band")
-    a.set_ylim(0, 1.02)
-    a.set_xlabel("frequency [Hz]")
-    a.set_ylabel(f"coherence with {ref}")
-    a.grid(True, alpha=0.3)
-    a.legend(fontsize="small")
-    fig.suptitle(title or f"Measured flap against {ref}: coherence "
-                          f"({nper / fs:.3g} s segments)")
+    fr = r0.frequency.measured
+    q = len(fr.inputs)
+    fig, ax = new_figure(q, 1, size=(8.0, 2.6 * q + 1.0))
+    f = fr.frequency_hz
+    for i, inp in enumerate(fr.inputs):
+        a = ax[i, 0]
+        for o, c in enumerate(fr.outputs):
+            a.plot(f, fr.coherence[o, i], lw=1.2, color=f"C{o}", label=c)
+            if q > 1:
+                a.plot(f, fr.multiple_coherence[o], lw=0.8, ls=":", color=f"C{o}",
+                       label=f"{c}, multiple")
+        a.axhline(COHERENCE_OK, color="0.5", lw=0.6)
+        a.set_ylim(0, 1.02)
+        _log_frequency_axis(a)
+        a.set_ylabel(f"coherence with {inp}" + (" (partial)" if q > 1 else ""))
+        a.grid(True, which="both", alpha=0.3)
+        a.legend(fontsize="small", ncol=2)
+    ax[-1, 0].set_xlabel("frequency [Hz]")
+    fig.suptitle(title or "Measured flap against the inputs: coherence (composite of "
+                          + ", ".join(f"{w:.3g}" for w in fr.windows_s) + " s windows)")
     if path is not None:
         save_png(fig, path)
     return fig

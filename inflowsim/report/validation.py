@@ -2,6 +2,8 @@
 prints and writes)."""
 from __future__ import annotations
 
+import math
+
 from ..data.record import FLAP_COLUMNS
 from ..simulate.sampled import HOLD_TEXT
 
@@ -17,16 +19,38 @@ FIT_HEADER = ["channel", "rms error [rad]", "TIC", "fit [%]", "|H| error [dB rms
               "phase error [deg rms]"]
 
 
+def _g(x, fmt):
+    return "-" if x is None or not math.isfinite(x) else format(x, fmt)
+
+
 def format_table(result) -> str:
+    from ..diagnose.validation import cost_verdict
+    fc = result.frequency
+    fr = fc.measured
+    cond = ", each conditioned on the other(s)" if len(fr.inputs) > 1 else ""
     lines = [f"model {result.structure} on {result.source}",
              f"trim: {result.trim.describe()}",
              f"band {result.band_hz[0]:.4g}-{result.band_hz[1]:.4g} Hz "
-             f"({result.frequency.f_hz.size} frequencies), responses to "
-             f"{result.frequency.reference_input}",
+             f"({result.dft_f_hz.size} frequencies); responses to "
+             f"{', '.join(fr.inputs)}{cond}"
+             + (f"; hub path through {', '.join(fc.paths)}" if fc.paths else ""),
+             "response errors over the points with coherence >= 0.6",
              f"{'channel':<8}{'rms [rad]':>12}{'TIC':>8}{'fit [%]':>9}"
              f"{'|H| [dB]':>10}{'phase [deg]':>13}"]
     for c, rms, tic, fit, mag, ph in fit_rows(result):
-        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{mag:>10.3f}{ph:>13.2f}")
+        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{_g(mag, '.3f'):>10}"
+                     f"{_g(ph, '.2f'):>13}")
+    lines.append("Tischler's J per response pair (points read):")
+    valid = fr.valid()
+    for o, out in enumerate(fr.outputs):
+        cells = [f"{inp} {_g(fc.cost[(out, inp)], '.3g')} ({int(valid[o, i].sum())})"
+                 for i, inp in enumerate(fr.inputs)]
+        lines.append(f"  {out:<8}" + "   ".join(cells))
+    overall = fc.overall_cost
+    lines.append(f"  overall J {_g(overall, '.3g')} ({cost_verdict(overall)}; "
+                 "<= 50 good, <= 100 acceptable)")
+    for note in fr.notes:
+        lines.append(f"note: {note}")
     return "\n".join(lines)
 
 
@@ -41,12 +65,15 @@ def validation_report(results, title=None, subtitle=None):
     Returns
     -------
     Report
-        Fit table per model, the time-domain reconstruction, the frequency
-        responses and the response errors; call ``.write(DIR)``.
+        Fit table per model, the time-domain reconstruction, the measured
+        frequency responses (conditioned, with coherence and error bands) with the
+        models on top, the response errors, the coherence and Tischler's cost; call
+        ``.write(DIR)``.
     """
     from ..report.plots import (coherence_plot, error_spectrum_plot,
                                 frequency_response_plot, time_response_plot)
     from ..report.document import Report
+    from .model_frf import model_frf_section, responses_paragraph
     res = list(results) if isinstance(results, (list, tuple)) else [results]
     r0 = res[0]
     names = ", ".join(r.structure for r in res)
@@ -55,13 +82,11 @@ def validation_report(results, title=None, subtitle=None):
         f"Measured inputs replayed through each model at the record's step "
         f"({r0.t[1] - r0.t[0]:.4g} s) with its intersample behaviour ({r0.hold}: "
         f"{HOLD_TEXT[r0.hold]}); flap compared as "
-        f"perturbations about trim, the {r0.trim.describe()}. Frequency responses are "
-        f"DFT ratios to {r0.frequency.reference_input} over "
-        f"{r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz ({r0.frequency.f_hz.size} "
-        "transform frequencies); the model's are its predicted flap over the same "
-        "input DFT.")
+        f"perturbations about trim, the {r0.trim.describe()}. "
+        + responses_paragraph(r0))
     for r in res:
-        rep.table(fit_rows(r), header=FIT_HEADER, caption=f"Fit of {r.structure}")
+        rep.table(fit_rows(r), header=FIT_HEADER, caption=f"Fit of {r.structure} (response "
+                  "errors over the points with coherence >= 0.6)")
     rep.paragraph(f"Fit [%] is 100 (1 - |Z - Y| / |Z|) over the band's transforms "
                   f"({r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz), the figure identify "
                   "and the ladder report; the time plots show the whole record, "
@@ -69,13 +94,18 @@ def validation_report(results, title=None, subtitle=None):
     rep.figure(time_response_plot(res, show_inputs=True), "time",
                "Time-domain reconstruction: measured and predicted multiblade flap, "
                "and the pilot inputs that drove them.")
-    rep.figure(coherence_plot(res), "coherence",
-               "Coherence of the measured flap with the reference input: frequencies "
-               "where it is low carry noise or other inputs, not this response.")
     rep.figure(frequency_response_plot(res), "frequency",
-               "Frequency responses: measured (markers) and model (lines).")
+               "Frequency responses: measured (markers, +-2 stated-error bands, grey "
+               "where coherence < 0.6) and the models' analytic responses (lines); "
+               "coherence below.")
     rep.figure(error_spectrum_plot(res), "errors",
-               "Measured over model response, magnitude and phase, across the band.")
-    from .model_frf import model_frf_section
-    model_frf_section(rep, res)
+               "Measured over model response where the measurement is read, against "
+               "the measurement's own error.")
+    rep.figure(coherence_plot(res), "coherence",
+               "Coherence of the measured flap with each input (partial: the other "
+               "inputs' part removed): frequencies where it is low carry noise or "
+               "unmeasured inputs, not this response.")
+    model_frf_section(rep, res, bode=False, heading="Tischler's cost")
+    for note in r0.frequency.measured.notes:
+        rep.paragraph(f"Note: {note}")
     return rep

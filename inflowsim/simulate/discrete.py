@@ -5,7 +5,6 @@ Pure functions: ``(a, b, dt) -> (phi, gam)`` with ``x[k+1] = phi x[k] + gam u[k]
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import expm
 
 METHODS = ("zoh", "rk4")
 
@@ -13,6 +12,9 @@ METHODS = ("zoh", "rk4")
 def zoh(a: np.ndarray, b: np.ndarray, dt: float):
     """Exact zero-order-hold discretisation (matrix exponential of the augmented
     system ``[[a, b], [0, 0]] dt``)."""
+    # imported here: reading a record imports this package, and SciPy's import
+    # alone would cost more than a whole ``frf`` (issue #25)
+    from scipy.linalg import expm
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a
