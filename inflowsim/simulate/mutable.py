@@ -48,10 +48,28 @@ TAYLOR_TOL = 1e-17
 TAYLOR_MAX_TERMS = 30
 
 
-def edges() -> list:
+def edges(knots=()) -> list:
     """Segment ends ``MU_LO q^s``, ``q = (MU_HI/MU_LO)^(1/SEGMENTS)`` (the C's
-    ``pow`` expression, so the same doubles)."""
-    return [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+    ``pow`` expression, so the same doubles), with each of ``knots`` (ascending)
+    put in place of the nearest interior end it can replace (one whose neighbours
+    stay on either side of it, not yet a knot; the nearer of two at equal distance
+    the lower): a scheduled parameter held beyond its range has a kink there, and
+    a kink on a segment end keeps every segment's polynomial smooth.  A knot no
+    end can take stays inside a segment, whose check then fails (exact rebuilds).
+    The C's ``mu_edges`` does the same."""
+    e = [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+    taken = [False] * (SEGMENTS + 1)
+    for k in knots:
+        best = -1
+        for i in range(1, SEGMENTS):
+            if taken[i] or not (e[i - 1] < k < e[i + 1]):
+                continue
+            if best < 0 or abs(e[i] - k) < abs(e[best] - k):
+                best = i
+        if best >= 0:
+            e[best] = k
+            taken[best] = True
+    return e
 
 
 def nodes(lo: float, hi: float) -> np.ndarray:
@@ -119,13 +137,16 @@ class MuTable:
     blocks : sequence of slices
         Row ranges whose entries share one scale in the check (each block's error
         relative to its largest entry).
+    knots : sequence of float
+        Where ``exact`` has a kink (a parameter schedule's range ends): segment ends
+        (:func:`edges`).
 
     ``ok`` says whether the check passed (``err`` the worst relative error found).
     :meth:`into` writes the interpolant at ``mu`` into an array of the same shape.
     """
 
-    def __init__(self, exact, blocks=(slice(None),)):
-        self.edges = edges()
+    def __init__(self, exact, blocks=(slice(None),), knots=()):
+        self.edges = edges(sorted(knots))
         first = None
         coef = []
         for s in range(SEGMENTS):
