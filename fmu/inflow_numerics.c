@@ -122,6 +122,33 @@ static double mu_edge(int seg)
     return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
 }
 
+/* The segment ends: mu_edge, with each knot of a parameter schedule (its range's
+ * ends, where the held values make a kink) in place of the nearest interior end it
+ * can replace (neighbours on either side, not yet a knot; the lower of two at equal
+ * distance): inflowsim.simulate.mutable.edges, the same doubles. */
+static void mu_edges(double e[IFS_MU_SEG + 1])
+{
+    int seg;
+    for (seg = 0; seg <= IFS_MU_SEG; seg++) e[seg] = mu_edge(seg);
+#if IFS_MU_N_KNOTS
+    {
+        static const double knots[IFS_MU_N_KNOTS] = IFS_MU_KNOTS;
+        int taken[IFS_MU_SEG + 1] = {0}, k, i;
+        for (k = 0; k < IFS_MU_N_KNOTS; k++) {
+            int best = -1;
+            for (i = 1; i < IFS_MU_SEG; i++) {
+                if (taken[i] || !(e[i - 1] < knots[k] && knots[k] < e[i + 1])) continue;
+                if (best < 0 || fabs(e[i] - knots[k]) < fabs(e[best] - knots[k])) best = i;
+            }
+            if (best >= 0) {
+                e[best] = knots[k];
+                taken[best] = 1;
+            }
+        }
+    }
+#endif
+}
+
 /* The table's interpolant at mu: [phi gam] (half 0, by columns) or [a b] (half 1,
  * row-major).  Horner's rule on four entries at a time, the degrees innermost so
  * the sums stay in registers; each entry gets the same operations in the same
@@ -180,7 +207,7 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
             T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
     t->state = -1;
     t->err = 0.0;
-    for (seg = 0; seg <= IFS_MU_SEG; seg++) t->edge[seg] = mu_edge(seg);
+    mu_edges(t->edge);
     for (seg = 0; seg < IFS_MU_SEG; seg++) {
         const double lo = t->edge[seg], hi = t->edge[seg + 1];
         for (j = 0; j < N; j++) {
@@ -204,7 +231,7 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
     }
     for (seg = 0; seg < IFS_MU_SEG; seg++) {       /* check between the nodes */
         double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
-        const double mu = 0.5 * (mu_edge(seg) + mu_edge(seg + 1));
+        const double mu = 0.5 * (t->edge[seg] + t->edge[seg + 1]);
         if (entries(ctx, mu, want) != 0) return t->state;
         mu_eval_half(t, mu, 0, got);
         mu_eval_half(t, mu, 1, got + IFS_MU_HALF);
