@@ -96,6 +96,10 @@ class CampaignResult:
     computed: dict = field(default_factory=dict)
     reused: dict = field(default_factory=dict)
     files: dict = field(default_factory=dict)
+    #: the parameter schedule across conditions (:mod:`.schedule`), or None, and
+    #: why not / which conditions it leaves out
+    schedule: object = None
+    schedule_note: str = ""
 
 
 def _client(scheduler, workers):
@@ -116,11 +120,22 @@ def _client(scheduler, workers):
 
 
 def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
-                 progress=True, stream=None) -> CampaignResult:
+                 progress=True, stream=None, schedule_criterion: str = "aic",
+                 schedule_max_order: int = 3) -> CampaignResult:
     """Run (or resume) the campaign of ``plan`` into the folder ``out``.
 
     ``workers = 0``: no cluster, everything in this process (debugging, tests).
+    ``schedule_criterion``, ``schedule_max_order``: how the parameter schedule
+    across conditions chooses each polynomial's order
+    (:func:`inflowsim.model.schedule.fit_schedule`); the schedule is computed from
+    the stored results at the end of every run, so they are not part of the keys.
     """
+    from ..model.schedule import CRITERIA
+    if schedule_criterion not in CRITERIA:
+        raise InputError(f"schedule criterion {schedule_criterion!r}: choose "
+                         f"{', '.join(CRITERIA)}")
+    if int(schedule_max_order) != schedule_max_order or schedule_max_order < 0:
+        raise InputError(f"schedule order {schedule_max_order!r}: an integer >= 0")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     store = Store(out)
@@ -175,7 +190,9 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     for r, info in zip(records, infos):        # the plan's labels, not the stored ones
         r.update({k: v for k, v in info.items() if k != "plan_mu"})
     res = CampaignResult(records, conditions, agreement(records, conditions),
-                         {**settings.as_dict(), "version": version(), "plan": plan.source},
+                         {**settings.as_dict(), "version": version(), "plan": plan.source,
+                          "schedule": {"criterion": schedule_criterion,
+                                       "max_order": int(schedule_max_order)}},
                          computed, reused)
     from .tables import write_outputs
     res.files = write_outputs(res, out)
