@@ -1,6 +1,7 @@
 """FMU step cost: the C driver on the native binary, and the cost through fmpy.
 
     python bench/fmu_bench.py [--steps N] [--model STRUCTURE] [--peers C1,C2] [--rounds R]
+    python bench/fmu_bench.py --schedule schedule.json [--steps N] [--rounds R]
 
 Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
 clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
@@ -13,6 +14,10 @@ getReal outputs).  ``--model`` benchmarks an FMU generated for that structure
 instead of the presets' FMU; its baseline library is compiled from the FMU's own
 ``sources/`` and the FMI 3.0 rows are left out.  Prints a Markdown table; results
 and method are kept in ``bench/fmu.md``.
+
+``--schedule FILE`` times only the scheduled FMU (``inflowsim fmu build --schedule``)
+against the unscheduled FMU of the same structure: the driver's cases on both
+libraries, alternately, ``--rounds`` times each (best per case), and the ratio.
 """
 from __future__ import annotations
 
@@ -35,7 +40,11 @@ def main(argv=None):
                     help="commits whose presets' FMU is timed beside (comma-separated)")
     ap.add_argument("--rounds", type=int, default=41)
     ap.add_argument("--frame-steps", type=int, default=30_000)
+    ap.add_argument("--schedule", default=None, metavar="FILE",
+                    help="time the FMU of this schedule against the unscheduled one")
     args = ap.parse_args(argv)
+    if args.schedule:
+        return schedule_main(args)
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
     from inflowsim.fmu import VR, build_fmu
@@ -110,6 +119,53 @@ def main(argv=None):
     print(f"\nglauert / one-state fmi2DoStep: {float(rows['glauert_dostep']) / one:.1f}x "
           f"(shipped binary), {float(rows['baseline_glauert_dostep']) / one:.1f}x "
           f"(baseline code, no AVX2 clone)")
+
+
+def schedule_main(args):
+    """The scheduled FMU against the unscheduled one of the same structure."""
+    from fmpy import extract, read_model_description
+    from inflowsim.fmu import build_fmu
+    from inflowsim.fmu.build import compiler, source_dir
+    from inflowsim.model.schedule import read_schedule
+    sch = read_schedule(args.schedule)
+    steps = args.steps if args.steps != 2_000_000 else 300_000
+    rounds = args.rounds if args.rounds != 41 else 3
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        libs = {}
+        for tag, model in (("unscheduled", sch.structure), ("scheduled", sch)):
+            fmu = build_fmu(tmp / f"{tag}.fmu", model=model)
+            unz = extract(str(fmu), str(tmp / tag))
+            libs[tag] = (Path(unz) / "binaries" / "linux64" / "inflowsim.so",
+                         read_model_description(str(fmu)).guid)
+        cc = compiler()
+        inc = f"-I{source_dir()}"
+        subprocess.run([cc, *__import__("inflowsim.fmu.build", fromlist=["CFLAGS"]).CFLAGS,
+                        inc, "-o", str(tmp / "onestate.so"), str(HERE / "fmu_onestate.c"),
+                        "-lm"], check=True)
+        subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
+                        str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+        best: dict = {}
+        for _ in range(rounds):
+            for tag, (so, guid) in libs.items():
+                out = subprocess.run([str(tmp / "driver"), str(so), guid,
+                                      str(tmp / "onestate.so"), str(steps)], check=True,
+                                     capture_output=True, text=True).stdout
+                for line in out.splitlines():
+                    name, value = line.split()
+                    key = (name, tag)
+                    best[key] = min(best.get(key, float("inf")), float(value))
+    print(f"schedule: {args.schedule} ({sch.structure}, {len(sch.parameters)} parameters "
+          f"following mu {sch.mu_range[0]:g}-{sch.mu_range[1]:g}, orders "
+          f"{', '.join(f'{p.name} {p.order}' for p in sch.parameters)})")
+    print(f"steps {steps} (mu every step: {steps // 100 + 1}), best of 5 runs x {rounds} "
+          "rounds, the two libraries alternating")
+    print("| case | unscheduled [ns] | scheduled [ns] | ratio |\n| --- | --- | --- | --- |")
+    for name in dict.fromkeys(n for n, _ in best):
+        if name.startswith("onestate"):
+            continue
+        a, b = best[(name, "unscheduled")], best[(name, "scheduled")]
+        print(f"| {name} | {a:.1f} | {b:.1f} | {b / a:.2f} |")
 
 
 def frame_beside_peers(args, tmp, so, baseline, guid, cc, inc) -> dict:

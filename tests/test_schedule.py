@@ -224,7 +224,9 @@ def test_a_table_without_the_knots_would_fail_its_check():
     assert not MuTable(f).ok
     t = MuTable(f, knots=(0.12, 0.30))
     assert t.ok and 0.12 in t.edges and 0.30 in t.edges
-    assert edges() == edges(()) and len(edges((0.2,))) == len(edges())
+    assert len(edges((0.2,))) == len(edges()) + 1 and 0.2 in edges((0.2,))
+    # a knot on an end already (within KNOT_GAP), or outside the range: no new end
+    assert edges((0.1 + 1e-12, 0.05, 0.5)) == edges()
 
 
 def test_simulator_refuses_a_schedule_of_another_structure():

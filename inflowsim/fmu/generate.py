@@ -301,10 +301,12 @@ def schedule_defines(d: Description = DEFAULT) -> list:
     (the outputs' rotation) follows ``mu``."""
     sch = d.schedule
     n = len(d.scheduled)
-    knots = sch.knots(mutable.MU_LO, mutable.MU_HI) if sch is not None else ()
+    knots = (mutable.knot_edges(sch.knots(mutable.MU_LO, mutable.MU_HI))
+             if sch is not None else ())
     lines = [f"#define IFS_N_SCHEDULED {n}  /* parameters that follow mu (a schedule) */",
-             f"#define IFS_MU_N_KNOTS {len(knots)}  /* the schedule's range ends: "
-             "segment ends of the mu table */"]
+             f"#define IFS_MU_N_KNOTS {len(knots)}  /* the schedule's range ends: extra "
+             "segment ends of the mu table */",
+             "#define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */"]
     if knots:
         lines.append("#define IFS_MU_KNOTS {" + ", ".join(_num(k) for k in knots) + "}")
     lines.append(f"#define IFS_SCHEDULED_BIAS {int('azimuth_bias' in d.scheduled)}")
