@@ -86,6 +86,8 @@ def test_fmpy(built, reference):
     s.terminate()
     s.freeInstance()
     # the model description declares them local, calculated, without a start value
+    from fmpy.validation import validate_fmu
+    assert validate_fmu(str(fmu)) == []
     with zipfile.ZipFile(fmu) as z:
         xml = z.read("modelDescription.xml").decode()
     line = next(ln for ln in xml.splitlines() if 'name="tau0"' in ln)
@@ -207,3 +209,19 @@ def test_the_scheduled_fmu_flies_the_simulator_loop_sweep(built, tmp_path):
     # the sweep went through the schedule: its parameters at hover and at the end
     assert sim.model.parameters["tau0"] == sch(float(mus[-1]))["tau0"]
     assert sch(0.0)["tau0"] != sch(float(mus[-1]))["tau0"]
+
+
+def test_bad_schedule_options_are_one_line_errors(tmp_path, capsys):
+    from conftest import assert_user_error, run
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"schedule": 1, "structure": "glauert", "mu_range": [0.1, 0.3], '
+                   '"parameters": {"tau": {}}}')
+    code, out, err = run(capsys, "fmu", "build", "--schedule", bad, "--out",
+                         tmp_path / "x.fmu")
+    assert_user_error(code, out, err, "bad.json")
+    sch, _ = _glauert_schedule()
+    good = write_schedule(sch, tmp_path / "s.json")
+    code, out, err = run(capsys, "fmu", "build", "--schedule", good, "--model", "basic",
+                         "--out", tmp_path / "x.fmu")
+    assert_user_error(code, out, err, "--schedule")
+    assert not (tmp_path / "x.fmu").exists()
