@@ -331,13 +331,15 @@ def schedule_c(d: Description = DEFAULT) -> list:
     if any(p.order > 0 for p in sch.parameters):
         out += [f"    const double mu = v->mu < {lo} ? {lo} : v->mu > {hi} ? {hi} : v->mu;",
                 "    double x;"]
+    last = None
     for p in sch.parameters:
         c = [_num(v) for v in p.coefficients]
         expr = c[-1]
         for ck in c[-2::-1]:
             expr = f"({expr}) * x + {ck}" if "x" in expr else f"{expr} * x + {ck}"
-        if p.order > 0:
+        if p.order > 0 and (p.center, p.scale) != last:   # the same x: not again
             out.append(f"    x = (mu - {_num(p.center)}) / {_num(p.scale)};")
+            last = (p.center, p.scale)
         out.append(f"    v->{p.name} = {expr};")
     if all(p.order == 0 for p in sch.parameters):
         out.append("    (void)v->mu;")
