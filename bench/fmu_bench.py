@@ -125,7 +125,7 @@ def schedule_main(args):
     """The scheduled FMU against the unscheduled one of the same structure."""
     from fmpy import extract, read_model_description
     from inflowsim.fmu import build_fmu
-    from inflowsim.fmu.build import compiler, source_dir
+    from inflowsim.fmu.build import CFLAGS, compiler, source_dir
     from inflowsim.model.schedule import read_schedule
     sch = read_schedule(args.schedule)
     steps = args.steps if args.steps != 2_000_000 else 300_000
@@ -140,9 +140,8 @@ def schedule_main(args):
                          read_model_description(str(fmu)).guid)
         cc = compiler()
         inc = f"-I{source_dir()}"
-        subprocess.run([cc, *__import__("inflowsim.fmu.build", fromlist=["CFLAGS"]).CFLAGS,
-                        inc, "-o", str(tmp / "onestate.so"), str(HERE / "fmu_onestate.c"),
-                        "-lm"], check=True)
+        subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
+                        str(HERE / "fmu_onestate.c"), "-lm"], check=True)
         subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
                         str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
         best: dict = {}
