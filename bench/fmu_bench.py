@@ -1,6 +1,7 @@
 """FMU step cost: the C driver on the native binary, and the cost through fmpy.
 
     python bench/fmu_bench.py [--steps N] [--model STRUCTURE] [--peers C1,C2] [--rounds R]
+    python bench/fmu_bench.py --schedule schedule.json [--steps N] [--rounds R]
 
 Builds the FMU (``inflowsim.fmu.build_fmu``), the same library without the AVX2
 clone of ``fmi2DoStep`` (``-DIFS_NO_CLONES``: the baseline x86-64 code every CPU
@@ -15,6 +16,10 @@ instead of the presets' FMU; its baseline library is compiled from the FMU's own
 machine's rate of 4-wide multiplies: the step's arithmetic floor is its products in
 whole vectors of four at that rate.  Prints a Markdown table; results and method are
 kept in ``bench/fmu.md``.
+
+``--schedule FILE`` times only the scheduled FMU (``inflowsim fmu build --schedule``)
+against the unscheduled FMU of the same structure: the driver's cases on both
+libraries, alternately, ``--rounds`` times each (best per case), and the ratio.
 """
 from __future__ import annotations
 
@@ -38,9 +43,13 @@ def main(argv=None):
                          "4ddf183,c2cf520 for the presets' FMU, none with --model)")
     ap.add_argument("--rounds", type=int, default=41)
     ap.add_argument("--frame-steps", type=int, default=30_000)
+    ap.add_argument("--schedule", default=None, metavar="FILE",
+                    help="time the FMU of this schedule against the unscheduled one")
     args = ap.parse_args(argv)
     if args.peers is None:
         args.peers = "4ddf183,c2cf520" if args.model is None else ""
+    if args.schedule:
+        return schedule_main(args)
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
     from inflowsim.fmu import VR, build_fmu
@@ -143,6 +152,52 @@ def arithmetic_floor(cc, tmp, fmu_sources) -> dict:
 #: The FMU's generated C (inflowsim.fmu.generate.GENERATED): a ``--model`` peer is
 #: the peer commit's hand-written C compiled with this FMU's generated files.
 GENERATED_C = ("inflow_vars.h", "inflow_vars.c", "inflow_equations.c")
+
+
+def schedule_main(args):
+    """The scheduled FMU against the unscheduled one of the same structure."""
+    from fmpy import extract, read_model_description
+    from inflowsim.fmu import build_fmu
+    from inflowsim.fmu.build import CFLAGS, compiler, source_dir
+    from inflowsim.model.schedule import read_schedule
+    sch = read_schedule(args.schedule)
+    steps = args.steps if args.steps != 2_000_000 else 300_000
+    rounds = args.rounds if args.rounds != 41 else 3
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        libs = {}
+        for tag, model in (("unscheduled", sch.structure), ("scheduled", sch)):
+            fmu = build_fmu(tmp / f"{tag}.fmu", model=model)
+            unz = extract(str(fmu), str(tmp / tag))
+            libs[tag] = (Path(unz) / "binaries" / "linux64" / "inflowsim.so",
+                         read_model_description(str(fmu)).guid)
+        cc = compiler()
+        inc = f"-I{source_dir()}"
+        subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
+                        str(HERE / "fmu_onestate.c"), "-lm"], check=True)
+        subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
+                        str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+        best: dict = {}
+        for _ in range(rounds):
+            for tag, (so, guid) in libs.items():
+                out = subprocess.run([str(tmp / "driver"), str(so), guid,
+                                      str(tmp / "onestate.so"), str(steps)], check=True,
+                                     capture_output=True, text=True).stdout
+                for line in out.splitlines():
+                    name, value = line.split()
+                    key = (name, tag)
+                    best[key] = min(best.get(key, float("inf")), float(value))
+    print(f"schedule: {args.schedule} ({sch.structure}, {len(sch.parameters)} parameters "
+          f"following mu {sch.mu_range[0]:g}-{sch.mu_range[1]:g}, orders "
+          f"{', '.join(f'{p.name} {p.order}' for p in sch.parameters)})")
+    print(f"steps {steps} (mu every step: {steps // 100 + 1}), best of 5 runs x {rounds} "
+          "rounds, the two libraries alternating")
+    print("| case | unscheduled [ns] | scheduled [ns] | ratio |\n| --- | --- | --- | --- |")
+    for name in dict.fromkeys(n for n, _ in best):
+        if name.startswith("onestate"):
+            continue
+        a, b = best[(name, "unscheduled")], best[(name, "scheduled")]
+        print(f"| {name} | {a:.1f} | {b:.1f} | {b / a:.2f} |")
 
 
 def frame_beside_peers(args, tmp, so, baseline, guid, cc, inc, fmu_sources) -> dict:

@@ -268,6 +268,9 @@ static int mu_build_entries(void *ctx, double mu, double out[IFS_MU_NTAB])
     MuBuild *b = (MuBuild *)ctx;
     char msg[8];
     b->v.mu = mu;
+#if IFS_N_SCHEDULED
+    ifs_schedule_apply(&b->v);          /* the parameters follow mu: tabulated with it */
+#endif
     if (ifs_build(&b->m, &b->v, msg, sizeof msg) != 0) return -1;
     mu_entries(&b->m, out);
     return 0;

@@ -125,6 +125,12 @@ void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
 void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, double *lc,
                   double *ld);
 double ifs_flow_speed(const IfsVariables *v);
+#if IFS_N_SCHEDULED
+/* Generated from a parameter schedule (inflowsim fmu build --schedule): the
+ * scheduled parameters (local variables) in v at v->mu, held beyond the schedule's
+ * range (inflowsim.model.schedule.Schedule.__call__, the same operations). */
+void ifs_schedule_apply(IfsVariables *v);
+#endif
 
 /* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
  * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */

@@ -36,6 +36,7 @@
 #define ifs_mu_table_eval IFS_NAME(ifs_mu_table_eval)
 #define ifs_mu_table_fit IFS_NAME(ifs_mu_table_fit)
 #define ifs_real_vars IFS_NAME(ifs_real_vars)
+#define ifs_schedule_apply IFS_NAME(ifs_schedule_apply)
 #define ifs_slave_delayed_state IFS_NAME(ifs_slave_delayed_state)
 #define ifs_slave_directional IFS_NAME(ifs_slave_directional)
 #define ifs_slave_enter_init IFS_NAME(ifs_slave_enter_init)

@@ -122,6 +122,24 @@ static double mu_edge(int seg)
     return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
 }
 
+/* The segment ends: mu_edge's, and the knots of a parameter schedule (its range's
+ * ends, where the held values make a kink; inflowsim.simulate.mutable.knot_edges
+ * chose them), merged in ascending order: inflowsim.simulate.mutable.edges, the
+ * same doubles. */
+static void mu_edges(double e[IFS_MU_NSEG + 1])
+{
+#if IFS_MU_N_KNOTS
+    static const double knots[IFS_MU_N_KNOTS] = IFS_MU_KNOTS;
+    int g = 0, k = 0, i;
+    for (i = 0; i <= IFS_MU_NSEG; i++)
+        e[i] = (k < IFS_MU_N_KNOTS && (g > IFS_MU_SEG || knots[k] < mu_edge(g)))
+                   ? knots[k++] : mu_edge(g++);
+#else
+    int i;
+    for (i = 0; i <= IFS_MU_SEG; i++) e[i] = mu_edge(i);
+#endif
+}
+
 /* The table's interpolant at mu: [phi gam] (half 0, by columns) or [a b] (half 1,
  * row-major).  Horner's rule on four entries at a time, the degrees innermost so
  * the sums stay in registers; each entry gets the same operations in the same
@@ -131,14 +149,14 @@ static IFS_HOT void mu_eval_half(const IfsMuTable *t, double mu, int half,
                                  double out[IFS_MU_HALF])
 {
     const int first = half * IFS_MU_HALF;
-    int seg = (int)(IFS_MU_SEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
+    int seg = (int)(IFS_MU_NSEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
     double lo, hi, x;
     int k, e;
     /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
     if (seg < 0) seg = 0;
-    if (seg >= IFS_MU_SEG) seg = IFS_MU_SEG - 1;
+    if (seg >= IFS_MU_NSEG) seg = IFS_MU_NSEG - 1;
     while (seg > 0 && mu < t->edge[seg]) seg--;
-    while (seg < IFS_MU_SEG - 1 && mu >= t->edge[seg + 1]) seg++;
+    while (seg < IFS_MU_NSEG - 1 && mu >= t->edge[seg + 1]) seg++;
     lo = t->edge[seg];
     hi = t->edge[seg + 1];
     x = (2.0 * mu - lo - hi) / (hi - lo);
@@ -180,8 +198,8 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
             T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
     t->state = -1;
     t->err = 0.0;
-    for (seg = 0; seg <= IFS_MU_SEG; seg++) t->edge[seg] = mu_edge(seg);
-    for (seg = 0; seg < IFS_MU_SEG; seg++) {
+    mu_edges(t->edge);
+    for (seg = 0; seg < IFS_MU_NSEG; seg++) {
         const double lo = t->edge[seg], hi = t->edge[seg + 1];
         for (j = 0; j < N; j++) {
             const double xj = cos(M_PI * (j + 0.5) / N);
@@ -202,9 +220,9 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
             }
         }
     }
-    for (seg = 0; seg < IFS_MU_SEG; seg++) {       /* check between the nodes */
+    for (seg = 0; seg < IFS_MU_NSEG; seg++) {      /* check between the nodes */
         double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
-        const double mu = 0.5 * (mu_edge(seg) + mu_edge(seg + 1));
+        const double mu = 0.5 * (t->edge[seg] + t->edge[seg + 1]);
         if (entries(ctx, mu, want) != 0) return t->state;
         mu_eval_half(t, mu, 0, got);
         mu_eval_half(t, mu, 1, got + IFS_MU_HALF);

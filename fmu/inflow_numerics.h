@@ -75,7 +75,8 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
 
 /*
  * A matrix-valued function of mu tabulated on [IFS_MU_LO, IFS_MU_HI] (for the FMU:
- * [phi gam] at dt and [a b]): IFS_MU_SEG segments growing geometrically with mu,
+ * [phi gam] at dt and [a b]): IFS_MU_SEG segments growing geometrically with mu
+ * (and IFS_MU_N_KNOTS more where a parameter schedule has kinks: IFS_MU_NSEG),
  * on each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1]
  * through exact values at the Chebyshev-Gauss nodes, stored as power coefficients
  * (Horner's rule).  Two halves of IFS_MU_HALF entries, each checked at every
@@ -87,8 +88,8 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
 typedef struct {
     int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
     double err;                /* the largest relative error found by the check */
-    double edge[IFS_MU_SEG + 1];                         /* segment ends */
-    double p[IFS_MU_SEG][IFS_MU_DEG + 1][IFS_MU_NTAB];   /* power coefficients */
+    double edge[IFS_MU_NSEG + 1];                        /* segment ends */
+    double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
 
 /* The exact entries at mu (both halves, IFS_MU_NTAB values); 0, or -1 if there are

@@ -42,6 +42,9 @@ void ifs_slave_init(IfsSlave *s)
         *(double *)((char *)&s->v + ifs_real_vars[i].offset) = ifs_real_vars[i].start;
     for (i = 0; i < IFS_N_INTEGERS; i++)
         *(int *)((char *)&s->v + ifs_integer_vars[i].offset) = ifs_integer_vars[i].start;
+#if IFS_N_SCHEDULED
+    ifs_schedule_apply(&s->v);
+#endif
     s->phase = IFS_PH_INSTANTIATED;
 #ifdef IFS_WIDE_STEP
     s->wide = __builtin_cpu_supports("avx2");
@@ -106,6 +109,11 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
 {
     char msg[MSG_LEN];
     double d[3];
+#if IFS_N_SCHEDULED
+    /* the scheduled parameters at the new mu (a few polynomials: the tabulated path
+     * stays cheap); the table itself was built with them */
+    ifs_schedule_apply(&s->v);
+#endif
     ifs_flap_delays_of(&s->v, d);
     if (d[0] < 0.0 || d[1] < 0.0 || d[2] < 0.0)
         return ifs_log(lg, IFS_ERROR, "a flap delay is negative (a lead): the FMU steps "
@@ -126,6 +134,13 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
     if (s->tab && !s->params_changed && s->tab->state == 1 && s->phase == IFS_PH_STEP &&
         s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI) {
         ifs_mu_table_apply(s->tab, &s->v, &s->m);
+#if IFS_SCHEDULED_BIAS
+        {   /* the outputs' rotation follows the scheduled azimuth bias */
+            const double bias = ifs_bias_of(&s->v);
+            s->m.cos_bias = cos(bias);
+            s->m.sin_bias = sin(bias);
+        }
+#endif
         s->dirty = 0;
         return IFS_OK;
     }
@@ -186,6 +201,9 @@ static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char 
     var = &ifs_real_vars[vr];
     if (var->kind == IFS_OUTPUT)
         return ifs_log(lg, IFS_ERROR, "%s: %s is an output", fn, var->name);
+    if (var->kind == IFS_LOCAL)
+        return ifs_log(lg, IFS_ERROR, "%s: %s follows the parameter schedule (computed "
+                       "from mu, read-only)", fn, var->name);
     if (var->kind == IFS_FIXED && s->phase != IFS_PH_INSTANTIATED && s->phase != IFS_PH_INIT)
         return ifs_log(lg, IFS_ERROR, "%s: %s is fixed after initialization", fn, var->name);
     if (!isfinite(x))
@@ -250,7 +268,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
     /* check everything first: a refused call changes nothing */
     for (i = 0; i < n; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i] < IFS_N_REALS ? vr[i] : 0];
-        if (vr[i] >= IFS_N_REALS || var->kind == IFS_OUTPUT ||
+        if (vr[i] >= IFS_N_REALS || var->kind == IFS_OUTPUT || var->kind == IFS_LOCAL ||
             (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
             return refuse_real(s, lg, fn, vr[i], value[i]);
         if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < IFS_MU_LO)

@@ -22,8 +22,13 @@
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
 #define IFS_MU_TOL 1e-12
+#define IFS_MU_KNOT_GAP 1e-09
 #define IFS_TAYLOR_TOL 1e-17
 #define IFS_KMAX 30  /* most Taylor terms of a remainder step */
+#define IFS_N_SCHEDULED 0  /* parameters that follow mu (a schedule) */
+#define IFS_MU_N_KNOTS 0  /* the schedule's range ends: extra segment ends of the mu table */
+#define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */
+#define IFS_SCHEDULED_BIAS 0
 
 /* value references */
 enum {
@@ -133,7 +138,8 @@ typedef struct {
     int inflow_speed;  /* parameter [-] */
 } IfsVariables;
 
-typedef enum { IFS_INPUT, IFS_OUTPUT, IFS_TUNABLE, IFS_FIXED } IfsKind;
+/* IFS_LOCAL: a scheduled parameter, computed from mu (read-only) */
+typedef enum { IFS_INPUT, IFS_OUTPUT, IFS_TUNABLE, IFS_FIXED, IFS_LOCAL } IfsKind;
 
 typedef struct {
     const char *name;

@@ -130,11 +130,14 @@ def _stub_tasks(monkeypatch):
 
     def cond_task(condition, paths, settings):
         calls["condition"].append(condition)
+        mu = float(condition[3:])
         return {"kind": "condition", "condition": condition, "records": list(paths),
-                "status": "ok", "error": None, "mu": 0.25,
+                "status": "ok", "error": None, "mu": mu,
                 "missing_effect": "glauert" if condition == "mu=0.200" else None,
-                "verdict": "missing-effect", "base_fit": {"parameters": {
-                    "tau": {"estimate": 1.2, "sigma": 0.05}}}}
+                "verdict": "missing-effect", "base_fit": {"structure": "basic",
+                                                          "parameters": {
+                    "tau": {"estimate": 1.0 + mu, "sigma": 0.05},
+                    "n_beta": {"estimate": 1.0, "sigma": None}}}}
     monkeypatch.setattr(eng, "record_task", rec_task)
     monkeypatch.setattr(eng, "condition_task", cond_task)
     return calls
@@ -175,6 +178,14 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert list(df["kind"]) == ["record"] * 4 + ["condition"] * 2
     assert {"est_tau", "sigma_tau", "error", "verdict"} <= set(df.columns)
     assert "Where records disagree" in Path(third.files["report"]).read_text()
+    # the schedule across conditions: written, in the report, read back
+    from inflowsim.model.schedule import read_schedule
+    sch = read_schedule(third.files["schedule"])
+    assert sch.names == ("tau",) and sch.held == (("n_beta", 1.0, None),)
+    assert sch.mu_range == (0.2, 0.3) and sch(0.2)["tau"] == pytest.approx(1.25)
+    assert "## Schedules" in Path(third.files["report"]).read_text()
+    doc = json.loads(Path(third.files["json"]).read_text())
+    assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant
 
 
 def test_manifests(plan_dir, tmp_path):

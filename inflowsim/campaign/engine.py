@@ -96,6 +96,10 @@ class CampaignResult:
     computed: dict = field(default_factory=dict)
     reused: dict = field(default_factory=dict)
     files: dict = field(default_factory=dict)
+    #: the parameter schedule across conditions (:mod:`.schedule`), or None, and
+    #: why not / which conditions it leaves out
+    schedule: object = None
+    schedule_note: str = ""
 
 
 def _client(scheduler, workers):
@@ -116,11 +120,22 @@ def _client(scheduler, workers):
 
 
 def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
-                 progress=True, stream=None) -> CampaignResult:
+                 progress=True, stream=None, schedule_criterion: str = "aic",
+                 schedule_max_order: int = 3) -> CampaignResult:
     """Run (or resume) the campaign of ``plan`` into the folder ``out``.
 
     ``workers = 0``: no cluster, everything in this process (debugging, tests).
+    ``schedule_criterion``, ``schedule_max_order``: how the parameter schedule
+    across conditions chooses each polynomial's order
+    (:func:`inflowsim.model.schedule.fit_schedule`); the schedule is computed from
+    the stored results at the end of every run, so they are not part of the keys.
     """
+    from ..model.schedule import CRITERIA
+    if schedule_criterion not in CRITERIA:
+        raise InputError(f"schedule criterion {schedule_criterion!r}: choose "
+                         f"{', '.join(CRITERIA)}")
+    if int(schedule_max_order) != schedule_max_order or schedule_max_order < 0:
+        raise InputError(f"schedule order {schedule_max_order!r}: an integer >= 0")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     store = Store(out)
@@ -138,19 +153,9 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     try:
         if workers != 0 and todo:
             client, cluster = _client(scheduler, workers)
-        bar = Progress(len(todo), "records", stream, progress)
-
-        def done_record(i, res):
-            res["key"] = keys[i]
-            if not res.get("transient"):
-                store.put("records", keys[i], res)
-            records[i] = res
-            computed["records"] += 1
-            bar.step(Path(entries[i].path).name)
-
-        _map(client, record_task, [((entries[i].path, settings, infos[i]), i) for i in todo],
-             done_record)
-        bar.close()
+        _stage(client, record_task, [(entries[i].path, settings, infos[i]) for i in todo],
+               todo, "records", keys, records, store, computed,
+               lambda i: Path(entries[i].path).name, _record_failed, stream, progress)
 
         groups = plan.conditions
         cond_keys, cond_args = [], []
@@ -172,19 +177,10 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
                 ctodo.remove(j)
         if ctodo and client is None and workers != 0:
             client, cluster = _client(scheduler, workers)
-        cbar = Progress(len(ctodo), "conditions", stream, progress)
-
-        def done_condition(j, res):
-            res["key"] = cond_keys[j]
-            if not res.get("transient"):
-                store.put("conditions", cond_keys[j], res)
-            conditions[j] = res
-            computed["conditions"] += 1
-            cbar.step(cond_args[j][0])
-
-        _map(client, condition_task, [((cond_args[j][0], cond_args[j][1], settings), j)
-                                      for j in ctodo], done_condition)
-        cbar.close()
+        _stage(client, condition_task,
+               [(cond_args[j][0], cond_args[j][1], settings) for j in ctodo], ctodo,
+               "conditions", cond_keys, conditions, store, computed,
+               lambda j: cond_args[j][0], _condition_failed, stream, progress)
     finally:
         if client is not None:
             client.close()
@@ -194,16 +190,55 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     for r, info in zip(records, infos):        # the plan's labels, not the stored ones
         r.update({k: v for k, v in info.items() if k != "plan_mu"})
     res = CampaignResult(records, conditions, agreement(records, conditions),
-                         {**settings.as_dict(), "version": version(), "plan": plan.source},
+                         {**settings.as_dict(), "version": version(), "plan": plan.source,
+                          "schedule": {"criterion": schedule_criterion,
+                                       "max_order": int(schedule_max_order)}},
                          computed, reused)
     from .tables import write_outputs
     res.files = write_outputs(res, out)
     return res
 
 
-def _map(client, fn, jobs, done):
+def _stage(client, fn, args, tags, kind, keys, results, store, computed, note, failed,
+           stream, progress):
+    """One stage of the campaign (``kind`` ``"records"`` or ``"conditions"``): run
+    ``fn(*a)`` for each ``a`` of ``args`` (result slot ``tags[n]``), and as each
+    finishes: key it, store it (unless transient), put it in ``results``, count it,
+    step the progress bar with ``note(tag)``.  ``failed(a, exc)``: the error row of
+    a task whose worker was lost."""
+    bar = Progress(len(tags), kind, stream, progress)
+
+    def done(tag, res):
+        res["key"] = keys[tag]
+        if not res.get("transient"):
+            store.put(kind, keys[tag], res)
+        results[tag] = res
+        computed[kind] += 1
+        bar.step(note(tag))
+
+    _map(client, fn, list(zip(args, tags)), done, failed)
+    bar.close()
+
+
+def _lost(exc) -> dict:
+    return {"status": "error", "verdict": "error", "missing_effect": None,
+            "error": f"the worker failed: {type(exc).__name__}: {exc}",
+            "transient": True}                 # not stored: a restart tries again
+
+
+def _record_failed(args, exc) -> dict:
+    return {"kind": "record", "record": str(args[0]),
+            **(args[2] if len(args) > 2 else {}), **_lost(exc)}
+
+
+def _condition_failed(args, exc) -> dict:
+    return {"kind": "condition", "condition": str(args[0]), **_lost(exc)}
+
+
+def _map(client, fn, jobs, done, failed):
     """Run ``fn(*args)`` for every ``(args, tag)`` of ``jobs``; ``done(tag, result)``
-    as each finishes (in completion order)."""
+    as each finishes (in completion order); a task whose worker failed gives
+    ``failed(args, exc)``."""
     if not jobs:
         return
     if client is None:
@@ -214,16 +249,11 @@ def _map(client, fn, jobs, done):
     futures = {}
     for args, tag in jobs:
         fut = client.submit(fn, *args, pure=False)
-        futures[fut] = tag
+        futures[fut] = (args, tag)
     for fut in as_completed(list(futures)):
+        args, tag = futures[fut]
         try:
             res = fut.result()
         except Exception as exc:               # a worker lost: the task's own error row
-            args = jobs[[t for _, t in jobs].index(futures[fut])][0]
-            res = {"kind": "record" if fn is record_task else "condition",
-                   "record" if fn is record_task else "condition": str(args[0]),
-                   **(args[2] if fn is record_task and len(args) > 2 else {}),
-                   "status": "error", "verdict": "error", "missing_effect": None,
-                   "error": f"the worker failed: {type(exc).__name__}: {exc}",
-                   "transient": True}          # not stored: a restart tries again
-        done(futures[fut], res)
+            res = failed(args, exc)
+        done(tag, res)

@@ -6,10 +6,12 @@ written as ``campaign.parquet`` and ``campaign.csv``: where the row comes from
 decision (``missing_effect``, ``verdict``, the effects the ladder added, its
 final structure), the base fit's figures (cost, frequencies, fit per flap
 channel) and every estimate with its bound (``est_NAME``, ``sigma_NAME``).
-``report.md`` puts the estimates against ``mu`` with their bounds and the
-missing effect by condition; the figure (:mod:`inflowsim.report.campaign`) is
-drawn from the table, apart from the computing.  ``campaign.json`` is the
-``--json`` document.
+``report.md`` puts the estimates against ``mu`` with their bounds, the
+parameter schedule (:mod:`.schedule`; written as ``schedule.json``, which
+``inflowsim fmu build --schedule`` takes) and the missing effect by condition;
+the figure (:mod:`inflowsim.report.campaign`) is drawn from the table and the
+schedule, apart from the computing.  ``campaign.json`` is the ``--json``
+document.
 """
 from __future__ import annotations
 
@@ -68,7 +70,9 @@ def campaign_table(result):
 
 def json_document(result, files=None) -> dict:
     """The ``--json`` document: ``records``, ``conditions``, ``agreement``,
-    ``tables`` (file paths), ``work`` (computed and reused counts), ``settings``."""
+    ``schedule`` (:func:`.schedule.schedule_summary`), ``tables`` (file paths),
+    ``work`` (computed and reused counts), ``settings``."""
+    from .schedule import schedule_summary
     keep = ("record", "condition", "manoeuvre", "group", "mu", "status", "error",
             "missing_effect", "verdict", "accepted", "ladder_added", "final_structure",
             "warnings", "seconds", "key")
@@ -84,6 +88,8 @@ def json_document(result, files=None) -> dict:
     return {"records": [slim(r) for r in result.records],
             "conditions": [slim(c, ("records",)) for c in result.conditions],
             "agreement": result.agreement,
+            "schedule": schedule_summary(getattr(result, "schedule", None),
+                                         getattr(result, "schedule_note", "")),
             "tables": dict(files or {}),
             "work": {"computed": result.computed, "reused": result.reused},
             "settings": result.settings}
@@ -142,6 +148,8 @@ def report_markdown(result, df, figure=None) -> str:
                     for _, r in conds.iterrows()]
             if any(v != "-" for v in vals):
                 lines.append(f"| {n} | " + " | ".join(vals) + " |")
+    lines += _schedule_lines(getattr(result, "schedule", None),
+                             getattr(result, "schedule_note", ""))
     if figure:
         lines += ["", f"![estimates against mu]({figure})"]
     errs = [r for r in result.records if r.get("status") != "ok"]
@@ -151,21 +159,60 @@ def report_markdown(result, df, figure=None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _schedule_lines(sch, note) -> list:
+    if sch is None:
+        return ["", "## Schedules", "", f"No schedule: {note or 'nothing to fit'}."]
+    lo, hi = sch.mu_range
+    at = (lo, 0.5 * (lo + hi), hi)
+    crit = {"aic": "AIC (chi-square + 2 k)", "aicc": "AICc", "bic": "BIC (chi-square + "
+            "k ln n)", "chi2": f"the lowest order passing the chi-square test at "
+            f"{sch.alpha:g}"}[sch.criterion]
+    lines = ["", "## Schedules (each parameter against mu, weighted by its bounds)", "",
+             f"Structure `{sch.structure}`, mu {lo:.3g} to {hi:.3g} (held beyond); "
+             f"polynomial order 0 to {sch.max_order} chosen by {crit}; bounds 1-sigma, "
+             "widened by sqrt(chi2/dof) where the conditions scatter more than their "
+             f"bounds.  A constant would do where its chi-square passes at "
+             f"{sch.alpha:g}.  File: `schedule.json` "
+             "(`inflowsim fmu build --schedule schedule.json`).", "",
+             "| parameter | order | " + " | ".join(f"mu {m:.3g}" for m in at)
+             + " | chi2/dof | constant would do (p) |",
+             "|---|---:|" + "---:|" * len(at) + "---:|---|"]
+    for p in sch.parameters:
+        vals = " | ".join(_fmt(p.value(m), p.bound(m)) for m in at)
+        red = f"{p.chi2 / p.dof:.3g}" if p.dof > 0 else "-"
+        const = ("yes" if p.constant else "**no**") + (
+            f" ({p.constant_p:.2g})" if p.constant_p is not None else "")
+        lines.append(f"| {p.name} | {p.order} | {vals} | {red} | {const} |")
+    if sch.held:
+        lines += ["", "Held (time shifts, or no bound): " + ", ".join(
+            f"{n} = {_fmt(v, s)}" for n, v, s in sch.held) + "."]
+    if note:
+        lines += ["", note + "."]
+    return lines
+
+
 def write_outputs(result, out) -> dict:
-    """Write the table (Parquet, CSV), the report and its figure, and the JSON
-    document under ``out``; returns their paths."""
+    """Write the table (Parquet, CSV), the report and its figure, the schedule and
+    the JSON document under ``out``; returns their paths."""
+    from ..model.schedule import write_schedule
+    from .schedule import campaign_schedule
     out = Path(out)
     df = campaign_table(result)
+    opts = result.settings.get("schedule") or {}
+    result.schedule, result.schedule_note = campaign_schedule(
+        result.conditions, opts.get("criterion", "aic"), opts.get("max_order", 3))
     files = {"parquet": str(out / "campaign.parquet"), "csv": str(out / "campaign.csv"),
              "report": str(out / "report.md"), "json": str(out / "campaign.json")}
     with atomic_path(files["parquet"]) as tmp:
         df.to_parquet(tmp, index=False)
     with atomic_path(files["csv"]) as tmp:
         df.to_csv(tmp, index=False)
+    if result.schedule is not None:
+        files["schedule"] = str(write_schedule(result.schedule, out / "schedule.json"))
     fig_name = None
     from ..report.campaign import estimates_vs_mu_plot
     from ..report.plots import save_png
-    fig = estimates_vs_mu_plot(df)
+    fig = estimates_vs_mu_plot(df, schedule=result.schedule)
     if fig is not None:
         fig_path = out / "estimates_vs_mu.png"
         with atomic_path(fig_path) as tmp:

@@ -157,6 +157,9 @@ def condition_task(condition: str, paths, settings: Settings) -> dict:
     try:
         recs = [read_record(p) for p in paths]
         out["mu"] = float(sum(r.constants.mu for r in recs) / len(recs))
+        k = recs[0].constants            # the rotor, for the schedule's FMU
+        out["rotor"] = {n: getattr(k, n) for n in ("a0", "solidity", "omega", "radius")
+                        if getattr(k, n) is not None}
         lad = ladder(recs, settings.model, tuple(settings.band),
                      max_steps=settings.max_steps, **settings.search_kwargs())
         out.update(_ladder_summary(lad, lad.rungs[0].diagnosis))

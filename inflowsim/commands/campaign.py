@@ -8,8 +8,9 @@ missing effect.  Runs on a local Dask cluster of the machine's cores, or on the
 cluster at ``--scheduler``.  Results are stored under ``--out`` keyed by each
 record's hash, the settings and the package version: a restarted campaign skips
 what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.md``,
-``estimates_vs_mu.png`` and ``campaign.json`` there; ``--json`` prints the
-document on stdout (the progress bar is on stderr).
+``estimates_vs_mu.png``, ``schedule.json`` (each parameter against ``mu``:
+``inflowsim fmu build --schedule``) and ``campaign.json`` there; ``--json``
+prints the document on stdout (the progress bar is on stderr).
 """
 from __future__ import annotations
 
@@ -43,6 +44,13 @@ def add_arguments(p):
                                                                 "(default 6)")
     p.add_argument("--hold", choices=("continuous", "zoh", "foh"),
                    help="intersample behaviour of every record (default each record's)")
+    p.add_argument("--schedule-criterion", choices=("aic", "aicc", "bic", "chi2"),
+                   default="aic", help="how each parameter's polynomial order in mu is "
+                   "chosen for schedule.json (default aic: chi-square + 2 per "
+                   "coefficient; chi2: the lowest order whose residuals pass the "
+                   "chi-square test)")
+    p.add_argument("--schedule-order", type=int, default=3, metavar="N",
+                   help="highest polynomial order of the schedule (default 3)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -95,8 +103,11 @@ def run(args) -> int:
     settings = _settings(args, plan)
     from ..campaign.engine import run_campaign
     from ..campaign.tables import json_document
+    if args.schedule_order < 0:
+        raise InputError(f"--schedule-order {args.schedule_order}: must be >= 0")
     res = run_campaign(plan, out, settings, scheduler=args.scheduler, workers=args.workers,
-                       progress=not args.quiet)
+                       progress=not args.quiet, schedule_criterion=args.schedule_criterion,
+                       schedule_max_order=args.schedule_order)
     doc = json_document(res, res.files)
     if args.json:
         print_json(doc)
@@ -113,5 +124,13 @@ def run(args) -> int:
         bad = [r for r in res.records if r.get("status") != "ok"]
         for r in bad:
             progress(f"error: {r.get('error')}")
+        if res.schedule is not None:
+            sch = res.schedule
+            trend = [p.name for p in sch.parameters if not p.constant]
+            print(f"schedule: {res.files['schedule']} ({len(sch.parameters)} parameters "
+                  f"against mu {sch.mu_range[0]:.3g}-{sch.mu_range[1]:.3g}; not constant: "
+                  f"{', '.join(trend) or 'none'})")
+        else:
+            print(f"schedule: none ({res.schedule_note})")
         print(f"report: {res.files['report']}")
     return 0

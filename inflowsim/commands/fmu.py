@@ -1,10 +1,13 @@
-"""``inflowsim fmu build [--out FILE.fmu] [--model FILE|STRUCTURE] [--fmi-version
-{2,3}]``: the native FMI co-simulation FMU (FMI 2.0 by default, or FMI 3.0).
+"""``inflowsim fmu build [--out FILE.fmu] [--model FILE|STRUCTURE | --schedule FILE]
+[--fmi-version {2,3}]``: the native FMI co-simulation FMU (FMI 2.0 by default, or
+FMI 3.0).
 
 A thin layer over :func:`inflowsim.fmu.build_fmu`; the FMU runs without Python.
 ``--model fit.json`` builds an FMU for the fit's structure with its values as start
 values (so ``fmpy.simulate_fmu(fmu)`` needs none); without it, the presets' FMU, to
-which :func:`inflowsim.fmu.start_values` of a fit applies.
+which :func:`inflowsim.fmu.start_values` of a fit applies.  ``--schedule
+schedule.json`` (``inflowsim campaign`` writes one) builds an FMU whose parameters
+follow the schedule at the ``mu`` of every step.
 """
 from __future__ import annotations
 
@@ -33,6 +36,10 @@ def add_arguments(p):
                         "ladder's; its parameters and constants become the start values) "
                         "or a structure such as glauert+flap-inertia (default: the three "
                         "presets, selected by the integer structure)")
+    b.add_argument("--schedule", metavar="FILE",
+                   help="a parameter schedule (inflowsim campaign's schedule.json): the "
+                        "FMU runs its structure with the parameters at the mu of every "
+                        "step")
     add_effect_arguments(b)
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
@@ -44,18 +51,28 @@ def run(args) -> int:
         raise InputError("fmu: choose an action: build")
     from ..fmu import MODEL_IDENTIFIER, build_fmu, description_for
     from ..fmu.generate import guid
-    d = description_for(_model(args.model))
+    if args.schedule and args.model:
+        raise InputError("--model and --schedule: the schedule names its structure; "
+                         "give one of them")
+    if args.schedule:
+        from ..model.schedule import read_schedule
+        d = description_for(read_schedule(args.schedule))
+    else:
+        d = description_for(_model(args.model))
     path = build_fmu(args.out, overwrite=args.force, fmi_version=args.fmi_version,
                      platforms=tuple(args.platform), say=progress, model=d,
-                     protect=(args.model,) if args.model else ())
+                     protect=tuple(f for f in (args.model, args.schedule) if f))
     if args.json:
         print_json({"fmu": str(path), "guid": guid(d), "model_identifier": MODEL_IDENTIFIER,
                     "fmi_version": f"{args.fmi_version}.0",
-                    "structures": list(d.structures)})
+                    "structures": list(d.structures),
+                    "scheduled": list(d.scheduled)})
     else:
         print(f"wrote {path} (FMI {args.fmi_version}.0 co-simulation of "
               f"{', '.join(d.structures)}, "
-              f"{'GUID' if args.fmi_version == 2 else 'instantiation token'} {guid(d)})")
+              + (f"parameters following mu: {', '.join(d.scheduled)}; " if d.scheduled
+                 else "")
+              + f"{'GUID' if args.fmi_version == 2 else 'instantiation token'} {guid(d)})")
     return 0
 
 

@@ -126,9 +126,11 @@ def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
 
 def description_for(model=None) -> Description:
     """The FMU description for ``model``: None (the presets), a structure text or
-    :class:`~inflowsim.model.structure.Structure`, a :class:`Description`, or a
+    :class:`~inflowsim.model.structure.Structure`, a :class:`Description`, a
     :class:`~inflowsim.model.Model` or identified parameter set (its structure, its
-    parameters and constants as start values)."""
+    parameters and constants as start values), or a
+    :class:`~inflowsim.model.schedule.Schedule` (its structure, its scheduled
+    parameters computed from ``mu`` at every step, its held ones start values)."""
     from ..model.structure import Structure
     from .codegen import supported
     from .values import refuse_leads
@@ -138,6 +140,12 @@ def description_for(model=None) -> Description:
         return model
     if isinstance(model, (str, Structure)):
         return describe((supported(model).name,))
+    from ..model.schedule import Schedule
+    if isinstance(model, Schedule):
+        s = supported(model.structure)
+        held = {n: v for n, v, _ in model.held}
+        refuse_leads(held)
+        return describe((s.name,), start=held, constants=model.constants, schedule=model)
     try:
         structure, params = model.structure, dict(model.parameters)
     except AttributeError:
@@ -228,6 +236,7 @@ t+h: internal exact zero-order-hold steps of <code>dt</code> plus one exact rema
 step, so any communication step is exact.  Time is counted in steps, never summed.</li>
 <li>Tunable parameters and constants may change between steps (the matrices are
 rebuilt); <code>dt</code> and <code>structure</code> are fixed after initialization.</li>
+{_schedule_html(d)}
 <li>A value out of range or not finite is refused with <code>{status_error}</code> and a
 logged message naming it; the state and the stored value are untouched.</li>
 <li>Apply an identified parameter file in one call:
@@ -254,6 +263,18 @@ same numbers.</p>
 """
 
 
+def _schedule_html(d: Description) -> str:
+    if d.schedule is None:
+        return ""
+    lo, hi = d.schedule.mu_range
+    names = ", ".join(f"<code>{html.escape(n)}</code>" for n in d.scheduled)
+    return (f"<li><b>Scheduled parameters</b> {names} follow <code>mu</code>: each a "
+            f"polynomial in mu fitted across a campaign's flight conditions (inflowsim "
+            f"fmu build --schedule), held at its end values outside mu {lo:g} to "
+            f"{hi:g}; they are local variables (read-only), computed at every step's "
+            "mu, the matrices tabulated with them.</li>")
+
+
 def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
               fmi_version=2, platforms=(), say=None, model=None) -> Path:
     """Build the co-simulation FMU with the system C compiler.
@@ -278,8 +299,10 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         What the FMU runs (:func:`description_for`): default the three presets
         (integer ``structure`` 0 basic, 1 empirical, 2 glauert); a structure text
         such as ``"glauert+flap-inertia"``; or a Model or an identified parameter
-        file, whose parameters and constants become the start values.  Its C
-        equations are generated from the Python model (:mod:`.codegen`).
+        file, whose parameters and constants become the start values; or a
+        :class:`~inflowsim.model.schedule.Schedule`, whose parameters follow ``mu``
+        at every step.  Its C equations are generated from the Python model
+        (:mod:`.codegen`).
 
     Returns
     -------

@@ -103,6 +103,8 @@ def refuse_leads(params: Mapping[str, float]) -> None:
 
 def _finish(code, vals, k, description) -> dict:
     refuse_leads(vals)
+    # a scheduled FMU computes these from mu: they are not set
+    vals = {n: v for n, v in vals.items() if n not in description.scheduled}
     unknown = sorted(set(vals) - set(description.vr))
     if unknown:
         raise InputError(f"parameter {unknown[0]} is not a variable of the FMU")

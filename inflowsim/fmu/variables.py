@@ -68,7 +68,7 @@ class Variable:
 
     @property
     def initial(self) -> str | None:
-        if self.causality == "output":
+        if self.causality in ("output", "local"):
             return "calculated"
         if self.causality == "parameter":
             return "exact"
@@ -111,7 +111,7 @@ def _flap_delay(name: str) -> bool:
     return name.startswith("delay_")
 
 
-def _build(structures, start: Mapping[str, float], constants) -> tuple:
+def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> tuple:
     k = constants if constants is not None else PUMA
     v = []
     for ch in INPUT_CHANNELS:
@@ -138,6 +138,15 @@ def _build(structures, start: Mapping[str, float], constants) -> tuple:
             v.append(Variable(name, "Real", "parameter", "fixed", start[name], "s",
                               f"{s.description}; the FMU applies lags only [s]", 0.0,
                               1.0))
+            continue
+        if name in scheduled:
+            # follows mu: computed by the schedule at each step, read-only; the start
+            # value (at the start mu) is the C table's, not declared (calculated)
+            v.append(Variable(name, "Real", "local", "continuous", start[name],
+                              _UNITS.get(s.unit, s.unit),
+                              f"{s.description}, scheduled: a polynomial in mu, held "
+                              "beyond the schedule's range (the value at the mu of the "
+                              f"last step) [{s.unit}]", s.lower, s.upper, s.lower_open))
             continue
         v.append(Variable(name, "Real", "parameter", "tunable", start[name],
                           _UNITS.get(s.unit, s.unit),
@@ -195,6 +204,9 @@ class Description:
     structures: tuple
     variables: tuple
     vr: Mapping = field(repr=False, compare=False)
+    #: the parameter schedule the FMU follows (:class:`inflowsim.model.schedule.
+    #: Schedule`), or None
+    schedule: object = None
 
     @property
     def reals(self) -> tuple:
@@ -205,19 +217,27 @@ class Description:
         return tuple(v for v in self.variables if v.type == "Integer")
 
     @property
+    def scheduled(self) -> tuple:
+        """Names of the parameters that follow the schedule (local variables)."""
+        return tuple(v.name for v in self.variables if v.causality == "local")
+
+    @property
     def codes(self) -> dict:
         """``{structure name: value of the integer structure}``."""
         return {n: i for i, n in enumerate(self.structures)}
 
 
 def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = None,
-             constants=None) -> Description:
+             constants=None, schedule=None) -> Description:
     """The description of an FMU for ``structures`` (texts or
     :class:`~inflowsim.model.structure.Structure`, all with the same states).
 
     ``start``: parameter start values (an identified parameter file's), the rest
     from :func:`_start_parameters`; ``constants``: the start flight condition and
-    rotor (default the Puma).
+    rotor (default the Puma); ``schedule``: a
+    :class:`~inflowsim.model.schedule.Schedule` of the (single) structure, whose
+    scheduled parameters become local variables computed at every step's ``mu``
+    and whose held parameters are start values.
     """
     names = tuple(Structure.parse(st).name for st in structures)
     if not names:
@@ -226,8 +246,17 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
         raise InputError(f"the FMU's structures repeat one: {', '.join(names)}")
     values = _start_parameters()
     values.update({n: float(x) for n, x in (start or {}).items()})
-    variables = _build(names, values, constants)
-    out = Description(names, variables, {v.name: i for i, v in enumerate(variables)})
+    scheduled = ()
+    if schedule is not None:
+        if names != (Structure.parse(schedule.structure).name,):
+            raise InputError(f"a scheduled FMU runs the schedule's structure "
+                             f"{schedule.structure} only, not {', '.join(names)}")
+        k = constants if constants is not None else PUMA
+        values.update(schedule(k.mu))
+        scheduled = schedule.names
+    variables = _build(names, values, constants, scheduled)
+    out = Description(names, variables, {v.name: i for i, v in enumerate(variables)},
+                      schedule)
     assert out.variables[: len(out.reals)] == out.reals, \
         "reals must come first (the C table is indexed by vr)"
     return out

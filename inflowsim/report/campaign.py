@@ -12,9 +12,11 @@ import numpy as np
 from .plots import new_figure, save_png
 
 
-def estimates_vs_mu_plot(df, path=None):
+def estimates_vs_mu_plot(df, path=None, schedule=None):
     """One panel per parameter: each record's estimate (dots) and each flight
-    condition's joint estimate (squares) against ``mu``, with 1-sigma bars.
+    condition's joint estimate (squares) against ``mu``, with 1-sigma bars, and
+    the parameter's schedule (:class:`inflowsim.model.schedule.Schedule`, if
+    given: its polynomial and 1-sigma band over its range, dashed where held).
     ``None`` where the table holds no estimate."""
     names = [c[4:] for c in df.columns if c.startswith("est_")]
     ok = df[df["status"] == "ok"]
@@ -35,6 +37,22 @@ def estimates_vs_mu_plot(df, path=None):
                         yerr=None if sig is None else sig.fillna(0.0), fmt=style,
                         ms=4 if kind == "record" else 6, capsize=2, label=label,
                         alpha=0.6 if kind == "record" else 1.0)
+        if schedule is not None and n in schedule.names:
+            p = schedule[n]
+            lo, hi = schedule.mu_range
+            m = np.linspace(lo, hi, 60)
+            v = np.array([p.value(x) for x in m])
+            b = np.array([p.bound(x) for x in m])
+            ax.plot(m, v, "-", color="C3", lw=1.2,
+                    label=f"schedule (order {p.order}"
+                          f"{', constant would do' if p.constant else ''})")
+            ax.fill_between(m, v - b, v + b, color="C3", alpha=0.15, lw=0)
+            xs = ok["mu"].dropna()
+            if len(xs) and xs.min() < lo:           # held beyond the range
+                ax.plot([xs.min(), lo], [v[0], v[0]], "--", color="C3", lw=1.0)
+            if len(xs) and xs.max() > hi:
+                ax.plot([hi, xs.max()], [v[-1], v[-1]], "--", color="C3", lw=1.0)
+            ax.legend(fontsize=6)
         # the estimates set the scale: a record that does not determine a
         # parameter (a bound of thousands) must not flatten everyone else's
         # (the joint estimates, and the middle 80 % of the records')

@@ -42,16 +42,37 @@ DEGREE = 7
 #: A table is used only if its check at the segment midpoints is within this
 #: fraction of each block's largest entry.
 TOLERANCE = 1e-12
+#: A knot this close to a segment end [-] is on it (its kink is outside every
+#: segment's nodes); a segment narrower would round its local variable away.
+KNOT_GAP = 1e-9
 #: Taylor series of a step: the next term bounded by this times |[x; u]| ...
 TAYLOR_TOL = 1e-17
 #: ... within this many terms, else the matrix exponential.
 TAYLOR_MAX_TERMS = 30
 
 
-def edges() -> list:
+def knot_edges(knots) -> list:
+    """The ``knots`` (where a parameter schedule held beyond its range has a kink)
+    that become extra segment ends, ascending: those inside ``(MU_LO, MU_HI)``
+    farther than ``KNOT_GAP`` from every geometric end and from each other (one that
+    near is on that end already).  The generated C gets exactly these
+    (``IFS_MU_KNOTS``)."""
+    geo = [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+    out = []
+    for k in sorted(float(k) for k in knots):
+        if MU_LO < k < MU_HI and all(abs(x - k) > KNOT_GAP for x in geo + out):
+            out.append(k)
+    return out
+
+
+def edges(knots=()) -> list:
     """Segment ends ``MU_LO q^s``, ``q = (MU_HI/MU_LO)^(1/SEGMENTS)`` (the C's
-    ``pow`` expression, so the same doubles)."""
-    return [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+    ``pow`` expression, so the same doubles), and the :func:`knot_edges` of
+    ``knots``, ascending: a kink on a segment end keeps every segment's polynomial
+    smooth, and a segment split in two is only more accurate.  The C's
+    ``mu_edges`` merges the same."""
+    e = [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
+    return sorted(e + knot_edges(knots))
 
 
 def nodes(lo: float, hi: float) -> np.ndarray:
@@ -119,16 +140,20 @@ class MuTable:
     blocks : sequence of slices
         Row ranges whose entries share one scale in the check (each block's error
         relative to its largest entry).
+    knots : sequence of float
+        Where ``exact`` has a kink (a parameter schedule's range ends): segment ends
+        (:func:`edges`).
 
     ``ok`` says whether the check passed (``err`` the worst relative error found).
     :meth:`into` writes the interpolant at ``mu`` into an array of the same shape.
     """
 
-    def __init__(self, exact, blocks=(slice(None),)):
-        self.edges = edges()
+    def __init__(self, exact, blocks=(slice(None),), knots=()):
+        self.edges = edges(knots)
+        nseg = len(self.edges) - 1
         first = None
         coef = []
-        for s in range(SEGMENTS):
+        for s in range(nseg):
             vals = [np.asarray(exact(m), dtype=float) for m in nodes(*self.edges[s:s + 2])]
             first = vals[0] if first is None else first
             coef.append(_power_coefficients(np.array([v.ravel() for v in vals])))
@@ -138,7 +163,7 @@ class MuTable:
         self._pack = struct.Struct(f"{DEGREE + 1}d").pack_into
         self._xbuf = memoryview(self._x).cast("B")
         worst = 0.0
-        for s in range(SEGMENTS):
+        for s in range(nseg):
             mid = 0.5 * (self.edges[s] + self.edges[s + 1])
             want = np.asarray(exact(mid), dtype=float)
             got = np.empty(self.shape)
@@ -159,8 +184,8 @@ class MuTable:
         segment's local variable with its coefficients: about a microsecond."""
         e = self.edges
         s = bisect.bisect_right(e, mu) - 1
-        if s >= SEGMENTS:
-            s = SEGMENTS - 1
+        if s >= len(e) - 1:
+            s = len(e) - 2
         lo, hi = e[s], e[s + 1]
         x = (2.0 * mu - lo - hi) / (hi - lo)
         # the powers by Python floats packed into the array's buffer: a fifth of
@@ -178,10 +203,12 @@ def c_defines() -> list:
             f"#define IFS_MU_SEG {SEGMENTS}",
             f"#define IFS_MU_DEG {DEGREE}",
             f"#define IFS_MU_TOL {TOLERANCE!r}",
+            f"#define IFS_MU_KNOT_GAP {KNOT_GAP!r}",
             f"#define IFS_TAYLOR_TOL {TAYLOR_TOL!r}",
             f"#define IFS_KMAX {TAYLOR_MAX_TERMS}  /* most Taylor terms of a remainder "
             "step */"]
 
 
-__all__ = ["MuTable", "edges", "nodes", "taylor_terms", "c_defines", "MU_LO", "MU_HI",
-           "SEGMENTS", "DEGREE", "TOLERANCE", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]
+__all__ = ["MuTable", "edges", "knot_edges", "nodes", "taylor_terms", "c_defines", "MU_LO", "MU_HI",
+           "SEGMENTS", "DEGREE", "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL",
+           "TAYLOR_MAX_TERMS"]

@@ -10,7 +10,9 @@ the change).  Output delays are exact for held inputs: a delay of ``(m + f) dt``
 reads the state a fraction ``1 - f`` into an earlier step.
 
 A loop that follows the flight condition (:meth:`~Simulator.set_mu` every step)
-takes the discrete matrices from a table in ``mu`` built once per parameter set,
+takes the discrete matrices from a table in ``mu`` built once per parameter set
+(with a parameter schedule, :mod:`inflowsim.model.schedule`, the scheduled
+parameters at each ``mu`` are tabulated with it, so they cost nothing more a step),
 and a step that changes (:meth:`~Simulator.set_dt`) from a stored Taylor series:
 the FMU's table and term rule, one description (:mod:`.mutable`).  Inputs are
 refused with one line (:class:`~inflowsim.errors.InputError`) if they are not
@@ -66,6 +68,23 @@ def checked_inputs(u, what: str, shape) -> np.ndarray:
     return a
 
 
+def _checked_schedule(schedule, model):
+    """``schedule`` if it can drive ``model``: a Schedule whose names are all the
+    model's parameters; else :class:`InputError`."""
+    from ..model.schedule import Schedule
+    if not isinstance(schedule, Schedule):
+        raise InputError("schedule: a Schedule is needed (inflowsim.model.schedule."
+                         f"read_schedule(path) or fit_schedule(...)), not "
+                         f"{type(schedule).__name__}")
+    names = list(schedule.names) + [n for n, _, _ in schedule.held]
+    alien = [n for n in names if n not in model.parameters]
+    if alien:
+        raise InputError(f"schedule: {', '.join(alien)} not among the parameters of the "
+                         f"model {model.structure.name} (the schedule is for "
+                         f"{schedule.structure})")
+    return schedule
+
+
 class Simulator:
     """Step a :class:`~inflowsim.model.Model` with a fixed step ``dt`` [s].
 
@@ -80,9 +99,15 @@ class Simulator:
         Initial state (perturbation), default zero.
     t0 : float
         Time of step 0 [s].
+    schedule : Schedule, optional
+        Parameters as functions of ``mu`` (:class:`~inflowsim.model.schedule.
+        Schedule`, e.g. ``read_schedule(path)``): the model's parameters that it
+        schedules or holds are replaced by its values at the ``mu`` of every step
+        (at ``model.constants.mu`` from the start); the others stay the model's.
     """
 
-    def __init__(self, model, dt: float, method: str = "zoh", x0=None, t0: float = 0.0):
+    def __init__(self, model, dt: float, method: str = "zoh", x0=None, t0: float = 0.0,
+                 schedule=None):
         if not (np.isfinite(dt) and dt > 0):
             raise InputError(f"dt = {dt}: the step must be a finite number > 0 s")
         if method not in ("zoh", "rk4"):
@@ -90,15 +115,34 @@ class Simulator:
         self.dt = float(dt)
         self.method = method
         self.t0 = float(t0)
+        self._schedule = None
+        if schedule is not None:
+            self._schedule = _checked_schedule(schedule, model)
+            model = self._scheduled(model, model.constants.mu)
         self._set_model(model)
         self.reset(x0)
+
+    @property
+    def schedule(self):
+        """The parameter schedule followed (None: the parameters are constants)."""
+        return self._schedule
+
+    def _scheduled(self, model, mu):
+        """``model`` at ``mu``, with the scheduled parameters there if there is a
+        schedule."""
+        if self._schedule is None:
+            return model.with_mu(mu)
+        from ..model.build import build_model
+        p = dict(model.parameters)
+        p.update(self._schedule(mu))
+        return build_model(model.structure, p, model.constants.with_mu(mu))
 
     @property
     def model(self):
         """The model at the current flight condition (rebuilt when first asked for
         after a change of ``mu`` applied from the table)."""
         if self._model_mu is not None:
-            self._model = self._model.with_mu(self._model_mu)
+            self._model = self._scheduled(self._model, self._model_mu)
             self._model_mu = None
         return self._model
 
@@ -164,7 +208,14 @@ class Simulator:
         return groups, depth
 
     def set_model(self, model):
-        """Swap in another model of the same structure, keeping the state."""
+        """Swap in another model of the same structure, keeping the state (with a
+        schedule, its scheduled parameters at the model's ``mu``)."""
+        if self._schedule is not None:
+            _checked_schedule(self._schedule, model)
+            model = self._scheduled(model, model.constants.mu)
+        self._replace_model(model)
+
+    def _replace_model(self, model):
         if model.b.shape != (self.n, self.m):
             raise InputError("set_model: the new model has other states or inputs")
         x = self.state
@@ -202,9 +253,9 @@ class Simulator:
                 if t:
                     self.set_mu(mu)
                     return
-        model = self.model.with_mu(mu)
+        model = self._scheduled(self.model, mu)
         changes, table = self._mu_changes, self._mu_table
-        self.set_model(model)
+        self._replace_model(model)
         self._mu_changes, self._mu_table = changes, table
 
     def _build_mu_table(self):
@@ -213,15 +264,15 @@ class Simulator:
         model = self.model
         if self.method != "zoh" or self._delay is not None:
             return False
-        s, p, k, c = model.structure, model.parameters, model.constants, model.c
-        from ..model.build import build_model
+        sched = self._schedule
 
         def exact(mu):
-            m = build_model(s, p, k.with_mu(mu))
+            m = self._scheduled(model, mu)
             pg = np.hstack(discretize(m.a, m.b, self.dt))
-            return np.vstack([pg, c @ pg])
+            return np.vstack([pg, m.c @ pg])      # c too: an azimuth bias may follow mu
 
-        t = MuTable(exact, (slice(0, self.n), slice(self.n, None)))
+        t = MuTable(exact, (slice(0, self.n), slice(self.n, None)),
+                    knots=sched.knots(MU_LO, MU_HI) if sched is not None else ())
         return t if t.ok else False
 
     def set_dt(self, dt: float):

@@ -1,0 +1,116 @@
+"""Schedules from campaigns (issue #26 item 3): the ``inflowsim campaign`` command's
+``schedule.json`` against truths whose parameters change with speed.  Costly
+(records and joint fits at several speeds): behind ``slow``."""
+import contextlib
+import io
+import json
+
+import numpy as np
+import pytest
+
+from inflowsim.cli import main
+from inflowsim.data.record import write_record
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.model.params import PUMA
+from inflowsim.model.schedule import read_schedule
+from inflowsim.physics.theory import pitt_peters_time_constants
+
+STRUCTURE = "basic+separate-time-constants"
+SPEEDS = (0.10, 0.15, 0.20, 0.275, 0.35)
+
+
+def _truth(mu):
+    """The linear truth at ``mu``: Pitt-Peters time constants (like 1/mu), the
+    Puma's flap frequency and Lock number (constants)."""
+    tau0, tau_cs = pitt_peters_time_constants(mu)
+    return {"lambda_beta2": 1.06, "n_beta": 0.987, "tau0": tau0, "tau_cs": tau_cs}
+
+
+def _campaign(folder, out):
+    for i, mu in enumerate(SPEEDS):
+        for j, mans in enumerate(((Manoeuvre(channel="theta0", shape="3211", width=0.3),
+                                   Manoeuvre(channel="theta1s", t_start=9.0)),
+                                  (Manoeuvre(channel="theta1c"),))):
+            rec = virtual_record(VirtualTest(
+                structure=STRUCTURE, parameters=_truth(mu), constants=PUMA.with_mu(mu),
+                manoeuvres=mans, duration=16.0, dt=1 / 64, seed=10 * i + j, hold="zoh"))
+            write_record(rec, folder / f"mu{mu}_{j}.csv")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        code = main(["campaign", str(folder), "--out", str(out), "--workers", "0",
+                     "--model", STRUCTURE, "--candidates", "time-delay", "--max-steps",
+                     "0", "--quiet", "--json"])
+    assert code == 0
+    return json.loads(buf.getvalue())
+
+
+@pytest.mark.slow
+def test_a_campaign_recovers_the_truths_parameter_trends(tmp_path):
+    """Five speeds, two records each, a linear truth whose inflow time constants
+    follow Pitt-Peters (4/(3 pi mu), 32/(45 pi mu)) and whose flap parameters are
+    constants: the command's schedule gives the truth within 3 of its bounds at
+    every speed flown and between them, finds the time constants not constant and
+    the flap parameters constant."""
+    (tmp_path / "records").mkdir()
+    doc = _campaign(tmp_path / "records", tmp_path / "out")
+    sch = read_schedule(doc["tables"]["schedule"])
+    assert sch.structure == STRUCTURE and sch.mu_range == (0.10, 0.35)
+    grid = sorted(set(SPEEDS) | {0.125, 0.175, 0.2375, 0.3125})
+    for name in ("tau0", "tau_cs"):
+        p = sch[name]
+        assert not p.constant and p.order >= 1
+        for mu in grid:
+            assert abs(sch(mu)[name] - _truth(mu)[name]) < 3 * p.bound(mu), (name, mu)
+            assert p.bound(mu) < 0.05 * _truth(mu)[name]      # bounds that tell
+    for name in ("lambda_beta2", "n_beta"):
+        p = sch[name]
+        assert p.constant, (name, p.constant_p)
+        for mu in grid:
+            assert abs(sch(mu)[name] - _truth(mu)[name]) < 3 * p.bound(mu), (name, mu)
+            assert p.bound(mu) < 0.01 * _truth(mu)[name]
+    assert doc["schedule"]["parameters"]["tau0"]["constant_adequate"] is False
+    assert "## Schedules" in open(doc["tables"]["report"]).read()
+
+
+@pytest.mark.slow
+def test_the_virtual_campaign_of_the_nonlinear_truth(tmp_path):
+    """The nonlinear blade-element truth (``flighttest --campaign``'s records) at
+    four speeds, its joint per-condition fits (the campaign's ``condition_task``)
+    and their schedule.  The truth's flap frequency is a constant and its
+    Pitt-Peters time constants fall like 1/mu.  What the schedule finds: the
+    flap frequency constant; tau0 falling (not constant) by about half the truth's
+    fall, and within 3 of its bounds of the truth's value at the two upper
+    speeds.  (At 0.10-0.15 the glauert fit's tau0 is 25-40 % below the truth's: the
+    periodic blade dynamics and the missing flap inertia go into the equivalent
+    linear parameters; the schedule reports what the fits estimate.)"""
+    from inflowsim.campaign.schedule import campaign_schedule
+    from inflowsim.campaign.work import Settings, condition_task
+    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
+    mus = (0.10, 0.15, 0.25, 0.35)
+    controls = ("theta0", "theta1c", "theta1s")
+    virtual_campaign(tmp_path, mus=mus, controls=controls, shapes=("3211",), workers=1)
+    conds = []
+    for mu in mus:
+        items = campaign_items((mu,), controls, ("3211",))
+        conds.append(condition_task(f"mu={mu:.3f}", [str(tmp_path / it.name)
+                                                     for it in items],
+                                    Settings(pool=("time-delay",), max_steps=0)))
+    sch, note = campaign_schedule(conds)
+    assert sch is not None and note == ""
+    assert sch["lambda_beta2"].constant
+    tau = sch["tau0"]
+    assert not tau.constant
+    m = np.linspace(0.10, 0.35, 26)
+    v = np.array([tau.value(x) for x in m])
+    assert np.all(np.diff(v) < 0)
+    truth = lambda x: pitt_peters_time_constants(x)[0]
+    # (measured: 48 % of the truth's fall from 0.10 to 0.35; the fits' tau0 at the
+    # lowest speed is the equivalent linear parameter, not the truth's)
+    assert v[0] - v[-1] > 0.4 * (truth(0.10) - truth(0.35))
+    for mu in (0.25, 0.35):
+        assert abs(sch(mu)["tau0"] - truth(mu)) < 3 * tau.bound(mu)
+    # the schedule passes through the joint estimates it was fitted to
+    for c in conds:
+        e = c["base_fit"]["parameters"]["tau0"]
+        assert abs(sch(c["mu"])["tau0"] - e["estimate"]) < 3 * max(e["sigma"],
+                                                                   tau.bound(c["mu"]))
