@@ -17,7 +17,7 @@ is the view the tables and text render.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import stats
@@ -201,7 +201,6 @@ def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
     dof = len(atom.params) - len(flat)
     lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held))[2]
     row = _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
-    from dataclasses import replace
     return replace(row, beside_gain=((atom.label, row.schwarz_gain),))
 
 
@@ -231,7 +230,6 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     rank = [u.label for u in add]
     row = _row(base_fit, add, fit, held, flat,
                tuple(sorted(beside, key=lambda t: rank.index(t[0]))), rule)
-    from dataclasses import replace
     return replace(row, beside_gain=tuple(sorted(gains, key=lambda t: rank.index(t[0]))))
 
 
@@ -270,7 +268,6 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
 
 
 def _measured(row: Scored, base: dict, new: dict) -> Scored:
-    from dataclasses import replace
     return replace(row, excess_before=float(base["deviance"]),
                    excess_after=float(new["deviance"]),
                    excess_noise=float(base["white_deviance"]), measure=base["measure"])
