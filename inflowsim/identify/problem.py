@@ -14,8 +14,8 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..model.build import build_model
-from ..model.params import SPECS
+from ..model.build import model_unchecked
+from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
 from .freqmodel import flap_response
 
@@ -23,6 +23,10 @@ from .freqmodel import flap_response
 TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
 #: Relative floor on S (noise-free data would drive ln|S| to minus infinity).
 S_FLOOR = 1e-14
+#: Parameter vectors whose responses :meth:`Problem.responses` remembers: a fit
+#: evaluates the same ``theta`` again right after (``S`` re-estimated, the
+#: forward-difference Jacobian's base point), and the responses do not depend on ``S``.
+MEMO = 4
 
 
 class Problem:
@@ -60,6 +64,8 @@ class Problem:
             self.free.append(next((g for g in groups if g[0] == n), (n,)))
         self.free_names = tuple(g[0] if len(g) == 1 else "=".join(g) for g in self.free)
         self.n_freq = sum(sp.f_hz.size for sp in self.spectra)
+        self._memo = {}                 # theta bytes -> responses (MEMO most recent)
+        self._constants_ok = [False] * len(self.spectra)
 
     # -- parameter vector -------------------------------------------------------
     def theta0(self) -> np.ndarray:
@@ -92,13 +98,38 @@ class Problem:
                          for g, v in zip(self.free, theta)])
 
     # -- model evaluation -------------------------------------------------------
-    def responses(self, theta):
-        """Per record ``(y_u, y_nu)``; :class:`InputError` for invalid parameters."""
+    def responses(self, theta, remember=True):
+        """Per record ``(y_u, y_nu)`` (read-only arrays); :class:`InputError` for invalid
+        parameters.  The last :data:`MEMO` parameter vectors' responses are
+        remembered (``remember=False``: only looked up, as for the Jacobian's
+        perturbed points, each used once)."""
+        key = np.asarray(theta, dtype=float).tobytes()
+        out = self._memo.get(key)
+        if out is not None:
+            return out
+        out = self._responses(theta)
+        if remember:
+            if len(self._memo) >= MEMO:
+                del self._memo[next(iter(self._memo))]
+            self._memo[key] = out
+        return out
+
+    def _responses(self, theta):
         p = self.params(theta)
         out = []
-        for sp in self.spectra:
-            m = build_model(self.structure, p, sp.constants)
+        for i, sp in enumerate(self.spectra):
+            # the checks build_model makes, once: the constants per record for the
+            # problem's life, the parameters once per evaluation (the same for every
+            # record), in build_model's order (constants first)
+            if not self._constants_ok[i]:
+                check_constants(sp.constants)
+                self._constants_ok[i] = True
+            if i == 0:
+                p = check_parameters(p, self.structure.parameters)
+            m = model_unchecked(self.structure, p, sp.constants)
             y_u, y_nu, _ = flap_response(m, sp)
+            y_u.flags.writeable = False
+            y_nu.flags.writeable = False
             out.append((y_u, y_nu))
         return out
 
@@ -145,7 +176,7 @@ class Problem:
 
     def direct(self, theta, weights, nus):
         """Weighted stacked residual at fixed nuisance (for the Kaufman Jacobian)."""
-        resp = self.responses(theta)
+        resp = self.responses(theta, remember=False)
         return [_stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
                 zip(self.spectra, resp, weights, nus)]
 

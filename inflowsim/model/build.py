@@ -203,6 +203,17 @@ def build_model(structure, params: Mapping[str, float], constants: Constants) ->
     return model_from_equations(s, p, eq, meas, constants)
 
 
+def model_unchecked(s: Structure, p: Mapping[str, float], constants: Constants) -> Model:
+    """:func:`build_model` without its checks, for a caller that builds many models of
+    one structure and has checked the inputs itself: ``s`` a :class:`Structure`,
+    ``p`` as :func:`~inflowsim.model.params.check_parameters` returns it (every
+    parameter of ``s``, floats in their ranges), ``constants`` passed by
+    :func:`~inflowsim.model.params.check_constants`.  The same model, number for
+    number (the checks change nothing they pass)."""
+    eq, meas = apply_effects(s, p, constants)
+    return model_from_equations(s, p, eq, meas, constants)
+
+
 def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
                          meas: Measurement, constants: Constants,
                          n_inputs: int | None = None) -> Model:
@@ -238,5 +249,5 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
                  end_input=_frozen(end_input))
 
 
-__all__ = ["Model", "build_model", "model_from_equations", "descriptor", "equations", "base_equations",
+__all__ = ["Model", "build_model", "model_unchecked", "model_from_equations", "descriptor", "equations", "base_equations",
            "apply_effects", "FLAP"]
