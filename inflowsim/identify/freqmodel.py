@@ -34,6 +34,8 @@ flap delay) that is ``2 n`` real numbers per record.  Flap outputs are
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ..simulate.sampled import BASES, expm, shift_taps
@@ -138,13 +140,46 @@ def window_integral(u, dt, f_hz, alpha, beta):
 
 def _continuous_input(sp, d):
     """``U^(d)``: transform of the recorded inputs shifted by ``d`` [s] (delayed
-    for ``d > 0``), ``(nf, m)``."""
+    for ``d > 0``), ``(nf, m)``, read-only.  A function of the record and ``d``
+    only: the last few shifts of each record are remembered (a fit's Jacobian moves
+    the delay in one column of twenty, and the end-window integrals cost more than
+    the rest of a response)."""
     if d == 0:
         return sp.U
-    T = (sp.n_samples - 1) * sp.dt
-    u, f = sp.u_time, sp.f_hz
-    ends = window_integral(u, sp.dt, f, -d, 0.0) - window_integral(u, sp.dt, f, T - d, T)
-    return np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
+    memo = _SHIFTED.get(sp)
+    if memo is None:
+        memo = {}
+        try:
+            _SHIFTED[sp] = memo
+        except TypeError:             # not weakly referable: no memory
+            pass
+    key = float(d)
+    out = memo.get(key)
+    if out is None:
+        T = (sp.n_samples - 1) * sp.dt
+        u, f = sp.u_time, sp.f_hz
+        ends = window_integral(u, sp.dt, f, -d, 0.0) - window_integral(u, sp.dt, f, T - d, T)
+        out = np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
+        out.flags.writeable = False
+        _evict(memo)
+        memo[key] = out
+    return out
+
+
+#: Shifted input transforms (:func:`_continuous_input`) and eigen-decompositions
+#: (:func:`_eig`) remembered: the most recent few, each a pure function of its key.
+MEMO = 8
+_SHIFTED = weakref.WeakKeyDictionary()
+_EIGS: dict = {}
+
+
+def _evict(memo):
+    """Drop the oldest entry of a full memo (another thread may have done it)."""
+    if len(memo) >= MEMO:
+        try:
+            del memo[next(iter(memo))]
+        except (KeyError, RuntimeError, StopIteration):
+            pass
 
 
 #: Largest condition number of the eigenvector matrix for which the response is
@@ -196,13 +231,35 @@ def flap_response(model, sp, method="auto"):
 
 
 def _eig(a):
-    """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned."""
+    """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned
+    (read-only; remembered for the last :data:`MEMO` matrices: a parameter that
+    only moves the input or output maps leaves ``a`` as it was)."""
+    key = (a.shape, a.tobytes())
+    try:
+        out = _EIGS.pop(key)
+    except KeyError:
+        out = _eig_new(a)
+        _evict(_EIGS)
+    _EIGS[key] = out                  # most recent last
+    return out
+
+
+def _eig_new(a):
     if not np.all(np.isfinite(a)):
         return None
     lam, V = np.linalg.eig(a)
-    if np.linalg.cond(V) > EIG_COND:
+    # np.linalg.cond(V) (2-norm), without its wrapper: the same singular values
+    sv = np.linalg.svd(V, compute_uv=False)
+    with np.errstate(all="ignore"):
+        cond = sv[0] / sv[-1]
+    if np.isnan(cond) and not np.isnan(V).any():
+        cond = np.inf
+    if cond > EIG_COND:
         return None
-    return lam, V, np.linalg.inv(V)
+    out = lam, V, np.linalg.inv(V)
+    for x in out:
+        x.flags.writeable = False
+    return out
 
 
 def _flap_response(model, sp, method):

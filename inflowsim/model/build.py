@@ -79,6 +79,17 @@ def _frozen(a):
     return a
 
 
+def _own(a):
+    """``a`` made read-only where it is a float array of its own that nothing else
+    holds (made here), else a read-only copy (:func:`_frozen`): a model is built
+    inside every step of a fit, and copying its eleven arrays counted."""
+    if (type(a) is np.ndarray and a.dtype == np.float64 and a.flags.owndata
+            and a.flags.c_contiguous):
+        a.flags.writeable = False
+        return a
+    return _frozen(a)
+
+
 @dataclass(frozen=True, eq=False)
 class Model(ReadOnlyArrays):
     """A linear model of flap and inflow: descriptor and SI state space.
@@ -224,8 +235,9 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
     e, a_az, b_az = assemble(eq, s.second_order)
     b_az = b_az[:, :n_inputs]
     om = constants.omega
+    scale = input_scale(om)[:n_inputs]
     a_s = om * np.linalg.solve(e, a_az)
-    b_s = om * np.linalg.solve(e, b_az) * input_scale(om)[:n_inputs]
+    b_s = om * np.linalg.solve(e, b_az) * scale
     n = e.shape[0]
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
@@ -234,7 +246,6 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
     delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
-    scale = input_scale(om)[:n_inputs]
     if s.second_order:
         end_basis, end_input = slow_manifold(eq, n_inputs, scale)
     else:
@@ -242,11 +253,10 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
     in_delay = dict(meas.input_delays)
     input_delays = np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
     return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
-                 E=_frozen(e), A=_frozen(a_az), B=_frozen(b_az), a=_frozen(a_s),
-                 b=_frozen(b_s), c=_frozen(c), d=_frozen(np.zeros((6, n_inputs))),
-                 delays=_frozen(delays), measurement=meas,
-                 input_delays=_frozen(input_delays), end_basis=_frozen(end_basis),
-                 end_input=_frozen(end_input))
+                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
+                 c=_own(c), d=_own(np.zeros((6, n_inputs))), delays=_own(delays),
+                 measurement=meas, input_delays=_own(input_delays),
+                 end_basis=_own(end_basis), end_input=_own(end_input))
 
 
 __all__ = ["Model", "build_model", "model_unchecked", "model_from_equations", "descriptor", "equations", "base_equations",
