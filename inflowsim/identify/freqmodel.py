@@ -146,13 +146,7 @@ def _continuous_input(sp, d):
     the rest of a response)."""
     if d == 0:
         return sp.U
-    memo = _SHIFTED.get(sp)
-    if memo is None:
-        memo = {}
-        try:
-            _SHIFTED[sp] = memo
-        except TypeError:             # not weakly referable: no memory
-            pass
+    memo = _record_memo(sp)["shifts"]
     key = float(d)
     out = memo.get(key)
     if out is None:
@@ -169,8 +163,41 @@ def _continuous_input(sp, d):
 #: Shifted input transforms (:func:`_continuous_input`) and eigen-decompositions
 #: (:func:`_eig`) remembered: the most recent few, each a pure function of its key.
 MEMO = 8
-_SHIFTED = weakref.WeakKeyDictionary()
+_RECORDS = weakref.WeakKeyDictionary()
 _EIGS: dict = {}
+
+
+def _record_memo(sp) -> dict:
+    """What :func:`flap_response` remembers of one record (its :class:`Spectra`,
+    which is immutable): ``shifts`` (:func:`_continuous_input`) and ``terms``."""
+    memo = _RECORDS.get(sp)
+    if memo is None:
+        memo = {"shifts": {}, "terms": None}
+        try:
+            _RECORDS[sp] = memo
+        except TypeError:             # not weakly referable: nothing remembered
+            pass
+    return memo
+
+
+def _terms(sp):
+    """``(s, zs, ze)`` of a record: the transform variable of its model (``j w``,
+    or ``z`` of a held record) and the factors of its start and end states, read-only."""
+    memo = _record_memo(sp)
+    out = memo["terms"]
+    if out is None:
+        f = sp.f_hz
+        if sp.hold == "continuous":
+            w = 2 * np.pi * f
+            T = (sp.n_samples - 1) * sp.dt
+            out = 1j * w, np.ones(f.size), -np.exp(-1j * w * T)
+        else:
+            zs = _powers(1, f, sp.dt)
+            out = zs, zs, -_powers(1 - sp.n_samples, f, sp.dt)
+        for x in out:
+            x.flags.writeable = False
+        memo["terms"] = out
+    return out
 
 
 def _evict(memo):
@@ -275,21 +302,22 @@ def _flap_response(model, sp, method):
     u0, u1 = sp.u_time[0], sp.u_time[-1]
     # per group the input term (nf, n) of  (s I - A) x = input + zs x_0 + ze x_end
     inp = np.empty((G, nf, n), dtype=complex)
+    s, zs, ze = _terms(sp)
     if sp.hold == "continuous":
-        w = 2 * np.pi * f
-        T = (sp.n_samples - 1) * sp.dt
-        s, A = 1j * w, a
-        zs, ze = np.ones(nf), -np.exp(-1j * w * T)        # start, end factors
+        A = a
         for g, (_, tau) in enumerate(groups):
             d = tau - sigma
-            ud = np.empty((nf, b.shape[1]), dtype=complex)
-            for v in np.unique(d):
-                cols = np.flatnonzero(d == v)
-                ud[:, cols] = _continuous_input(sp, v)[:, cols]
+            if np.all(d == d[0]) if d.size else True:
+                # one shift for every input (no input delays): its transform as it is
+                ud = (np.ascontiguousarray(_continuous_input(sp, d[0])) if d.size else
+                      np.empty((nf, 0), dtype=complex))
+            else:
+                ud = np.empty((nf, b.shape[1]), dtype=complex)
+                for v in np.unique(d):
+                    cols = np.flatnonzero(d == v)
+                    ud[:, cols] = _continuous_input(sp, v)[:, cols]
             inp[g] = ud @ b.T
     else:
-        zs = _powers(1, f, sp.dt)
-        ze = -_powers(1 - sp.n_samples, f, sp.dt)
         phi = None
         for g, (_, tau) in enumerate(groups):
             phi, taps = shift_taps(a, b, sp.dt, sp.hold, tau - sigma)
@@ -297,9 +325,11 @@ def _flap_response(model, sp, method):
             for o, Go in taps.items():
                 acc += shifted_transform(sp.U, sp.u_time, f, sp.dt, o) @ Go.T
             inp[g] = acc
-        s, A = zs, phi
-    # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping)
-    inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
+        A = phi
+    # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping,
+    # where adding its zeros would change no number)
+    if q.any():
+        inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
     dec = None if method == "solve" else _eig(A)
     if dec is None and method == "eig":
         raise ValueError("flap_response: the eigenvectors are ill conditioned")
