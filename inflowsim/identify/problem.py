@@ -66,6 +66,9 @@ class Problem:
         self.n_freq = sum(sp.f_hz.size for sp in self.spectra)
         self._memo = {}                 # theta bytes -> responses (MEMO most recent)
         self._constants_ok = [False] * len(self.spectra)
+        self._fixed_ok = False          # every parameter passed check_parameters once
+        self._bounds = None
+        self._box = None                # (lo, hi): values every tied parameter allows
 
     # -- parameter vector -------------------------------------------------------
     def theta0(self) -> np.ndarray:
@@ -79,13 +82,19 @@ class Problem:
         return p
 
     def bounds(self):
-        lo, hi = [], []
-        for g in self.free:
-            s = SPECS[g[0]]
-            span = max(abs(s.lower), 1.0) if math.isfinite(s.lower) else 1.0
-            lo.append(s.lower + (1e-9 * span if s.lower_open else 0.0))
-            hi.append(s.upper)
-        return np.array(lo), np.array(hi)
+        """``(lo, hi)`` of the free values: each parameter's allowed range, an open
+        lower end moved inside by ``1e-9`` of its size."""
+        if self._bounds is None:
+            lo, hi = [], []
+            for g in self.free:
+                s = SPECS[g[0]]
+                span = max(abs(s.lower), 1.0) if math.isfinite(s.lower) else 1.0
+                lo.append(s.lower + (1e-9 * span if s.lower_open else 0.0))
+                hi.append(s.upper)
+            self._bounds = np.array(lo), np.array(hi)
+            for x in self._bounds:
+                x.flags.writeable = False
+        return self._bounds
 
     def log_mask(self) -> np.ndarray:
         """Free parameters searched in ``log`` (positive by definition: time
@@ -119,19 +128,37 @@ class Problem:
         out = []
         for i, sp in enumerate(self.spectra):
             # the checks build_model makes, once: the constants per record for the
-            # problem's life, the parameters once per evaluation (the same for every
-            # record), in build_model's order (constants first)
+            # problem's life; the parameters once per evaluation (the same for every
+            # record), in build_model's order (constants first), unless every fixed
+            # value has passed before and the free ones lie inside bounds(), which
+            # lies inside each parameter's allowed range (they would pass again)
             if not self._constants_ok[i]:
                 check_constants(sp.constants)
                 self._constants_ok[i] = True
-            if i == 0:
+            if i == 0 and not (self._fixed_ok and self._inside(theta)):
                 p = check_parameters(p, self.structure.parameters)
+                self._fixed_ok = True
             m = model_unchecked(self.structure, p, sp.constants)
             y_u, y_nu, _ = flap_response(m, sp)
             y_u.flags.writeable = False
             y_nu.flags.writeable = False
             out.append((y_u, y_nu))
         return out
+
+    def _inside(self, theta) -> bool:
+        """Every free value finite and inside the allowed range of each parameter it
+        sets (:func:`~inflowsim.model.params.check_parameters` would pass it)."""
+        if self._box is None:
+            lo, hi = [], []
+            for g in self.free:
+                specs = [SPECS[n] for n in g]
+                lo.append(max(np.nextafter(s.lower, np.inf) if s.lower_open else s.lower
+                              for s in specs))
+                hi.append(min(s.upper for s in specs))
+            self._box = np.array(lo, dtype=float), np.array(hi, dtype=float)
+        lo, hi = self._box
+        t = np.asarray(theta, dtype=float)
+        return bool(np.isfinite(t).all() and (t >= lo).all() and (t <= hi).all())
 
     @staticmethod
     def weight(S):
