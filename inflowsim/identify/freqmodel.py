@@ -40,7 +40,7 @@ import numpy as np
 
 from ..simulate.sampled import BASES, expm, shift_taps
 
-__all__ = ["flap_response", "shift_groups", "window_integral", "shifted_transform",
+__all__ = ["flap_response", "flap_responses", "shift_groups", "window_integral", "shifted_transform",
            "zoh", "expm"]
 
 
@@ -255,6 +255,150 @@ def flap_response(model, sp, method="auto"):
                                                     Z=sp.Z[blk]), method))
     return (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
             parts[0][2])
+
+
+def flap_responses(models, sp):
+    """:func:`flap_response` of several models on one record, as a list.
+
+    The models a fit's Jacobian asks for at once (one per perturbed parameter)
+    share a structure; where they share the simple case (a continuous record, one
+    delay group over the three flap channels, no input delays, first-order
+    flapping) their eigen-decompositions and frequency products are taken as stacks
+    (:func:`_batch`): the same LAPACK and BLAS call for each matrix as one model
+    at a time, so the same numbers, without numpy's overhead per call.  Every
+    other model goes through :func:`flap_response`.
+    """
+    out = [None] * len(models)
+    groups = {}
+    for i, m in enumerate(models):
+        key = _batch_key(m, sp)
+        if key is not None:
+            groups.setdefault(key, []).append(i)
+    for idx in groups.values():
+        if len(idx) > 1:
+            for i, r in zip(idx, _batch([models[i] for i in idx], sp)):
+                out[i] = r
+    return [r if r is not None else flap_response(m, sp) for r, m in zip(out, models)]
+
+
+def _batch_key(m, sp):
+    """Shapes under which :func:`_batch` takes a model with others, or ``None``."""
+    if sp.hold != "continuous" or sp.f_hz.size > BLOCK:
+        return None
+    g = m.measurement.delay_groups
+    if len(g) != 1 or tuple(g[0]) != (0, 1, 2) or np.count_nonzero(m.input_delays):
+        return None
+    if np.count_nonzero(m.end_input) or m.end_basis.shape[0] != m.end_basis.shape[1]:
+        return None
+    return m.a.shape, m.b.shape, m.end_basis.shape
+
+
+def _batch(models, sp):
+    """``[(y_u, y_nu, groups) or None, ...]``: :func:`_flap_response`'s eigen path
+    for models of one :func:`_batch_key`, each step on the stack; ``None`` where a
+    model needs the solve path (ill-conditioned eigenvectors, a pole on a bin).
+    Models with all eigenvalues real (real eigenvectors) go through
+    :func:`flap_response`."""
+    s, zs, ze = _terms(sp)
+    decs = _eigs([m.a for m in models])
+    out = [None] * len(models)
+    parts = {}
+    for i, d in enumerate(decs):
+        # complex eigenvectors only: real ones come as strided views of complex
+        # arrays (np.linalg.eig), which a stack would lay out otherwise
+        if d is not None and np.iscomplexobj(d[1]):
+            parts.setdefault(d[1].dtype, []).append(i)
+    for idx in parts.values():
+        lam = np.stack([decs[i][0] for i in idx])
+        den = s[None, :, None] - lam[:, None, :]
+        good = (den != 0).all(axis=(1, 2))     # a pole exactly on a bin: solve path
+        idx = [i for i, g in zip(idx, good) if g]
+        if idx:
+            res = _batch_products([models[i] for i in idx], [decs[i] for i in idx],
+                                  den[good], sp)
+            for i, r in zip(idx, res):
+                out[i] = r
+    return out
+
+
+def _batch_products(ms, decs, den, sp):
+    n, k = ms[0].a.shape[0], ms[0].end_basis.shape[1]
+    nm = len(ms)
+    _, zs, ze = _terms(sp)
+    nf = zs.size
+    V = np.stack([d[1] for d in decs])
+    Vi = np.stack([d[2] for d in decs])
+    b = np.stack([m.b for m in ms])
+    C = np.stack([m.c[:3] for m in ms])
+    P = np.stack([m.end_basis for m in ms])
+    # the one group's shift against each input, as _flap_response forms it
+    ud = np.stack([_continuous_input(sp, (float(m.delays[0]) -
+                                          np.asarray(m.input_delays, float))[0])
+                   for m in ms])
+    inp = ud @ b.transpose(0, 2, 1)
+    r = 1.0 / den
+    vp = Vi @ P
+    cv = C @ V
+    y_u = ((inp @ Vi.transpose(0, 2, 1)) * r) @ cv.transpose(0, 2, 1)
+    e = (r @ (cv.transpose(0, 2, 1)[:, :, :, None] * vp[:, :, None, :]).reshape(
+        nm, n, -1)).reshape(nm, nf, 3, k)
+    y_nu = np.zeros((nm, nf, 3, 2 * k), dtype=complex)
+    y_nu[:, :, :, :k] = zs[:, None, None] * e
+    y_nu[:, :, :, k:] = ze[:, None, None] * e
+    return [(y_u[j], y_nu[j], shift_groups(m)) for j, m in enumerate(ms)]
+
+
+def _eigs(mats):
+    """:func:`_eig` of each matrix, the ones not remembered decomposed as one stack
+    (then, as ``np.linalg.eig`` of one real matrix does, real arrays for a matrix
+    whose eigenvalues are all real; conditioning and inverse per dtype)."""
+    out = [None] * len(mats)
+    todo = {}
+    for i, a in enumerate(mats):
+        key = (a.shape, a.tobytes())
+        if key in _EIGS or not np.isfinite(a).all():
+            out[i] = _eig(a)
+        else:
+            todo.setdefault(key, []).append(i)
+    if not todo:
+        return out
+    keys = list(todo)
+    lam, V = np.linalg.eig(np.stack([mats[todo[key][0]] for key in keys]))
+    pairs = []
+    for j in range(len(keys)):
+        if np.iscomplexobj(lam) and not np.iscomplexobj(mats[todo[keys[j]][0]]) \
+                and (lam[j].imag == 0.0).all():
+            pairs.append((lam[j].real, V[j].real))
+        else:
+            pairs.append((lam[j], V[j]))
+    decs = {}
+    by_type = {}
+    for j, (_, v) in enumerate(pairs):
+        by_type.setdefault(v.dtype, []).append(j)
+    for js in by_type.values():
+        Vs = np.stack([pairs[j][1] for j in js])
+        sv = np.linalg.svd(Vs, compute_uv=False)
+        with np.errstate(all="ignore"):
+            cond = sv[:, 0] / sv[:, -1]
+        nan = np.isnan(cond) & ~np.isnan(Vs).any(axis=(1, 2))
+        cond[nan] = np.inf
+        well = [j for j, c in zip(js, cond) if not c > EIG_COND]
+        if well:
+            Vi = np.linalg.inv(np.stack([pairs[j][1] for j in well]))
+            for t, j in enumerate(well):
+                # views, strided as one matrix's np.linalg.eig returns them (a
+                # strided operand can take another matmul loop than a contiguous one)
+                dec = pairs[j][0], pairs[j][1], Vi[t]
+                for x in dec:
+                    x.flags.writeable = False
+                decs[j] = dec
+    for j, key in enumerate(keys):
+        dec = decs.get(j)
+        _evict(_EIGS)
+        _EIGS[key] = dec
+        for i in todo[key]:
+            out[i] = dec
+    return out
 
 
 def _eig(a):

@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..model.build import model_unchecked
 from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
-from .freqmodel import flap_response
+from .freqmodel import flap_responses
 
 #: Typical magnitudes (finite-difference step scale and LM scaling floor).
 TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
@@ -124,25 +124,42 @@ class Problem:
         return out
 
     def _responses(self, theta):
+        return self._responses_many([theta])[0]
+
+    def _models(self, theta):
+        """Per record the model at ``theta``, checked as :func:`build_model` would."""
         p = self.params(theta)
         out = []
         for i, sp in enumerate(self.spectra):
             # the checks build_model makes, once: the constants per record for the
             # problem's life; the parameters once per evaluation (the same for every
             # record), in build_model's order (constants first), unless every fixed
-            # value has passed before and the free ones lie inside bounds(), which
-            # lies inside each parameter's allowed range (they would pass again)
+            # value has passed before and the free ones lie inside the range of
+            # every parameter they set (they would pass again)
             if not self._constants_ok[i]:
                 check_constants(sp.constants)
                 self._constants_ok[i] = True
             if i == 0 and not (self._fixed_ok and self._inside(theta)):
                 p = check_parameters(p, self.structure.parameters)
                 self._fixed_ok = True
-            m = model_unchecked(self.structure, p, sp.constants)
-            y_u, y_nu, _ = flap_response(m, sp)
-            y_u.flags.writeable = False
-            y_nu.flags.writeable = False
-            out.append((y_u, y_nu))
+            out.append(model_unchecked(self.structure, p, sp.constants))
+        return out
+
+    def _responses_many(self, thetas):
+        """:meth:`responses` of several parameter vectors (not remembered), each
+        record's models evaluated together (:func:`.freqmodel.flap_responses`)."""
+        models = [self._models(t) for t in thetas]
+        per_record = [flap_responses([ms[i] for ms in models], sp)
+                      for i, sp in enumerate(self.spectra)]
+        out = []
+        for j in range(len(thetas)):
+            resp = []
+            for rec in per_record:
+                y_u, y_nu, _ = rec[j]
+                y_u.flags.writeable = False
+                y_nu.flags.writeable = False
+                resp.append((y_u, y_nu))
+            out.append(resp)
         return out
 
     def _inside(self, theta) -> bool:
@@ -203,9 +220,20 @@ class Problem:
 
     def direct(self, theta, weights, nus):
         """Weighted stacked residual at fixed nuisance (for the Kaufman Jacobian)."""
-        resp = self.responses(theta, remember=False)
+        return self._weighted(self.responses(theta, remember=False), weights, nus)
+
+    def _weighted(self, resp, weights, nus):
         return [_stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
                 zip(self.spectra, resp, weights, nus)]
+
+    def _direct_many(self, thetas, weights, nus):
+        """:meth:`direct` of each parameter vector, the ones not remembered evaluated
+        together."""
+        resp = [self._memo.get(np.asarray(t, dtype=float).tobytes()) for t in thetas]
+        todo = [j for j, r in enumerate(resp) if r is None]
+        for j, r in zip(todo, self._responses_many([thetas[j] for j in todo])):
+            resp[j] = r
+        return [self._weighted(r, weights, nus) for r in resp]
 
     def jacobian(self, theta, weights, nus, bases, central=True):
         """Sensitivities of the projected weighted residuals to ``theta``.
@@ -219,25 +247,31 @@ class Problem:
         lo, hi = self.bounds()
         h = 1e-6 * self.typical(theta)
         blocks = [np.empty((2 * 3 * sp.f_hz.size, theta.size)) for sp in self.spectra]
-        base = None
+        # every point first (evaluated together), then the differences
+        points, plan, base = [], [], None
         for i in range(theta.size):
             tp, tm = theta.copy(), theta.copy()
             up, dn = theta[i] + h[i] <= hi[i], theta[i] - h[i] >= lo[i]
             if central and up and dn:
                 tp[i] += h[i]
                 tm[i] -= h[i]
-                rp, rm, step = (self.direct(tp, weights, nus),
-                                self.direct(tm, weights, nus), 2 * h[i])
+                plan.append((len(points), len(points) + 1, 2 * h[i]))
+                points += [tp, tm]
+                continue
+            if base is None:
+                base = len(points)
+                points.append(theta)
+            if up:
+                tp[i] += h[i]
+                plan.append((len(points), base, h[i]))
+                points.append(tp)
             else:
-                if base is None:
-                    base = self.direct(theta, weights, nus)
-                if up:
-                    tp[i] += h[i]
-                    rp, rm, step = self.direct(tp, weights, nus), base, h[i]
-                else:
-                    tm[i] -= h[i]
-                    rp, rm, step = base, self.direct(tm, weights, nus), h[i]
-            for blk, a, b in zip(blocks, rp, rm):
+                tm[i] -= h[i]
+                plan.append((base, len(points), h[i]))
+                points.append(tm)
+        res = self._direct_many(points, weights, nus)
+        for i, (ip, im, step) in enumerate(plan):
+            for blk, a, b in zip(blocks, res[ip], res[im]):
                 blk[:, i] = (a - b) / step
         out = []
         for blk, Q in zip(blocks, bases):
