@@ -6,6 +6,7 @@ space into a frozen :class:`Model`.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from typing import Mapping
 
@@ -261,28 +262,70 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
     e, a_az, b_az = assemble(eq, s.second_order)
     b_az = b_az[:, :n_inputs]
     om = constants.omega
-    scale = input_scale(om)[:n_inputs]
+    scale = _shared(("scale", om, n_inputs), lambda: input_scale(om)[:n_inputs],
+                    type(om) is float)
     a_s = om * np.linalg.solve(e, a_az)
     b_s = om * np.linalg.solve(e, b_az) * scale
     n = e.shape[0]
+    ab = meas.azimuth_bias
+    if meas.flap_map is None:
+        c = _shared(("c", n, ab, math.copysign(1.0, ab) if type(ab) is float else 0.0),
+                    lambda: _output_map(n, meas), type(ab) is float)
+    else:
+        c = _own(_output_map(n, meas))
+    delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
+    if s.second_order:
+        end_basis, end_input = slow_manifold(eq, n_inputs, scale)
+        end_basis, end_input = _own(end_basis), _own(end_input)
+    else:
+        end_basis = _shared(("eye", n), lambda: np.eye(n))
+        end_input = _shared(("zeros", n, n_inputs), lambda: np.zeros((n, n_inputs)))
+    ind = meas.input_delays
+
+    def input_delays():
+        in_delay = dict(ind)
+        return np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
+
+    return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
+                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
+                 c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
+                 delays=_own(delays), measurement=meas,
+                 input_delays=_shared(("input delays", ind, n_inputs), input_delays,
+                                      not ind),
+                 end_basis=end_basis, end_input=end_input)
+
+
+def _output_map(n, meas):
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
-    delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
-    if s.second_order:
-        end_basis, end_input = slow_manifold(eq, n_inputs, scale)
-    else:
-        end_basis, end_input = np.eye(n), np.zeros((n, n_inputs))
-    in_delay = dict(meas.input_delays)
-    input_delays = np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
-    return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
-                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
-                 c=_own(c), d=_own(np.zeros((6, n_inputs))), delays=_own(delays),
-                 measurement=meas, input_delays=_own(input_delays),
-                 end_basis=_own(end_basis), end_input=_own(end_input))
+    return c
+
+
+#: Read-only arrays that many models hold alike (zeros, identities, the output map
+#: at one azimuth bias): made once, shared (:func:`_shared`).
+_SHARED: dict = {}
+
+
+def _shared(key, make, remember=True):
+    """``make()`` as a read-only array, the same object for the same ``key`` (the
+    last 64 keys remembered; ``remember=False``: made afresh, for keys that are not
+    plain numbers)."""
+    if not remember:
+        return _own(make())
+    out = _SHARED.get(key)
+    if out is None:
+        out = _own(make())
+        if len(_SHARED) >= 64:
+            try:
+                del _SHARED[next(iter(_SHARED))]
+            except (KeyError, RuntimeError, StopIteration):
+                pass
+        _SHARED[key] = out
+    return out
 
 
 __all__ = ["Model", "build_model", "model_unchecked", "model_from_equations", "descriptor", "equations", "base_equations",

@@ -10,7 +10,7 @@ Inflow (Eq. 2, 13, 19):
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -37,7 +37,17 @@ class Equations:
     p_u: np.ndarray
 
     def with_(self, **blocks) -> "Equations":
-        return replace(self, **blocks)
+        # dataclasses.replace, without its generality (every effect calls this in
+        # every model build of a fit); unknown names still go through replace
+        if type(self) is not Equations or not blocks.keys() <= _EQ_FIELDS:
+            return replace(self, **blocks)
+        new = object.__new__(Equations)
+        new.__dict__.update(self.__dict__)
+        new.__dict__.update(blocks)
+        return new
+
+
+_EQ_FIELDS = frozenset(f.name for f in fields(Equations))
 
 
 @dataclass(frozen=True)
