@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..model.build import model_unchecked
+from ..model.build import models_unchecked
 from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
 from .freqmodel import flap_responses
@@ -126,31 +126,29 @@ class Problem:
     def _responses(self, theta):
         return self._responses_many([theta])[0]
 
-    def _models(self, theta):
-        """Per record the model at ``theta``, checked as :func:`build_model` would."""
+    def _checked(self, theta):
+        """The parameter dict of ``theta``, checked as :func:`build_model` would."""
         p = self.params(theta)
-        out = []
+        # the checks build_model makes, once: the constants per record for the
+        # problem's life; the parameters once per evaluation (the same for every
+        # record), unless every fixed value has passed before and the free ones lie
+        # inside the range of every parameter they set (they would pass again)
         for i, sp in enumerate(self.spectra):
-            # the checks build_model makes, once: the constants per record for the
-            # problem's life; the parameters once per evaluation (the same for every
-            # record), in build_model's order (constants first), unless every fixed
-            # value has passed before and the free ones lie inside the range of
-            # every parameter they set (they would pass again)
             if not self._constants_ok[i]:
                 check_constants(sp.constants)
                 self._constants_ok[i] = True
             if i == 0 and not (self._fixed_ok and self._inside(theta)):
                 p = check_parameters(p, self.structure.parameters)
                 self._fixed_ok = True
-            out.append(model_unchecked(self.structure, p, sp.constants))
-        return out
+        return p
 
     def _responses_many(self, thetas):
         """:meth:`responses` of several parameter vectors (not remembered), each
-        record's models evaluated together (:func:`.freqmodel.flap_responses`)."""
-        models = [self._models(t) for t in thetas]
-        per_record = [flap_responses([ms[i] for ms in models], sp)
-                      for i, sp in enumerate(self.spectra)]
+        record's models built and evaluated together (:func:`models_unchecked`,
+        :func:`.freqmodel.flap_responses`)."""
+        ps = [self._checked(t) for t in thetas]
+        per_record = [flap_responses(models_unchecked(self.structure, ps, sp.constants), sp)
+                      for sp in self.spectra]
         out = []
         for j in range(len(thetas)):
             resp = []

@@ -248,8 +248,17 @@ def model_unchecked(s: Structure, p: Mapping[str, float], constants: Constants) 
     parameter of ``s``, floats in their ranges), ``constants`` passed by
     :func:`~inflowsim.model.params.check_constants`.  The same model, number for
     number (the checks change nothing they pass)."""
-    eq, meas = apply_effects(s, p, constants)
-    return model_from_equations(s, p, eq, meas, constants)
+    return models_unchecked(s, [p], constants)[0]
+
+
+def models_unchecked(s: Structure, ps, constants: Constants) -> list:
+    """:func:`model_unchecked` of several parameter sets: the state-space solves of
+    all of them as one stack (the same LAPACK call per matrix)."""
+    items = []
+    for p in ps:
+        eq, meas = apply_effects(s, p, constants)
+        items.append((p, eq, meas))
+    return models_from_equations(s, items, constants)
 
 
 def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
@@ -258,14 +267,33 @@ def model_from_equations(s: Structure, p: Mapping[str, float], eq: Equations,
     """The :class:`Model` of structured equations (no checks: :func:`build_model`
     validates first; :mod:`inflowsim.diagnose.terms` perturbs single entries of
     ``eq``).  ``n_inputs``: input columns kept (default the structure's)."""
+    return models_from_equations(s, [(p, eq, meas)], constants, n_inputs)[0]
+
+
+def models_from_equations(s: Structure, items, constants: Constants,
+                          n_inputs: int | None = None) -> list:
+    """:func:`model_from_equations` of ``[(p, eq, meas), ...]``, one structure and
+    one set of constants."""
     n_inputs = s.n_inputs if n_inputs is None else n_inputs
-    e, a_az, b_az = assemble(eq, s.second_order)
-    b_az = b_az[:, :n_inputs]
+    parts = [assemble(eq, s.second_order) for _, eq, _ in items]
     om = constants.omega
     scale = _shared(("scale", om, n_inputs), lambda: input_scale(om)[:n_inputs],
                     type(om) is float)
-    a_s = om * np.linalg.solve(e, a_az)
-    b_s = om * np.linalg.solve(e, b_az) * scale
+    if len(parts) == 1 or len({x[0].shape for x in parts}) != 1:
+        solved = [(om * np.linalg.solve(e, a_az),
+                   om * np.linalg.solve(e, b_az[:, :n_inputs]) * scale)
+                  for e, a_az, b_az in parts]
+    else:
+        e = np.stack([x[0] for x in parts])
+        a_s = om * np.linalg.solve(e, np.stack([x[1] for x in parts]))
+        b_s = om * np.linalg.solve(e, np.stack([x[2][:, :n_inputs] for x in parts])) * scale
+        solved = list(zip(a_s, b_s))
+    return [_model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az[:, :n_inputs],
+                   a_s, b_s)
+            for (p, eq, meas), (e, a_az, b_az), (a_s, b_s) in zip(items, parts, solved)]
+
+
+def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     n = e.shape[0]
     ab = meas.azimuth_bias
     if meas.flap_map is None:
