@@ -10,7 +10,8 @@ Run the same cases under each tree and compare::
 records, first- and second-order flapping, output and input delays, a hub-velocity
 coupling, ties, two records at once), ``evaluate`` at fixed parameters and, unless
 ``--quick``, ``diagnose`` of the hidden-glauert record from ``basic`` and from
-``glauert`` (``--ladder``: also the ladder from ``basic``), and stores every
+``glauert`` (``--ladder``: also ``basic`` on the 256 Hz coloured-noise record and
+the ladder from ``basic``), and stores every
 number and text of the results.  ``compare`` reports, case by case, the largest
 relative difference of any number, ``|a - b| / max(|a|, |b|, atol)`` (``atol``
 1e-12 by default: numbers at rounding level of zero), and any text, key, iteration
@@ -105,6 +106,9 @@ def cases(quick=False, with_ladder=False):
             out[f"diagnose {base}, hidden glauert"] = _plain(diagnose(rec, base).to_json())
             print(f"diagnose {base}: {time.process_time() - t:.2f} s", file=sys.stderr)
         if with_ladder:
+            coloured = hidden_glauert(256.0, colour=2.0)
+            out["diagnose basic, 256 Hz, coloured noise"] = _plain(
+                diagnose(coloured, "basic").to_json())
             out["ladder basic, hidden glauert"] = _plain(ladder(rec, "basic").to_json())
     return out
 
@@ -161,7 +165,8 @@ def main(argv=None):
     s = sub.add_parser("save")
     s.add_argument("out")
     s.add_argument("--quick", action="store_true", help="no diagnose")
-    s.add_argument("--ladder", action="store_true", help="also the ladder from basic")
+    s.add_argument("--ladder", action="store_true",
+                   help="also a 256 Hz coloured-noise diagnose and the ladder from basic")
     c = sub.add_parser("compare")
     c.add_argument("old")
     c.add_argument("new")
