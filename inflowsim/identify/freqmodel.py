@@ -355,7 +355,7 @@ def _eigs(mats):
     out = [None] * len(mats)
     todo = {}
     for i, a in enumerate(mats):
-        key = (a.shape, a.tobytes())
+        key = (a.dtype.str, a.shape, a.tobytes())
         if key in _EIGS or not np.isfinite(a).all():
             out[i] = _eig(a)
         else:
@@ -405,7 +405,7 @@ def _eig(a):
     """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned
     (read-only; remembered for the last :data:`MEMO` matrices: a parameter that
     only moves the input or output maps leaves ``a`` as it was)."""
-    key = (a.shape, a.tobytes())
+    key = (a.dtype.str, a.shape, a.tobytes())
     try:
         out = _EIGS.pop(key)
     except KeyError:
