@@ -34,11 +34,13 @@ flap delay) that is ``2 n`` real numbers per record.  Flap outputs are
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ..simulate.sampled import BASES, expm, shift_taps
 
-__all__ = ["flap_response", "shift_groups", "window_integral", "shifted_transform",
+__all__ = ["flap_response", "flap_responses", "shift_groups", "window_integral", "shifted_transform",
            "zoh", "expm"]
 
 
@@ -138,13 +140,73 @@ def window_integral(u, dt, f_hz, alpha, beta):
 
 def _continuous_input(sp, d):
     """``U^(d)``: transform of the recorded inputs shifted by ``d`` [s] (delayed
-    for ``d > 0``), ``(nf, m)``."""
+    for ``d > 0``), ``(nf, m)``, read-only.  A function of the record and ``d``
+    only: the last few shifts of each record are remembered (a fit's Jacobian moves
+    the delay in one column of twenty, and the end-window integrals cost more than
+    the rest of a response)."""
     if d == 0:
         return sp.U
-    T = (sp.n_samples - 1) * sp.dt
-    u, f = sp.u_time, sp.f_hz
-    ends = window_integral(u, sp.dt, f, -d, 0.0) - window_integral(u, sp.dt, f, T - d, T)
-    return np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
+    memo = _record_memo(sp)["shifts"]
+    key = float(d)
+    out = memo.get(key)
+    if out is None:
+        T = (sp.n_samples - 1) * sp.dt
+        u, f = sp.u_time, sp.f_hz
+        ends = window_integral(u, sp.dt, f, -d, 0.0) - window_integral(u, sp.dt, f, T - d, T)
+        out = np.exp(-2j * np.pi * f * d)[:, None] * (sp.U + ends)
+        out.flags.writeable = False
+        _evict(memo)
+        memo[key] = out
+    return out
+
+
+#: Shifted input transforms (:func:`_continuous_input`) and eigen-decompositions
+#: (:func:`_eig`) remembered: the most recent few, each a pure function of its key.
+MEMO = 8
+_RECORDS = weakref.WeakKeyDictionary()
+_EIGS: dict = {}
+
+
+def _record_memo(sp) -> dict:
+    """What :func:`flap_response` remembers of one record (its :class:`Spectra`,
+    which is immutable): ``shifts`` (:func:`_continuous_input`) and ``terms``."""
+    memo = _RECORDS.get(sp)
+    if memo is None:
+        memo = {"shifts": {}, "terms": None}
+        try:
+            _RECORDS[sp] = memo
+        except TypeError:             # not weakly referable: nothing remembered
+            pass
+    return memo
+
+
+def _terms(sp):
+    """``(s, zs, ze)`` of a record: the transform variable of its model (``j w``,
+    or ``z`` of a held record) and the factors of its start and end states, read-only."""
+    memo = _record_memo(sp)
+    out = memo["terms"]
+    if out is None:
+        f = sp.f_hz
+        if sp.hold == "continuous":
+            w = 2 * np.pi * f
+            T = (sp.n_samples - 1) * sp.dt
+            out = 1j * w, np.ones(f.size), -np.exp(-1j * w * T)
+        else:
+            zs = _powers(1, f, sp.dt)
+            out = zs, zs, -_powers(1 - sp.n_samples, f, sp.dt)
+        for x in out:
+            x.flags.writeable = False
+        memo["terms"] = out
+    return out
+
+
+def _evict(memo):
+    """Drop the oldest entry of a full memo (another thread may have done it)."""
+    if len(memo) >= MEMO:
+        try:
+            del memo[next(iter(memo))]
+        except (KeyError, RuntimeError, StopIteration):
+            pass
 
 
 #: Largest condition number of the eigenvector matrix for which the response is
@@ -195,14 +257,180 @@ def flap_response(model, sp, method="auto"):
             parts[0][2])
 
 
+def flap_responses(models, sp):
+    """:func:`flap_response` of several models on one record, as a list.
+
+    The models a fit's Jacobian asks for at once (one per perturbed parameter)
+    share a structure; where they share the simple case (a continuous record, one
+    delay group over the three flap channels, no input delays, first-order
+    flapping) their eigen-decompositions and frequency products are taken as stacks
+    (:func:`_batch`): the same LAPACK and BLAS call for each matrix as one model
+    at a time, so the same numbers, without numpy's overhead per call.  Every
+    other model goes through :func:`flap_response`.
+    """
+    out = [None] * len(models)
+    groups = {}
+    for i, m in enumerate(models):
+        key = _batch_key(m, sp)
+        if key is not None:
+            groups.setdefault(key, []).append(i)
+    for idx in groups.values():
+        if len(idx) > 1:
+            for i, r in zip(idx, _batch([models[i] for i in idx], sp)):
+                out[i] = r
+    return [r if r is not None else flap_response(m, sp) for r, m in zip(out, models)]
+
+
+def _batch_key(m, sp):
+    """Shapes under which :func:`_batch` takes a model with others, or ``None``."""
+    if sp.hold != "continuous" or sp.f_hz.size > BLOCK:
+        return None
+    g = m.measurement.delay_groups
+    if len(g) != 1 or tuple(g[0]) != (0, 1, 2) or np.count_nonzero(m.input_delays):
+        return None
+    if np.count_nonzero(m.end_input) or m.end_basis.shape[0] != m.end_basis.shape[1]:
+        return None
+    return m.a.shape, m.b.shape, m.end_basis.shape
+
+
+def _batch(models, sp):
+    """``[(y_u, y_nu, groups) or None, ...]``: :func:`_flap_response`'s eigen path
+    for models of one :func:`_batch_key`, each step on the stack; ``None`` where a
+    model needs the solve path (ill-conditioned eigenvectors, a pole on a bin).
+    Models with all eigenvalues real (real eigenvectors) go through
+    :func:`flap_response`."""
+    s, zs, ze = _terms(sp)
+    decs = _eigs([m.a for m in models])
+    out = [None] * len(models)
+    parts = {}
+    for i, d in enumerate(decs):
+        # complex eigenvectors only: real ones come as strided views of complex
+        # arrays (np.linalg.eig), which a stack would lay out otherwise
+        if d is not None and np.iscomplexobj(d[1]):
+            parts.setdefault(d[1].dtype, []).append(i)
+    for idx in parts.values():
+        lam = np.stack([decs[i][0] for i in idx])
+        den = s[None, :, None] - lam[:, None, :]
+        good = (den != 0).all(axis=(1, 2))     # a pole exactly on a bin: solve path
+        idx = [i for i, g in zip(idx, good) if g]
+        if idx:
+            res = _batch_products([models[i] for i in idx], [decs[i] for i in idx],
+                                  den[good], sp)
+            for i, r in zip(idx, res):
+                out[i] = r
+    return out
+
+
+def _batch_products(ms, decs, den, sp):
+    n, k = ms[0].a.shape[0], ms[0].end_basis.shape[1]
+    nm = len(ms)
+    _, zs, ze = _terms(sp)
+    nf = zs.size
+    V = np.stack([d[1] for d in decs])
+    Vi = np.stack([d[2] for d in decs])
+    b = np.stack([m.b for m in ms])
+    C = np.stack([m.c[:3] for m in ms])
+    P = np.stack([m.end_basis for m in ms])
+    # the one group's shift against each input, as _flap_response forms it
+    ud = np.stack([_continuous_input(sp, (float(m.delays[0]) -
+                                          np.asarray(m.input_delays, float))[0])
+                   for m in ms])
+    inp = ud @ b.transpose(0, 2, 1)
+    r = 1.0 / den
+    vp = Vi @ P
+    cv = C @ V
+    y_u = ((inp @ Vi.transpose(0, 2, 1)) * r) @ cv.transpose(0, 2, 1)
+    e = (r @ (cv.transpose(0, 2, 1)[:, :, :, None] * vp[:, :, None, :]).reshape(
+        nm, n, -1)).reshape(nm, nf, 3, k)
+    y_nu = np.zeros((nm, nf, 3, 2 * k), dtype=complex)
+    y_nu[:, :, :, :k] = zs[:, None, None] * e
+    y_nu[:, :, :, k:] = ze[:, None, None] * e
+    return [(y_u[j], y_nu[j], shift_groups(m)) for j, m in enumerate(ms)]
+
+
+def _eigs(mats):
+    """:func:`_eig` of each matrix, the ones not remembered decomposed as one stack
+    (then, as ``np.linalg.eig`` of one real matrix does, real arrays for a matrix
+    whose eigenvalues are all real; conditioning and inverse per dtype)."""
+    out = [None] * len(mats)
+    todo = {}
+    for i, a in enumerate(mats):
+        key = (a.dtype.str, a.shape, a.tobytes())
+        if key in _EIGS or not np.isfinite(a).all():
+            out[i] = _eig(a)
+        else:
+            todo.setdefault(key, []).append(i)
+    if not todo:
+        return out
+    keys = list(todo)
+    lam, V = np.linalg.eig(np.stack([mats[todo[key][0]] for key in keys]))
+    pairs = []
+    for j in range(len(keys)):
+        if np.iscomplexobj(lam) and not np.iscomplexobj(mats[todo[keys[j]][0]]) \
+                and (lam[j].imag == 0.0).all():
+            pairs.append((lam[j].real, V[j].real))
+        else:
+            pairs.append((lam[j], V[j]))
+    decs = {}
+    by_type = {}
+    for j, (_, v) in enumerate(pairs):
+        by_type.setdefault(v.dtype, []).append(j)
+    for js in by_type.values():
+        Vs = np.stack([pairs[j][1] for j in js])
+        sv = np.linalg.svd(Vs, compute_uv=False)
+        with np.errstate(all="ignore"):
+            cond = sv[:, 0] / sv[:, -1]
+        nan = np.isnan(cond) & ~np.isnan(Vs).any(axis=(1, 2))
+        cond[nan] = np.inf
+        well = [j for j, c in zip(js, cond) if not c > EIG_COND]
+        if well:
+            Vi = np.linalg.inv(np.stack([pairs[j][1] for j in well]))
+            for t, j in enumerate(well):
+                # views, strided as one matrix's np.linalg.eig returns them (a
+                # strided operand can take another matmul loop than a contiguous one)
+                dec = pairs[j][0], pairs[j][1], Vi[t]
+                for x in dec:
+                    x.flags.writeable = False
+                decs[j] = dec
+    for j, key in enumerate(keys):
+        dec = decs.get(j)
+        _evict(_EIGS)
+        _EIGS[key] = dec
+        for i in todo[key]:
+            out[i] = dec
+    return out
+
+
 def _eig(a):
-    """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned."""
+    """``(lam, V, V^-1)`` of ``a``, or ``None`` where ``V`` is ill conditioned
+    (read-only; remembered for the last :data:`MEMO` matrices: a parameter that
+    only moves the input or output maps leaves ``a`` as it was)."""
+    key = (a.dtype.str, a.shape, a.tobytes())
+    try:
+        out = _EIGS.pop(key)
+    except KeyError:
+        out = _eig_new(a)
+        _evict(_EIGS)
+    _EIGS[key] = out                  # most recent last
+    return out
+
+
+def _eig_new(a):
     if not np.all(np.isfinite(a)):
         return None
     lam, V = np.linalg.eig(a)
-    if np.linalg.cond(V) > EIG_COND:
+    # np.linalg.cond(V) (2-norm), without its wrapper: the same singular values
+    sv = np.linalg.svd(V, compute_uv=False)
+    with np.errstate(all="ignore"):
+        cond = sv[0] / sv[-1]
+    if np.isnan(cond) and not np.isnan(V).any():
+        cond = np.inf
+    if cond > EIG_COND:
         return None
-    return lam, V, np.linalg.inv(V)
+    out = lam, V, np.linalg.inv(V)
+    for x in out:
+        x.flags.writeable = False
+    return out
 
 
 def _flap_response(model, sp, method):
@@ -218,21 +446,22 @@ def _flap_response(model, sp, method):
     u0, u1 = sp.u_time[0], sp.u_time[-1]
     # per group the input term (nf, n) of  (s I - A) x = input + zs x_0 + ze x_end
     inp = np.empty((G, nf, n), dtype=complex)
+    s, zs, ze = _terms(sp)
     if sp.hold == "continuous":
-        w = 2 * np.pi * f
-        T = (sp.n_samples - 1) * sp.dt
-        s, A = 1j * w, a
-        zs, ze = np.ones(nf), -np.exp(-1j * w * T)        # start, end factors
+        A = a
+        no_input_delays = sigma.size and not np.count_nonzero(sigma)
         for g, (_, tau) in enumerate(groups):
             d = tau - sigma
-            ud = np.empty((nf, b.shape[1]), dtype=complex)
-            for v in np.unique(d):
-                cols = np.flatnonzero(d == v)
-                ud[:, cols] = _continuous_input(sp, v)[:, cols]
+            if no_input_delays:
+                # one shift for every input: its transform as it is
+                ud = np.ascontiguousarray(_continuous_input(sp, d[0]))
+            else:
+                ud = np.empty((nf, b.shape[1]), dtype=complex)
+                for v in np.unique(d):
+                    cols = np.flatnonzero(d == v)
+                    ud[:, cols] = _continuous_input(sp, v)[:, cols]
             inp[g] = ud @ b.T
     else:
-        zs = _powers(1, f, sp.dt)
-        ze = -_powers(1 - sp.n_samples, f, sp.dt)
         phi = None
         for g, (_, tau) in enumerate(groups):
             phi, taps = shift_taps(a, b, sp.dt, sp.hold, tau - sigma)
@@ -240,9 +469,11 @@ def _flap_response(model, sp, method):
             for o, Go in taps.items():
                 acc += shifted_transform(sp.U, sp.u_time, f, sp.dt, o) @ Go.T
             inp[g] = acc
-        s, A = zs, phi
-    # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping)
-    inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
+        A = phi
+    # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping,
+    # where adding its zeros would change no number)
+    if np.count_nonzero(q):
+        inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
     dec = None if method == "solve" else _eig(A)
     if dec is None and method == "eig":
         raise ValueError("flap_response: the eigenvectors are ill conditioned")
@@ -250,20 +481,24 @@ def _flap_response(model, sp, method):
     y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
     if dec is not None:
         den = s[:, None] - dec[0]
-        if not np.all(den != 0):           # a pole exactly on a bin: as the solve does
+        if not (den != 0).all():           # a pole exactly on a bin: as the solve does
             dec = None
     if dec is not None:
         _, V, Vi = dec
         r = 1.0 / den                                        # (nf, n) resolvent
         vp = Vi @ P
+        # every flap channel in one group (no per-channel delays): slices, not index
+        # arrays (the same numbers, a third of the cost)
+        whole = G == 1 and tuple(groups[0][0]) == (0, 1, 2)
         for g, (rows, _) in enumerate(groups):
-            cv = C[rows] @ V
-            y_u[:, rows] = ((inp[g] @ Vi.T) * r) @ cv.T
+            sel = slice(None) if whole else rows
+            cv = (C if whole else C[rows]) @ V
+            y_u[:, sel] = ((inp[g] @ Vi.T) * r) @ cv.T
             # C V diag(r) V^-1 P at every frequency as one product (nf, n) x (n, rows k)
             e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(
                 nf, len(rows), k)
-            y_nu[:, rows, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
-            y_nu[:, rows, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
+            y_nu[:, sel, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
+            y_nu[:, sel, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
         return y_u, y_nu, groups
     # one solve for every group's input term and the shared end-state basis
     rhs = np.empty((nf, n, G + 2 * k), dtype=complex)

@@ -14,15 +14,19 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..model.build import build_model
-from ..model.params import SPECS
+from ..model.build import models_unchecked
+from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
-from .freqmodel import flap_response
+from .freqmodel import flap_responses
 
 #: Typical magnitudes (finite-difference step scale and LM scaling floor).
 TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
 #: Relative floor on S (noise-free data would drive ln|S| to minus infinity).
 S_FLOOR = 1e-14
+#: Parameter vectors whose responses :meth:`Problem.responses` remembers: a fit
+#: evaluates the same ``theta`` again right after (``S`` re-estimated, the
+#: forward-difference Jacobian's base point), and the responses do not depend on ``S``.
+MEMO = 4
 
 
 class Problem:
@@ -60,6 +64,11 @@ class Problem:
             self.free.append(next((g for g in groups if g[0] == n), (n,)))
         self.free_names = tuple(g[0] if len(g) == 1 else "=".join(g) for g in self.free)
         self.n_freq = sum(sp.f_hz.size for sp in self.spectra)
+        self._memo = {}                 # theta bytes -> responses (MEMO most recent)
+        self._constants_ok = [False] * len(self.spectra)
+        self._fixed_ok = False          # every parameter passed check_parameters once
+        self._bounds = None
+        self._box = None                # (lo, hi): values every tied parameter allows
 
     # -- parameter vector -------------------------------------------------------
     def theta0(self) -> np.ndarray:
@@ -73,13 +82,19 @@ class Problem:
         return p
 
     def bounds(self):
-        lo, hi = [], []
-        for g in self.free:
-            s = SPECS[g[0]]
-            span = max(abs(s.lower), 1.0) if math.isfinite(s.lower) else 1.0
-            lo.append(s.lower + (1e-9 * span if s.lower_open else 0.0))
-            hi.append(s.upper)
-        return np.array(lo), np.array(hi)
+        """``(lo, hi)`` of the free values: each parameter's allowed range, an open
+        lower end moved inside by ``1e-9`` of its size."""
+        if self._bounds is None:
+            lo, hi = [], []
+            for g in self.free:
+                s = SPECS[g[0]]
+                span = max(abs(s.lower), 1.0) if math.isfinite(s.lower) else 1.0
+                lo.append(s.lower + (1e-9 * span if s.lower_open else 0.0))
+                hi.append(s.upper)
+            self._bounds = np.array(lo), np.array(hi)
+            for x in self._bounds:
+                x.flags.writeable = False
+        return self._bounds
 
     def log_mask(self) -> np.ndarray:
         """Free parameters searched in ``log`` (positive by definition: time
@@ -92,15 +107,73 @@ class Problem:
                          for g, v in zip(self.free, theta)])
 
     # -- model evaluation -------------------------------------------------------
-    def responses(self, theta):
-        """Per record ``(y_u, y_nu)``; :class:`InputError` for invalid parameters."""
-        p = self.params(theta)
-        out = []
-        for sp in self.spectra:
-            m = build_model(self.structure, p, sp.constants)
-            y_u, y_nu, _ = flap_response(m, sp)
-            out.append((y_u, y_nu))
+    def responses(self, theta, remember=True):
+        """Per record ``(y_u, y_nu)`` (read-only arrays); :class:`InputError` for invalid
+        parameters.  The last :data:`MEMO` parameter vectors' responses are
+        remembered (``remember=False``: only looked up, as for the Jacobian's
+        perturbed points, each used once)."""
+        key = np.asarray(theta, dtype=float).tobytes()
+        out = self._memo.get(key)
+        if out is not None:
+            return out
+        out = self._responses(theta)
+        if remember:
+            if len(self._memo) >= MEMO:
+                del self._memo[next(iter(self._memo))]
+            self._memo[key] = out
         return out
+
+    def _responses(self, theta):
+        return self._responses_many([theta])[0]
+
+    def _checked(self, theta):
+        """The parameter dict of ``theta``, checked as :func:`build_model` would."""
+        p = self.params(theta)
+        # the checks build_model makes, once: the constants per record for the
+        # problem's life; the parameters once per evaluation (the same for every
+        # record), unless every fixed value has passed before and the free ones lie
+        # inside the range of every parameter they set (they would pass again)
+        for i, sp in enumerate(self.spectra):
+            if not self._constants_ok[i]:
+                check_constants(sp.constants)
+                self._constants_ok[i] = True
+            if i == 0 and not (self._fixed_ok and self._inside(theta)):
+                p = check_parameters(p, self.structure.parameters)
+                self._fixed_ok = True
+        return p
+
+    def _responses_many(self, thetas):
+        """:meth:`responses` of several parameter vectors (not remembered), each
+        record's models built and evaluated together (:func:`models_unchecked`,
+        :func:`.freqmodel.flap_responses`)."""
+        ps = [self._checked(t) for t in thetas]
+        per_record = [flap_responses(models_unchecked(self.structure, ps, sp.constants), sp)
+                      for sp in self.spectra]
+        out = []
+        for j in range(len(thetas)):
+            resp = []
+            for rec in per_record:
+                y_u, y_nu, _ = rec[j]
+                y_u.flags.writeable = False
+                y_nu.flags.writeable = False
+                resp.append((y_u, y_nu))
+            out.append(resp)
+        return out
+
+    def _inside(self, theta) -> bool:
+        """Every free value finite and inside the allowed range of each parameter it
+        sets (:func:`~inflowsim.model.params.check_parameters` would pass it)."""
+        if self._box is None:
+            lo, hi = [], []
+            for g in self.free:
+                specs = [SPECS[n] for n in g]
+                lo.append(max(np.nextafter(s.lower, np.inf) if s.lower_open else s.lower
+                              for s in specs))
+                hi.append(min(s.upper for s in specs))
+            self._box = np.array(lo, dtype=float), np.array(hi, dtype=float)
+        lo, hi = self._box
+        t = np.asarray(theta, dtype=float)
+        return bool(np.isfinite(t).all() and (t >= lo).all() and (t <= hi).all())
 
     @staticmethod
     def weight(S):
@@ -145,9 +218,20 @@ class Problem:
 
     def direct(self, theta, weights, nus):
         """Weighted stacked residual at fixed nuisance (for the Kaufman Jacobian)."""
-        resp = self.responses(theta)
+        return self._weighted(self.responses(theta, remember=False), weights, nus)
+
+    def _weighted(self, resp, weights, nus):
         return [_stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
                 zip(self.spectra, resp, weights, nus)]
+
+    def _direct_many(self, thetas, weights, nus):
+        """:meth:`direct` of each parameter vector, the ones not remembered evaluated
+        together."""
+        resp = [self._memo.get(np.asarray(t, dtype=float).tobytes()) for t in thetas]
+        todo = [j for j, r in enumerate(resp) if r is None]
+        for j, r in zip(todo, self._responses_many([thetas[j] for j in todo])):
+            resp[j] = r
+        return [self._weighted(r, weights, nus) for r in resp]
 
     def jacobian(self, theta, weights, nus, bases, central=True):
         """Sensitivities of the projected weighted residuals to ``theta``.
@@ -161,25 +245,31 @@ class Problem:
         lo, hi = self.bounds()
         h = 1e-6 * self.typical(theta)
         blocks = [np.empty((2 * 3 * sp.f_hz.size, theta.size)) for sp in self.spectra]
-        base = None
+        # every point first (evaluated together), then the differences
+        points, plan, base = [], [], None
         for i in range(theta.size):
             tp, tm = theta.copy(), theta.copy()
             up, dn = theta[i] + h[i] <= hi[i], theta[i] - h[i] >= lo[i]
             if central and up and dn:
                 tp[i] += h[i]
                 tm[i] -= h[i]
-                rp, rm, step = (self.direct(tp, weights, nus),
-                                self.direct(tm, weights, nus), 2 * h[i])
+                plan.append((len(points), len(points) + 1, 2 * h[i]))
+                points += [tp, tm]
+                continue
+            if base is None:
+                base = len(points)
+                points.append(theta)
+            if up:
+                tp[i] += h[i]
+                plan.append((len(points), base, h[i]))
+                points.append(tp)
             else:
-                if base is None:
-                    base = self.direct(theta, weights, nus)
-                if up:
-                    tp[i] += h[i]
-                    rp, rm, step = self.direct(tp, weights, nus), base, h[i]
-                else:
-                    tm[i] -= h[i]
-                    rp, rm, step = base, self.direct(tm, weights, nus), h[i]
-            for blk, a, b in zip(blocks, rp, rm):
+                tm[i] -= h[i]
+                plan.append((base, len(points), h[i]))
+                points.append(tm)
+        res = self._direct_many(points, weights, nus)
+        for i, (ip, im, step) in enumerate(plan):
+            for blk, a, b in zip(blocks, res[ip], res[im]):
                 blk[:, i] = (a - b) / step
         out = []
         for blk, Q in zip(blocks, bases):

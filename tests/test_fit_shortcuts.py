@@ -1,0 +1,160 @@
+"""The shortcuts inside a fit's model evaluations give the numbers of the plain
+path, bit for bit, and keep its refusals (issue #29: diagnose's CPU time).
+
+A fit builds thousands of models of one structure: the problem remembers its
+last responses, checks parameters only where a value could fail, assembles float
+blocks in place, remembers base equations and eigen-decompositions, and evaluates
+a Jacobian's models as stacks.  Rounding-level differences would move the
+estimates by far more than rounding (the search stops at a tolerance), so each
+shortcut must reproduce the plain computation exactly.
+"""
+import functools
+
+import numpy as np
+import pytest
+
+from inflowsim import PUMA, build_model, preset_parameters
+from inflowsim.errors import InputError
+from inflowsim.flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
+from inflowsim.identify import freqmodel
+from inflowsim.identify.estimator import _relax_S
+from inflowsim.identify.freqmodel import flap_response, flap_responses
+from inflowsim.identify.problem import Problem
+from inflowsim.identify.transform import record_spectra
+from inflowsim.model.build import apply_effects, base_equations
+from inflowsim.model.equations import assemble
+from inflowsim.model.structure import Structure
+
+TWO = (Manoeuvre("theta1s", "doublet", np.radians(1.0), 2.0, 0.4),
+       Manoeuvre("theta1c", "doublet", np.radians(1.0), 8.0, 0.4))
+
+
+def _record(structure, p, seed=0, hold="continuous"):
+    return virtual_record(VirtualTest(structure=structure, parameters=p, manoeuvres=TWO,
+                                      noise_flap=1e-4, seed=seed, duration=8.0,
+                                      hold=hold))
+
+
+def _same(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _block_assembly(eq, second_order):
+    """The descriptor matrices by np.block, as assemble made them before."""
+    z, i3 = np.zeros((3, 3)), np.eye(3)
+    if not second_order:
+        return (np.block([[eq.c, z], [-eq.p_dbeta, eq.d_tau]]),
+                np.block([[-eq.d, eq.h_lambda], [eq.p_beta, eq.p_lambda - i3]]),
+                np.vstack([eq.h_u, eq.p_u]))
+    return (np.block([[i3, z, z], [z, eq.d_tau, z], [z, z, eq.m2]]),
+            np.block([[z, z, i3], [eq.p_beta, eq.p_lambda - i3, eq.p_dbeta],
+                      [-eq.d, eq.h_lambda, -eq.c]]),
+            np.vstack([np.zeros_like(eq.h_u), eq.p_u, eq.h_u]))
+
+
+@pytest.mark.parametrize("structure", ["basic", "glauert+time-delay", "empirical",
+                                       "basic+flap-inertia+hub-velocity-coupling",
+                                       "basic+second-harmonic-flap+azimuth-bias"])
+def test_assembly_in_place_equals_np_block(structure):
+    s = Structure.parse(structure)
+    p = preset_parameters(s)
+    rng = np.random.default_rng(1)
+    p = {n: v * (1 + 0.1 * rng.standard_normal()) for n, v in p.items()}
+    eq, _ = apply_effects(s, p, PUMA)
+    for got, want in zip(assemble(eq, s.second_order), _block_assembly(eq, s.second_order)):
+        assert _same(got, want)
+
+
+def test_assembly_of_symbols_still_goes_through_np_block():
+    """The FMU's generator runs assemble on object arrays: those keep np.block."""
+    s = Structure.parse("glauert")
+    eq, _ = apply_effects(s, preset_parameters(s), PUMA)
+    obj = eq.with_(**{n: getattr(eq, n).astype(object) for n in ("c", "d", "p_u")})
+    for got, want in zip(assemble(obj, False), assemble(eq, False)):
+        assert got.dtype == object
+        assert np.array_equal(got.astype(float), want)
+
+
+def test_remembered_base_equations_are_copies():
+    p = preset_parameters("basic")
+    first = base_equations(p, PUMA)
+    keep = first.p_u.copy()
+    first.p_u[:] = 99.0                    # an effect editing its own copy in place
+    again = base_equations(p, PUMA)
+    assert _same(again.p_u, keep) and again.p_u is not first.p_u
+
+
+@functools.lru_cache(maxsize=None)
+def _spectra(structure):
+    p = preset_parameters(structure)
+    if "delay" in p:
+        p["delay"] = 0.0437
+    return record_spectra(_record(structure, p), Structure.parse(structure).inputs), p
+
+
+def _problem(structure, ties=()):
+    sp, p = _spectra(structure)
+    return Problem(structure, [sp], dict(p), ties=ties), sp, dict(p)
+
+
+def test_remembered_responses_are_the_fresh_ones():
+    prob, sp, p = _problem("glauert+time-delay")
+    theta = prob.theta0()
+    r1 = prob.responses(theta)
+    assert prob.responses(theta.copy()) is r1          # remembered
+    fresh = flap_response(build_model(prob.structure, p, sp.constants), sp)
+    assert _same(r1[0][0], fresh[0]) and _same(r1[0][1], fresh[1])
+    with pytest.raises(ValueError):                     # nobody can edit them
+        r1[0][0][0, 0] = 0.0
+
+
+def test_values_outside_a_range_are_still_refused():
+    """The parameter check is skipped only where it would pass: a tied value inside
+    the first name's range but outside the second's, and a non-finite one, fail."""
+    prob, _, _ = _problem("glauert+time-delay", ties=[("c1", "delay")])
+    theta = prob.theta0()
+    prob.responses(theta)                               # every value checked once
+    i = prob.free_names.index("c1=delay")
+    for bad, words in ((5.0, "delay = 5 is outside"), (np.nan, "must be finite")):
+        t = theta.copy()
+        t[i] = bad
+        with pytest.raises(InputError, match=words):
+            prob.responses(t)
+
+
+@pytest.mark.parametrize("structure", ["glauert+time-delay", "basic+flap-inertia"])
+def test_stacked_responses_equal_one_model_at_a_time(structure):
+    """flap_responses of a Jacobian's models (each parameter moved, the delay and the
+    azimuth bias among them) equals flap_response of each, bit for bit."""
+    prob, sp, p = _problem(structure)
+    models = []
+    for n in p:
+        q = dict(p)
+        q[n] = p[n] + 1e-3 * max(abs(p[n]), 0.1)
+        models.append(build_model(structure, q, sp.constants))
+    freqmodel._EIGS.clear()
+    together = flap_responses(models, sp)
+    freqmodel._EIGS.clear()
+    for m, (y_u, y_nu, _) in zip(models, together):
+        one = flap_response(m, sp)
+        assert _same(y_u, one[0]) and _same(y_nu, one[1])
+
+
+def test_jacobian_equals_the_difference_of_directs():
+    """The Jacobian, evaluated as one batch, equals its definition column by column."""
+    prob, _, _ = _problem("glauert+time-delay")
+    st = _relax_S(prob, prob.theta0(), rounds=1)
+    J = prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=True)[0]
+    lo, hi = prob.bounds()
+    h = 1e-6 * prob.typical(st.theta)
+    Q = st.bases[0]
+    B = np.empty_like(J)
+    for i in range(st.theta.size):
+        tp, tm = st.theta.copy(), st.theta.copy()
+        tp[i] += h[i]
+        tm[i] -= h[i]
+        assert lo[i] <= tm[i] and tp[i] <= hi[i]
+        B[:, i] = (prob.direct(tp, st.weights, st.nus)[0]
+                   - prob.direct(tm, st.weights, st.nus)[0]) / (2 * h[i])
+    assert _same(J, B - Q @ (Q.T @ B))
