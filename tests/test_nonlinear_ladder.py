@@ -173,3 +173,36 @@ def test_the_direct_forcing_and_glauerts_F_not_glauert_whole():
     ratio = np.array([abs(final.S[0][i, i]) for i in range(3)]) / (
         len(rec) * test.noise_flap ** 2)
     assert np.all(ratio < 1.5), ratio
+
+
+@functools.lru_cache(maxsize=None)
+def _ladder_at(rate, seed):
+    test = FlightTest(dt=1 / rate, seed=seed)
+    return ladder(nonlinear_flighttest(test).record, "basic")
+
+
+@pytest.mark.slow
+def test_ladders_at_three_rates_differ_only_where_the_noise_hides_an_effect():
+    """One nonlinear flight (the default doublet) sampled at 50, 100 and 200 Hz,
+    each with its own noise draw: the ladders may end at different structures, but
+    every effect one of them adds and another does not is, on the other's last
+    rung, not significant or not worth its parameters there (the record's noise
+    hides it), never rejected as implausible or explained by a simpler effect; and
+    none adds a time delay (the truth has none)."""
+    ladders = {rate: _ladder_at(rate, seed) for rate, seed in ((50, 11), (100, 12),
+                                                                (200, 13))}
+    added = {rate: {e for r in lad.rungs[1:] for e in r.added.split("+")}
+             for rate, lad in ladders.items()}
+    for rate, lad in ladders.items():
+        assert "time-delay" not in added[rate], (rate, added)
+        assert "flap-inertia" in added[rate], (rate, added)
+        last = lad.final.diagnosis.decision
+        for other, effects in added.items():
+            for e in effects - added[rate] - set(lad.final.structure.effects):
+                rows = [r for r in last.rows if r.effects == (e,) and len(r.atoms) == 1]
+                assert rows, (rate, e)
+                for r in rows:
+                    failed = set(r.failed(last.rule))
+                    assert failed & {"significant", "parsimonious", "material"}, (
+                        rate, other, e, failed)
+                    assert not failed & {"plausible", "own"}, (rate, other, e, failed)
