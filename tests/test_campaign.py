@@ -252,8 +252,18 @@ def test_local_dask_cluster_two_processes(plan_dir, tmp_path):
 def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
     items = campaign_items()
-    assert len({i.mu for i in items}) == 6 and len(items) == 6 * 3 * 2
+    # doublets, 3211s and a sweep on each control at each speed
+    assert len({i.mu for i in items}) == 6 and len(items) == 6 * 3 * 3
+    assert {i.shape for i in items} == {"doublet", "3211", "sweep"}
     assert len({i.seed for i in items}) == len(items)
+    plan = virtual_campaign(tmp_path / "s", mus=(0.15,), controls=("theta1c",),
+                            shapes=("sweep",), duration=8.0, workers=1)
+    from inflowsim.data.record import read_record
+    sweep = read_record(read_plan(plan).entries[0].path)
+    th = sweep["theta1c"] - sweep["theta1c"][0]
+    # a faded log sweep: moves over its whole length, no more than its 1 deg peak
+    assert np.max(np.abs(th)) <= np.radians(1.0) * (1 + 1e-9)
+    assert np.ptp(th[(sweep.t > 3.0) & (sweep.t < 6.0)]) > np.radians(1.0)
     plan = virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",),
                             shapes=("3211",), duration=6.0, workers=1)
     p = read_plan(plan)

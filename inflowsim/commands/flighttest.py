@@ -88,8 +88,8 @@ def add_arguments(p):
                    help="hold the hub fixed (no body motion)")
     p.add_argument("--campaign", metavar="DIR",
                    help="write a virtual campaign instead: records from the nonlinear "
-                        "truth at every --speeds, a doublet and a 3-2-1-1 on each "
-                        "control, --repeats times, and DIR/plan.csv for 'inflowsim "
+                        "truth at every --speeds, a doublet, a 3-2-1-1 and a sweep on "
+                        "each control, --repeats times, and DIR/plan.csv for 'inflowsim "
                         "campaign' (default 20 s at 64 Hz each; existing records are kept)")
     p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")

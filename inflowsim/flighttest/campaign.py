@@ -9,9 +9,11 @@ campaign estimates has a trend to find).  Written as CSV records with a CSV
 manifest ``plan.csv`` (record, condition ``mu=0.100``, manoeuvre, group
 ``repeat N``) that ``inflowsim campaign`` reads.
 
-The shapes are the doublet and the 3-2-1-1 of :mod:`inflowsim.data.inputs`
-(a frequency sweep is not among the pilot input shapes of this version).
-Records are generated in parallel by a process pool (they pickle).
+The shapes are the doublet and the 3-2-1-1 of :mod:`inflowsim.data.inputs` and a
+log frequency sweep (0.15-3 Hz, from 2 s to 1 s before the record's end, faded in
+and out over 1 s; :func:`inflowsim.data.inputs.log_sweep`), the three inputs a
+flight-test campaign flies on each control.  Records are generated in parallel by
+a process pool (they pickle).
 """
 from __future__ import annotations
 
@@ -27,8 +29,12 @@ from ..errors import InputError
 
 #: The campaign's speeds [-]: 0.10 to 0.35.
 MUS = tuple(round(0.10 + 0.05 * i, 2) for i in range(6))
-#: Input unit [s] per shape: a doublet of 0.4 s half-width, a 3-2-1-1 of 0.3 s units.
+#: Input unit [s] per pulse shape: a doublet of 0.4 s half-width, a 3-2-1-1 of 0.3 s units.
 WIDTH = {"doublet": 0.4, "3211": 0.3}
+#: The campaign's input shapes, in plan order.
+CAMPAIGN_SHAPES = (*SHAPES, "sweep")
+#: The sweep's frequency range [Hz].
+SWEEP_HZ = (0.15, 3.0)
 
 
 @dataclass(frozen=True)
@@ -56,14 +62,14 @@ class CampaignItem:
     @property
     def seed(self) -> int:
         return (int(round(self.mu * 1000)) * 1009 + CONTROLS.index(self.control) * 101
-                + list(SHAPES).index(self.shape) * 13 + self.repeat) % (2 ** 32)
+                + CAMPAIGN_SHAPES.index(self.shape) * 13 + self.repeat) % (2 ** 32)
 
 
-def campaign_items(mus=MUS, controls=CONTROLS, shapes=tuple(SHAPES), repeats=1):
+def campaign_items(mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1):
     """Every record of the campaign, in plan order (speed, control, shape, repeat)."""
     for s in shapes:
-        if s not in SHAPES:
-            raise InputError(f"input shape {s!r}: choose {', '.join(SHAPES)}")
+        if s not in CAMPAIGN_SHAPES:
+            raise InputError(f"input shape {s!r}: choose {', '.join(CAMPAIGN_SHAPES)}")
     for c in controls:
         if c not in CONTROLS:
             raise InputError(f"control {c!r}: choose {', '.join(CONTROLS)}")
@@ -82,8 +88,12 @@ def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4):
     from .bladesim import RotorSpec
     from .nonlinear import FlightTest, nonlinear_flighttest
     from .virtual import Manoeuvre
-    man = Manoeuvre(channel=item.control, shape=item.shape, amplitude=np.radians(1.0),
-                    t_start=2.0, width=WIDTH[item.shape])
+    if item.shape == "sweep":
+        man = Manoeuvre(channel=item.control, shape="sweep", amplitude=np.radians(1.0),
+                        t_start=2.0, f_range=SWEEP_HZ, length=max(duration - 3.0, 2.0))
+    else:
+        man = Manoeuvre(channel=item.control, shape=item.shape, amplitude=np.radians(1.0),
+                        t_start=2.0, width=WIDTH[item.shape])
     test = FlightTest(rotor=RotorSpec(constants=PUMA.with_mu(item.mu)), manoeuvres=(man,),
                       duration=duration, dt=dt, noise_flap=noise, seed=item.seed,
                       description=f"{item.manoeuvre} at mu {item.mu:g}, nonlinear "
@@ -102,7 +112,7 @@ def _make(args):
     return str(path), True
 
 
-def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=tuple(SHAPES), repeats=1,
+def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1,
                      duration=20.0, dt=1.0 / 64, noise=1e-4, workers=None,
                      progress=None) -> Path:
     """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
