@@ -79,7 +79,9 @@ class FrequencyComparison:
     measured_dft, predicted_dft : ndarray, shape (3, nf)
         DFT of measured and predicted flap perturbations [rad s].
     measured, model : ndarray, shape (3, nf)
-        Responses ``measured_dft / input_dft`` and ``predicted_dft / input_dft``.
+        Responses ``measured_dft / input_dft`` and ``predicted_dft / input_dft``;
+        NaN at a frequency where the input has no power
+        (:func:`input_has_power`): no response is defined there.
     """
 
     f_hz: np.ndarray
@@ -92,23 +94,43 @@ class FrequencyComparison:
 
     @staticmethod
     def magnitude_db(h) -> np.ndarray:
-        """``20 log10 |h|`` [dB]."""
-        return 20.0 * np.log10(np.abs(h))
+        """``20 log10 |h|`` [dB]; NaN where ``h`` is zero or undefined."""
+        a = np.abs(np.asarray(h))
+        out = np.full(a.shape, np.nan)
+        ok = np.isfinite(a) & (a > 0)
+        out[ok] = 20.0 * np.log10(a[ok])
+        return out
 
     @staticmethod
     def phase_deg(h) -> np.ndarray:
-        """Phase unwrapped along frequency [deg]."""
-        return np.degrees(np.unwrap(np.angle(h), axis=-1))
+        """Phase unwrapped along frequency [deg] (over the defined frequencies; NaN
+        where ``h`` is undefined)."""
+        h = np.asarray(h)
+        rows = h.reshape(-1, h.shape[-1])
+        out = np.full(rows.shape, np.nan)
+        for i, row in enumerate(rows):
+            ok = np.isfinite(row)
+            out[i, ok] = np.degrees(np.unwrap(np.angle(row[ok])))
+        return out.reshape(h.shape)
 
     @property
     def magnitude_error_db(self) -> np.ndarray:
-        """``20 log10 |measured / model|`` per channel and frequency [dB]."""
-        return 20.0 * np.log10(np.abs(self.measured) / np.abs(self.model))
+        """``20 log10 |measured / model|`` per channel and frequency [dB]; NaN where
+        either response is zero or undefined."""
+        return self.magnitude_db(self._ratio())
 
     @property
     def phase_error_deg(self) -> np.ndarray:
-        """Phase of ``measured / model``, wrapped to (-180, 180] [deg]."""
-        return np.degrees(np.angle(self.measured / self.model))
+        """Phase of ``measured / model``, wrapped to (-180, 180] [deg]; NaN where
+        either response is zero or undefined."""
+        return np.degrees(np.angle(self._ratio()))
+
+    def _ratio(self) -> np.ndarray:
+        ok = (np.isfinite(self.measured) & np.isfinite(self.model) & (self.model != 0)
+              & (self.measured != 0))
+        out = np.full(self.measured.shape, np.nan + 0j)
+        out[ok] = self.measured[ok] / self.model[ok]
+        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -319,23 +341,27 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     else:
         ref = reference_input
     x = u_dft[:, model.inputs.index(ref)]
-    if np.any(x == 0):
-        raise InputError(f"reference input {ref} has no energy at some band frequency")
+    powered = input_has_power(x)
+    if not powered.any():
+        raise InputError(f"reference input {ref} has no energy in the band")
     z_dft = _dft(z, bins, dt).T
     y_dft = _dft(y, bins, dt).T
+    # a ratio to an input without power is rounding noise over rounding noise (a
+    # long record of repeated manoeuvres is periodic: between its harmonics the
+    # input's DFT is 1e-18 of its peak, or 0, and the ratio 100 dB off or inf)
+    xs = np.where(powered, x, 1.0)
     fc = FrequencyComparison(f_hz=bins / record.duration, reference_input=ref,
                              input_dft=x, measured_dft=z_dft, predicted_dft=y_dft,
-                             measured=z_dft / x, model=y_dft / x)
+                             measured=np.where(powered, z_dft / xs, np.nan),
+                             model=np.where(powered, y_dft / xs, np.nan))
     band_fit = _band_fit(record, model, bins, hold)
     fits = {}
     for i, c in enumerate(FLAP_COLUMNS):
         f = fit_metrics(z[:, i], y[:, i])
         band = band_fit.get(c)
         fits[c] = ChannelFit(f.rms, f.tic, float("nan") if band is None else band)
-    mag = fc.magnitude_error_db
-    ph = fc.phase_error_deg
-    mag_rms = {c: float(np.sqrt(np.mean(mag[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
-    ph_rms = {c: float(np.sqrt(np.mean(ph[i] ** 2))) for i, c in enumerate(FLAP_COLUMNS)}
+    mag_rms = {c: _rms(v) for c, v in zip(FLAP_COLUMNS, fc.magnitude_error_db)}
+    ph_rms = {c: _rms(v) for c, v in zip(FLAP_COLUMNS, fc.phase_error_deg)}
     return ValidationResult(
         structure=model.structure.name, source=record.source, trim=trim, hold=hold,
         t=record.t,
@@ -343,6 +369,27 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
         channels=FrozenDict(fits), band_hz=(float(fc.f_hz[0]), float(fc.f_hz[-1])),
         frequency=fc, magnitude_rms_db=FrozenDict(mag_rms),
         phase_rms_deg=FrozenDict(ph_rms))
+
+
+#: A band frequency where the input's DFT is this far below its peak in the band
+#: (-180 dB: rounding, not excitation) has no power: no response is defined there.
+NO_POWER = 1e-9
+
+
+def input_has_power(x) -> np.ndarray:
+    """Mask of the band frequencies where the input DFT ``x`` has power: above
+    :data:`NO_POWER` times its largest magnitude in the band."""
+    a = np.abs(np.asarray(x))
+    peak = float(np.max(a, initial=0.0))
+    return (a > NO_POWER * peak) if peak > 0 and np.isfinite(peak) else np.zeros(a.shape, bool)
+
+
+def _rms(v) -> float:
+    """RMS over the defined (finite) entries; NaN when there are none (no response
+    above noise to compare)."""
+    v = np.asarray(v, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(np.sqrt(np.mean(v ** 2))) if v.size else float("nan")
 
 
 def _band_fit(record, model, bins, hold) -> dict:
@@ -366,5 +413,5 @@ def _band_fit(record, model, bins, hold) -> dict:
 
 _reference = reference_input     # the parameter of validate() shadows the function
 
-__all__ = ["PAPER_BAND_HZ", "ChannelFit", "FrequencyComparison", "ValidationResult",
-           "fit_metrics", "dft_bins", "reference_input", "validate"]
+__all__ = ["PAPER_BAND_HZ", "NO_POWER", "input_has_power", "ChannelFit",
+           "FrequencyComparison", "ValidationResult", "fit_metrics", "dft_bins", "reference_input", "validate"]

@@ -2,6 +2,8 @@
 prints and writes)."""
 from __future__ import annotations
 
+import numpy as np
+
 from ..data.record import FLAP_COLUMNS
 from ..simulate.sampled import HOLD_TEXT
 
@@ -25,9 +27,24 @@ def format_table(result) -> str:
              f"{result.frequency.reference_input}",
              f"{'channel':<8}{'rms [rad]':>12}{'TIC':>8}{'fit [%]':>9}"
              f"{'|H| [dB]':>10}{'phase [deg]':>13}"]
+    undefined = False
     for c, rms, tic, fit, mag, ph in fit_rows(result):
-        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{mag:>10.3f}{ph:>13.2f}")
+        undefined |= not (np.isfinite(mag) and np.isfinite(ph))
+        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{_cell(mag, 3):>10}"
+                     f"{_cell(ph, 2):>13}")
+    if undefined:
+        lines.append(f"{NO_RESPONSE}: {NO_RESPONSE_TEXT}")
     return "\n".join(lines)
+
+
+#: The table's mark of a response error that no band frequency defines.
+NO_RESPONSE = "none"
+NO_RESPONSE_TEXT = ("no response above noise to compare: at no band frequency do the "
+                    "input and both responses have power")
+
+
+def _cell(v, digits):
+    return f"{v:.{digits}f}" if np.isfinite(v) else NO_RESPONSE
 
 
 def validation_report(results, title=None, subtitle=None):
@@ -61,7 +78,11 @@ def validation_report(results, title=None, subtitle=None):
         "transform frequencies); the model's are its predicted flap over the same "
         "input DFT.")
     for r in res:
-        rep.table(fit_rows(r), header=FIT_HEADER, caption=f"Fit of {r.structure}")
+        rows = [row[:4] + [v if np.isfinite(v) else NO_RESPONSE for v in row[4:]]
+                for row in fit_rows(r)]
+        rep.table(rows, header=FIT_HEADER, caption=f"Fit of {r.structure}")
+        if any(NO_RESPONSE in row for row in rows):
+            rep.paragraph(f"{NO_RESPONSE}: {NO_RESPONSE_TEXT}.")
     rep.paragraph(f"Fit [%] is 100 (1 - |Z - Y| / |Z|) over the band's transforms "
                   f"({r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz), the figure identify "
                   "and the ladder report; the time plots show the whole record, "
