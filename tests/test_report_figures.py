@@ -99,7 +99,7 @@ def test_ladder_plot_draws_the_noise_floor(lad):
     a = fig.get_axes()[1]
     floor = [ln for ln in a.get_lines() if ln.get_label() == "noise floor"]
     assert len(floor) == 1 and set(floor[0].get_ydata()) == {1.0}
-    assert a.get_ylabel() == "residual power / noise floor"
+    assert a.get_ylabel() == "residual power / noise floor [-]"
     beta1c = next(ln for ln in a.get_lines() if ln.get_label() == "beta1c")
     np.testing.assert_allclose(beta1c.get_ydata(),
                                [floor_ratios(r)[1] for r in lad.rungs])

@@ -21,7 +21,9 @@ from ..diagnose.validation import validate
 from ..flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 from ..model.presets import preset_parameters
 from .document import Report, check_report_folder
-from .ladder import CANDIDATE_HEADER, candidate_rows, ladder_report
+from .ladder import (CANDIDATE_HEADER, FAILURE_HEADER, candidate_rows, failure_rows,
+                     ladder_report)
+from .units import parameter_label, parameter_value
 from .validation import FIT_HEADER, fit_rows
 
 
@@ -38,6 +40,11 @@ def demo_record(seed=0):
     return virtual_record(VirtualTest(structure=TRUTH, seed=seed, manoeuvres=(
         Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)),
         description="longitudinal then lateral cyclic doublet, 100 kt"))
+
+
+FIT_NOTE = ("RMS error and TIC: the replay of the measured inputs from rest in trim, "
+            "over the whole record; fit [%]: 100 (1 - |Z - Y| / |Z|) over the band's "
+            "transforms, the figure identify, the ladder and the plots report.")
 
 
 def _fit_rows(v):
@@ -71,20 +78,24 @@ def run_demo(out_dir, seed=0, say=None):
                   "is accepted.")
     rep.heading("1. Compare: the basic model, fitted, against the measurements")
     rep.table(_fit_rows(v_first), FIT_HEADER[:4])
+    rep.paragraph(FIT_NOTE)
     rep.figure(time_response_plot([v_first, v_last]), "time",
                "Time-domain reconstruction: measured flap, the basic model and the final "
                "structure (the paper's Figures 1, 3, 5).")
     model_frf_section(rep, [v_first, v_last], [f"{first.structure.name} (first)",
                                                f"{last.structure.name} (last)"],
                       fits={first.structure.name: first.fit, last.structure.name: last.fit},
-                      heading="Frequency responses: where the first structure fails")
+                      heading="1.1 Frequency responses: where the first structure fails")
     d0 = first.diagnosis
     rep.heading("2. Where it fails")
-    rep.table([[f.kind, f.subject, f.message] for f in d0.failures],
-              ["kind", "subject", "finding"])
+    rep.table(failure_rows(d0), FAILURE_HEADER)
+    rep.paragraph("Where model and measurement part: each range of band frequencies "
+                  "whose residual stands above the noise floor, whether magnitude or "
+                  "phase carries most of the error there, and the RMS over the range "
+                  "of the magnitude error [dB] and of the phase error [deg].")
     rep.heading("3. Which effect is missing")
     rep.table(candidate_rows(d0), CANDIDATE_HEADER)
-    ladder_report(lad, rep)
+    ladder_report(lad, rep, heading="4. Add it, refit, repeat: the ladder of structures")
     rep.heading("5. The final structure against the measurements")
     rep.table(_fit_rows(v_last), FIT_HEADER[:4])
     rep.heading("6. The hidden truth revealed")
@@ -93,8 +104,10 @@ def run_demo(out_dir, seed=0, say=None):
         est = last.fit.parameters.get(n)
         sg = last.fit.sigma.get(n)
         z = (est - tv) / sg if (est is not None and sg) else None
-        rows.append([n, tv, est, sg, z])
-    rep.table(rows, ["parameter", "truth", "estimate", "1-sigma", "(estimate - truth)/sigma"])
+        rows.append([parameter_label(n), parameter_value(n, tv), parameter_value(n, est),
+                     parameter_value(n, sg), z])
+    rep.table(rows, ["parameter [unit]", "truth", "estimate", "1-sigma",
+                     "(estimate - truth)/sigma [-]"])
     rep.paragraph(f"The truth was the paper's Glauert-augmented structure ({TRUTH}: basic + "
                   "separate-time-constants + glauert + azimuth-bias) with its Table 3 "
                   f"values. The ladder ended at {last.structure.name}.")

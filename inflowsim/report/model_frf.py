@@ -32,6 +32,16 @@ def cost_rows(fr, models: dict):
     return rows + [overall, verdict]
 
 
+def accuracy_row(a) -> list:
+    """A :class:`~inflowsim.identify.accuracy.ParameterAccuracy` row as reports show
+    it: the parameter with its unit, estimate and bound in that unit (degrees for
+    angles)."""
+    from .units import parameter_label, parameter_value
+    name, est, sigma, *rest = a.as_row()
+    return [parameter_label(name), parameter_value(name, est),
+            parameter_value(name, sigma), *rest]
+
+
 def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", heading=None):
     """Add to ``rep``: Bode plots per input (measured with coherence and error
     bands, the models of ``results`` on top), Tischler's ``J`` per pair and
@@ -66,12 +76,15 @@ def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", headin
                    f"Flap responses to {inp}: measured (markers, bands) and "
                    + ", ".join(labels) + " (lines).")
     rep.table(cost_rows(fr, models), ["output", "input", "coherent points"] +
-              [f"J {lab}" for lab in labels],
-              caption=f"Tischler's cost J per response pair over the coherent points "
-                      f"(W_gain 1, W_phase 0.01745; J <= {J_GOOD:g} good, <= "
+              [f"J {lab} [-]" for lab in labels],
+              caption=f"Tischler's cost J per response pair over the coherent points, "
+                      f"a pure number (magnitude errors in dB weighted 1 per dB^2, "
+                      f"phase errors in deg weighted 0.01745 per deg^2; J <= "
+                      f"{J_GOOD:g} good, <= "
                       f"{J_ACCEPTABLE:g} acceptable)")
     for lab, fit in (fits or {}).items():
-        rep.table([a.as_row() for a in parameter_accuracy(fit)], HEADER,
+        rep.table([accuracy_row(a) for a in parameter_accuracy(fit)], HEADER,
                   caption=f"{lab}: Cramer-Rao and insensitivity percent (guidelines: CR "
-                          f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %)")
+                          f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %;"
+                          " angles in degrees)")
     return fr, models

@@ -6,16 +6,18 @@ import numpy as np
 
 from ..data.record import FLAP_COLUMNS
 from ..simulate.sampled import HOLD_TEXT
+from .units import DEG
 
 
 def fit_rows(result):
-    """Table rows ``channel, rms, tic, fit, magnitude error, phase error``."""
-    return [[c, result.channels[c].rms, result.channels[c].tic,
+    """Table rows ``channel, rms [deg], tic, fit, magnitude error, phase error`` (the
+    RMS error in degrees, as the plots show the flap; ``--json`` keeps SI)."""
+    return [[c, result.channels[c].rms * DEG, result.channels[c].tic,
              result.channels[c].fit_percent, result.magnitude_rms_db[c],
              result.phase_rms_deg[c]] for c in FLAP_COLUMNS]
 
 
-FIT_HEADER = ["channel", "rms error [rad]", "TIC", "fit [%]", "|H| error [dB rms]",
+FIT_HEADER = ["channel", "rms error [deg]", "TIC [-]", "fit [%]", "|H| error [dB rms]",
               "phase error [deg rms]"]
 
 
@@ -25,7 +27,7 @@ def format_table(result) -> str:
              f"band {result.band_hz[0]:.4g}-{result.band_hz[1]:.4g} Hz "
              f"({result.frequency.f_hz.size} frequencies), responses to "
              f"{result.frequency.reference_input}",
-             f"{'channel':<8}{'rms [rad]':>12}{'TIC':>8}{'fit [%]':>9}"
+             f"{'channel':<8}{'rms [deg]':>12}{'TIC':>8}{'fit [%]':>9}"
              f"{'|H| [dB]':>10}{'phase [deg]':>13}"]
     undefined = False
     for c, rms, tic, fit, mag, ph in fit_rows(result):
