@@ -66,7 +66,7 @@ def reconstruction_plot(result, path=None, index: int = 0):
     return _done(fig, path)
 
 
-def panel_grid(n: int, max_cols: int = 4) -> tuple[int, int]:
+def panel_grid(n: int, max_cols: int = 5) -> tuple[int, int]:
     """``(rows, columns)`` for ``n`` panels: at most ``max_cols`` columns, the fewest
     empty panels (then the most columns; two columns only up to six panels, so the
     figure does not grow a long thin column), so no row is left mostly empty (three

@@ -205,7 +205,7 @@ def failure_message(failure, analyses=()) -> str:
         mag = 20.0 * np.log10(np.abs(z[sel]) / np.abs(y[sel]))
         ph = np.degrees(np.angle(z[sel] * np.conj(y[sel])))
         parts.append(f"{where}, mostly {seg['mostly']}: magnitude error "
-                     f"{_rms(mag):.2g} dB rms, phase error {_rms(ph):.2g} deg rms")
+                     f"{_rms(mag):.2f} dB rms, phase error {_rms(ph):.1f} deg rms")
     excess = failure.detail.get("excess_power")
     tail = "" if excess is None else \
         f"; in-band residual power {excess:.3g} times the noise floor"
