@@ -70,7 +70,8 @@ def run_demo(out_dir, seed=0, say=None):
     truth = preset_parameters(TRUTH, rec.constants, "paper")
 
     rep = Report("inflowsim demo: find the missing physics",
-                 "virtual Puma doublets at 100 kt with a hidden effect; flap noise 1e-4 rad")
+                 "virtual Puma doublets at 100 kt with a hidden effect; flap noise "
+                 "0.0057 deg (1e-4 rad)")
     rep.paragraph("A record of a longitudinal then a lateral cyclic doublet was made from a "
                   "truth the user is not told. We start, as the paper did, from the basic momentum-inflow "
                   "model (its Table 1 structure), fit it, see where it fails, let the tool "
