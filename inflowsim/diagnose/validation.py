@@ -414,4 +414,5 @@ def _band_fit(record, model, bins, hold) -> dict:
 _reference = reference_input     # the parameter of validate() shadows the function
 
 __all__ = ["PAPER_BAND_HZ", "NO_POWER", "input_has_power", "ChannelFit",
-           "FrequencyComparison", "ValidationResult", "fit_metrics", "dft_bins", "reference_input", "validate"]
+           "FrequencyComparison", "ValidationResult", "fit_metrics", "dft_bins",
+           "reference_input", "validate"]
