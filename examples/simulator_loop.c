@@ -2,22 +2,30 @@
  * A simulator loop in C: a rigid airframe flown on the inflowsim FMU's rotor loads from
  * hover to forward flight (issue #10 part 6).  The C twin of simulator_loop.py.
  *
- *   cc -std=c99 -O2 -I fmu -o simulator_loop examples/simulator_loop.c -ldl -lm
+ *   cc -std=c99 -O2 -I UNZIPPED/sources -o simulator_loop examples/simulator_loop.c -ldl -lm
  *   ./simulator_loop BINARY.so GUID [OUT.csv]
  *
  * BINARY.so is binaries/linux64/inflowsim.so of an unzipped FMU (inflowsim fmu build),
- * GUID its modelDescription's guid; the value references come from the generated
- * fmu/inflow_vars.h (IFS_VR_*), as a simulator's FMU import would generate them.
+ * GUID its modelDescription's guid; the value references come from the FMU's
+ * sources/inflow_vars.h (IFS_VR_*, -I UNZIPPED/sources), as a simulator's FMU import
+ * would generate them from its modelDescription.xml.
  *
  * Every frame (60 Hz): the airframe gives the FMU its hub motion and the autopilot's
  * controls (fmi2SetReal), the FMU steps (fmi2DoStep) and gives back the flap and the
  * loads (fmi2GetReal: CT and the flap springs' hub moments), and the airframe
  * integrates them.  The flight condition mu follows the airspeed every frame, with the
  * mass-flow speed through the disc (inflow_speed 1, ct), so one rotor flies in hover
- * and at 50 m/s.  Airframe, autopilot and their simplifications as simulator_loop.py
+ * and at speed (the autopilot asks for 55 m/s).
+ *
+ * The same loop as simulator_loop.py: the same airframe, autopilot and simplifications
  * (Puma mass and inertias, hub 2.16 m above the centre of mass, heading held, shaft
- * vertical, rotor force along the tip-path plane); the rotor uses the FMU's default
- * parameters (the paper's Table 3).
+ * vertical, rotor force along the tip-path plane), the same 60 Hz frame and 45 s, and
+ * the same rotor: simulator_loop_fmu.py builds the FMU from simulator_loop.py's
+ * rotor_model() (glauert at its theory values, hover CT, mass-flow speed), whose
+ * parameters and constants become the FMU's start values, and compiles this file
+ * against that FMU's own sources/inflow_vars.h.  The two logs agree to rounding
+ * (tests/test_simulator_loops.py).  On an FMU built with other parameters (the
+ * default FMU carries the paper's Table 3 values) the same program flies that rotor.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <dlfcn.h>
@@ -178,9 +186,9 @@ int main(int argc, char **argv)
         if (fabs(z) > max_dz) max_dz = fabs(z);
         if (fabs(phi) > max_phi) max_phi = fabs(phi);
         if (csv)
-            fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
-                         "%.6g\n", t + FRAME, speed, mu, -z, theta, phi, ctl[0], ctl[1],
-                    ctl[2], y[0], y[1], thrust, m_pitch, m_roll);
+            fprintf(csv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                         "%.17g,%.17g,%.17g,%.17g\n", t + FRAME, speed, mu, -z, theta,
+                    phi, ctl[0], ctl[1], ctl[2], y[0], y[1], thrust, m_pitch, m_roll);
     }
     free_instance(c);
     if (csv) fclose(csv);

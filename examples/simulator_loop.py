@@ -10,6 +10,10 @@ airframe integrates them. The flight condition follows the airspeed every frame
 (``set_mu``) with the mass-flow speed through the disc, so the same rotor flies in hover
 and at 55 m/s. Writes ``OUTDIR/simulator_loop.png`` (default ``simulator-loop``).
 
+``simulator_loop.c`` is the same loop in C on the FMU: ``simulator_loop_fmu.py`` builds
+the FMU from :func:`rotor_model` and runs it; same inputs, model, step and duration,
+and the two logs agree to rounding (``tests/test_simulator_loops.py``).
+
 The airframe is deliberately simple, and says so: Puma mass and inertias (Padfield,
 *Helicopter Flight Dynamics*, Puma data), rotor hub 2.16 m above the centre of mass, a
 fuselage flat-plate drag area of 2.5 m^2, heading held (no yaw), shaft vertical in body
@@ -43,11 +47,18 @@ FRAME = 1.0 / 60.0
 V_TARGET = 55.0                              # [m/s], mu = 0.27
 
 
-def rotor():
+def rotor_model():
+    """The rotor both loops fly: ``glauert`` at its theory values, hover thrust
+    coefficient, mass-flow speed through the disc (``simulator_loop_fmu.py`` builds
+    the FMU from this same model)."""
     ct = MASS * G / (RHO * math.pi * R**2 * (OMEGA * R) ** 2)
     k = Constants(mu=0.0, a0=5.73, solidity=0.0917, omega=OMEGA, radius=R, ct=ct,
                   inflow_speed="mass-flow").check()
-    return Simulator(build_model("glauert", theory_parameters("glauert", k), k), FRAME)
+    return build_model("glauert", theory_parameters("glauert", k), k)
+
+
+def rotor():
+    return Simulator(rotor_model(), FRAME)
 
 
 def autopilot(s, t):

@@ -16,12 +16,11 @@ import subprocess
 import sys
 import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
 
 from inflowsim.fmu import build_fmu
-from inflowsim.fmu.build import source_dir
-from inflowsim.fmu.generate import guid
 from inflowsim.report.plots import new_figure, save_png
 
 HERE = Path(__file__).resolve().parent
@@ -34,17 +33,24 @@ def main(argv):
     if not cc:
         print("no C compiler (cc, gcc or $CC): cannot build the FMU", file=sys.stderr)
         return 2
-    fmu = build_fmu(out / "inflowsim.fmu", overwrite=True)
+    # the rotor of simulator_loop.py (its parameters and constants become the FMU's
+    # start values), so the two loops fly the same model
+    sys.path.insert(0, str(HERE))
+    from simulator_loop import rotor_model
+    fmu = build_fmu(out / "inflowsim.fmu", overwrite=True, model=rotor_model())
     unz = out / "unzipped"
     with zipfile.ZipFile(fmu) as z:
         z.extractall(unz)
     exe = out / "simulator_loop"
+    # the FMU's own headers: its value references, as an importer generates them
+    # from its modelDescription.xml
     subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
-                    f"-I{source_dir()}", "-o", str(exe), str(HERE / "simulator_loop.c"),
-                    "-ldl", "-lm"], check=True)
+                    f"-I{unz / 'sources'}", "-o", str(exe),
+                    str(HERE / "simulator_loop.c"), "-ldl", "-lm"], check=True)
+    guid = ElementTree.parse(unz / "modelDescription.xml").getroot().get("guid")
     csv = out / "simulator_loop_fmu.csv"
     res = subprocess.run([str(exe), str(unz / "binaries" / "linux64" / "inflowsim.so"),
-                          guid(), str(csv)], capture_output=True, text=True, check=True)
+                          guid, str(csv)], capture_output=True, text=True, check=True)
     print(res.stdout, end="")
     log = np.genfromtxt(csv, delimiter=",", names=True)
     fig, ax = new_figure(3, 1, size=(8.0, 8.0))

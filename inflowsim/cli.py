@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from .errors import InputError
@@ -47,11 +48,15 @@ def main(argv=None) -> int:
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)
         return 2
+    stdout = sys.stdout
+    sys.stdout = _NamedStream(stdout, _stream_name(stdout, "standard output"))
     try:
         if hasattr(args, "effect_file"):
             from .commands._common import load_effects
             load_effects(args)
-        return int(args._run(args) or 0)
+        code = int(args._run(args) or 0)
+        sys.stdout.flush()          # a full disk under stdout is reported here, named
+        return code
     except InputError as exc:
         sys.stderr.write(f"inflowsim {args.command}: error: {_one_line(exc)}\n")
         return 2
@@ -68,6 +73,44 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("inflowsim: interrupted\n")
         return 130
+    finally:
+        sys.stdout = stdout
+
+
+def _stream_name(stream, what: str) -> str:
+    """``what`` and, where the system says, the file it goes to: "standard output
+    (/dev/full)"."""
+    try:
+        target = os.readlink(f"/proc/self/fd/{stream.fileno()}")
+    except (OSError, AttributeError, ValueError):
+        return what
+    return f"{what} ({target})" if target.startswith("/") else what
+
+
+class _NamedStream:
+    """A text stream whose OS errors name it: a write to a full disk through
+    ``> file`` says which file (the OS error of a write carries no file name)."""
+
+    def __init__(self, stream, name):
+        self._stream, self._name = stream, name
+
+    def _named(self, call, *a):
+        try:
+            return call(*a)
+        except OSError as exc:
+            if exc.filename is None and exc.errno is not None and _users_os_error(exc):
+                raise type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno),
+                                self._name) from exc
+            raise
+
+    def write(self, text):
+        return self._named(self._stream.write, text)
+
+    def flush(self):
+        return self._named(self._stream.flush)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
 
 
 def _users_os_error(exc: OSError) -> bool:

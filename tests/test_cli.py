@@ -225,6 +225,55 @@ def test_demo_writes_report(capsys, tmp_path):
         assert doc["validation"]["start"][c]["rms"] > doc["validation"]["final"][c]["rms"]
     assert (d / "index.html").exists() and (d / "ladder.png").exists()
     assert read_record(d / "record.csv").dt == 0.01
+    _check_the_demo_report_agrees_with_itself((d / "index.html").read_text(), doc)
+
+
+def _tables(page):
+    """Each HTML table of the page as rows of cell texts (header row first)."""
+    import html
+    import re
+    out = []
+    for t in re.findall(r"<table>(.*?)</table>", page, flags=re.S):
+        rows = [[html.unescape(re.sub(r"<[^>]+>", "", c)).strip()
+                 for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", tr, flags=re.S)]
+                for tr in re.findall(r"<tr>(.*?)</tr>", t, flags=re.S)]
+        out.append(rows)
+    return out
+
+
+def _check_the_demo_report_agrees_with_itself(page, doc):
+    """Issue #28 item 5: one figure per quantity, findings in words that do not
+    cancel or print empty ranges, angles in degrees, units everywhere, every
+    section numbered."""
+    import re
+    # every section numbered
+    heads = re.findall(r"<h2>(.*?)</h2>", page)
+    assert heads and all(re.match(r"\d+(\.\d+)*\.? ", h) for h in heads), heads
+    # the fit of the first and last structure: the same in the compare tables, the
+    # ladder table and the JSON (validate and identify gave 31.47 and 31.62)
+    tables = _tables(page)
+    fits = [t for t in tables if t[0][:4] == ["channel", "rms error [deg]", "TIC [-]",
+                                              "fit [%]"]]
+    ladder = next(t for t in tables if t[0][0] == "quantity")
+    assert len(fits) == 2
+    for col, table, key in ((1, fits[0], "start"), (-1, fits[1], "final")):
+        for row in table[1:]:
+            lad = next(r for r in ladder if r[0] == f"{row[0]} fit [%]")
+            assert row[3] == lad[col], (row, lad)
+            rung = doc["ladder"][0 if col == 1 else -1]
+            assert float(row[3]) == pytest.approx(rung["fit_percent"][row[0]], abs=0.006)
+            assert doc["validation"][key][row[0]]["fit_percent"] == pytest.approx(
+                rung["fit_percent"][row[0]], abs=1e-4)
+    # where it fails: no signed mean rounded to -0 deg, no empty range
+    assert "-0 deg" not in page and "+0 deg" not in page
+    for a, b in re.findall(r"(\d[\d.]*)-(\d[\d.]*) Hz", page):
+        assert a != b, f"{a}-{b} Hz"
+    assert "deg rms" in page
+    # angles in degrees, units on every quantity of the ladder table
+    assert "[rad]" not in page
+    for row in ladder[1:]:
+        assert row[0] == "added" or re.search(r"\[[^\]]+\]", row[0]), row[0]
+    assert "(1)" not in page
 
 
 # -- the installed script -----------------------------------------------------------

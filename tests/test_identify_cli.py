@@ -95,8 +95,9 @@ def test_tables_name_every_parameter(rec_path, tmp_path):
     r = identify(rec_path, "empirical")
     md = markdown_table(r)
     page = fit_report(r).write(tmp_path / "rep").read_text()
-    for n in r.parameters:
-        assert f"`{n}`" in md and f"<td>{n}</td>" in page
+    from inflowsim.report.units import parameter_label
+    for n in r.parameters:          # the page names each with the unit it shows
+        assert f"`{n}`" in md and f"<td>{parameter_label(n)}</td>" in page
 
 
 def test_band_study_and_command(rec_path, tmp_path, capsys):

@@ -43,16 +43,18 @@ def test_fit_percent_hand_values():
 
 
 def test_validate_and_identify_report_the_same_fit(rec, basic_fit):
-    # the same fitted model: both figures are fit_percent over the band's transforms
-    # (they differ only by the identification's end-effect terms)
+    # the same fitted model on the same record: one figure (to 1e-4 points: evaluate
+    # re-estimates the residual covariance that weights the end states; issue #28
+    # item 5: the demo printed 31.47 beside 31.62 when validate took the replay from
+    # rest and identify the end states it estimates)
     v = validate(rec, basic_fit.model)
     for c in ("beta0", "beta1c", "beta1s"):
         assert v.channels[c].fit_percent == pytest.approx(
-            basic_fit.fit[c]["fit_percent"], abs=2.0)
+            basic_fit.fit[c]["fit_percent"], abs=1e-4)
+    # ... which is not the replay's band figure: the end states are what differs
     z, y = v.measured_dft, v.predicted_dft
-    for i, c in enumerate(("beta0", "beta1c", "beta1s")):
-        assert v.channels[c].fit_percent == pytest.approx(fit_percent(z[i], y[i]),
-                                                          rel=1e-12)
+    assert max(abs(v.channels[c].fit_percent - fit_percent(z[i], y[i]))
+               for i, c in enumerate(("beta0", "beta1c", "beta1s"))) > 1e-3
 
 
 def test_time_plot_shows_the_band_and_the_inputs(rec, basic_fit):
@@ -97,7 +99,7 @@ def test_ladder_plot_draws_the_noise_floor(lad):
     a = fig.get_axes()[1]
     floor = [ln for ln in a.get_lines() if ln.get_label() == "noise floor"]
     assert len(floor) == 1 and set(floor[0].get_ydata()) == {1.0}
-    assert a.get_ylabel() == "residual power / noise floor"
+    assert a.get_ylabel() == "residual power / noise floor [-]"
     beta1c = next(ln for ln in a.get_lines() if ln.get_label() == "beta1c")
     np.testing.assert_allclose(beta1c.get_ydata(),
                                [floor_ratios(r)[1] for r in lad.rungs])

@@ -16,6 +16,7 @@ import shutil
 import subprocess
 import tempfile
 import zipfile
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..fileio import atomic_path, check_output
@@ -155,6 +156,20 @@ def description_for(model=None) -> Description:
     s = supported(structure)
     refuse_leads(params)
     return describe((s.name,), start=params, constants=getattr(model, "constants", None))
+
+
+@contextmanager
+def _naming_os_errors(name):
+    """An OS error without a file name (a write to a full disk) names ``name``: the
+    build folder lies in the system's temporary folder, maybe on another disk than
+    the FMU."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is None and exc.errno is not None:
+            raise type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno),
+                            name) from exc
+        raise
 
 
 def _stage_sources(dest: Path, fmi_version: int, d: Description = DEFAULT) -> None:
@@ -320,7 +335,8 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         require_cross_compiler(target)
     if say:
         say(f"building {out} ...")
-    with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp, \
+            _naming_os_errors(f"{tmp} (the build folder of {out})"):
         root = Path(tmp) / "fmu"
         _stage_sources(root / "sources", version, d)
         (root / "binaries" / plat).mkdir(parents=True)

@@ -21,8 +21,10 @@ from ..diagnose.validation import validate
 from ..flighttest.virtual import Manoeuvre, VirtualTest, virtual_record
 from ..model.presets import preset_parameters
 from .document import Report, check_report_folder
-from .ladder import CANDIDATE_HEADER, candidate_rows, ladder_report
-from .validation import FIT_HEADER, fit_rows
+from .ladder import (CANDIDATE_HEADER, FAILURE_HEADER, candidate_rows, failure_rows,
+                     ladder_report)
+from .units import parameter_label, parameter_value
+from .validation import FIT_HEADER, NO_RESPONSE, NO_RESPONSE_TEXT, fit_table_rows
 
 
 TRUTH = "glauert"
@@ -38,6 +40,13 @@ def demo_record(seed=0):
     return virtual_record(VirtualTest(structure=TRUTH, seed=seed, manoeuvres=(
         Manoeuvre(), Manoeuvre(channel="theta1c", t_start=12.0)),
         description="longitudinal then lateral cyclic doublet, 100 kt"))
+
+
+FIT_NOTE = ("RMS error and TIC: the replay of the measured inputs from rest in trim, "
+            "over the whole record; fit [%]: 100 (1 - |Z - Y| / |Z|) over the band's "
+            "transforms, the figure identify, the ladder and the plots report; |H| and "
+            "phase error: RMS over the points of the conditioned responses (1.1) with "
+            "coherence >= 0.6.")
 
 
 def run_demo(out_dir, seed=0, say=None):
@@ -57,38 +66,50 @@ def run_demo(out_dir, seed=0, say=None):
     truth = preset_parameters(TRUTH, rec.constants, "paper")
 
     rep = Report("inflowsim demo: find the missing physics",
-                 "virtual Puma doublets at 100 kt with a hidden effect; flap noise 1e-4 rad")
+                 "virtual Puma doublets at 100 kt with a hidden effect; flap noise "
+                 "0.0057 deg (1e-4 rad)")
     rep.paragraph("A record of a longitudinal then a lateral cyclic doublet was made from a "
                   "truth the user is not told. We start, as the paper did, from the basic momentum-inflow "
                   "model (its Table 1 structure), fit it, see where it fails, let the tool "
                   "name the missing effect, add it, refit, and repeat until nothing "
                   "is accepted.")
     rep.heading("1. Compare: the basic model, fitted, against the measurements")
-    rep.table(fit_rows(v_first), FIT_HEADER)
+    rows = fit_table_rows(v_first)
+    rep.table(rows, FIT_HEADER)
+    rep.paragraph(FIT_NOTE + (f" {NO_RESPONSE}: {NO_RESPONSE_TEXT}."
+                              if any(NO_RESPONSE in r for r in rows) else ""))
     rep.figure(time_response_plot([v_first, v_last]), "time",
                "Time-domain reconstruction: measured flap, the basic model and the final "
                "structure (the paper's Figures 1, 3, 5).")
     model_frf_section(rep, [v_first, v_last], [f"{first.structure.name} (first)",
                                                f"{last.structure.name} (last)"],
                       fits={first.structure.name: first.fit, last.structure.name: last.fit},
-                      heading="Frequency responses: where the first structure fails")
+                      heading="1.1 Frequency responses: where the first structure fails")
     d0 = first.diagnosis
     rep.heading("2. Where it fails")
-    rep.table([[f.kind, f.subject, f.message] for f in d0.failures],
-              ["kind", "subject", "finding"])
+    rep.table(failure_rows(d0), FAILURE_HEADER)
+    rep.paragraph("Where model and measurement part: each range of band frequencies "
+                  "whose residual stands above the noise floor, whether magnitude or "
+                  "phase carries most of the error there, and the RMS over the range "
+                  "of the magnitude error [dB] and of the phase error [deg].")
     rep.heading("3. Which effect is missing")
     rep.table(candidate_rows(d0), CANDIDATE_HEADER)
-    ladder_report(lad, rep)
+    ladder_report(lad, rep, heading="4. Add it, refit, repeat: the ladder of structures")
     rep.heading("5. The final structure against the measurements")
-    rep.table(fit_rows(v_last), FIT_HEADER)
+    rows = fit_table_rows(v_last)
+    rep.table(rows, FIT_HEADER)
+    if any(NO_RESPONSE in r for r in rows):
+        rep.paragraph(f"{NO_RESPONSE}: {NO_RESPONSE_TEXT}.")
     rep.heading("6. The hidden truth revealed")
     rows = []
     for n, tv in truth.items():
         est = last.fit.parameters.get(n)
         sg = last.fit.sigma.get(n)
         z = (est - tv) / sg if (est is not None and sg) else None
-        rows.append([n, tv, est, sg, z])
-    rep.table(rows, ["parameter", "truth", "estimate", "1-sigma", "(estimate - truth)/sigma"])
+        rows.append([parameter_label(n), parameter_value(n, tv), parameter_value(n, est),
+                     parameter_value(n, sg), z])
+    rep.table(rows, ["parameter [unit]", "truth", "estimate", "1-sigma",
+                     "(estimate - truth)/sigma [-]"])
     rep.paragraph(f"The truth was the paper's Glauert-augmented structure ({TRUTH}: basic + "
                   "separate-time-constants + glauert + azimuth-bias) with its Table 3 "
                   f"values. The ladder ended at {last.structure.name}.")

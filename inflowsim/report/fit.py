@@ -24,13 +24,16 @@ def fit_report(result, rep: Report | None = None) -> Report:
                   f"({result.n_freq} frequencies), cost (12) {result.cost:.4f}, "
                   f"{'converged' if result.converged else 'NOT converged'} in "
                   f"{result.iterations} iterations.")
+    from .units import parameter_label, parameter_value
     rows = []
     for n, v, s, sc, th, note in table_rows(result):
         free = n not in result.fixed
-        rows.append([n, v, s if free else "", sc if free else "", th,
+        rows.append([parameter_label(n), parameter_value(n, v),
+                     parameter_value(n, s) if free else "",
+                     parameter_value(n, sc) if free else "", parameter_value(n, th),
                      note or ("not determined" if free and s is None else "")])
-    rep.table(rows, PARAMETER_HEADER, caption="Estimates with 1-sigma bounds (time "
-              "constants in azimuth units)")
+    rep.table(rows, PARAMETER_HEADER, caption="Estimates with 1-sigma bounds (angles in "
+              "degrees, time constants in azimuth units)")
     rep.table([[ch, f["mag_rms_db"], f["phase_rms_deg"], f["fit_percent"]]
                for ch, f in result.fit.items()], FIT_HEADER, caption="Fit per channel")
     for w in result.warnings:

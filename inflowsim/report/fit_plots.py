@@ -66,20 +66,40 @@ def reconstruction_plot(result, path=None, index: int = 0):
     return _done(fig, path)
 
 
+def panel_grid(n: int, max_cols: int = 5) -> tuple[int, int]:
+    """``(rows, columns)`` for ``n`` panels: at most ``max_cols`` columns, the fewest
+    empty panels (then the most columns; two columns only up to six panels, so the
+    figure does not grow a long thin column), so no row is left mostly empty (three
+    parameters in four columns left a quarter of the figure blank)."""
+    if n <= max_cols:
+        return 1, max(n, 1)
+    cols = [c for c in range(2, max_cols + 1) if c > 2 or n <= 6]
+    best = min(cols, key=lambda c: ((-n) % c, -c))
+    return -(-n // best), best
+
+
 def band_study_plot(study, path=None):
-    """Estimates with 1-sigma bars against the lower band limit (Figure 6)."""
+    """Estimates with 1-sigma bars against the lower band limit (Figure 6), one panel
+    per parameter (angles in degrees, each axis with its unit), laid out so that no
+    row is left mostly empty (:func:`panel_grid`)."""
+    from .units import parameter_label, parameter_unit, parameter_value
     names = list(study.estimates)
-    ncol = 4
-    nrow = -(-len(names) // ncol)
-    fig, ax = new_figure(nrow, ncol, size=(3.2 * ncol, 2.4 * nrow), sharex=False)
-    for k, n in enumerate(names):
-        a = ax[k // ncol, k % ncol]
-        s = np.array([np.nan if v is None else v for v in study.sigma[n]], dtype=float)
-        a.errorbar(study.lower_hz, study.estimates[n], yerr=s, fmt="o-", ms=3, capsize=2)
-        a.set_title(n, fontsize=9)
+    nrow, ncol = panel_grid(len(names))
+    fig, ax = new_figure(nrow, ncol, size=(3.2 * ncol, 2.5 * nrow), sharex=False)
+    panels = [ax[k // ncol, k % ncol] for k in range(len(names))]
+    for a, n in zip(panels, names):
+        v = np.array([parameter_value(n, x) for x in study.estimates[n]], dtype=float)
+        s = np.array([np.nan if x is None else parameter_value(n, x)
+                      for x in study.sigma[n]], dtype=float)
+        a.errorbar(study.lower_hz, v, yerr=s, fmt="o-", ms=3, capsize=2)
+        a.set_title(parameter_label(n), fontsize=9)
+        a.set_ylabel(f"[{parameter_unit(n) or '-'}]", fontsize=8)
+    for a in panels:
+        a.set_xlabel("lower band limit [Hz]", fontsize=8)
         a.tick_params(labelsize=7)
-    for k in range(len(names), nrow * ncol):
+        a.grid(True, alpha=0.3)
+    for k in range(len(panels), nrow * ncol):
         ax[k // ncol, k % ncol].axis("off")
-    fig.supxlabel(f"lower band limit [Hz] (upper {study.upper_hz:.4g} Hz)")
-    fig.suptitle(f"{study.structure}: estimates against the lower frequency limit")
+    fig.suptitle(f"{study.structure}: estimates (1-sigma bars) against the lower "
+                 f"frequency limit, upper limit {study.upper_hz:.4g} Hz")
     return _done(fig, path)

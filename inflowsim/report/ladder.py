@@ -19,7 +19,11 @@ def _noise_ratio(fit):
 
 
 def ladder_rows(ladder) -> tuple[list, list]:
-    """``(header, rows)``: parameters with bounds side by side, cost, fit per channel."""
+    """``(header, rows)``: parameters with bounds side by side (angles in degrees,
+    every row naming its unit), cost, fit per channel, and the residual power per
+    channel over the noise floor (the ladder plot's quantity; without residual
+    analyses, the residual covariance's diagonal [rad^2])."""
+    from .units import parameter_label, parameter_value
     rungs = ladder.rungs
     header = ["quantity"] + [r.structure.name for r in rungs]
     names: list[str] = []
@@ -27,24 +31,35 @@ def ladder_rows(ladder) -> tuple[list, list]:
         names += [n for n in r.fit.parameters if n not in names]
     rows = []
     for n in names:
-        row = [n]
+        row = [parameter_label(n)]
         for r in rungs:
             if n in r.fit.parameters:
-                s = r.fit.sigma.get(n)
+                v = parameter_value(n, r.fit.parameters[n])
+                s = parameter_value(n, r.fit.sigma.get(n))
                 why = "fixed" if n in getattr(r.fit, "fixed", ()) else "not determined"
-                row.append(f"{r.fit.parameters[n]:.4g} ({s:.2g})" if s is not None
-                           else f"{r.fit.parameters[n]:.4g} ({why})")
+                row.append(f"{v:.4g} ({s:.2g})" if s is not None else f"{v:.4g} ({why})")
             else:
                 row.append("")
         rows.append(row)
-    rows.append(["cost J"] + [f"{r.fit.cost:.1f}" for r in rungs])
+    rows.append([COST_LABEL] + [f"{r.fit.cost:.1f}" for r in rungs])
     rows.append(["added"] + [r.added or "" for r in rungs])
     for ch in FLAP:
         rows.append([f"{ch} fit [%]"] + [f"{r.fit.fit[ch]['fit_percent']:.2f}" for r in rungs])
-    for i, ch in enumerate(FLAP):
-        rows.append([f"{ch} residual power"] +
-                    [f"{_noise_ratio(r.fit)[i]:.3g}" for r in rungs])
+    ratios = [floor_ratios(r) for r in rungs]
+    if all(q is not None for q in ratios):
+        for i, ch in enumerate(FLAP):
+            rows.append([f"{ch} residual power / noise floor [-]"] +
+                        [f"{q[i]:.3g}" for q in ratios])
+    else:
+        for i, ch in enumerate(FLAP):
+            rows.append([f"{ch} residual power [rad^2]"] +
+                        [f"{_noise_ratio(r.fit)[i]:.3g}" for r in rungs])
     return header, rows
+
+
+#: The cost's row and axis label: (12) is a log-likelihood, a pure number (its
+#: log-determinant takes S in rad^2: differences between rungs are what count).
+COST_LABEL = "cost J (Eq. 12) [-]"
 
 
 def ladder_markdown(ladder) -> str:
@@ -90,7 +105,7 @@ def ladder_plot(ladder, path=None):
     x = np.arange(len(ladder.rungs))
     labels = [r.structure.name if r.added is None else f"+{r.added}" for r in ladder.rungs]
     axes[0].plot(x, [r.fit.cost for r in ladder.rungs], "o-", color="k")
-    axes[0].set_ylabel("cost J (Eq. 12)")
+    axes[0].set_ylabel(COST_LABEL)
     axes[0].set_title("Add the missing effect, watch the error fall")
     ratios = [floor_ratios(r) for r in ladder.rungs]
     if all(q is not None for q in ratios):
@@ -98,13 +113,13 @@ def ladder_plot(ladder, path=None):
         for i, ch in enumerate(FLAP):
             axes[1].semilogy(x, pw[:, i], "o-", label=ch)
         axes[1].axhline(1.0, color="k", ls="--", lw=1.2, label="noise floor")
-        axes[1].set_ylabel("residual power / noise floor")
+        axes[1].set_ylabel("residual power / noise floor [-]")
     else:                                   # rungs fitted without residual analyses
         pw = np.array([_noise_ratio(r.fit) for r in ladder.rungs])
         for i, ch in enumerate(FLAP):
             axes[1].semilogy(x, pw[:, i] / pw[-1, i], "o-", label=ch)
         axes[1].axhline(1.0, color="grey", ls=":", lw=1)
-        axes[1].set_ylabel("residual power / final rung's")
+        axes[1].set_ylabel("residual power / final rung's [-]")
     axes[1].set_xticks(x, labels, rotation=15)
     axes[1].legend()
     axes[1].grid(True, which="both", alpha=0.3)
@@ -144,12 +159,74 @@ def candidate_plot(diagnosis, path=None):
     a.barh(y, red, color=colors)
     a.set_yticks(y, [c.atom for c in cands])
     a.set_xscale("log")
-    a.set_xlabel("cost reduction when added (green: accepted)")
+    a.set_xlabel("cost reduction when added [-] (green: accepted)")
     a.grid(True, axis="x", which="both", alpha=0.3)
     fig.suptitle(f"Candidate effects on {diagnosis.structure.name}")
     if path:
         save_png(fig, path)
     return fig
+
+
+FAILURE_HEADER = ["kind", "subject", "finding"]
+
+
+def failure_rows(diagnosis):
+    """Rows ``kind, subject, finding`` of a diagnosis's failures, each finding as
+    :func:`failure_message` words it."""
+    return [[f.kind, f.subject, failure_message(f, diagnosis.analyses)]
+            for f in diagnosis.failures]
+
+
+def failure_message(failure, analyses=()) -> str:
+    """A failure in words.  A ``spectrum`` failure is worded from its data: per
+    frequency range where model and measurement part, whether magnitude or phase
+    carries most of the error power, and the RMS of the magnitude error [dB] and of
+    the phase error [deg] over the range's frequencies (an average of signed phase
+    errors cancels to 0 deg where the model leads and lags in turn); a range of one
+    transform frequency is one frequency.  Other kinds: their message."""
+    if failure.kind != "spectrum" or "segments" not in failure.detail:
+        return failure.message
+    ch = failure.subject
+    ra = _analysis_of(failure, analyses)
+    if ch not in FLAP or ra is None:
+        return failure.message
+    c = FLAP.index(ch)
+    z, y = ra.measured[c], ra.predicted[c]
+    parts = []
+    for seg in failure.detail["segments"]:
+        f1, f2 = seg["f1_hz"], seg["f2_hz"]
+        sel = (ra.f_hz >= f1) & (ra.f_hz <= f2) & (np.abs(z) > 0) & (np.abs(y) > 0)
+        n = int(sel.sum())
+        where = (f"{f1:.3g} Hz" if n <= 1 or f1 == f2 else
+                 f"{f1:.3g}-{f2:.3g} Hz ({n} frequencies)")
+        if n == 0:
+            parts.append(f"{where} (mostly {seg['mostly']})")
+            continue
+        mag = 20.0 * np.log10(np.abs(z[sel]) / np.abs(y[sel]))
+        ph = np.degrees(np.angle(z[sel] * np.conj(y[sel])))
+        parts.append(f"{where}, mostly {seg['mostly']}: magnitude error "
+                     f"{_rms(mag):.2f} dB rms, phase error {_rms(ph):.1f} deg rms")
+    excess = failure.detail.get("excess_power")
+    tail = "" if excess is None else \
+        f"; in-band residual power {excess:.3g} times the noise floor"
+    return f"{ch}: model and measurement part at " + "; ".join(parts) + tail
+
+
+def _rms(v) -> float:
+    return float(np.sqrt(np.mean(np.square(v))))
+
+
+def _analysis_of(failure, analyses):
+    """The residual analysis a spectrum failure was found in: the one whose channel
+    carries the failure's mean excess power (one analysis per record)."""
+    c = FLAP.index(failure.subject) if failure.subject in FLAP else None
+    want = failure.detail.get("excess_power")
+    if c is None or want is None:
+        return None
+    for ra in analyses or ():
+        if np.isclose(float(ra.ratio[c].mean()), want, rtol=1e-12, atol=0.0):
+            return ra
+    return None
 
 
 def candidate_rows(diagnosis):
@@ -183,7 +260,7 @@ def format_diagnosis(d) -> str:
     lines = [f"structure {d.structure.name}: cost {d.fit.cost:.2f} over "
              f"{d.band_hz[0]:.4g}-{d.band_hz[1]:.4g} Hz"]
     lines.append("where it fails:" if d.failures else "where it fails: nothing found")
-    lines += [f"  - {f.message}" for f in d.failures]
+    lines += [f"  - {failure_message(f, d.analyses)}" for f in d.failures]
     lines.append("candidate effects, one atom each (* = added):")
     for c in d.candidates:
         mark = "*" if c.accepted else " "
@@ -231,8 +308,7 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     rep.paragraph(" ".join(STATEMENT))
     if d.failures:
         rep.heading("Where it fails", 3)
-        rep.table([[f.kind, f.subject, f.message] for f in d.failures],
-                  ["kind", "subject", "finding"])
+        rep.table(failure_rows(d), FAILURE_HEADER)
     rep.heading("Candidate effects, best first", 3)
     rep.table(candidate_rows(d), CANDIDATE_HEADER, digits=4)
     if d.decision is not None:
@@ -262,21 +338,31 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     return rep
 
 
-def ladder_report(ladder, rep: Report | None = None, record=None) -> Report:
+def ladder_report(ladder, rep: Report | None = None, record=None,
+                  heading="The ladder: structures tried, side by side",
+                  frf_heading="Where it fails, in frequency: first and last structure"
+                  ) -> Report:
     """The ladder's table and plots; given the ``record`` it was climbed on, also the
     measured frequency responses with the first and last structures on top, their
-    costs and the parameters' accuracy (:func:`.model_frf.model_frf_section`)."""
+    costs and the parameters' accuracy (:func:`.model_frf.model_frf_section`).
+    ``heading`` and ``frf_heading`` title the two sections (a report numbers them)."""
     rep = rep or Report("Ladder of structures")
     header, rows = ladder_rows(ladder)
-    rep.heading("The ladder: structures tried, side by side")
-    rep.paragraph("Estimates with 1-sigma Cramer-Rao bounds in brackets (time constants "
-                  "in azimuth units), the cost (12), the per-channel fit and the "
-                  "residual power per flap channel (S diagonal) as each effect is added.")
+    rep.heading(heading)
+    rep.paragraph("Estimates with 1-sigma Cramer-Rao bounds in brackets (angles in "
+                  "degrees; time constants in azimuth units, radians of rotor "
+                  "azimuth), the cost (12), a pure number whose differences between "
+                  "rungs count (its log-determinant takes the residual covariance in "
+                  "rad^2), the per-channel fit, and each flap channel's mean residual "
+                  "power over the noise floor (1: nothing left but sensor noise) as "
+                  "each effect is added.")
     rep.table(rows, header)
     for note in worse_channels(ladder):
         rep.paragraph(note)
     rep.figure(ladder_plot(ladder), "ladder",
-               "The error falling as effects are added, down to the noise floor (1).")
+               "The error falling as effects are added: the cost, and each channel's "
+               "residual power over the sensor-noise floor (dashed line at 1: only "
+               "noise left).")
     final = ladder.rungs[-1]
     if final.analyses:
         from .plots import residual_spectrum_plot
@@ -291,7 +377,7 @@ def ladder_report(ladder, rep: Report | None = None, record=None) -> Report:
         model_frf_section(rep, [validate(record, r.fit.model) for r in ends],
                           [r.structure.name for r in ends],
                           fits={r.structure.name: r.fit for r in ends}, prefix="ladder",
-                          heading="Where it fails, in frequency: first and last structure")
+                          heading=frf_heading)
     return rep
 
 

@@ -37,11 +37,22 @@ def cost_rows(results, labels=None):
     return rows + [overall, verdict]
 
 
+def accuracy_row(a) -> list:
+    """A :class:`~inflowsim.identify.accuracy.ParameterAccuracy` row as reports show
+    it: the parameter with its unit, estimate and bound in that unit (degrees for
+    angles)."""
+    from .units import parameter_label, parameter_value
+    name, est, sigma, *rest = a.as_row()
+    return [parameter_label(name), parameter_value(name, est),
+            parameter_value(name, sigma), *rest]
+
+
 def cost_caption() -> str:
     from ..identify.frf import J_ACCEPTABLE, J_GOOD, W_GAIN, W_PHASE
     return (f"Tischler's cost J per response pair over the points read (coherence >= "
-            f"0.6; W_gain {W_GAIN:g}, W_phase {W_PHASE:g}; J <= {J_GOOD:g} good, <= "
-            f"{J_ACCEPTABLE:g} acceptable)")
+            f"0.6), a pure number (magnitude errors in dB weighted {W_GAIN:g} per "
+            f"dB^2, phase errors in deg weighted {W_PHASE:g} per deg^2; J <= "
+            f"{J_GOOD:g} good, <= {J_ACCEPTABLE:g} acceptable)")
 
 
 def responses_paragraph(r0) -> str:
@@ -88,9 +99,10 @@ def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", headin
                        f"Flap responses to {inp}: measured (markers, bands) and "
                        + ", ".join(labels) + " (lines).")
     rep.table(cost_rows(res, labels), ["output", "input", "points read"] +
-              [f"J {lab}" for lab in labels], caption=cost_caption())
+              [f"J {lab} [-]" for lab in labels], caption=cost_caption())
     for lab, fit in (fits or {}).items():
-        rep.table([a.as_row() for a in parameter_accuracy(fit)], HEADER,
+        rep.table([accuracy_row(a) for a in parameter_accuracy(fit)], HEADER,
                   caption=f"{lab}: Cramer-Rao and insensitivity percent (guidelines: CR "
-                          f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %)")
+                          f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %;"
+                          " angles in degrees)")
     return fr

@@ -183,6 +183,10 @@ def error_spectrum_plot(results: Sequence, path=None, title=None):
     return fig
 
 
+#: Square degrees per square radian (powers of angles as the plots show them).
+DEG2 = (180.0 / np.pi) ** 2
+
+
 def residual_spectrum_plot(analyses, path=None, title=None):
     """The fit's residual power against the noise floor, per flap channel and record.
 
@@ -195,24 +199,26 @@ def residual_spectrum_plot(analyses, path=None, title=None):
     Returns
     -------
     matplotlib.figure.Figure
-        ``|Z - Y|^2`` (residual power) and the floor estimated above the band
-        (:func:`~inflowsim.diagnose.failures.noise_floor`) [rad^2 s^2]; a residual
-        at the floor is noise, one well above it is model error.
+        ``|Z - Y|^2`` (residual power of the unscaled transforms
+        ``sum c_n x_n`` of :mod:`inflowsim.identify.transform`) and the floor
+        estimated above the band (:func:`~inflowsim.diagnose.failures.noise_floor`),
+        shown in [deg^2] like every flap plot; a residual at the floor is noise, one
+        well above it is model error.
     """
     ras = _as_list(analyses)
     fig, ax = new_figure(3, 1, size=(8.0, 7.5))
     for k, ra in enumerate(ras):
         for i, c in enumerate(FLAP_COLUMNS):
             a = ax[i, 0]
-            res = np.abs(ra.measured[i] - ra.predicted[i]) ** 2
+            res = np.abs(ra.measured[i] - ra.predicted[i]) ** 2 * DEG2
             lab = f"record {k + 1}: " if len(ras) > 1 else ""
             a.semilogy(ra.f_hz, res, "o-", ms=3, lw=1, color=f"C{k}",
                        label=f"{lab}residual (mean {np.mean(ra.ratio[i]):.2g} x floor)")
-            a.semilogy(ra.f_hz, np.broadcast_to(ra.floor[i], ra.f_hz.shape), "--",
+            a.semilogy(ra.f_hz, np.broadcast_to(ra.floor[i] * DEG2, ra.f_hz.shape), "--",
                        color=f"C{k}", lw=1,
                        label=f"{lab}noise floor (from {ra.floor_band_hz[0]:.3g}-"
                              f"{ra.floor_band_hz[1]:.3g} Hz)")
-            a.set_ylabel(f"{FLAP_LABELS[c]} [rad² s²]")
+            a.set_ylabel(f"{FLAP_LABELS[c]} residual power [deg²]")
             a.grid(True, which="both", alpha=0.3)
             a.legend(fontsize="x-small")
     ax[-1, 0].set_xlabel("frequency [Hz]")

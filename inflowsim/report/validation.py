@@ -4,19 +4,40 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..data.record import FLAP_COLUMNS
 from ..simulate.sampled import HOLD_TEXT
+from .units import DEG
 
 
 def fit_rows(result):
-    """Table rows ``channel, rms, tic, fit, magnitude error, phase error``."""
-    return [[c, result.channels[c].rms, result.channels[c].tic,
+    """Table rows ``channel, rms [deg], tic, fit, magnitude error, phase error`` (the
+    RMS error in degrees, as the plots show the flap; ``--json`` keeps SI)."""
+    return [[c, result.channels[c].rms * DEG, result.channels[c].tic,
              result.channels[c].fit_percent, result.magnitude_rms_db[c],
              result.phase_rms_deg[c]] for c in FLAP_COLUMNS]
 
 
-FIT_HEADER = ["channel", "rms error [rad]", "TIC", "fit [%]", "|H| error [dB rms]",
+FIT_HEADER = ["channel", "rms error [deg]", "TIC [-]", "fit [%]", "|H| error [dB rms]",
               "phase error [deg rms]"]
+
+
+#: The table's mark of a response error that no point read defines.
+NO_RESPONSE = "none"
+NO_RESPONSE_TEXT = ("no response above noise to compare: no point of the channel's "
+                    "responses has coherence >= 0.6")
+
+
+def fit_table_rows(result):
+    """:func:`fit_rows` for a report table: an undefined response error is
+    :data:`NO_RESPONSE` (say :data:`NO_RESPONSE_TEXT` beside the table)."""
+    return [row[:4] + [v if np.isfinite(v) else NO_RESPONSE for v in row[4:]]
+            for row in fit_rows(result)]
+
+
+def _cell(v, digits):
+    return f"{v:.{digits}f}" if np.isfinite(v) else NO_RESPONSE
 
 
 def _g(x, fmt):
@@ -35,11 +56,15 @@ def format_table(result) -> str:
              f"{', '.join(fr.inputs)}{cond}"
              + (f"; hub path through {', '.join(fc.paths)}" if fc.paths else ""),
              "response errors over the points with coherence >= 0.6",
-             f"{'channel':<8}{'rms [rad]':>12}{'TIC':>8}{'fit [%]':>9}"
+             f"{'channel':<8}{'rms [deg]':>12}{'TIC':>8}{'fit [%]':>9}"
              f"{'|H| [dB]':>10}{'phase [deg]':>13}"]
+    undefined = False
     for c, rms, tic, fit, mag, ph in fit_rows(result):
-        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{_g(mag, '.3f'):>10}"
-                     f"{_g(ph, '.2f'):>13}")
+        undefined |= not (np.isfinite(mag) and np.isfinite(ph))
+        lines.append(f"{c:<8}{rms:>12.4g}{tic:>8.4f}{fit:>9.2f}{_cell(mag, 3):>10}"
+                     f"{_cell(ph, 2):>13}")
+    if undefined:
+        lines.append(f"{NO_RESPONSE}: {NO_RESPONSE_TEXT}")
     lines.append("Tischler's J per response pair (points read):")
     valid = fr.valid()
     for o, out in enumerate(fr.outputs):
@@ -85,8 +110,11 @@ def validation_report(results, title=None, subtitle=None):
         f"perturbations about trim, the {r0.trim.describe()}. "
         + responses_paragraph(r0))
     for r in res:
-        rep.table(fit_rows(r), header=FIT_HEADER, caption=f"Fit of {r.structure} (response "
+        rows = fit_table_rows(r)
+        rep.table(rows, header=FIT_HEADER, caption=f"Fit of {r.structure} (response "
                   "errors over the points with coherence >= 0.6)")
+        if any(NO_RESPONSE in row for row in rows):
+            rep.paragraph(f"{NO_RESPONSE}: {NO_RESPONSE_TEXT}.")
     rep.paragraph(f"Fit [%] is 100 (1 - |Z - Y| / |Z|) over the band's transforms "
                   f"({r0.band_hz[0]:.4g}-{r0.band_hz[1]:.4g} Hz), the figure identify "
                   "and the ladder report; the time plots show the whole record, "
