@@ -44,6 +44,16 @@ def test_basic_on_glauert_record_fails_in_beta1s_phase(glauert_record):
     ra = residual_analysis(glauert_record, m)
     kinds = {f.kind for f in residual_tests(ra, glauert_record, m)}
     assert kinds == {"whiteness", "input-correlation"}
+    # the message says rms errors (a signed mean cancels to "-0 deg") and a range of
+    # one transform frequency as one frequency (issue #28)
+    import re
+    for f in fails:
+        assert "-0 deg" not in f.message and "+0 deg" not in f.message, f.message
+        for a, b in re.findall(r"([0-9.]+)-([0-9.]+) Hz", f.message):
+            assert a != b, f.message
+        for seg in f.detail["segments"]:
+            assert seg["phase_rms_deg"] >= abs(seg["phase_error_deg"]) - 1e-12
+            assert (seg["n_frequencies"] == 1) == (seg["f1_hz"] == seg["f2_hz"])
 
 
 @pytest.mark.parametrize("table,expected", [

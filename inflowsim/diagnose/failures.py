@@ -430,12 +430,19 @@ def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
         for f1, f2, a, b in segs:
             sl = slice(a, b + 1)
             kind = "phase" if ph_part[sl].sum() > mag_part[sl].sum() else "magnitude"
+            # rms, not mean: a signed phase error that leads and lags in turn
+            # averages to "-0 deg"
             parts.append({"f1_hz": f1, "f2_hz": f2, "mostly": kind,
+                          "n_frequencies": b - a + 1,
                           "magnitude_error_db": float(np.mean(mag_db[sl])),
-                          "phase_error_deg": float(np.mean(ph_deg[sl]))})
-        where = ", ".join(f"{s['f1_hz']:.3g}-{s['f2_hz']:.3g} Hz ({s['mostly']}: "
-                          f"{s['magnitude_error_db']:+.1f} dB, {s['phase_error_deg']:+.0f} deg)"
-                          for s in parts)
+                          "phase_error_deg": float(np.mean(ph_deg[sl])),
+                          "magnitude_rms_db": float(np.sqrt(np.mean(mag_db[sl] ** 2))),
+                          "phase_rms_deg": float(np.sqrt(np.mean(ph_deg[sl] ** 2)))})
+        where = ", ".join(
+            (f"{s['f1_hz']:.3g} Hz" if s["n_frequencies"] == 1 else
+             f"{s['f1_hz']:.3g}-{s['f2_hz']:.3g} Hz") +
+            f" (mostly {s['mostly']}: {s['magnitude_rms_db']:.1f} dB rms, "
+            f"{s['phase_rms_deg']:.1f} deg rms)" for s in parts)
         out.append(Failure("spectrum", ch,
                            f"{ch}: model and measurement part at {where}; in-band residual "
                            f"power {excess:.3g}x the noise floor",
