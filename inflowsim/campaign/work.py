@@ -47,7 +47,7 @@ class Settings:
         return d
 
     def search_kwargs(self) -> dict:
-        from ..diagnose.candidates import ALPHA
+        from ..defaults import ALPHA
         return {"pool": None if self.pool is None else list(self.pool),
                 "alpha": ALPHA if self.alpha is None else float(self.alpha),
                 "hold": self.hold}

@@ -57,7 +57,7 @@ def add_arguments(p):
 
 def _settings(args, plan):
     from ..campaign.work import Settings
-    from ..diagnose.candidates import ALPHA
+    from ..defaults import ALPHA
     from ..errors import InputError
     from ..defaults import DEFAULT_BAND
     from ..model.structure import Structure
