@@ -428,3 +428,54 @@ def candidates_of(decision: Decision) -> list[Candidate]:
             failed=r.failed(decision.rule)))
     return sorted(out, key=lambda c: (c.error is not None, not c.accepted,
                                       -c.schwarz_gain if c.error is None else 0.0))
+
+
+def offered_effects() -> list:
+    """The catalogue's effects offered as candidates."""
+    return [n for n, e in CATALOGUE.items() if e.offered]
+
+
+def atom_of(label: str) -> Atom:
+    """The :class:`Atom` of a label (``"glauert"``, ``"glauert (k0p, kc, ks)"``)."""
+    if " (" in label:
+        effect, rest = label.split(" (", 1)
+        return Atom(effect, tuple(n.strip() for n in rest.rstrip(")").split(",")))
+    return Atom(label, tuple(CATALOGUE[label].parameters))
+
+
+def least_significant(records, fit, labels, band_hz, hold=None,
+                      rule: Rule = DEFAULT_RULE):
+    """``(atom, fit without it, log10 p)`` of the atom of ``labels`` (added to
+    ``fit``'s structure on a ladder) least significant beside the others, where its
+    p-value is ``rule.alpha`` or more; ``None`` when every one is significant."""
+    from ..identify import identify
+    worst = None
+    held = set(fit.fixed or ())
+    for label in dict.fromkeys(labels):
+        atom = atom_of(label)
+        if atom.effect not in fit.structure.effects:
+            continue
+        free = [n for n in atom.params if n not in held]
+        if not free:
+            continue
+        k = fit.constants[0]
+        neutral = CATALOGUE[atom.effect].neutral_values(k)
+        rest_of_effect = [n for n in CATALOGUE[atom.effect].parameters
+                          if n not in atom.params and n not in held]
+        if rest_of_effect:           # a part: hold it at neutral, keep the effect
+            s = fit.structure
+            fixed = {n: float(fit.parameters[n]) for n in held}
+            fixed.update({n: float(neutral[n]) for n in atom.params})
+        else:
+            s = fit.structure.without_effect(atom.effect)
+            fixed = {n: float(fit.parameters[n]) for n in held if n in s.parameters}
+        start = {n: float(v) for n, v in fit.parameters.items() if n in s.parameters}
+        try:
+            f = identify(records, s, band_hz=band_hz, start=start, fixed=fixed or None,
+                         hold=hold)
+        except InputError:
+            continue
+        lp = lr_test(f.cost, fit.cost, len(free), _boundary(atom, held))[2]
+        if lp >= math.log10(rule.alpha) and (worst is None or lp > worst[2]):
+            worst = (label, f, lp)
+    return worst

@@ -10,8 +10,8 @@ The rule, in five lines (``docs/workflow.md`` states the same five):
    it was paired with (level ``alpha``), and plausible for the rotor (``plausible_sigmas``).
 4. **Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
    it takes at least ``material`` of the residual's excess over the noise (whiter).
-5. **Added.** Its atom of largest gain beside the others is added (the ladder's next rung
-   judges the rest); nothing accepted: the verdict says how much excess is left, where.
+5. **Added.** Its atom of largest gain beside the others is added; when none is, an added
+   atom no longer significant beside the others is removed; the verdict says what is left.
 
 What the terms mean, and why:
 
@@ -43,6 +43,13 @@ What the terms mean, and why:
   record is long, or that fits the noise, is not what the residual is made of.  Only
   the structure chosen by ``G`` is put to it: a weaker structure is never named
   because a stronger one explains a small share of a noisy excess.
+- *Removed* (the ladder, :func:`inflowsim.diagnose.candidates.least_significant`): when
+  nothing more is accepted, each atom the ladder added is tested beside all the others
+  (the final structure against it without that atom); the least significant, if its
+  p-value is ``alpha`` or more, is removed and not offered again, and the ladder goes
+  on.  Forward steps judge an atom beside those added before it only; a collective
+  doublet's ladder added a wake skew that the time constants and the azimuth bias,
+  added after it, explain (p = 0.1 beside them).
 - *Gain beside the others*: ``2 (J_without - J) - k_atom ln n``, what the atom adds to
   the structure without it.  One atom is added a rung, the one the accepted structure
   needs most; its partner is judged again on the next rung, beside it, where a

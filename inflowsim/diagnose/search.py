@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import candidates_of, lattice
+from .candidates import atom_of, candidates_of, lattice, least_significant, offered_effects
 from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
 from .rule import Decision, Rule, decide, rule_with
 from .terms import missing_terms
@@ -279,6 +279,9 @@ class Ladder:
     verdict: Verdict | None = None
     #: what the records determine of the final structure
     identifiability: Identifiability | None = field(repr=False, default=None)
+    #: atoms added on a rung and removed at the end, not significant beside the
+    #: effects added after them: ``((atom, log10 p), ...)``
+    removed: tuple = ()
 
     @property
     def final(self) -> Rung:
@@ -288,6 +291,8 @@ class Ladder:
         last = len(self.rungs) - 1
         return {"band_hz": list(self.band_hz),
                 "verdict": self.verdict.to_json() if self.verdict else None,
+                "removed": [{"atom": a, "log10_p_beside_others": lp}
+                            for a, lp in self.removed],
                 "identifiability": (self.identifiability.to_json()
                                     if self.identifiability else None),
                 "missing_terms": (self.final.diagnosis.missing_terms.to_json()
@@ -322,18 +327,42 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     d = diagnose(recs, structure, band_hz, pool=pool, rule=rule, progress=progress,
                  hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
-    for _ in range(max_steps):
-        win = d.decision.added_row if d.decision is not None else None
-        if win is None:
+    removed, steps = [], 0
+    while True:
+        while steps < max_steps:
+            win = d.decision.added_row if d.decision is not None else None
+            if win is None:
+                break
+            steps += 1
+            if progress:
+                progress(f"adding {' + '.join(win.atoms)}: cost {d.fit.cost:.6g} -> "
+                         f"{win.fit.cost:.6g}")
+            d = diagnose(recs, win.fit.structure, band_hz, pool=pool, rule=rule,
+                         progress=progress, base_fit=win.fit, hold=hold, assess=False)
+            rungs.append(Rung(d.structure, d.fit, "+".join(win.effects), d, d.analyses,
+                              win.atoms))
+        # line 5's last clause: an atom added earlier that the later ones explain
+        # (no longer significant beside them) is removed, the least significant first
+        added_atoms = [a for r in rungs[1:] for a in r.atoms
+                       if a not in {x for x, _ in removed}]
+        worst = least_significant(recs, d.fit, added_atoms, band_hz, hold, rule)
+        if worst is None or len(removed) >= max_steps:
             break
+        atom, fit, lp = worst
+        removed.append((atom, lp))
         if progress:
-            progress(f"adding {' + '.join(win.atoms)}: cost {d.fit.cost:.6g} -> "
-                     f"{win.fit.cost:.6g}")
-        d = diagnose(recs, win.fit.structure, band_hz, pool=pool, rule=rule,
-                     progress=progress, base_fit=win.fit, hold=hold, assess=False)
-        rungs.append(Rung(d.structure, d.fit, "+".join(win.effects), d, d.analyses,
-                          win.atoms))
-    added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")))
+            progress(f"removing {atom}: not significant beside the others (p = "
+                     f"{10 ** lp:.2g})")
+        gone = {atom_of(a).effect for a, _ in removed}
+        pool = [e for e in (pool or offered_effects()) if e not in gone]
+        d = diagnose(recs, fit.structure, band_hz, pool=pool, rule=rule,
+                     progress=progress, base_fit=fit, hold=hold, assess=False)
+        last = rungs[-1]
+        rungs[-1] = dataclasses.replace(last, structure=d.structure, fit=d.fit,
+                                        diagnosis=d, analyses=d.analyses)
+    gone = {atom_of(a).effect for a, _ in removed if atom_of(a).whole}
+    added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")
+                                if e in d.structure.effects and e not in gone))
     verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
     # the last rung is the answer: it says what the records determine of it and,
     # where excess is left, where a term is missing
@@ -341,7 +370,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     last = dataclasses.replace(d, identifiability=ident,
                                missing_terms=missing_terms(recs, d.fit, band_hz, hold))
     rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=last)
-    return Ladder(tuple(rungs), d.band_hz, verd, ident)
+    return Ladder(tuple(rungs), d.band_hz, verd, ident, tuple(removed))
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,

@@ -73,6 +73,9 @@ def ladder_markdown(ladder) -> str:
             and last.missing_terms is not None):
         out.append("where a term is missing (score test of every single-entry addition):")
         out += [f"  {line}" for line in last.missing_terms.describe()]
+    for atom, lp in getattr(ladder, "removed", ()):
+        out.append(f"removed {atom}: not significant beside the effects added after it "
+                   f"(p = {10 ** lp:.2g})")
     if ladder.verdict is not None:
         out.append(ladder.verdict.describe())
     return "\n".join(out)
