@@ -64,10 +64,7 @@ def main(argv=None):
         so = Path(unz) / "binaries" / "linux64" / "inflowsim.so"
         cc = compiler()
         inc = f"-I{source_dir()}"
-        subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
-                        str(HERE / "fmu_onestate.c"), "-lm"], check=True)
-        subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
-                        str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+        compile_drivers(cc, inc, tmp)
         baseline = compile_library(src, tmp / "baseline.so", ("-DIFS_NO_CLONES",))
         fmi3 = (compile_library(src, tmp / "fmi3.so", fmi_version=3) if args.model is None
                 else None)
@@ -129,6 +126,14 @@ def main(argv=None):
           f"(baseline code, no AVX2 clone)")
 
 
+def compile_drivers(cc, inc, tmp):
+    """The one-state reference library and the C driver, into ``tmp``."""
+    subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
+                    str(HERE / "fmu_onestate.c"), "-lm"], check=True)
+    subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
+                    str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+
+
 def arithmetic_floor(cc, tmp, fmu_sources) -> dict:
     """The machine's rate of 4-wide multiplies and adds (``bench/fp_rate.c``) and the
     step's floor: its ``NX (NX + NU)`` products in whole vectors of four, at that
@@ -173,10 +178,7 @@ def schedule_main(args):
                          read_model_description(str(fmu)).guid)
         cc = compiler()
         inc = f"-I{source_dir()}"
-        subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
-                        str(HERE / "fmu_onestate.c"), "-lm"], check=True)
-        subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",
-                        str(tmp / "driver"), str(HERE / "fmu_driver.c"), "-ldl"], check=True)
+        compile_drivers(cc, inc, tmp)
         best: dict = {}
         for _ in range(rounds):
             for tag, (so, guid) in libs.items():
