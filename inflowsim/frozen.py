@@ -61,9 +61,9 @@ class FrozenDict(Mapping):
         return {**other, **self._d} if isinstance(other, Mapping) else NotImplemented
 
 
-def readonly(a) -> np.ndarray:
-    """A float copy of ``a`` that cannot be written to."""
-    a = np.array(a, dtype=float)
+def readonly(a, dtype=float) -> np.ndarray:
+    """A copy of ``a`` (as ``dtype``, default float) that cannot be written to."""
+    a = np.array(a, dtype=dtype)
     a.flags.writeable = False
     return a
 

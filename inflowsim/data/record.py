@@ -20,7 +20,7 @@ from ..errors import RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
-from ..frozen import FrozenDict, ReadOnlyArrays
+from ..frozen import FrozenDict, ReadOnlyArrays, readonly
 if TYPE_CHECKING:
     from ..model.params import Constants
 from ..simulate.sampled import DEFAULT_HOLD, HOLDS
@@ -45,11 +45,6 @@ BAND_ROUNDING = 0.01
 MAX_SAMPLES = 2_000_000
 
 
-def _ro(a):
-    a = np.array(a, dtype=float)
-    a.flags.writeable = False
-    return a
-
 
 def band_needs(band_hz) -> float:
     """Shortest record [s] that resolves the band ``(f1, f2)`` [Hz]: one period of
@@ -72,8 +67,8 @@ class Record(ReadOnlyArrays):
 
     @classmethod
     def from_arrays(cls, t, channels: Mapping, meta: Mapping, source="<memory>"):
-        ch = {k: _ro(v) for k, v in channels.items()}
-        rec = cls(_ro(t), FrozenDict(ch), FrozenDict(
+        ch = {k: readonly(v) for k, v in channels.items()}
+        rec = cls(readonly(t), FrozenDict(ch), FrozenDict(
             {k: str(v) for k, v in meta.items()}), source, tuple(ch))
         rec.check()
         return rec
@@ -274,7 +269,7 @@ class Record(ReadOnlyArrays):
         ch = dict(self.channels)
         ch.update(cols)
         order = self.order + tuple(k for k in cols if k not in self.order)
-        r = Record(self.t, FrozenDict({k: _ro(v) for k, v in ch.items()}),
+        r = Record(self.t, FrozenDict({k: readonly(v) for k, v in ch.items()}),
                    self.meta, self.source, order)
         return r.check()
 

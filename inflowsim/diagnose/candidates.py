@@ -26,7 +26,7 @@ from ..errors import InputError
 from ..model.effects import CATALOGUE
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
-from .rule import DEFAULT_RULE, Decision, Rule, Scored
+from .rule import DEFAULT_RULE, Decision, Rule, Scored, explained_pairs
 
 
 @dataclass(frozen=True)
@@ -176,7 +176,7 @@ def _fit_with(records, base_fit, start_fit, add, band_hz, fit_fn):
     return fit, other + flat, flat
 
 
-def _row(base_fit, add, fit, held, flat, beside, rule) -> Scored:
+def _row(base_fit, add, fit, held, flat, beside, rule, beside_gain=None) -> Scored:
     dof = sum(len(a.params) for a in add) - len(flat)
     k = base_fit.constants[0]
     return Scored(
@@ -186,6 +186,9 @@ def _row(base_fit, add, fit, held, flat, beside, rule) -> Scored:
         statistic=max(0.0, 2.0 * float(base_fit.cost - fit.cost)),
         schwarz_gain=schwarz_gain(base_fit.cost, fit.cost, dof, fit.n_freq),
         beside=beside,
+        beside_gain=(beside_gain if beside_gain is not None else
+                     ((add[0].label, schwarz_gain(base_fit.cost, fit.cost, dof,
+                                                  fit.n_freq)),)),
         implausible=tuple(x for a in add for x in
                           _implausible(a, fit, k, held, rule.plausible_sigmas)),
         held=tuple(held), flat=tuple(flat), fit=fit)
@@ -200,8 +203,7 @@ def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
                       error=str(exc))
     dof = len(atom.params) - len(flat)
     lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held))[2]
-    row = _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
-    return replace(row, beside_gain=((atom.label, row.schwarz_gain),))
+    return _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
 
 
 def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | None:
@@ -228,9 +230,9 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     order = sorted(((x, rx), (y, ry)), key=lambda t: -dict(gains)[t[0].label])
     add = tuple(t[0] for t in order)
     rank = [u.label for u in add]
-    row = _row(base_fit, add, fit, held, flat,
-               tuple(sorted(beside, key=lambda t: rank.index(t[0]))), rule)
-    return replace(row, beside_gain=tuple(sorted(gains, key=lambda t: rank.index(t[0]))))
+    return _row(base_fit, add, fit, held, flat,
+                tuple(sorted(beside, key=lambda t: rank.index(t[0]))), rule,
+                tuple(sorted(gains, key=lambda t: rank.index(t[0]))))
 
 
 def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
@@ -391,21 +393,16 @@ def candidates_of(decision: Decision) -> list[Candidate]:
     """One :class:`Candidate` per atom (the single rows), the added ones first, then
     by Schwarz gain; failed fits last."""
     added = set(decision.added)
-    pairs = [r for r in decision.rows if len(r.atoms) == 2 and r.error is None]
     lim = math.log10(decision.rule.alpha)
+    beside_any = {}
+    for a, b in explained_pairs(decision.rows, decision.rule):
+        beside_any.setdefault(a, b)
     out = []
     for r in decision.rows:
         if len(r.atoms) != 1:
             continue
         eff = CATALOGUE[r.effects[0]]
-        by = dict(r.explained_by).get(r.atoms[0])
-        for p in pairs if by is None else ():
-            if r.atoms[0] in p.atoms:
-                mine = dict(p.beside)
-                other = next(a for a in p.atoms if a != r.atoms[0])
-                if mine[r.atoms[0]] >= lim and mine[other] < lim:
-                    by = other
-                    break
+        by = dict(r.explained_by).get(r.atoms[0]) or beside_any.get(r.atoms[0])
         fit = r.fit
         lp = r.beside[0][1] if r.beside else 0.0
         added_params = {} if fit is None else {

@@ -341,22 +341,31 @@ class Decision:
                 "structures": [r.to_json(self.rule) for r in self.rows]}
 
 
-def explain(rows, rule: Rule = DEFAULT_RULE) -> tuple:
-    """The rows with ``explained_by`` set (line 3): an atom is explained by a simpler
-    atom (fewer parameters, from their single rows) when, in their pair, it is not
-    significant beside it while the simpler one is significant beside it."""
-    from dataclasses import replace
+def explained_pairs(rows, rule: Rule = DEFAULT_RULE) -> list:
+    """``[(a, b), ...]``: atom ``a`` is explained by atom ``b`` where, in their pair's
+    row, ``a`` is not significant beside ``b`` while ``b`` is beside ``a``."""
     lim = math.log10(rule.alpha)
-    dof = {r.atoms[0]: r.dof for r in rows if len(r.atoms) == 1}
-    by = {}
+    out = []
     for r in rows:
         if len(r.atoms) != 2 or r.error is not None:
             continue
         lp = dict(r.beside)
         for a, b in (r.atoms, r.atoms[::-1]):
-            if (a in dof and b in dof and dof[b] < dof[a] and lp[a] >= lim
-                    and lp[b] < lim):
-                by.setdefault(a, b)
+            if lp[a] >= lim and lp[b] < lim:
+                out.append((a, b))
+    return out
+
+
+def explain(rows, rule: Rule = DEFAULT_RULE) -> tuple:
+    """The rows with ``explained_by`` set (line 3): an atom is explained by a simpler
+    atom (fewer parameters, from their single rows) when, in their pair, it is not
+    significant beside it while the simpler one is significant beside it."""
+    from dataclasses import replace
+    dof = {r.atoms[0]: r.dof for r in rows if len(r.atoms) == 1}
+    by = {}
+    for a, b in explained_pairs(rows, rule):
+        if a in dof and b in dof and dof[b] < dof[a]:
+            by.setdefault(a, b)
     return tuple(replace(r, explained_by=tuple((a, by[a]) for a in r.atoms if a in by))
                  for r in rows)
 

@@ -42,7 +42,7 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import InputError
-from ..frozen import FrozenDict
+from ..frozen import FrozenDict, readonly
 from ..identify.transform import DEFAULT_BAND, dft, snap_band
 from ..data.record import (CONTROL_COLUMNS, FLAP_COLUMNS, Record, Trim, find_trim, perturbations,
                            require_control_movement)
@@ -429,7 +429,7 @@ def validate(record: Record, model, trim: Trim | None = None, band_hz=None,
     h_model = model_responses(model, fr_all.h[:len(paths)], inputs, paths,
                               fr.frequency_hz, hold, dt)
     cost = {(o, i): tischler_cost(fr, h_model, o, i) for o in FLAP_COLUMNS for i in inputs}
-    fc = FrequencyComparison(measured=fr, model=_ro(h_model), paths=paths,
+    fc = FrequencyComparison(measured=fr, model=readonly(h_model, complex), paths=paths,
                              cost=FrozenDict(cost))
 
     z_dft = _dft(z, bins, dt).T
@@ -486,19 +486,14 @@ def _outputs(fr, outputs):
     """``fr`` restricted to ``outputs`` (the flap, without the path channels)."""
     from dataclasses import replace
     rows = [fr.outputs.index(c) for c in outputs]
-    return replace(fr, outputs=tuple(outputs), h=_ro(fr.h[rows], complex),
-                   coherence=_ro(fr.coherence[rows]),
-                   random_error=_ro(fr.random_error[rows]),
-                   bias_error=_ro(fr.bias_error[rows]),
-                   multiple_coherence=_ro(fr.multiple_coherence[rows]),
-                   ordinary_coherence=_ro(fr.ordinary_coherence[rows]),
-                   window_weight=_ro(fr.window_weight[:, rows]))
+    return replace(fr, outputs=tuple(outputs), h=readonly(fr.h[rows], complex),
+                   coherence=readonly(fr.coherence[rows]),
+                   random_error=readonly(fr.random_error[rows]),
+                   bias_error=readonly(fr.bias_error[rows]),
+                   multiple_coherence=readonly(fr.multiple_coherence[rows]),
+                   ordinary_coherence=readonly(fr.ordinary_coherence[rows]),
+                   window_weight=readonly(fr.window_weight[:, rows]))
 
-
-def _ro(a, dtype=None):
-    a = np.array(a, dtype=dtype)
-    a.flags.writeable = False
-    return a
 
 
 __all__ = ["PAPER_BAND_HZ", "ChannelFit", "FrequencyComparison", "ValidationResult",

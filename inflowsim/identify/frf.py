@@ -64,6 +64,7 @@ import numpy as np
 
 from ..channels import CONTROLS, FLAP
 from ..errors import InputError
+from ..frozen import readonly
 
 #: Default band [Hz] of the composite grid.
 DEFAULT_FRF_BAND = (0.1, 5.0)
@@ -427,12 +428,12 @@ def response_of_series(series, dt, inputs, outputs, band_hz=DEFAULT_FRF_BAND,
                      f"{f[low].max():.3g} Hz) have no window with enough averages for "
                      f"{q} input(s): the records are too short there")
     return FrequencyResponse(
-        inputs=inputs, outputs=outputs, frequency_hz=_ro(f), h=_ro(h, complex),
-        coherence=_ro(coh), random_error=_ro(err), bias_error=_ro(spread),
-        multiple_coherence=_ro(mc),
-        ordinary_coherence=_ro(och), windows_s=windows_s,
+        inputs=inputs, outputs=outputs, frequency_hz=readonly(f), h=readonly(h, complex),
+        coherence=readonly(coh), random_error=readonly(err), bias_error=readonly(spread),
+        multiple_coherence=readonly(mc),
+        ordinary_coherence=readonly(och), windows_s=windows_s,
         n_averages=tuple(n_avg), overlap=float(overlap), band_hz=(f1, f2), dt=dt,
-        sources=tuple(sources), window_weight=_ro(share),
+        sources=tuple(sources), window_weight=readonly(share),
         notes=tuple(notes))
 
 
@@ -463,11 +464,6 @@ def tischler_cost(fr: FrequencyResponse, model_h, output: str, input: str,
     dph = np.degrees(np.angle(hm / h))                  # the wrapped difference
     return float(20.0 / v.sum() * np.sum(wg * (W_GAIN * dmag ** 2 + W_PHASE * dph ** 2)))
 
-
-def _ro(a, dtype=float):
-    a = np.array(a, dtype=dtype)
-    a.flags.writeable = False
-    return a
 
 
 __all__ = ["FrequencyResponse", "frequency_response", "response_of_series", "effective_averages",
