@@ -279,5 +279,13 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",), shapes=("3211",),
                      duration=6.0, workers=1)
     assert Path(e.path).stat().st_mtime_ns == mtime
+    assert rec.meta["truth"] == "nonlinear blade-element, 4 blades, speed eq14, body motion"
+    # another truth in the same folder is refused, in one line, and nothing is replaced
+    code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "c", "--speeds",
+                         "0.15", "--speed", "mu", "--duration", "6", "--workers", "1")
+    assert_user_error(code, out, err, "another truth")
+    assert Path(e.path).stat().st_mtime_ns == mtime
+    code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "e", "--blades", "2")
+    assert_user_error(code, out, err, "n_blades")
     code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "d", "--out", "x.csv")
     assert_user_error(code, out, err, "--campaign")

@@ -90,7 +90,8 @@ def add_arguments(p):
                    help="write a virtual campaign instead: records from the nonlinear "
                         "truth at every --speeds, a doublet, a 3-2-1-1 and a sweep on "
                         "each control, --repeats times, and DIR/plan.csv for 'inflowsim "
-                        "campaign' (default 20 s at 64 Hz each; existing records are kept)")
+                        "campaign' (default 20 s at 64 Hz each; existing records of the same truth are "
+                        "kept; --speed, --blades and --no-body choose the truth)")
     p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
     p.add_argument("--repeats", type=int, default=1, metavar="N",
@@ -321,7 +322,8 @@ def _campaign(args) -> int:
     _manoeuvre(args)                       # the shared checks of duration, step, noise
     plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
                             repeats=args.repeats, duration=args.duration, dt=args.dt,
-                            noise=args.noise, workers=args.workers, progress=progress)
+                            noise=args.noise, workers=args.workers, progress=progress,
+                            speed=args.speed, n_blades=args.blades, body=not args.no_body)
     progress(f"flighttest: wrote the campaign's plan {plan}")
     return 0
 

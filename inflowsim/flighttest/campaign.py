@@ -82,8 +82,18 @@ def campaign_items(mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1
             for r in range(repeats)]
 
 
-def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4):
-    """The record of one campaign item (the nonlinear truth at ``item.mu``)."""
+def truth_label(speed: str = "eq14", n_blades: int = 4, body: bool = True) -> str:
+    """What a campaign's records were flown with (their ``truth`` metadata): a
+    restarted generation keeps only records of the same truth."""
+    return (f"nonlinear blade-element, {n_blades} blades, speed {speed}, "
+            f"{'body motion' if body else 'hub fixed'}")
+
+
+def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
+                    speed="eq14", n_blades=4, body=True):
+    """The record of one campaign item (the nonlinear truth at ``item.mu``, with the
+    speed through the disc ``speed``, ``n_blades`` blades and, unless ``body`` is
+    false, the body's motion)."""
     from ..model.params import PUMA
     from .bladesim import RotorSpec
     from .nonlinear import FlightTest, nonlinear_flighttest
@@ -94,38 +104,71 @@ def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4):
     else:
         man = Manoeuvre(channel=item.control, shape=item.shape, amplitude=np.radians(1.0),
                         t_start=2.0, width=WIDTH[item.shape])
-    test = FlightTest(rotor=RotorSpec(constants=PUMA.with_mu(item.mu)), manoeuvres=(man,),
-                      duration=duration, dt=dt, noise_flap=noise, seed=item.seed,
+    rotor = RotorSpec(constants=PUMA.with_mu(item.mu), speed=speed, n_blades=n_blades)
+    test = FlightTest(rotor=rotor, manoeuvres=(man,), duration=duration, dt=dt,
+                      noise_flap=noise, seed=item.seed,
+                      body=FlightTest().body if body else None,
                       description=f"{item.manoeuvre} at mu {item.mu:g}, nonlinear "
                                   "blade-element truth")
     rec = nonlinear_flighttest(test).record
-    return rec.with_meta(manoeuvre=item.manoeuvre, condition=item.condition)
+    return rec.with_meta(manoeuvre=item.manoeuvre, condition=item.condition,
+                         truth=truth_label(speed, n_blades, body))
+
+
+def _kept_truth(path: Path) -> str | None:
+    """The ``truth`` metadata of a record already in the folder (its header only)."""
+    with open(path, encoding="utf-8-sig") as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            key, _, value = line[1:].partition(":")
+            if key.strip() == "truth":
+                return value.strip()
+    return None
 
 
 def _make(args):
-    item, folder, duration, dt, noise = args
+    item, folder, duration, dt, noise, truth = args
     from ..data.record import write_record
     path = Path(folder) / item.name
-    if path.exists():                          # a restarted generation keeps what it has
+    if path.exists():           # a restarted generation keeps what it has (same truth)
         return str(path), False
-    write_record(campaign_record(item, duration, dt, noise), path)
+    write_record(campaign_record(item, duration, dt, noise, **truth), path)
     return str(path), True
 
 
 def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1,
                      duration=20.0, dt=1.0 / 64, noise=1e-4, workers=None,
-                     progress=None) -> Path:
+                     progress=None, speed="eq14", n_blades=4, body=True) -> Path:
     """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
 
-    Records already in ``folder`` (same name) are kept, so an interrupted
-    generation resumes; ``workers`` processes (default the machine's cores)."""
+    Records already in ``folder`` (same name, same truth) are kept, so an
+    interrupted generation resumes; one of another truth (``speed``, ``n_blades``,
+    ``body``: :func:`campaign_record`) is refused.  ``workers`` processes (default
+    the machine's cores)."""
     import os
 
     from ..fileio import check_folder, safe_write_text
     folder = check_folder(folder)
     folder.mkdir(exist_ok=True)
+    from .bladesim import RotorSpec
+    RotorSpec(speed=speed, n_blades=n_blades).check()   # one line here, not in a worker
     items = campaign_items(mus, controls, shapes, repeats)
-    jobs = [(it, str(folder), duration, dt, noise) for it in items]
+    truth = {"speed": speed, "n_blades": int(n_blades), "body": bool(body)}
+    label = truth_label(**truth)
+    for it in items:                           # before any work: one line, nothing made
+        path = folder / it.name
+        if path.exists() and not path.is_file():
+            raise InputError(f"{path}: is not a regular file; the campaign writes its "
+                             "record there: move it or use another folder")
+        if path.exists():
+            # records written before the truth was named were all of the default truth
+            kept = _kept_truth(path) or truth_label()
+            if kept != label:
+                raise InputError(f"{path}: a record of another truth ({kept}) is in "
+                                 f"the folder, not one of '{label}': write this "
+                                 "campaign to another folder")
+    jobs = [(it, str(folder), duration, dt, noise, truth) for it in items]
     n = workers or os.cpu_count() or 1
     done = 0
     if n == 1:
