@@ -121,12 +121,13 @@ def _client(scheduler, workers):
 
 def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
                  progress=True, stream=None, schedule_criterion: str = "aic",
-                 schedule_max_order: int = 3) -> CampaignResult:
+                 schedule_max_order: int = 3, schedule_variables=("mu",)
+                 ) -> CampaignResult:
     """Run (or resume) the campaign of ``plan`` into the folder ``out``.
 
     ``workers = 0``: no cluster, everything in this process (debugging, tests).
-    ``schedule_criterion``, ``schedule_max_order``: how the parameter schedule
-    across conditions chooses each polynomial's order
+    ``schedule_criterion``, ``schedule_max_order``, ``schedule_variables``: how the
+    parameter schedule across conditions chooses each polynomial's variable and order
     (:func:`inflowsim.model.schedule.fit_schedule`); the schedule is computed from
     the stored results at the end of every run, so they are not part of the keys.
     """
@@ -136,6 +137,11 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
                          f"{', '.join(CRITERIA)}")
     if int(schedule_max_order) != schedule_max_order or schedule_max_order < 0:
         raise InputError(f"schedule order {schedule_max_order!r}: an integer >= 0")
+    from ..model.schedule import VARIABLES
+    schedule_variables = tuple(schedule_variables)
+    if not schedule_variables or any(v not in VARIABLES for v in schedule_variables):
+        raise InputError(f"schedule variables {list(schedule_variables)}: choose from "
+                         f"{', '.join(VARIABLES)}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     store = Store(out)
@@ -192,7 +198,8 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     res = CampaignResult(records, conditions, agreement(records, conditions),
                          {**settings.as_dict(), "version": version(), "plan": plan.source,
                           "schedule": {"criterion": schedule_criterion,
-                                       "max_order": int(schedule_max_order)}},
+                                       "max_order": int(schedule_max_order),
+                                       "variables": list(schedule_variables)}},
                          computed, reused)
     from .tables import write_outputs
     res.files = write_outputs(res, out)

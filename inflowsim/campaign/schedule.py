@@ -16,7 +16,7 @@ from ..errors import InputError
 
 
 def campaign_schedule(conditions, criterion: str = "aic", max_order: int = 3,
-                      alpha: float = 0.05):
+                      alpha: float = 0.05, variables=("mu",)):
     """``(schedule, note)``: the :class:`~inflowsim.model.schedule.Schedule` of the
     conditions' joint fits, or ``(None, why not)``; ``note`` names conditions left
     out."""
@@ -43,7 +43,7 @@ def campaign_schedule(conditions, criterion: str = "aic", max_order: int = 3,
     try:
         sch = fit_schedule(structure, mus, est, sig, criterion=criterion,
                            max_order=max_order, alpha=alpha, constants=constants,
-                           source="campaign")
+                           source="campaign", variables=variables)
     except InputError as exc:
         return None, str(exc)
     note = (f"conditions left out (failed, or fitted with another structure than "

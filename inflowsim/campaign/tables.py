@@ -200,7 +200,8 @@ def write_outputs(result, out) -> dict:
     df = campaign_table(result)
     opts = result.settings.get("schedule") or {}
     result.schedule, result.schedule_note = campaign_schedule(
-        result.conditions, opts.get("criterion", "aic"), opts.get("max_order", 3))
+        result.conditions, opts.get("criterion", "aic"), opts.get("max_order", 3),
+        variables=tuple(opts.get("variables", ("mu",))))
     files = {"parquet": str(out / "campaign.parquet"), "csv": str(out / "campaign.csv"),
              "report": str(out / "report.md"), "json": str(out / "campaign.json")}
     with atomic_path(files["parquet"]) as tmp:

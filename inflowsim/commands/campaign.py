@@ -51,6 +51,10 @@ def add_arguments(p):
                    "chi-square test)")
     p.add_argument("--schedule-order", type=int, default=3, metavar="N",
                    help="highest polynomial order of the schedule (default 3)")
+    p.add_argument("--schedule-variable", choices=("mu", "1/mu", "both"), default="mu",
+                   help="what each schedule polynomial is in (default mu; 1/mu suits "
+                        "inflow time constants, which go like 1/V; both: the "
+                        "criterion chooses per parameter)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -107,7 +111,9 @@ def run(args) -> int:
         raise InputError(f"--schedule-order {args.schedule_order}: must be >= 0")
     res = run_campaign(plan, out, settings, scheduler=args.scheduler, workers=args.workers,
                        progress=not args.quiet, schedule_criterion=args.schedule_criterion,
-                       schedule_max_order=args.schedule_order)
+                       schedule_max_order=args.schedule_order,
+                       schedule_variables=(("mu", "1/mu") if args.schedule_variable == "both"
+                                           else (args.schedule_variable,)))
     doc = json_document(res, res.files)
     if args.json:
         print_json(doc)

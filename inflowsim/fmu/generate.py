@@ -316,7 +316,8 @@ def schedule_defines(d: Description = DEFAULT) -> list:
 def schedule_c(d: Description = DEFAULT) -> list:
     """``ifs_schedule_apply`` (appended to ``inflow_equations.c`` of a scheduled
     FMU; none without a schedule): every scheduled parameter at ``v->mu`` held to
-    the schedule's range, by Horner's rule in ``x = (mu - center)/scale``, the
+    the schedule's range, by Horner's rule in ``x = (v - center)/scale`` (``v`` is
+    ``mu`` or ``1.0 / mu``, the parameter's variable), the
     operations of :meth:`inflowsim.model.schedule.Schedule.__call__` in the same
     order (so, built without contraction, the same doubles)."""
     sch = d.schedule
@@ -325,8 +326,8 @@ def schedule_c(d: Description = DEFAULT) -> list:
     lo, hi = (_num(v) for v in sch.mu_range)
     out = ["", "/* The parameter schedule (inflowsim.model.schedule, from the schedule file "
            "of", " * inflowsim fmu build --schedule): each parameter a polynomial in "
-           "x = (mu - center) / scale,", f" * mu held to the schedule's range [{lo}, "
-           f"{hi}]. */",
+           "x = (mu - center) / scale", " * or in x = (1/mu - center) / scale, mu held "
+           f"to the schedule's range [{lo}, {hi}]. */",
            "void ifs_schedule_apply(IfsVariables *v)", "{"]
     if any(p.order > 0 for p in sch.parameters):
         out += [f"    const double mu = v->mu < {lo} ? {lo} : v->mu > {hi} ? {hi} : v->mu;",
@@ -337,9 +338,10 @@ def schedule_c(d: Description = DEFAULT) -> list:
         expr = c[-1]
         for ck in c[-2::-1]:
             expr = f"({expr}) * x + {ck}" if "x" in expr else f"{expr} * x + {ck}"
-        if p.order > 0 and (p.center, p.scale) != last:   # the same x: not again
-            out.append(f"    x = (mu - {_num(p.center)}) / {_num(p.scale)};")
-            last = (p.center, p.scale)
+        if p.order > 0 and (p.variable, p.center, p.scale) != last:   # same x: not again
+            v = "mu" if p.variable == "mu" else "1.0 / mu"
+            out.append(f"    x = ({v} - {_num(p.center)}) / {_num(p.scale)};")
+            last = (p.variable, p.center, p.scale)
         out.append(f"    v->{p.name} = {expr};")
     if all(p.order == 0 for p in sch.parameters):
         out.append("    (void)v->mu;")
