@@ -36,6 +36,11 @@ from ..model.structure import Structure
 #: Effects whose equations are linearised about a trim state: the FMU gets the trim
 #: totals as parameters ``trim_<column>`` (:data:`TRIM_PARAMETERS`).
 TRIM_EFFECTS = ("advance-ratio-perturbation",)
+#: Effects whose terms are computed numerically at build time (no expression in the
+#: parameters to generate), with why the FMU does not run them.
+NUMERIC_EFFECTS = {"momentum-speed": "its coupling is a disc quadrature at the trim "
+                   "inflow of Eq. (14), solved numerically in Python (use the Python "
+                   "Simulator, or glauert, in an FMU)"}
 #: ``{FMU parameter: record column}`` of the trim totals.
 TRIM_PARAMETERS = {f"trim_{c}": c for c in TRIM_KEYS}
 
@@ -67,6 +72,8 @@ def supported(structure) -> Structure:
     """``structure`` parsed, or :class:`InputError` naming what the FMU cannot run."""
     s = Structure.parse(structure)
     for name in s.effects:
+        if name in NUMERIC_EFFECTS:
+            raise InputError(f"the FMU does not run effect {name}: {NUMERIC_EFFECTS[name]}")
         if name.startswith("delay-") and name[len("delay-"):] not in FLAP:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
                              "input cannot be applied by a causal step (inflowsim.simulate.replay "

@@ -19,8 +19,10 @@ _MODULES = (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bia
             time_delay)
 from . import flap_inertia, skewed_wake, advance_ratio_perturbation  # noqa: E402
 from . import second_harmonic_flap  # noqa: E402
+from . import momentum_speed  # noqa: E402
 from . import time_shifts  # noqa: E402
-_MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap)
+_MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
+             momentum_speed)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {}

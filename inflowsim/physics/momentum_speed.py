@@ -1,0 +1,152 @@
+"""The speed through the disc of Eq. (14), linearised about the trim over the whole disc.
+
+Local momentum theory (Eq. 5 with ``T = int 2 rho v_i V dA``) gives the loads the
+inflow balances:
+
+``c_mom = 4/(a0 s) avg_psi int_0^1 (1, -r cos psi, -r sin psi) lambda_i V r dr``,
+``lambda_i = lambda0 + (lambda1c cos psi + lambda1s sin psi) r``,
+
+with, in Eq. (14), ``V = sqrt(mux^2 + muy^2 + (w - lambda_i)^2)`` and ``w`` the blade
+normal velocity of Eq. (15) at each point of the tip-path plane (flap, flap rate,
+pitch, hub rates, ``muz``).  With ``V = mu`` the loads are ``L^-1 lambda`` exactly and
+the inflow equation is the basic model (2); the paper's Glauert augmentation
+(Eqs. 16-20) keeps, of Eq. (14)'s perturbations, the first-harmonic normal
+velocity ``nu_lambda`` and the in-plane speed.  Linearised exactly, Eq. (14) also
+changes the mass flow of every inflow harmonic (the self-terms ``V - mu`` and
+``lambda_i dV/dlambda``), couples the mean inflow to the mean normal velocity
+(``muz``, ``theta0``, ``beta0'``) and the harmonics to each other.
+
+:func:`momentum_loads` evaluates ``c_mom`` on a disc quadrature (uniform in
+azimuth, Gauss-Legendre in radius) from multiblade values, the same sums as the
+individual-blade truth (:meth:`inflowsim.flighttest.bladesim.BladeRotor.
+momentum_loads`); :func:`speed_coupling` differentiates it by complex steps at the
+trim and returns what Eq. (14) adds to the inflow equation's right-hand side;
+:func:`eq14_trim_inflow` is the trim inflow with that speed.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from . import loads as ld
+
+#: Disc quadrature: azimuths (uniform) and radial Gauss-Legendre points.  The
+#: integrand is smooth (the square root stays away from zero in forward flight), so
+#: 24 x 6 points change the coupling by less than 1e-6 of its size from 48 x 12.
+N_PSI, N_R = 24, 6
+#: Complex step [-]: exact derivatives to rounding, no subtraction.
+STEP = 1e-30
+
+
+@lru_cache(maxsize=8)
+def _disc(n_psi: int, n_r: int):
+    x, w = np.polynomial.legendre.leggauss(int(n_r))
+    r, wr = 0.5 * (x + 1.0), 0.5 * w
+    psi = 2.0 * np.pi * np.arange(n_psi) / n_psi
+    c, s = np.cos(psi), np.sin(psi)
+    basis = np.column_stack([np.ones_like(psi), c, s, c * c, s * s, c * s])
+    rr = np.vstack([np.ones_like(r), r])
+    # (1, -r cos, -r sin) lambda_i V r over the disc, times 1/n_psi and the r weights
+    w_disc = np.column_stack([wr * r, wr * r * r]) / n_psi
+    return basis, rr, w_disc
+
+
+def momentum_loads(z, u, a0s: float, speed: str = "eq14", n_psi: int = N_PSI,
+                   n_r: int = N_R) -> np.ndarray:
+    """Local-momentum loads ``c_mom`` [-] of the multiblade state ``z`` and inputs ``u``.
+
+    Parameters
+    ----------
+    z : array_like, shape (9,) or (9, m)
+        ``beta0, beta1c, beta1s`` [rad], their azimuth derivatives [rad/rad],
+        ``lambda0, lambda1c, lambda1s`` [-] (complex allowed: complex steps).
+    u : array_like, shape (10,) or (10, m)
+        Totals in azimuth units, ``channels.INPUTS_AZ`` order (``theta0 theta1c
+        theta1s muz qbar pbar qbar' pbar' mux muy``).
+    a0s : float
+        Lift slope times solidity [-].
+    speed : {"eq14", "mu"}
+        Eq. (14)'s ``V``, or ``V = mux`` (then ``c_mom = L^-1 lambda``).
+
+    Returns
+    -------
+    ndarray, shape (3,) or (3, m)
+        ``(C_T, C_mc, C_ms)/(a0 s)`` of local momentum.
+    """
+    z, u = np.asarray(z), np.asarray(u)
+    basis, rr, w_disc = _disc(n_psi, n_r)
+    b0, b1c, b1s, db0, db1c, db1s, lam0, lam1c, lam1s = z
+    th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
+    # multiblade coordinates of the blades' flap rates (rotating-frame terms)
+    d0, d1c, d1s = db0, db1c + b1s, db1s - b1c
+    one = np.ones_like(np.asarray(lam0 + mux))
+    # lambda_i on (azimuth, radius): its 1 and r parts
+    lam_i = (np.multiply.outer(basis[:, 0], lam0 * one)[..., None] * rr[0]
+             + np.multiply.outer(basis[:, 1], lam1c * one)[..., None] * rr[1]
+             + np.multiply.outer(basis[:, 2], lam1s * one)[..., None] * rr[1])
+    if speed == "mu":
+        q = lam_i * (mux * one)[..., None]
+    else:
+        # w - lambda_i = A0 + A1 r - lambda_i, the harmonic products on the basis
+        # (1, c, s, c^2, s^2, cs), as in the blade truth
+        a0 = np.array([muz * one, th0 * muy - b0 * mux, th0 * mux + b0 * muy,
+                       th1c * muy - b1c * mux, th1s * mux + b1s * muy,
+                       th1c * mux + b1c * muy + th1s * muy - b1s * mux])
+        a1 = np.array([th0 - d0, th1c - d1c + qb, th1s - d1s + pb,
+                       0 * one, 0 * one, 0 * one])
+        wl = (np.tensordot(basis, a0, axes=1)[..., None] * rr[0]
+              + np.tensordot(basis, a1, axes=1)[..., None] * rr[1] - lam_i)
+        q = lam_i * np.sqrt(((mux * mux + muy * muy) * one)[..., None] + wl * wl)
+    m = np.tensordot(basis[:, :3].T, q @ w_disc, axes=1) * (4.0 / a0s)   # (3, ..., 2)
+    return np.array([m[0, ..., 0], -m[1, ..., 1], -m[2, ..., 1]])
+
+
+def eq14_trim_inflow(mu: float, a0s: float, theta, beta, muz: float,
+                     lam_start=None, tol: float = 1e-13) -> np.ndarray:
+    """Trim inflow ``(lambda0, lambda1c, lambda1s)`` [-] with Eq. (14)'s speed: the
+    blade-element loads (linear in ``lambda`` at fixed ``mu``) equal the momentum
+    loads, by Newton's method from the basic model's trim inflow."""
+    from .bladeelement import trim_inflow
+    theta, beta = np.asarray(theta, dtype=float), np.asarray(beta, dtype=float)
+    lam = trim_inflow(mu, a0s, theta, beta, muz) if lam_start is None else \
+        np.asarray(lam_start, dtype=float)
+    blade = ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * muz
+    u = np.array([*theta, muz, 0.0, 0.0, 0.0, 0.0, mu, 0.0])
+    for _ in range(30):
+        z = np.concatenate([beta, np.zeros(3), lam])
+        f = blade + ld.g_lambda(mu) @ lam - momentum_loads(z, u, a0s)
+        zc = z[:, None] + 1j * STEP * np.vstack([np.zeros((6, 3)), np.eye(3)])
+        jac = ld.g_lambda(mu) - momentum_loads(zc, u[:, None] * np.ones(3), a0s).imag / STEP
+        step = np.linalg.solve(jac, f)
+        lam = lam - step
+        if np.max(np.abs(step)) < tol:
+            break
+    return lam
+
+
+def speed_coupling(mu: float, a0s: float, theta, beta, muz: float, lam,
+                   n_psi: int = N_PSI, n_r: int = N_R) -> tuple:
+    """What Eq. (14)'s speed adds to the inflow equation's right-hand side
+    (``D_tau lambda' + lambda = ... - J (z, u)``), linearised at the trim.
+
+    ``J = L dc_mom/d(z, u) - [0 0 I 0]``: the momentum loads' derivatives with the
+    ``V = mu`` part (``L^-1 lambda``) taken out, ``L`` the paper's gain at ``mu``.
+
+    Returns
+    -------
+    (ndarray (3, 9), ndarray (3, 10))
+        ``-J`` on the states ``(beta, beta', lambda)`` and on the inputs (azimuth
+        units, ``INPUTS_AZ`` order): add them to ``p_beta, p_dbeta, p_lambda, p_u``.
+    """
+    z0 = np.concatenate([np.asarray(beta, float), np.zeros(3), np.asarray(lam, float)])
+    u0 = np.array([*np.asarray(theta, float), muz, 0.0, 0.0, 0.0, 0.0, mu, 0.0])
+    w0 = np.concatenate([z0, u0])
+    wc = w0[:, None] + 1j * STEP * np.eye(w0.size)
+    dc = momentum_loads(wc[:9], wc[9:], a0s, "eq14", n_psi, n_r).imag / STEP
+    j = ld.momentum_l(mu, a0s) @ dc
+    j[:, 6:9] -= np.eye(3)
+    return -j[:, :9], -j[:, 9:]
+
+
+__all__ = ["momentum_loads", "eq14_trim_inflow", "speed_coupling", "N_PSI", "N_R"]
