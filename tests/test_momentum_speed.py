@@ -117,3 +117,18 @@ def test_the_effect_is_nested_and_adds_the_coupling():
     from inflowsim.fmu.codegen import supported
     with pytest.raises(InputError, match="does not run effect momentum-speed"):
         supported(base + "+momentum-speed")
+
+
+def test_alternatives_exclude_each_other_either_way_round():
+    """glauert does not name momentum-speed an alternative, momentum-speed names
+    glauert: the diagnosis's atoms keep them apart from either side (the lattice
+    of a ladder that added one never offers the other)."""
+    from types import SimpleNamespace
+    from inflowsim.diagnose.candidates import atoms, excluded
+    from inflowsim.model.structure import Structure
+    pool = ["glauert", "momentum-speed", "skewed-wake"]
+    for have, other in (("glauert", "momentum-speed"), ("momentum-speed", "glauert")):
+        fit = SimpleNamespace(structure=Structure.parse(f"basic+{have}"), fixed=())
+        names = {a.effect for a in atoms(fit, pool)}
+        assert other not in names and "skewed-wake" in names
+        assert excluded(other, (have,))

@@ -55,10 +55,19 @@ def applicable(structure: Structure, pool=None) -> list[str]:
             raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
         if name in structure.effects:
             continue
-        if any(a in structure.effects for a in CATALOGUE[name].alternatives):
+        if excluded(name, structure.effects):
             continue
         out.append(name)
     return out
+
+
+def excluded(name: str, effects) -> bool:
+    """``name`` may not join ``effects``: one of them names the other an alternative
+    (either way round: an effect written later, or outside the package, may name a
+    catalogue effect that does not name it back)."""
+    alts = CATALOGUE[name].alternatives
+    return any(e in alts or name in CATALOGUE[e].alternatives
+               for e in effects if e in CATALOGUE)
 
 
 def atoms(base_fit, pool=None) -> list[Atom]:
@@ -75,7 +84,7 @@ def atoms(base_fit, pool=None) -> list[Atom]:
         parts = [tuple(p) for p in eff.parts] or [tuple(eff.parameters)]
         if name in s.effects:
             out += [Atom(name, p) for p in parts if len(parts) > 1 and set(p) <= held]
-        elif not any(a in s.effects for a in eff.alternatives):
+        elif not excluded(name, s.effects):
             out += [Atom(name, p) for p in parts]
     return out
 
@@ -209,8 +218,7 @@ def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
 def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | None:
     """``base + a + b`` from the better of the two alone; ``None`` where they cannot
     go together."""
-    if b.effect in CATALOGUE[a.effect].alternatives or \
-            a.effect in CATALOGUE[b.effect].alternatives:
+    if excluded(a.effect, (b.effect,)):
         return None
     (x, rx), (y, ry) = sorted(((a, ra), (b, rb)), key=lambda t: t[1].fit.cost)
     try:
