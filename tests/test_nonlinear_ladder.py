@@ -206,3 +206,51 @@ def test_ladders_at_three_rates_differ_only_where_the_noise_hides_an_effect():
                     assert failed & {"significant", "parsimonious", "material"}, (
                         rate, other, e, failed)
                     assert not failed & {"plausible", "own"}, (rate, other, e, failed)
+
+
+@pytest.mark.slow
+def test_with_momentum_speed_offered_the_ladder_names_the_truths_own_eq14():
+    """The virtual campaign's records at mu 0.20 (a 3-2-1-1 on each control, Eq. 14
+    truth), fitted jointly from the base with separate time constants, with
+    ``momentum-speed`` offered beside the paper's and the project's candidates:
+    the ladder adds flap inertia, the direct in-plane forcing and Eq. (14)
+    linearised, never glauert (its approximation), a wake skew or a delay the
+    truth lacks, and ends with the truth's own tau0, flap frequency and Lock
+    number within 3 of their bounds and k_V near 1 (measured: tau0 1.96 against
+    2.12, n_beta 0.992 against 0.987, k_V 0.90).  tau_cs needs the 2/rev flap the
+    ladder leaves out as not significant at this speed: an effect below what the
+    record detects still moves an estimate by more than its bound."""
+    from inflowsim.campaign.work import Settings, condition_task
+    from inflowsim.flighttest.bladesim import RotorSpec
+    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
+    from inflowsim.flighttest.linearise import truth_parameters
+    from inflowsim.model.params import PUMA
+    import tempfile
+    from pathlib import Path
+    controls = ("theta0", "theta1c", "theta1s")
+    with tempfile.TemporaryDirectory() as d:
+        virtual_campaign(d, mus=(0.20,), controls=controls, shapes=("3211",), workers=1)
+        pool = ("glauert", "momentum-speed", "flap-inertia", "second-harmonic-flap",
+                "advance-ratio-perturbation", "skewed-wake", "time-delay", "azimuth-bias")
+        paths = [str(Path(d) / it.name)
+                 for it in campaign_items((0.20,), controls, ("3211",))]
+        c = condition_task("mu=0.200", paths,
+                           Settings(model="basic+separate-time-constants", pool=pool))
+        assert c["status"] == "ok", c.get("error")
+        added = set(c["ladder_added"])
+        assert {"flap-inertia", "momentum-speed"} <= added
+        assert not added & {"glauert", "skewed-wake", "time-delay"}
+        final = c["final_fit"]["parameters"]
+        truth = truth_parameters(RotorSpec(constants=PUMA.with_mu(0.20)))
+        for name in ("tau0", "lambda_beta2", "n_beta"):
+            e = final[name]
+            assert abs(e["estimate"] - truth[name]) < 3 * e["sigma"], (name, e)
+        assert abs(final["k_V"]["estimate"] - 1.0) < 3 * final["k_V"]["sigma"] + 0.1
+        # tau_cs: 5 bounds low (0.99 against 1.13) while the 2/rev flap, not
+        # significant here, is left out; with it, within its bound
+        assert final["tau_cs"]["estimate"] < truth["tau_cs"]
+        if "second-harmonic-flap" not in added:
+            more = condition_task("mu=0.200", paths, Settings(
+                model=c["final_structure"] + "+second-harmonic-flap", max_steps=0))
+            e = more["base_fit"]["parameters"]["tau_cs"]
+            assert abs(e["estimate"] - truth["tau_cs"]) < 3 * e["sigma"], e
