@@ -193,6 +193,23 @@ def print_json(doc):
     sys.stdout.write(json_text(doc))
 
 
+def emit(command, args, result, report, text, protect=()):
+    """A command's last steps, alike in every command with ``--report`` and
+    ``--json``: write ``report(result)`` to ``args.report`` (say so on stderr),
+    then print ``result.to_json()`` (with the report's page) or ``text(result)``."""
+    if args.report:
+        path = report(result).write(args.report, protect=protect)
+        progress(f"{command}: report written to {path}")
+    if args.json:
+        doc = result.to_json()
+        if args.report:
+            from pathlib import Path
+            doc["report"] = str(Path(args.report) / "index.html")
+        print_json(doc)
+    else:
+        print(text(result))
+
+
 def check_seed(seed):
     """Refuse a noise seed numpy cannot take."""
     if not 0 <= seed < 2 ** 32:

@@ -9,13 +9,10 @@ random error), or with ``--json`` the document of ``interface.md`` (``{"response
 """
 from __future__ import annotations
 
-from pathlib import Path
-
 from ..channels import FLAP, INPUTS
 from ..errors import InputError
 from ._common import (add_band_option, add_json_option, add_report_option,
-                      add_trim_window_option, check_finite, print_json, progress,
-                      read_records)
+                      add_trim_window_option, check_finite, emit, read_records)
 
 HELP = "frequency responses of records: composite, conditioned, with coherence and errors"
 
@@ -62,16 +59,7 @@ def run(args) -> int:
                             band_hz=tuple(args.band or DEFAULT_FRF_BAND),
                             windows_s=args.windows,
                             overlap=args.overlap)
-    if args.report:
-        from ..report.frf_report import frf_report
-        path = frf_report(fr, unwrap=args.unwrap).write(args.report, protect=args.record)
-        progress(f"frf: report written to {path}")
-    if args.json:
-        doc = fr.to_json()
-        if args.report:
-            doc["report"] = str(Path(args.report) / "index.html")
-        print_json(doc)
-    else:
-        from ..report.frf_report import summary_lines
-        print("\n".join(summary_lines(fr)))
+    from ..report.frf_report import frf_report, summary_lines
+    emit("frf", args, fr, lambda r: frf_report(r, unwrap=args.unwrap),
+         lambda r: "\n".join(summary_lines(r)), protect=args.record)
     return 0

@@ -10,12 +10,10 @@ writes plots and ``DIR/index.html`` (:func:`validation_report`).
 """
 from __future__ import annotations
 
-from pathlib import Path
-
 from ..defaults import DEFAULT_BAND
 from ._common import (add_band_option, add_json_option, add_model_arguments,
-                      add_record_arguments, add_report_option, load_model, print_json,
-                      progress, read_records)
+                      add_record_arguments, add_report_option, emit, load_model,
+                      read_records)
 
 HELP = "compare a model with the measured flap: per-channel figures, plots, report"
 
@@ -39,15 +37,6 @@ def run(args) -> int:
     rec = read_records([args.record], args)[0]
     model = load_model(args, rec.constants)
     result = validate(rec, model, band_hz=args.band, hold=args.hold)
-    if args.report:
-        path = validation_report(result).write(
-            args.report, protect=[q for q in (args.record, args.params) if q])
-        progress(f"validate: report written to {path}")
-    if args.json:
-        doc = result.to_json()
-        if args.report:
-            doc["report"] = str(Path(args.report) / "index.html")
-        print_json(doc)
-    else:
-        print(format_table(result))
+    emit("validate", args, result, validation_report, format_table,
+         protect=[q for q in (args.record, args.params) if q])
     return 0
