@@ -179,13 +179,16 @@ IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
 
 /* The simulator loop's usual step, inline in the FMI layer's DoStep: the same
  * step as last time, equal to the internal step, nothing to rebuild, on time.
- * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step. */
+ * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step.  (t == now
+ * first: a loop's usual t is the FMU's time to the bit, and the tolerance's six
+ * floating-point operations cost 0.8 ns of the nine-state step.) */
 #define IFS_STEP_FAST_BODY(s, t, h, STEP)                                               \
     do {                                                                               \
         if ((s)->phase == IFS_PH_STEP && !(s)->dirty && !(s)->delay.active &&          \
             (h) == (s)->h_comm && (h) == (s)->m.dt) {                                  \
             const double now_ = ifs_slave_time(s);                                     \
-            if (fabs((t) - now_) <= 1e-9 * (1.0 + fabs(now_)) && now_ + (h) <= (s)->t_stop) { \
+            if (((t) == now_ || fabs((t) - now_) <= 1e-9 * (1.0 + fabs(now_))) &&      \
+                now_ + (h) <= (s)->t_stop) {                                           \
                 STEP;                                                                  \
                 (s)->n_comm++;                                                         \
                 return 1;                                                              \
@@ -201,12 +204,13 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 }
 
 #ifdef IFS_WIDE_STEP
-/* The same, four rows at a time, for the AVX2 variant of DoStep (IFS_DO_STEP in
- * inflow_model.h's users: a function compiled for AVX2, so the step is inline) */
+/* The same, four rows at a time, for the AVX2 variant of the FMI layers' DoStep (a
+ * function compiled for AVX2, so the four-wide step is inline in it) */
 static inline __attribute__((target("avx2"), always_inline)) int
 ifs_slave_step_fast_wide(IfsSlave *s, double t, double h)
 {
-    IFS_STEP_FAST_BODY(s, t, h, ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
+    IFS_STEP_FAST_BODY(s, t, h,
+                       ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
 }
 #endif
 
