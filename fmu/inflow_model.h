@@ -205,7 +205,7 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
  * to the new x is one multiply and four adds for nine states and gam u's ten terms
  * no longer make a chain of ten adds.  Whole groups of four rows go two rows at a
  * time (native on every x86-64, SSE2, so the baseline code is fast too), four in the
- * AVX2 clone (ifs_step_wide below), one in plain C; the rows after them (nine
+ * AVX2 DoStep (ifs_step_wide below), one in plain C; the rows after them (nine
  * states: row 8) row by row, four products at a time (ifs_row_sum): a column-wise
  * vector would carry one useful lane of four, and every vector operation and load
  * counts in the step.  The same operations per row in the same order on every path,
