@@ -129,6 +129,10 @@ static inline double ifs_slave_time(const IfsSlave *s)
     return s->t_base + (double)s->n_comm * s->h_comm;
 }
 
+/* what the step reads on whole vectors from an aligned slave (IfsModel) */
+typedef char ifs_model_is_aligned[offsetof(IfsSlave, m) % 64 == 0 &&
+                                  offsetof(IfsModel, x) % 32 == 0 ? 1 : -1];
+
 /* the inputs theta0 .. muy in order: the generated struct keeps them contiguous */
 typedef char ifs_inputs_are_contiguous[offsetof(IfsVariables, muy) -
                                        offsetof(IfsVariables, theta0) ==
