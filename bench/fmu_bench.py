@@ -128,6 +128,7 @@ def main(argv=None):
 
 def compile_drivers(cc, inc, tmp):
     """The one-state reference library and the C driver, into ``tmp``."""
+    from inflowsim.fmu.build import CFLAGS
     subprocess.run([cc, *CFLAGS, inc, "-o", str(tmp / "onestate.so"),
                     str(HERE / "fmu_onestate.c"), "-lm"], check=True)
     subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", inc, "-o",

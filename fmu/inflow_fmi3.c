@@ -13,11 +13,12 @@
 #include "inflow_slave.h"
 
 typedef struct {
-    IfsSlave s;
+    IfsSlave s;                /* first, 64-byte aligned (see instantiate) */
     IfsLog log;
     fmi3LogMessageCallback log_message;
     fmi3InstanceEnvironment env;
     char name[128];
+    void *block;               /* what calloc returned */
 } Instance;
 
 /* FMI 3.0 logMessage behind IfsLog; the instance name leads the message */
@@ -59,8 +60,10 @@ static Instance *instantiate(fmi3String name, fmi3String token, fmi3Boolean logg
 {
     /* allocated first (the instance holds the delay line: no large stack copy), so
      * refusals can be logged through it, then freed */
-    Instance *c = (Instance *)calloc(1, sizeof(Instance));
+    void *block;
+    Instance *c = (Instance *)ifs_align64(calloc(1, sizeof(Instance) + 64), &block);
     if (!c) return NULL;
+    c->block = block;
     c->log_message = log_message;
     c->env = env;
     c->log.emit = log_message ? emit : NULL;
@@ -69,13 +72,13 @@ static Instance *instantiate(fmi3String name, fmi3String token, fmi3Boolean logg
     snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
     if (refusal) {
         ERR(c, "%s", refusal);
-        free(c);
+        free(c->block);
         return NULL;
     }
     if (!token || strcmp(token, IFS_GUID) != 0) {
         ERR(c, "instantiation token %s does not match this binary's %s",
             token ? token : "(null)", IFS_GUID);
-        free(c);
+        free(c->block);
         return NULL;
     }
     ifs_slave_init(&c->s);
@@ -132,7 +135,7 @@ IFS_EXPORT void fmi3FreeInstance(fmi3Instance inst)
     Instance *c = (Instance *)inst;
     if (!c) return;
     free(c->s.tab);
-    free(c);
+    free(c->block);
 }
 
 IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean tol_defined,
@@ -618,22 +621,59 @@ IFS_EXPORT fmi3Status fmi3GetOutputDerivatives(fmi3Instance inst, const fmi3Valu
                   "is 0)");
 }
 
+/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin) */
+#define DO_STEP(FAST)                                                                  \
+    do {                                                                               \
+        Instance *c = (Instance *)inst;                                                \
+        int st = IFS_OK;                                                               \
+        (void)no_set_prior;                                                            \
+        if (!c) return fmi3Error;                                                      \
+        if (!event_needed || !terminate || !early_return || !last_successful_time)     \
+            return ERR(c, "fmi3DoStep: null output argument");                         \
+        if (!FAST(&c->s, t, h)) st = ifs_slave_step(&c->s, &c->log, "fmi3DoStep", t, h); \
+        *event_needed = fmi3False;                                                     \
+        *terminate = fmi3False;                                                        \
+        *early_return = fmi3False;                                                     \
+        *last_successful_time = ifs_slave_time(&c->s);                                 \
+        return (fmi3Status)st;                                                         \
+    } while (0)
+
+#ifdef IFS_WIDE_STEP
+/* one of two functions, chosen when the library is loaded (see fmi2DoStep in
+ * inflow_fmi2.c) */
+static __attribute__((target("avx2"))) fmi3Status
+do_step_wide(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_set_prior,
+             fmi3Boolean *event_needed, fmi3Boolean *terminate, fmi3Boolean *early_return,
+             fmi3Float64 *last_successful_time)
+{
+    DO_STEP(ifs_slave_step_fast_wide);
+}
+
+static fmi3Status do_step_base(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
+                               fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
+                               fmi3Boolean *terminate, fmi3Boolean *early_return,
+                               fmi3Float64 *last_successful_time)
+{
+    DO_STEP(ifs_slave_step_fast);
+}
+
+static fmi3DoStepTYPE *resolve_do_step(void)
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") ? do_step_wide : do_step_base;
+}
+
+IFS_EXPORT fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
+                                 fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
+                                 fmi3Boolean *terminate, fmi3Boolean *early_return,
+                                 fmi3Float64 *last_successful_time)
+    __attribute__((ifunc("resolve_do_step")));
+#else
 IFS_EXPORT IFS_HOT fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
                                          fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
                                          fmi3Boolean *terminate, fmi3Boolean *early_return,
                                          fmi3Float64 *last_successful_time)
 {
-    Instance *c = (Instance *)inst;
-    int st = IFS_OK;
-    (void)no_set_prior;
-    if (!c) return fmi3Error;
-    if (!event_needed || !terminate || !early_return || !last_successful_time)
-        return ERR(c, "fmi3DoStep: null output argument");
-    if (!ifs_slave_step_fast(&c->s, t, h))
-        st = ifs_slave_step(&c->s, &c->log, "fmi3DoStep", t, h);
-    *event_needed = fmi3False;
-    *terminate = fmi3False;
-    *early_return = fmi3False;
-    *last_successful_time = ifs_slave_time(&c->s);
-    return (fmi3Status)st;
+    DO_STEP(ifs_slave_step_fast);
 }
+#endif

@@ -40,6 +40,25 @@
 
 
 typedef struct {
+    /* First what the step reads, each a whole number of 32-byte vectors from the
+     * start, which the slave keeps 64-byte aligned (IfsSlave, the FMI layers'
+     * instances): a four-wide load or store across a 64-byte cache line costs more
+     * (the nine-state step took about 2 ns longer at an unlucky heap address, and
+     * 0.6 ns longer with x across a line, bench/fmu.md). */
+    /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
+     * IFS_LD, rows NX.. zero) so one step is a sum of scaled columns, four and
+     * two rows at a time (see ifs_step) */
+    double pg[IFS_NA * IFS_LD];
+    /* state (x_pad_: whole vectors, see above) */
+    double x[IFS_NX];
+    double x_pad_[IFS_LD - IFS_NX + 4];
+#ifdef IFS_ROW_STEP
+    /* the last IFS_NX % 4 rows of pg again, row by row (IFS_RL each: the x part and
+     * the u part each padded with zeros to whole vectors of four), so the four-wide
+     * step (ifs_step_wide) loads four of their coefficients at a time; refreshed
+     * with pg (pack_rows in inflow_model.c) */
+    double prow[IFS_NLEFT * IFS_RL];
+#endif
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
@@ -52,18 +71,7 @@ typedef struct {
      * from the dynamics, the true pitch; the flap springs' hub moments), row-major */
     double lc[IFS_NL * IFS_NX];
     double ld[IFS_NL * IFS_NU];
-    /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
-     * IFS_LD, rows NX.. zero) so one step is a sum of scaled columns, four and
-     * two rows at a time (see ifs_step) */
-    double pg[IFS_NA * IFS_LD];
     double dt;
-#ifdef IFS_ROW_STEP
-    /* the last IFS_NX % 4 rows of pg again, row by row (IFS_RL each: the x part and
-     * the u part each padded with zeros to whole vectors of four), so the four-wide
-     * step (ifs_step_wide) loads four of their coefficients at a time; refreshed
-     * with pg (pack_rows in inflow_model.c) */
-    double prow[IFS_NLEFT * IFS_RL];
-#endif
     /* cached [phi gam] (by columns) of a remainder step (h not n dt) */
     double pg_rem[IFS_NA * IFS_LD];
     double rem;                    /* its length [s]; 0 = no cache */
@@ -85,8 +93,6 @@ typedef struct {
     double h_last;
     long long n_last;
     double rem_last;
-    /* state */
-    double x[IFS_NX];
 } IfsModel;
 
 /* The discrete matrices tabulated in mu for one set of parameters (IfsMuTable,
@@ -199,7 +205,7 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
  * to the new x is one multiply and four adds for nine states and gam u's ten terms
  * no longer make a chain of ten adds.  Whole groups of four rows go two rows at a
  * time (native on every x86-64, SSE2, so the baseline code is fast too), four in the
- * AVX2 clone (ifs_step_wide below), one in plain C; the rows after them (nine
+ * AVX2 DoStep (ifs_step_wide below), one in plain C; the rows after them (nine
  * states: row 8) row by row, four products at a time (ifs_row_sum): a column-wise
  * vector would carry one useful lane of four, and every vector operation and load
  * counts in the step.  The same operations per row in the same order on every path,
@@ -338,16 +344,75 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
 #endif
 }
 
-/* The same step four rows at a time, for the AVX2 clone of the DoStep functions
- * (IFS_WIDE_STEP; ifs_slave_step_fast picks it where the CPU has AVX2: 256-bit
- * vectors on the baseline x86-64 code are split badly, so that keeps the pairs), on
- * m's [phi gam] at dt: the whole groups of four rows by columns, the rows after them
- * from the packed rows (m->prow) four products at a time.  It also leaves the six
- * outputs (ifs_outputs: beta0 .. lambda1s) in out, from the new rows in registers
- * (read back from x, they waited for the stores). */
+/* The same step four rows at a time, for the AVX2 variant of the DoStep functions
+ * (IFS_WIDE_STEP; the FMI layers pick it at load time where the CPU has AVX2:
+ * 256-bit vectors on the baseline x86-64 code are split badly, so that keeps the
+ * pairs), on m's [phi gam] at dt: the whole groups of four rows by columns, two
+ * groups side by side (IFS_TREE_SUM2: each x_j and u_j broadcast once for both, and
+ * few values live at once: one group after the other kept 19 broadcasts live and
+ * spilled them), the rows after them from the packed rows (m->prow) four products
+ * at a time.  It also leaves the six outputs (ifs_outputs: beta0 .. lambda1s) in
+ * out, from the new rows in registers (read back from x, they waited for the
+ * stores), with in-lane shuffles only.  The same operations in the same order as
+ * ifs_step, so the same numbers. */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
-static inline __attribute__((target("avx2"))) void
+#include <immintrin.h>
+/* IFS_TREE_SUM of two sums term by term: the same tree for each */
+#define IFS_TREE_SUM2(T, K, first0, first1, term0, term1, out0, out1)                  \
+    do {                                                                               \
+        T a_[5], b_[5], c_, d_;                                                        \
+        int j_, l_, have_ = 0;                                                         \
+        IFS_UNROLL                                                                     \
+        for (j_ = 0; j_ < (K); j_++) {                                                 \
+            if (j_ == 0) {                                                             \
+                c_ = first0;                                                           \
+                d_ = first1;                                                           \
+            } else {                                                                   \
+                c_ = term0;                                                            \
+                d_ = term1;                                                            \
+            }                                                                          \
+            IFS_UNROLL                                                                 \
+            for (l_ = 0; l_ < 5; l_++) {                                               \
+                if ((j_ >> l_) & 1) {                                                  \
+                    c_ = a_[l_] + c_;                                                  \
+                    d_ = b_[l_] + d_;                                                  \
+                } else {                                                               \
+                    a_[l_] = c_;                                                       \
+                    b_[l_] = d_;                                                       \
+                    break;                                                             \
+                }                                                                      \
+            }                                                                          \
+        }                                                                              \
+        IFS_UNROLL                                                                     \
+        for (l_ = 0; l_ < 5; l_++)                                                     \
+            if (((K) >> l_) & 1) {                                                     \
+                if (have_) {                                                           \
+                    c_ = a_[l_] + c_;                                                  \
+                    d_ = b_[l_] + d_;                                                  \
+                } else {                                                               \
+                    c_ = a_[l_];                                                       \
+                    d_ = b_[l_];                                                       \
+                }                                                                      \
+                have_ = 1;                                                             \
+            }                                                                          \
+        out0 = c_;                                                                     \
+        out1 = d_;                                                                     \
+    } while (0)
+/* IFS_GROUP for the groups at c and c + 4 side by side */
+#define IFS_GROUP2(c, out0, out1)                                                      \
+    do {                                                                               \
+        ifs_v4 g0_, g1_;                                                               \
+        IFS_TREE_SUM2(ifs_v4, IFS_NU, IFS_COL(ifs_v4, c, IFS_NX) * u[0],               \
+                      IFS_COL(ifs_v4, (c) + 4, IFS_NX) * u[0],                         \
+                      IFS_COL(ifs_v4, c, IFS_NX + j_) * u[j_],                         \
+                      IFS_COL(ifs_v4, (c) + 4, IFS_NX + j_) * u[j_], g0_, g1_);        \
+        IFS_TREE_SUM2(ifs_v4, IFS_NX, g0_ + IFS_COL(ifs_v4, c, 0) * x[0],              \
+                      g1_ + IFS_COL(ifs_v4, (c) + 4, 0) * x[0],                        \
+                      IFS_COL(ifs_v4, c, j_) * x[j_],                                  \
+                      IFS_COL(ifs_v4, (c) + 4, j_) * x[j_], out0, out1);               \
+    } while (0)
+static inline __attribute__((target("avx2"), always_inline)) void
 ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
 {
     const double *pg = m->pg;
@@ -375,7 +440,10 @@ ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
     }
 #endif
     IFS_UNROLL
-    for (g = 0; g < IFS_NG4; g++) IFS_GROUP(ifs_v4, pg + 4 * g, y[g]);
+    for (g = 0; g + 1 < IFS_NG4; g += 2) IFS_GROUP2(pg + 4 * g, y[g], y[g + 1]);
+#if IFS_NG4 % 2
+    IFS_GROUP(ifs_v4, pg + 4 * (IFS_NG4 - 1), y[IFS_NG4 - 1]);
+#endif
 #ifdef IFS_ROW_STEP
     IFS_UNROLL
     for (l = 0; l < IFS_NLEFT; l++) {
@@ -384,8 +452,10 @@ ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
         IFS_TREE_SUM(ifs_v4, IFS_ZB, *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(0)) * z[IFS_RBLOCK(0)],
                      *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(j_)) * z[IFS_RBLOCK(j_)], p);
         {
-            const ifs_v2 lo = {p[0], p[1]}, hi = {p[2], p[3]}, h = lo + hi;
-            tail[l] = h[0] + h[1];
+            /* (l0 + l2, l1 + l3), then their sum: the lanes as ifs_row_sum adds them */
+            const __m128d h = _mm_add_pd(_mm256_castpd256_pd128((__m256d)p),
+                                         _mm256_extractf128_pd((__m256d)p, 1));
+            tail[l] = _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
         }
     }
 #endif
@@ -398,14 +468,17 @@ ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
 #if IFS_NG4 >= 2
     {
         /* [c x1 + (-s) x2, s x1 + c x2]: ifs_outputs' c x1 - s x2 and s x1 + c x2,
-         * exactly (a - b is a + (-b) in IEEE arithmetic) */
-        const ifs_v2 x1 = {y[0][1], y[0][1]}, x2 = {y[0][2], y[0][2]};
-        const ifs_v2 r = x1 * *(const ifs_v2 *)m->rot + x2 * *(const ifs_v2 *)(m->rot + 2);
-        out[0] = y[0][0];
-        *(ifs_v2 *)(out + 1) = r;
-        out[3] = y[0][3];
-        out[4] = y[1][0];
-        out[5] = y[1][1];
+         * exactly (a - b is a + (-b) in IEEE arithmetic); x1 and x2 paired in their
+         * own halves of the vector (a lane-crossing permute per value cost 0.8 ns) */
+        const __m128d lo = _mm256_castpd256_pd128((__m256d)y[0]);
+        const __m128d hi = _mm256_extractf128_pd((__m256d)y[0], 1);
+        const __m128d x1 = _mm_unpackhi_pd(lo, lo), x2 = _mm_movedup_pd(hi);
+        const __m128d r = _mm_add_pd(_mm_mul_pd(x1, _mm_loadu_pd(m->rot)),
+                                     _mm_mul_pd(x2, _mm_loadu_pd(m->rot + 2)));
+        _mm_storel_pd(out, lo);
+        _mm_storeu_pd(out + 1, r);
+        _mm_storeh_pd(out + 3, hi);
+        _mm_storeu_pd(out + 4, _mm256_castpd256_pd128((__m256d)y[1]));
     }
 #else
     ifs_outputs(m, out);

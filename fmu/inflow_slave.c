@@ -46,9 +46,6 @@ void ifs_slave_init(IfsSlave *s)
     ifs_schedule_apply(&s->v);
 #endif
     s->phase = IFS_PH_INSTANTIATED;
-#ifdef IFS_WIDE_STEP
-    s->wide = __builtin_cpu_supports("avx2");
-#endif
     s->dirty = 1;
     s->m.h_last = -1.0;
     s->t_stop = INFINITY;
