@@ -72,29 +72,77 @@ def test_a_campaign_recovers_the_truths_parameter_trends(tmp_path):
     assert "## Schedules" in open(doc["tables"]["report"]).read()
 
 
+EQ14_MUS = (0.10, 0.15, 0.25, 0.35)
+EQ14_CONTROLS = ("theta0", "theta1c", "theta1s")
+
+
+@pytest.fixture(scope="module")
+def eq14_campaign(tmp_path_factory):
+    """The default virtual campaign's truth (Eq. 14 speed through the disc) at four
+    speeds, a 3-2-1-1 on each control: the folder of records."""
+    from inflowsim.flighttest.campaign import virtual_campaign
+    folder = tmp_path_factory.mktemp("eq14")
+    virtual_campaign(folder, mus=EQ14_MUS, controls=EQ14_CONTROLS, shapes=("3211",))
+    return folder
+
+
+def _eq14_conditions(folder, model):
+    from inflowsim.campaign.work import Settings, condition_task
+    from inflowsim.flighttest.campaign import campaign_items
+    return [condition_task(f"mu={mu:.3f}",
+                           [str(folder / it.name)
+                            for it in campaign_items((mu,), EQ14_CONTROLS, ("3211",))],
+                           Settings(model=model, pool=("time-delay",), max_steps=0))
+            for mu in EQ14_MUS]
+
+
 @pytest.mark.slow
-def test_the_virtual_campaign_of_the_nonlinear_truth(tmp_path):
+def test_eq14_linearised_brings_the_truths_parameters_back(eq14_campaign):
+    """The same Eq. (14) campaign fitted with the truth's physics from the
+    catalogue, ``momentum-speed`` in place of glauert (and the direct in-plane
+    forcing, the 2/rev flap): every speed's flap frequency within 0.5 % of the
+    truth's, Lock number within 2 % (measured 0.4-0.9 %), tau0 within 10 %
+    (measured 3-9 %, 1-3.6 bounds low: what the averaged linearisation leaves of
+    the periodic truth), k_V near its theory value 1; the schedule's tau0 falls by
+    85-115 % of the truth's fall (glauert's: 48 %) and the flap's parameters are
+    constant.  With glauert in its place at mu 0.10 n_beta is 20 % high and tau0
+    half the truth's: the missing physics, not the noise."""
+    from inflowsim.campaign.schedule import campaign_schedule
+    conds = _eq14_conditions(eq14_campaign, SPEED_MU_STRUCTURE + "+momentum-speed")
+    for c in conds:
+        assert c["status"] == "ok", c.get("error")
+        e = c["base_fit"]["parameters"]
+        truth = _speed_mu_truth(c["mu"])
+        assert abs(e["lambda_beta2"]["estimate"] / truth["lambda_beta2"] - 1) < 0.005
+        assert abs(e["n_beta"]["estimate"] / truth["n_beta"] - 1) < 0.02
+        assert abs(e["tau0"]["estimate"] / truth["tau0"] - 1) < 0.1, (c["mu"], e["tau0"])
+        assert abs(e["k_V"]["estimate"] - 1) < 3 * e["k_V"]["sigma"] + 0.05
+    sch, note = campaign_schedule(conds)
+    assert note == "" and sch["lambda_beta2"].constant and sch["n_beta"].constant
+    fall = sch(0.10)["tau0"] - sch(0.35)["tau0"]
+    truth_fall = _speed_mu_truth(0.10)["tau0"] - _speed_mu_truth(0.35)["tau0"]
+    assert 0.85 < fall / truth_fall < 1.15
+    (glauert,) = _eq14_conditions(eq14_campaign, "glauert+flap-inertia")[:1]
+    e, truth = glauert["base_fit"]["parameters"], _speed_mu_truth(0.10)
+    assert e["n_beta"]["estimate"] > 1.15 * truth["n_beta"]
+    assert e["tau0"]["estimate"] < 0.7 * truth["tau0"]
+
+
+@pytest.mark.slow
+def test_the_virtual_campaign_of_the_nonlinear_truth(eq14_campaign):
     """The nonlinear blade-element truth (``flighttest --campaign``'s records) at
     four speeds, its joint per-condition fits (the campaign's ``condition_task``)
     and their schedule.  The truth's flap frequency is a constant and its
     Pitt-Peters time constants fall like 1/mu.  What the schedule finds: the
     flap frequency constant; tau0 falling (not constant) by about half the truth's
     fall, and within 3 of its bounds of the truth's value at the two upper
-    speeds.  (At 0.10-0.15 the glauert fit's tau0 is 25-40 % below the truth's: the
-    periodic blade dynamics and the missing flap inertia go into the equivalent
-    linear parameters; the schedule reports what the fits estimate.)"""
+    speeds.  (At 0.10-0.15 the glauert fit's tau0 is 25-40 % below the truth's:
+    the truth's Eq. (14) is more than the paper's Glauert terms, and the rest goes
+    into the equivalent linear parameters, see
+    ``test_eq14_linearised_brings_the_truths_parameters_back``; the schedule
+    reports what the fits estimate.)"""
     from inflowsim.campaign.schedule import campaign_schedule
-    from inflowsim.campaign.work import Settings, condition_task
-    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
-    mus = (0.10, 0.15, 0.25, 0.35)
-    controls = ("theta0", "theta1c", "theta1s")
-    virtual_campaign(tmp_path, mus=mus, controls=controls, shapes=("3211",), workers=1)
-    conds = []
-    for mu in mus:
-        items = campaign_items((mu,), controls, ("3211",))
-        conds.append(condition_task(f"mu={mu:.3f}", [str(tmp_path / it.name)
-                                                     for it in items],
-                                    Settings(pool=("time-delay",), max_steps=0)))
+    conds = _eq14_conditions(eq14_campaign, "glauert")
     sch, note = campaign_schedule(conds)
     assert sch is not None and note == ""
     assert sch["lambda_beta2"].constant
@@ -116,7 +164,12 @@ def test_the_virtual_campaign_of_the_nonlinear_truth(tmp_path):
                                                                    tau.bound(c["mu"]))
 
 
-SPEED_MU_STRUCTURE = "basic+separate-time-constants+flap-inertia+second-harmonic-flap"
+#: The speed-mu truth's physics in the catalogue: flap inertia, the 2/rev flap, and
+#: the blades' direct answer to the in-plane hub velocity the body's motion makes
+#: in the cyclic records (without it lambda_beta2 and n_beta come out 2-5 bounds
+#: high: bench/identify.md, "Joint single-axis records").
+SPEED_MU_STRUCTURE = ("basic+separate-time-constants+flap-inertia+second-harmonic-flap"
+                      "+advance-ratio-perturbation")
 
 
 @pytest.fixture(scope="module")
@@ -153,19 +206,21 @@ def _speed_mu_truth(mu):
 
 
 @pytest.mark.slow
-def test_schedules_recover_the_blade_truths_time_constants(speed_mu_campaign):
-    """The time constants' schedules hold the truth's Pitt-Peters values within 3
-    of their bounds at every speed flown and between them (measured: within 1.4),
-    and say they are not constant; the 2/rev flap's scale reaches its theory
-    value where it matters (mu 0.35)."""
+def test_schedules_recover_the_blade_truths_parameters(speed_mu_campaign):
+    """The schedules of the time constants, the flap frequency and the Lock number
+    hold the truth's values within 3 of their bounds at every speed flown and
+    between them (measured: within 2.3), say the time constants are not constant
+    and the flap's are, with bounds that tell (under 10 % and 0.5 %); the 2/rev
+    flap's scale reaches its theory value where it matters (mu 0.35)."""
     conds, sch = speed_mu_campaign
-    grid = (0.10, 0.125, 0.15, 0.2, 0.25, 0.3, 0.35)
-    for name in ("tau0", "tau_cs"):
+    grid = (0.10, 0.125, 0.15, 0.175, 0.2, 0.2375, 0.275, 0.3125, 0.35)
+    for name, constant, rel in (("tau0", False, 0.1), ("tau_cs", False, 0.1),
+                                ("lambda_beta2", True, 0.005), ("n_beta", True, 0.005)):
         p = sch[name]
-        assert not p.constant
+        assert p.constant is constant, (name, p.constant_p)
         for mu in grid:
-            assert abs(sch(mu)[name] - _speed_mu_truth(mu)[name]) < 3 * p.bound(mu), \
-                (name, mu)
-            assert p.bound(mu) < 0.1 * _speed_mu_truth(mu)[name]
+            truth = _speed_mu_truth(mu)[name]
+            assert abs(sch(mu)[name] - truth) < 3 * p.bound(mu), (name, mu)
+            assert p.bound(mu) < rel * truth, (name, mu)
     high = conds[-1]["base_fit"]["parameters"]["k_beta2"]
     assert abs(high["estimate"] - 1.0) < 3 * high["sigma"] and high["sigma"] < 0.1
