@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from inflowsim.errors import InputError
+
 from conftest import assert_user_error, run, virtual
 from inflowsim.campaign import Settings, read_plan, record_task
 from inflowsim.campaign.engine import run_campaign
@@ -186,6 +188,15 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert "## Schedules" in Path(third.files["report"]).read_text()
     doc = json.loads(Path(third.files["json"]).read_text())
     assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant
+    assert doc["settings"]["schedule"]["variables"] == ["mu"]
+    # the schedule's variable is a choice of the run (not of the stored work)
+    inv = run_campaign(plan, out, s, workers=0, progress=False,
+                       schedule_variables=("1/mu",))
+    assert inv.computed == {"records": 0, "conditions": 0}
+    doc = json.loads(Path(inv.files["json"]).read_text())
+    assert doc["settings"]["schedule"]["variables"] == ["1/mu"]
+    with pytest.raises(InputError, match="schedule variables"):
+        run_campaign(plan, out, s, workers=0, progress=False, schedule_variables=("log",))
 
 
 def test_manifests(plan_dir, tmp_path):
