@@ -102,8 +102,9 @@ def test_eq14_linearised_brings_the_truths_parameters_back(eq14_campaign):
     catalogue, ``momentum-speed`` in place of glauert (and the direct in-plane
     forcing, the 2/rev flap): every speed's flap frequency within 0.5 % of the
     truth's, Lock number within 2 % (measured 0.4-0.9 %), tau0 within 10 %
-    (measured 3-9 %, 1-3.6 bounds low: what the averaged linearisation leaves of
-    the periodic truth), k_V near its theory value 1; the schedule's tau0 falls by
+    (measured 3-9 %, 1-3.6 bounds low: at mu 0.35 half of it is the truth's
+    nonlinearity at 1 deg inputs, docs/campaign.md), k_V near its theory value 1;
+    the schedule's tau0 falls by
     85-115 % of the truth's fall (glauert's: 48 %) and the flap's parameters are
     constant.  With glauert in its place at mu 0.10 n_beta is 20 % high and tau0
     half the truth's: the missing physics, not the noise."""
