@@ -48,6 +48,13 @@ CORRELATION_LIMIT = 0.98
 #: Relative eigenvalue of the scaled information matrix below which a direction
 #: is "not determined".
 RANK_TOL = 1e-9
+#: A record's residual covariance ``S`` more ill-conditioned than this lies in
+#: fewer than three flap directions (noisy records: 3-12; noise-free with model
+#: error: 1e6, ``bench/identify.md``, "Joint single-axis records") ...
+S_CONDITION_LIMIT = 1e4
+#: ... unless it is rounding: its largest eigenvalue below this share of the
+#: measured flap power per bin (an exact fit of noise-free data).
+S_ROUNDING = 1e-12
 
 
 @dataclass
@@ -289,6 +296,25 @@ def _warnings(prob, theta, cov, dead, n_null, converged, iterations):
     return out, corr
 
 
+def _collapsed_s(spectra, S) -> list:
+    """Records whose residual lies almost in one or two flap directions: the
+    likelihood then fits the other directions exactly and the bounds shrink to
+    nothing, whatever the structure lacks there (noise-free data with model error)."""
+    out = []
+    for sp, s in zip(spectra, S):
+        ev = np.linalg.eigvalsh(np.asarray(s))
+        power = float(np.mean(np.abs(sp.Z) ** 2))
+        if ev[-1] > S_ROUNDING * power and ev[0] * S_CONDITION_LIMIT < ev[-1]:
+            cond = ev[-1] / ev[0] if ev[0] > 0 else float("inf")
+            out.append(f"{sp.source}: the residual lies almost in one direction of the "
+                       f"three flap channels (its covariance has condition {cond:.1e}): "
+                       "the bounds assume noise in every direction, so a response the "
+                       "structure lacks is fitted around, not seen, and the bounds are "
+                       "too small; typical of noise-free data: check the structure "
+                       "(diagnose) or add the measurement's noise")
+    return out
+
+
 # -- public API -----------------------------------------------------------------------
 def _records(records):
     if isinstance(records, (str, bytes)) or not hasattr(records, "__iter__"):
@@ -441,6 +467,7 @@ def _result(prob, st, j, iters, conv, starts):
         data.append(RecordFit(sp.source, sp.constants, sp.dt, sp.f_hz, sp.Z,
                               y_u + y_nu @ nu, x0, S, sp.trim, sp.trim_method,
                               sp.u_time, sp.z_time, sp.hold, nu))
+    warns += _collapsed_s(prob.spectra, st.S)
     Zall = np.vstack([d.Z for d in data])
     Yall = np.vstack([d.Y for d in data])
     model = build_model(prob.structure, params, prob.spectra[0].constants)
