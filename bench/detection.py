@@ -22,6 +22,10 @@ to the white noise's power in the band (``coloured-level``: :func:`noise_of`):
 Every candidate's statistics are written, one JSON document a line, so the
 acceptance rule can be studied offline; a summary table is printed.
 
+``--offer NAME,...`` adds effects the catalogue does not offer by default (e.g.
+``momentum-speed``) to every diagnosis's pool and to the hidden effects: the study
+to run before offering one.
+
     python bench/detection.py --kind null --seeds 8 --out /tmp/null.jsonl
     python bench/detection.py --kind hidden --seeds 8 --out /tmp/hidden.jsonl
     python bench/detection.py --summary bench/results/current/*.jsonl.gz
@@ -159,6 +163,11 @@ def run_one(job):
     if os.environ.get("INFLOWSIM_STUDY_MEASURE") in ("level", "deviance"):
         settings["white_measure"] = os.environ["INFLOWSIM_STUDY_MEASURE"]
     rule = Rule(**settings)
+    offer = [e for e in os.environ.get("INFLOWSIM_STUDY_OFFER", "").split(",") if e]
+    pool = None
+    if offer:
+        from inflowsim.model.effects import CATALOGUE
+        pool = [n for n, e in CATALOGUE.items() if e.offered] + offer
     kind, effect, hold, rate, noise, seed = job
     t0 = time.perf_counter()
     rec, truth = record_for(kind, effect, hold, rate, noise, seed)
@@ -166,7 +175,7 @@ def run_one(job):
     out = {"kind": kind, "effect": effect, "hold": hold, "rate": rate, "noise": noise,
            "seed": seed}
     if kind in ("null", "hidden"):
-        d = diagnose(rec, base, rule=rule)
+        d = diagnose(rec, base, rule=rule, pool=pool)
         out["missing_effect"] = d.missing_effect
         out["missing_effects"] = list(d.missing_effects)
         out["candidates"] = [c.to_json() for c in d.candidates]
@@ -182,7 +191,7 @@ def run_one(job):
             out["z"] = {n: (win.fit.parameters[n] - p[n]) / win.fit.sigma[n]
                         for n in p if win.fit.sigma.get(n)}
     else:
-        lad = ladder(rec, base, rule=rule)
+        lad = ladder(rec, base, rule=rule, pool=pool)
         if kind.startswith("nonlinear"):
             out["noise_floor_ratio"] = _noise_ratio(kind, hold, rate, noise, seed, rec,
                                                     lad.final.fit)
@@ -209,12 +218,12 @@ def run_one(job):
     return out
 
 
-def jobs(kind, seeds, configs):
+def jobs(kind, seeds, configs, offer=()):
     from inflowsim.model.effects import CATALOGUE
     if kind == "null":
         effects = ["glauert", "basic"]
     elif kind == "hidden":
-        effects = [n for n, e in CATALOGUE.items() if e.offered]
+        effects = [n for n, e in CATALOGUE.items() if e.offered] + list(offer)
     else:
         effects = [kind]
     return [(kind, e, h, r, nz, s) for e in effects for (h, r, nz) in configs
@@ -273,6 +282,8 @@ def main(argv=None):
                          "library's choice, the input-correlated excess on every record, "
                          "or on white-noise records the level deviance or the per-bin "
                          "deviance from the floor")
+    ap.add_argument("--offer", help="comma-separated effects not offered by default, "
+                    "added to every pool and to the hidden effects")
     ap.add_argument("--summary", nargs="+")
     a = ap.parse_args(argv)
     if a.summary:
@@ -280,8 +291,12 @@ def main(argv=None):
         return 0
     configs = CONFIGS if a.configs == "all" else [
         (h, int(r), n) for h, r, n in (c.split(":") for c in a.configs.split(","))]
-    todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs)
+    offer = [e for e in (a.offer or "").split(",") if e]
+    todo = [j[:-1] + (j[-1] + a.first_seed,) for j in jobs(a.kind, a.seeds, configs, offer)
             if not a.effects or j[1] in a.effects.split(",")]
+    if offer:
+        import os
+        os.environ["INFLOWSIM_STUDY_OFFER"] = ",".join(offer)
     if a.width is not None:
         import os
         os.environ["INFLOWSIM_STUDY_WIDTH"] = str(a.width)
