@@ -132,3 +132,23 @@ def test_alternatives_exclude_each_other_either_way_round():
         names = {a.effect for a in atoms(fit, pool)}
         assert other not in names and "skewed-wake" in names
         assert excluded(other, (have,))
+
+
+def test_also_adds_effects_not_offered_to_the_pool(tmp_path, capsys):
+    """``--also`` (diagnose, ladder, campaign): the default pool or ``--candidates``,
+    plus effects not offered by default; an unknown one is one line, exit 2."""
+    from conftest import assert_user_error, run
+    from inflowsim.commands._common import pool_with
+    from inflowsim.data.record import write_record
+    from inflowsim.flighttest.virtual import VirtualTest, virtual_record
+    from inflowsim.model.effects import CATALOGUE
+    offered = [n for n, e in CATALOGUE.items() if e.offered]
+    assert pool_with(None, []) is None
+    assert pool_with(None, ["momentum-speed"]) == offered + ["momentum-speed"]
+    assert pool_with(["glauert"], ["momentum-speed", "glauert"]) == ["glauert",
+                                                                     "momentum-speed"]
+    p = tmp_path / "r.csv"
+    write_record(virtual_record(VirtualTest(duration=4.0)), p)
+    for cmd in ("diagnose", "ladder"):
+        code, out, err = run(capsys, cmd, p, "--model", "basic", "--also", "bogus")
+        assert_user_error(code, out, err, "--also bogus", "not an effect")

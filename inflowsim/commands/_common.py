@@ -241,10 +241,30 @@ def add_search_arguments(p):
                                               f"{DEFAULT_BAND[1]:g})")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",
                    help="effects to try (default: every applicable one)")
+    add_also_option(p)
     p.add_argument("--alpha", type=float, default=ALPHA,
                    help=f"significance level per candidate (default {ALPHA:g})")
     p.add_argument("--report", metavar="DIR", help="write DIR/index.html with plots")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+
+
+def add_also_option(p):
+    p.add_argument("--also", nargs="+", metavar="EFFECT", default=[],
+                   help="effects not offered by default to try as well "
+                        "(e.g. momentum-speed, delay-beta0)")
+
+
+def pool_with(candidates, also):
+    """The candidate pool: ``candidates`` (default the offered effects) and ``also``."""
+    if not also:
+        return candidates
+    from ..model.effects import CATALOGUE
+    for e in also:
+        if e not in CATALOGUE:
+            raise InputError(f"--also {e}: not an effect (known: {', '.join(CATALOGUE)})")
+    base = list(candidates) if candidates else [n for n, e in CATALOGUE.items()
+                                                if e.offered]
+    return base + [e for e in also if e not in base]
 
 
 def check_search_arguments(args):

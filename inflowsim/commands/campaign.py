@@ -14,7 +14,7 @@ prints the document on stdout (the progress bar is on stderr).
 """
 from __future__ import annotations
 
-from ._common import print_json, progress
+from ._common import add_also_option, pool_with, print_json, progress
 
 HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
 
@@ -38,6 +38,7 @@ def add_arguments(p):
                    help=f"band [Hz] (default {DEFAULT_BAND[0]:g} {DEFAULT_BAND[1]:g})")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",
                    help="effects to try (default: every applicable one)")
+    add_also_option(p)
     p.add_argument("--alpha", type=float, default=None,
                    help="significance level per candidate")
     p.add_argument("--max-steps", type=int, default=None, help="ladder steps at most "
@@ -77,7 +78,7 @@ def _settings(args, plan):
     steps = args.max_steps if args.max_steps is not None else int(s.get("max_steps", 6))
     if steps < 0:
         raise InputError("--max-steps must be >= 0")
-    pool = args.candidates or s.get("candidates")
+    pool = pool_with(args.candidates or s.get("candidates"), args.also)
     if pool is not None:
         from ..model.effects import CATALOGUE
         for e in pool:

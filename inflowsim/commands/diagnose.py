@@ -11,8 +11,8 @@ material), and says how much excess is left (the verdict).
 from __future__ import annotations
 
 from ._common import (add_model_arguments, add_record_arguments, add_search_arguments,
-                      check_search_arguments, print_json, progress, read_records,
-                      start_values)
+                      check_search_arguments, pool_with, print_json, progress,
+                      read_records, start_values)
 
 HELP = "where a model fails on a record, and the ranked candidate effects"
 
@@ -31,7 +31,7 @@ def run(args) -> int:
     check_search_arguments(args)
     recs = read_records(args.record, args)
     start = start_values(args)
-    d = diagnose(recs, args.model, tuple(args.band), start=start, pool=args.candidates,
+    d = diagnose(recs, args.model, tuple(args.band), start=start, pool=pool_with(args.candidates, args.also),
                  alpha=args.alpha, progress=progress, hold=args.hold,
                  manoeuvres=standard_manoeuvres)
     if args.report:

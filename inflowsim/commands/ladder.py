@@ -10,7 +10,8 @@ the plot of the error falling.
 from __future__ import annotations
 
 from ._common import (add_effect_arguments, add_record_arguments, add_search_arguments,
-                      check_search_arguments, print_json, progress, read_records)
+                      check_search_arguments, pool_with, print_json, progress,
+                      read_records)
 
 HELP = "add the missing effect and refit until none is left, or climb given structures"
 
@@ -40,7 +41,8 @@ def run(args) -> int:
                               hold=args.hold, manoeuvres=standard_manoeuvres)
     else:
         lad = ladder(recs, args.model, tuple(args.band), max_steps=args.max_steps,
-                     pool=args.candidates, alpha=args.alpha, progress=progress,
+                     pool=pool_with(args.candidates, args.also), alpha=args.alpha,
+                     progress=progress,
                      hold=args.hold, manoeuvres=standard_manoeuvres)
     if args.report:
         path = ladder_report(lad, record=recs[0]).write(args.report, protect=args.record)
