@@ -323,7 +323,8 @@ def _campaign(args) -> int:
     plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
                             repeats=args.repeats, duration=args.duration, dt=args.dt,
                             noise=args.noise, workers=args.workers, progress=progress,
-                            speed=args.speed, n_blades=args.blades, body=not args.no_body)
+                            speed=args.speed, n_blades=args.blades, body=not args.no_body,
+                            amplitude_deg=args.amplitude_deg)
     progress(f"flighttest: wrote the campaign's plan {plan}")
     return 0
 

@@ -90,19 +90,21 @@ def truth_label(speed: str = "eq14", n_blades: int = 4, body: bool = True) -> st
 
 
 def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
-                    speed="eq14", n_blades=4, body=True):
+                    speed="eq14", n_blades=4, body=True, amplitude_deg=1.0):
     """The record of one campaign item (the nonlinear truth at ``item.mu``, with the
     speed through the disc ``speed``, ``n_blades`` blades and, unless ``body`` is
-    false, the body's motion)."""
+    false, the body's motion; inputs of ``amplitude_deg`` [deg])."""
     from ..model.params import PUMA
     from .bladesim import RotorSpec
     from .nonlinear import FlightTest, nonlinear_flighttest
     from .virtual import Manoeuvre
     if item.shape == "sweep":
-        man = Manoeuvre(channel=item.control, shape="sweep", amplitude=np.radians(1.0),
+        man = Manoeuvre(channel=item.control, shape="sweep",
+                        amplitude=np.radians(amplitude_deg),
                         t_start=2.0, f_range=SWEEP_HZ, length=max(duration - 3.0, 2.0))
     else:
-        man = Manoeuvre(channel=item.control, shape=item.shape, amplitude=np.radians(1.0),
+        man = Manoeuvre(channel=item.control, shape=item.shape,
+                        amplitude=np.radians(amplitude_deg),
                         t_start=2.0, width=WIDTH[item.shape])
     rotor = RotorSpec(constants=PUMA.with_mu(item.mu), speed=speed, n_blades=n_blades)
     test = FlightTest(rotor=rotor, manoeuvres=(man,), duration=duration, dt=dt,
@@ -128,23 +130,28 @@ def _kept_truth(path: Path) -> str | None:
 
 
 def _make(args):
-    item, folder, duration, dt, noise, truth = args
+    item, folder, duration, dt, noise, truth, amplitude_deg = args
     from ..data.record import write_record
     path = Path(folder) / item.name
     if path.exists():           # a restarted generation keeps what it has (same truth)
         return str(path), False
-    write_record(campaign_record(item, duration, dt, noise, **truth), path)
+    write_record(campaign_record(item, duration, dt, noise, amplitude_deg=amplitude_deg,
+                                 **truth), path)
     return str(path), True
 
 
 def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1,
                      duration=20.0, dt=1.0 / 64, noise=1e-4, workers=None,
-                     progress=None, speed="eq14", n_blades=4, body=True) -> Path:
+                     progress=None, speed="eq14", n_blades=4, body=True,
+                     amplitude_deg=1.0) -> Path:
     """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
 
     Records already in ``folder`` (same name, same truth) are kept, so an
     interrupted generation resumes; one of another truth (``speed``, ``n_blades``,
-    ``body``: :func:`campaign_record`) is refused.  ``workers`` processes (default
+    ``body``: :func:`campaign_record`) is refused.  ``amplitude_deg`` [deg]: every
+    input's amplitude (1 deg flies the truth a little outside its linear range: at mu
+    0.35 the equivalent linear ``tau0`` moves by about 1.5 of its bounds; 0.25 deg
+    with the noise scaled alike stays within it).  ``workers`` processes (default
     the machine's cores)."""
     import os
 
@@ -168,7 +175,8 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
                 raise InputError(f"{path}: a record of another truth ({kept}) is in "
                                  f"the folder, not one of '{label}': write this "
                                  "campaign to another folder")
-    jobs = [(it, str(folder), duration, dt, noise, truth) for it in items]
+    jobs = [(it, str(folder), duration, dt, noise, truth, float(amplitude_deg))
+            for it in items]
     n = workers or os.cpu_count() or 1
     done = 0
     if n == 1:
