@@ -435,3 +435,37 @@ def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory
         y_s, l_s = fmu_run(str(other), d, {"structure": 0}, u, 2)
         assert np.array_equal(y_v, y_s) and np.array_equal(l_v, l_s), flag
         assert np.array_equal(r_v, realtime_run(str(other), d, u[:400])), flag
+
+
+def test_a_forward_flight_effect_below_mu_0p1_is_refused_by_name(tmp_path_factory):
+    """A structure linearised about a forward-flight trim (advance-ratio-perturbation)
+    needs mu >= 0.1 with the mass-flow speed too: the Python model refuses it in one
+    line, and the FMU's initialisation fails with a log line that names the effect
+    and the limit (not a non-finite discretisation); at mu 0.2 it runs."""
+    from test_fmu import Logger, instantiated_fmu
+    structure = "basic+advance-ratio-perturbation"
+    k = constants_for(structure, PUMA.with_mu(0.0))
+    from dataclasses import replace
+    k = replace(k, inflow_speed="mass-flow", ct=0.006)
+    with pytest.raises(InputError, match="mu = 0 is too small"):
+        build_model(structure, parameters(structure), k)
+    unzipped, d = built(tmp_path_factory, structure,
+                        model=build_model(structure, parameters(structure),
+                                          constants_for(structure)))
+    vr = d.vr
+    for mu, ok in ((0.0, False), (0.2, True)):
+        log = Logger()
+        s = instantiated_fmu(unzipped, guid(d), logger=log)
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.setInteger([vr["inflow_speed"]], [1])
+        s.setReal([vr["ct"], vr["mu"]], [0.006, mu])
+        if ok:
+            s.exitInitializationMode()
+            s.doStep(0.0, 0.01)
+        else:
+            with pytest.raises(Exception):
+                s.exitInitializationMode()
+            assert "advance-ratio-perturbation is linearised about a forward-flight " \
+                   "trim (V ~ mu) and needs mu >= 0.1" in log.text(), log.text()
+        s.freeInstance()
