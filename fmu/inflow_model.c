@@ -157,15 +157,6 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  v->structure, IFS_N_STRUCTURES - 1, IFS_STRUCTURE_NAMES);
         return -1;
     }
-#ifdef IFS_FORWARD_ONLY_MASK
-    /* its trim inflow balances the V ~ mu momentum: the Python model refuses it too */
-    if (((IFS_FORWARD_ONLY_MASK >> v->structure) & 1u) && !(v->mu >= IFS_MU_LO)) {
-        snprintf(msg, msg_len, "mu = %g: %s is linearised about a forward-flight trim "
-                 "(V ~ mu) and needs mu >= %g, with the mass-flow speed too", v->mu,
-                 IFS_FORWARD_ONLY_EFFECTS, IFS_MU_LO);
-        return -1;
-    }
-#endif
     ifs_descriptor(v, e, a, b);
     for (i = 0; i < NX; i++) {
         for (j = 0; j < NX; j++) rhs[i * NA + j] = a[i * NX + j];

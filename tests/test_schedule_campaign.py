@@ -252,3 +252,43 @@ def test_in_its_linear_range_the_eq14_truths_trends_are_recovered(tmp_path):
             assert abs(sch(mu)[name] - truth) < 3 * p.bound(mu), (name, mu)
             assert p.bound(mu) < 0.05 * truth, (name, mu)
     assert not sch["tau0"].constant and sch["n_beta"].constant
+
+
+@pytest.mark.slow
+def test_the_blade_truths_schedule_flies_the_simulator_loop(speed_mu_campaign, tmp_path):
+    """The schedule that recovers the blade truth's parameters (flap inertia, the
+    2/rev flap, the direct in-plane forcing with the trim as FMU parameters; mu and
+    1/mu polynomials) builds an FMU that examples/simulator_loop.c, unchanged, flies
+    from hover to mu 0.25 (the trim effects use the mass-flow speed down to hover)."""
+    import shutil
+    import subprocess
+    import zipfile
+    from pathlib import Path
+    from inflowsim.campaign.schedule import campaign_schedule
+    from inflowsim.model.schedule import write_schedule
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    conds, _ = speed_mu_campaign
+    sch, note = campaign_schedule(conds, variables=("mu", "1/mu"))
+    assert {p.variable for p in sch.parameters} == {"mu", "1/mu"}
+    path = write_schedule(sch, tmp_path / "schedule.json")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["fmu", "build", "--schedule", str(path), "--out",
+                     str(tmp_path / "s.fmu"), "--json"]) == 0
+    doc = json.loads(buf.getvalue())
+    unz = tmp_path / "x"
+    zipfile.ZipFile(doc["fmu"]).extractall(unz)
+    root = Path(__file__).resolve().parents[1]
+    exe = tmp_path / "loop"
+    subprocess.run([cc, "-std=c99", "-O2", "-I", str(unz / "sources"), "-o", str(exe),
+                    str(root / "examples" / "simulator_loop.c"), "-ldl", "-lm"], check=True)
+    out = subprocess.run([str(exe), str(unz / "binaries" / "linux64" / "inflowsim.so"),
+                          doc["guid"], str(tmp_path / "loop.csv")], capture_output=True,
+                         text=True)
+    assert out.returncode == 0, out.stderr + out.stdout
+    assert "frames: 2700" in out.stdout
+    rows = np.genfromtxt(tmp_path / "loop.csv", delimiter=",", names=True)
+    assert rows["mu"][0] == 0.0 and rows["mu"].max() > 0.24
+    assert np.all(np.isfinite(rows["thrust"]))

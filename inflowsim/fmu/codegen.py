@@ -36,16 +36,6 @@ from ..model.structure import Structure
 #: Effects whose equations are linearised about a trim state: the FMU gets the trim
 #: totals as parameters ``trim_<column>`` (:data:`TRIM_PARAMETERS`).
 TRIM_EFFECTS = ("advance-ratio-perturbation",)
-#: Effects linearised about a forward-flight trim (their trim inflow balances the
-#: ``V ~ mu`` momentum of Eq. 2): below ``MU_LO`` they are refused, with the
-#: mass-flow speed too, in Python by ``build_model`` and in the FMU by ``ifs_build``.
-FORWARD_FLIGHT_EFFECTS = ("advance-ratio-perturbation",)
-
-
-def forward_flight_mask(structures) -> int:
-    """Bit ``i`` set: structure ``i`` holds a :data:`FORWARD_FLIGHT_EFFECTS` one."""
-    return sum(1 << i for i, st in enumerate(structures)
-               if any(e in FORWARD_FLIGHT_EFFECTS for e in Structure.parse(st).effects))
 #: Effects whose terms are computed numerically at build time (no expression in the
 #: parameters to generate), with why the FMU does not run them.
 NUMERIC_EFFECTS = {"momentum-speed": "its coupling is a disc quadrature at the trim "
@@ -271,5 +261,4 @@ def n_states(structures) -> int:
 
 
 __all__ = ["equations_c", "traced", "supported", "n_states", "needs_trim", "TRIM_EFFECTS",
-           "FORWARD_FLIGHT_EFFECTS", "forward_flight_mask",
            "TRIM_PARAMETERS"]

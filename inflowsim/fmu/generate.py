@@ -240,7 +240,6 @@ def vars_header(d: Description = DEFAULT) -> str:
              + ", ".join(f"{i} {n}" for i, n in enumerate(d.structures)) + '"',
              f"#define IFS_N_INPUTS {n_in}  /* the perturbation inputs, theta0 .. muy */",
              f"#define IFS_INPUT_LIMIT {_c_num(LIMIT)}  /* |input| beyond it is refused */",
-             *forward_flight_defines(d),
              "", *mutable.c_defines(), *schedule_defines(d), "",
              "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
@@ -293,21 +292,6 @@ def vars_source(d: Description = DEFAULT) -> str:
                      f"{int(v.upper)}}},")
     lines += ["};", ""]
     return "\n".join(lines)
-
-
-def forward_flight_defines(d: Description = DEFAULT) -> list:
-    """``inflow_vars.h``'s lines naming the structures that need forward flight
-    (:data:`inflowsim.fmu.codegen.FORWARD_FLIGHT_EFFECTS`); none without one, so
-    the presets' sources do not change."""
-    mask = codegen.forward_flight_mask(d.structures)
-    if not mask:
-        return []
-    from ..model.structure import Structure
-    names = ", ".join(e for e in codegen.FORWARD_FLIGHT_EFFECTS
-                      if any(e in Structure.parse(st).effects for st in d.structures))
-    return [f"#define IFS_FORWARD_ONLY_MASK {mask:#x}u  /* structures linearised about a "
-            "forward-flight trim: mu >= IFS_MU_LO */",
-            f'#define IFS_FORWARD_ONLY_EFFECTS "{names}"']
 
 
 def schedule_defines(d: Description = DEFAULT) -> list:

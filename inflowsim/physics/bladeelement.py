@@ -65,7 +65,7 @@ def _solve(a, b):
     return np.array(sympy.Matrix(a).LUsolve(sympy.Matrix(b)), dtype=object).reshape(-1)
 
 
-def trim_inflow(mu: float, a0s: float, theta, beta, muz: float) -> np.ndarray:
+def trim_inflow(mu: float, a0s: float, theta, beta, muz: float, v=None) -> np.ndarray:
     """Trim induced inflow: the steady state of the basic inflow model, Eq. (2).
 
     ``lambda = L c`` with the blade-element loads ``c = G_theta theta + G_beta beta
@@ -74,12 +74,16 @@ def trim_inflow(mu: float, a0s: float, theta, beta, muz: float) -> np.ndarray:
     + G_nu[:, 0] muz)``.  Its first row is the momentum balance
     ``lambda0 = C_T/(2 mu)`` solved with the blade-element ``C_T`` at trim.
 
+    ``v``: the speed through the disc in ``L`` (default ``mu``, forward flight only;
+    the model's ``Constants.flow_speed``, so that with the mass-flow speed the trim
+    is the steady state of the same model down to hover).
+
     Returns
     -------
     ndarray, shape (3,)
         ``(lambda0, lambda1c, lambda1s)`` [-].
     """
-    lm = ld.momentum_l(mu, a0s)
+    lm = ld.momentum_l(mu, a0s, v)
     theta, beta = (np.array([_real(x) for x in v]) for v in (theta, beta))
     rhs = lm @ (ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * muz)
     return _solve(np.eye(3) - lm @ ld.g_lambda(mu), rhs)

@@ -54,7 +54,7 @@ def true_trim(k, azimuth_bias: float = 0.0):
         r = rotation(-azimuth_bias)
         theta[1:3] = r @ theta[1:3]
         beta[1:3] = r @ beta[1:3]
-    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz)
+    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     return theta, beta, muz, lam
 
 
@@ -63,7 +63,8 @@ def _equations(eq, p, k):
     h_u, p_u = eq.h_u.copy(), eq.p_u.copy()
     h_u[:, MUX:MUX + 2] += p["k_mu"] * p["n_beta"] * be.inplane_flap_derivatives(
         k.mu, theta, beta, muz, lam)
-    p_u[:, MUX:MUX + 2] += p["k_mu"] * ld.momentum_l(k.mu, k.a0s) @ \
+    # the base model's gain: V = mu, or the mass-flow speed down to hover
+    p_u[:, MUX:MUX + 2] += p["k_mu"] * ld.momentum_l(k.mu, k.a0s, k.flow_speed) @ \
         be.inplane_load_derivatives(k.mu, theta, beta, muz, lam)
     return eq.with_(h_u=h_u, p_u=p_u)
 

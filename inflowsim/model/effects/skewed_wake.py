@@ -53,14 +53,15 @@ from ..params import ParameterSpec
 SKEW = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 
 
-def skew_l(k_skew: float, mu: float, a0s: float) -> np.ndarray:
-    """The added gain ``dL = k_skew (a0 s/mu) SKEW`` [-]."""
-    return k_skew * a0s / mu * SKEW
+def skew_l(k_skew: float, v: float, a0s: float) -> np.ndarray:
+    """The added gain ``dL = k_skew (a0 s/V) SKEW`` [-], ``V`` the speed through the
+    disc of the base model's ``L`` (``mu``, or the mass-flow speed)."""
+    return k_skew * a0s / v * SKEW
 
 
 def _equations(eq, p, k):
     mu = k.mu
-    dl = skew_l(p["k_skew"], mu, k.a0s)
+    dl = skew_l(p["k_skew"], k.flow_speed, k.a0s)
     p_u = eq.p_u.copy()
     gt = dl @ ld.g_theta(mu)
     # effects apply in catalogue order, after azimuth-bias: its pitch rotation
@@ -79,7 +80,7 @@ def theory_skew(k) -> float:
     if k.trim is None or any(n not in k.trim for n in be.TRIM_KEYS):
         return be.pitt_peters_skew_gain(math.pi / 2)
     theta, beta, muz = be.trim_state(k.trim, EFFECT.name)
-    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz)
+    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     return be.pitt_peters_skew_gain(be.wake_skew_angle(k.mu, lam[0], muz))
 
 
