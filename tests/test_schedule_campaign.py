@@ -86,14 +86,15 @@ def eq14_campaign(tmp_path_factory):
     return folder
 
 
-def _eq14_conditions(folder, model):
+def _joint_fits(folder, model, mus=EQ14_MUS):
+    """Each speed's 3-2-1-1 records fitted together (the campaign's condition task)."""
     from inflowsim.campaign.work import Settings, condition_task
     from inflowsim.flighttest.campaign import campaign_items
     return [condition_task(f"mu={mu:.3f}",
                            [str(folder / it.name)
                             for it in campaign_items((mu,), EQ14_CONTROLS, ("3211",))],
                            Settings(model=model, pool=("time-delay",), max_steps=0))
-            for mu in EQ14_MUS]
+            for mu in mus]
 
 
 @pytest.mark.slow
@@ -109,7 +110,7 @@ def test_eq14_linearised_brings_the_truths_parameters_back(eq14_campaign):
     constant.  With glauert in its place at mu 0.10 n_beta is 20 % high and tau0
     half the truth's: the missing physics, not the noise."""
     from inflowsim.campaign.schedule import campaign_schedule
-    conds = _eq14_conditions(eq14_campaign, SPEED_MU_STRUCTURE + "+momentum-speed")
+    conds = _joint_fits(eq14_campaign, SPEED_MU_STRUCTURE + "+momentum-speed")
     for c in conds:
         assert c["status"] == "ok", c.get("error")
         e = c["base_fit"]["parameters"]
@@ -123,7 +124,7 @@ def test_eq14_linearised_brings_the_truths_parameters_back(eq14_campaign):
     fall = sch(0.10)["tau0"] - sch(0.35)["tau0"]
     truth_fall = _speed_mu_truth(0.10)["tau0"] - _speed_mu_truth(0.35)["tau0"]
     assert 0.85 < fall / truth_fall < 1.15
-    (glauert,) = _eq14_conditions(eq14_campaign, "glauert+flap-inertia")[:1]
+    (glauert,) = _joint_fits(eq14_campaign, "glauert+flap-inertia", mus=(0.10,))
     e, truth = glauert["base_fit"]["parameters"], _speed_mu_truth(0.10)
     assert e["n_beta"]["estimate"] > 1.15 * truth["n_beta"]
     assert e["tau0"]["estimate"] < 0.7 * truth["tau0"]
@@ -143,7 +144,7 @@ def test_the_virtual_campaign_of_the_nonlinear_truth(eq14_campaign):
     ``test_eq14_linearised_brings_the_truths_parameters_back``; the schedule
     reports what the fits estimate.)"""
     from inflowsim.campaign.schedule import campaign_schedule
-    conds = _eq14_conditions(eq14_campaign, "glauert")
+    conds = _joint_fits(eq14_campaign, "glauert")
     sch, note = campaign_schedule(conds)
     assert sch is not None and note == ""
     assert sch["lambda_beta2"].constant
@@ -183,18 +184,11 @@ def speed_mu_campaign(tmp_path_factory):
     flap frequency and Lock number, flap inertia 1, the 2/rev flap at theory.
     Five speeds, a 3-2-1-1 on each control, joint fits per speed, the schedule."""
     from inflowsim.campaign.schedule import campaign_schedule
-    from inflowsim.campaign.work import Settings, condition_task
-    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
+    from inflowsim.flighttest.campaign import virtual_campaign
     folder = tmp_path_factory.mktemp("speed_mu")
-    mus = SPEEDS
-    controls = ("theta0", "theta1c", "theta1s")
-    virtual_campaign(folder, mus=mus, controls=controls, shapes=("3211",), speed="mu")
-    conds = [condition_task(f"mu={mu:.3f}",
-                            [str(folder / it.name)
-                             for it in campaign_items((mu,), controls, ("3211",))],
-                            Settings(model=SPEED_MU_STRUCTURE, pool=("time-delay",),
-                                     max_steps=0))
-             for mu in mus]
+    virtual_campaign(folder, mus=SPEEDS, controls=EQ14_CONTROLS, shapes=("3211",),
+                     speed="mu")
+    conds = _joint_fits(folder, SPEED_MU_STRUCTURE, SPEEDS)
     sch, note = campaign_schedule(conds)
     assert sch is not None and note == ""
     return conds, sch
@@ -241,7 +235,7 @@ def test_in_its_linear_range_the_eq14_truths_trends_are_recovered(tmp_path):
     from inflowsim.flighttest.campaign import virtual_campaign
     virtual_campaign(tmp_path, mus=EQ14_MUS, controls=EQ14_CONTROLS, shapes=("3211",),
                      amplitude_deg=0.25, noise=2.5e-5)
-    conds = _eq14_conditions(tmp_path, SPEED_MU_STRUCTURE + "+momentum-speed")
+    conds = _joint_fits(tmp_path, SPEED_MU_STRUCTURE + "+momentum-speed")
     sch, note = campaign_schedule(conds, variables=("1/mu",))
     assert note == ""
     grid = (0.10, 0.125, 0.15, 0.2, 0.25, 0.3, 0.35)

@@ -59,24 +59,6 @@ class Plan:
         return out
 
 
-def _header_meta(path: Path) -> dict:
-    """The ``# key: value`` lines at the top of a record (nothing else is read)."""
-    meta = {}
-    try:
-        with open(path, encoding="utf-8-sig", errors="replace") as fh:
-            for line in fh:
-                if not line.startswith("#"):
-                    if line.strip():
-                        break
-                    continue
-                k, sep, v = line[1:].partition(":")
-                if sep:
-                    meta.setdefault(k.strip(), v.strip())
-    except OSError:
-        pass
-    return meta
-
-
 def _condition_of(meta: dict):
     try:
         mu = float(meta["mu"])
@@ -86,7 +68,8 @@ def _condition_of(meta: dict):
 
 
 def _entry(path: Path, condition="", manoeuvre="", group="") -> PlanEntry:
-    meta = _header_meta(path)
+    from ..data.record import header_meta
+    meta = header_meta(path)
     mu, cond = _condition_of(meta)
     return PlanEntry(str(path.resolve()), condition.strip() or cond, mu,
                      manoeuvre.strip() or meta.get("manoeuvre", meta.get("description", "")),

@@ -454,6 +454,25 @@ def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
 
 
 # -- I/O ---------------------------------------------------------------------------
+def header_meta(path) -> dict:
+    """The ``# key: value`` lines at the top of a record, read without its data
+    (``{}`` for a file that cannot be read: :func:`read_record` says why)."""
+    meta = {}
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as fh:
+            for line in fh:
+                if not line.startswith("#"):
+                    if line.strip():
+                        break
+                    continue
+                k, sep, v = line[1:].partition(":")
+                if sep:
+                    meta.setdefault(k.strip(), v.strip())
+    except OSError:
+        pass
+    return meta
+
+
 def read_record(path) -> Record:
     """Read a CSV record; raise :class:`RecordError` (one line) on any format error."""
     p = Path(path)

@@ -117,18 +117,6 @@ def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
                          truth=truth_label(speed, n_blades, body))
 
 
-def _kept_truth(path: Path) -> str | None:
-    """The ``truth`` metadata of a record already in the folder (its header only)."""
-    with open(path, encoding="utf-8-sig") as f:
-        for line in f:
-            if not line.startswith("#"):
-                break
-            key, _, value = line[1:].partition(":")
-            if key.strip() == "truth":
-                return value.strip()
-    return None
-
-
 def _make(args):
     item, folder, duration, dt, noise, truth, amplitude_deg = args
     from ..data.record import write_record
@@ -155,6 +143,7 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
     the machine's cores)."""
     import os
 
+    from ..data.record import header_meta
     from ..fileio import check_folder, safe_write_text
     folder = check_folder(folder)
     folder.mkdir(exist_ok=True)
@@ -170,7 +159,7 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
                              "record there: move it or use another folder")
         if path.exists():
             # records written before the truth was named were all of the default truth
-            kept = _kept_truth(path) or truth_label()
+            kept = header_meta(path).get("truth") or truth_label()
             if kept != label:
                 raise InputError(f"{path}: a record of another truth ({kept}) is in "
                                  f"the folder, not one of '{label}': write this "

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS_AZ
 from .bladesim import BladeRotor, RotorSpec, multiblade_derivatives
+from .nonlinear import trim_inputs
 
 #: Azimuths per blade passage the Jacobian is averaged over.
 N_PSI = 16
@@ -65,13 +66,6 @@ class TruthLinearisation:
             object.__setattr__(self, name, a)
 
 
-def _trim_inputs(spec: RotorSpec, trim_controls, trim_muz: float) -> np.ndarray:
-    from .nonlinear import TRIM_CONTROLS
-    tc = dict(TRIM_CONTROLS if trim_controls is None else trim_controls)
-    return np.array([tc["theta0"], tc["theta1c"], tc["theta1s"], trim_muz,
-                     0.0, 0.0, 0.0, 0.0, spec.constants.mu, 0.0])
-
-
 def _averaged_jacobian(rotor: BladeRotor, z0, u0, n_psi: int, step: float) -> np.ndarray:
     """``d(beta'', lambda')/d(z, u)`` (6, 19) averaged over one blade passage."""
     w0 = np.concatenate([z0, u0])
@@ -99,7 +93,7 @@ def linearise(spec: RotorSpec, trim_controls=None, trim_muz: float = 0.0,
         Central differences of :func:`multiblade_derivatives` about the trim's mean
         multiblade state, averaged over ``n_psi`` azimuths of one blade passage.
     """
-    u0 = _trim_inputs(spec, trim_controls, trim_muz)
+    u0 = trim_inputs(spec.constants.mu, trim_controls, trim_muz)
     rotor = BladeRotor(spec)
     trim = rotor.periodic_trim(u0)
     z0 = np.concatenate([trim.beta, np.zeros(3), trim.lam])
@@ -147,6 +141,7 @@ def eq14_coupling(spec: RotorSpec, trim_controls=None, trim_muz: float = 0.0) ->
     e14 = linearise(replace(spec, speed="eq14"), trim_controls, trim_muz)
     z0 = np.concatenate([e14.trim_beta, np.zeros(3), e14.trim_lambda])
     jac = _averaged_jacobian(BladeRotor(replace(spec, speed="mu")), z0,
-                             _trim_inputs(spec, trim_controls, trim_muz), N_PSI, STEP)
+                             trim_inputs(spec.constants.mu, trim_controls, trim_muz),
+                             N_PSI, STEP)
     tau = np.diag([spec.tau0, spec.tau_cs, spec.tau_cs])
     return {"A": tau @ (e14.A[6:] - jac[3:, :9]), "B": tau @ (e14.B[6:] - jac[3:, 9:])}

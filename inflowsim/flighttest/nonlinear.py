@@ -139,11 +139,16 @@ class FlightTestResult:
     truth: dict
 
 
+def trim_inputs(mu: float, trim_controls=None, trim_muz: float = 0.0) -> np.ndarray:
+    """The truth's trim inputs (azimuth units, ``INPUTS_AZ``): the given true pitch
+    (default :data:`TRIM_CONTROLS`), ``muz``, ``mux = mu``, no hub rates."""
+    tc = TRIM_CONTROLS if trim_controls is None else trim_controls
+    return np.array([tc["theta0"], tc["theta1c"], tc["theta1s"], trim_muz,
+                     0.0, 0.0, 0.0, 0.0, mu, 0.0])
+
+
 def _trim_inputs(test: FlightTest) -> np.ndarray:
-    k = test.rotor.constants
-    tc = test.trim_controls
-    return np.array([tc["theta0"], tc["theta1c"], tc["theta1s"], test.trim_muz,
-                     0.0, 0.0, 0.0, 0.0, k.mu, 0.0])
+    return trim_inputs(test.rotor.constants.mu, test.trim_controls, test.trim_muz)
 
 
 def _advance(rotor: BladeRotor, x_trim, u_trim, n_back: int, dpsi: float, max_step):

@@ -46,14 +46,22 @@ MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
 
 
 
-def true_trim(k, azimuth_bias: float = 0.0):
-    """Trim ``(theta, beta, muz, lam)`` of constants ``k``, cyclic components
-    rotated from recorded to true by ``R(-azimuth_bias)``."""
-    theta, beta, muz = be.trim_state(k.trim, NAME)
+def true_trim_state(k, azimuth_bias: float = 0.0, effect: str = NAME):
+    """Trim ``(theta, beta, muz)`` of constants ``k`` (one line naming ``effect``
+    if missing), cyclic components rotated from recorded to true by
+    ``R(-azimuth_bias)``: what every effect linearised about the trim starts from."""
+    theta, beta, muz = be.trim_state(k.trim, effect)
     if azimuth_bias:
         r = rotation(-azimuth_bias)
         theta[1:3] = r @ theta[1:3]
         beta[1:3] = r @ beta[1:3]
+    return theta, beta, muz
+
+
+def true_trim(k, azimuth_bias: float = 0.0):
+    """Trim ``(theta, beta, muz, lam)`` of constants ``k``: :func:`true_trim_state`
+    and the basic model's trim inflow."""
+    theta, beta, muz = true_trim_state(k, azimuth_bias)
     lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     return theta, beta, muz, lam
 

@@ -23,7 +23,7 @@ from functools import lru_cache
 import numpy as np
 
 from ._effect import Effect
-from ...physics import bladeelement as be
+from .advance_ratio_perturbation import true_trim_state
 from ...physics import momentum_speed as ms
 from ..equations import rotation
 from ..params import ParameterSpec
@@ -43,11 +43,7 @@ def _coupling(mu, a0s, theta, beta, muz):
 def coupling(k, azimuth_bias: float = 0.0):
     """``(A (3, 9), B (3, 10))`` the effect adds at ``k_V = 1`` (states ``beta,
     beta', lambda``; inputs ``INPUTS_AZ``, pitch true), at the trim of ``k``."""
-    theta, beta, muz = be.trim_state(k.trim, NAME)
-    if azimuth_bias:
-        r = rotation(-azimuth_bias)
-        theta[1:3] = r @ theta[1:3]
-        beta[1:3] = r @ beta[1:3]
+    theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
     return _coupling(float(k.mu), float(k.a0s), tuple(map(float, theta)),
                      tuple(map(float, beta)), float(muz))
 
