@@ -22,7 +22,7 @@ from fmpy.fmi3 import FMU3Slave  # noqa: E402
 
 from inflowsim.errors import InputError  # noqa: E402
 from inflowsim.fmu import apply_parameters, build_fmu, description_for  # noqa: E402
-from inflowsim.fmu.codegen import traced  # noqa: E402
+from inflowsim.fmu.codegen import needs_trim, traced  # noqa: E402
 from inflowsim.fmu.generate import guid  # noqa: E402
 from inflowsim.model import build_model, descriptor  # noqa: E402
 from inflowsim.model.loads import load_matrices  # noqa: E402
@@ -53,6 +53,8 @@ STRUCTURES = (
     "glauert+advance-ratio-perturbation+flap-inertia",
     "basic+second-harmonic-flap",
     "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
+    "basic+separate-time-constants+flap-inertia+advance-ratio-perturbation+momentum-speed",
+    "basic+azimuth-bias+momentum-speed",
 )
 
 #: A trim state (totals) for the effect linearised about it.
@@ -61,7 +63,7 @@ TRIM = {"theta0": 0.17, "theta1c": 0.012, "theta1s": -0.05, "beta0": 0.06,
 
 
 def constants_for(structure, k=PUMA):
-    return k.with_trim(TRIM) if "advance-ratio-perturbation" in structure else k
+    return k.with_trim(TRIM) if needs_trim([structure]) else k
 
 
 def parameters(structure) -> dict:
@@ -155,7 +157,9 @@ def built(tmp_path_factory, structure, version=2, model=None):
 FMI2_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay",
                 "basic+delay-beta0+delay-beta1c", "glauert+delay-beta1s",
                 "basic+separate-time-constants+hub-velocity-coupling",
-                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap")
+                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
+                "basic+separate-time-constants+flap-inertia+advance-ratio-perturbation"
+                "+momentum-speed")
 
 
 @pytest.mark.parametrize("structure", [
@@ -294,6 +298,35 @@ def test_generated_equations_are_the_python_descriptor():
                                    np.pad(num, ((0, 0), (0, got.shape[1] - num.shape[1]))),
                                    rtol=1e-13, atol=1e-13)
     assert str(meas.delays[1]) == "delay_beta1c"
+
+
+def test_a_run_time_coupling_is_traced_as_a_call():
+    """momentum-speed's coupling is computed at run time (a disc quadrature at the
+    trim inflow of Eq. 14): traced, its terms are symbols of one call whose
+    arguments are the trim turned by the azimuth bias; with the call's results put
+    in, the symbols are build_model's E, A, B (the generated C's own numbers are
+    checked against the Simulator above)."""
+    import sympy
+    from inflowsim.fmu.codegen import _trace
+    from inflowsim.model.effects.momentum_speed import coupling
+    structure = "basic+separate-time-constants+azimuth-bias+momentum-speed"
+    p = dict(parameters(structure), k_V=0.8)
+    k = constants_for(structure).with_mu(0.27)
+    e, a, b = descriptor(structure, p, k)
+    _, es, as_, bs, _, calls = _trace(structure)
+    assert [c[0] for c in calls] == ["momentum-speed"]
+    values = {**p, "mu": k.mu, "a0": k.a0, "solidity": k.solidity, "V": k.flow_speed,
+              **{f"trim_{c}": x for c, x in TRIM.items()}}
+    subs = {sympy.Symbol(n): v for n, v in values.items()}
+    args = [float(x.xreplace(subs)) for x in calls[0][1]]
+    assert args[:3] == [k.mu, k.a0s, k.flow_speed] and args[-1] == TRIM["muz"]
+    ca, cb = coupling(k, p["azimuth_bias"])
+    subs.update({sympy.Symbol(f"numeric_0_0[{i}]"): x for i, x in enumerate(ca.ravel())})
+    subs.update({sympy.Symbol(f"numeric_0_1[{i}]"): x for i, x in enumerate(cb.ravel())})
+    for sym, num in ((es, e), (as_, a), (bs, b[:, : bs.shape[1]])):
+        got = np.array([[float(sympy.sympify(x).xreplace(subs)) for x in row]
+                        for row in sym])
+        np.testing.assert_allclose(got, num, rtol=1e-13, atol=1e-13)
 
 
 @pytest.mark.parametrize("structure, match", [
@@ -437,14 +470,16 @@ def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory
         assert np.array_equal(r_v, realtime_run(str(other), d, u[:400])), flag
 
 
-def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(record, tmp_path_factory):
-    """advance-ratio-perturbation and skewed-wake use the base model's speed through
-    the disc (in their gain and their trim inflow): with the mass-flow speed they run
-    from hover, where they used to stop (Python: mu below 0.1 refused; skew gain
-    divided by zero), and the FMU steps as the Simulator does at mu 0 and 0.05
-    (the sweep of examples/simulator_loop.c starts in hover)."""
+@pytest.mark.parametrize("structure", ["basic+advance-ratio-perturbation+skewed-wake",
+                                       "basic+separate-time-constants+momentum-speed"])
+def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(structure, record,
+                                                               tmp_path_factory):
+    """advance-ratio-perturbation, skewed-wake and momentum-speed use the base
+    model's speed through the disc (in their gain and their trim inflow): with the
+    mass-flow speed they run from hover, where they used to stop (Python: mu below
+    0.1 refused; skew gain divided by zero), and the FMU steps as the Simulator does
+    at mu 0 and 0.05 (the sweep of examples/simulator_loop.c starts in hover)."""
     from dataclasses import replace
-    structure = "basic+advance-ratio-perturbation+skewed-wake"
     p = parameters(structure)
     ct = 0.006
     unzipped = d = None

@@ -84,7 +84,7 @@ def test_the_effect_is_nested_and_adds_the_coupling():
     """At k_V = 0 the structure is the one without the effect; at k_V the inflow
     rows gain k_V times the coupling; with an azimuth bias the coupling acts on the
     true pitch.  It needs the record's trim, is not offered to the diagnosis by
-    default, is an alternative to glauert, and the FMU refuses it in one line."""
+    default, and is an alternative to glauert."""
     from inflowsim.model.effects import CATALOGUE
     from inflowsim.model.build import equations
     k = _constants(0.15)
@@ -114,9 +114,8 @@ def test_the_effect_is_nested_and_adds_the_coupling():
         build_model("glauert+momentum-speed", {}, k)
     with pytest.raises(InputError, match="trim"):
         build_model(base + "+momentum-speed", dict(p, k_V=1.0), PUMA.with_mu(0.15))
-    from inflowsim.fmu.codegen import supported
-    with pytest.raises(InputError, match="does not run effect momentum-speed"):
-        supported(base + "+momentum-speed")
+    from inflowsim.fmu.codegen import needs_trim
+    assert needs_trim([base + "+momentum-speed"])       # the FMU takes the trim
 
 
 def test_alternatives_exclude_each_other_either_way_round():
@@ -152,3 +151,32 @@ def test_also_adds_effects_not_offered_to_the_pool(tmp_path, capsys):
     for cmd in ("diagnose", "ladder"):
         code, out, err = run(capsys, cmd, p, "--model", "basic", "--also", "bogus")
         assert_user_error(code, out, err, "--also bogus", "not an effect")
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.15])
+def test_with_any_base_speed_the_steady_state_is_eq14s(mu):
+    """The coupling replaces the base model's momentum loads by Eq. (14)'s, whatever
+    the base model's speed through the disc (the gain ``L`` it is taken out with):
+    the model's steady-state response to every input is the same with the paper's
+    ``V = mu`` and with the mass-flow speed (only the apparent mass, a time scale,
+    follows ``L``), and down to hover; without the effect the two differ."""
+    from dataclasses import replace
+    base = "basic+separate-time-constants"
+    p = {"lambda_beta2": 1.06, "n_beta": 0.987, "tau0": 2.8, "tau_cs": 1.5, "k_V": 1.0}
+    k_flow = replace(_constants(max(mu, 0.15)).with_mu(mu), inflow_speed="mass-flow",
+                     ct=0.006)
+    k_mu = replace(k_flow, inflow_speed="mu")
+
+    def dc_gain(structure, k):
+        m = build_model(structure, {n: p[n] for n in p if n != "k_V" or "speed" in
+                                    structure}, k)
+        return -np.linalg.solve(m.a, m.b)
+
+    g_flow = dc_gain(base + "+momentum-speed", k_flow)
+    assert np.all(np.isfinite(g_flow)) and np.abs(g_flow).max() > 0.1
+    if mu == 0.0:            # V = mu has no hover; the mass-flow model is finite there
+        return
+    g_mu = dc_gain(base + "+momentum-speed", k_mu)
+    np.testing.assert_allclose(g_flow, g_mu, rtol=0, atol=1e-9 * np.abs(g_mu).max())
+    without = dc_gain(base, k_flow) - dc_gain(base, k_mu)
+    assert np.abs(without).max() > 1e-3 * np.abs(g_mu).max()

@@ -15,10 +15,17 @@ The measurement part comes from the effects' ``measurement`` the same way: the
 azimuth bias that rotates the recorded flap and each flap channel's time shift.
 What the FMU cannot do is refused with one line: leads and input time shifts (a
 causal step cannot apply them; the Simulator refuses them too).  Effects
-linearised about a trim state (``advance-ratio-perturbation``) take the trim totals
-as parameters ``trim_theta0`` ... ``trim_muz``; their trim inflow is solved in the
-generated C (the 3 x 3 solve of :func:`inflowsim.physics.bladeelement.trim_inflow`,
-done symbolically).
+linearised about a trim state (``advance-ratio-perturbation``, ``momentum-speed``)
+take the trim totals as parameters ``trim_theta0`` ... ``trim_muz``; their trim
+inflow is solved in the generated C (the 3 x 3 solve of
+:func:`inflowsim.physics.bladeelement.trim_inflow`, done symbolically).
+
+An effect whose terms are no closed expression (``momentum-speed``: a disc
+quadrature at the trim inflow of Eq. 14, found by Newton's method) asks, while
+traced, for a run-time call (``k.numeric``): its arguments are traced expressions,
+its results symbols that the descriptor's expressions use.  The called C function
+is generated too (:data:`NUMERIC_C`): the effect's physics module's integrand
+differentiated by sympy, its quadrature points and its Newton settings.
 """
 from __future__ import annotations
 
@@ -35,12 +42,7 @@ from ..model.structure import Structure
 
 #: Effects whose equations are linearised about a trim state: the FMU gets the trim
 #: totals as parameters ``trim_<column>`` (:data:`TRIM_PARAMETERS`).
-TRIM_EFFECTS = ("advance-ratio-perturbation",)
-#: Effects whose terms are computed numerically at build time (no expression in the
-#: parameters to generate), with why the FMU does not run them.
-NUMERIC_EFFECTS = {"momentum-speed": "its coupling is a disc quadrature at the trim "
-                   "inflow of Eq. (14), solved numerically in Python (use the Python "
-                   "Simulator, or glauert, in an FMU)"}
+TRIM_EFFECTS = ("advance-ratio-perturbation", "momentum-speed")
 #: ``{FMU parameter: record column}`` of the trim totals.
 TRIM_PARAMETERS = {f"trim_{c}": c for c in TRIM_KEYS}
 
@@ -58,13 +60,40 @@ def _sympy():
     return sympy
 
 
+class _NumericCalls:
+    """The run-time calls a traced structure's effects ask for (``k.numeric``):
+    ``(effect, arguments, shapes)`` each; the results are symbols named after the
+    C arrays ``numeric_<call>_<result>[i]`` (row-major) that the generated
+    descriptor fills before its expressions."""
+
+    def __init__(self, sp):
+        self.sp, self.calls, self.results = sp, [], []
+
+    def __call__(self, effect: str, args, shapes):
+        if effect not in NUMERIC_C:
+            raise InputError(f"the FMU does not run effect {effect}: it asks for a "
+                             "numerical computation the code generator does not hold")
+        args = tuple(self.sp.sympify(a) for a in args)
+        for (name, known, _), out in zip(self.calls, self.results):
+            if name == effect and known == args:
+                return out
+        i = len(self.calls)
+        out = tuple(np.array([[self.sp.Symbol(f"numeric_{i}_{o}[{r * m + c}]")
+                               for c in range(m)] for r in range(n)], dtype=object)
+                    for o, (n, m) in enumerate(shapes))
+        self.calls.append((effect, args, tuple(shapes)))
+        self.results.append(out)
+        return out
+
+
 def _symbols(structure: Structure):
     sp = _sympy()
 
     p = {n: sp.Symbol(n) for n in structure.parameters}
     trim = {c: sp.Symbol(n) for n, c in TRIM_PARAMETERS.items()}
     k = SimpleNamespace(mu=sp.Symbol("mu"), a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
-                        omega=sp.Symbol("omega"), flow_speed=sp.Symbol("V"), trim=trim)
+                        omega=sp.Symbol("omega"), flow_speed=sp.Symbol("V"), trim=trim,
+                        numeric=_NumericCalls(sp))
     return p, k
 
 
@@ -72,8 +101,6 @@ def supported(structure) -> Structure:
     """``structure`` parsed, or :class:`InputError` naming what the FMU cannot run."""
     s = Structure.parse(structure)
     for name in s.effects:
-        if name in NUMERIC_EFFECTS:
-            raise InputError(f"the FMU does not run effect {name}: {NUMERIC_EFFECTS[name]}")
         if name.startswith("delay-") and name[len("delay-"):] not in FLAP:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
                              "input cannot be applied by a causal step (inflowsim.simulate.replay "
@@ -88,20 +115,24 @@ def supported(structure) -> Structure:
     return s
 
 
-def traced(structure):
-    """``(structure, E, A, B, measurement)`` with sympy entries: the Python model run
-    on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
+def _trace(structure):
     s = supported(structure)
     p, k = _symbols(s)
     eq, meas = apply_effects(s, p, k)
     e, a, b = assemble(eq, s.second_order)
-    return s, e, a, b, meas
+    return s, e, a, b, meas, k.numeric.calls
+
+
+def traced(structure):
+    """``(structure, E, A, B, measurement)`` with sympy entries: the Python model run
+    on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
+    return _trace(structure)[:5]
 
 
 def _c_name(sym) -> str:
     name = str(sym)
-    if name == "V" or name.startswith(("a[", "b[")):
-        return name          # the generated function's own arguments
+    if name == "V" or name.startswith(("a[", "b[", "numeric_")):
+        return name          # the generated function's own arguments and arrays
     return f"v->{name}"
 
 
@@ -123,7 +154,22 @@ def _measurement_c(meas, index: int, sp) -> list:
             "{"] + [f"    d[{i}] = {c};" for i, c in enumerate(delays)] + ["}", ""]
 
 
-def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
+def _numeric_calls_c(calls, sp) -> list:
+    """The descriptor's run-time calls (:class:`_NumericCalls`): each result array
+    declared, then filled by the effect's generated function from its arguments."""
+    lines = []
+    for i, (effect, args, shapes) in enumerate(calls):
+        outs = [f"numeric_{i}_{o}" for o in range(len(shapes))]
+        lines += [f"    double {o}[{n * m}];" for o, (n, m) in zip(outs, shapes)]
+        rename = {x: sp.Symbol(_c_name(x)) for x in set().union(*(a.free_symbols
+                                                                 for a in args))}
+        vals = ", ".join(sp.ccode(a.xreplace(rename)) for a in args)
+        lines += ["    {", f"        const double arg[{len(args)}] = {{{vals}}};",
+                  f"        {NUMERIC_C[effect][0]}(arg, {', '.join(outs)});", "    }"]
+    return lines
+
+
+def _descriptor_c(s: Structure, e, a, b, index: int, sp, calls=()) -> list:
     n = e.shape[0]
     targets = []
     for arr, name, ncol in ((e, "e", n), (a, "a", n), (b, "b", b.shape[1])):
@@ -140,9 +186,11 @@ def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
     lines = [f"/* {s.name}: {', '.join(s.effects) or 'the basic momentum model'} */",
              f"static void descriptor_{index}(const IfsVariables *v, double V, "
              "double *e, double *a, double *b)", "{"]
-    uses_v = any(str(x) == "V" for x in free)
+    uses_v = any(str(x) == "V" for x in free.union(*(a.free_symbols for c in calls
+                                                    for a in c[1])))
     if not uses_v:
         lines.append("    (void)V;")
+    lines += _numeric_calls_c(calls, sp)
     for t, x in subs:
         lines.append(f"    const double {t} = {sp.ccode(x.xreplace(rename))};")
     lines += ["    memset(e, 0, sizeof(double) * IFS_NX * IFS_NX);",
@@ -153,13 +201,13 @@ def _descriptor_c(s: Structure, e, a, b, index: int, sp) -> list:
     return lines + ["}", ""]
 
 
-def _assignments(sp, targets, indent="    ") -> list:
+def _assignments(sp, targets, indent="    ", c_name=_c_name) -> list:
     """C lines computing ``targets`` (``[(lvalue, sympy expression)]``) after common-
-    subexpression elimination."""
+    subexpression elimination; ``c_name`` names a free symbol in C."""
     subs, reduced = sp.cse([x for _, x in targets], symbols=sp.numbered_symbols("t"),
                            optimizations="basic")
     free = set().union(*(x.free_symbols for _, x in targets)) if targets else set()
-    rename = {sym: sp.Symbol(_c_name(sym)) for sym in free}
+    rename = {sym: sp.Symbol(c_name(sym)) for sym in free}
     lines = [f"{indent}const double {t} = {sp.ccode(x.xreplace(rename))};" for t, x in subs]
     return lines + [f"{indent}{t} = {sp.ccode(x.xreplace(rename))};"
                     for (t, _), x in zip(targets, reduced)]
@@ -211,6 +259,119 @@ def _flow_speed_c(sp) -> list:
             f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
+def _momentum_speed_c(sp) -> list:
+    """``numeric_momentum_speed(arg, a, b)``: the coupling of effect ``momentum-speed``
+    at run time (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments
+    ``mu, a0 s, V, theta (3), beta (3), muz`` as it passes them).  The same steps as
+    :mod:`inflowsim.physics.momentum_speed`: the base model's trim inflow, Newton's
+    method on Eq. (14)'s momentum balance (its step count and tolerance), then the
+    momentum loads' derivatives over the disc (its quadrature points; its integrand
+    differentiated by sympy where Python takes complex steps) and ``-J``.  A
+    singular solve leaves NaN, which the FMU's build refuses (non-finite matrices)."""
+    from ..physics import loads as ld
+    from ..physics import momentum_speed as ms
+    nw = 19
+    w = [sp.Symbol(f"w[{i}]") for i in range(nw)]
+    c, s, r = sp.symbols("c s r")
+    q = ms.speed_integrand(w[:9], w[9:], c, s, r, sqrt=sp.sqrt)
+    grad = [(f"g[{j}]", sp.diff(q, x)) for j, x in enumerate(w)]
+    point = (["static void ms_point(const double *w, double c, double s, double r, "
+              "double *q, double *g)", "{"]
+             + _assignments(sp, [("*q", q)] + [t for t in grad if t[1] != 0], c_name=str)
+             + [f"    g[{j}] = 0.0;" for j, (_, x) in enumerate(grad) if x == 0]
+             + ["}", ""])
+    pc, ps, pr, w0, w1 = ms.disc_points()
+    arr = lambda name, x: [f"static const double {name}[MS_N] = {{",     # noqa: E731
+                           *(f"    {', '.join(repr(float(v)) for v in x[i:i + 4])},"
+                             for i in range(0, len(x), 4)), "};"]
+    loads = ([f"#define MS_N {len(pc)}  /* disc points: {ms.N_PSI} azimuths x "
+              f"{ms.N_R} radii (Gauss-Legendre) */"] + arr("MS_C", pc) + arr("MS_S", ps)
+             + arr("MS_R", pr) + arr("MS_W0", w0) + arr("MS_W1", w1) + [
+        "",
+        "/* c_mom = 4/(a0 s) (sum w0 q, -sum c w1 q, -sum s w1 q) and its derivatives "
+        "(3 x 19) */",
+        "static void ms_loads(const double *w, double a0s, double *f, double *df)", "{",
+        f"    double q, g[{nw}];", "    int k, j;",
+        "    memset(f, 0, sizeof(double) * 3);",
+        f"    memset(df, 0, sizeof(double) * {3 * nw});",
+        "    for (k = 0; k < MS_N; k++) {",
+        "        const double a = MS_W0[k], bc = MS_C[k] * MS_W1[k], "
+        "bs = MS_S[k] * MS_W1[k];",
+        "        ms_point(w, MS_C[k], MS_S[k], MS_R[k], &q, g);",
+        "        f[0] += a * q; f[1] -= bc * q; f[2] -= bs * q;",
+        f"        for (j = 0; j < {nw}; j++) {{",
+        f"            df[j] += a * g[j]; df[{nw} + j] -= bc * g[j]; "
+        f"df[{2 * nw} + j] -= bs * g[j];", "        }", "    }",
+        "    for (j = 0; j < 3; j++) f[j] *= 4.0 / a0s;",
+        f"    for (j = 0; j < {3 * nw}; j++) df[j] *= 4.0 / a0s;", "}", ""])
+    arg = [sp.Symbol(f"arg[{i}]") for i in range(10)]
+    mu, a0s, v = arg[:3]
+    theta, beta = np.array(arg[3:6], dtype=object), np.array(arg[6:9], dtype=object)
+    blade = ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * arg[9]
+    gl, lm = ld.g_lambda(mu), ld.momentum_l(mu, a0s, v)
+    gains = ([(f"blade[{i}]", sp.sympify(blade[i])) for i in range(3)]
+             + [(f"gl[{3 * i + j}]", sp.sympify(gl[i, j])) for i in range(3)
+                for j in range(3)]
+             + [(f"lm[{3 * i + j}]", sp.sympify(lm[i, j])) for i in range(3)
+                for j in range(3)])
+    call = ["/* momentum-speed's coupling (inflowsim.physics.momentum_speed) */",
+            "static void numeric_momentum_speed(const double *arg, double *ca, "
+            "double *cb)", "{",
+            f"    double blade[3], gl[9], lm[9], m[9], lam[3], f[3], df[{3 * nw}], "
+            "big;", f"    double w[{nw}] = {{0}};", "    int i, j, k;"]
+    call += _assignments(sp, gains, c_name=str)
+    call += [
+        "    /* the start: the base model's trim inflow, (I - L G_lambda) lam = L blade */",
+        "    for (i = 0; i < 3; i++) {",
+        "        lam[i] = 0.0;",
+        "        for (j = 0; j < 3; j++) {",
+        "            lam[i] += lm[3 * i + j] * blade[j];",
+        "            m[3 * i + j] = (i == j);",
+        "            for (k = 0; k < 3; k++) m[3 * i + j] -= lm[3 * i + k] * gl[3 * k + j];",
+        "        }", "    }",
+        "    if (ifs_lu_solve(3, m, 1, lam, 1e-14) != 0) goto fail;",
+        "    /* z = (beta, 0, lam), u = (theta, muz, 0, 0, 0, 0, mu, 0) */",
+        "    for (i = 0; i < 3; i++) {",
+        "        w[i] = arg[6 + i]; w[6 + i] = lam[i]; w[9 + i] = arg[3 + i];", "    }",
+        "    w[12] = arg[9]; w[17] = arg[0];",
+        f"    for (k = 0; k < {ms.NEWTON_STEPS}; k++) {{",
+        "        double step[3];",
+        "        ms_loads(w, arg[1], f, df);",
+        "        for (i = 0; i < 3; i++) {",
+        "            step[i] = blade[i] - f[i];",
+        "            for (j = 0; j < 3; j++) {",
+        "                step[i] += gl[3 * i + j] * lam[j];",
+        f"                m[3 * i + j] = gl[3 * i + j] - df[{nw} * i + 6 + j];",
+        "            }", "        }",
+        "        if (ifs_lu_solve(3, m, 1, step, 1e-14) != 0) goto fail;",
+        "        big = 0.0;",
+        "        for (i = 0; i < 3; i++) {",
+        "            lam[i] -= step[i]; w[6 + i] = lam[i];",
+        "            if (fabs(step[i]) > big) big = fabs(step[i]);", "        }",
+        f"        if (big < {ms.NEWTON_TOL!r}) break;", "    }",
+        "    /* J = L dc/d(z, u) - [0 0 I 0]; the coupling is -J */",
+        "    ms_loads(w, arg[1], f, df);",
+        "    for (i = 0; i < 3; i++)",
+        f"        for (j = 0; j < {nw}; j++) {{",
+        "            double x = 0.0;",
+        f"            for (k = 0; k < 3; k++) x += lm[3 * i + k] * df[{nw} * k + j];",
+        "            if (j == 6 + i) x -= 1.0;",
+        "            if (j < 9) ca[9 * i + j] = -x; else cb[10 * i + j - 9] = -x;",
+        "        }",
+        "    return;",
+        "fail:",
+        "    for (i = 0; i < 27; i++) ca[i] = NAN;",
+        "    for (i = 0; i < 30; i++) cb[i] = NAN;", "}", ""]
+    return ["/* --- momentum-speed: Eq. (14)'s speed linearised over the disc, at run "
+            "time --- */"] + point + loads + call
+
+
+#: Run-time computations an effect may ask for while traced: ``{effect: (C function,
+#: generator of its C lines)}``; the function is ``f(const double *arg, double *out0,
+#: ...)`` with the effect's arguments and results in the order it passes them.
+NUMERIC_C = {"momentum-speed": ("numeric_momentum_speed", _momentum_speed_c)}
+
+
 def equations_c(structures) -> str:
     """The text of ``inflow_equations.c`` for the FMU's ``structures`` (in the order
     of its integer ``structure``): descriptor, azimuth bias and flap time shifts of
@@ -218,11 +379,15 @@ def equations_c(structures) -> str:
     sp = _sympy()
     body = []
     states = set()
+    numeric = []
     for i, st in enumerate(structures):
-        s, e, a, b, meas = traced(st)
+        s, e, a, b, meas, calls = _trace(st)
         states.add(e.shape[0])
-        body += (_descriptor_c(s, e, a, b, i, sp) + _measurement_c(meas, i, sp)
+        numeric += [c[0] for c in calls if c[0] not in numeric]
+        body += (_descriptor_c(s, e, a, b, i, sp, calls) + _measurement_c(meas, i, sp)
                  + _loads_c(s, meas, i, sp))
+    for effect in numeric:                     # before the descriptors that call them
+        body = NUMERIC_C[effect][1](sp) + body
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "
                          f"(these have {sorted(states)})")
@@ -234,8 +399,10 @@ def equations_c(structures) -> str:
             "model.md Eq. 8),", " * its azimuth bias, its flap channels' time "
             "shifts and its loads (model.md section 3);", " * the speed through the "
             "disc of the momentum gains. */",
-            "#include <math.h>", "#include <string.h>", "", '#include "inflow_model.h"',
-            ""]
+            "#include <math.h>", "#include <string.h>", "", '#include "inflow_model.h"']
+    if numeric:
+        head.append('#include "inflow_numerics.h"')
+    head.append("")
     tail = ["void ifs_descriptor_of(const IfsVariables *v, double V, double *e, "
             "double *a, double *b)", "{", "    switch (v->structure) {"]
     tail += cases("descriptor_{i}(v, V, e, a, b); break;")

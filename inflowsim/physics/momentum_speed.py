@@ -52,6 +52,55 @@ def _disc(n_psi: int, n_r: int):
     return basis, rr, w_disc
 
 
+def speed_integrand(z, u, c, s, r, speed: str = "eq14", sqrt=np.sqrt):
+    """``lambda_i V`` [-] at one point of the disc: azimuth ``(cos psi, sin psi) =
+    (c, s)``, radius ``r`` [-].
+
+    The one description of the integrand: :func:`momentum_loads` sums it over the
+    disc, and the FMU's C is generated from it (:mod:`inflowsim.fmu.codegen`, with
+    ``sqrt`` sympy's).  Elementwise: the arguments broadcast (numbers, arrays,
+    complex steps or symbols).
+
+    Parameters
+    ----------
+    z : sequence of 9
+        ``beta0, beta1c, beta1s`` [rad], their azimuth derivatives [rad/rad],
+        ``lambda0, lambda1c, lambda1s`` [-].
+    u : sequence of 10
+        Totals in azimuth units, ``channels.INPUTS_AZ`` order.
+    c, s, r : float or array_like
+        Cosine and sine of the azimuth, radius over ``R``.
+    speed : {"eq14", "mu"}
+        Eq. (14)'s ``V``, or ``V = mux``.
+    """
+    b0, b1c, b1s, db0, db1c, db1s, lam0, lam1c, lam1s = z
+    th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
+    lam_i = lam0 + (lam1c * c + lam1s * s) * r
+    if speed == "mu":
+        return lam_i * mux
+    # multiblade coordinates of the blades' flap rates (rotating-frame terms)
+    d0, d1c, d1s = db0, db1c + b1s, db1s - b1c
+    # w = A0 + A1 r, the harmonic products of Eq. (15) as in the blade truth
+    a0 = (muz + c * (th0 * muy - b0 * mux) + s * (th0 * mux + b0 * muy)
+          + c * c * (th1c * muy - b1c * mux) + s * s * (th1s * mux + b1s * muy)
+          + c * s * (th1c * mux + b1c * muy + th1s * muy - b1s * mux))
+    a1 = (th0 - d0) + c * (th1c - d1c + qb) + s * (th1s - d1s + pb)
+    wl = a0 + a1 * r - lam_i
+    return lam_i * sqrt(mux * mux + muy * muy + wl * wl)
+
+
+def disc_points(n_psi: int = N_PSI, n_r: int = N_R):
+    """The disc quadrature as points: ``(c, s, r, w0, w1)``, each of ``n_psi n_r``,
+    with ``c_mom = 4/(a0 s) (sum w0 q, -sum c w1 q, -sum s w1 q)`` for ``q`` the
+    :func:`speed_integrand` at the points (azimuth-major)."""
+    x, w = np.polynomial.legendre.leggauss(int(n_r))
+    r, wr = 0.5 * (x + 1.0), 0.5 * w
+    psi = 2.0 * np.pi * np.arange(n_psi) / n_psi
+    c, s = np.repeat(np.cos(psi), n_r), np.repeat(np.sin(psi), n_r)
+    rr, ww = np.tile(r, n_psi), np.tile(wr, n_psi)
+    return c, s, rr, ww * rr / n_psi, ww * rr * rr / n_psi
+
+
 def momentum_loads(z, u, a0s: float, speed: str = "eq14", n_psi: int = N_PSI,
                    n_r: int = N_R) -> np.ndarray:
     """Local-momentum loads ``c_mom`` [-] of the multiblade state ``z`` and inputs ``u``.
@@ -76,44 +125,35 @@ def momentum_loads(z, u, a0s: float, speed: str = "eq14", n_psi: int = N_PSI,
     """
     z, u = np.asarray(z), np.asarray(u)
     basis, rr, w_disc = _disc(n_psi, n_r)
-    b0, b1c, b1s, db0, db1c, db1s, lam0, lam1c, lam1s = z
-    th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
-    # multiblade coordinates of the blades' flap rates (rotating-frame terms)
-    d0, d1c, d1s = db0, db1c + b1s, db1s - b1c
-    one = np.ones_like(np.asarray(lam0 + mux))
-    # lambda_i on (azimuth, radius): its 1 and r parts
-    lam_i = (np.multiply.outer(basis[:, 0], lam0 * one)[..., None] * rr[0]
-             + np.multiply.outer(basis[:, 1], lam1c * one)[..., None] * rr[1]
-             + np.multiply.outer(basis[:, 2], lam1s * one)[..., None] * rr[1])
-    if speed == "mu":
-        q = lam_i * (mux * one)[..., None]
-    else:
-        # w - lambda_i = A0 + A1 r - lambda_i, the harmonic products on the basis
-        # (1, c, s, c^2, s^2, cs), as in the blade truth
-        a0 = np.array([muz * one, th0 * muy - b0 * mux, th0 * mux + b0 * muy,
-                       th1c * muy - b1c * mux, th1s * mux + b1s * muy,
-                       th1c * mux + b1c * muy + th1s * muy - b1s * mux])
-        a1 = np.array([th0 - d0, th1c - d1c + qb, th1s - d1s + pb,
-                       0 * one, 0 * one, 0 * one])
-        wl = (np.tensordot(basis, a0, axes=1)[..., None] * rr[0]
-              + np.tensordot(basis, a1, axes=1)[..., None] * rr[1] - lam_i)
-        q = lam_i * np.sqrt(((mux * mux + muy * muy) * one)[..., None] + wl * wl)
+    # (azimuth, [m], radius): the state's elements gain the radius axis, the
+    # azimuth functions the others
+    extra = (1,) * (max(z.ndim, u.ndim) - 1) + (1,)
+    c, s = (basis[:, i].reshape((-1,) + extra) for i in (1, 2))
+    q = speed_integrand([x[..., None] for x in z], [x[..., None] for x in u], c, s,
+                        rr[1], speed)
     m = np.tensordot(basis[:, :3].T, q @ w_disc, axes=1) * (4.0 / a0s)   # (3, ..., 2)
     return np.array([m[0, ..., 0], -m[1, ..., 1], -m[2, ..., 1]])
 
 
+#: Newton's method for the trim inflow: at most this many steps, stopping at a step
+#: below this size (the FMU's C is generated with the same).
+NEWTON_STEPS = 30
+NEWTON_TOL = 1e-13
+
+
 def eq14_trim_inflow(mu: float, a0s: float, theta, beta, muz: float,
-                     lam_start=None, tol: float = 1e-13) -> np.ndarray:
+                     lam_start=None, tol: float = NEWTON_TOL, v=None) -> np.ndarray:
     """Trim inflow ``(lambda0, lambda1c, lambda1s)`` [-] with Eq. (14)'s speed: the
     blade-element loads (linear in ``lambda`` at fixed ``mu``) equal the momentum
-    loads, by Newton's method from the basic model's trim inflow."""
+    loads, by Newton's method from the basic model's trim inflow (with ``v`` its
+    speed through the disc, :func:`inflowsim.physics.bladeelement.trim_inflow`)."""
     from .bladeelement import trim_inflow
     theta, beta = np.asarray(theta, dtype=float), np.asarray(beta, dtype=float)
-    lam = trim_inflow(mu, a0s, theta, beta, muz) if lam_start is None else \
+    lam = trim_inflow(mu, a0s, theta, beta, muz, v) if lam_start is None else \
         np.asarray(lam_start, dtype=float)
     blade = ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * muz
     u = np.array([*theta, muz, 0.0, 0.0, 0.0, 0.0, mu, 0.0])
-    for _ in range(30):
+    for _ in range(NEWTON_STEPS):
         z = np.concatenate([beta, np.zeros(3), lam])
         f = blade + ld.g_lambda(mu) @ lam - momentum_loads(z, u, a0s)
         zc = z[:, None] + 1j * STEP * np.vstack([np.zeros((6, 3)), np.eye(3)])
@@ -126,12 +166,16 @@ def eq14_trim_inflow(mu: float, a0s: float, theta, beta, muz: float,
 
 
 def speed_coupling(mu: float, a0s: float, theta, beta, muz: float, lam,
-                   n_psi: int = N_PSI, n_r: int = N_R) -> tuple:
+                   n_psi: int = N_PSI, n_r: int = N_R, v=None) -> tuple:
     """What Eq. (14)'s speed adds to the inflow equation's right-hand side
     (``D_tau lambda' + lambda = ... - J (z, u)``), linearised at the trim.
 
     ``J = L dc_mom/d(z, u) - [0 0 I 0]``: the momentum loads' derivatives with the
-    ``V = mu`` part (``L^-1 lambda``) taken out, ``L`` the paper's gain at ``mu``.
+    base model's part (``L^-1 lambda``) taken out, ``L`` the base model's gain at
+    ``mu`` with its speed through the disc ``v`` (default ``mu``, the paper's).
+    Whatever that speed, the inflow rows' loads become Eq. (14)'s linearised ones
+    (only the apparent mass stays scaled by ``L``), so with the mass-flow speed the
+    effect reaches hover.
 
     Returns
     -------
@@ -144,9 +188,10 @@ def speed_coupling(mu: float, a0s: float, theta, beta, muz: float, lam,
     w0 = np.concatenate([z0, u0])
     wc = w0[:, None] + 1j * STEP * np.eye(w0.size)
     dc = momentum_loads(wc[:9], wc[9:], a0s, "eq14", n_psi, n_r).imag / STEP
-    j = ld.momentum_l(mu, a0s) @ dc
+    j = ld.momentum_l(mu, a0s, v) @ dc
     j[:, 6:9] -= np.eye(3)
     return -j[:, :9], -j[:, 9:]
 
 
-__all__ = ["momentum_loads", "eq14_trim_inflow", "speed_coupling", "N_PSI", "N_R"]
+__all__ = ["speed_integrand", "disc_points", "momentum_loads", "eq14_trim_inflow",
+           "speed_coupling", "N_PSI", "N_R", "NEWTON_STEPS", "NEWTON_TOL"]

@@ -15,8 +15,12 @@ individual-blade truth with ``n_beta`` 24 % and ``tau0`` 50 % off.
 One parameter: ``k_V`` scales the whole linearised term (theory 1, neutral 0, the
 paper's ``V = mu``), so the test is nested with one degree of freedom.  An
 alternative to ``glauert`` (the same physics, approximated).  Not offered to the
-diagnosis by default: ask for it by name (``--model ...+momentum-speed``).  The
-FMU does not run it: the coupling is a disc quadrature at the trim, done in Python.
+diagnosis by default: ask for it by name (``--model ...+momentum-speed``).
+
+The base model's speed through the disc (``k.flow_speed``) is the one whose gain the
+coupling takes out, so with the mass-flow speed the effect reaches hover.  The FMU
+runs it: the coupling is computed in its generated C when the matrices are built
+(:mod:`inflowsim.fmu.codegen`, the same integrand, quadrature and Newton steps).
 """
 from functools import lru_cache
 
@@ -31,10 +35,10 @@ from ..params import ParameterSpec
 NAME = "momentum-speed"
 
 
-@lru_cache(maxsize=64)
-def _coupling(mu, a0s, theta, beta, muz):
-    lam = ms.eq14_trim_inflow(mu, a0s, theta, beta, muz)
-    a, b = ms.speed_coupling(mu, a0s, theta, beta, muz, lam)
+@lru_cache(maxsize=256)
+def _coupling(mu, a0s, v, theta, beta, muz):
+    lam = ms.eq14_trim_inflow(mu, a0s, theta, beta, muz, v=v)
+    a, b = ms.speed_coupling(mu, a0s, theta, beta, muz, lam, v=v)
     a.flags.writeable = False
     b.flags.writeable = False
     return a, b
@@ -42,9 +46,18 @@ def _coupling(mu, a0s, theta, beta, muz):
 
 def coupling(k, azimuth_bias: float = 0.0):
     """``(A (3, 9), B (3, 10))`` the effect adds at ``k_V = 1`` (states ``beta,
-    beta', lambda``; inputs ``INPUTS_AZ``, pitch true), at the trim of ``k``."""
+    beta', lambda``; inputs ``INPUTS_AZ``, pitch true), at the trim of ``k`` with
+    the base model's speed through the disc (``k.flow_speed``).
+
+    Traced for the FMU's C (``k.numeric``, :mod:`inflowsim.fmu.codegen`), the
+    coupling is a function call at run time: its arguments are the expressions here,
+    its results symbols."""
     theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
-    return _coupling(float(k.mu), float(k.a0s), tuple(map(float, theta)),
+    args = (k.mu, k.a0s, k.flow_speed, *theta, *beta, muz)
+    numeric = getattr(k, "numeric", None)
+    if numeric is not None:
+        return numeric(NAME, args, ((3, 9), (3, 10)))
+    return _coupling(*map(float, args[:3]), tuple(map(float, theta)),
                      tuple(map(float, beta)), float(muz))
 
 
