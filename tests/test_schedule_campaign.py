@@ -222,7 +222,7 @@ def test_schedules_recover_the_blade_truths_parameters(speed_mu_campaign):
 
 
 @pytest.mark.slow
-def test_in_its_linear_range_the_eq14_truths_trends_are_recovered(tmp_path):
+def test_in_its_linear_range_the_eq14_truths_trends_are_recovered_and_fly(tmp_path):
     """The default truth (Eq. 14) flown in its linear range: 0.25 deg 3-2-1-1s with
     the noise scaled alike (2.5e-5 rad: the same signal-to-noise as the campaign's
     1 deg and 1e-4), four speeds, fitted with the truth's physics from the catalogue
@@ -246,26 +246,24 @@ def test_in_its_linear_range_the_eq14_truths_trends_are_recovered(tmp_path):
             assert abs(sch(mu)[name] - truth) < 3 * p.bound(mu), (name, mu)
             assert p.bound(mu) < 0.05 * truth, (name, mu)
     assert not sch["tau0"].constant and sch["n_beta"].constant
+    # and the schedule flies: momentum-speed's coupling computed in the FMU's C at
+    # each tabulated mu, about the trim the schedule gives there, down to hover
+    assert "momentum-speed" in sch.structure
+    _fly(sch, tmp_path / "fly")
 
 
-@pytest.mark.slow
-def test_the_blade_truths_schedule_flies_the_simulator_loop(speed_mu_campaign, tmp_path):
-    """The schedule that recovers the blade truth's parameters (flap inertia, the
-    2/rev flap, the direct in-plane forcing with the trim as FMU parameters; mu and
-    1/mu polynomials) builds an FMU that examples/simulator_loop.c, unchanged, flies
-    from hover to mu 0.25 (the trim effects use the mass-flow speed down to hover)."""
+def _fly(sch, tmp_path):
+    """The schedule's FMU (``fmu build --schedule``) flown by examples/simulator_loop.c,
+    unchanged, from hover to mu 0.25: its log."""
     import shutil
     import subprocess
     import zipfile
     from pathlib import Path
-    from inflowsim.campaign.schedule import campaign_schedule
     from inflowsim.model.schedule import write_schedule
     cc = shutil.which("cc") or shutil.which("gcc")
     if cc is None:
         pytest.skip("no C compiler")
-    conds, _ = speed_mu_campaign
-    sch, note = campaign_schedule(conds, variables=("mu", "1/mu"))
-    assert {p.variable for p in sch.parameters} == {"mu", "1/mu"}
+    tmp_path.mkdir(parents=True, exist_ok=True)
     path = write_schedule(sch, tmp_path / "schedule.json")
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
@@ -286,3 +284,17 @@ def test_the_blade_truths_schedule_flies_the_simulator_loop(speed_mu_campaign, t
     rows = np.genfromtxt(tmp_path / "loop.csv", delimiter=",", names=True)
     assert rows["mu"][0] == 0.0 and rows["mu"].max() > 0.24
     assert np.all(np.isfinite(rows["thrust"]))
+    return rows
+
+
+@pytest.mark.slow
+def test_the_blade_truths_schedule_flies_the_simulator_loop(speed_mu_campaign, tmp_path):
+    """The schedule that recovers the blade truth's parameters (flap inertia, the
+    2/rev flap, the direct in-plane forcing with the trim as FMU parameters; mu and
+    1/mu polynomials) builds an FMU that examples/simulator_loop.c, unchanged, flies
+    from hover to mu 0.25 (the trim effects use the mass-flow speed down to hover)."""
+    from inflowsim.campaign.schedule import campaign_schedule
+    conds, _ = speed_mu_campaign
+    sch, note = campaign_schedule(conds, variables=("mu", "1/mu"))
+    assert {p.variable for p in sch.parameters} == {"mu", "1/mu"}
+    _fly(sch, tmp_path)
