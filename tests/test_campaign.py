@@ -136,6 +136,7 @@ def _stub_tasks(monkeypatch):
         return {"kind": "condition", "condition": condition, "records": list(paths),
                 "status": "ok", "error": None, "mu": mu,
                 "missing_effect": "glauert" if condition == "mu=0.200" else None,
+                "trim": {"theta0": 0.1 + mu, "theta1s": -0.2 * mu},
                 "verdict": "missing-effect", "base_fit": {"structure": "basic",
                                                           "parameters": {
                     "tau": {"estimate": 1.0 + mu, "sigma": 0.05},
@@ -186,7 +187,17 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert sch.names == ("tau",) and sch.held == (("n_beta", 1.0, None),)
     assert sch.mu_range == (0.2, 0.3) and sch(0.2)["tau"] == pytest.approx(1.25)
     assert "## Schedules" in Path(third.files["report"]).read_text()
+    # the conditions' trim: table columns, and a line in mu (two conditions)
+    conds = df[df["kind"] == "condition"]
+    assert (conds["trim_theta0"] - conds["mu"]).tolist() == pytest.approx([0.1, 0.1])
+    assert df[df["kind"] == "record"]["trim_theta0"].isna().all()
+    assert sch.trim_columns == ("theta0", "theta1s")
+    assert [t.order for t in sch.trim] == [1, 1]
+    assert sch.trim_values(0.25)["theta1s"] == pytest.approx(-0.05)
+    assert sch.trim_values(0.5) == sch.trim_values(0.3)
+    assert "| theta1s | 1 |" in Path(third.files["report"]).read_text()
     doc = json.loads(Path(third.files["json"]).read_text())
+    assert doc["schedule"]["trim"]["theta0"]["order"] == 1
     assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant
     assert doc["settings"]["schedule"]["variables"] == ["mu"]
     # the schedule's variable is a choice of the run (not of the stored work)
