@@ -311,3 +311,28 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     assert_user_error(code, out, err, "n_blades")
     code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "d", "--out", "x.csv")
     assert_user_error(code, out, err, "--campaign")
+
+
+@pytest.mark.slow
+def test_a_condition_and_a_record_carry_their_trim(tmp_path):
+    """condition_task's ``trim`` is the mean over its records of their find_trim
+    totals (records trimmed differently here), record_task's the record's: every
+    total an effect linearised about trim reads (TRIM_KEYS)."""
+    from inflowsim.campaign.work import condition_task
+    from inflowsim.data.record import find_trim, read_record
+    from inflowsim.physics.bladeelement import TRIM_KEYS
+    paths = []
+    for i, (ch, shift) in enumerate((("theta1s", 0.0), ("theta1c", 0.01))):
+        r = _rec(0.2, ch, i + 1)
+        r = r.with_channels(theta0=r["theta0"] + shift, beta0=r["beta0"] - 0.2 * shift)
+        paths.append(str(write_record(r, tmp_path / f"{ch}.csv")))
+    s = Settings(pool=POOL, max_steps=0)
+    out = condition_task("mu=0.200", paths, s)
+    assert out["status"] == "ok" and tuple(out["trim"]) == TRIM_KEYS
+    trims = [find_trim(read_record(p)).values for p in paths]
+    for c in TRIM_KEYS:
+        assert out["trim"][c] == pytest.approx(0.5 * (trims[0][c] + trims[1][c]), abs=1e-15)
+    assert out["trim"]["theta0"] == pytest.approx(trims[0]["theta0"] + 0.005)
+    one = record_task(paths[1], s)
+    assert one["trim"] == {c: trims[1][c] for c in TRIM_KEYS}
+    assert json.loads(json.dumps(out))["trim"] == out["trim"]
