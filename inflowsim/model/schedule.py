@@ -275,8 +275,8 @@ def fit_trim(mu, trims, max_order: int = TRIM_MAX_ORDER, center: float | None = 
     collective's power bucket and the ``mu^3`` rise of the profile and parasite
     power, and a cyclic's near-linear trend with its curvature; with four
     conditions or fewer the polynomial passes through every one (residual at
-    rounding),
-    with more it smooths them, and :attr:`TrimSchedule.residual` says by how much.
+    rounding), with more it smooths them, and :attr:`TrimSchedule.residual` says
+    by how much.
 
     Parameters
     ----------
