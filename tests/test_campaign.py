@@ -136,6 +136,7 @@ def _stub_tasks(monkeypatch):
         return {"kind": "condition", "condition": condition, "records": list(paths),
                 "status": "ok", "error": None, "mu": mu,
                 "missing_effect": "glauert" if condition == "mu=0.200" else None,
+                "trim": {"theta0": 0.1 + mu, "theta1s": -0.2 * mu},
                 "verdict": "missing-effect", "base_fit": {"structure": "basic",
                                                           "parameters": {
                     "tau": {"estimate": 1.0 + mu, "sigma": 0.05},
@@ -186,7 +187,17 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert sch.names == ("tau",) and sch.held == (("n_beta", 1.0, None),)
     assert sch.mu_range == (0.2, 0.3) and sch(0.2)["tau"] == pytest.approx(1.25)
     assert "## Schedules" in Path(third.files["report"]).read_text()
+    # the conditions' trim: table columns, and a line in mu (two conditions)
+    conds = df[df["kind"] == "condition"]
+    assert (conds["trim_theta0"] - conds["mu"]).tolist() == pytest.approx([0.1, 0.1])
+    assert df[df["kind"] == "record"]["trim_theta0"].isna().all()
+    assert sch.trim_columns == ("theta0", "theta1s")
+    assert [t.order for t in sch.trim] == [1, 1]
+    assert sch.trim_values(0.25)["theta1s"] == pytest.approx(-0.05)
+    assert sch.trim_values(0.5) == sch.trim_values(0.3)
+    assert "| theta1s | 1 |" in Path(third.files["report"]).read_text()
     doc = json.loads(Path(third.files["json"]).read_text())
+    assert doc["schedule"]["trim"]["theta0"]["order"] == 1
     assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant
     assert doc["settings"]["schedule"]["variables"] == ["mu"]
     # the schedule's variable is a choice of the run (not of the stored work)
@@ -300,3 +311,28 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     assert_user_error(code, out, err, "n_blades")
     code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "d", "--out", "x.csv")
     assert_user_error(code, out, err, "--campaign")
+
+
+@pytest.mark.slow
+def test_a_condition_and_a_record_carry_their_trim(tmp_path):
+    """condition_task's ``trim`` is the mean over its records of their find_trim
+    totals (records trimmed differently here), record_task's the record's: every
+    total an effect linearised about trim reads (TRIM_KEYS)."""
+    from inflowsim.campaign.work import condition_task
+    from inflowsim.data.record import find_trim, read_record
+    from inflowsim.physics.bladeelement import TRIM_KEYS
+    paths = []
+    for i, (ch, shift) in enumerate((("theta1s", 0.0), ("theta1c", 0.01))):
+        r = _rec(0.2, ch, i + 1)
+        r = r.with_channels(theta0=r["theta0"] + shift, beta0=r["beta0"] - 0.2 * shift)
+        paths.append(str(write_record(r, tmp_path / f"{ch}.csv")))
+    s = Settings(pool=POOL, max_steps=0)
+    out = condition_task("mu=0.200", paths, s)
+    assert out["status"] == "ok" and tuple(out["trim"]) == TRIM_KEYS
+    trims = [find_trim(read_record(p)).values for p in paths]
+    for c in TRIM_KEYS:
+        assert out["trim"][c] == pytest.approx(0.5 * (trims[0][c] + trims[1][c]), abs=1e-15)
+    assert out["trim"]["theta0"] == pytest.approx(trims[0]["theta0"] + 0.005)
+    one = record_task(paths[1], s)
+    assert one["trim"] == {c: trims[1][c] for c in TRIM_KEYS}
+    assert json.loads(json.dumps(out))["trim"] == out["trim"]

@@ -18,7 +18,7 @@ from inflowsim.model.build import build_model
 from inflowsim.model.params import PUMA
 from inflowsim.model.schedule import write_schedule
 from inflowsim.simulate.simulator import Simulator
-from test_schedule import _glauert_schedule
+from test_schedule import TRIM_STRUCTURE, _glauert_schedule, _trim_schedule
 
 ROOT = Path(__file__).resolve().parents[1]
 INPUTS = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot", "mux", "muy")
@@ -225,3 +225,92 @@ def test_bad_schedule_options_are_one_line_errors(tmp_path, capsys):
                          "--out", tmp_path / "x.fmu")
     assert_user_error(code, out, err, "--schedule")
     assert not (tmp_path / "x.fmu").exists()
+
+
+# -- the trim follows mu ---------------------------------------------------------
+
+def test_a_scheduled_trim_is_computed_from_mu_in_the_c():
+    """A schedule with a trim, of a structure linearised about trim: the FMU's
+    trim_<column> are local variables (read-only, calculated) after the scheduled
+    parameters, computed in ifs_schedule_apply beside them, left out of the start
+    values; another trim is another model (GUID).  A structure not linearised about
+    trim has no trim variables: its C is that of the schedule without trim."""
+    from dataclasses import replace
+    from inflowsim.fmu import description_for, start_values
+    from inflowsim.fmu.codegen import TRIM_PARAMETERS
+    from inflowsim.fmu.generate import guid, schedule_c
+    sch, p0 = _trim_schedule()
+    d = description_for(sch)
+    trims = tuple(TRIM_PARAMETERS)
+    assert d.scheduled == sch.names + trims
+    for n in trims:
+        v = d.variables[d.vr[n]]
+        assert (v.causality, v.variability, v.initial) == ("local", "continuous",
+                                                            "calculated")
+    # the start value (the C table's, before the first step) is the trim at the start
+    # mu (the schedule's rotor's: its range's middle)
+    assert d.variables[d.vr["trim_theta0"]].start == sch.trim_values(
+        sch.constants.mu)["theta0"]
+    c = schedule_c(d)
+    for n in trims:
+        assert sum(line.startswith(f"    v->{n} = ") for line in c) == 1
+    vals = start_values(build_model(TRIM_STRUCTURE, p0, PUMA.with_trim(
+        sch.trim_values(0.2))), description=d)
+    assert not set(trims) & set(vals) and "mu" in vals
+    bare = description_for(replace(sch, trim=()))
+    assert not set(trims) & set(bare.scheduled) and guid(bare) != guid(d)
+    assert bare.variables[bare.vr["trim_theta0"]].causality == "parameter"
+    glauert, _ = _glauert_schedule()
+    with_trim = replace(glauert, trim=sch.trim)
+    assert description_for(with_trim).scheduled == glauert.names
+    assert schedule_c(description_for(with_trim)) == schedule_c(description_for(glauert))
+
+
+@pytest.mark.slow
+def test_the_scheduled_trim_fmu_steps_as_the_simulator(tmp_path):
+    """``inflowsim fmu build --schedule`` of a schedule with a trim (flap inertia,
+    the direct in-plane forcing linearised about the trim): through fmpy, along the
+    module's mu sweep (down through the schedule's lower end 0.12 to the table's,
+    up through its upper end 0.30 to 0.45), the Simulator of the schedule's
+    trajectory to 1e-10; the trim read from the FMU is the schedule's at the last
+    step's mu, and is not set."""
+    from fmpy import extract
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi1 import FMICallException
+    from inflowsim.fmu import description_for
+    sch, p0 = _trim_schedule()
+    path = write_schedule(sch, tmp_path / "schedule.json")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["fmu", "build", "--schedule", str(path), "--out",
+                     str(tmp_path / "s.fmu"), "--json"]) == 0
+    doc = json.loads(buf.getvalue())
+    assert "trim_theta0" in doc["scheduled"]
+    d = description_for(sch)
+    u = 1e-2 * np.random.default_rng(2).standard_normal((N, 10))
+    sim = Simulator(sch.model(PUMA), 0.01, schedule=sch)      # its trim at PUMA.mu
+    vr = d.vr
+    s = FMU2Slave(guid=doc["guid"], unzipDirectory=extract(doc["fmu"]),
+                  modelIdentifier="inflowsim", instanceName="s")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    y, ref = [], []
+    for k in range(N):
+        s.setReal([vr["mu"]], [float(MUS[k])])
+        s.setReal([vr[n] for n in INPUTS], list(map(float, u[k])))
+        s.doStep(k * 0.01, 0.01)
+        y.append(s.getReal([vr[n] for n in OUTPUTS]))
+        sim.set_mu(MUS[k])
+        ref.append(sim.step(u[k]))
+    ref = np.array(ref)
+    assert np.abs(ref).max() > 1e-3
+    assert np.abs(np.array(y) - ref).max() < 1e-10 * np.abs(ref).max()
+    got = s.getReal([vr[f"trim_{c}"] for c in sch.trim_columns])
+    assert got == list(sch.trim_values(0.45).values())
+    assert sch.trim_values(0.45) == sch.trim_values(0.30) != sch.trim_values(0.12)
+    with pytest.raises(FMICallException):
+        s.setReal([vr["trim_theta0"]], [0.1])
+    s.terminate()
+    s.freeInstance()

@@ -290,3 +290,173 @@ def test_a_time_constant_like_one_over_mu_is_fitted_in_one_over_mu():
     # measured: 84 % and 93 % within 2 bounds; bounds 0.74 % and 2.3 % of the truth
     assert 0.75 < np.mean(cover) < np.mean(cover_mu)
     assert np.mean(width) < 0.5 * np.mean(width_mu)
+
+
+# -- the trim follows mu --------------------------------------------------------
+
+#: A structure linearised about the trim (its flap rows and inflow forcing).
+TRIM_STRUCTURE = "basic+separate-time-constants+flap-inertia+advance-ratio-perturbation"
+TRIM_MUS = np.array([0.12, 0.18, 0.24, 0.30])
+
+
+def _trim_truth(mu):
+    """A trim of the Puma's shape against mu, each total at most cubic in mu: the
+    collective's bucket, the longitudinal cyclic and the disc tilt growing with
+    speed [rad, -]."""
+    return {"theta0": 0.16 - 0.35 * (mu - 0.2) + 1.6 * (mu - 0.2) ** 2
+            + 2.0 * (mu - 0.2) ** 3,
+            "theta1c": 0.01 + 0.03 * mu, "theta1s": -0.02 - 0.25 * mu - 0.3 * mu ** 2,
+            "beta0": 0.06 + 0.02 * mu, "beta1c": 0.011 - 0.02 * mu + 0.05 * mu ** 2,
+            "beta1s": -0.004 + 0.01 * mu, "muz": -0.05 * mu}
+
+
+def _trim_rows(mus, trim=_trim_truth, structure=TRIM_STRUCTURE):
+    """Condition rows as ``condition_task`` returns them: the joint fit's estimates
+    (the theory values, bent with mu), the rotor and the trim."""
+    from inflowsim.model.presets import truth_parameters
+    p0 = truth_parameters(structure, PUMA.with_trim(_trim_truth(0.2)))
+    rows = []
+    for i, m in enumerate(mus):
+        rows.append({"kind": "condition", "condition": f"c{i}", "status": "ok",
+                     "mu": float(m), "rotor": {"a0": PUMA.a0, "solidity": PUMA.solidity,
+                                               "omega": PUMA.omega},
+                     "trim": trim(m) if callable(trim) else trim[i],
+                     "base_fit": {"structure": structure, "parameters": {
+                         n: {"estimate": v * (1 + 0.5 * (m - 0.2) - 2 * (m - 0.2) ** 2),
+                             "sigma": 0.01 * (abs(v) + 0.01)} for n, v in p0.items()}}})
+    return rows, p0
+
+
+def _trim_schedule():
+    """The campaign schedule of TRIM_STRUCTURE on 0.12-0.30 with the trim of
+    :func:`_trim_truth`, and the parameters it was bent from."""
+    from inflowsim.campaign.schedule import campaign_schedule
+    rows, p0 = _trim_rows(TRIM_MUS)
+    sch, note = campaign_schedule(rows)
+    assert note == "" and sch.trim_columns == tuple(_trim_truth(0.2))
+    return sch, p0
+
+
+def test_campaign_schedule_recovers_a_known_trim_polynomial():
+    """Synthetic condition rows whose trim totals are cubics in mu: the schedule's
+    trim is each cubic to rounding, at the conditions, between them and (held)
+    beyond them; with three conditions a quadratic through each; with noise a
+    least-squares cubic whose reported residual is its largest; a condition without
+    a trim (stored by an older version) leaves the schedule without one."""
+    from inflowsim.campaign.schedule import campaign_schedule, schedule_summary
+    mus = np.linspace(0.1, 0.35, 6)
+    sch, note = campaign_schedule(_trim_rows(mus)[0])
+    assert note == "" and all(t.order == 3 for t in sch.trim)
+    for m in np.linspace(0.1, 0.35, 26):
+        got, truth = sch.trim_values(m), _trim_truth(m)
+        for c in truth:
+            assert abs(got[c] - truth[c]) < 1e-14, (c, m)
+    assert sch.trim_values(0.05) == sch.trim_values(0.1)
+    assert sch.trim_values(0.5) == sch.trim_values(0.35)
+    assert max(t.residual for t in sch.trim) < 1e-15
+    doc = schedule_summary(sch)
+    assert doc["trim"]["theta0"]["order"] == 3
+    assert doc["trim"]["theta0"]["at"][0]["value"] == pytest.approx(_trim_truth(0.1)["theta0"])
+    three, _ = campaign_schedule(_trim_rows(mus[:3])[0])
+    assert all(t.order == 2 and t.residual < 1e-15 for t in three.trim)
+    assert three.trim_values(mus[1])["theta0"] == pytest.approx(
+        _trim_truth(mus[1])["theta0"], abs=1e-15)
+    # measured trims scatter: a least-squares cubic, its largest residual reported
+    rng = np.random.default_rng(3)
+    many = np.linspace(0.1, 0.35, 12)
+    noisy = [{c: v + 1e-4 * rng.standard_normal() for c, v in _trim_truth(m).items()}
+             for m in many]
+    sch, _ = campaign_schedule(_trim_rows(many, noisy)[0])
+    t = sch.trim[0]
+    resid = [abs(t.value(m) - y["theta0"]) for m, y in zip(many, noisy)]
+    assert t.order == 3 and t.residual == max(resid) and 1e-5 < t.residual < 4e-4
+    assert abs(sch.trim_values(0.22)["theta0"] - _trim_truth(0.22)["theta0"]) < 1e-4
+    rows = _trim_rows(mus)[0]
+    del rows[2]["trim"]
+    assert campaign_schedule(rows)[0].trim == ()
+
+
+def test_the_trim_round_trips_the_file_and_an_old_file_reads_without_it(tmp_path):
+    sch, _ = _trim_schedule()
+    path = write_schedule(sch, tmp_path / "s.json")
+    back = read_schedule(path)
+    assert back == sch and back.trim == sch.trim
+    assert back.trim_values(0.2345) == sch.trim_values(0.2345)
+    assert pickle.loads(pickle.dumps(sch)) == sch
+    doc = json.loads(path.read_text())
+    assert doc["schedule"] == 1 and doc["trim"]["theta1s"]["order"] == 3
+    # a file written before the trim: the same schedule, no trim; the constants'
+    # trim is left as given
+    del doc["trim"]
+    path.write_text(json.dumps(doc))
+    old = read_schedule(path)
+    assert old.trim == () and old == replace(sch, trim=())
+    k = PUMA.with_trim({"theta0": 0.3, "q": 0.01})
+    assert old.constants_at(k, 0.2).trim == k.trim
+    # with a trim: the totals at that mu replace the constants', the others stay
+    at = sch.constants_at(k, 0.2)
+    assert at.mu == 0.2 and at.trim["q"] == 0.01
+    assert dict(at.trim) == {"q": 0.01, **sch.trim_values(0.2)}
+    assert sch.model(k, 0.2).constants == at
+    bad = json.loads(path.read_text())
+    bad["trim"] = {"lambda0": sch.trim[0].to_json()}
+    path.write_text(json.dumps(bad))
+    with pytest.raises(InputError, match="not a trim total"):
+        read_schedule(path)
+
+
+def test_the_trim_is_a_knot_of_the_table():
+    """A schedule whose parameters are constants but whose trim follows mu still
+    kinks at its range's ends (the trim is held there)."""
+    sch, _ = _trim_schedule()
+    flat = replace(sch, parameters=tuple(replace(p, coefficients=p.coefficients[:1],
+                                                 covariance=((0.0,),))
+                                         for p in sch.parameters))
+    assert flat.knots(0.1, 0.5) == (0.12, 0.30)
+    assert replace(flat, trim=()).knots(0.1, 0.5) == ()
+
+
+def test_the_simulator_flies_the_scheduled_trim():
+    """mu swept through and beyond the schedule's range (0.12-0.30): each step of the
+    scheduled Simulator equals the exact zero-order hold of the model rebuilt at that
+    mu with the scheduled parameters and the trim evaluated by hand (Horner in
+    x = (mu - center)/scale, mu held to the range), to 1e-11 of the state; the trim
+    matters (without it the outputs differ by percents)."""
+    from inflowsim.model.build import build_model
+    from inflowsim.simulate.discrete import discretize
+    from inflowsim.simulate.simulator import Simulator
+    sch, p0 = _trim_schedule()
+    lo, hi = sch.mu_range
+
+    def by_hand(mu):
+        m = min(max(mu, lo), hi)
+        out = {}
+        for t in sch.trim:
+            x = (m - t.center) / t.scale
+            c = t.coefficients
+            out[t.column] = ((c[3] * x + c[2]) * x + c[1]) * x + c[0]
+        return out
+
+    k0 = PUMA.with_mu(0.2).with_trim(_trim_truth(0.05))     # a trim the schedule replaces
+    sim = Simulator(build_model(TRIM_STRUCTURE, p0, k0), 0.01, schedule=sch)
+    bare = Simulator(build_model(TRIM_STRUCTURE, p0, k0), 0.01,
+                     schedule=replace(sch, trim=()))
+    assert dict(sim.model.constants.trim) == by_hand(0.2)
+    rng = np.random.default_rng(0)
+    x = np.zeros(9)
+    worst = diff = scale = 0.0
+    for mu in np.concatenate([np.linspace(0.2, 0.101, 60), np.linspace(0.101, 0.42, 140)]):
+        u = 1e-3 * rng.standard_normal(10)
+        sim.set_mu(mu)
+        bare.set_mu(mu)
+        y, y_bare = sim.step(u), bare.step(u)
+        m = build_model(TRIM_STRUCTURE, sch(mu),
+                        PUMA.with_mu(mu).with_trim(by_hand(mu)))
+        phi, gam = discretize(m.a, m.b, 0.01)
+        x = phi @ x + gam @ u
+        worst = max(worst, np.abs(m.c @ x - y).max() / np.abs(x).max())
+        diff, scale = max(diff, np.abs(y - y_bare).max()), max(scale, np.abs(y).max())
+    assert sim._mu_table and sim._mu_table.ok        # the table, not rebuilds
+    assert worst < 1e-11
+    assert diff > 0.01 * scale
+    assert dict(sim.model.constants.trim) == by_hand(0.42) == sch.trim_values(0.30)

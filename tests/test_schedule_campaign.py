@@ -219,6 +219,15 @@ def test_schedules_recover_the_blade_truths_parameters(speed_mu_campaign):
             assert p.bound(mu) < rel * truth, (name, mu)
     high = conds[-1]["base_fit"]["parameters"]["k_beta2"]
     assert abs(high["estimate"] - 1.0) < 3 * high["sigma"] and high["sigma"] < 0.1
+    # the trim the conditions flew at (fixed pitch; the flap's trim moves with mu):
+    # a least-squares cubic within 3e-4 rad of each condition's (measured: 2.0e-4,
+    # the coning; the disc tilt beta1c moves by 0.11 rad over the range)
+    from inflowsim.physics.bladeelement import TRIM_KEYS
+    assert sch.trim_columns == TRIM_KEYS and all(t.order == 3 for t in sch.trim)
+    for c in conds:
+        got = sch.trim_values(c["mu"])
+        assert all(abs(got[k] - v) < 3e-4 for k, v in c["trim"].items()), c["mu"]
+    assert max(t.residual for t in sch.trim) < 3e-4
 
 
 @pytest.mark.slow

@@ -5,7 +5,9 @@ written as ``campaign.parquet`` and ``campaign.csv``: where the row comes from
 (record, condition, ``mu``, manoeuvre, group), its status and error, the
 decision (``missing_effect``, ``verdict``, the effects the ladder added, its
 final structure), the base fit's figures (cost, frequencies, fit per flap
-channel) and every estimate with its bound (``est_NAME``, ``sigma_NAME``).
+channel), the trim totals it flew at (``trim_COLUMN``: the record's, or the mean
+of the condition's records; what the schedule's trim is fitted to) and every
+estimate with its bound (``est_NAME``, ``sigma_NAME``).
 ``report.md`` puts the estimates against ``mu`` with their bounds, the
 parameter schedule (:mod:`.schedule`; written as ``schedule.json``, which
 ``inflowsim fmu build --schedule`` takes) and the missing effect by condition;
@@ -18,11 +20,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..fileio import atomic_path, json_text
+from ..physics.bladeelement import TRIM_KEYS
 
 TABLE_COLUMNS = ("kind", "record", "condition", "mu", "manoeuvre", "group", "status",
                  "error", "missing_effect", "verdict", "accepted", "ladder_added",
                  "final_structure", "structure", "cost", "n_freq", "converged",
                  "fit_beta0", "fit_beta1c", "fit_beta1s", "n_records", "seconds", "key")
+#: The trim totals' columns (after :data:`TABLE_COLUMNS`, before the estimates).
+TRIM_COLUMNS = tuple(f"trim_{c}" for c in TRIM_KEYS)
 
 
 def _row(doc: dict) -> dict:
@@ -43,6 +48,8 @@ def _row(doc: dict) -> dict:
            "fit_beta1s": fitp.get("beta1s"),
            "n_records": len(doc.get("records") or []) if doc.get("kind") == "condition"
            else 1, "seconds": doc.get("seconds"), "key": doc.get("key")}
+    for c, v in (doc.get("trim") or {}).items():
+        row[f"trim_{c}"] = v
     for n, v in (base.get("parameters") or {}).items():
         row[f"est_{n}"] = v.get("estimate")
         row[f"sigma_{n}"] = v.get("sigma")
@@ -55,13 +62,14 @@ def campaign_table(result):
     rows = [_row(r) for r in result.records] + [_row(c) for c in result.conditions]
     df = pd.DataFrame(rows)
     cols = [c for c in TABLE_COLUMNS if c in df.columns]
+    trim = [c for c in TRIM_COLUMNS if c in df.columns]
     est = sorted(c for c in df.columns if c.startswith(("est_", "sigma_")))
-    df = df[cols + [c for c in est if c not in cols]]
+    df = df[cols + trim + [c for c in est if c not in cols]]
     for c in ("record", "condition", "manoeuvre", "group", "error", "missing_effect",
               "verdict", "accepted", "ladder_added", "final_structure", "structure", "key"):
         if c in df.columns:
             df[c] = df[c].astype("string")
-    for c in ("mu", "cost", "seconds", "fit_beta0", "fit_beta1c", "fit_beta1s",
+    for c in ("mu", "cost", "seconds", "fit_beta0", "fit_beta1c", "fit_beta1s", *trim,
               *[c for c in df.columns if c.startswith(("est_", "sigma_"))]):
         if c in df.columns:
             df[c] = pd.to_numeric(df[c], errors="coerce").astype("float64")
@@ -186,6 +194,16 @@ def _schedule_lines(sch, note) -> list:
     if sch.held:
         lines += ["", "Held (time shifts, or no bound): " + ", ".join(
             f"{n} = {_fmt(v, s)}" for n, v, s in sch.held) + "."]
+    if sch.trim:
+        lines += ["", "The trim the conditions flew at (measured totals, each a "
+                  "least-squares polynomial in mu, held beyond the range; what the "
+                  "effects linearised about trim are linearised about at each mu):", "",
+                  "| trim total | order | " + " | ".join(f"mu {m:.3g}" for m in at)
+                  + " | largest residual |", "|---|---:|" + "---:|" * len(at) + "---:|"]
+        for t in sch.trim:
+            lines.append(f"| {t.column} | {t.order} | "
+                         + " | ".join(_fmt(t.value(m)) for m in at)
+                         + f" | {t.residual:.2g} |")
     if note:
         lines += ["", note + "."]
     return lines

@@ -116,8 +116,9 @@ def record_task(path: str, settings: Settings, info: dict | None = None) -> dict
 
     The diagnosis is the ladder's first rung: the same call as
     ``inflowsim diagnose RECORD --model MODEL`` with these settings.  Returns
-    ``{"kind": "record", "record", "status", "error", "warnings", "mu",
-    "missing_effect", "verdict", ..., "seconds"}`` (:func:`_ladder_summary`).
+    ``{"kind": "record", "record", "status", "error", "warnings", "trim", "mu",
+    "missing_effect", "verdict", ..., "seconds"}`` (:func:`_ladder_summary`;
+    ``trim`` the record's trim totals, as a condition's).
     """
     from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
@@ -130,6 +131,7 @@ def record_task(path: str, settings: Settings, info: dict | None = None) -> dict
         trim = find_trim(rec)
         if trim.warning:
             out["warnings"].append(trim.warning)
+        out["trim"] = _trim_totals([trim.values])
         rec.check_band(settings.band)
         out["mu"] = float(rec.constants.mu)
         out["duration_s"] = float(rec.duration)
@@ -146,10 +148,25 @@ def record_task(path: str, settings: Settings, info: dict | None = None) -> dict
     return out
 
 
+def _trim_totals(values) -> dict:
+    """``{column: mean}`` over ``values`` (each a record's :func:`~inflowsim.data.
+    record.find_trim` values) of the trim totals effects linearised about trim read
+    (:data:`~inflowsim.physics.bladeelement.TRIM_KEYS`; those every record has)."""
+    from ..physics.bladeelement import TRIM_KEYS
+    return {c: float(sum(v[c] for v in values) / len(values)) for c in TRIM_KEYS
+            if all(c in v for v in values)}
+
+
 def condition_task(condition: str, paths, settings: Settings) -> dict:
     """The records of one flight condition fitted together: a joint diagnosis
-    and ladder (``identify``/``ladder`` on the list of records)."""
-    from ..data.record import read_record
+    and ladder (``identify``/``ladder`` on the list of records).
+
+    Besides the ladder's summary: ``mu`` (the records' mean), ``rotor`` (the first
+    record's ``a0, solidity, omega, radius``) and ``trim`` (each trim total of
+    :data:`~inflowsim.physics.bladeelement.TRIM_KEYS`, the mean over the records of
+    :func:`~inflowsim.data.record.find_trim`) [rad, -]: what the campaign's
+    schedule needs to fly this condition."""
+    from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
     t0 = time.perf_counter()
     out = {"kind": "condition", "condition": condition, "records": list(map(str, paths)),
@@ -160,6 +177,9 @@ def condition_task(condition: str, paths, settings: Settings) -> dict:
         k = recs[0].constants            # the rotor, for the schedule's FMU
         out["rotor"] = {n: getattr(k, n) for n in ("a0", "solidity", "omega", "radius")
                         if getattr(k, n) is not None}
+        # the trim the condition flies at: a model linearised about trim needs the
+        # trim of its mu, and the trim changes strongly with speed
+        out["trim"] = _trim_totals([find_trim(r).values for r in recs])
         lad = ladder(recs, settings.model, tuple(settings.band),
                      max_steps=settings.max_steps, **settings.search_kwargs())
         out.update(_ladder_summary(lad, lad.rungs[0].diagnosis))

@@ -136,7 +136,8 @@ def run(args) -> int:
             trend = [p.name for p in sch.parameters if not p.constant]
             print(f"schedule: {res.files['schedule']} ({len(sch.parameters)} parameters "
                   f"against mu {sch.mu_range[0]:.3g}-{sch.mu_range[1]:.3g}; not constant: "
-                  f"{', '.join(trend) or 'none'})")
+                  f"{', '.join(trend) or 'none'}"
+                  + ("; with the trim the conditions flew at" if sch.trim else "") + ")")
         else:
             print(f"schedule: none ({res.schedule_note})")
         print(f"report: {res.files['report']}")

@@ -283,9 +283,11 @@ def _schedule_html(d: Description) -> str:
         return ""
     lo, hi = d.schedule.mu_range
     names = ", ".join(f"<code>{html.escape(n)}</code>" for n in d.scheduled)
+    trim = ("; the trim totals <code>trim_*</code> from the conditions' measured trims"
+            if any(n.startswith("trim_") for n in d.scheduled) else "")
     return (f"<li><b>Scheduled parameters</b> {names} follow <code>mu</code>: each a "
             f"polynomial in mu fitted across a campaign's flight conditions (inflowsim "
-            f"fmu build --schedule), held at its end values outside mu {lo:g} to "
+            f"fmu build --schedule{trim}), held at its end values outside mu {lo:g} to "
             f"{hi:g}; they are local variables (read-only), computed at every step's "
             "mu, the matrices tabulated with them.</li>")
 

@@ -319,31 +319,39 @@ def schedule_c(d: Description = DEFAULT) -> list:
     the schedule's range, by Horner's rule in ``x = (v - center)/scale`` (``v`` is
     ``mu`` or ``1.0 / mu``, the parameter's variable), the
     operations of :meth:`inflowsim.model.schedule.Schedule.__call__` in the same
-    order (so, built without contraction, the same doubles)."""
+    order (so, built without contraction, the same doubles); then the scheduled
+    trim totals ``trim_<column>`` (those among :attr:`Description.scheduled`) in
+    ``x = (mu - center)/scale``, the operations of
+    :meth:`~inflowsim.model.schedule.Schedule.trim_values`."""
     sch = d.schedule
     if sch is None or not d.scheduled:
         return []
+    # (C name, coefficients, variable, center, scale) of every value computed
+    polys = [(p.name, p.coefficients, p.variable, p.center, p.scale)
+             for p in sch.parameters]
+    polys += [(f"trim_{t.column}", t.coefficients, "mu", t.center, t.scale)
+              for t in sch.trim if f"trim_{t.column}" in d.scheduled]
     lo, hi = (_num(v) for v in sch.mu_range)
     out = ["", "/* The parameter schedule (inflowsim.model.schedule, from the schedule file "
            "of", " * inflowsim fmu build --schedule): each parameter a polynomial in "
            "x = (mu - center) / scale", " * or in x = (1/mu - center) / scale, mu held "
            f"to the schedule's range [{lo}, {hi}]. */",
            "void ifs_schedule_apply(IfsVariables *v)", "{"]
-    if any(p.order > 0 for p in sch.parameters):
+    if any(len(c) > 1 for _, c, _, _, _ in polys):
         out += [f"    const double mu = v->mu < {lo} ? {lo} : v->mu > {hi} ? {hi} : v->mu;",
                 "    double x;"]
     last = None
-    for p in sch.parameters:
-        c = [_num(v) for v in p.coefficients]
+    for name, coefficients, variable, center, scale in polys:
+        c = [_num(v) for v in coefficients]
         expr = c[-1]
         for ck in c[-2::-1]:
             expr = f"({expr}) * x + {ck}" if "x" in expr else f"{expr} * x + {ck}"
-        if p.order > 0 and (p.variable, p.center, p.scale) != last:   # same x: not again
-            v = "mu" if p.variable == "mu" else "1.0 / mu"
-            out.append(f"    x = ({v} - {_num(p.center)}) / {_num(p.scale)};")
-            last = (p.variable, p.center, p.scale)
-        out.append(f"    v->{p.name} = {expr};")
-    if all(p.order == 0 for p in sch.parameters):
+        if len(c) > 1 and (variable, center, scale) != last:   # same x: not again
+            v = "mu" if variable == "mu" else "1.0 / mu"
+            out.append(f"    x = ({v} - {_num(center)}) / {_num(scale)};")
+            last = (variable, center, scale)
+        out.append(f"    v->{name} = {expr};")
+    if all(len(c) == 1 for _, c, _, _, _ in polys):
         out.append("    (void)v->mu;")
     return out + ["}"]
 

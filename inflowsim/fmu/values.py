@@ -103,7 +103,7 @@ def refuse_leads(params: Mapping[str, float]) -> None:
 
 def _finish(code, vals, k, description) -> dict:
     refuse_leads(vals)
-    # a scheduled FMU computes these from mu: they are not set
+    # a scheduled FMU computes these from mu (its trim too): they are not set
     vals = {n: v for n, v in vals.items() if n not in description.scheduled}
     unknown = sorted(set(vals) - set(description.vr))
     if unknown:
@@ -118,7 +118,8 @@ def _finish(code, vals, k, description) -> dict:
             out["ct"] = float(k.ct)
         if k.trim is not None:        # the trim an effect is linearised about
             out.update({n: float(k.trim[c]) for n, c in TRIM_PARAMETERS.items()
-                        if n in description.vr and c in k.trim})
+                        if n in description.vr and c in k.trim
+                        and n not in description.scheduled})
     return out
 
 

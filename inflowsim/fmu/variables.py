@@ -155,6 +155,16 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
         trim = k.trim or {}
         for name, col in TRIM_PARAMETERS.items():
             unit = "-" if col == "muz" else "rad"
+            if name in scheduled:
+                # the schedule's trim at each step's mu, like a scheduled parameter
+                v.append(Variable(name, "Real", "local", "continuous",
+                                  float(trim.get(col, 0.0)), unit,
+                                  f"trim total {col} about which advance-ratio-"
+                                  "perturbation is linearised, scheduled: a polynomial "
+                                  "in mu of the campaign's measured trims, held beyond "
+                                  "the schedule's range (the value at the mu of the "
+                                  f"last step) [{unit}]", -1.0, 1.0))
+                continue
             v.append(Variable(name, "Real", "parameter", "tunable",
                               float(trim.get(col, 0.0)), unit,
                               f"trim total {col} (the record's, as Constants.trim) "
@@ -218,7 +228,9 @@ class Description:
 
     @property
     def scheduled(self) -> tuple:
-        """Names of the parameters that follow the schedule (local variables)."""
+        """Names of the parameters that follow the schedule (local variables): its
+        parameters, then its trim totals (``trim_<column>``) where a structure is
+        linearised about trim."""
         return tuple(v.name for v in self.variables if v.causality == "local")
 
     @property
@@ -237,7 +249,9 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
     rotor (default the Puma); ``schedule``: a
     :class:`~inflowsim.model.schedule.Schedule` of the (single) structure, whose
     scheduled parameters become local variables computed at every step's ``mu``
-    and whose held parameters are start values.
+    and whose held parameters are start values; its trim totals, where the
+    structure is linearised about trim (:func:`~inflowsim.fmu.codegen.needs_trim`),
+    become local variables ``trim_<column>`` computed alike.
     """
     names = tuple(Structure.parse(st).name for st in structures)
     if not names:
@@ -254,6 +268,9 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
         k = constants if constants is not None else PUMA
         values.update(schedule(k.mu))
         scheduled = schedule.names
+        if schedule.trim and needs_trim(names):
+            constants = schedule.constants_at(k)      # the start trim: at the start mu
+            scheduled += tuple(f"trim_{c}" for c in schedule.trim_columns)
     variables = _build(names, values, constants, scheduled)
     out = Description(names, variables, {v.name: i for i, v in enumerate(variables)},
                       schedule)

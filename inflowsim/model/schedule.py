@@ -23,6 +23,15 @@ order, so both give the same doubles.  The range's ends inside the
 :class:`~inflowsim.simulate.mutable.MuTable`'s range are knots of the table
 (:meth:`Schedule.knots`), so the scheduled matrices stay tabulated to 1e-12.
 
+A schedule may also carry the trim the rotor flies at each ``mu``
+(:attr:`Schedule.trim`, :func:`fit_trim`): the measured trim totals
+(:data:`inflowsim.physics.bladeelement.TRIM_KEYS`) of the conditions, each a
+least-squares polynomial in the same ``x = (mu - center)/scale``, held at its end
+values beyond the range like the parameters.  :meth:`Schedule.constants_at` puts it
+in ``Constants.trim`` at ``mu``, so that the effects linearised about the trim
+(``advance-ratio-perturbation``) are linearised about the trim of the ``mu`` they
+fly at; the FMU computes the same polynomials in its C.
+
 Time shifts (``delay``, ``delay_<channel>``) describe the recording, not the rotor,
 and a step-by-step loop holds them: they are never scheduled, only held at their
 weighted mean (:attr:`Schedule.held`), as are parameters without a finite bound.
@@ -48,8 +57,12 @@ from .params import Constants
 #: (n - k - 1)`` (small samples), ``"bic"`` ``chi2 + k ln n`` (Schwarz), ``"chi2"``
 #: the lowest order whose residuals pass the chi-square test at ``alpha``.
 CRITERIA = ("aic", "aicc", "bic", "chi2")
-#: File format version of a schedule file.
+#: File format version of a schedule file (a file with a ``"trim"`` object is
+#: still version 1: readers that do not know it ignore it, and a file without it
+#: reads as a schedule without trim).
 FORMAT = 1
+#: Highest order of a trim total's polynomial in ``mu`` (:func:`fit_trim`).
+TRIM_MAX_ORDER = 3
 #: The variables a parameter's polynomial may be written in: the advance ratio
 #: ``mu`` or its inverse ``1/mu``.
 VARIABLES = ("mu", "1/mu")
@@ -192,6 +205,125 @@ class ParameterSchedule:
                    tuple(map(float, data["sigma"])), variable)
 
 
+@dataclass(frozen=True)
+class TrimSchedule:
+    """One trim total against ``mu``: a least-squares polynomial (:func:`fit_trim`).
+
+    Attributes
+    ----------
+    column : str
+        The record column (one of :data:`~inflowsim.physics.bladeelement.TRIM_KEYS`).
+    coefficients : tuple of float
+        Power coefficients in ``x = (mu - center)/scale``, degree 0 first [rad or -].
+    center, scale : float
+        ``x = (mu - center)/scale`` [-] (the parameters' convention in ``mu``).
+    residual : float
+        Largest absolute residual of the fit at the conditions [rad or -] (rounding
+        only where the polynomial passes through every condition).
+    mu, trim : tuple of float
+        The data fitted: each condition's ``mu`` and trim total.
+    """
+
+    column: str
+    coefficients: tuple
+    center: float
+    scale: float
+    residual: float
+    mu: tuple = ()
+    trim: tuple = ()
+
+    @property
+    def order(self) -> int:
+        return len(self.coefficients) - 1
+
+    def x(self, mu: float) -> float:
+        """The polynomial's argument at ``mu`` (the C's operations, in its order)."""
+        return (mu - self.center) / self.scale
+
+    def value(self, mu: float) -> float:
+        """The polynomial at ``mu`` (no clamping: :class:`Schedule` clamps)."""
+        return horner(self.coefficients, self.x(mu))
+
+    def to_json(self) -> dict:
+        return {"order": self.order, "center": self.center, "scale": self.scale,
+                "coefficients": list(self.coefficients), "residual": self.residual,
+                "data": {"mu": list(self.mu), "trim": list(self.trim)}}
+
+    @classmethod
+    def from_json(cls, column: str, d: dict) -> "TrimSchedule":
+        coef = tuple(float(v) for v in d["coefficients"])
+        scale = float(d["scale"])
+        if not coef or not all(map(math.isfinite, coef)) or not (
+                math.isfinite(scale) and scale > 0):
+            raise InputError(f"trim schedule of {column}: coefficients must be finite "
+                             "(at least one) and scale finite > 0")
+        data = d.get("data") or {"mu": [], "trim": []}
+        return cls(str(column), coef, float(d["center"]), scale,
+                   float(d.get("residual", 0.0)), tuple(map(float, data["mu"])),
+                   tuple(map(float, data["trim"])))
+
+
+def fit_trim(mu, trims, max_order: int = TRIM_MAX_ORDER, center: float | None = None,
+             scale: float | None = None) -> tuple:
+    """Each trim total against ``mu``: unweighted least-squares polynomials.
+
+    The trim totals are measured (means over each record's quiet trim window,
+    averaged over a condition's records), not estimated: they carry no bound to
+    weight by, and their noise is far below their trend with speed, so no order
+    is chosen by a criterion either.  The order is ``min(max_order, m - 1)`` with
+    ``m`` the distinct ``mu`` that have the total: a cubic (the default 3) holds a
+    collective's power bucket and the ``mu^3`` rise of the profile and parasite
+    power, and a cyclic's near-linear trend with its curvature; with four
+    conditions or fewer the polynomial passes through every one (residual at
+    rounding), with more it smooths them, and :attr:`TrimSchedule.residual` says
+    by how much.
+
+    Parameters
+    ----------
+    mu : sequence of float
+        Each condition's advance ratio [-].
+    trims : mapping of column to sequence of float
+        Each trim total at each condition [rad or -] (``nan`` or ``None``: not
+        measured there; that condition is left out of that column's fit).
+    max_order : int
+        Highest order (>= 0).
+    center, scale : float, optional
+        ``x = (mu - center)/scale``; default the middle and half-width of ``mu``
+        (the range of the whole schedule, so the parameters' and the trim's ``x``
+        are the same number).
+
+    Returns
+    -------
+    tuple of TrimSchedule
+        In the order of ``trims``; a column with no finite value is left out.
+    """
+    if int(max_order) != max_order or max_order < 0:
+        raise InputError(f"trim max_order {max_order!r}: an integer >= 0")
+    mu = np.asarray(mu, dtype=float)
+    if center is None:
+        lo, hi = float(np.min(mu)), float(np.max(mu))
+        center, scale = 0.5 * (lo + hi), (0.5 * (hi - lo) or 1.0)
+    out = []
+    for col, values in trims.items():
+        y = np.array([np.nan if v is None else float(v) for v in values])
+        if len(y) != len(mu):
+            raise InputError(f"trim schedule of {col}: {len(y)} values for {len(mu)} "
+                             "conditions")
+        ok = np.isfinite(mu) & np.isfinite(y)
+        if not ok.any():
+            continue
+        m, y = mu[ok], y[ok]
+        order = max(0, min(int(max_order), len(np.unique(m)) - 1))
+        x = (m - center) / scale
+        coef, _, _ = _weighted_fit(x, y, np.ones(len(m)), order + 1)
+        coef = tuple(float(c) for c in coef)
+        # the residual of the evaluation every user makes (Horner, as the C)
+        res = max(abs(horner(coef, (a - center) / scale) - b) for a, b in zip(m, y))
+        out.append(TrimSchedule(str(col), coef, float(center), float(scale), float(res),
+                                tuple(map(float, m)), tuple(map(float, y))))
+    return tuple(out)
+
+
 def _nan_none(v):
     return None if v is None or v != v else float(v)
 
@@ -223,6 +355,9 @@ class Schedule:
     constants : Constants or None
         The rotor (``mu`` is the range's middle), when known: the FMU's start values.
     source : str
+    trim : tuple of TrimSchedule
+        The trim totals against ``mu`` (:func:`fit_trim`), held at their end values
+        beyond :attr:`mu_range`; empty: no trim (the constants' trim stays as given).
     """
 
     structure: str
@@ -234,6 +369,7 @@ class Schedule:
     max_order: int = 3
     constants: Constants | None = None
     source: str = field(default="schedule", compare=False)
+    trim: tuple = ()
 
     @property
     def names(self) -> tuple:
@@ -265,18 +401,39 @@ class Schedule:
         out.update({p.name: p.bound(m) for p in self.parameters})
         return out
 
+    @property
+    def trim_columns(self) -> tuple:
+        """The trim totals scheduled (record columns)."""
+        return tuple(t.column for t in self.trim)
+
+    def trim_values(self, mu: float) -> dict:
+        """Every scheduled trim total at ``mu`` [rad or -] (clamped to
+        :attr:`mu_range`; empty without trim)."""
+        m = self.clamp(float(mu))
+        return {t.column: horner(t.coefficients, t.x(m)) for t in self.trim}
+
+    def constants_at(self, constants: Constants, mu: float | None = None) -> Constants:
+        """``constants`` at ``mu`` (default ``constants.mu``) with the scheduled trim
+        totals there in ``Constants.trim`` (its other columns kept); without trim,
+        ``constants.trim`` as given."""
+        k = constants if mu is None else constants.with_mu(mu)
+        if not self.trim:
+            return k
+        return k.with_trim({**dict(k.trim or {}), **self.trim_values(k.mu)})
+
     def knots(self, lo: float, hi: float) -> tuple:
         """Where the clamped schedule has a kink within ``(lo, hi)``: the ends of
-        :attr:`mu_range` of a schedule that is not constant."""
-        if all(p.order == 0 for p in self.parameters):
+        :attr:`mu_range` of a schedule that is not constant (its trim included)."""
+        if all(p.order == 0 for p in self.parameters + self.trim):
             return ()
         return tuple(k for k in self.mu_range if lo < k < hi)
 
     def model(self, constants: Constants, mu: float | None = None):
         """The :class:`~inflowsim.model.Model` at ``mu`` (default
-        ``constants.mu``) with the scheduled parameters there."""
+        ``constants.mu``) with the scheduled parameters, and the scheduled trim
+        (:meth:`constants_at`), there."""
         from .build import build_model
-        k = constants if mu is None else constants.with_mu(mu)
+        k = self.constants_at(constants, mu)
         return build_model(self.structure, self(k.mu), k)
 
     def to_json(self) -> dict:
@@ -287,6 +444,8 @@ class Schedule:
             doc["constants"] = self.constants.as_dict()
         doc["parameters"] = {p.name: p.to_json() for p in self.parameters}
         doc["held"] = {n: {"estimate": v, "sigma": s} for n, v, s in self.held}
+        if self.trim:
+            doc["trim"] = {t.column: t.to_json() for t in self.trim}
         return doc
 
     @classmethod
@@ -304,9 +463,11 @@ class Schedule:
             lo, hi = (float(v) for v in doc["mu_range"])
             k = doc.get("constants")
             constants = Constants.from_mapping(k) if k else None
+            trim = tuple(TrimSchedule.from_json(c, d)
+                         for c, d in (doc.get("trim") or {}).items())
             out = cls(s.name, params, held, (lo, hi), str(doc.get("criterion", "aic")),
                       float(doc.get("alpha", 0.05)), int(doc.get("max_order", 3)),
-                      constants, where)
+                      constants, where, trim)
         except InputError as exc:
             raise InputError(f"{where}: {exc}") from None
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
@@ -316,7 +477,9 @@ class Schedule:
 
     def checked(self, where: str = "schedule") -> "Schedule":
         """Itself, or :class:`InputError`: the names must be the structure's
-        parameters, the range finite and ordered, no time shift scheduled."""
+        parameters, the range finite and ordered, no time shift scheduled, the
+        trim totals among those effects linearised about trim read, each once."""
+        from ..physics.bladeelement import TRIM_KEYS
         from .structure import Structure
         s = Structure.parse(self.structure)
         lo, hi = self.mu_range
@@ -334,6 +497,13 @@ class Schedule:
             if is_time_shift(n):
                 raise InputError(f"{where}: {n} is a time shift; a step-by-step loop "
                                  "holds it (put it under \"held\")")
+        cols = self.trim_columns
+        for c in cols:
+            if c not in TRIM_KEYS:
+                raise InputError(f"{where}: trim {c!r} is not a trim total "
+                                 f"({', '.join(TRIM_KEYS)})")
+        if len(set(cols)) != len(cols):
+            raise InputError(f"{where}: a trim total is scheduled twice")
         return self
 
 
@@ -431,7 +601,8 @@ def fit_parameter(name: str, mu, estimate, sigma, criterion: str = "aic",
 
 def fit_schedule(structure, mu, estimates, sigmas, criterion: str = "aic",
                  max_order: int = 3, alpha: float = 0.05, constants=None,
-                 source: str = "schedule", variables=("mu",)) -> Schedule:
+                 source: str = "schedule", variables=("mu",), trim=None,
+                 trim_order: int = TRIM_MAX_ORDER) -> Schedule:
     """Fit every parameter of ``structure`` against ``mu``, weighted by its bounds.
 
     Parameters
@@ -462,6 +633,12 @@ def fit_schedule(structure, mu, estimates, sigmas, criterion: str = "aic",
         ``tests/test_schedule.py`` (Pitt-Peters' ``tau0``, five speeds, 1 % bounds,
         20 seeds) 84 % of the points of a fine grid lie within 2 bounds, against
         93 % in ``mu`` alone.
+    trim : mapping of column to sequence of float, optional
+        The measured trim totals (:data:`~inflowsim.physics.bladeelement.TRIM_KEYS`)
+        at each condition [rad or -]: fitted by :func:`fit_trim` (order up to
+        ``trim_order``) in the parameters' ``x`` and kept as :attr:`Schedule.trim`.
+    trim_order : int
+        Highest order of the trim's polynomials (:data:`TRIM_MAX_ORDER`).
 
     Returns
     -------
@@ -510,9 +687,10 @@ def fit_schedule(structure, mu, estimates, sigmas, criterion: str = "aic",
                                     center, scale, variables))
     if not params and not held:
         raise InputError(f"schedule: no estimates of any parameter of {s.name}")
+    trims = fit_trim(mu, trim, trim_order, center, scale) if trim else ()
     return Schedule(s.name, tuple(params), tuple(held),
                     (float(mu.min()), float(mu.max())), criterion, float(alpha),
-                    int(max_order), constants, source).checked()
+                    int(max_order), constants, source, trims).checked()
 
 
 def write_schedule(schedule: Schedule, path, overwrite: bool = True) -> Path:
@@ -540,6 +718,7 @@ def read_schedule(path) -> Schedule:
     return Schedule.from_json(doc, str(p))
 
 
-__all__ = ["Schedule", "ParameterSchedule", "fit_schedule", "fit_parameter",
+__all__ = ["Schedule", "ParameterSchedule", "TrimSchedule", "fit_schedule",
+           "fit_parameter", "fit_trim", "TRIM_MAX_ORDER",
            "read_schedule", "write_schedule", "horner", "is_time_shift", "CRITERIA",
            "VARIABLES", "variable_value"]

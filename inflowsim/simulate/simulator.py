@@ -104,6 +104,8 @@ class Simulator:
         Schedule`, e.g. ``read_schedule(path)``): the model's parameters that it
         schedules or holds are replaced by its values at the ``mu`` of every step
         (at ``model.constants.mu`` from the start); the others stay the model's.
+        A schedule with a trim (:attr:`~inflowsim.model.schedule.Schedule.trim`)
+        sets ``Constants.trim`` at every step's ``mu`` likewise.
     """
 
     def __init__(self, model, dt: float, method: str = "zoh", x0=None, t0: float = 0.0,
@@ -135,7 +137,10 @@ class Simulator:
         from ..model.build import build_model
         p = dict(model.parameters)
         p.update(self._schedule(mu))
-        return build_model(model.structure, p, model.constants.with_mu(mu))
+        # the trim too, where the schedule has one: effects linearised about the
+        # trim take that of this mu
+        return build_model(model.structure, p, self._schedule.constants_at(
+            model.constants, mu))
 
     @property
     def model(self):
