@@ -70,9 +70,14 @@ def campaign_schedule(conditions, criterion: str = "aic", max_order: int = 3,
                            else trim_order)
     except InputError as exc:
         return None, str(exc)
-    note = (f"conditions left out (failed, or fitted with another structure than "
-            f"{structure}): {', '.join(left)}" if left else "")
-    return sch, note
+    notes = [f"conditions left out (failed, or fitted with another structure than "
+             f"{structure}): {', '.join(left)}"] if left else []
+    from ..fmu.codegen import needs_trim
+    if needs_trim([structure]) and not sch.trim:
+        notes.append(f"{structure} is linearised about the trim, but the conditions "
+                     "hold no trim totals: the schedule's simulator and FMU keep the "
+                     "trim they are given at every mu")
+    return sch, "; ".join(notes)
 
 
 def schedule_summary(sch, note: str = "") -> dict:

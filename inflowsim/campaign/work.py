@@ -53,9 +53,16 @@ class Settings:
                 "hold": self.hold}
 
 
+#: What a stored result holds: raised when its fields change, so that a restarted
+#: campaign redoes work whose stored result lacks them (2: each record's and
+#: condition's trim, which the schedule fits).
+RESULTS_FORMAT = 2
+
+
 def version() -> str:
+    """The package version and the results' format: part of every result's key."""
     from .. import __version__
-    return __version__
+    return f"{__version__}/results-{RESULTS_FORMAT}"
 
 
 def file_hash(path) -> str:
