@@ -272,7 +272,8 @@ def test_local_dask_cluster_two_processes(plan_dir, tmp_path):
 
 
 def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
-    from inflowsim.flighttest.campaign import campaign_items, virtual_campaign
+    from inflowsim.flighttest.campaign import (AMPLITUDE_DEG, campaign_items,
+                                               virtual_campaign)
     items = campaign_items()
     # doublets, 3211s and a sweep on each control at each speed
     assert len({i.mu for i in items}) == 6 and len(items) == 6 * 3 * 3
@@ -283,9 +284,10 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     from inflowsim.data.record import read_record
     sweep = read_record(read_plan(plan).entries[0].path)
     th = sweep["theta1c"] - sweep["theta1c"][0]
-    # a faded log sweep: moves over its whole length, no more than its 1 deg peak
-    assert np.max(np.abs(th)) <= np.radians(1.0) * (1 + 1e-9)
-    assert np.ptp(th[(sweep.t > 3.0) & (sweep.t < 6.0)]) > np.radians(1.0)
+    # a faded log sweep: moves over its whole length, no more than its peak
+    peak = np.radians(AMPLITUDE_DEG)
+    assert np.max(np.abs(th)) <= peak * (1 + 1e-9)
+    assert np.ptp(th[(sweep.t > 3.0) & (sweep.t < 6.0)]) > peak
     plan = virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",),
                             shapes=("3211",), duration=6.0, workers=1)
     p = read_plan(plan)
@@ -295,7 +297,8 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
     from inflowsim.data.record import read_record
     rec = read_record(e.path)
     assert rec.meta["manoeuvre"] == "3211 theta1s" and float(rec.meta["mu"]) == 0.15
-    assert rec.dt == pytest.approx(1 / 64) and np.ptp(rec["theta1s"]) > 0.01
+    assert rec.dt == pytest.approx(1 / 64)
+    assert np.ptp(rec["theta1s"]) == pytest.approx(2 * peak, rel=0.05)     # +-A
     # a second generation keeps the record (resumable) and rewrites the plan only
     mtime = Path(e.path).stat().st_mtime_ns
     virtual_campaign(tmp_path / "c", mus=(0.15,), controls=("theta1s",), shapes=("3211",),
@@ -336,3 +339,25 @@ def test_a_condition_and_a_record_carry_their_trim(tmp_path):
     one = record_task(paths[1], s)
     assert one["trim"] == {c: trims[1][c] for c in TRIM_KEYS}
     assert json.loads(json.dumps(out))["trim"] == out["trim"]
+
+
+def test_flighttest_campaign_flies_its_own_amplitude(tmp_path, capsys, monkeypatch):
+    """``--campaign`` flies the campaign's amplitude (the truth's linear range at the
+    default noise) unless ``--amplitude-deg`` says otherwise; a single record keeps
+    its 1 deg."""
+    import inflowsim.flighttest.campaign as fc
+    seen = []
+
+    def fake(folder, **kw):
+        seen.append(kw["amplitude_deg"])
+        return Path(folder) / "plan.csv"
+    monkeypatch.setattr(fc, "virtual_campaign", fake)
+    for extra in ([], ["--amplitude-deg", "1"]):
+        code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "c", *extra)
+        assert code == 0, err
+    assert seen == [fc.AMPLITUDE_DEG, 1.0] and fc.AMPLITUDE_DEG < 1.0
+    code, out, err = run(capsys, "flighttest", "--out", tmp_path / "r.csv", "--start",
+                         "0.1", "--duration", "0.5", "--json")
+    assert code == 0, err
+    (man,) = json.loads(out)["manoeuvres"]
+    assert man["amplitude"] == pytest.approx(np.radians(1.0))

@@ -57,9 +57,10 @@ def add_arguments(p):
                         "the record's end); the multisine's base frequency is 1/T")
     p.add_argument("--fade", type=float, default=1.0, metavar="S",
                    help="sweep or multisine: fade in and out [s] (default 1)")
-    p.add_argument("--amplitude-deg", type=float, default=1.0, metavar="A",
+    p.add_argument("--amplitude-deg", type=float, default=None, metavar="A",
                    help="input amplitude [deg], the peak of a sweep or of each "
-                        "multisine channel (default 1)")
+                        "multisine channel (default 1; --campaign 0.25: the truth's "
+                        "linear range at the default --noise)")
     p.add_argument("--width", type=float, default=0.4, metavar="S",
                    help="doublet half-width or 3211 unit [s] (default 0.4)")
     add_flight_options(p, duration_help="record length [s] (default 26.6: 0.0376 Hz "
@@ -90,8 +91,9 @@ def add_arguments(p):
                    help="write a virtual campaign instead: records from the nonlinear "
                         "truth at every --speeds, a doublet, a 3-2-1-1 and a sweep on "
                         "each control, --repeats times, and DIR/plan.csv for 'inflowsim "
-                        "campaign' (default 20 s at 64 Hz each; existing records of the same truth are "
-                        "kept; --speed, --blades and --no-body choose the truth)")
+                        "campaign' (default 20 s at 64 Hz each, inputs of 0.25 deg; "
+                        "existing records of the same truth are kept; --speed, "
+                        "--blades and --no-body choose the truth)")
     p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
     p.add_argument("--repeats", type=int, default=1, metavar="N",
@@ -308,7 +310,7 @@ def _still_body():
 
 
 def _campaign(args) -> int:
-    from ..flighttest.campaign import MUS, virtual_campaign
+    from ..flighttest.campaign import AMPLITUDE_DEG, MUS, virtual_campaign
     if args.out or args.truth_json or args.json:
         raise InputError("--campaign writes its own records and plan: drop --out, "
                          "--truth-json and --json")
@@ -319,6 +321,8 @@ def _campaign(args) -> int:
         raise InputError(f"--workers {args.workers}: need at least 1")
     args.duration = 20.0 if args.duration is None else args.duration
     args.dt = 1.0 / 64 if args.dt is None else args.dt
+    if args.amplitude_deg is None:
+        args.amplitude_deg = AMPLITUDE_DEG
     _manoeuvre(args)                       # the shared checks of duration, step, noise
     plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
                             repeats=args.repeats, duration=args.duration, dt=args.dt,
@@ -341,6 +345,7 @@ def run(args) -> int:
         raise InputError("--out CSV is required (or --campaign DIR)")
     args.duration = 26.6 if args.duration is None else args.duration
     args.dt = 0.01 if args.dt is None else args.dt
+    args.amplitude_deg = 1.0 if args.amplitude_deg is None else args.amplitude_deg
     _check_outputs(args)
     man = _manoeuvre(args)
     values = _settings(args.set)

@@ -12,7 +12,8 @@ manifest ``plan.csv`` (record, condition ``mu=0.100``, manoeuvre, group
 The shapes are the doublet and the 3-2-1-1 of :mod:`inflowsim.data.inputs` and a
 log frequency sweep (0.15-3 Hz, from 2 s to 1 s before the record's end, faded in
 and out over 1 s; :func:`inflowsim.data.inputs.log_sweep`), the three inputs a
-flight-test campaign flies on each control.  Records are generated in parallel by
+flight-test campaign flies on each control, each of 0.25 deg (:data:`AMPLITUDE_DEG`:
+the truth's linear range at the default noise).  Records are generated in parallel by
 a process pool (they pickle).
 """
 from __future__ import annotations
@@ -35,6 +36,13 @@ WIDTH = {"doublet": 0.4, "3211": 0.3}
 CAMPAIGN_SHAPES = (*SHAPES, "sweep")
 #: The sweep's frequency range [Hz].
 SWEEP_HZ = (0.15, 3.0)
+#: Every input's amplitude [deg] (the sweep's peak): the truth's linear range at the
+#: default 1e-4 rad flap noise.  At 1 deg the joint fits' equivalent linear parameters
+#: sit up to 3 of their bounds off the truth's (tau0 low, the flap frequency high); at
+#: 0.25 deg under 2 on average at every speed, about what the estimator leaves on a
+#: truth the catalogue holds exactly, with bounds three times wider
+#: (``bench/amplitude.md``).
+AMPLITUDE_DEG = 0.25
 
 
 @dataclass(frozen=True)
@@ -90,7 +98,7 @@ def truth_label(speed: str = "eq14", n_blades: int = 4, body: bool = True) -> st
 
 
 def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
-                    speed="eq14", n_blades=4, body=True, amplitude_deg=1.0):
+                    speed="eq14", n_blades=4, body=True, amplitude_deg=AMPLITUDE_DEG):
     """The record of one campaign item (the nonlinear truth at ``item.mu``, with the
     speed through the disc ``speed``, ``n_blades`` blades and, unless ``body`` is
     false, the body's motion; inputs of ``amplitude_deg`` [deg])."""
@@ -131,16 +139,16 @@ def _make(args):
 def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES, repeats=1,
                      duration=20.0, dt=1.0 / 64, noise=1e-4, workers=None,
                      progress=None, speed="eq14", n_blades=4, body=True,
-                     amplitude_deg=1.0) -> Path:
+                     amplitude_deg=AMPLITUDE_DEG) -> Path:
     """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
 
     Records already in ``folder`` (same name, same truth) are kept, so an
     interrupted generation resumes; one of another truth (``speed``, ``n_blades``,
     ``body``: :func:`campaign_record`) is refused.  ``amplitude_deg`` [deg]: every
-    input's amplitude (1 deg flies the truth a little outside its linear range: at mu
-    0.35 the equivalent linear ``tau0`` moves by about 1.5 of its bounds; 0.25 deg
-    with the noise scaled alike stays within it).  ``workers`` processes (default
-    the machine's cores)."""
+    input's amplitude (default :data:`AMPLITUDE_DEG`, the truth's linear range at the
+    default ``noise``; 1 deg flies it outside: with the Eq. (14) speed the joint fits'
+    ``tau0`` sits 2.4-3.0 bounds low at mu 0.10 and 0.35, ``bench/amplitude.md``).
+    ``workers`` processes (default the machine's cores)."""
     import os
 
     from ..data.record import header_meta
