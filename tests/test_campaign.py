@@ -310,6 +310,15 @@ def test_virtual_campaign_writes_records_and_plan(tmp_path, capsys):
                          "0.15", "--speed", "mu", "--duration", "6", "--workers", "1")
     assert_user_error(code, out, err, "another truth")
     assert Path(e.path).stat().st_mtime_ns == mtime
+    # so is a record flown otherwise: one campaign, one amplitude, noise and length
+    assert rec.meta["flown"] == f"{AMPLITUDE_DEG:g} deg inputs, flap noise 0.0001 rad, " \
+                                "6 s at dt 0.015625 s"
+    for other in (["--amplitude-deg", "1"], ["--noise", "2e-4"], ["--duration", "8"]):
+        args = ["--duration", "6", *other] if other[0] != "--duration" else other
+        code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "c", "--speeds",
+                             "0.15", "--workers", "1", *args)
+        assert_user_error(code, out, err, "flown otherwise")
+    assert Path(e.path).stat().st_mtime_ns == mtime
     code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "e", "--blades", "2")
     assert_user_error(code, out, err, "n_blades")
     code, out, err = run(capsys, "flighttest", "--campaign", tmp_path / "d", "--out", "x.csv")

@@ -97,6 +97,15 @@ def truth_label(speed: str = "eq14", n_blades: int = 4, body: bool = True) -> st
             f"{'body motion' if body else 'hub fixed'}")
 
 
+def flown_label(duration: float = 20.0, dt: float = 1.0 / 64, noise: float = 1e-4,
+                amplitude_deg: float = AMPLITUDE_DEG) -> str:
+    """How a campaign's records were flown (their ``flown`` metadata): a restarted
+    generation keeps only records flown alike, so one campaign never mixes input
+    amplitudes, noise levels or record lengths."""
+    return (f"{amplitude_deg:g} deg inputs, flap noise {noise:g} rad, {duration:g} s "
+            f"at dt {dt:g} s")
+
+
 def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
                     speed="eq14", n_blades=4, body=True, amplitude_deg=AMPLITUDE_DEG):
     """The record of one campaign item (the nonlinear truth at ``item.mu``, with the
@@ -122,7 +131,8 @@ def campaign_record(item: CampaignItem, duration=20.0, dt=1.0 / 64, noise=1e-4,
                                   "blade-element truth")
     rec = nonlinear_flighttest(test).record
     return rec.with_meta(manoeuvre=item.manoeuvre, condition=item.condition,
-                         truth=truth_label(speed, n_blades, body))
+                         truth=truth_label(speed, n_blades, body),
+                         flown=flown_label(duration, dt, noise, amplitude_deg))
 
 
 def _make(args):
@@ -142,9 +152,11 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
                      amplitude_deg=AMPLITUDE_DEG) -> Path:
     """Write the campaign's records and its plan ``folder/plan.csv``; returns the plan.
 
-    Records already in ``folder`` (same name, same truth) are kept, so an
-    interrupted generation resumes; one of another truth (``speed``, ``n_blades``,
-    ``body``: :func:`campaign_record`) is refused.  ``amplitude_deg`` [deg]: every
+    Records already in ``folder`` (same name, same truth, flown alike) are kept, so
+    an interrupted generation resumes; one of another truth (``speed``, ``n_blades``,
+    ``body``: :func:`campaign_record`) or flown otherwise (``amplitude_deg``,
+    ``noise``, ``duration``, ``dt``; or by a version that did not record how) is
+    refused.  ``amplitude_deg`` [deg]: every
     input's amplitude (default :data:`AMPLITUDE_DEG`, the truth's linear range at the
     default ``noise``; 1 deg flies it outside: with the Eq. (14) speed the joint fits'
     ``tau0`` sits 2.4-3.0 bounds low at mu 0.10 and 0.35, ``bench/amplitude.md``).
@@ -160,6 +172,7 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
     items = campaign_items(mus, controls, shapes, repeats)
     truth = {"speed": speed, "n_blades": int(n_blades), "body": bool(body)}
     label = truth_label(**truth)
+    flown = flown_label(duration, dt, noise, amplitude_deg)
     for it in items:                           # before any work: one line, nothing made
         path = folder / it.name
         if path.exists() and not path.is_file():
@@ -172,6 +185,12 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
                 raise InputError(f"{path}: a record of another truth ({kept}) is in "
                                  f"the folder, not one of '{label}': write this "
                                  "campaign to another folder")
+            was = header_meta(path).get("flown")
+            if was != flown:
+                raise InputError(f"{path}: a record flown otherwise "
+                                 f"({was or 'how is not recorded: an older inflowsim'}) "
+                                 f"is in the folder, not '{flown}': fly the same "
+                                 "settings or write this campaign to another folder")
     jobs = [(it, str(folder), duration, dt, noise, truth, float(amplitude_deg))
             for it in items]
     n = workers or os.cpu_count() or 1
