@@ -235,7 +235,7 @@ def test_schedules_recover_the_blade_truths_parameters(speed_mu_campaign):
 
 
 @pytest.mark.slow
-def test_in_its_linear_range_the_eq14_truths_trends_are_recovered_and_fly(tmp_path):
+def test_in_its_linear_range_the_eq14_truths_trends_are_recovered(tmp_path):
     """The default truth (Eq. 14) flown in its linear range: 0.25 deg 3-2-1-1s with
     the noise scaled alike (2.5e-5 rad: the same signal-to-noise as 1 deg and
     1e-4), four speeds, fitted with the truth's physics from the catalogue
@@ -259,10 +259,6 @@ def test_in_its_linear_range_the_eq14_truths_trends_are_recovered_and_fly(tmp_pa
             assert abs(sch(mu)[name] - truth) < 3 * p.bound(mu), (name, mu)
             assert p.bound(mu) < 0.05 * truth, (name, mu)
     assert not sch["tau0"].constant and sch["n_beta"].constant
-    # and the schedule flies: momentum-speed's coupling computed in the FMU's C at
-    # each tabulated mu, about the trim the schedule gives there, down to hover
-    assert "momentum-speed" in sch.structure
-    _fly(sch, tmp_path / "fly")
 
 
 @pytest.mark.slow
@@ -301,6 +297,49 @@ def test_the_default_campaign_flies_the_eq14_truth_in_its_linear_range(tmp_path)
         mean_z[label] = float(np.mean(z_tau0))
     assert abs(mean_z["default"]) < 1.5, mean_z
     assert mean_z["1 deg"] < -1.5, mean_z
+
+
+@pytest.mark.slow
+def test_the_default_campaigns_schedule_recovers_the_eq14_truth_and_flies(tmp_path):
+    """The default virtual campaign as `flighttest --campaign` writes it (the default
+    truth, six speeds, a doublet, a 3-2-1-1 and a sweep on each control, 0.25 deg,
+    1e-4 rad noise), each speed's nine records fitted together with the truth's
+    physics from the catalogue, the schedule in 1/mu with the trim:
+
+    - every condition holds tau0, tau_cs and the flap frequency within 3 bounds of
+      the truth's small-perturbation values (measured: within 2.7);
+    - the schedules of tau0, tau_cs and the Lock number hold the truth within 3 of
+      their bounds at and between the speeds (measured 2.2), with bounds under 5 %;
+      tau0 is found not constant;
+    - the flap frequency's schedule is within 1 % (measured 0.56 %) but not within
+      its pooled bound (3.6 bounds at mu 0.35): its per-condition estimates drift
+      from -1.5 to +2.4 bounds with speed, the model error of the high-speed
+      conditions (bench/amplitude.md), which pooling six conditions makes visible;
+    - and the schedule's FMU flies examples/simulator_loop.c from hover, with
+      momentum-speed's coupling computed in its C at each tabulated mu about the
+      trim the schedule gives there."""
+    from inflowsim.campaign.schedule import campaign_schedule
+    from inflowsim.flighttest.campaign import CAMPAIGN_SHAPES, MUS, virtual_campaign
+    virtual_campaign(tmp_path / "rec")
+    conds = _joint_fits(tmp_path / "rec", SPEED_MU_STRUCTURE + "+momentum-speed", MUS,
+                        CAMPAIGN_SHAPES)
+    for c in conds:
+        assert c["status"] == "ok", c.get("error")
+        assert len(c["records"]) == 9
+        e, truth = c["base_fit"]["parameters"], _speed_mu_truth(c["mu"])
+        for n in ("tau0", "tau_cs", "n_beta"):
+            assert abs(e[n]["estimate"] - truth[n]) < 3 * e[n]["sigma"], (c["mu"], n)
+    sch, note = campaign_schedule(conds, variables=("1/mu",))
+    assert note == "" and sch.trim, note
+    for mu in np.linspace(0.10, 0.35, 11):
+        truth = _speed_mu_truth(mu)
+        for name in ("tau0", "tau_cs", "lambda_beta2"):
+            p = sch[name]
+            assert abs(sch(mu)[name] - truth[name]) < 3 * p.bound(mu), (name, mu)
+            assert p.bound(mu) < 0.05 * truth[name], (name, mu)
+        assert abs(sch(mu)["n_beta"] / truth["n_beta"] - 1) < 0.01, mu
+    assert not sch["tau0"].constant
+    _fly(sch, tmp_path / "fly")
 
 
 def _fly(sch, tmp_path):
