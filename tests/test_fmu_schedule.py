@@ -29,18 +29,24 @@ N = 300
 MUS = np.concatenate([np.linspace(0.249, 0.101, 100), np.linspace(0.101, 0.45, 200)])
 
 
+def build_scheduled(sch, folder) -> dict:
+    """``sch`` written to ``folder/schedule.json`` and built by ``inflowsim fmu build
+    --schedule`` into ``folder/s.fmu``: the command's ``--json`` document."""
+    path = write_schedule(sch, Path(folder) / "schedule.json")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        code = main(["fmu", "build", "--schedule", str(path), "--out",
+                     str(Path(folder) / "s.fmu"), "--json"])
+    assert code == 0
+    return json.loads(buf.getvalue())
+
+
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     """The schedule file, the FMU built from it by the command, its description."""
     d = tmp_path_factory.mktemp("sched")
     sch, p0 = _glauert_schedule()
-    path = write_schedule(sch, d / "schedule.json")
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        code = main(["fmu", "build", "--schedule", str(path), "--out", str(d / "s.fmu"),
-                     "--json"])
-    assert code == 0
-    doc = json.loads(buf.getvalue())
+    doc = build_scheduled(sch, d)
     assert doc["scheduled"] == list(sch.names)
     from inflowsim.fmu import description_for
     return sch, p0, Path(doc["fmu"]), description_for(sch), doc["guid"]
@@ -279,12 +285,7 @@ def test_the_scheduled_trim_fmu_steps_as_the_simulator(tmp_path):
     from fmpy.fmi1 import FMICallException
     from inflowsim.fmu import description_for
     sch, p0 = _trim_schedule()
-    path = write_schedule(sch, tmp_path / "schedule.json")
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        assert main(["fmu", "build", "--schedule", str(path), "--out",
-                     str(tmp_path / "s.fmu"), "--json"]) == 0
-    doc = json.loads(buf.getvalue())
+    doc = build_scheduled(sch, tmp_path)
     assert "trim_theta0" in doc["scheduled"]
     d = description_for(sch)
     u = 1e-2 * np.random.default_rng(2).standard_normal((N, 10))

@@ -349,17 +349,12 @@ def _fly(sch, tmp_path):
     import subprocess
     import zipfile
     from pathlib import Path
-    from inflowsim.model.schedule import write_schedule
+    from test_fmu_schedule import build_scheduled
     cc = shutil.which("cc") or shutil.which("gcc")
     if cc is None:
         pytest.skip("no C compiler")
     tmp_path.mkdir(parents=True, exist_ok=True)
-    path = write_schedule(sch, tmp_path / "schedule.json")
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        assert main(["fmu", "build", "--schedule", str(path), "--out",
-                     str(tmp_path / "s.fmu"), "--json"]) == 0
-    doc = json.loads(buf.getvalue())
+    doc = build_scheduled(sch, tmp_path)
     unz = tmp_path / "x"
     zipfile.ZipFile(doc["fmu"]).extractall(unz)
     root = Path(__file__).resolve().parents[1]
