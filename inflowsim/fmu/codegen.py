@@ -40,16 +40,10 @@ from ..model.build import apply_effects
 from ..model.equations import assemble
 from ..model.structure import Structure
 
-#: Effects whose equations are linearised about a trim state: the FMU gets the trim
-#: totals as parameters ``trim_<column>`` (:data:`TRIM_PARAMETERS`).
-TRIM_EFFECTS = ("advance-ratio-perturbation", "momentum-speed")
 #: ``{FMU parameter: record column}`` of the trim totals.
 TRIM_PARAMETERS = {f"trim_{c}": c for c in TRIM_KEYS}
 
 
-def needs_trim(structures) -> bool:
-    """Some structure has an effect linearised about the trim state."""
-    return any(e in TRIM_EFFECTS for st in structures for e in Structure.parse(st).effects)
 
 
 def _sympy():
@@ -427,5 +421,4 @@ def n_states(structures) -> int:
     return len(Structure.parse(structures[0]).states)
 
 
-__all__ = ["equations_c", "traced", "supported", "n_states", "needs_trim", "TRIM_EFFECTS",
-           "TRIM_PARAMETERS"]
+__all__ = ["equations_c", "traced", "supported", "n_states", "TRIM_PARAMETERS"]

@@ -23,7 +23,8 @@ from typing import Mapping
 
 from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
 from ..errors import InputError
-from .codegen import TRIM_PARAMETERS, needs_trim
+from ..model.effects import needs_trim
+from .codegen import TRIM_PARAMETERS
 from ..model.effects import CATALOGUE
 from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
 from ..model.presets import paper_table
@@ -250,7 +251,7 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
     :class:`~inflowsim.model.schedule.Schedule` of the (single) structure, whose
     scheduled parameters become local variables computed at every step's ``mu``
     and whose held parameters are start values; its trim totals, where the
-    structure is linearised about trim (:func:`~inflowsim.fmu.codegen.needs_trim`),
+    structure is linearised about trim (:func:`~inflowsim.model.effects.needs_trim`),
     become local variables ``trim_<column>`` computed alike.
     """
     names = tuple(Structure.parse(st).name for st in structures)

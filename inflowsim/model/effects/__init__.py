@@ -42,8 +42,16 @@ for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
     register(_e)
 
 
+def needs_trim(structures) -> bool:
+    """Some structure of ``structures`` (names or parsed) has an effect linearised
+    about the trim state (:attr:`Effect.about_trim`)."""
+    from ..structure import Structure
+    return any(CATALOGUE[e].about_trim for st in structures
+               for e in Structure.parse(st).effects if e in CATALOGUE)
+
+
 from .user import (load_effect_file, load_effect_files, load_installed,  # noqa: E402
                    registered, unregister, USER_EFFECTS)
 
-__all__ = ["Effect", "ParameterSpec", "CATALOGUE", "register", "load_effect_file", "load_effect_files",
+__all__ = ["Effect", "ParameterSpec", "CATALOGUE", "register", "needs_trim", "load_effect_file", "load_effect_files",
            "load_installed", "registered", "unregister", "USER_EFFECTS"]

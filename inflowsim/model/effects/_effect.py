@@ -58,6 +58,10 @@ class Effect:
         on the rates and ``G`` on the in-plane velocities).  A record that leaves
         one part undetermined can still test the others: the diagnosis holds that
         part at neutral.  Default: one part, all or nothing.
+    about_trim : bool
+        Its equations are linearised about the record's trim state
+        (``Constants.trim``, refused without it): a schedule must give the trim of
+        each ``mu`` and the FMU takes it as parameters.
     """
 
     name: str
@@ -76,6 +80,7 @@ class Effect:
     boundary: tuple = ()
     specs: tuple = ()
     parts: tuple = ()
+    about_trim: bool = False
 
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""

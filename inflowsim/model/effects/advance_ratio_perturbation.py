@@ -92,4 +92,5 @@ EFFECT = Effect(
                          plausible=(0.5, 1.5, "the blade-element linearisation is exact "
                                               "for small perturbations: theory 1")),),
     uses_inplane=True,
+    about_trim=True,
 )

@@ -85,6 +85,7 @@ EFFECT = Effect(
     neutral=lambda k: {"k_V": 0.0},
     equations=_equations,
     uses_inplane=True,
+    about_trim=True,
     alternatives=("glauert",),
     offered=False,
     specs=(ParameterSpec("k_V", "-", "scale of Eq. (14)'s linearised speed terms "
