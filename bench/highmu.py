@@ -50,7 +50,7 @@ from amplitude import (NOISE, SEED_STEP, STRUCTURE, fit_row, read_rows,  # noqa:
                        with_noise)
 
 TRUTHS = ("truth", "hubfixed", "deripple", "linpart", "quad0.25", "quad0.5", "quad2",
-          "lti", "model", "lti+shf", "K2qs", "K2", "K3qs", "K3")
+          "lti", "model", "lti+shf", "K2qs", "K2qs-mu2", "K2", "K3qs", "K3")
 SHAPES = ("doublet", "3211", "sweep")
 CONTROLS = ("theta0", "theta1c", "theta1s")
 NAMES = ("tau0", "tau_cs", "lambda_beta2", "n_beta", "k_V", "k_mu", "k_beta2")
@@ -184,13 +184,17 @@ def harmonic_system(mu, K, n_psi=16, step=1e-6, n_blades=16):
     return jac[:, :n], jac[:, n:]
 
 
-def harmonic_twin_matrices(mu, K, quasi_steady=False):
+def harmonic_twin_matrices(mu, K, quasi_steady=False, inplane2=True):
     """``(A, B)`` of :func:`harmonic_system` with the flap states reordered so
     that the first three are ``beta0, beta1c, beta1s`` (what the record measures);
-    ``quasi_steady`` condenses harmonics 2..K and their rates."""
+    ``quasi_steady`` condenses harmonics 2..K and their rates; without ``inplane2``
+    the in-plane velocity does not force the harmonics above 1."""
     from inflowsim.flighttest.averaging import condense
     a, b = harmonic_system(mu, K)
     nh = 2 * K + 1
+    if not inplane2:
+        b = b.copy()
+        b[nh + 3:2 * nh, 8:10] = 0.0
     if quasi_steady:
         fast = list(range(3, nh)) + list(range(nh + 3, 2 * nh))
         return condense(a, b, fast)
@@ -232,14 +236,15 @@ def records(which, mu, amplitude_deg, progress):
         progress(f"{which}: {time.process_time() - t0:.0f} s")
         return items, out
     lin = linearise(RotorSpec(constants=PUMA.with_mu(mu), speed="eq14"))
-    if which in ("K2qs", "K2", "K3qs", "K3"):
-        hk = harmonic_twin_matrices(mu, int(which[1]), which.endswith("qs"))
+    if which in ("K2qs", "K2qs-mu2", "K2", "K3qs", "K3"):
+        hk = harmonic_twin_matrices(mu, int(which[1]), "qs" in which,
+                                    inplane2=not which.endswith("-mu2"))
     out = []
     for it, rec in zip(items, base):
         test = flight_test(it, amplitude_deg)
         if which == "lti":
             a, b = lin.A, lin.B
-        elif which in ("K2qs", "K2", "K3qs", "K3"):
+        elif which in ("K2qs", "K2qs-mu2", "K2", "K3qs", "K3"):
             a, b = hk
         elif which == "model":
             a, b = model_matrices(rec, mu)
@@ -252,10 +257,13 @@ def records(which, mu, amplitude_deg, progress):
     return items, out
 
 
-def run(mu, amplitude_deg, truths, seeds, out, progress=None):
+def run(mu, amplitude_deg, truths, seeds, out, mode="scaled", progress=None):
+    """Fit every truth of ``truths``, noise-free once and with ``seeds`` noise draws
+    (``mode``: ``scaled`` 1e-4 rad * A / 1 deg, or ``fixed`` 1e-4 rad), one JSON line
+    per fit appended to ``out``."""
     progress = progress or (lambda m: print(m, file=sys.stderr, flush=True))
     opener = gzip.open if str(out).endswith(".gz") else open
-    sig = NOISE * amplitude_deg
+    sig = NOISE * (amplitude_deg if mode == "scaled" else 1.0)
     with opener(out, "at", encoding="utf-8") as fh:
         for which in truths:
             items, clean = records(which, mu, amplitude_deg, progress)
@@ -263,7 +271,7 @@ def run(mu, amplitude_deg, truths, seeds, out, progress=None):
             for k in range(seeds):
                 recs = [with_noise(r, sig, (it.seed + k * SEED_STEP) % 2**32)
                         for it, r in zip(items, clean)]
-                rows.append(fit_row(recs, mu, amplitude_deg, "scaled", sig, k, SHAPES))
+                rows.append(fit_row(recs, mu, amplitude_deg, mode, sig, k, SHAPES))
             for row in rows:
                 row["truth_kind"] = which
                 fh.write(json.dumps(row) + "\n")
@@ -276,10 +284,12 @@ def summary(rows, names=NAMES) -> str:
     spread], and the noise-free fit's relative error [%]."""
     g = {}
     for r in rows:
-        g.setdefault((r["truth_kind"], r["mu"], r["amplitude_deg"]), []).append(r)
-    out = ["| truth | mu | A [deg] | seeds | " + " | ".join(f"`{n}`" for n in names) + " |",
-           "| --- | --- | --- | --- | " + " | ".join("---" for _ in names) + " |"]
-    for key in sorted(g, key=lambda k: (k[1], k[2], TRUTHS.index(k[0]))):
+        g.setdefault((r["truth_kind"], r["mu"], r["amplitude_deg"],
+                      r["noise"] if r["mode"] == "fixed" else None), []).append(r)
+    out = ["| truth | mu | A [deg] | noise | seeds | "
+           + " | ".join(f"`{n}`" for n in names) + " |",
+           "| --- | --- | --- | --- | --- | " + " | ".join("---" for _ in names) + " |"]
+    for key in sorted(g, key=lambda k: (k[1], k[2], k[3] or 0, TRUTHS.index(k[0]))):
         noisy = [r for r in g[key] if r["mode"] != "none"]
         free = [r for r in g[key] if r["mode"] == "none"]
         cells = []
@@ -295,7 +305,8 @@ def summary(rows, names=NAMES) -> str:
                 e = free[0]["estimate"][n]
                 c += f"; {100 * (e / tv - 1):+.2f} %" if tv else f"; {e:+.3f}"
             cells.append(c)
-        out.append(f"| {key[0]} | {key[1]:.2f} | {key[2]:g} | {len(noisy)} | "
+        noise = "scaled" if key[3] is None else f"{key[3]:g} rad"
+        out.append(f"| {key[0]} | {key[1]:.2f} | {key[2]:g} | {noise} | {len(noisy)} | "
                    + " | ".join(cells) + " |")
     return "\n".join(out)
 
@@ -306,6 +317,8 @@ def main(argv=None):
     ap.add_argument("--amplitude", type=float, default=0.25, help="input amplitude [deg]")
     ap.add_argument("--truths", nargs="+", choices=TRUTHS, default=list(TRUTHS))
     ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--noise", choices=("scaled", "fixed"), default="scaled",
+                    help="flap noise 1e-4 rad * A/1 deg (scaled) or 1e-4 rad (fixed)")
     ap.add_argument("--out", help="results, appended, one JSON line per fit")
     ap.add_argument("--summary", nargs="+", metavar="FILE")
     a = ap.parse_args(argv)
@@ -315,7 +328,7 @@ def main(argv=None):
     if not a.out:
         ap.error("--out FILE is required (or --summary FILE)")
     t0 = time.process_time()
-    run(a.mu, a.amplitude, a.truths, a.seeds, a.out)
+    run(a.mu, a.amplitude, a.truths, a.seeds, a.out, a.noise)
     print(f"{time.process_time() - t0:.0f} s CPU", file=sys.stderr)
     print(summary(read_rows([a.out])))
     return 0
