@@ -254,8 +254,8 @@ def _flow_speed_c(sp) -> list:
 
 
 def _momentum_speed_c(sp) -> list:
-    """``numeric_momentum_speed(arg, a, b)``: the coupling of effect ``momentum-speed``
-    at run time (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments
+    """``numeric_momentum_speed(arg, a, b, lam)``: the coupling of effect
+    ``momentum-speed`` and the trim inflow it is linearised about, at run time (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments
     ``mu, a0 s, V, theta (3), beta (3), muz`` as it passes them).  The same steps as
     :mod:`inflowsim.physics.momentum_speed`: the base model's trim inflow, Newton's
     method on Eq. (14)'s momentum balance (its step count and tolerance), then the
@@ -310,7 +310,7 @@ def _momentum_speed_c(sp) -> list:
                 for j in range(3)])
     call = ["/* momentum-speed's coupling (inflowsim.physics.momentum_speed) */",
             "static void numeric_momentum_speed(const double *arg, double *ca, "
-            "double *cb)", "{",
+            "double *cb, double *cl)", "{",
             f"    double blade[3], gl[9], lm[9], m[9], lam[3], f[3], df[{3 * nw}], "
             "big;", f"    double w[{nw}] = {{0}};", "    int i, j, k;"]
     call += _assignments(sp, gains, c_name=str)
@@ -343,6 +343,7 @@ def _momentum_speed_c(sp) -> list:
         "            lam[i] -= step[i]; w[6 + i] = lam[i];",
         "            if (fabs(step[i]) > big) big = fabs(step[i]);", "        }",
         f"        if (big < {ms.NEWTON_TOL!r}) break;", "    }",
+        "    for (i = 0; i < 3; i++) cl[i] = lam[i];",
         "    /* J = L dc/d(z, u) - [0 0 I 0]; the coupling is -J */",
         "    ms_loads(w, arg[1], f, df);",
         "    for (i = 0; i < 3; i++)",
@@ -355,7 +356,8 @@ def _momentum_speed_c(sp) -> list:
         "    return;",
         "fail:",
         "    for (i = 0; i < 27; i++) ca[i] = NAN;",
-        "    for (i = 0; i < 30; i++) cb[i] = NAN;", "}", ""]
+        "    for (i = 0; i < 30; i++) cb[i] = NAN;",
+        "    for (i = 0; i < 3; i++) cl[i] = NAN;", "}", ""]
     return ["/* --- momentum-speed: Eq. (14)'s speed linearised over the disc, at run "
             "time --- */"] + point + loads + call
 

@@ -19,7 +19,12 @@ cyclic trim is rotated to the true one (``R(-dpsi)``, as the effect does for the
 pitch inputs).  The trim inflow is not measured: it is the steady state of the
 basic inflow model (2) at that trim, whose first row is the momentum balance
 ``lambda0 = C_T/(2 mu)`` with the blade-element ``C_T``
-(:func:`inflowsim.physics.bladeelement.trim_inflow`).  The change of ``L`` itself with the
+(:func:`inflowsim.physics.bladeelement.trim_inflow`); in a structure with
+``momentum-speed`` (its parameter ``k_V`` among the parameters) it is Eq. (14)'s, the
+trim that effect linearises about (:func:`inflowsim.model.effects.momentum_speed.trim_inflow`):
+on the Eq. (14) truth at mu 0.10 the basic model's is 17 % high in ``lambda0``, the
+inflow rows' ``mux, muy`` columns 2 % of their row off (``bench/amplitude.md``,
+"High mu").  The change of ``L`` itself with the
 speed (mass flow, ``V ~ mu``) is left out: that is inflow physics, what
 ``glauert`` / ``hub-velocity-coupling`` describe.
 
@@ -58,16 +63,22 @@ def true_trim_state(k, azimuth_bias: float = 0.0, effect: str = NAME):
     return theta, beta, muz
 
 
-def true_trim(k, azimuth_bias: float = 0.0):
+def true_trim(k, azimuth_bias: float = 0.0, eq14: bool = False):
     """Trim ``(theta, beta, muz, lam)`` of constants ``k``: :func:`true_trim_state`
-    and the basic model's trim inflow."""
+    and the basic model's trim inflow, or with ``eq14`` Eq. (14)'s (the structure has
+    ``momentum-speed``)."""
     theta, beta, muz = true_trim_state(k, azimuth_bias)
-    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
+    if eq14:
+        from .momentum_speed import trim_inflow
+        lam = trim_inflow(k, azimuth_bias)
+    else:
+        lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     return theta, beta, muz, lam
 
 
 def _equations(eq, p, k):
-    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0))
+    # momentum-speed's parameter: the structure's trim inflow is Eq. (14)'s
+    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), eq14="k_V" in p)
     h_u, p_u = eq.h_u.copy(), eq.p_u.copy()
     h_u[:, MUX:MUX + 2] += p["k_mu"] * p["n_beta"] * be.inplane_flap_derivatives(
         k.mu, theta, beta, muz, lam)

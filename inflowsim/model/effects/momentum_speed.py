@@ -39,9 +39,22 @@ NAME = "momentum-speed"
 def _coupling(mu, a0s, v, theta, beta, muz):
     lam = ms.eq14_trim_inflow(mu, a0s, theta, beta, muz, v=v)
     a, b = ms.speed_coupling(mu, a0s, theta, beta, muz, lam, v=v)
-    a.flags.writeable = False
-    b.flags.writeable = False
-    return a, b
+    lam = np.array(lam, dtype=float).reshape(3, 1)
+    for x in (a, b, lam):
+        x.flags.writeable = False
+    return a, b, lam
+
+
+def _linearised(k, azimuth_bias: float = 0.0):
+    """``(A (3, 9), B (3, 10), lambda (3, 1))``: :func:`coupling` and the trim inflow
+    it is linearised about, one computation (one run-time call in the FMU)."""
+    theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
+    args = (k.mu, k.a0s, k.flow_speed, *theta, *beta, muz)
+    numeric = getattr(k, "numeric", None)
+    if numeric is not None:
+        return numeric(NAME, args, ((3, 9), (3, 10), (3, 1)))
+    return _coupling(*map(float, args[:3]), tuple(map(float, theta)),
+                     tuple(map(float, beta)), float(muz))
 
 
 def coupling(k, azimuth_bias: float = 0.0):
@@ -52,13 +65,17 @@ def coupling(k, azimuth_bias: float = 0.0):
     Traced for the FMU's C (``k.numeric``, :mod:`inflowsim.fmu.codegen`), the
     coupling is a function call at run time: its arguments are the expressions here,
     its results symbols."""
-    theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
-    args = (k.mu, k.a0s, k.flow_speed, *theta, *beta, muz)
-    numeric = getattr(k, "numeric", None)
-    if numeric is not None:
-        return numeric(NAME, args, ((3, 9), (3, 10)))
-    return _coupling(*map(float, args[:3]), tuple(map(float, theta)),
-                     tuple(map(float, beta)), float(muz))
+    a, b, _ = _linearised(k, azimuth_bias)
+    return a, b
+
+
+def trim_inflow(k, azimuth_bias: float = 0.0):
+    """The trim inflow ``(lambda0, lambda1c, lambda1s)`` [-] the effect linearises
+    about: Eq. (14)'s momentum balance at the trim of ``k``
+    (:func:`inflowsim.physics.momentum_speed.eq14_trim_inflow`).  The other effects
+    linearised about the trim take it from here when the structure has this effect
+    (``advance-ratio-perturbation``), so one structure has one trim."""
+    return _linearised(k, azimuth_bias)[2][:, 0]
 
 
 def _equations(eq, p, k):
