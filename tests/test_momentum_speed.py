@@ -95,6 +95,16 @@ def test_the_effect_is_nested_and_adds_the_coupling():
     m1 = build_model(base + "+advance-ratio-perturbation+momentum-speed",
                      dict(p, k_mu=0.0, k_V=0.0), k)
     assert np.allclose(m0.a, m1.a) and np.allclose(m0.b, m1.b)
+    # nested beside the direct in-plane forcing too, whose trim inflow moves with k_V
+    # to Eq. (14)'s: at k_V = 0 it is the basic model's, the parent structure's
+    m0 = build_model(base + "+advance-ratio-perturbation", dict(p, k_mu=1.0), k)
+    m1 = build_model(base + "+advance-ratio-perturbation+momentum-speed",
+                     dict(p, k_mu=1.0, k_V=0.0), k)
+    np.testing.assert_array_equal(m0.a, m1.a)
+    np.testing.assert_array_equal(m0.b, m1.b)
+    m1 = build_model(base + "+advance-ratio-perturbation+momentum-speed",
+                     dict(p, k_mu=1.0, k_V=1e-9), k)
+    assert 0 < np.abs(m1.b - m0.b).max() < 1e-8
     _, _, eq0, _ = equations(base + "+advance-ratio-perturbation", dict(p, k_mu=0.0), k)
     _, _, eq1, _ = equations(base + "+advance-ratio-perturbation+momentum-speed",
                              dict(p, k_mu=0.0, k_V=0.7), k)

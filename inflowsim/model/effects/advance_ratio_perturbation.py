@@ -20,8 +20,9 @@ pitch inputs).  The trim inflow is not measured: it is the steady state of the
 basic inflow model (2) at that trim, whose first row is the momentum balance
 ``lambda0 = C_T/(2 mu)`` with the blade-element ``C_T``
 (:func:`inflowsim.physics.bladeelement.trim_inflow`); in a structure with
-``momentum-speed`` (its parameter ``k_V`` among the parameters) it is Eq. (14)'s, the
-trim that effect linearises about (:func:`inflowsim.model.effects.momentum_speed.trim_inflow`):
+``momentum-speed`` it moves by ``k_V`` to Eq. (14)'s, the trim that effect
+linearises about (:func:`inflowsim.model.effects.momentum_speed.trim_inflow`; at
+``k_V = 0`` the structure without it, so the two stay nested):
 on the Eq. (14) truth at mu 0.10 the basic model's is 17 % high in ``lambda0``, the
 inflow rows' ``mux, muy`` columns 2 % of their row off (``bench/amplitude.md``,
 "High mu").  The change of ``L`` itself with the
@@ -63,22 +64,27 @@ def true_trim_state(k, azimuth_bias: float = 0.0, effect: str = NAME):
     return theta, beta, muz
 
 
-def true_trim(k, azimuth_bias: float = 0.0, eq14: bool = False):
+def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
     """Trim ``(theta, beta, muz, lam)`` of constants ``k``: :func:`true_trim_state`
-    and the basic model's trim inflow, or with ``eq14`` Eq. (14)'s (the structure has
-    ``momentum-speed``)."""
+    and the structure's trim inflow: the basic model's, or, in a structure with
+    ``momentum-speed`` (its scale ``k_v``), the basic model's moved ``k_v`` of the
+    way to Eq. (14)'s, the one that effect linearises about.  The effect's terms
+    are linear in the trim inflow, so ``k_v = 1`` is exactly Eq. (14)'s trim and
+    ``k_v = 0`` the structure without ``momentum-speed``: the two stay nested."""
     theta, beta, muz = true_trim_state(k, azimuth_bias)
-    if eq14:
+    lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
+    if k_v is not None:
         from .momentum_speed import trim_inflow
-        lam = trim_inflow(k, azimuth_bias)
-    else:
-        lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
+        lam = lam + k_v * (trim_inflow(k, azimuth_bias) - lam)
     return theta, beta, muz, lam
 
 
 def _equations(eq, p, k):
-    # momentum-speed's parameter: the structure's trim inflow is Eq. (14)'s
-    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), eq14="k_V" in p)
+    from .momentum_speed import EFFECT as SPEED
+    # with momentum-speed (its parameter among the structure's) the structure's trim
+    # inflow is Eq. (14)'s
+    k_v = p[SPEED.parameters[0]] if SPEED.parameters[0] in p else None
+    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), k_v)
     h_u, p_u = eq.h_u.copy(), eq.p_u.copy()
     h_u[:, MUX:MUX + 2] += p["k_mu"] * p["n_beta"] * be.inplane_flap_derivatives(
         k.mu, theta, beta, muz, lam)
