@@ -92,8 +92,9 @@ def add_arguments(p):
                         "truth at every --speeds, a doublet, a 3-2-1-1 and a sweep on "
                         "each control, --repeats times, and DIR/plan.csv for 'inflowsim "
                         "campaign' (default 20 s at 64 Hz each, inputs of 0.25 deg; "
-                        "existing records of the same truth are kept; --speed, "
-                        "--blades and --no-body choose the truth)")
+                        "existing records of the same truth, flown alike, are kept, "
+                        "others refused; --speed, --blades and --no-body choose the "
+                        "truth)")
     p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
     p.add_argument("--repeats", type=int, default=1, metavar="N",
