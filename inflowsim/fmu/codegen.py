@@ -255,8 +255,9 @@ def _flow_speed_c(sp) -> list:
 
 def _momentum_speed_c(sp) -> list:
     """``numeric_momentum_speed(arg, a, b, lam)``: the coupling of effect
-    ``momentum-speed`` and the trim inflow it is linearised about, at run time (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments
-    ``mu, a0 s, V, theta (3), beta (3), muz`` as it passes them).  The same steps as
+    ``momentum-speed`` and the trim inflow it is linearised about, at run time
+    (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments ``mu, a0 s,
+    V, theta (3), beta (3), muz`` as it passes them).  The same steps as
     :mod:`inflowsim.physics.momentum_speed`: the base model's trim inflow, Newton's
     method on Eq. (14)'s momentum balance (its step count and tolerance), then the
     momentum loads' derivatives over the disc (its quadrature points; its integrand

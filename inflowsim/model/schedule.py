@@ -318,7 +318,7 @@ def fit_trim(mu, trims, max_order: int = TRIM_MAX_ORDER, center: float | None = 
         coef, _, _ = _weighted_fit(x, y, np.ones(len(m)), order + 1)
         coef = tuple(float(c) for c in coef)
         # the residual of the evaluation every user makes (Horner, as the C)
-        res = max(abs(horner(coef, (a - center) / scale) - b) for a, b in zip(m, y))
+        res = max(abs(horner(coef, xi) - b) for xi, b in zip(x, y))
         out.append(TrimSchedule(str(col), coef, float(center), float(scale), float(res),
                                 tuple(map(float, m)), tuple(map(float, y))))
     return tuple(out)
@@ -410,7 +410,7 @@ class Schedule:
         """Every scheduled trim total at ``mu`` [rad or -] (clamped to
         :attr:`mu_range`; empty without trim)."""
         m = self.clamp(float(mu))
-        return {t.column: horner(t.coefficients, t.x(m)) for t in self.trim}
+        return {t.column: t.value(m) for t in self.trim}
 
     def constants_at(self, constants: Constants, mu: float | None = None) -> Constants:
         """``constants`` at ``mu`` (default ``constants.mu``) with the scheduled trim

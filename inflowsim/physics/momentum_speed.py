@@ -93,12 +93,9 @@ def disc_points(n_psi: int = N_PSI, n_r: int = N_R):
     """The disc quadrature as points: ``(c, s, r, w0, w1)``, each of ``n_psi n_r``,
     with ``c_mom = 4/(a0 s) (sum w0 q, -sum c w1 q, -sum s w1 q)`` for ``q`` the
     :func:`speed_integrand` at the points (azimuth-major)."""
-    x, w = np.polynomial.legendre.leggauss(int(n_r))
-    r, wr = 0.5 * (x + 1.0), 0.5 * w
-    psi = 2.0 * np.pi * np.arange(n_psi) / n_psi
-    c, s = np.repeat(np.cos(psi), n_r), np.repeat(np.sin(psi), n_r)
-    rr, ww = np.tile(r, n_psi), np.tile(wr, n_psi)
-    return c, s, rr, ww * rr / n_psi, ww * rr * rr / n_psi
+    basis, rr, w_disc = _disc(n_psi, n_r)
+    c, s = (np.repeat(basis[:, i], n_r) for i in (1, 2))
+    return (c, s, *(np.tile(x, n_psi) for x in (rr[1], w_disc[:, 0], w_disc[:, 1])))
 
 
 def momentum_loads(z, u, a0s: float, speed: str = "eq14", n_psi: int = N_PSI,
