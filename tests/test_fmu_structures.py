@@ -56,6 +56,8 @@ STRUCTURES = (
     "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
     "basic+separate-time-constants+flap-inertia+advance-ratio-perturbation+momentum-speed",
     "basic+azimuth-bias+momentum-speed",
+    "glauert+servo-actuators",
+    "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
 )
 
 #: A trim state (totals) for the effect linearised about it.
@@ -159,7 +161,8 @@ def built(tmp_path_factory, structure, version=2, model=None):
 FMI2_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay",
                 "basic+delay-beta0+delay-beta1c", "glauert+delay-beta1s",
                 "basic+separate-time-constants+hub-velocity-coupling",
-                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap")
+                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
+                "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay")
 
 
 @pytest.mark.parametrize("structure", [
@@ -179,7 +182,7 @@ def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory)
 
 #: FMI 3.0 shares the generated model with FMI 2.0: by default nine states and output
 #: delays; every structure is slow.
-FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s")
+FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s", "glauert+servo-actuators")
 
 
 @pytest.mark.parametrize("structure", [
