@@ -134,3 +134,27 @@ def test_no_alarm_with_servos_offered_on_a_record_without_them(tmp_path):
     rec, _ = rec_of(tmp_path / "r.csv", "basic", 1e-4, 0.7, kind="two-axis", seed=5)
     d = diagnose(rec, "basic", pool=_pool())
     assert d.missing_effect is None, [(c.effect, c.reason) for c in d.candidates]
+
+
+def test_the_nonlinear_truths_servos_are_the_servo_transfer_function():
+    """The blade truth's pitch behind servos (``FlightTest.servo``) against scipy's
+    ``lsim`` of ``1/(T^2 s^2 + 2 zeta T s + 1)`` on a fine grid; the commanded
+    (recorded) pitch is unchanged."""
+    from scipy import signal
+    from inflowsim.flighttest.nonlinear import FlightTest, true_controls
+    from inflowsim.flighttest.virtual import Manoeuvre
+    man = (Manoeuvre(channel="theta1s", shape="doublet", amplitude=np.radians(1.0),
+                     t_start=1.0, width=0.4),
+           Manoeuvre(channel="theta0", shape="doublet", amplitude=np.radians(0.5),
+                     t_start=2.5, width=0.3))
+    ft = FlightTest(duration=5.0, manoeuvres=man, servo=(0.03, 0.6))
+    t = np.arange(0.0, 5.0, 2e-4)
+    got = true_controls(ft)(t)
+    cmd = true_controls(FlightTest(duration=5.0, manoeuvres=man))(t)
+    sys = signal.lti([1.0], [0.03**2, 2 * 0.6 * 0.03, 1.0])
+    for j in (0, 2):
+        _, want, _ = signal.lsim(sys, cmd[:, j], t)
+        assert np.abs(got[:, j] - want).max() < 2e-3 * np.abs(cmd[:, j]).max()
+        assert np.abs(got[:, j] - cmd[:, j]).max() > 0.05 * np.abs(cmd[:, j]).max()
+    with pytest.raises(ifs.InputError, match="hold continuous"):
+        FlightTest(servo=(0.03, 0.6), hold="zoh").check()
