@@ -85,12 +85,16 @@ def _pool():
     return offered_effects() + [e for e in ALSO if e not in offered_effects()]
 
 
-def _check_named_and_explained(rec, truth, base):
+def _check_named_and_explained(rec, truth, base, white=True):
     lad = ladder(rec, base, pool=_pool())
     first = lad.rungs[1].added if len(lad.rungs) > 1 else None
     assert first == "servo-actuators", [r.added for r in lad.rungs]
     assert lad.verdict.status == "explained", lad.verdict
-    assert max(v for _, v in lad.verdict.remaining_excess) <= 1.5, lad.verdict
+    if white:
+        # the floor is the white noise's level; under coloured noise the in-band noise
+        # lies far above the floor measured above the band, and the verdict's own
+        # measure (the input-correlated excess) is what says explained
+        assert max(v for _, v in lad.verdict.remaining_excess) <= 1.5, lad.verdict
     fit = lad.rungs[-1].fit
     for name in ("servo_tau",):
         est, sig = fit.parameters[name], fit.sigma[name]
@@ -126,7 +130,7 @@ def test_hidden_servos_over_seeds_and_record_kinds(tmp_path, seed, kind, rate, c
     tau, zeta = (0.02, 0.7) if seed % 2 else (0.03, 0.5)
     rec, truth = servo_record(tmp_path / "r.csv", base, tau, zeta, kind=kind, rate=rate,
                               colour_hz=colour_hz, seed=100 + seed)
-    _check_named_and_explained(rec, truth, base)
+    _check_named_and_explained(rec, truth, base, white=colour_hz is None)
 
 
 def test_no_alarm_with_servos_offered_on_a_record_without_them(tmp_path):
