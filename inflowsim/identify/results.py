@@ -183,7 +183,7 @@ class FitResult:
             if n in self.sigma_robust:
                 entry["sigma_robust"] = self.sigma_robust[n]
             if n not in self.fixed:
-                entry["conditional"] = self.conditional
+                entry.update(self.conditional_entry())
             params[n] = entry
         consts = self.constants[0].as_dict()
         return {
@@ -203,5 +203,11 @@ class FitResult:
                             "matrix": np.round(self.correlation, 6).tolist()},
             "ties": [list(t) for t in self.ties],
             "trim": [d.trim_method for d in self.data],
-            "conditional": self.conditional,
         }
+
+    def conditional_entry(self) -> dict:
+        """The fields an estimated parameter's JSON entry carries about the
+        structure's completeness: ``conditional`` (bool) and ``conditional_why``
+        (the reason, or ``None``)."""
+        return {"conditional": self.conditional is not None,
+                "conditional_why": self.conditional}
