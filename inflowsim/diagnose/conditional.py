@@ -39,6 +39,6 @@ def marked(fit, analyses, alpha=ALPHA, reason=None):
     its residual analyses (``reason`` where they show none but the caller knows
     one, e.g. a verdict on the same records)."""
     why = conditional_reason(analyses, alpha) or reason
-    if why == getattr(fit, "conditional", None):
+    if fit.judged and why == fit.conditional:
         return fit
-    return dataclasses.replace(fit, conditional=why)
+    return dataclasses.replace(fit, conditional=why, judged=True)

@@ -97,7 +97,10 @@ def parameter_entries(fit, ident=None) -> dict:
     """``{name: {"estimate", "sigma", "determined", "held", ...}}`` of a fit: with
     ``ident`` (:func:`~inflowsim.identify.identifiability.identifiability`) every
     entry also carries its insensitivity, CIFER percentages, the bound with the
-    held values' uncertainty and what it is conditional on."""
+    held values' uncertainty and what it is conditional on.  An estimated entry
+    carries ``sigma_robust`` and whether it is conditional on an incomplete
+    structure (``conditional``, ``conditional_why``:
+    :mod:`inflowsim.diagnose.conditional`)."""
     fixed = set(fit.fixed or ())
     out = {}
     for n, v in fit.parameters.items():
@@ -108,7 +111,8 @@ def parameter_entries(fit, ident=None) -> dict:
             e["held_at"] = float(v)
         else:
             e["sigma_robust"] = getattr(fit, "sigma_robust", {}).get(n)
-            e.update(fit.conditional_entry())
+            if hasattr(fit, "conditional_entry"):
+                e.update(fit.conditional_entry())
         out[n] = e
     if ident is not None:
         for p in ident.parameters:

@@ -136,10 +136,14 @@ class FitResult:
     starts : tuple
         ``(label, cost)`` of every starting point tried.
     conditional : str or None
-        Set (by the diagnosis, :func:`with_conditional`) when the residual keeps
-        structured excess over the noise floor: every estimate is then conditional
-        on an incomplete structure, and this is the reason, one line; ``None``:
-        not judged, or the residual is at the floor.
+        Set by the diagnosis's test (:func:`inflowsim.diagnose.conditional.marked`)
+        when the residual keeps structured excess over the noise floor: every
+        estimate is then conditional on an incomplete structure, and this is the
+        reason, one line; ``None``: not judged, or the residual is at the floor.
+    judged : bool
+        Whether that test was made (:func:`~inflowsim.identify.identify` alone does
+        not make it; the commands, :func:`~inflowsim.diagnose.diagnose` and the
+        ladders do).
     """
 
     structure: Structure
@@ -165,6 +169,7 @@ class FitResult:
     starts: tuple = ()
     sigma_robust: dict = field(default_factory=dict)
     conditional: str | None = None
+    judged: bool = False
 
     @property
     def residuals(self) -> list:
@@ -207,7 +212,7 @@ class FitResult:
 
     def conditional_entry(self) -> dict:
         """The fields an estimated parameter's JSON entry carries about the
-        structure's completeness: ``conditional`` (bool) and ``conditional_why``
-        (the reason, or ``None``)."""
-        return {"conditional": self.conditional is not None,
+        structure's completeness: ``conditional`` (bool; ``None`` where not
+        :attr:`judged`) and ``conditional_why`` (the reason, or ``None``)."""
+        return {"conditional": (self.conditional is not None) if self.judged else None,
                 "conditional_why": self.conditional}
