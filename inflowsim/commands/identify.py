@@ -71,7 +71,8 @@ def run(args) -> int:
                       ties=parse_ties(args.tie), progress=progress, hold=args.hold)
     from ..diagnose.conditional import marked
     from ..diagnose.search import analyses_of
-    result = marked(result, analyses_of(recs, result, band))
+    # the level and structure tests need no in-band colour estimate (check_colour)
+    result = marked(result, analyses_of(recs, result, band, check_colour=False))
     for w in result.warnings:
         progress(f"warning: {w}")
     if result.conditional:
