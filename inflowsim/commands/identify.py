@@ -1,6 +1,9 @@
 """``inflowsim identify``: frequency-domain output-error fit with 1-sigma bounds.
 
 Prints the parameter table (or with ``--json`` the ``interface.md`` document);
+every estimate is marked conditional on an incomplete structure where the fit's
+residual keeps structured excess over the record's noise floor (the diagnosis's
+test, :mod:`inflowsim.diagnose.conditional`);
 ``--out FIT.json`` writes that document, a parameter file that ``simulate``,
 ``validate`` and the FMU read as it is; ``--report DIR`` writes the tables
 (Markdown, HTML), the frequency-domain fit and the time-domain reconstruction
@@ -66,8 +69,14 @@ def run(args) -> int:
     band = tuple(args.band) if args.band else DEFAULT_BAND
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),
                       ties=parse_ties(args.tie), progress=progress, hold=args.hold)
+    from ..diagnose.conditional import marked
+    from ..diagnose.search import analyses_of
+    # the level and structure tests need no in-band colour estimate (check_colour)
+    result = marked(result, analyses_of(recs, result, band, check_colour=False))
     for w in result.warnings:
         progress(f"warning: {w}")
+    if result.conditional:
+        progress(f"warning: every estimate is {result.conditional}")
     doc = result.to_json()
     if args.out:
         write_json(doc, args.out, overwrite=args.force, protect=args.records)

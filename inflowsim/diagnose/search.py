@@ -25,6 +25,7 @@ from .failures import (COLOURED, Failure, parameter_failures, residual_analysis,
 from ..identify import identify
 from ..identify.identifiability import Identifiability, identifiability
 from .verdict import Verdict, verdict
+from .conditional import marked
 from ..identify.transform import DEFAULT_BAND
 from ..model.build import build_model
 from ..model.structure import Structure
@@ -96,7 +97,10 @@ def parameter_entries(fit, ident=None) -> dict:
     """``{name: {"estimate", "sigma", "determined", "held", ...}}`` of a fit: with
     ``ident`` (:func:`~inflowsim.identify.identifiability.identifiability`) every
     entry also carries its insensitivity, CIFER percentages, the bound with the
-    held values' uncertainty and what it is conditional on."""
+    held values' uncertainty and what it is conditional on.  An estimated entry
+    carries ``sigma_robust`` and whether it is conditional on an incomplete
+    structure (``conditional``, ``conditional_why``:
+    :mod:`inflowsim.diagnose.conditional`)."""
     fixed = set(fit.fixed or ())
     out = {}
     for n, v in fit.parameters.items():
@@ -105,6 +109,10 @@ def parameter_entries(fit, ident=None) -> dict:
              "held": n in fixed or (n not in fit.sigma)}
         if e["held"]:
             e["held_at"] = float(v)
+        else:
+            e["sigma_robust"] = getattr(fit, "sigma_robust", {}).get(n)
+            if hasattr(fit, "conditional_entry"):
+                e.update(fit.conditional_entry())
         out[n] = e
     if ident is not None:
         for p in ident.parameters:
@@ -112,6 +120,17 @@ def parameter_entries(fit, ident=None) -> dict:
                 if n in out:
                     out[n].update(p.to_json())
     return out
+
+
+def verdict_reason(verd) -> str | None:
+    """The reason a verdict that leaves excess gives every estimate of the structure
+    judged (``None`` for ``explained`` and ``no-missing-effect``)."""
+    if verd is None or verd.status not in ("partly-explained", "unexplained"):
+        return None
+    where = ", ".join(f"{c} peaks at {r:.3g} times the floor near {f:.3g} Hz"
+                      for c, f, r in verd.where)
+    return (f"conditional on an incomplete structure: the verdict is {verd.status} "
+            f"({where}); the bounds do not include the bias of what the structure lacks")
 
 
 def _as_list(records):
@@ -251,6 +270,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
         verd = verdict(analyses, analyses, (), alpha)
     best = dec.effects[0] if dec.accepted else None
     ident = identifiability(recs, fit, band_hz, hold, manoeuvres) if assess else None
+    # the base fit's estimates are conditional where its residual keeps excess
+    fit = marked(fit, analyses, alpha, verdict_reason(verd))
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
                      missing_terms(recs, fit, band_hz, hold) if assess else None, dec)
@@ -369,7 +390,9 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     ident = identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres)
     last = dataclasses.replace(d, identifiability=ident,
                                missing_terms=missing_terms(recs, d.fit, band_hz, hold))
-    rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=last)
+    fin = marked(rungs[-1].fit, rungs[-1].analyses, alpha, verdict_reason(verd))
+    rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=dataclasses.replace(last, fit=fin),
+                                    fit=fin)
     return Ladder(tuple(rungs), d.band_hz, verd, ident, tuple(removed))
 
 
@@ -383,8 +406,8 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
         added = None if prev is None else "+".join(
             e for e in st.effects if e not in prev.effects) or None
-        rungs.append(Rung(st, fit, added, None,
-                          tuple(analyses_of(recs, fit, band_hz))))
+        analyses = tuple(analyses_of(recs, fit, band_hz))
+        rungs.append(Rung(st, marked(fit, analyses), added, None, analyses))
         prev = st
     added = tuple(r.added for r in rungs[1:] if r.added)
     return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),

@@ -23,7 +23,14 @@ of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
 projection (the Schur complement of the joint information).  A second bound
 (``sigma_colored``) corrects for coloured residuals, after Morelli and Klein: the
 sandwich ``M^-1 V M^-1`` with ``V`` from the residuals' local spectrum and their
-correlation across neighbouring frequencies (:func:`_colored`).
+correlation across neighbouring frequencies (:func:`_colored`).  A third
+(``sigma_robust``) is the misspecification-robust (Huber-White) sandwich of the
+per-frequency scores with a Newey-West band over neighbouring frequencies
+(:func:`_robust`): it holds whatever the residuals' distribution, level across
+the band or correlation between neighbouring bins, but, like every bound read
+from the residual, it bounds the scatter of the estimate about the value the
+structure converges to, not the bias an incomplete structure adds to it
+(``model.md`` section 7).
 """
 from __future__ import annotations
 
@@ -213,6 +220,52 @@ def _colored(prob, st, blocks, cov):
     return cov @ V @ cov
 
 
+def _robust(prob, st, blocks, cov):
+    """Huber-White sandwich of the per-frequency scores, Newey-West band.
+
+    ``cov_r = M^-1 V M^-1`` (Huber 1967; White 1982, *Econometrica* 50, 1-25) with
+    the per-bin score ``s_k = 2 Re(G_k^H e~_k)`` (``G_k = d e_k / d theta`` of the
+    weighted, nuisance-projected residual ``e_k`` at frequency ``k``; the cost's
+    gradient is ``-sum_k s_k``) and
+
+        ``V = sum_k s_k s_k^T + sum_{j=1}^{L} w_j (Gamma_j + Gamma_j^T)``,
+        ``Gamma_j = sum_k s_k s_{k-j}^T``, ``w_j = 1 - j / (L + 1)``,
+
+    the Bartlett-weighted band of Newey and West (1987, *Econometrica* 55,
+    703-708) over neighbouring bins of one record; records add.  ``L`` spans the
+    main lobe of the record's window, ``L = ceil(1 / (N dt df))`` (``df`` the
+    spacing of the frequencies used): 1 on the record's own grid, more for a
+    finer ``grid_hz``, whose neighbouring bins share noise.  ``e~_k = e_k /
+    sqrt(1 - h_k)`` is the residual corrected for its leverage ``h_k`` (the
+    bin's mean diagonal of the hat matrix of the sensitivities and the end-effect
+    columns; MacKinnon and White 1985, *J. Econometrics* 29, 305-325, "HC2"): a
+    fit pulls the residual towards zero most where the data inform it most.
+    For circular white residuals of covariance ``S``, ``E s_k s_k^T = M_k`` and
+    the bins are independent, so ``V -> M`` and ``cov_r -> M^-1``, the
+    Cramer-Rao bound.  Unlike :func:`_colored` it uses each bin's own residual,
+    not a local average, so it needs no model of how the residual's level
+    varies across the band.
+    """
+    V = np.zeros_like(cov)
+    for sp, blk, r, Q in zip(prob.spectra, blocks, st.r, st.bases):
+        nf = sp.f_hz.size
+        df = np.min(np.diff(sp.f_hz)) if nf > 1 else np.inf
+        lmax = int(np.ceil(1.0 / (sp.n_samples * sp.dt * df) - 1e-9)) if nf > 1 else 0
+        lmax = min(max(lmax, 1), max(nf - 1, 0))
+        # leverage: diagonal of J (J^T J)^-1 J^T (J^T J = M / 2) plus the nuisance's Q Q^T
+        hd = np.einsum("ip,pq,iq->i", blk, 2.0 * cov, blk) + np.einsum("iq,iq->i", Q, Q)
+        h = blk.shape[0] // 2
+        hk = (hd[:h] + hd[h:]).reshape(nf, 3).sum(axis=1) / 6.0
+        G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
+        e = unstack(r, nf) / np.sqrt(np.clip(1.0 - hk, 1e-3, 1.0))[:, None]
+        s = 2.0 * np.real(np.einsum("kip,ki->kp", G.conj(), e))      # (nf, p)
+        V += s.T @ s
+        for j in range(1, lmax + 1):
+            g = s[j:].T @ s[:-j]
+            V += (1.0 - j / (lmax + 1)) * (g + g.T)
+    return cov @ V @ cov
+
+
 def null_directions(M):
     """``(undetermined indices, flat directions)`` of an information matrix: the
     flat directions ``(relative eigenvalue, unit vector)`` of the scaled ``M`` at
@@ -238,6 +291,7 @@ def _bounds(prob, st):
     ok = np.array([i for i in range(p) if i not in dead], dtype=int)
     cov = np.full((p, p), np.nan)
     cov_c = np.full((p, p), np.nan)
+    cov_r = np.full((p, p), np.nan)
     if ok.size:
         # S is estimated from residuals that lost the fitted degrees of freedom
         # (parameters and end-effect states): scale the bounds back up
@@ -248,7 +302,8 @@ def _bounds(prob, st):
         cov[np.ix_(ok, ok)] = sub * dof
         blocks_ok = [b[:, ok] for b in blocks]
         cov_c[np.ix_(ok, ok)] = _colored(prob, st, blocks_ok, sub) * dof
-    return cov, cov_c, sorted(dead), len(null_dirs)
+        cov_r[np.ix_(ok, ok)] = _robust(prob, st, blocks_ok, sub) * dof
+    return cov, cov_c, cov_r, sorted(dead), len(null_dirs)
 
 
 def _excitation_hint(prob):
@@ -448,17 +503,20 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
 
 def _result(prob, st, j, iters, conv, starts):
     theta = st.theta
-    cov, cov_c, dead, n_null = _bounds(prob, st)
+    cov, cov_c, cov_r, dead, n_null = _bounds(prob, st)
     warns, corr = _warnings(prob, theta, cov, dead, n_null, conv, iters)
     params = prob.params(theta)
-    sigma, sigma_c = {}, {}
+    sigma, sigma_c, sigma_r = {}, {}, {}
     for i, g in enumerate(prob.free):
         sd = float(np.sqrt(cov[i, i])) if np.isfinite(cov[i, i]) else None
         sc = float(np.sqrt(cov_c[i, i])) if np.isfinite(cov_c[i, i]) else None
-        if sc is not None and sd is not None:
-            sc = max(sc, sd)     # a correction, never below the Cramer-Rao bound
+        sr = float(np.sqrt(cov_r[i, i])) if np.isfinite(cov_r[i, i]) else None
+        if sd is not None:
+            # corrections, never below the Cramer-Rao bound
+            sc = None if sc is None else max(sc, sd)
+            sr = None if sr is None else max(sr, sd)
         for n in g:
-            sigma[n], sigma_c[n] = sd, sc
+            sigma[n], sigma_c[n], sigma_r[n] = sd, sc, sr
     data = []
     for sp, (y_u, y_nu), nu, S in zip(prob.spectra, st.resp, st.nus, st.S):
         m = build_model(prob.structure, params, sp.constants)
@@ -473,7 +531,8 @@ def _result(prob, st, j, iters, conv, starts):
     model = build_model(prob.structure, params, prob.spectra[0].constants)
     return FitResult(
         structure=prob.structure, constants=tuple(sp.constants for sp in prob.spectra),
-        parameters=params, sigma=sigma, sigma_colored=sigma_c, free=prob.free_names,
+        parameters=params, sigma=sigma, sigma_colored=sigma_c, sigma_robust=sigma_r,
+        free=prob.free_names,
         correlation=corr, fixed=prob.fixed,
         ties=tuple(g for g in prob.free if len(g) > 1), cost=float(j), S=tuple(st.S),
         band_hz=_band(prob.spectra), n_freq=prob.n_freq,

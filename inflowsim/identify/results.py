@@ -103,6 +103,11 @@ class FitResult:
     sigma_colored : dict
         Bounds corrected for coloured residuals (residual-spectrum sandwich after
         Morelli & Klein), never below ``sigma``; same keys.
+    sigma_robust : dict
+        Misspecification-robust bounds (Huber-White sandwich of the per-frequency
+        scores with a Newey-West band over neighbouring frequencies), never below
+        ``sigma``; same keys.  They hold whatever the residuals' distribution or
+        correlation, but not the bias of an incomplete structure (``conditional``).
     free : tuple of str
         Estimated quantities in ``correlation`` order (a tie group is ``a=b``).
     correlation : ndarray ``(p, p)``
@@ -130,6 +135,15 @@ class FitResult:
         Frequency data per record (plots, residual analysis).
     starts : tuple
         ``(label, cost)`` of every starting point tried.
+    conditional : str or None
+        Set by the diagnosis's test (:func:`inflowsim.diagnose.conditional.marked`)
+        when the residual keeps structured excess over the noise floor: every
+        estimate is then conditional on an incomplete structure, and this is the
+        reason, one line; ``None``: not judged, or the residual is at the floor.
+    judged : bool
+        Whether that test was made (:func:`~inflowsim.identify.identify` alone does
+        not make it; the commands, :func:`~inflowsim.diagnose.diagnose` and the
+        ladders do).
     """
 
     structure: Structure
@@ -153,6 +167,9 @@ class FitResult:
     model: object = field(repr=False)
     data: tuple = field(repr=False, default=())
     starts: tuple = ()
+    sigma_robust: dict = field(default_factory=dict)
+    conditional: str | None = None
+    judged: bool = False
 
     @property
     def residuals(self) -> list:
@@ -168,6 +185,10 @@ class FitResult:
                 entry["fixed"] = True
             if n in self.sigma_colored:
                 entry["sigma_colored"] = self.sigma_colored[n]
+            if n in self.sigma_robust:
+                entry["sigma_robust"] = self.sigma_robust[n]
+            if n not in self.fixed:
+                entry.update(self.conditional_entry())
             params[n] = entry
         consts = self.constants[0].as_dict()
         return {
@@ -188,3 +209,10 @@ class FitResult:
             "ties": [list(t) for t in self.ties],
             "trim": [d.trim_method for d in self.data],
         }
+
+    def conditional_entry(self) -> dict:
+        """The fields an estimated parameter's JSON entry carries about the
+        structure's completeness: ``conditional`` (bool; ``None`` where not
+        :attr:`judged`) and ``conditional_why`` (the reason, or ``None``)."""
+        return {"conditional": (self.conditional is not None) if self.judged else None,
+                "conditional_why": self.conditional}

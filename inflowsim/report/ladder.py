@@ -36,8 +36,12 @@ def ladder_rows(ladder) -> tuple[list, list]:
             if n in r.fit.parameters:
                 v = parameter_value(n, r.fit.parameters[n])
                 s = parameter_value(n, r.fit.sigma.get(n))
-                why = "fixed" if n in getattr(r.fit, "fixed", ()) else "not determined"
-                row.append(f"{v:.4g} ({s:.2g})" if s is not None else f"{v:.4g} ({why})")
+                fixed = n in getattr(r.fit, "fixed", ())
+                why = "fixed" if fixed else "not determined"
+                cell = f"{v:.4g} ({s:.2g})" if s is not None else f"{v:.4g} ({why})"
+                if not fixed and getattr(r.fit, "conditional", None):
+                    cell += CONDITIONAL_MARK
+                row.append(cell)
             else:
                 row.append("")
         rows.append(row)
@@ -57,6 +61,18 @@ def ladder_rows(ladder) -> tuple[list, list]:
     return header, rows
 
 
+#: Appended to an estimate conditional on an incomplete structure (the fit's residual
+#: keeps structured excess over the floor, :mod:`inflowsim.diagnose.conditional`).
+CONDITIONAL_MARK = " [conditional]"
+
+
+def conditional_lines(ladder) -> list:
+    """One line per rung whose estimates are conditional, with the reason."""
+    return [f"{CONDITIONAL_MARK.strip()} {r.structure.name}: every estimate is "
+            f"{r.fit.conditional}" for r in ladder.rungs
+            if getattr(r.fit, "conditional", None)]
+
+
 #: The cost's row and axis label: (12) is a log-likelihood, a pure number (its
 #: log-determinant takes S in rad^2: differences between rungs are what count).
 COST_LABEL = "cost J (Eq. 12) [-]"
@@ -66,6 +82,7 @@ def ladder_markdown(ladder) -> str:
     header, rows = ladder_rows(ladder)
     out = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    out += conditional_lines(ladder)
     out += identifiability_lines(ladder.identifiability, ladder.final.structure.name)
     last = ladder.final.diagnosis
     if (ladder.verdict is not None and ladder.verdict.status in
@@ -295,10 +312,37 @@ def format_diagnosis(d) -> str:
     if d.missing_terms is not None:
         lines.append("where a term is missing (score test of every single-entry addition):")
         lines += [f"  {line}" for line in d.missing_terms.describe()]
+    lines += estimate_lines(d.fit)
     lines += identifiability_lines(d.identifiability, d.structure.name)
     if d.verdict is not None:
         lines.append(d.verdict.describe())
     return "\n".join(lines)
+
+
+def estimate_lines(fit) -> list:
+    """The fitted structure's estimates with their Cramer-Rao and robust bounds, and
+    whether they are conditional on an incomplete structure, rendered from the fit."""
+    from .units import parameter_value
+    parts = []
+    for n in fit.parameters:
+        if n in fit.fixed or n not in fit.sigma:
+            continue
+        v, s = parameter_value(n, fit.parameters[n]), parameter_value(n, fit.sigma[n])
+        sr = parameter_value(n, getattr(fit, "sigma_robust", {}).get(n))
+        if s is None:
+            parts.append(f"{n} {v:.4g} (not determined)")
+        elif sr is None:
+            parts.append(f"{n} {v:.4g} ({s:.2g})")
+        else:
+            parts.append(f"{n} {v:.4g} ({s:.2g}; robust {sr:.2g})")
+    if not parts:
+        return []
+    head = (f"estimates of {fit.structure.name} (1-sigma Cramer-Rao; robust; angles in "
+            "degrees, time constants in azimuth units):")
+    out = [head, "  " + ", ".join(parts)]
+    if getattr(fit, "conditional", None):
+        out.append(f"  {CONDITIONAL_MARK.strip()} every estimate above is {fit.conditional}")
+    return out
 
 
 def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
@@ -318,6 +362,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.heading("Structures scored by the rule", 3)
         rep.table(structure_rows(d.decision), STRUCTURE_HEADER, digits=4)
     rep.paragraph(f"Missing effect: {' + '.join(d.missing_effects) or 'none accepted'}.")
+    if getattr(d.fit, "conditional", None):
+        rep.paragraph(f"The estimates of {d.structure.name} are {d.fit.conditional}.")
     from .fit_plots import fit_plot
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
@@ -360,6 +406,8 @@ def ladder_report(ladder, rep: Report | None = None, record=None,
                   "power over the noise floor (1: nothing left but sensor noise) as "
                   "each effect is added.")
     rep.table(rows, header)
+    for line in conditional_lines(ladder):
+        rep.paragraph(line)
     for note in worse_channels(ladder):
         rep.paragraph(note)
     rep.figure(ladder_plot(ladder), "ladder",
