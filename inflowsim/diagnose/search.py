@@ -89,6 +89,8 @@ class Diagnosis:
                                     if self.identifiability else None),
                 "missing_terms": (self.missing_terms.to_json()
                                   if self.missing_terms is not None else None),
+                "missing_terms_freed": (self.missing_terms.freed_json()
+                                        if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -299,6 +301,10 @@ class Ladder:
                                   if self.final.diagnosis is not None
                                   and self.final.diagnosis.missing_terms is not None
                                   else None),
+                "missing_terms_freed": (self.final.diagnosis.missing_terms.freed_json()
+                                        if self.final.diagnosis is not None
+                                        and self.final.diagnosis.missing_terms is not None
+                                        else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
