@@ -277,13 +277,16 @@ def format_diagnosis(d) -> str:
         physics = "; ".join(next(x.physics for x in d.candidates if x.effect == e)
                             for e in d.missing_effects)
         v = d.verdict
+        standing = [x.effect for x in (v.stand_ins if v is not None else ())]
+        stand = ("" if not standing else
+                 f" [{', '.join(standing)}: a stand-in, see the verdict]")
         if v is not None and v.status == "partly-explained":
             share = v.excess_explained
             part = "" if share is None else f" {100 * share:.0f} % of the excess over the floor;"
-            lines.append(f"part of the missing physics: {named} explains{part} "
+            lines.append(f"part of the missing physics: {named}{stand} explains{part} "
                          f"excess is left (see the verdict): {physics}")
         else:
-            lines.append(f"missing effect: {named}: {physics}")
+            lines.append(f"missing effect: {named}{stand}: {physics}")
         covered = [o.atom for o in d.candidates if o.explained_by in d.decision.added]
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
@@ -318,6 +321,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.heading("Structures scored by the rule", 3)
         rep.table(structure_rows(d.decision), STRUCTURE_HEADER, digits=4)
     rep.paragraph(f"Missing effect: {' + '.join(d.missing_effects) or 'none accepted'}.")
+    if d.verdict is not None:
+        rep.paragraph(d.verdict.describe()[0].upper() + d.verdict.describe()[1:] + ".")
     from .fit_plots import fit_plot
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
@@ -360,6 +365,9 @@ def ladder_report(ladder, rep: Report | None = None, record=None,
                   "power over the noise floor (1: nothing left but sensor noise) as "
                   "each effect is added.")
     rep.table(rows, header)
+    if ladder.verdict is not None:
+        rep.paragraph(ladder.verdict.describe()[0].upper() + ladder.verdict.describe()[1:]
+                      + ".")
     for note in worse_channels(ladder):
         rep.paragraph(note)
     rep.figure(ladder_plot(ladder), "ladder",
