@@ -25,8 +25,9 @@ the band rather than being it.  Each named effect is a stand-in
   (:attr:`~inflowsim.model.params.ParameterSpec.physical`: a ``time-delay`` whose
   delay is a lead) or its *plausible* range (``ParameterSpec.plausible``, for the
   rotor's hub) by more than :data:`SIGMAS` of its bound; or
-- the effects named together remove less than :data:`STAND_IN_SHARE` of the
-  starting structure's excess over the floor (``excess_explained``).
+- excess is left (``partly-explained``) and the effects named together remove
+  less than :data:`STAND_IN_SHARE` of the starting structure's excess over the
+  floor (``excess_explained``).
 
 The text then reads "behaves like X in this band; the missing physics is
 probably elsewhere: see the map".
@@ -90,7 +91,8 @@ class StandIn:
 
 def stand_ins(effects, fit, excess_explained, sigmas: float = SIGMAS) -> tuple:
     """The :class:`StandIn` among ``effects`` (named, in the fitted structure of
-    ``fit``) given the share of the excess they remove together."""
+    ``fit``) given the share of the excess they remove together (``None`` where
+    none is left: an effect that brings the residual to the floor leaves nothing)."""
     from ..model.effects import CATALOGUE
     from ..model.params import SPECS
     k = fit.constants[0] if fit is not None else None
@@ -197,4 +199,5 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
     if not effects:
         return v
     from dataclasses import replace
-    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained))
+    left = v.excess_explained if status == "partly-explained" else None
+    return replace(v, stand_ins=stand_ins(effects, fit, left))
