@@ -34,6 +34,27 @@ assuming independence; an entry whose sensitivity lies in the span of the base's
 own parameters (``|P j|^2`` below ``1e-8 |j|^2``) cannot be told from them and is
 reported untestable (not counted).
 
+**Robust to absorbing parameters** (issue #36).  A base parameter shared by
+several equations (the flap frequency ``lambda_beta2`` and ``n_beta`` of every
+flap row, the inflow's ``tau``) soaks up part of a term that acts in some rows
+only, and the score test at that biased fit blames the rows it left wrong (a
+cyclic term's score lands in the coning row).  So, by default:
+
+1. the shared parameters are freed per row group (:data:`GROUPS`: the coning row
+   and the cyclic flap rows, the uniform and the cyclic inflow rows; each a free
+   offset of the parameter in the first-harmonic rows, :func:`shared_parameters`),
+   the base refitted with them, and the score test made at that fit with the
+   offsets among the base's parameters (``MissingTerms.freed``: the values per
+   group and the likelihood ratio of freeing them);
+2. the :data:`CONFIRM` entries of largest score are refitted, each with its
+   coefficient and every other parameter free, and ranked first by the
+   likelihood-ratio statistic of that refit (``Term.refit_statistic``): the entry
+   whose refit lowers the cost most wins.
+
+A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
+plus a coning term: no single entry can place it, and step 1 absorbs it (the
+freed values report it).
+
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
 and end effects included) with the one entry perturbed in the structured equations
@@ -130,7 +151,11 @@ class Term:
     one-step estimate ``coefficient`` (descriptor units: azimuth time, inputs in
     azimuth units; on the right-hand side of the equation); ``testable`` False
     where the entry cannot be told from the base's own parameters; ``gradient``
-    ``dJ/dk`` of the cost (12) at ``k = 0`` (``S`` and the base's parameters held).
+    ``dJ/dk`` of the cost (12) at ``k = 0`` (``S`` and the base's parameters held),
+    at the fit the map is made at; ``refit_statistic`` ``2 (J - J_refit)`` of the
+    confirming refit with the entry free (``None``: not refitted) and
+    ``refit_coefficient`` its estimate; ``group`` what kind of entry it is
+    (:func:`physics_group`).
     """
 
     block: str

@@ -333,7 +333,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.paragraph(" ".join(d.missing_terms.describe()))
         rep.figure(missing_terms_plot(d.missing_terms), f"{prefix}-terms",
                    "Score test of every single-entry addition to the flap and inflow "
-                   "equations and the measurement map at the base fit: colour -log10 p, "
+                   "equations and the measurement map at the base fit (its shared "
+                   "parameters freed per row group): colour -log10 p, "
                    "framed where significant after Holm's correction, with the sign "
                    "of the term the data want.")
     if d.analyses:
