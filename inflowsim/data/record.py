@@ -287,6 +287,9 @@ TRIM_MARGIN = 0.2
 MIN_TRIM_SAMPLES = 5
 #: A quiet lead-in shorter than this [s] gives a trim, with a warning.
 SHORT_TRIM = 0.5
+#: Consecutive samples a control's departure must hold to be a movement
+#: (:func:`first_movement`): a single noise sample is not one.
+PERSIST = 3
 
 
 @dataclass(frozen=True)
@@ -340,9 +343,13 @@ def first_movement(rec: Record) -> int | None:
     """Index of the first sample where a pilot control has left its initial value.
 
     Per control: baseline the median of the first 0.25 s, noise the robust spread
-    of the first differences over the first second; moved where the departure
-    exceeds ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth
-    input, at one ten-thousandth of its size).  ``None`` where no control moves.
+    of the first differences over the first second (their median absolute
+    deviation, ``1.4826 MAD / sqrt 2``); moved where the departure exceeds
+    ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth input,
+    at one ten-thousandth of its size) on :data:`PERSIST` consecutive samples: one
+    noise sample beyond the threshold (a 4-sigma sample at ``t = 0`` with the
+    noise estimated a third low) is not a movement.  ``None`` where no control
+    moves.
     """
     t = rec.t
     first = None
@@ -359,7 +366,12 @@ def first_movement(rec: Record) -> int | None:
         big = float(dep.max())
         if big == 0.0:
             continue
-        moved = np.flatnonzero(dep > max(6.0 * noise, 1e-4 * big))
+        out = dep > max(6.0 * noise, 1e-4 * big)
+        if out.size >= PERSIST:
+            held = np.convolve(out, np.ones(PERSIST, dtype=int), "valid") == PERSIST
+        else:
+            held = out & out.all()
+        moved = np.flatnonzero(held)
         if moved.size and (first is None or moved[0] < first):
             first = int(moved[0])
     return first

@@ -90,6 +90,8 @@ class Diagnosis:
                                     if self.identifiability else None),
                 "missing_terms": (self.missing_terms.to_json()
                                   if self.missing_terms is not None else None),
+                "missing_terms_freed": (self.missing_terms.freed_json()
+                                        if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -264,7 +266,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     cands = candidates_of(dec)
     if dec.accepted:
         verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
-                                             check_colour=False), dec.effects, alpha)
+                                             check_colour=False), dec.effects, alpha,
+                       fit=dec.chosen.fit)
     else:
         fails += unexplained(analyses, alpha)
         verd = verdict(analyses, analyses, (), alpha)
@@ -320,6 +323,10 @@ class Ladder:
                                   if self.final.diagnosis is not None
                                   and self.final.diagnosis.missing_terms is not None
                                   else None),
+                "missing_terms_freed": (self.final.diagnosis.missing_terms.freed_json()
+                                        if self.final.diagnosis is not None
+                                        and self.final.diagnosis.missing_terms is not None
+                                        else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
@@ -384,7 +391,8 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     gone = {atom_of(a).effect for a, _ in removed if atom_of(a).whole}
     added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")
                                 if e in d.structure.effects and e not in gone))
-    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha,
+                   fit=rungs[-1].fit)
     # the last rung is the answer: it says what the records determine of it and,
     # where excess is left, where a term is missing
     ident = identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres)
@@ -411,5 +419,6 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         prev = st
     added = tuple(r.added for r in rungs[1:] if r.added)
     return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),
-                  verdict(rungs[0].analyses, rungs[-1].analyses, added),
+                  verdict(rungs[0].analyses, rungs[-1].analyses, added,
+                          fit=rungs[-1].fit),
                   identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))

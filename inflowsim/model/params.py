@@ -239,6 +239,11 @@ class ParameterSpec:
     #: rotor's hub (:data:`HUBS`), the range for each; ``plausible`` covers them all
     #: and holds where the hub is not known
     plausible_by_hub: tuple = ()
+    #: ``(low, high, why)``: what the parameter can be at all for what its effect
+    #: claims to be (a measurement chain's delay cannot lead); ``None``: its
+    #: allowed range.  An effect named with an estimate outside it is a stand-in
+    #: (:mod:`inflowsim.diagnose.verdict`).
+    physical: tuple | None = None
 
     def plausible_for(self, hub: str | None = None):
         """``(low, high, why)`` as declared (seconds for ``plausible_seconds``) for

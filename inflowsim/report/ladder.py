@@ -294,13 +294,16 @@ def format_diagnosis(d) -> str:
         physics = "; ".join(next(x.physics for x in d.candidates if x.effect == e)
                             for e in d.missing_effects)
         v = d.verdict
+        standing = [x.effect for x in (v.stand_ins if v is not None else ())]
+        stand = ("" if not standing else
+                 f" [{', '.join(standing)}: a stand-in, see the verdict]")
         if v is not None and v.status == "partly-explained":
             share = v.excess_explained
             part = "" if share is None else f" {100 * share:.0f} % of the excess over the floor;"
-            lines.append(f"part of the missing physics: {named} explains{part} "
+            lines.append(f"part of the missing physics: {named}{stand} explains{part} "
                          f"excess is left (see the verdict): {physics}")
         else:
-            lines.append(f"missing effect: {named}: {physics}")
+            lines.append(f"missing effect: {named}{stand}: {physics}")
         covered = [o.atom for o in d.candidates if o.explained_by in d.decision.added]
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
@@ -364,6 +367,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
     rep.paragraph(f"Missing effect: {' + '.join(d.missing_effects) or 'none accepted'}.")
     if getattr(d.fit, "conditional", None):
         rep.paragraph(f"The estimates of {d.structure.name} are {d.fit.conditional}.")
+    if d.verdict is not None:
+        rep.paragraph(d.verdict.describe()[0].upper() + d.verdict.describe()[1:] + ".")
     from .fit_plots import fit_plot
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
@@ -374,7 +379,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.paragraph(" ".join(d.missing_terms.describe()))
         rep.figure(missing_terms_plot(d.missing_terms), f"{prefix}-terms",
                    "Score test of every single-entry addition to the flap and inflow "
-                   "equations and the measurement map at the base fit: colour -log10 p, "
+                   "equations and the measurement map at the base fit (its shared "
+                   "parameters freed per row group): colour -log10 p, "
                    "framed where significant after Holm's correction, with the sign "
                    "of the term the data want.")
     if d.analyses:
@@ -408,6 +414,9 @@ def ladder_report(ladder, rep: Report | None = None, record=None,
     rep.table(rows, header)
     for line in conditional_lines(ladder):
         rep.paragraph(line)
+    if ladder.verdict is not None:
+        rep.paragraph(ladder.verdict.describe()[0].upper() + ladder.verdict.describe()[1:]
+                      + ".")
     for note in worse_channels(ladder):
         rep.paragraph(note)
     rep.figure(ladder_plot(ladder), "ladder",
