@@ -174,14 +174,12 @@ def _manoeuvre(args):
 
 
 def _designed(args):
-    import json as _json
+    from ..fileio import read_json
     from ..flighttest.design import manoeuvres_from_json
     try:
-        doc = _json.loads(Path(args.design).read_text())
-    except FileNotFoundError:
-        raise InputError(f"--design {args.design}: no such file") from None
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"--design {args.design}: not readable JSON ({exc})") from None
+        doc = read_json(args.design, "design file")
+    except InputError as exc:
+        raise InputError(f"--design {exc}") from None
     try:
         man, args.duration, args.dt = manoeuvres_from_json(doc)
     except InputError as exc:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
-from ..errors import RecordError
+from ..errors import InputError, RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
@@ -475,16 +475,13 @@ def header_meta(path) -> dict:
 
 def read_record(path) -> Record:
     """Read a CSV record; raise :class:`RecordError` (one line) on any format error."""
+    from ..fileio import read_input_bytes
     p = Path(path)
     src = str(p)
     try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise RecordError(f"{src}: no such file") from None
-    except IsADirectoryError:
-        raise RecordError(f"{src}: is a directory, not a record") from None
-    except OSError as exc:
-        raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
+        raw = read_input_bytes(p, "record", "record")
+    except InputError as exc:
+        raise RecordError(str(exc)) from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -708,13 +708,9 @@ def write_schedule(schedule: Schedule, path, overwrite: bool = True) -> Path:
 
 def read_schedule(path) -> Schedule:
     """A schedule file (:func:`write_schedule`), or one line saying what is wrong."""
+    from ..fileio import read_json
     p = Path(path)
-    try:
-        doc = json.loads(p.read_text())
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
-    except ValueError as exc:
-        raise InputError(f"{p}: not JSON ({exc})") from None
+    doc = read_json(p, "schedule file")
     return Schedule.from_json(doc, str(p))
 
 
