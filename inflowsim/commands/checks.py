@@ -147,9 +147,11 @@ OUTPUTS = ("out", "report", "truth_json", "campaign")
 
 
 def _values(v):
+    """The file names in an option's value (``--start`` is a number in some
+    commands, a file in others: only text is a name)."""
     if v is None:
         return []
-    return [x for x in (v if isinstance(v, (list, tuple)) else [v])]
+    return [x for x in (v if isinstance(v, (list, tuple)) else [v]) if isinstance(x, str)]
 
 
 def _option(dest: str) -> str:

@@ -135,13 +135,17 @@ def _check_outputs(args):
 #: inputs.
 MIN_DT = 1e-5
 MAX_AMPLITUDE_DEG = 20.0
+#: Blades of the nonlinear truth: multiblade coordinates need three; eight is the most
+#: any helicopter flies (a judgement: ``interface.md``).
+MIN_BLADES, MAX_BLADES = 3, 8
 
 
 def _manoeuvre(args):
     from ..data.record import MAX_SAMPLES
     from ..flighttest.virtual import Manoeuvre
     designed = _designed(args) if args.design else None
-    check_finite(args, "amplitude_deg", "start", "width", "duration", "dt", "noise", "rise")
+    check_finite(args, "amplitude_deg", "start", "width", "duration", "dt", "noise", "rise",
+                 "fade", "sweep_range", "sweep_duration", "speeds", "noise_color_hz")
     check_seed(args.seed)
     if not MIN_DT <= args.dt <= 1.0:
         raise InputError(f"--dt {args.dt:g}: the sample step must be in [{MIN_DT:g}, 1] s")
@@ -150,9 +154,25 @@ def _manoeuvre(args):
                          f"samples of --dt {args.dt:g} s")
     if args.noise < 0:
         raise InputError(f"--noise {args.noise:g}: a standard deviation is >= 0")
-    if abs(args.amplitude_deg) > MAX_AMPLITUDE_DEG:
-        raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: a pilot input beyond "
-                         f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range")
+    if not 0 < args.amplitude_deg <= MAX_AMPLITUDE_DEG:
+        raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: must be in (0, "
+                         f"{MAX_AMPLITUDE_DEG:g}] deg (the shape sets the signs; beyond "
+                         f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range)")
+    if args.start < 0 or args.start >= args.duration:
+        raise InputError(f"--start {args.start:g}: the input must start within the "
+                         f"record, in [0, --duration {args.duration:g}) s")
+    if args.delay is not None and not (math.isfinite(args.delay)
+                                       and 0 <= args.delay < args.duration):
+        raise InputError(f"--delay {args.delay:g}: a recording delay is in [0, "
+                         f"--duration {args.duration:g}) s")
+    if args.azimuth_bias is not None and not (math.isfinite(args.azimuth_bias)
+                                              and abs(args.azimuth_bias) <= math.pi):
+        raise InputError(f"--azimuth-bias {args.azimuth_bias:g}: an azimuth offset is in "
+                         "[-pi, pi] rad")
+    if not MIN_BLADES <= args.blades <= MAX_BLADES:
+        raise InputError(f"--blades {args.blades}: a rotor of {MIN_BLADES} to "
+                         f"{MAX_BLADES} blades (multiblade coordinates need 3; no rotor "
+                         f"flies more than {MAX_BLADES})")
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
     if args.rise < 0 or args.rise > args.width:
@@ -165,6 +185,11 @@ def _manoeuvre(args):
         return designed
     if args.input in ("sweep", "multisine"):
         return _frequency_input(args)
+    span = {"doublet": 2, "3211": 7}[args.input] * args.width
+    if args.start + span > args.duration:
+        raise InputError(f"--start {args.start:g}: the {args.input} ({span:g} s of "
+                         f"--width {args.width:g}) ends after the record (--duration "
+                         f"{args.duration:g} s)")
     if args.channels or args.sweep_range or args.sweep_duration is not None:
         raise InputError(f"--channels, --sweep-range and --sweep-duration apply to "
                          f"--input sweep or multisine, not {args.input}")

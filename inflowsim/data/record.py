@@ -360,9 +360,24 @@ def first_movement(rec: Record) -> int | None:
         if big == 0.0:
             continue
         moved = np.flatnonzero(dep > max(6.0 * noise, 1e-4 * big))
+        if not moved.size and _moves_from_start(v, noise, big):
+            moved = np.array([0])
         if moved.size and (first is None or moved[0] < first):
             first = int(moved[0])
     return first
+
+
+def _moves_from_start(v, noise: float, big: float) -> bool:
+    """A control already moving in its first second: the spread of its first
+    differences there (``noise``, which would be the sensor's noise in a quiet
+    lead-in) is three times that of white noise measured by the second differences
+    over the whole record, and its excursion ``big`` is beyond six of the latter
+    (issue #37: such a control was called constant)."""
+    if v.size < 8:
+        return False
+    d2 = np.diff(v, 2)
+    white = 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0)
+    return noise > 3.0 * white and big > 6.0 * white
 
 
 def require_control_movement(rec: Record) -> Record:
