@@ -19,7 +19,7 @@ COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "d
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):          # one line, exit 2 (argparse prints usage too)
-        sys.stderr.write(f"inflowsim: error: {message}\n")
+        sys.stderr.write(f"{self.prog}: error: {' '.join(str(message).split())}\n")
         raise SystemExit(2)
 
 

@@ -15,7 +15,8 @@ prints the document on stdout (the progress bar is on stderr).
 from __future__ import annotations
 
 from ..errors import InputError
-from ._common import add_also_option, pool_with, print_json, progress
+from .checks import finite_float
+from ._common import add_also_option, pool_with, print_json, progress, unknown_effect
 
 HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
 
@@ -35,12 +36,12 @@ def add_arguments(p):
     p.add_argument("--model", "-m", default=None,
                    help="starting structure of every diagnosis and ladder "
                         "(default: the plan's, else glauert)")
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"), default=None,
+    p.add_argument("--band", nargs=2, type=finite_float, metavar=("F1", "F2"), default=None,
                    help=f"band [Hz] (default {DEFAULT_BAND[0]:g} {DEFAULT_BAND[1]:g})")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",
                    help="effects to try (default: every applicable one)")
     add_also_option(p)
-    p.add_argument("--alpha", type=float, default=None,
+    p.add_argument("--alpha", type=finite_float, default=None,
                    help="significance level per candidate")
     p.add_argument("--max-steps", type=int, default=None, help="ladder steps at most "
                                                                 "(default 6)")
@@ -109,8 +110,7 @@ def _settings(args, plan):
         from ..model.effects import CATALOGUE
         for e in pool:
             if e not in CATALOGUE:
-                raise InputError(f"candidate {e!r}: not an effect (known: "
-                                 f"{', '.join(n for n, x in CATALOGUE.items() if x.offered)})")
+                raise InputError(f"candidate {e!r}: {unknown_effect(e, CATALOGUE)}")
     return Settings(model=model, band=band, pool=None if pool is None else tuple(pool),
                     alpha=float(alpha), max_steps=steps, hold=hold)
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..channels import CONTROLS
 from ..errors import InputError
 from ..fileio import check_output, json_text, safe_write_text
-from .checks import check_band
+from .checks import check_band, finite_float
 from ._common import (DEFAULT_BAND, add_add_option, add_band_option, add_channels_option,
                       add_flight_options, add_json_option, add_model_option,
                       add_out_options, add_params_option, check_finite, print_json,
@@ -25,7 +25,7 @@ def add_arguments(p):
     p.add_argument("--interest", nargs="+", metavar="NAME",
                    help="parameters to learn (default: the added effects', else all)")
     add_channels_option(p, default=list(CONTROLS))
-    p.add_argument("--limit-deg", type=float, default=1.0, metavar="A",
+    p.add_argument("--limit-deg", type=finite_float, default=1.0, metavar="A",
                    help="amplitude limit per control [deg] (default 1: the peak)")
     p.add_argument("--rms", action="store_true",
                    help="the limit is the rms of each control's signal, not its peak")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from .checks import finite_float, positive_float, positive_int
 from ..channels import CONTROLS
 from ..errors import InputError
 from ._common import (add_add_option, add_channels_option, add_flight_options,
@@ -49,36 +50,36 @@ def add_arguments(p):
                         "record length and step replace --input, --duration, --dt")
     add_channels_option(p, help="multisine: the controls moved at once (default all "
                                 "three)")
-    p.add_argument("--sweep-range", "--freq-range", nargs=2, type=float,
+    p.add_argument("--sweep-range", "--freq-range", nargs=2, type=finite_float,
                    metavar=("F1", "F2"), default=None,
                    help="sweep or multisine: frequency range [Hz] (default 0.15 3)")
-    p.add_argument("--sweep-duration", "--input-duration", type=float, metavar="T",
+    p.add_argument("--sweep-duration", "--input-duration", type=finite_float, metavar="T",
                    help="sweep or multisine: its length [s] (default: to 1 s before "
                         "the record's end); the multisine's base frequency is 1/T")
-    p.add_argument("--fade", type=float, default=1.0, metavar="S",
+    p.add_argument("--fade", type=finite_float, default=1.0, metavar="S",
                    help="sweep or multisine: fade in and out [s] (default 1)")
-    p.add_argument("--amplitude-deg", type=float, default=None, metavar="A",
+    p.add_argument("--amplitude-deg", type=finite_float, default=None, metavar="A",
                    help="input amplitude [deg], the peak of a sweep or of each "
                         "multisine channel (default 1; --campaign 0.25: the truth's "
                         "linear range at the default --noise)")
-    p.add_argument("--width", type=float, default=0.4, metavar="S",
+    p.add_argument("--width", type=finite_float, default=0.4, metavar="S",
                    help="doublet half-width or 3211 unit [s] (default 0.4)")
     add_flight_options(p, duration_help="record length [s] (default 26.6: 0.0376 Hz "
                                         "resolution; --campaign 20)",
                        dt_help="sample step [s] (default 0.01; --campaign 0.015625)")
-    p.add_argument("--noise-color-hz", type=float, metavar="F",
+    p.add_argument("--noise-color-hz", type=finite_float, metavar="F",
                    help="colour the flap noise by a first-order low-pass with corner F "
                         "[Hz] (default white)")
     p.add_argument("--hold", choices=("continuous", "zoh"), default="continuous",
                    help="continuous: smooth inputs, the truth integrated with them, as "
                         "measured data (default); zoh: inputs held over each sample")
-    p.add_argument("--rise", type=float, default=0.1, metavar="S",
+    p.add_argument("--rise", type=finite_float, default=0.1, metavar="S",
                    help="10-90%% rise time of each switch of the pilot input [s] "
                         "(default 0.1; 0 for sharp steps)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="noise seed")
-    p.add_argument("--azimuth-bias", type=float, metavar="RAD",
+    p.add_argument("--azimuth-bias", type=finite_float, metavar="RAD",
                    help="offset of the recorded azimuth [rad] (adds azimuth-bias)")
-    p.add_argument("--delay", type=float, metavar="S",
+    p.add_argument("--delay", type=finite_float, metavar="S",
                    help="time delay of the recorded flap [s] (adds time-delay)")
     p.add_argument("--blades", type=int, default=4, metavar="N",
                    help="nonlinear truth: number of blades (default 4)")
@@ -95,9 +96,9 @@ def add_arguments(p):
                         "existing records of the same truth, flown alike, are kept, "
                         "others refused; --speed, --blades and --no-body choose the "
                         "truth)")
-    p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
+    p.add_argument("--speeds", nargs="+", type=positive_float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
-    p.add_argument("--repeats", type=int, default=1, metavar="N",
+    p.add_argument("--repeats", type=positive_int, default=1, metavar="N",
                    help="--campaign: records per speed, control and shape (default 1)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="--campaign: generating processes (default: the cores)")
