@@ -93,7 +93,7 @@ def main(argv=None) -> int:
 
 
 def _run(args) -> int:
-    from .commands.checks import check_paths
+    from .commands._checks import check_paths
     try:
         check_paths(args)
         if hasattr(args, "effect_file"):

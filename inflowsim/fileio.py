@@ -188,7 +188,7 @@ def check_input_file(path, what: str = "file", kind: str = "json") -> Path:
     try:
         st = os.stat(p)
     except FileNotFoundError:
-        raise InputError(f"{p}: no such {what}") from None
+        raise InputError(f"{p}: no such {'file' if what == 'record' else what}") from None
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
     if not stat.S_ISREG(st.st_mode):
@@ -206,7 +206,7 @@ def read_input_bytes(path, what: str = "file", kind: str = "json") -> bytes:
     naming the file, for any problem reading it)."""
     p = check_input_file(path, what, kind)
     try:
-        with open(p, "rb") as f:
+        with p.open("rb") as f:
             data = f.read(MAX_INPUT_BYTES[kind] + 1)
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None

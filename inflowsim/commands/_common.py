@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
 from ..errors import InputError
-from .checks import finite_float
+from ._checks import finite_float
 
 if TYPE_CHECKING:
     from ..model.structure import Structure
@@ -280,7 +280,7 @@ def check_search_arguments(args):
     if not 0 < args.alpha < 0.5:
         raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")
     check_finite(args, "band")
-    from .checks import check_band
+    from ._checks import check_band
     check_band(args.band)
     pool = pool_with(args.candidates, args.also) or ()      # refused before any fit
     from ..model.effects import CATALOGUE

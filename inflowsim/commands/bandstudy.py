@@ -2,7 +2,7 @@
 (the paper's Figure 6), with a plot."""
 from __future__ import annotations
 
-from .checks import finite_float, positive_float
+from ._checks import finite_float, positive_float
 from ._common import (add_record_arguments, parse_fix, print_json, progress, read_records,
                       structure_of)
 

@@ -15,7 +15,7 @@ prints the document on stdout (the progress bar is on stderr).
 from __future__ import annotations
 
 from ..errors import InputError
-from .checks import finite_float
+from ._checks import finite_float
 from ._common import add_also_option, pool_with, print_json, progress, unknown_effect
 
 HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
@@ -76,7 +76,7 @@ def _settings(args, plan):
     from ..campaign.work import Settings
     from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
     from ..model.structure import Structure
-    from .checks import check_band
+    from ._checks import check_band
     s = plan.settings
     model = args.model or _setting(s, "model", str, "a structure name", "glauert")
     Structure.parse(model)                            # refuses an unknown structure

@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..channels import CONTROLS
 from ..errors import InputError
 from ..fileio import check_output, json_text, safe_write_text
-from .checks import check_band, finite_float
+from ._checks import check_band, finite_float
 from ._common import (DEFAULT_BAND, add_add_option, add_band_option, add_channels_option,
                       add_flight_options, add_json_option, add_model_option,
                       add_out_options, add_params_option, check_finite, print_json,
@@ -48,7 +48,7 @@ MAX_HARMONICS = 100
 MIN_START = 0.5
 
 
-def check_design(args):
+def _check_design(args):
     """Refuse a design whose numbers cannot make one, or would run without a
     practical end (one line naming the option)."""
     import math
@@ -80,7 +80,7 @@ def check_design(args):
 
 def run(args) -> int:
     from ..flighttest.design import design_input, format_design
-    check_design(args)
+    _check_design(args)
     if args.out:
         check_output(args.out, args.force, protect=[args.params] if args.params else ())
     params = None

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .checks import finite_float, positive_float, positive_int
+from ._checks import finite_float, positive_float, positive_int
 from ..channels import CONTROLS
 from ..errors import InputError
 from ._common import (add_add_option, add_channels_option, add_flight_options,
@@ -159,9 +159,6 @@ def _manoeuvre(args):
         raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: must be in (0, "
                          f"{MAX_AMPLITUDE_DEG:g}] deg (the shape sets the signs; beyond "
                          f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range)")
-    if args.start < 0 or args.start >= args.duration:
-        raise InputError(f"--start {args.start:g}: the input must start within the "
-                         f"record, in [0, --duration {args.duration:g}) s")
     if args.delay is not None and not (math.isfinite(args.delay)
                                        and 0 <= args.delay < args.duration):
         raise InputError(f"--delay {args.delay:g}: a recording delay is in [0, "
@@ -170,10 +167,7 @@ def _manoeuvre(args):
                                               and abs(args.azimuth_bias) <= math.pi):
         raise InputError(f"--azimuth-bias {args.azimuth_bias:g}: an azimuth offset is in "
                          "[-pi, pi] rad")
-    if not MIN_BLADES <= args.blades <= MAX_BLADES:
-        raise InputError(f"--blades {args.blades}: a rotor of {MIN_BLADES} to "
-                         f"{MAX_BLADES} blades (multiblade coordinates need 3; no rotor "
-                         f"flies more than {MAX_BLADES})")
+
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
     if args.rise < 0 or args.rise > args.width:
@@ -186,17 +180,24 @@ def _manoeuvre(args):
         return designed
     if args.input in ("sweep", "multisine"):
         return _frequency_input(args)
-    span = {"doublet": 2, "3211": 7}[args.input] * args.width
-    if args.start + span > args.duration:
-        raise InputError(f"--start {args.start:g}: the {args.input} ({span:g} s of "
-                         f"--width {args.width:g}) ends after the record (--duration "
-                         f"{args.duration:g} s)")
     if args.channels or args.sweep_range or args.sweep_duration is not None:
         raise InputError(f"--channels, --sweep-range and --sweep-duration apply to "
                          f"--input sweep or multisine, not {args.input}")
     return (Manoeuvre(channel=args.channel, shape=args.input,
                       amplitude=math.radians(args.amplitude_deg), t_start=args.start,
                       width=args.width, rise=args.rise),)
+
+
+def _check_flight(args):
+    """The checks that follow the truth's own (its messages first): the input starts
+    within the record; the nonlinear rotor's blades within the limits."""
+    if not args.design and not 0 <= args.start < args.duration:
+        raise InputError(f"--start {args.start:g}: the input must start within the "
+                         f"record, in [0, --duration {args.duration:g}) s")
+    if not MIN_BLADES <= args.blades <= MAX_BLADES:
+        raise InputError(f"--blades {args.blades}: n_blades must be {MIN_BLADES} to "
+                         f"{MAX_BLADES} (multiblade coordinates need 3; no rotor flies "
+                         f"more than {MAX_BLADES})")
 
 
 def _designed(args):
@@ -349,6 +350,7 @@ def _campaign(args) -> int:
     if args.amplitude_deg is None:
         args.amplitude_deg = AMPLITUDE_DEG
     _manoeuvre(args)                       # the shared checks of duration, step, noise
+    _check_flight(args)
     plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
                             repeats=args.repeats, duration=args.duration, dt=args.dt,
                             noise=args.noise, workers=args.workers, progress=progress,
@@ -377,6 +379,7 @@ def run(args) -> int:
     test = (_nonlinear if args.truth == "nonlinear" else _linear)(args, man, values)
     if hasattr(test, "check"):
         test.check()                        # refuse before the progress line
+    _check_flight(args)
     progress(f"flighttest: generating {args.duration:g} s at {args.dt:g} s "
              f"({args.truth} truth)")
     res = flighttest(test)

@@ -9,7 +9,7 @@ random error), or with ``--json`` the document of ``interface.md`` (``{"response
 """
 from __future__ import annotations
 
-from .checks import finite_float, fraction, positive_float
+from ._checks import finite_float, fraction, positive_float
 from ..channels import FLAP, INPUTS
 from ..errors import InputError
 from ._common import (add_band_option, add_json_option, add_report_option,

@@ -8,7 +8,7 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
-from .checks import finite_float
+from ._checks import finite_float
 from ..defaults import DEFAULT_BAND
 from ._common import (add_effect_arguments, add_record_arguments, parse_fix, parse_ties,
                       print_json, progress, read_parameter_file, read_records,

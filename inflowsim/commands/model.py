@@ -8,7 +8,7 @@ valid ``--params`` file.
 """
 from __future__ import annotations
 
-from .checks import finite_float
+from ._checks import finite_float
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "show a structure: states, inputs, parameters, E, A, B and eigenvalues"

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .checks import finite_float
+from ._checks import finite_float
 from ..errors import InputError
 from ._common import add_model_arguments, load_model, print_json, progress
 

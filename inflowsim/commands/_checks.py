@@ -137,10 +137,10 @@ def check_band(band, option="--band", nyquist=None):
 
 #: Options (by ``dest``) naming input files, with the size class of
 #: :data:`inflowsim.fileio.MAX_INPUT_BYTES` and what the message calls them.
-INPUT_FILES = {"record": ("record", "record"), "records": ("record", "record"),
+INPUT_FILES = {"effect_file": ("effect", "effect file"), "record": ("record", "record"),
+               "records": ("record", "record"),
                "params": ("json", "parameter file"), "start": ("json", "parameter file"),
-               "schedule": ("json", "schedule file"), "design": ("json", "design file"),
-               "effect_file": ("effect", "effect file")}
+               "schedule": ("json", "schedule file"), "design": ("json", "design file")}
 
 #: Options (by ``dest``) naming outputs: a file or a folder the command writes.
 OUTPUTS = ("out", "report", "truth_json", "campaign")
@@ -210,8 +210,8 @@ def check_paths(args) -> None:
                              "or folder name")
         for opt, q in inputs:
             if _same(v, q):
-                raise InputError(f"{_option(dest)} {v}: is the input {opt} {q}; "
-                                 "refusing to write over an input")
+                raise InputError(f"{_option(dest)} {v}: refusing to write over the "
+                                 f"input file {q} ({opt})")
         for opt, q in outputs:
             if _same(v, q):
                 raise InputError(f"{_option(dest)} {v}: the same as {opt}; give each "
