@@ -108,11 +108,12 @@ def _resolve(base: Path, rel: str, where: str) -> Path:
 
 
 def _read_csv(p: Path) -> Plan:
+    from ..fileio import read_input_text
+    text = read_input_text(p, "manifest", "manifest", "utf-8-sig")
     try:
-        text = p.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read the manifest ({exc})") from None
-    rows = list(csv.DictReader(io.StringIO(text)))
+        rows = list(csv.DictReader(io.StringIO(text)))
+    except csv.Error as exc:
+        raise InputError(f"{p}: not a CSV manifest ({exc})") from None
     if not rows or "record" not in (rows[0].keys() if rows else ()):
         raise InputError(f"{p}: a CSV manifest needs a header row with a 'record' "
                          "column (and optionally condition, manoeuvre, group)")
@@ -130,9 +131,13 @@ def _read_toml(p: Path) -> Plan:
     except ModuleNotFoundError:                       # Python 3.10
         raise InputError(f"{p}: TOML plans need Python 3.11 or later; "
                          "use a CSV manifest") from None
+    from ..fileio import check_nesting, read_input_text
+    text = read_input_text(p, "manifest", "manifest", "utf-8-sig")
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        doc = check_nesting(tomllib.loads(text), str(p))
+    except RecursionError:
+        raise InputError(f"{p}: nested too deeply") from None
+    except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{p}: cannot read the manifest ({exc})") from None
     recs = doc.get("record")
     if not isinstance(recs, list) or not recs:

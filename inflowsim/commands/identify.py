@@ -11,6 +11,7 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
+from ._checks import finite_float
 from ..defaults import DEFAULT_BAND
 from ._common import (add_effect_arguments, add_record_arguments, parse_fix, parse_ties,
                       print_json, progress, read_parameter_file, read_records,
@@ -27,7 +28,7 @@ def add_arguments(p):
     add_effect_arguments(p)
     p.add_argument("--add", action="append", default=[], metavar="EFFECT",
                    help="add an effect to the structure (repeatable)")
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
+    p.add_argument("--band", nargs=2, type=finite_float, metavar=("F1", "F2"),
                    help=f"frequency band [Hz] (default {DEFAULT_BAND[0]:g} "
                         f"{DEFAULT_BAND[1]:g}, snapped to the "
                         "record's grid 1/T)")

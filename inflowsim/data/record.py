@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
-from ..errors import RecordError
+from ..errors import InputError, RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
@@ -372,9 +372,24 @@ def first_movement(rec: Record) -> int | None:
         else:
             held = out & out.all()
         moved = np.flatnonzero(held)
+        if not moved.size and _moves_from_start(v, noise, big):
+            moved = np.array([0])
         if moved.size and (first is None or moved[0] < first):
             first = int(moved[0])
     return first
+
+
+def _moves_from_start(v, noise: float, big: float) -> bool:
+    """A control already moving in its first second: the spread of its first
+    differences there (``noise``, which would be the sensor's noise in a quiet
+    lead-in) is three times that of white noise measured by the second differences
+    over the whole record, and its excursion ``big`` is beyond six of the latter
+    (issue #37: such a control was called constant)."""
+    if v.size < 8:
+        return False
+    d2 = np.diff(v, 2)
+    white = 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0)
+    return noise > 3.0 * white and big > 6.0 * white
 
 
 def require_control_movement(rec: Record) -> Record:
@@ -487,16 +502,13 @@ def header_meta(path) -> dict:
 
 def read_record(path) -> Record:
     """Read a CSV record; raise :class:`RecordError` (one line) on any format error."""
+    from ..fileio import read_input_bytes
     p = Path(path)
     src = str(p)
     try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise RecordError(f"{src}: no such file") from None
-    except IsADirectoryError:
-        raise RecordError(f"{src}: is a directory, not a record") from None
-    except OSError as exc:
-        raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
+        raw = read_input_bytes(p, "record", "record")
+    except InputError as exc:
+        raise RecordError(str(exc)) from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

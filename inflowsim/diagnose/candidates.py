@@ -52,7 +52,8 @@ def applicable(structure: Structure, pool=None) -> list[str]:
     out = []
     for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
         if name not in CATALOGUE:
-            raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
         if name in structure.effects:
             continue
         if excluded(name, structure.effects):
@@ -79,7 +80,8 @@ def atoms(base_fit, pool=None) -> list[Atom]:
     out = []
     for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
         if name not in CATALOGUE:
-            raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
         eff = CATALOGUE[name]
         parts = [tuple(p) for p in eff.parts] or [tuple(eff.parameters)]
         if name in s.effects:

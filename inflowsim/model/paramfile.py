@@ -132,17 +132,10 @@ def _number(v, what) -> float:
 
 def read_parameters(path) -> ParameterSet:
     """Read and validate a parameter file; errors name the file and the problem."""
+    from ..fileio import parse_json, read_input_text
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such parameter file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read ({exc})") from None
-    try:
-        doc = json.loads(text, parse_constant=lambda c: math.nan)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{p}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    text = read_input_text(p, "parameter file", "json")
+    doc = parse_json(text, str(p), parse_constant=lambda c: math.nan)
     try:
         return parse_parameter_doc(doc, str(p))
     except InputError as exc:

@@ -287,9 +287,10 @@ def load_effect_file(path) -> tuple:
     """
     p = Path(path)
     src = str(path)
-    if not p.is_file():
-        raise InputError(f"{src}: no such effect file")
-    text = p.read_bytes()
+    from ...fileio import read_input_bytes
+    if p.suffix != ".py":
+        raise InputError(f"{src}: an effect file is Python source ending in .py")
+    text = read_input_bytes(p, "effect file", "effect")
     tag = hashlib.sha1(str(p.resolve()).encode()).hexdigest()[:10]
     modname = f"inflowsim_user_effect_{re.sub(r'[^0-9a-zA-Z_]', '_', p.stem)}_{tag}"
     if modname in sys.modules:
@@ -305,6 +306,10 @@ def load_effect_file(path) -> tuple:
         sys.modules[modname] = module
         try:
             exec(code, module.__dict__)
+        except SystemExit as exc:        # sys.exit() at import: not an effect's doing
+            del sys.modules[modname]
+            raise InputError(f"{src}: importing it called sys.exit({exc.code!r}); an "
+                             "effect file defines EFFECT and must not exit") from None
         except Exception as exc:
             del sys.modules[modname]
             raise InputError(f"{src}: importing it raised {type(exc).__name__}: "
