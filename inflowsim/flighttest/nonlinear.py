@@ -28,7 +28,6 @@ import time
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .bladesim import MAX_STEP, BladeRotor, RotorSpec
 from ..channels import CONTROLS, INFLOW
@@ -269,6 +268,7 @@ def continuous_hub(test: FlightTest, omega_r, mu):
     c, d = test.body.hub_matrices(omega_r, mu)
     t_end = test.duration + test.dt
     t0 = -max(test.delay, 0.0) - 2 * test.dt
+    from scipy.integrate import solve_ivp
     sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
                     np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
                     dense_output=True, max_step=ode_max_step(test))
