@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import stats
+from .tails import chi2_logsf, chi2_sf
 
 from ..errors import InputError
 from ..model.effects import CATALOGUE
@@ -114,11 +114,12 @@ def lr_test(j_base, j_new, dof, boundary=0):
     stat = max(0.0, 2.0 * (j_base - j_new))
     d = max(dof, 1)
     if not boundary:
-        return stat, d, float(stats.chi2.logsf(stat, d) / np.log(10))
+        return stat, d, float(chi2_logsf(stat, d) / np.log(10))
     b = min(boundary, d)
     if stat == 0.0:
         return stat, d, 0.0
-    p = sum(stats.binom.pmf(i, b, 0.5) * (stats.chi2.sf(stat, d - b + i) if d - b + i > 0
+    from scipy import stats                   # the binomial weights only here
+    p = sum(stats.binom.pmf(i, b, 0.5) * (chi2_sf(stat, d - b + i) if d - b + i > 0
                                          else 0.0) for i in range(b + 1))
     return stat, d, float(np.log10(max(p, 1e-300)))
 

@@ -28,7 +28,6 @@ import time
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .bladesim import MAX_STEP, BladeRotor, RotorSpec
 from ..channels import CONTROLS, INFLOW
@@ -288,6 +287,7 @@ def true_controls(test: FlightTest):
     def rhs(tt, x):
         c = _commanded_controls(test, np.atleast_1d(tt))[0]
         return np.concatenate([x[3:], wn * wn * (c - x[:3]) - 2.0 * zeta * wn * x[3:]])
+    from scipy.integrate import solve_ivp
     with np.errstate(divide="ignore", invalid="ignore"):   # the quiet lead-in: all zero
         sol = solve_ivp(rhs, (t0, t_end), np.zeros(6), method="DOP853", rtol=1e-12,
                         atol=1e-16, dense_output=True,
@@ -310,6 +310,7 @@ def continuous_hub(test: FlightTest, omega_r, mu, controls_at=None):
     c, d = test.body.hub_matrices(omega_r, mu)
     t_end = test.duration + test.dt
     t0 = -max(test.delay, 0.0) - 2 * test.dt
+    from scipy.integrate import solve_ivp
     sol = solve_ivp(lambda tt, x: a @ x + b @ controls_at(tt)[0], (t0, t_end),
                     np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
                     dense_output=True, max_step=ode_max_step(test))

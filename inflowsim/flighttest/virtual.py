@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ..channels import CONTROLS, INFLOW
 from .body import HUB, BodyModel
@@ -213,6 +212,7 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
     shifts = np.concatenate([model.delays[:3], model.input_delays])
     t0 = min(0.0, float(t[0] - max(shifts.max(), 0.0))) - 1.0
     t1 = float(t[-1] - min(shifts.min(), 0.0)) + test.dt
+    from scipy.integrate import solve_ivp
     sol = solve_ivp(rhs, (t0, t1), np.zeros(nb + n), method="DOP853", rtol=1e-12,
                     atol=1e-16, dense_output=True, max_step=ode_max_step(test))
     if not sol.success:

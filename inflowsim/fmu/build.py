@@ -9,6 +9,7 @@ thin layers (``inflow_fmi2.c``, ``inflow_fmi3.c``) over the same slave and model
 """
 from __future__ import annotations
 
+import hashlib
 import html
 import os
 import platform
@@ -108,21 +109,118 @@ def platform_folder(fmi_version=2) -> str:
 
 
 def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
-                    target=None) -> Path:
+                    target=None, say=None) -> Path:
     """Compile the model, the slave and the FMI ``fmi_version`` layer in ``src`` into
     the shared library ``out_so``; for ``target`` (``"win64"``) with its cross
-    compiler, into a DLL."""
+    compiler, into a DLL.
+
+    A binary compiled before from the same files of ``src`` (every source and
+    header, byte for byte), the same compiler (its resolved path, size and time) and
+    the same flags, for this platform, is copied from the cache
+    (:func:`cache_dir`) instead of compiled again; ``say`` is told which.
+    """
     if target is None:
         cc, flags = compiler(), CFLAGS
     else:
         cc, flags = require_cross_compiler(target), CROSS_CFLAGS
     cmd = [cc, *flags, *extra_flags, f"-I{src}", "-o", str(out_so),
            *(str(src / f) for f in sources(fmi_version)), "-lm"]
+    cached = _cached_binary(src, cmd, out_so.suffix)
+    if cached is not None and cached.is_file():
+        try:
+            shutil.copyfile(cached, out_so)
+            os.utime(cached)                       # recently used: kept by _prune
+            if say:
+                say(f"reusing the {out_so.name} compiled before from the same sources "
+                    f"({cached.parent})")
+            return out_so
+        except OSError:
+            pass                                   # a cache that fails is compiled past
+    if say:
+        say(f"compiling {out_so.name} with {cc} ...")
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
         raise InputError(f"FMU build: the C compiler failed: {first}")
+    if cached is not None:
+        _store(out_so, cached)
     return out_so
+
+
+#: Binaries the cache keeps (the most recently used).
+CACHE_SIZE = 64
+
+
+def cache_dir() -> Path | None:
+    """Where compiled FMU binaries are kept: ``$INFLOWSIM_CACHE_DIR`` (empty: no
+    cache), else ``$XDG_CACHE_HOME/inflowsim/fmu``, else ``~/.cache/inflowsim/fmu``."""
+    env = os.environ.get("INFLOWSIM_CACHE_DIR")
+    if env is not None:
+        return Path(env) if env else None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "inflowsim" / "fmu"
+
+
+def _cached_binary(src: Path, cmd, suffix: str) -> Path | None:
+    """The cache file of this compilation: named by a SHA-256 of the platform, the
+    compiler (resolved path, size, modification time), the command with ``src``
+    written as a placeholder, and every file under ``src`` (name and bytes)."""
+    folder = cache_dir()
+    if folder is None:
+        return None
+    h = hashlib.sha256(b"inflowsim fmu binary 1\0")
+    for part in (platform.system(), platform.machine()):
+        h.update(part.encode() + b"\0")
+    exe = shutil.which(cmd[0]) or cmd[0]
+    try:
+        st = os.stat(exe)
+        h.update(f"{os.path.realpath(exe)}\0{st.st_size}\0{st.st_mtime_ns}\0".encode())
+    except OSError:
+        return None
+    root, out = str(src), cmd[cmd.index("-o") + 1]
+    for arg in cmd[1:]:
+        arg = "<out>" if arg == out else arg.replace(root, "<src>")
+        h.update(arg.encode() + b"\0")
+    for f in sorted(p for p in src.rglob("*") if p.is_file()):
+        h.update(f.relative_to(src).as_posix().encode() + b"\0")
+        h.update(f.read_bytes())
+        h.update(b"\0")
+    return folder / f"{h.hexdigest()}{suffix}"
+
+
+def _store(binary: Path, cached: Path) -> None:
+    """Put a fresh binary into the cache: written beside under a name of its own,
+    then renamed into place (atomic: a concurrent build reads the old file, the new
+    one or none, never a part; two builds of one key write the same bytes)."""
+    try:
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".part-", dir=cached.parent)
+        try:
+            with os.fdopen(fd, "wb") as fh, open(binary, "rb") as src:
+                shutil.copyfileobj(src, fh)
+            os.replace(tmp, cached)
+        except BaseException:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+            raise
+        _prune(cached.parent)
+    except OSError:
+        pass                                       # no cache: the build stands
+
+
+def _prune(folder: Path) -> None:
+    """Keep the :data:`CACHE_SIZE` most recently used binaries."""
+    files = [p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")]
+    if len(files) <= CACHE_SIZE:
+        return
+    files.sort(key=lambda p: p.stat().st_mtime)
+    for p in files[:-CACHE_SIZE]:
+        try:
+            p.unlink()
+        except OSError:
+            pass
 
 
 def description_for(model=None) -> Description:
@@ -343,12 +441,12 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         _stage_sources(root / "sources", version, d)
         (root / "binaries" / plat).mkdir(parents=True)
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
-                        fmi_version=version)
+                        fmi_version=version, say=say)
         for target in platforms:
             _, folders, name = CROSS[target]
             (root / "binaries" / folders[version]).mkdir(parents=True, exist_ok=True)
             compile_library(root / "sources", root / "binaries" / folders[version] / name,
-                            fmi_version=version, target=target)
+                            fmi_version=version, target=target, say=say)
         (root / "documentation").mkdir()
         (root / "documentation" / "index.html").write_text(documentation_html(version, d),
                                                            encoding="utf-8")

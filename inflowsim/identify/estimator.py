@@ -476,8 +476,10 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     starts = _starts(s, spectra[0].constants, start)
     if not multistart:
         starts = starts[:1]
-    # every start gets a short run (one relaxation round); the best continues
-    trials = []
+    # every start gets a short run (one relaxation round); the best continues.  Only
+    # the best start's problem and state are kept (its responses and nuisance
+    # bases are the record's length: 90 MB of a 2-hour record's three starts)
+    trials, best = [], None
     for label, vals in starts:
         vals = dict(vals)
         vals.update(fixed)
@@ -492,8 +494,12 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
             f"{prob.n_freq} frequencies")
         st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
         say(f"  start {label}: cost {j:.6f} after {iters} iterations")
-        trials.append((j, label, prob, st, iters))
-    j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
+        trials.append((j, label, iters))
+        if best is None or j < best[0]:       # the first of equal costs, as min() takes
+            best = (j, label, prob, st, iters)
+        del prob, st
+    j, label, prob, st, it0 = best
+    del best
     say(f"  continuing from start {label}")
     st, j, iters, conv = _fit(prob, st.theta,
                               report=lambda i, c: say(f"  iteration {i}: cost {c:.6f}"))

@@ -9,7 +9,6 @@ it).
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.ticker import FormatStrFormatter, NullFormatter
 
 from .plots import new_figure, save_png
 
@@ -67,6 +66,8 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
         Rows: magnitude [dB], phase [deg], coherence [-]; bands
         ``+-BAND_SIGMA`` times the stated error ``sqrt(eps^2 + bias^2)``.
     """
+    from matplotlib.ticker import FormatStrFormatter, NullFormatter
+
     from ..identify.frf import COHERENCE_OK
     thr = COHERENCE_OK if threshold is None else threshold
     if pairs is None:

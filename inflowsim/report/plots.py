@@ -13,8 +13,6 @@ from pathlib import Path
 from typing import Sequence
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from ..data.record import FLAP_COLUMNS
 from ..channels import CONTROLS
@@ -26,7 +24,10 @@ DPI = 110
 
 
 def new_figure(nrows=1, ncols=1, size=(8.0, 6.0), sharex=True):
-    """A figure on an Agg canvas and its axes array (always 2-D)."""
+    """A figure on an Agg canvas and its axes array (always 2-D).  Matplotlib is
+    imported here, on the first figure: a command that draws nothing never loads it."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
     fig = Figure(figsize=size, layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(nrows, ncols, sharex=sharex, squeeze=False)
