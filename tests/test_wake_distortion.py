@@ -340,3 +340,25 @@ def test_it_is_not_glauert_s_k0_in_disguise():
         r, names.index("K_R")))) < 0.95, dict(zip(names, r))
     for n in ("K_R", "k0p"):
         assert abs(fit.parameters[n] - p[n]) < 3 * fit.sigma[n], n
+
+
+# -- the blade truth -----------------------------------------------------------------
+def test_the_blade_truth_bends_its_wake_only_when_asked():
+    """``RotorSpec(K_R=...)``: the multiblade inflow rows of the individual-blade
+    truth gain ``K_R/tau_cs (qbar - beta1c', pbar - beta1s')`` and nothing else;
+    ``K_R = 0`` (default) is the truth of the detection studies, bit for bit."""
+    from inflowsim.flighttest.bladesim import BladeRotor, RotorSpec, multiblade_derivatives
+    spec = RotorSpec(n_blades=8)
+    assert spec.K_R == 0.0
+    rng = np.random.default_rng(3)
+    z = np.array([0.06, 0.01, -0.002, 0.003, -0.004, 0.002, 0.01, 0.002, -0.001])
+    z = z + 1e-3 * rng.standard_normal(9)
+    u = np.array([0.17, 0.01, -0.05, 0.0, 0.004, -0.003, 0.001, 0.002, 0.249, 0.0])
+    psi = 0.37
+    f0 = multiblade_derivatives(BladeRotor(spec), psi, z, u)
+    f1 = multiblade_derivatives(BladeRotor(spec.with_(K_R=1.3)), psi, z, u)
+    kr = 1.3 / spec.tau_cs
+    want = np.zeros(6)
+    want[4] = kr * (u[4] - z[4])                # lambda1c': qbar - beta1c'
+    want[5] = kr * (u[5] - z[5])                # lambda1s': pbar - beta1s'
+    np.testing.assert_allclose(f1 - f0, want, rtol=1e-9, atol=1e-16)
