@@ -58,6 +58,8 @@ STRUCTURES = (
     "basic+azimuth-bias+momentum-speed",
     "basic+wake-distortion",
     "glauert+flap-inertia+wake-distortion+azimuth-bias",
+    "glauert+servo-actuators",
+    "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
 )
 
 #: A trim state (totals) for the effect linearised about it.
@@ -161,7 +163,8 @@ def built(tmp_path_factory, structure, version=2, model=None):
 FMI2_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay",
                 "basic+delay-beta0+delay-beta1c", "glauert+delay-beta1s",
                 "basic+separate-time-constants+hub-velocity-coupling",
-                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap")
+                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
+                "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay")
 
 
 @pytest.mark.parametrize("structure", [
@@ -181,7 +184,7 @@ def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory)
 
 #: FMI 3.0 shares the generated model with FMI 2.0: by default nine states and output
 #: delays; every structure is slow.
-FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s")
+FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s", "glauert+servo-actuators")
 
 
 @pytest.mark.parametrize("structure", [

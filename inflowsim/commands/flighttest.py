@@ -23,8 +23,10 @@ from ._common import (add_add_option, add_channels_option, add_flight_options,
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
-NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay")
+NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay", "servo-actuators")
 NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs", "K_R")
+#: ``--set`` names of the nonlinear truth's servo actuators (with ``--add servo-actuators``)
+SERVO_SET = ("servo_tau", "servo_zeta")
 
 
 def add_arguments(p):
@@ -248,17 +250,26 @@ def _nonlinear(args, man, values):
         raise InputError(f"--add {bad[0]}: the nonlinear truth has its physics built in "
                          f"and takes only the measurement effects "
                          f"{', '.join(NONLINEAR_EFFECTS)} (use --truth linear for {bad[0]})")
+    servo = None
+    if "servo-actuators" in args.add:
+        from ..model.effects.servo_actuators import EFFECT as SERVO
+        sv = SERVO.theory(None) | {n: values.pop(n) for n in SERVO_SET if n in values}
+        servo = (sv["servo_tau"], sv["servo_zeta"])
     unknown = sorted(set(values) - set(NONLINEAR_SET))
     if unknown:
         raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
-                         f"{', '.join(NONLINEAR_SET)}")
+                         f"{', '.join(NONLINEAR_SET)}"
+                         + ("" if "servo-actuators" in args.add else
+                            " (servo_tau, servo_zeta with --add servo-actuators)"))
     rotor = RotorSpec(n_blades=args.blades, speed=args.speed, **values)
     return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
                       body=None if args.no_body else FlightTest().body,
-                      hold=args.hold, noise_color_hz=args.noise_color_hz,
-                      description=f"{_what(args, man)}, nonlinear blade-element truth")
+                      hold=args.hold, noise_color_hz=args.noise_color_hz, servo=servo,
+                      description=f"{_what(args, man)}, nonlinear blade-element truth"
+                      + (f", servo actuators {servo[0]:g} s, damping {servo[1]:g}"
+                         if servo else ""))
 
 
 def _linear(args, man, values):

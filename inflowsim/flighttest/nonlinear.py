@@ -79,6 +79,10 @@ class FlightTest:
     include_truth : bool
         Add the true inflow perturbation columns ``lambda0, lambda1c, lambda1s``.
     description : str
+    servo : (float, float) or None
+        Servo actuators between the pilot's command and the blade pitch: time
+        constant ``1/omega_n`` [s] and damping [-] of second-order dynamics on each
+        control (``model.md``, servo actuators); ``None``: the pitch is the command.
     hold : {"continuous", "zoh"}
         ``continuous`` (default): smooth pilot inputs, the body integrated in
         continuous time (DOP853) and the blades' RK4 fed the inputs at every stage
@@ -103,6 +107,7 @@ class FlightTest:
     description: str = "longitudinal cyclic doublet, 100 kt, nonlinear blade-element truth"
     hold: str = "continuous"
     noise_color_hz: float | None = None
+    servo: tuple | None = None
 
     def check(self) -> "FlightTest":
         self.rotor.check()
@@ -128,6 +133,15 @@ class FlightTest:
                                  "theta1c or theta1s")
         if self.hold not in KINDS:
             raise InputError(f"hold {self.hold!r}: choose {', '.join(KINDS)}")
+        if self.servo is not None:
+            tau, zeta = self.servo
+            if not (np.isfinite(tau) and 1e-3 <= tau <= 0.5):
+                raise InputError(f"servo time constant {tau:g} s: need 0.001-0.5 s")
+            if not (np.isfinite(zeta) and 0.05 <= zeta <= 5.0):
+                raise InputError(f"servo damping {zeta:g}: need 0.05-5")
+            if self.hold != "continuous":
+                raise InputError("servo actuators need hold continuous (a servo's output "
+                                 "is not held between samples)")
         return self
 
 
@@ -252,30 +266,57 @@ def _hub(test: FlightTest, controls_true, omega_r, mu) -> dict:
     return test.body.response(controls_true, test.dt, omega_r, mu)
 
 
-def _true_controls(test: FlightTest, t):
-    """True pitch perturbations at times ``t`` (the recorded-frame pilot input
+def _commanded_controls(test: FlightTest, t):
+    """Commanded pitch perturbations at times ``t`` (the recorded-frame pilot input
     rotated back by the azimuth bias)."""
     pilot = pilot_controls(t, test.manoeuvres)
     pilot[:, 1:3] = pilot[:, 1:3] @ rotation(-test.azimuth_bias).T
     return pilot
 
 
-def continuous_hub(test: FlightTest, omega_r, mu):
-    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls,
-    integrated in continuous time (DOP853, rtol 1e-12), at any times [s]."""
+def true_controls(test: FlightTest):
+    """``controls_at(t) -> (len(t), 3)``: the blades' pitch perturbations [rad] at any
+    times [s]: the command, or its response through the servo actuators
+    (``test.servo``), integrated here in continuous time (DOP853, rtol 1e-12)."""
+    if test.servo is None:
+        return lambda t: _commanded_controls(test, np.atleast_1d(t))
+    tau, zeta = test.servo
+    wn = 1.0 / tau
+    t0 = -max(test.delay, 0.0) - 2 * test.dt
+    t_end = test.duration + test.dt
+
+    def rhs(tt, x):
+        c = _commanded_controls(test, np.atleast_1d(tt))[0]
+        return np.concatenate([x[3:], wn * wn * (c - x[:3]) - 2.0 * zeta * wn * x[3:]])
+    with np.errstate(divide="ignore", invalid="ignore"):   # the quiet lead-in: all zero
+        sol = solve_ivp(rhs, (t0, t_end), np.zeros(6), method="DOP853", rtol=1e-12,
+                        atol=1e-16, dense_output=True,
+                        max_step=min(ode_max_step(test), tau / 4))
+
+    def controls_at(t):
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        return sol.sol(np.clip(t, t0, t_end))[:3].T
+    return controls_at
+
+
+def continuous_hub(test: FlightTest, omega_r, mu, controls_at=None):
+    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls
+    (``controls_at``, default :func:`true_controls`), integrated in continuous time
+    (DOP853, rtol 1e-12), at any times [s]."""
     if test.body is None:
         return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
+    controls_at = controls_at or true_controls(test)
     a, b = test.body.matrices()
     c, d = test.body.hub_matrices(omega_r, mu)
     t_end = test.duration + test.dt
     t0 = -max(test.delay, 0.0) - 2 * test.dt
-    sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
+    sol = solve_ivp(lambda tt, x: a @ x + b @ controls_at(tt)[0], (t0, t_end),
                     np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
                     dense_output=True, max_step=ode_max_step(test))
 
     def hub_at(t):
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + _true_controls(test, t) @ d.T
+        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + controls_at(t) @ d.T
         return {name: h[:, i] for i, name in enumerate(HUB)}
     return hub_at
 
@@ -289,16 +330,17 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
     n = int(round(test.duration / test.dt))
     t = np.arange(n) * test.dt
     pilot = pilot_controls(t, test.manoeuvres)            # recorded frame
-    true = _true_controls(test, t)
+    controls_at = true_controls(test)
+    true = controls_at(t)
     omega_r = k.omega * radius
     if test.hold == "continuous":
-        hub_at = continuous_hub(test, omega_r, k.mu)
+        hub_at = continuous_hub(test, omega_r, k.mu, controls_at)
         hub = hub_at(t)
         u_trim = _trim_inputs(test)
         om = k.omega
 
         def inputs_at(tt):
-            h, c = hub_at(tt), _true_controls(test, tt)
+            h, c = hub_at(tt), controls_at(tt)
             return u_trim + np.column_stack([
                 c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
                 h["pdot"] / om**2, h["mux"], h["muy"]])
@@ -352,6 +394,8 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
              "body": None if test.body is None else asdict(test.body),
              "manoeuvres": [asdict(m) for m in test.manoeuvres],
              "hold": test.hold,
+             "servo": None if test.servo is None else {"servo_tau": test.servo[0],
+                                                       "servo_zeta": test.servo[1]},
              "integration": {"method": "rk4", "step_deg": math.degrees(
                  k.omega * test.dt / res["n_sub"]), "substeps_per_sample": res["n_sub"]},
              "generation_seconds": elapsed}

@@ -16,8 +16,8 @@ from ..frozen import FrozenDict, ReadOnlyArrays
 from ..physics import flapping as fl
 from ..physics import loads as ld
 from .effects import CATALOGUE
-from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement, assemble, input_scale,
-                        rotation)
+from .equations import (ARRAY_FIELDS, FLAP, INPUTS, OUTPUTS, Equations, Measurement,
+                        assemble, input_scale, rotation)
 from ..errors import InputError
 from .params import Constants, check_constants, check_parameters
 from .structure import Structure
@@ -49,7 +49,7 @@ def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
 #: Base equations remembered (:func:`base_equations`), most recent last.
 _BASE: dict = {}
 _BASE_MEMO = 8
-_BLOCKS = tuple(f.name for f in fields(Equations))
+_BLOCKS = ARRAY_FIELDS
 
 
 def _base_equations(mu, a0s, v, nb, lb2, tau) -> Equations:
@@ -225,6 +225,30 @@ def slow_manifold(eq: Equations, n_inputs: int, scale: np.ndarray):
     return p, q
 
 
+def steady_manifold(e: np.ndarray, a: np.ndarray, b: np.ndarray, scale: np.ndarray):
+    """``(P, q)``: states ``x = P v + q u`` with every state after the first six steady.
+
+    The general form of :func:`slow_manifold` for structures with appended state
+    blocks (``model.md`` section 9): a record starts and ends in steady flight, so
+    there the appended states (and, with ``flap-inertia``, the flap rates) satisfy
+    their own rows of ``E x' = A x + B u`` with their derivatives and those of the
+    six slow states ``v = (beta, lambda)`` zero::
+
+        0 = A_rv v + A_rr w + B_r u,   w = -A_rr^-1 (A_rv v + B_r u)
+
+    ``e`` is not needed (the derivatives vanish) but kept in the signature beside
+    ``a, b`` (azimuth time); ``scale`` the inputs' azimuth scaling (SI ``u``).
+    """
+    n = a.shape[0]
+    arr, arv, br = a[6:, 6:], a[6:, :6], b[6:]
+    w_v = -np.linalg.solve(arr, arv)
+    w_u = -np.linalg.solve(arr, br) * scale
+    p = np.vstack([np.eye(6), w_v])
+    q = np.vstack([np.zeros((6, b.shape[1])), w_u])
+    assert p.shape == (n, 6)
+    return p, q
+
+
 def build_model(structure, params: Mapping[str, float], constants: Constants) -> Model:
     """Build and validate a :class:`Model`.
 
@@ -302,7 +326,12 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     else:
         c = _own(_output_map(n, meas))
     delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
-    if s.second_order:
+    if eq.blocks:
+        end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
+        end_basis, end_input = _own(end_basis), _own(end_input)
+        if any(bl.to_output is not None for bl in eq.blocks):
+            c = _own(_output_map(n, meas, eq.blocks))
+    elif s.second_order:
         end_basis, end_input = slow_manifold(eq, n_inputs, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
     else:
@@ -323,13 +352,19 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                  end_basis=end_basis, end_input=end_input)
 
 
-def _output_map(n, meas):
+def _output_map(n, meas, blocks=()):
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
+    off = n - sum(bl.n for bl in blocks)
+    for bl in blocks:
+        if bl.to_output is not None:
+            # an appended state's share of what the record calls beta, lambda
+            c[:, off:off + bl.n] += np.asarray(bl.to_output, dtype=float)
+        off += bl.n
     return c
 
 

@@ -108,7 +108,16 @@ class Structure:
 
     @property
     def states(self) -> tuple:
-        return FLAP + INFLOW + (FLAP_RATE if self.second_order else ())
+        """Flap, inflow, the flap rates with ``flap-inertia``, then each effect's
+        appended states (:attr:`Effect.states`) in catalogue order."""
+        extra = tuple(x for e in self.effects for x in CATALOGUE[e].states)
+        return FLAP + INFLOW + (FLAP_RATE if self.second_order else ()) + extra
+
+    @property
+    def replaced_inputs(self) -> dict:
+        """``{input: state}``: recorded inputs the base equations see through a state
+        (a servo actuator's output pitch)."""
+        return {i: x for e in self.effects for i, x in CATALOGUE[e].replaces_inputs}
 
     def __str__(self) -> str:
         return self.name
