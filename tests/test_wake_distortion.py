@@ -225,14 +225,17 @@ def _noise_psd(f_hz, colour_hz, rate):
     return NOISE ** 2 * np.abs(h) ** 2 / np.mean(np.abs(h_all) ** 2)
 
 
-def write_record(path, rotor, kind, rate, colour_hz, seed, k_r):
+def write_record(path, rotor, kind, rate, colour_hz, seed, k_r, tau_w=None):
     """A record of the basic model plus, for ``k_r``, Keller's term written here.
 
     The wake term of ``model.md`` (*Wake distortion*), in seconds: ``tau lambda1c' +
     ... = ... + K_R (qbar - beta1c')`` in azimuth time is ``d lambda1c/dt += (K_R /
     tau) (q - d beta1c/dt)`` (rates in rad/s), the same with ``p``, ``beta1s`` for
     ``lambda1s``; ``d beta/dt`` from the flap rows, which the inflow's rate does not
-    enter (first-order flapping, Eq. 1).
+    enter (first-order flapping, Eq. 1).  With ``tau_w`` [azimuth rad] the rates
+    reach the inflow through Zhao et al.'s lag: ``tau_w kappa' + kappa = qbar -
+    beta1c'`` is ``d kappa/dt = ((q - d beta1c/dt) - Omega kappa) / tau_w`` and
+    ``d lambda1c/dt += (Omega K_R / tau) kappa`` (``wake-distortion-lag``).
     """
     k, base = ROTORS[rotor]
     s = ifs.Structure.parse("basic")
@@ -250,12 +253,18 @@ def write_record(path, rotor, kind, rate, colour_hz, seed, k_r):
     def rhs(t, z):
         u, uv = inputs(t, z[n], z[n + 1])
         dz = m.a @ z[:n] + m.b @ uv
-        dz[4] += gain * (u["q"] - dz[1])           # lambda1c: pitch rate of the disc
-        dz[5] += gain * (u["p"] - dz[2])           # lambda1s: roll rate of the disc
-        return np.concatenate([dz, [u["qdot"], u["pdot"]]])
+        rates = np.array([u["q"] - dz[1], u["p"] - dz[2]])   # the disc's pitch, roll
+        if tau_w is None:
+            dz[4:6] += gain * rates                          # lambda1c, lambda1s
+            dk = np.zeros(2)
+        else:
+            kappa = z[n + 2:n + 4]
+            dz[4:6] += gain * k.omega * kappa
+            dk = (rates - k.omega * kappa) / tau_w
+        return np.concatenate([dz, [u["qdot"], u["pdot"]], dk])
 
     t = np.arange(int(DURATION * rate)) / rate
-    z = solve_ivp(rhs, (0, t[-1]), np.zeros(n + 2), method="DOP853", t_eval=t,
+    z = solve_ivp(rhs, (0, t[-1]), np.zeros(n + 4), method="DOP853", t_eval=t,
                   rtol=1e-11, atol=1e-14, max_step=0.05).y.T
     u, _ = inputs(t, z[:, n], z[:, n + 1])
     y = z[:, :3] + _noise(np.random.default_rng(seed), len(t), colour_hz, rate)
@@ -362,3 +371,47 @@ def test_the_blade_truth_bends_its_wake_only_when_asked():
     want[4] = kr * (u[4] - z[4])                # lambda1c': qbar - beta1c'
     want[5] = kr * (u[5] - z[5])                # lambda1s': pbar - beta1s'
     np.testing.assert_allclose(f1 - f0, want, rtol=1e-9, atol=1e-16)
+
+
+# -- the curvature's lag (wake-distortion-lag) ----------------------------------------
+def test_the_lag_keeps_the_steady_gradient_and_filters_the_fast_one():
+    """``wake-distortion-lag``: at zero frequency the model is ``wake-distortion``'s;
+    far above ``1/tau_w`` the wake term is gone (the basic model's response); at
+    ``tau_w -> 0`` (its neutral boundary) it is ``wake-distortion`` again."""
+    k = PUMA
+    s0 = ifs.Structure.parse("basic")
+    s1 = ifs.Structure.parse("basic+wake-distortion")
+    s2 = ifs.Structure.parse("basic+wake-distortion+wake-distortion-lag")
+    assert s2.states[-2:] == ("wake_kappa_q", "wake_kappa_p")
+    p = theory_parameters(s0, k) | {"lambda_beta2": 1.06, "n_beta": 0.987, "tau": 5.0}
+    m0 = build_model(s0, p, k)
+    m1 = build_model(s1, p | {"K_R": 1.2}, k)
+
+    def h(m, w):
+        n = m.a.shape[0]
+        return np.linalg.solve(1j * w * np.eye(n) - m.a, m.b)[:6]
+
+    slow = build_model(s2, p | {"K_R": 1.2, "tau_w": 1000.0}, k)     # 36 s
+    np.testing.assert_allclose(h(slow, 0.0), h(m1, 0.0), atol=1e-12)
+    w = 2 * np.pi * 1.0                                              # 1 Hz
+    assert np.abs(h(slow, w) - h(m0, w)).max() < 0.01 * np.abs(h(m1, w) - h(m0, w)).max()
+    fast = build_model(s2, p | {"K_R": 1.2, "tau_w": 1e-6}, k)
+    np.testing.assert_allclose(h(fast, w), h(m1, w), atol=1e-6)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(5))
+@pytest.mark.parametrize("rotor, kind, rate, colour_hz, tau_w", [
+    ("puma", "two-axis", 100, None, 10.0), ("hingeless", "sweep", 160, 3.0, 20.0)])
+def test_the_lag_is_found_beside_wake_distortion(tmp_path, rotor, kind, rate, colour_hz,
+                                                 tau_w, seed):
+    rec = write_record(tmp_path / "r.csv", rotor, kind, rate, colour_hz, 300 + seed, 1.0,
+                       tau_w)
+    d = diagnose(rec, "basic+wake-distortion", pool=POOL + ["wake-distortion-lag"])
+    assert d.missing_effect == "wake-distortion-lag", [(c.effect, c.reason)
+                                                       for c in d.candidates]
+    fit = d.accepted.fit
+    assert max(floor_ratio(fit, rec, colour_hz, rate)) < 1.5
+    for n, v in (("tau_w", tau_w), ("K_R", 1.0)):
+        assert abs(fit.parameters[n] - v) < 3 * fit.sigma[n], (n, fit.parameters[n],
+                                                                 fit.sigma[n])
