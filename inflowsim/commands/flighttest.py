@@ -25,7 +25,7 @@ from ._common import (add_add_option, add_channels_option, add_flight_options,
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
 NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay", "servo-actuators")
-NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs")
+NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs", "K_R")
 #: ``--set`` names of the nonlinear truth's servo actuators (with ``--add servo-actuators``)
 SERVO_SET = ("servo_tau", "servo_zeta")
 

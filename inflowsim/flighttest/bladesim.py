@@ -102,6 +102,11 @@ class RotorSpec:
         Gauss-Legendre points along each blade (3 integrate the polynomial lift exactly).
     n_disc_psi, n_disc_r : int
         Disc quadrature for the momentum loads (uniform azimuth x Gauss-Legendre radius).
+    K_R : float
+        Keller's wake-curvature gain [-] (``wake-distortion``, ``model.md``): the
+        cyclic inflow equations gain ``K_R (q_tpp, p_tpp)``, the tip-path plane's
+        pitch and roll rates from the blades' flap.  0 (default): no wake bending,
+        the truth of the detection studies.
     """
 
     constants: Constants = PUMA
@@ -114,6 +119,7 @@ class RotorSpec:
     n_span: int = 4
     n_disc_psi: int = 12
     n_disc_r: int = 4
+    K_R: float = 0.0
 
     def __post_init__(self):
         pp = pitt_peters_time_constants(self.constants.mu)
@@ -133,6 +139,8 @@ class RotorSpec:
                 raise InputError(f"{name} = {v}: must be a finite number > 0")
         if self.speed not in SPEEDS:
             raise InputError(f"speed {self.speed!r}: choose {' or '.join(SPEEDS)}")
+        if not np.isfinite(self.K_R):
+            raise InputError(f"K_R = {self.K_R}: must be a finite number")
         for name in ("n_span", "n_disc_psi", "n_disc_r"):
             if int(getattr(self, name)) < 3:
                 raise InputError(f"{name} = {getattr(self, name)}: need at least 3 points")
@@ -273,6 +281,13 @@ class BladeRotor:
         out[nb:2 * nb] = (moment - self.spec.lambda_beta2 * x[:nb]
                           + bb @ (0.0, 2.0 * pb + dqb, dpb - 2.0 * qb))
         out[2 * nb:] = self.minv @ (c_blade - c_mom)
+        if self.spec.K_R:
+            # wake curvature: the tip-path plane's rates qbar - beta1c', pbar - beta1s'
+            # (the blades' rate harmonics are beta1c' + beta1s, beta1s' - beta1c)
+            (b0, b1c, b1s), (d0, d1c, d1s) = (x[:2 * nb].reshape(2, nb) @ bb) * self._mbc
+            kr = self.spec.K_R / self.spec.tau_cs
+            out[2 * nb + 1] += kr * (qb - (d1c - b1s))
+            out[2 * nb + 2] += kr * (pb - (d1s + b1c))
         return out
 
     def step(self, psi, x, u, h, u_mid=None, u_end=None) -> np.ndarray:

@@ -383,7 +383,8 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
                        "tau0": test.rotor.tau0, "tau_cs": test.rotor.tau_cs,
                        "speed": test.rotor.speed, "n_span": test.rotor.n_span,
                        "n_disc_psi": test.rotor.n_disc_psi,
-                       "n_disc_r": test.rotor.n_disc_r},
+                       "n_disc_r": test.rotor.n_disc_r}
+             | ({"K_R": test.rotor.K_R} if test.rotor.K_R else {}),
              "constants": k.as_dict(),
              "trim_controls": dict(tc), "trim_muz": test.trim_muz,
              "trim": trim.as_dict(),

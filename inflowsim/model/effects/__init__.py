@@ -20,10 +20,11 @@ _MODULES = (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bia
 from . import flap_inertia, skewed_wake, advance_ratio_perturbation  # noqa: E402
 from . import second_harmonic_flap  # noqa: E402
 from . import momentum_speed  # noqa: E402
+from . import wake_distortion, wake_distortion_lag  # noqa: E402
 from . import time_shifts  # noqa: E402
 from . import servo_actuators  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
-             momentum_speed, servo_actuators)
+             momentum_speed, wake_distortion, wake_distortion_lag, servo_actuators)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {}
