@@ -22,8 +22,9 @@ from . import second_harmonic_flap  # noqa: E402
 from . import momentum_speed  # noqa: E402
 from . import time_shifts  # noqa: E402
 from . import servo_actuators  # noqa: E402
+from . import lead_lag  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
-             momentum_speed, servo_actuators)
+             momentum_speed, servo_actuators, lead_lag)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {}
