@@ -5,19 +5,20 @@ lag ``zeta1c, zeta1s`` (the rotor's centre of mass whirling, the regressing lag 
 at ``(1 - nu_zeta)`` per rev in the fixed frame) couples to the flap through the
 Coriolis moment (``2 beta_t``: flapping up makes a blade lead) and through the
 aerodynamics (a lag rate changes the blade's dynamic pressure and its induced and
-profile drag), ``model.md`` section 9.1, :mod:`inflowsim.physics.lead_lag`.  Four
-appended states (:class:`~inflowsim.model.equations.StateBlock`): ``zeta1c,
+profile drag), ``model.md`` section 9.1, :mod:`inflowsim.physics.lead_lag`.  Six
+appended states (:class:`~inflowsim.model.equations.StateBlock`): ``zeta0, zeta1c,
 zeta1s`` and their azimuth rates::
 
     x'' = (lag structure, Coriolis) + k-free aerodynamic lag moments
     flap rows  += k_flap_lag (Coriolis + aerodynamic flap moments of the lag) x
     inflow rows += k_flap_lag L dc/dx x          (the lag's share of the loads)
 
-The collective lag ``zeta0`` is left out: with the rotor speed held constant (as
-this model holds it) it would be a mode at ``nu_zeta`` per rev reacting against a
-hub of infinite inertia, while on an aircraft it is the drive train's torsion
-mode with the engine governor, which no parameter here describes; at ``mu = 0``
-cyclic inputs do not excite it at all (``model.md`` 9.1).
+The collective lag ``zeta0`` is kept, against a hub turning at the constant
+rotor speed this model holds (a governed rotor on a stiff drive train; the drive
+train's torsion and the engine governor are not modelled): in forward flight the
+cyclic inputs excite it through the ``mu`` terms and its rate changes the thrust,
+and leaving it out made the lag's share of the flap response several times too
+small against the four-blade route at ``mu = 0.25`` (``model.md`` 9.1).
 
 Parameters: ``nu_zeta`` [per rev] the rotating lag frequency, ``zeta_lag`` [-] the
 lag damper's damping ratio (``C_zeta = 2 zeta_lag nu_zeta``), ``k_flap_lag`` [-]
@@ -31,15 +32,15 @@ the in-plane velocity inputs are not carried in the lag's terms.
 import numpy as np
 
 from ._effect import Effect
-from .advance_ratio_perturbation import true_trim
+from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ...physics import lead_lag as ll
 from ...physics import loads as ld
 
 NAME = "lead-lag"
-#: Appended states: the cyclic lag [rad], then its azimuth rates.
-STATES = ("zeta1c", "zeta1s", "zeta1c_prime", "zeta1s_prime")
+#: Appended states: the multiblade lag [rad], then its azimuth rates.
+STATES = ("zeta0", "zeta1c", "zeta1s", "zeta0_prime", "zeta1c_prime", "zeta1s_prime")
 #: Theory lag frequency [per rev] by hub (``Constants.hub``; articulated by default).
 NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
@@ -48,6 +49,7 @@ def block(p, k, n_inputs: int = 10) -> StateBlock:
     """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
+    true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
     th, b, u = theta[0], beta[0], muz - lam[0]
     mu, nb = k.mu, p["n_beta"]
@@ -58,14 +60,14 @@ def block(p, k, n_inputs: int = 10) -> StateBlock:
         # the model takes the recorded cyclic pitch: true = R(-dpsi) recorded
         a_u = np.hstack([a_u[:, :1], a_u[:, 1:3] @ rotation(-p["azimuth_bias"]),
                          a_u[:, 3:]])
-    z2, i2 = np.zeros((2, 2)), np.eye(2)
-    a = np.vstack([np.hstack([z2, i2]), s_x + a_x])
-    az = np.vstack([np.zeros((2, 9)), s_z + a_z])
-    b_u = np.vstack([np.zeros((2, n_inputs)),
-                     np.hstack([a_u, np.zeros((2, n_inputs - 6))])])
+    z3, i3 = np.zeros((3, 3)), np.eye(3)
+    a = np.vstack([np.hstack([z3, i3]), s_x + a_x])
+    az = np.vstack([np.zeros((3, 9)), s_z + a_z])
+    b_u = np.vstack([np.zeros((3, n_inputs)),
+                     np.hstack([a_u, np.zeros((3, n_inputs - 6))])])
     f_x = kf * ll.flap_coupling(mu, nb, th, b, u)
     l_x = kf * (ld.momentum_l(mu, k.a0s, k.flow_speed) @ ll.load_coupling(mu, th, b, u))
-    return StateBlock(effect=NAME, states=STATES, e=np.eye(4), a=a, a_z=az, b=b_u,
+    return StateBlock(effect=NAME, states=STATES, e=np.eye(6), a=a, a_z=az, b=b_u,
                       f_x=f_x, l_x=l_x)
 
 
