@@ -58,6 +58,8 @@ STRUCTURES = (
     "basic+azimuth-bias+momentum-speed",
     "glauert+servo-actuators",
     "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
+    "glauert+lead-lag",
+    "basic+flap-inertia+advance-ratio-perturbation+lead-lag+time-delay",
 )
 
 #: A trim state (totals) for the effect linearised about it.

@@ -45,13 +45,25 @@ STATES = ("zeta0", "zeta1c", "zeta1s", "zeta0_prime", "zeta1c_prime", "zeta1s_pr
 NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
 
-def block(p, k, n_inputs: int = 10) -> StateBlock:
-    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
+def _trim(p, k):
+    """``(theta_t, beta_t, u)``: collective, coning and trim up-flow ``muz - lambda0``."""
+    true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
-    true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
-    th, b, u = theta[0], beta[0], muz - lam[0]
+    return theta[0], beta[0], muz - lam[0]
+
+
+def in_loads(p, k):
+    """``(C_T, C_mc, C_ms) / (a0 s)`` per the lag states ``STATES`` (the lag rate's
+    and the lag's change of the blades' airspeed, scaled by ``k_flap_lag``) [-]."""
+    th, b, u = _trim(p, k)
+    return p["k_flap_lag"] * ll.load_coupling(k.mu, th, b, u)
+
+
+def block(p, k, n_inputs: int = 10) -> StateBlock:
+    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
+    th, b, u = _trim(p, k)
     mu, nb = k.mu, p["n_beta"]
     kf = p["k_flap_lag"]
     s_z, s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"], b)
@@ -91,7 +103,7 @@ EFFECT = Effect(
     theory=_theory,
     neutral=lambda k: _theory(k) | {"k_flap_lag": 0.0},
     equations=_equations,
-    specs=(ParameterSpec("nu_zeta", "per rev", "rotating lag frequency", 0.05, 1.5,
+    specs=(ParameterSpec("nu_zeta", "-", "rotating lag frequency over the rotor speed (per rev)", 0.05, 1.5,
                          plausible=(0.15, 0.85, "lag frequency of an articulated "
                                     "(0.2-0.35) or soft-inplane (0.5-0.8) rotor"),
                          plausible_by_hub=(
