@@ -62,6 +62,8 @@ STRUCTURES = (
     "glauert+flap-inertia+wake-distortion+wake-distortion-lag+time-delay",
     "glauert+servo-actuators",
     "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
+    "glauert+lead-lag",
+    "basic+flap-inertia+advance-ratio-perturbation+lead-lag+time-delay",
 )
 
 #: A trim state (totals) for the effect linearised about it.

@@ -23,8 +23,10 @@ from . import momentum_speed  # noqa: E402
 from . import wake_distortion, wake_distortion_lag  # noqa: E402
 from . import time_shifts  # noqa: E402
 from . import servo_actuators  # noqa: E402
+from . import lead_lag  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
-             momentum_speed, wake_distortion, wake_distortion_lag, servo_actuators)
+             momentum_speed, wake_distortion, wake_distortion_lag, servo_actuators,
+             lead_lag)
 
 #: Effects by name, in the order they are applied.
 CATALOGUE: dict[str, Effect] = {}
