@@ -28,6 +28,7 @@ def build_parser():
                      "simulate, validate, identify, diagnose, FMU.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"inflowsim {__version__}")
+    from .commands._common import add_progress_options
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         try:
@@ -38,6 +39,7 @@ def build_parser():
             raise
         p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
+        add_progress_options(p)
         p.set_defaults(_run=mod.run)
     return parser
 
@@ -48,6 +50,8 @@ def main(argv=None) -> int:
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)
         return 2
+    from . import progress
+    progress.configure(getattr(args, "show_progress", None))
     stdout = sys.stdout
     sys.stdout = _NamedStream(stdout, _stream_name(stdout, "standard output"))
     try:

@@ -14,7 +14,7 @@ prints the document on stdout (the progress bar is on stderr).
 """
 from __future__ import annotations
 
-from ._common import add_also_option, pool_with, print_json, progress
+from ._common import add_also_option, pool_with, print_json, progress, warn
 
 HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
 
@@ -57,7 +57,6 @@ def add_arguments(p):
                         "inflow time constants, which go like 1/V; both: the "
                         "criterion chooses per parameter)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _settings(args, plan):
@@ -111,7 +110,7 @@ def run(args) -> int:
     if args.schedule_order < 0:
         raise InputError(f"--schedule-order {args.schedule_order}: must be >= 0")
     res = run_campaign(plan, out, settings, scheduler=args.scheduler, workers=args.workers,
-                       progress=not args.quiet, schedule_criterion=args.schedule_criterion,
+                       progress=progress, schedule_criterion=args.schedule_criterion,
                        schedule_max_order=args.schedule_order,
                        schedule_variables=(("mu", "1/mu") if args.schedule_variable == "both"
                                            else (args.schedule_variable,)))
@@ -130,7 +129,7 @@ def run(args) -> int:
               f"{len(ag['disagreements'])} record(s) disagree with their condition")
         bad = [r for r in res.records if r.get("status") != "ok"]
         for r in bad:
-            progress(f"error: {r.get('error')}")
+            warn(f"{r.get('record')} could not be analysed: {r.get('error')}")
         if res.schedule is not None:
             sch = res.schedule
             trend = [p.name for p in sch.parameters if not p.constant]

@@ -355,7 +355,7 @@ def run(args) -> int:
         test.check()                        # refuse before the progress line
     progress(f"flighttest: generating {args.duration:g} s at {args.dt:g} s "
              f"({args.truth} truth)")
-    res = flighttest(test)
+    res = flighttest(test, progress)
     write_record(res.record, args.out, overwrite=args.force)
     truth = json.loads(json.dumps(res.truth, default=_plain))
     if args.truth_json:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..defaults import DEFAULT_BAND
 from ._common import (add_effect_arguments, add_record_arguments, parse_fix, parse_ties,
-                      print_json, progress, read_parameter_file, read_records,
+                      print_json, progress, read_parameter_file, read_records, warn,
                       structure_of)
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
@@ -67,7 +67,7 @@ def run(args) -> int:
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),
                       ties=parse_ties(args.tie), progress=progress, hold=args.hold)
     for w in result.warnings:
-        progress(f"warning: {w}")
+        warn(w)
     doc = result.to_json()
     if args.out:
         write_json(doc, args.out, overwrite=args.force, protect=args.records)

@@ -180,7 +180,8 @@ def _hermite(sub, n_sub, nb, dpsi, s):
             + (-2 * f3 + 3 * f2) * b1 + (f3 - f2) * d1)
 
 
-def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
+def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None,
+                   progress=None):
     """Integrate the blades for true control perturbations and hub motion.
 
     Parameters
@@ -194,6 +195,8 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         ``inputs_at(t) -> (len(t), 10)``: the inputs (azimuth units, totals) at any
         times [s], for continuously varying inputs; without it the sampled inputs
         are held over each sample.
+    progress : callable, optional
+        Progress (:func:`inflowsim.progress.bar`) of the integration.
 
     Returns
     -------
@@ -229,7 +232,7 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
         return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
     x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step,
-                                    None if inputs_at is None else fine)
+                                    None if inputs_at is None else fine, progress)
     x = x[n_pre:]
     t = np.arange(n) * test.dt
     psi = om * t
@@ -280,8 +283,16 @@ def continuous_hub(test: FlightTest, omega_r, mu):
     return hub_at
 
 
-def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
-    """A record (totals) from the nonlinear individual-blade truth; see module doc."""
+def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> FlightTestResult:
+    """A record (totals) from the nonlinear individual-blade truth; see module doc.
+
+    Parameters
+    ----------
+    test : FlightTest
+        What is flown (manoeuvres, speed, rotor, sensors).
+    progress : callable, optional
+        Progress of the blades' integration (:func:`inflowsim.progress.bar`).
+    """
     t_start = time.perf_counter()
     test.check()
     k = test.rotor.constants
@@ -302,10 +313,10 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
             return u_trim + np.column_stack([
                 c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
                 h["pdot"] / om**2, h["mux"], h["muy"]])
-        res = blade_response(test, true, hub, inputs_at)
+        res = blade_response(test, true, hub, inputs_at, progress)
     else:
         hub = _hub(test, true, omega_r, k.mu)
-        res = blade_response(test, true, hub)
+        res = blade_response(test, true, hub, progress=progress)
     trim = res["trim"]
     rng = np.random.default_rng(test.seed)
     tc = test.trim_controls
@@ -375,9 +386,18 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
     return FlightTestResult(rec, truth)
 
 
-def flighttest(test) -> FlightTestResult:
-    """Run a virtual flight test: :class:`FlightTest` (nonlinear truth) or
-    :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth)."""
+def flighttest(test, progress=None) -> FlightTestResult:
+    """Run a virtual flight test.
+
+    Parameters
+    ----------
+    test : FlightTest or VirtualTest
+        :class:`FlightTest` (nonlinear truth) or
+        :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth).
+    progress : callable, optional
+        Progress of the nonlinear truth's integration (:func:`inflowsim.progress.bar`;
+        the linear truth takes well under a second).
+    """
     if isinstance(test, VirtualTest):
         return linear_flighttest(test)
-    return nonlinear_flighttest(test)
+    return nonlinear_flighttest(test, progress)

@@ -21,6 +21,7 @@ from pathlib import Path
 
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
+from ..progress import bar
 from .generate import SOURCES, generated_files, guid, time_vr
 from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 
@@ -310,8 +311,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         Cross-compiled binaries to add beside the native one: ``"win64"`` (with
         mingw-w64's ``x86_64-w64-mingw32-gcc``).
     say : callable, optional
-        Told ``"building OUT ..."`` once the output and the compilers are checked,
-        before the long work.
+        Progress (:func:`inflowsim.progress.bar`): told each step (generating the C
+        equations, compiling, packing) once the output and the compilers are
+        checked.
     model : optional
         What the FMU runs (:func:`description_for`): default the three presets
         (integer ``structure`` 0 basic, 1 empirical, 2 glauert); a structure text
@@ -335,20 +337,27 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     plat = platform_folder(version)
     for target in platforms:                  # refuse before compiling anything
         require_cross_compiler(target)
-    if say:
-        say(f"building {out} ...")
-    with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp, \
+    steps = 3 + len(platforms)
+    with bar(say, steps, f"fmu build {out}", "step") as b, \
+            tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp, \
             _naming_os_errors(f"{tmp} (the build folder of {out})"):
         root = Path(tmp) / "fmu"
+        b.set_postfix_str("generating the C equations of " + ", ".join(d.structures))
         _stage_sources(root / "sources", version, d)
+        b.update()
         (root / "binaries" / plat).mkdir(parents=True)
+        b.set_postfix_str(f"compiling {plat} with {compiler()}")
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
                         fmi_version=version)
+        b.update()
         for target in platforms:
-            _, folders, name = CROSS[target]
+            cc, folders, name = CROSS[target]
+            b.set_postfix_str(f"compiling {target} with {cc}")
             (root / "binaries" / folders[version]).mkdir(parents=True, exist_ok=True)
             compile_library(root / "sources", root / "binaries" / folders[version] / name,
                             fmi_version=version, target=target)
+            b.update()
+        b.set_postfix_str("packing")
         (root / "documentation").mkdir()
         (root / "documentation" / "index.html").write_text(documentation_html(version, d),
                                                            encoding="utf-8")
@@ -359,4 +368,5 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
                 for p in sorted(root.rglob("*")):
                     if p.is_file():
                         z.write(p, p.relative_to(root).as_posix())
+        b.update()
     return out

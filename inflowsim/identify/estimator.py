@@ -35,6 +35,7 @@ from ..errors import InputError
 from ..model.build import build_model
 from ..model.presets import preset_parameters, theory_parameters
 from ..model.structure import Structure
+from ..progress import bar
 from .problem import Problem, unstack
 from .results import FitResult, RecordFit, channel_fit
 from .transform import DEFAULT_BAND, as_record, record_spectra
@@ -423,25 +424,30 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
         starts = starts[:1]
     # every start gets a short run (one relaxation round); the best continues
     trials = []
-    for label, vals in starts:
-        vals = dict(vals)
-        vals.update(fixed)
-        prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
-        if not prob.free:
-            raise InputError("identify: every parameter is fixed; nothing to estimate")
-        try:
-            build_model(s, prob.params(prob.theta0()), spectra[0].constants)
-        except InputError as exc:
-            raise InputError(f"start values ({label}): {exc}") from None
-        say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
-            f"{prob.n_freq} frequencies")
-        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
-        say(f"  start {label}: cost {j:.6f} after {iters} iterations")
-        trials.append((j, label, prob, st, iters))
+    with bar(progress, len(starts), f"identify {s.name}: trying starts", "start") as b:
+        for label, vals in starts:
+            vals = dict(vals)
+            vals.update(fixed)
+            prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
+            if not prob.free:
+                raise InputError("identify: every parameter is fixed; nothing to estimate")
+            try:
+                build_model(s, prob.params(prob.theta0()), spectra[0].constants)
+            except InputError as exc:
+                raise InputError(f"start values ({label}): {exc}") from None
+            b.set_postfix_str(f"{label}: {len(prob.free)} parameters, "
+                              f"{prob.n_freq} frequencies")
+            st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
+            b.update()
+            trials.append((j, label, prob, st, iters))
     j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
-    say(f"  continuing from start {label}")
-    st, j, iters, conv = _fit(prob, st.theta,
-                              report=lambda i, c: say(f"  iteration {i}: cost {c:.6f}"))
+
+    def step(b, i, c):
+        b.set_postfix_str(f"cost {c:.6f}", refresh=False)
+        b.update()
+    with bar(progress, None, f"identify {s.name}: fitting from start {label}",
+             "iteration") as b:
+        st, j, iters, conv = _fit(prob, st.theta, report=lambda i, c: step(b, i, c))
     say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
     return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
 

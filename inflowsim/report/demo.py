@@ -53,13 +53,13 @@ def run_demo(out_dir, seed=0, say=None):
     """Write the demo into ``out_dir``; return ``(index.html path, summary dict)``."""
     from .model_frf import model_frf_section
     from .plots import time_response_plot
-    say = say or (lambda m: None)
+    progress, say = say, say or (lambda m: None)
     out = Path(out_dir)
     check_report_folder(out, ("record.csv",))     # refuse before any work
     text = format_record(demo_record(seed))
     rec = parse_record(text, str(out / "record.csv"))     # as a user would read it
     say("demo: fitting basic, diagnosing, adding effects ...")
-    lad = ladder([rec], START, progress=None)
+    lad = ladder([rec], START, progress=progress)
     first, last = lad.rungs[0], lad.rungs[-1]
     v_first = validate(rec, first.fit.model)
     v_last = validate(rec, last.fit.model)
