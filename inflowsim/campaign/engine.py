@@ -23,8 +23,8 @@ from pathlib import Path
 from ..errors import InputError
 from ..progress import SHOW, bar
 from .plan import Plan
-from .work import (OK, Settings, agreement, condition_key, condition_task, file_hash,
-                   record_key, record_task, version)
+from .work import (OK, Settings, agreement, condition_key, condition_task,
+                   current_verdict, file_hash, record_key, record_task, version)
 
 
 class Store:
@@ -40,9 +40,10 @@ class Store:
     def get(self, kind, key):
         p = self._path(kind, key)
         try:
-            return json.loads(p.read_text())
+            doc = json.loads(p.read_text())
         except (OSError, ValueError):
             return None
+        return current_verdict(doc) if isinstance(doc, dict) else None
 
     def put(self, kind, key, doc):
         from ..fileio import atomic_path, json_text

@@ -19,6 +19,7 @@ import json
 import time
 import traceback
 from dataclasses import asdict, dataclass
+from types import MappingProxyType
 
 from ..errors import InputError
 
@@ -92,8 +93,36 @@ def _one_line(exc) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def _verdict(missing) -> str:
-    return "adequate" if missing is None else "missing-effect"
+#: The campaign's verdicts before issue #39, as stored results and old tables hold
+#: them, and what they read as now: ``adequate`` (no effect named) is
+#: ``no-missing-effect``, ``missing-effect`` (one named) ``explained``; a stored result
+#: reads the status of its own ladder's verdict instead where it holds one.
+OLD_VERDICTS = MappingProxyType({"adequate": "no-missing-effect",
+                                 "missing-effect": "explained"})
+
+
+def current_verdict(doc: dict) -> dict:
+    """``doc`` (a stored result) with its ``verdict`` in the one vocabulary
+    (:data:`inflowsim.diagnose.verdict.STATUSES`, or ``error``): an old one is
+    read through :data:`OLD_VERDICTS`.
+
+    Parameters
+    ----------
+    doc : dict
+        A record's or condition's result (:func:`record_task`, :func:`condition_task`).
+    """
+    old = doc.get("verdict")
+    if old in OLD_VERDICTS:
+        status = ((doc.get("ladder") or {}).get("verdict") or {}).get("status")
+        doc = {**doc, "verdict": status or OLD_VERDICTS[old]}
+    return doc
+
+
+def _verdict(lad, diag) -> str:
+    """The row's verdict: the ladder's (what is left after the effects it added), in
+    diagnose's vocabulary."""
+    v = lad.verdict or diag.verdict
+    return v.status
 
 
 def _fit_summary(fit) -> dict:
@@ -106,7 +135,7 @@ def _fit_summary(fit) -> dict:
 
 def _ladder_summary(lad, diag) -> dict:
     return {"missing_effect": diag.missing_effect,
-            "verdict": _verdict(diag.missing_effect),
+            "verdict": _verdict(lad, diag),
             "accepted": list(diag.missing_effects),
             "ladder_added": [r.added for r in lad.rungs if r.added],
             "final_structure": lad.final.structure.name,
