@@ -53,7 +53,7 @@ def main(argv):
                           guid, str(csv)], capture_output=True, text=True, check=True)
     print(res.stdout, end="")
     log = np.genfromtxt(csv, delimiter=",", names=True)
-    fig, ax = new_figure(3, 1, size=(8.0, 8.0))
+    fig, ax = new_figure(4, 1, size=(8.0, 10.0))
     t = log["t"]
     ax[0, 0].plot(t, log["airspeed"], label="airspeed [m/s]")
     ax[0, 0].plot(t, 100 * log["mu"], label="mu x 100")
@@ -61,11 +61,14 @@ def main(argv):
     for n in ("pitch", "roll", "theta0", "theta1c", "theta1s"):
         ax[1, 0].plot(t, np.degrees(log[n]), "--" if n.startswith("theta") else "-",
                       label=n)
-    ax[1, 0].set_ylabel("[deg]")
-    ax[2, 0].plot(t, log["thrust"] / 1e3, label="thrust [kN]")
-    ax[2, 0].plot(t, log["pitch_moment"] / 1e3, label="pitch moment [kN m]")
-    ax[2, 0].plot(t, log["roll_moment"] / 1e3, label="roll moment [kN m]")
-    ax[2, 0].set_xlabel("time [s]")
+    ax[0, 0].set_ylabel("speed [m/s], height [m]")
+    ax[1, 0].set_ylabel("attitude, control [deg]")
+    ax[2, 0].plot(t, log["thrust"] / 1e3, color="k", label="thrust")
+    ax[2, 0].set_ylabel("thrust [kN]")
+    ax[3, 0].plot(t, log["pitch_moment"] / 1e3, label="pitch moment")
+    ax[3, 0].plot(t, log["roll_moment"] / 1e3, label="roll moment")
+    ax[3, 0].set_ylabel("hub moment [kN m]")
+    ax[3, 0].set_xlabel("time [s]")
     for a in ax[:, 0]:
         a.grid(True, alpha=0.3)
         a.legend(fontsize="small", loc="best")

@@ -210,7 +210,11 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert [t.order for t in sch.trim] == [1, 1]
     assert sch.trim_values(0.25)["theta1s"] == pytest.approx(-0.05)
     assert sch.trim_values(0.5) == sch.trim_values(0.3)
-    assert "| theta1s | 1 |" in Path(third.files["report"]).read_text()
+    import re
+    assert re.search(r"\|\s*theta1s\s*\|\s*1\s*\|", Path(third.files["report"]).read_text())
+    page = Path(third.files["html"]).read_text()          # the same report as a page
+    assert page.startswith("<!DOCTYPE html>") and "<td>theta1s</td>" in page
+    assert '<img src="estimates_vs_mu.png"' in page
     doc = json.loads(Path(third.files["json"]).read_text())
     assert doc["schedule"]["trim"]["theta0"]["order"] == 1
     assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant

@@ -7,8 +7,8 @@ together (a joint diagnosis and ladder); across conditions: agreement on the
 missing effect.  Runs on a local Dask cluster of the machine's cores, or on the
 cluster at ``--scheduler``.  Results are stored under ``--out`` keyed by each
 record's hash, the settings and the package version: a restarted campaign skips
-what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.md``,
-``estimates_vs_mu.png``, ``schedule.json`` (each parameter against ``mu``:
+what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.html``,
+``report.md``, ``estimates_vs_mu.png``, ``schedule.json`` (each parameter against ``mu``:
 ``inflowsim fmu build --schedule``) and ``campaign.json`` there; ``--json``
 prints the document on stdout (the progress bar is on stderr).
 """
@@ -139,5 +139,5 @@ def run(args) -> int:
                   + ("; with the trim the conditions flew at" if sch.trim else "") + ")")
         else:
             print(f"schedule: none ({res.schedule_note})")
-        print(f"report: {res.files['report']}")
+        print(f"report: {res.files['html']} (and {res.files['report']})")
     return 0

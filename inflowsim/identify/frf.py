@@ -54,7 +54,7 @@ Method
    ``sqrt(eps^2 + bias^2)``.
 
 Phases are returned as complex numbers; :func:`frequency_response_plot` draws them
-wrapped to +-180 deg unless asked to unwrap (and then says so on the axis).
+unwrapped (the axis says so; ``unwrap=False``, ``frf --wrap``: wrapped to +-180 deg).
 """
 from __future__ import annotations
 

@@ -78,9 +78,11 @@ def run_demo(out_dir, seed=0, say=None):
     rep.table(rows, FIT_HEADER)
     rep.paragraph(FIT_NOTE + (f" {NO_RESPONSE}: {NO_RESPONSE_TEXT}."
                               if any(NO_RESPONSE in r for r in rows) else ""))
-    rep.figure(time_response_plot([v_first, v_last]), "time",
-               "Time-domain reconstruction: measured flap, the basic model and the final "
-               "structure (the paper's Figures 1, 3, 5).")
+    rep.figure(time_response_plot([v_first, v_last], show_inputs=True, window="manoeuvre"),
+               "time",
+               "Time-domain reconstruction over the manoeuvres: measured flap, the basic "
+               "model and the final structure (the paper's Figures 1, 3, 5), and the "
+               "pilot's controls below.")
     model_frf_section(rep, [v_first, v_last], [f"{first.structure.name} (first)",
                                                f"{last.structure.name} (last)"],
                       fits={first.structure.name: first.fit, last.structure.name: last.fit},
