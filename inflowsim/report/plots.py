@@ -305,7 +305,7 @@ def coherence_plot(results, path=None, title=None):
         a.axhline(COHERENCE_OK, color="0.5", lw=0.6)
         a.set_ylim(0, 1.02)
         _log_frequency_axis(a)
-        a.set_ylabel(f"coherence with {inp}" + (" (partial)" if q > 1 else ""))
+        a.set_ylabel(f"coherence with {inp}" + (" (partial)" if q > 1 else "") + " [-]")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize="small", ncol=2)
     ax[-1, 0].set_xlabel("frequency [Hz]")

@@ -10,6 +10,7 @@ functions that draw.
 """
 from __future__ import annotations
 
+import math
 from types import MappingProxyType
 
 import numpy as np
@@ -49,15 +50,26 @@ def model_colours(n: int) -> list:
             + [ROLE_COLOURS["final model"]])
 
 
-def _tick_text(v, _pos=None) -> str:
-    if v <= 0:
-        return ""
+def _tick_text(v) -> str:
     return f"{v:.10g}" if 1e-3 <= v < 1e4 else f"{v:.0e}"
 
 
+def _labelled(mantissa: int, decades: float) -> bool:
+    """Whether a tick of ``mantissa`` (1 to 9) is labelled on an axis spanning
+    ``decades``: every one on a short axis, fewer as it widens, the decades always."""
+    if decades <= 0.5:
+        return True
+    if decades <= 1.5:
+        return mantissa in (1, 2, 3, 5)
+    if decades <= 3.0:
+        return mantissa in (1, 2, 5)
+    return mantissa in (1, 3)
+
+
 def log_frequency_axis(ax, axis: str = "x") -> None:
-    """A log axis labelled at every decade and at 2 and 5 between them (0.1, 0.2,
-    0.5, 1, 2, 5 ...), with unlabelled minor ticks at the other integers.
+    """A log axis with a tick at every integer multiple of each decade, labelled at
+    the decades and between them (at 2, 3 and 5 over a decade or so; at every tick
+    on an axis shorter than half a decade; at 3 on a wide one).
 
     Parameters
     ----------
@@ -65,13 +77,23 @@ def log_frequency_axis(ax, axis: str = "x") -> None:
     axis : {"x", "y"}
         Which axis.
     """
-    from matplotlib.ticker import FuncFormatter, LogLocator
+    from matplotlib.ticker import Formatter, LogLocator, NullLocator
+
+    class _Between(Formatter):
+        def __call__(self, v, pos=None):
+            if v <= 0:
+                return ""
+            lo, hi = sorted(self.axis.get_view_interval())
+            decades = math.log10(hi / lo) if lo > 0 else 99.0
+            mantissa = int(round(v / 10 ** math.floor(math.log10(v) + 1e-9)))
+            return _tick_text(v) if _labelled(mantissa, decades) else ""
+
     getattr(ax, f"set_{axis}scale")("log")
     a = getattr(ax, f"{axis}axis")
-    a.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
-    a.set_minor_locator(LogLocator(base=10.0, subs=(3.0, 4.0, 6.0, 7.0, 8.0, 9.0)))
-    a.set_major_formatter(FuncFormatter(_tick_text))
-    a.set_minor_formatter(FuncFormatter(lambda v, pos: ""))
+    a.set_major_locator(LogLocator(base=10.0, subs=tuple(float(k) for k in range(1, 10)),
+                                   numticks=100))
+    a.set_major_formatter(_Between())
+    a.set_minor_locator(NullLocator())
 
 
 def frequency_label() -> str:
