@@ -130,7 +130,7 @@ def bar(progress, total: int | None, desc: str, unit: str = "step"):
     unit : str
         What one step is (``"fit"``, ``"record"`` ...).
     """
-    if progress is None:
+    if progress is None or total == 0:
         return _Nothing()
     if progress is not SHOW:
         return _Lines(progress, total, desc)

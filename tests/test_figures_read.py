@@ -53,6 +53,9 @@ def _check_log_axis(ax):
     """A log axis; where its tick labels are shown (a shared axis shows them on the
     bottom row only), labels at a decade and between decades."""
     assert ax.get_xscale() == "log"
+    # every axis keeps the style's ticks (setting the scale on a shared axis once
+    # reset the others' to matplotlib's, which label 0.5 and 1 only)
+    assert type(ax.xaxis.get_major_formatter()).__name__ == "_Between"
     xs = _labelled_ticks(ax)
     if not any(t.get_visible() and t.get_text() for t in ax.xaxis.get_ticklabels()) \
             and not ax.xaxis.get_label().get_text():

@@ -119,6 +119,7 @@ def run_demo(out_dir, seed=0, say=None):
     path = rep.write(out)
     summary = {"report": str(path), "truth": TRUTH, "start": START,
                "ladder": [{"structure": r.structure.name, "added": r.added,
+                           "atoms": list(r.atoms),
                            "cost": r.fit.cost,
                            "fit_percent": {c: v["fit_percent"] for c, v in r.fit.fit.items()}}
                           for r in lad.rungs],

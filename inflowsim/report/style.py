@@ -88,7 +88,10 @@ def log_frequency_axis(ax, axis: str = "x") -> None:
             mantissa = int(round(v / 10 ** math.floor(math.log10(v) + 1e-9)))
             return _tick_text(v) if _labelled(mantissa, decades) else ""
 
-    getattr(ax, f"set_{axis}scale")("log")
+    if getattr(ax, f"get_{axis}scale")() != "log":
+        # (setting the scale resets the locators of every axis shared with this one:
+        # only where it is not log already, so each shared axis keeps the ones set here)
+        getattr(ax, f"set_{axis}scale")("log")
     a = getattr(ax, f"{axis}axis")
     a.set_major_locator(LogLocator(base=10.0, subs=tuple(float(k) for k in range(1, 10)),
                                    numticks=100))
