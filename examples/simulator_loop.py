@@ -8,7 +8,8 @@ the rotor (``Simulator``: Glauert inflow, Puma theory values) steps once and giv
 its loads (``Simulator.loads()``: thrust and the flap springs' hub moments), and the
 airframe integrates them. The flight condition follows the airspeed every frame
 (``set_mu``) with the mass-flow speed through the disc, so the same rotor flies in hover
-and at 55 m/s. Writes ``OUTDIR/simulator_loop.png`` (default ``simulator-loop``).
+and at 55 m/s. Writes ``OUTDIR/simulator_loop.png`` (default ``inflowsim-simulator-loop`` in the
+system's temporary folder).
 
 ``simulator_loop.c`` is the same loop in C on the FMU: ``simulator_loop_fmu.py`` builds
 the FMU from :func:`rotor_model` and runs it; same inputs, model, step and duration,
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import math
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -154,7 +156,8 @@ def plot(log, path):
 
 
 def main(argv):
-    out = Path(argv[1] if len(argv) > 1 else "simulator-loop")
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(argv[1] if len(argv) > 1 else Path(tempfile.gettempdir()) / "inflowsim-simulator-loop")
     out.mkdir(parents=True, exist_ok=True)
     log = fly()
     path = plot(log, out / "simulator_loop.png")

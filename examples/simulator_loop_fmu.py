@@ -6,7 +6,7 @@ rotor loads from hover to forward flight, with no Python in the loop.
 
 Needs a C compiler (``cc``/``gcc`` or ``$CC``).  Writes ``OUTDIR/inflowsim.fmu``, the
 program, ``OUTDIR/simulator_loop_fmu.csv`` and ``OUTDIR/simulator_loop_fmu.png``
-(default ``simulator-loop-fmu``).
+(default ``inflowsim-simulator-loop-fmu`` in the system's temporary folder).
 """
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
@@ -27,7 +28,9 @@ HERE = Path(__file__).resolve().parent
 
 
 def main(argv):
-    out = Path(argv[1] if len(argv) > 1 else "simulator-loop-fmu")
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(argv[1] if len(argv) > 1
+               else Path(tempfile.gettempdir()) / "inflowsim-simulator-loop-fmu")
     out.mkdir(parents=True, exist_ok=True)
     cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
     if not cc:
