@@ -124,6 +124,29 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     standard error when progress is shown (:mod:`inflowsim.progress`), ``False`` or
     ``None`` nothing, a callable one line per result; ``stream`` is not used (kept
     for callers that pass it).
+
+    Parameters
+    ----------
+    plan : Plan
+        The records and their conditions (:func:`~inflowsim.campaign.plan.read_plan`).
+    out : path-like
+        The results folder (created; reused by a restarted campaign).
+    settings : Settings
+        Model, band [Hz], candidates, level and hold of every analysis.
+    scheduler : str, optional
+        A Dask scheduler's address (``tcp://host:8786``); default a local cluster.
+    workers : int, optional
+        Local worker processes (default the cores; 0: everything in this process).
+    progress : bool, callable or None
+        Progress (see above).
+    stream : object, optional
+        Not used (kept for callers that pass it).
+    schedule_criterion : {"aic", "aicc", "bic", "chi2"}
+        How each schedule polynomial's order is chosen.
+    schedule_max_order : int
+        Highest polynomial order of the schedule.
+    schedule_variables : tuple of str
+        What the polynomials are in (``"mu"``, ``"1/mu"``) [-].
     """
     progress = SHOW if progress is True else (progress or None)
     from ..model.schedule import CRITERIA
@@ -260,3 +283,6 @@ def _map(client, fn, jobs, done, failed):
         except Exception as exc:               # a worker lost: the task's own error row
             res = failed(args, exc)
         done(tag, res)
+
+
+__all__ = ["Store", "CampaignResult", "dashboard", "run_campaign"]

@@ -336,3 +336,7 @@ def write_outputs(result, out) -> dict:
     with atomic_path(files["json"]) as tmp:
         Path(tmp).write_text(json_text(json_document(result, files)))
     return files
+
+
+__all__ = ["TABLE_COLUMNS", "TRIM_COLUMNS", "campaign_table", "json_document",
+           "report_blocks", "report_markdown", "report_html", "write_outputs"]

@@ -32,7 +32,23 @@ class Settings:
     """What every record and condition is analysed with (``diagnose``/``ladder``
     options): starting structure ``model``, ``band`` [Hz], candidate ``pool``
     (``None``: every applicable effect), significance ``alpha``, ladder
-    ``max_steps``, ``hold`` override (``None``: each record's own)."""
+    ``max_steps``, ``hold`` override (``None``: each record's own).
+
+    Attributes
+    ----------
+    model : str
+        The starting structure of every diagnosis and ladder.
+    band : (float, float)
+        Analysis band [Hz].
+    pool : tuple of str or None
+        Candidate effects (``None``: every applicable one).
+    alpha : float or None
+        Significance level per test [-] (``None``: the rule's).
+    max_steps : int
+        Ladder steps at most [-].
+    hold : str or None
+        Intersample behaviour of every record (``None``: each record's own).
+    """
 
     model: str = "glauert"
     band: tuple = (0.2256, 1.58)
@@ -155,6 +171,15 @@ def record_task(path: str, settings: Settings, info: dict | None = None) -> dict
     ``{"kind": "record", "record", "status", "error", "warnings", "trim", "mu",
     "missing_effect", "verdict", ..., "seconds"}`` (:func:`_ladder_summary`;
     ``trim`` the record's trim totals, as a condition's).
+
+    Parameters
+    ----------
+    path : str
+        The record (CSV).
+    settings : Settings
+        The campaign's settings (model, band [Hz], candidates, level, hold ...).
+    info : dict, optional
+        The plan's labels of the record (condition, manoeuvre, group, plan ``mu`` [-]).
     """
     from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
@@ -201,7 +226,17 @@ def condition_task(condition: str, paths, settings: Settings) -> dict:
     record's ``a0, solidity, omega, radius``) and ``trim`` (each trim total of
     :data:`~inflowsim.physics.bladeelement.TRIM_KEYS`, the mean over the records of
     :func:`~inflowsim.data.record.find_trim`) [rad, -]: what the campaign's
-    schedule needs to fly this condition."""
+    schedule needs to fly this condition.
+
+    Parameters
+    ----------
+    condition : str
+        The flight condition's label.
+    paths : sequence of str
+        Its records (CSV), fitted together.
+    settings : Settings
+        The campaign's settings.
+    """
     from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
     t0 = time.perf_counter()
@@ -238,6 +273,13 @@ def agreement(records, conditions) -> dict:
     joint answer, with why (what its own diagnosis said of the joint answer's
     candidate).  ``consensus``: the effect named by the most conditions (ties:
     ``None``), ``unanimous``: every successful condition names it.
+
+    Parameters
+    ----------
+    records : sequence of dict
+        The records' results (:func:`record_task`).
+    conditions : sequence of dict
+        The conditions' results (:func:`condition_task`).
     """
     ok_recs = [r for r in records if r.get("status") == OK]
     ok_conds = [c for c in conditions if c.get("status") == OK]
@@ -284,3 +326,8 @@ def agreement(records, conditions) -> dict:
             "consensus": consensus,
             "unanimous": bool(ok_conds) and all(c.get("missing_effect") == consensus
                                                 for c in ok_conds)}
+
+
+__all__ = ["Settings", "RESULTS_FORMAT", "version", "file_hash", "record_key",
+           "condition_key", "OLD_VERDICTS", "current_verdict", "record_task",
+           "condition_task", "agreement"]

@@ -174,3 +174,8 @@ def peak_factor(x) -> float:
     """Peak over root-mean-square of a signal (sqrt 2 for a sine)."""
     x = np.asarray(x, dtype=float)
     return float(np.max(np.abs(x)) / np.sqrt(np.mean(x * x)))
+
+
+__all__ = ["RISE_PER_SIGMA", "smooth_step", "doublet", "input_3211", "SHAPES", "fade",
+           "fade_scalar", "log_sweep", "interleaved_harmonics", "schroeder_phases",
+           "multisine_unit", "multisine_peak", "multisine_plan", "multisine", "peak_factor"]

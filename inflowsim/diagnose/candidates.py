@@ -489,3 +489,8 @@ def least_significant(records, fit, labels, band_hz, hold=None,
         if lp >= math.log10(rule.alpha) and (worst is None or lp > worst[2]):
             worst = (label, f, lp)
     return worst
+
+
+__all__ = ["Atom", "applicable", "excluded", "atoms", "nested_start", "lr_test",
+           "schwarz_gain", "lattice", "Candidate", "describe", "candidates_of",
+           "offered_effects", "atom_of", "least_significant"]

@@ -88,3 +88,6 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA) -> Verdic
         status = "unexplained" if where else "no-missing-effect"
     return Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
                    where, tuple(effects))
+
+
+__all__ = ["STATUSES", "Verdict", "power_over_floor", "verdict"]

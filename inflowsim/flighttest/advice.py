@@ -32,3 +32,6 @@ def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD) -
         cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
         out.append((f"{shape} on {ch}", cols))
     return out
+
+
+__all__ = ["STANDARD", "standard_manoeuvres"]

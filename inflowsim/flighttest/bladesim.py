@@ -453,3 +453,7 @@ def multiblade_derivatives(rotor: BladeRotor, psi: float, z, u) -> np.ndarray:
     p = multiblade(f[nb:2 * nb], psi)
     dd = np.array([p[0], p[1] - 2 * db[2] + b[1], p[2] + 2 * db[1] + b[2]])
     return np.concatenate([dd, f[2 * nb:]])
+
+
+__all__ = ["SPEEDS", "MAX_STEP", "RotorSpec", "BladeRotor", "RotorTrim",
+           "multiblade_derivatives"]

@@ -133,7 +133,15 @@ class FlightTest:
 
 @dataclass(frozen=True, eq=False)
 class FlightTestResult:
-    """The record and a description of its truth (for ``--truth-json``)."""
+    """The record and a description of its truth (for ``--truth-json``).
+
+    Attributes
+    ----------
+    record : Record
+        The record (totals).
+    truth : dict
+        Its truth: parameters, trim, settings.
+    """
 
     record: Record
     truth: dict
@@ -265,7 +273,17 @@ def _true_controls(test: FlightTest, t):
 
 def continuous_hub(test: FlightTest, omega_r, mu):
     """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls,
-    integrated in continuous time (DOP853, rtol 1e-12), at any times [s]."""
+    integrated in continuous time (DOP853, rtol 1e-12), at any times [s].
+
+    Parameters
+    ----------
+    test : FlightTest
+        The flight test (body model and manoeuvres).
+    omega_r : float
+        Tip speed ``Omega R`` [m/s].
+    mu : float
+        Trim advance ratio [-].
+    """
     if test.body is None:
         return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
     a, b = test.body.matrices()
@@ -369,7 +387,14 @@ def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> Flig
 
 
 def linear_flighttest(test: VirtualTest) -> FlightTestResult:
-    """A record from a linear structure plus effects (:func:`virtual_record`)."""
+    """A record from a linear structure plus effects (:func:`virtual_record`).
+
+    Parameters
+    ----------
+    test : VirtualTest
+        The linear truth (structure, parameters, manoeuvres, duration [s], step [s],
+        noise [rad]).
+    """
     from ..model.build import build_model
     from ..model.presets import preset_parameters
     params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
@@ -401,3 +426,8 @@ def flighttest(test, progress=None) -> FlightTestResult:
     if isinstance(test, VirtualTest):
         return linear_flighttest(test)
     return nonlinear_flighttest(test, progress)
+
+
+__all__ = ["TRIM_CONTROLS", "INFLOW_COLUMNS", "FlightTest", "FlightTestResult",
+           "trim_inputs", "blade_response", "continuous_hub", "nonlinear_flighttest",
+           "linear_flighttest", "flighttest"]

@@ -302,3 +302,8 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
     if test.noise_color_hz is not None:
         meta["noise"] = f"first-order low-pass, corner {test.noise_color_hz:g} Hz"
     return Record.from_arrays(t, cols, meta, source="<virtual>")
+
+
+__all__ = ["PUMA_TRIM", "CONTROL_INDEX", "RISE", "KINDS", "Manoeuvre", "VirtualTest",
+           "pilot_controls", "scalar_signal", "ode_max_step", "sensor_noise", "noise_psd",
+           "control_response", "virtual_record"]

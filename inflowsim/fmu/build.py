@@ -132,7 +132,13 @@ def description_for(model=None) -> Description:
     :class:`~inflowsim.model.Model` or identified parameter set (its structure, its
     parameters and constants as start values), or a
     :class:`~inflowsim.model.schedule.Schedule` (its structure, its scheduled
-    parameters computed from ``mu`` at every step, its held ones start values)."""
+    parameters computed from ``mu`` at every step, its held ones start values).
+
+    Parameters
+    ----------
+    model : None, str, Structure, Description, Model, ParameterSet or Schedule
+        What the FMU runs (see above).
+    """
     from ..model.structure import Structure
     from .codegen import supported
     from .values import refuse_leads
@@ -370,3 +376,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
                         z.write(p, p.relative_to(root).as_posix())
         b.update()
     return out
+
+
+__all__ = ["CORE_SOURCES", "CORE_HEADERS", "LAYER", "DESCRIPTION", "FMI_VERSIONS",
+           "CFLAGS", "source_dir", "CROSS", "CROSS_CFLAGS", "cross_compiler",
+           "require_cross_compiler", "compiler", "sources", "platform_folder",
+           "compile_library", "description_for", "documentation_html", "build_fmu"]

@@ -390,3 +390,9 @@ def write_generated(directory) -> list:
         p.write_text(text, encoding="utf-8")
         paths.append(p)
     return paths
+
+
+__all__ = ["MODEL_VERSION", "GENERATED", "TIME_VR", "time_vr", "SOURCES", "guid",
+           "BASE_UNITS", "DISPLAY_UNITS", "xml_unit", "model_description",
+           "model_description_fmi3", "vars_header", "vars_source", "schedule_defines",
+           "schedule_c", "generated_files", "write_generated"]

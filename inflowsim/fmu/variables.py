@@ -233,7 +233,19 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
 @dataclass(frozen=True)
 class Description:
     """What one FMU is generated from: its structures (the integer ``structure``
-    indexes them) and every variable, in value-reference order."""
+    indexes them) and every variable, in value-reference order.
+
+    Attributes
+    ----------
+    structures : tuple of str
+        The structures the FMU runs (the integer ``structure`` indexes them).
+    variables : tuple of Variable
+        Every variable, in value-reference order.
+    vr : mapping of str to int
+        Value reference by name.
+    schedule : Schedule or None
+        Parameters that follow ``mu`` (``None``: none).
+    """
 
     structures: tuple
     variables: tuple
@@ -276,6 +288,17 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
     and whose held parameters are start values; its trim totals, where the
     structure is linearised about trim (:func:`~inflowsim.model.effects.needs_trim`),
     become local variables ``trim_<column>`` computed alike.
+
+    Parameters
+    ----------
+    structures : sequence of str or Structure
+        The structures the FMU runs (one integer ``structure`` each) [-].
+    start : mapping of str to float, optional
+        Parameter start values (SI; time constants in azimuth units, dimensionless).
+    constants : Constants, optional
+        The start flight condition and rotor (``mu`` [-], ``omega`` [rad/s] ...).
+    schedule : Schedule, optional
+        Parameters that follow ``mu`` at every step.
     """
     names = tuple(Structure.parse(st).name for st in structures)
     if not names:
@@ -314,3 +337,9 @@ INTEGERS = DEFAULT.integers
 PARAMETER_NAMES = _PARAMETERS
 #: Values of the default FMU's integer ``structure``.
 STRUCTURES = DEFAULT.codes
+
+
+__all__ = ["MODEL_IDENTIFIER", "MODEL_NAME", "DEFAULT_STRUCTURES", "DT", "CT_START",
+           "INFLOW_SPEEDS", "Variable", "POSITIVE_MIN", "Description", "describe",
+           "DEFAULT", "VARIABLES", "VR", "REALS", "INTEGERS", "PARAMETER_NAMES",
+           "STRUCTURES"]

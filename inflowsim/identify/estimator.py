@@ -494,6 +494,29 @@ class Evaluation:
 
     ``residuals[r]`` is ``(nf, 3)`` complex (measured minus predicted flap transform,
     end effects eliminated) at ``f_hz[r]``; ``S[r]`` the estimated covariance.
+
+    Attributes
+    ----------
+    cost : float
+        Cost (12) [-].
+    residuals : tuple of ndarray
+        Per record, ``(nf, 3)`` complex residual spectra [rad s].
+    f_hz : tuple of ndarray
+        Per record, frequencies [Hz].
+    S : tuple of ndarray
+        Per record, residual covariance [rad^2 s^2].
+    Z, Y : tuple of ndarray
+        Per record, measured and predicted flap transforms [rad s].
+    band_hz : tuple of float
+        The band [Hz].
+    n_freq : int
+        Frequencies over all records [-].
+    records : tuple of str
+        The records.
+    fit : dict
+        Per channel fit figures (:func:`~inflowsim.identify.results.channel_fit`).
+    nu : tuple
+        Per record, the end-effect nuisance.
     """
 
     cost: float
@@ -516,6 +539,21 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
     ``S`` and the end-effect nuisance are still estimated (they are not model
     parameters), so the cost is the one :func:`identify` minimises and costs of
     nested structures on the same records and band compare as log-likelihoods.
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    band_hz : (float, float)
+        Analysis band [Hz].
+    grid_hz : float, optional
+        Frequency grid spacing [Hz] (default each record's ``1 / T``).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
     """
     s = Structure.parse(structure)
     recs = _records(records)
@@ -530,3 +568,8 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       n_freq=prob.n_freq, records=tuple(sp.source for sp in spectra),
                       fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)),
                       nu=tuple(st.nus))
+
+
+__all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
+           "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
+           "evaluate"]

@@ -49,3 +49,6 @@ def markdown_table(result) -> str:
     if result.warnings:
         out += ["", "Warnings:", ""] + [f"- {w}" for w in result.warnings]
     return "\n".join(out) + "\n"
+
+
+__all__ = ["table_rows", "markdown_table"]

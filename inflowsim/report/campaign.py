@@ -96,3 +96,6 @@ def estimates_vs_mu_plot(df, path=None, schedule=None):
     if path is not None:
         save_png(fig, path)
     return fig
+
+
+__all__ = ["estimates_vs_mu_plot"]

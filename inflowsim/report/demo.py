@@ -128,3 +128,6 @@ def run_demo(out_dir, seed=0, say=None):
                               "final": v_last.to_json()["channels"]},
                "missing_effects_found": [r.added for r in lad.rungs if r.added]}
     return path, summary, lad
+
+
+__all__ = ["TRUTH", "START", "demo_record", "FIT_NOTE", "run_demo"]

@@ -149,7 +149,15 @@ class _Attachment:
 
 
 def format_cell(v, digits: int = 4) -> str:
-    """Text of one table cell: floats to ``digits`` significant digits."""
+    """Text of one table cell: floats to ``digits`` significant digits.
+
+    Parameters
+    ----------
+    v : object
+        The cell's value (a number, text, a bool or ``None``).
+    digits : int
+        Significant digits of a float [-].
+    """
     if v is None:
         return ""
     if isinstance(v, bool):

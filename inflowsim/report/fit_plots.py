@@ -128,3 +128,7 @@ def band_study_plot(study, path=None):
     fig.suptitle(f"{study.structure}: estimates (1-sigma bars) against the lower "
                  f"frequency limit, upper limit {study.upper_hz:.4g} Hz")
     return _done(fig, path)
+
+
+__all__ = ["reconstruction_response", "fit_plot", "reconstruction_plot", "panel_grid",
+           "band_study_plot"]

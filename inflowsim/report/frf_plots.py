@@ -133,3 +133,6 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
     if path is not None:
         save_png(fig, path)
     return fig
+
+
+__all__ = ["BAND_SIGMA", "wrap_deg", "phase_deg", "frequency_response_plot"]

@@ -75,3 +75,6 @@ def frf_report(fr, models=None, unwrap: bool = True, title=None):
               "acceptable, <= 50 good)" if models else "Response pairs")
     rep.preformatted("\n".join(summary_lines(fr)))
     return rep
+
+
+__all__ = ["summary_lines", "frf_report"]

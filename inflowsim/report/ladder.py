@@ -462,3 +462,11 @@ def decision_lines(decision) -> list:
         out.append(f"rule: the admissible structure of largest gain, "
                    f"{' + '.join(c.atoms)}, is not accepted: {describe(c, decision)}")
     return out
+
+
+__all__ = ["rung_label", "held_parameters", "column_label", "ladder_rows", "COST_LABEL",
+           "ladder_markdown", "identifiability_lines", "floor_ratios", "ladder_plot",
+           "worse_channels", "candidate_plot", "FAILURE_HEADER", "failure_rows",
+           "failure_message", "candidate_rows", "CANDIDATE_HEADER", "STRUCTURE_HEADER",
+           "structure_rows", "format_diagnosis", "diagnosis_report", "ladder_report",
+           "decision_lines"]

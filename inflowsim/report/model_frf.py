@@ -106,3 +106,7 @@ def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", headin
                           f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %;"
                           " angles in degrees)")
     return fr
+
+
+__all__ = ["cost_rows", "accuracy_row", "cost_caption", "responses_paragraph",
+           "model_frf_section"]

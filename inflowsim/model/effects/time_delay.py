@@ -26,3 +26,6 @@ EFFECT = Effect(
                          "chain time shifts are tens of milliseconds")),),
     alternatives=("delay-beta0", "delay-beta1c", "delay-beta1s"),
 )
+
+
+__all__ = ["EFFECT"]
