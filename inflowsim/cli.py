@@ -28,6 +28,7 @@ def build_parser():
                      "simulate, validate, identify, diagnose, FMU.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"inflowsim {__version__}")
+    from .commands._common import add_progress_options
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         try:
@@ -38,6 +39,7 @@ def build_parser():
             raise
         p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
+        add_progress_options(p)
         p.set_defaults(_run=mod.run)
     return parser
 
@@ -93,7 +95,9 @@ def main(argv=None) -> int:
 
 
 def _run(args) -> int:
+    from . import progress
     from .commands._checks import check_paths
+    progress.configure(getattr(args, "show_progress", None))
     try:
         check_paths(args)
         if hasattr(args, "effect_file"):

@@ -315,3 +315,7 @@ def _plain(o):
     if hasattr(o, "to_json"):
         return _plain(o.to_json())
     raise TypeError(f"cannot write {type(o).__name__} as JSON")
+
+
+__all__ = ["check_replaceable", "check_output", "check_folder", "check_writable", "umask",
+           "safe_write_text", "atomic_path", "json_text"]

@@ -13,7 +13,8 @@ PKG = Path(inflowsim.__file__).parent
 #: Each layer may import itself and the layers before it (and the foundation).
 LAYERS = ["physics", "model", "simulate", "data", "identify", "diagnose", "flighttest",
           "report", "campaign", "fmu", "commands"]
-FOUNDATION = {"errors", "fileio", "channels", "defaults", "frozen", "_legacy", "__init__"}
+FOUNDATION = {"errors", "fileio", "channels", "defaults", "frozen", "progress", "_legacy",
+              "__init__"}
 
 
 def _layer(module):

@@ -35,7 +35,21 @@ SETTINGS_KEYS = ("model", "band", "candidates", "alpha", "max_steps", "hold")
 class PlanEntry:
     """One record of the plan: ``path`` (absolute), ``condition`` label, ``mu``
     [-] (from the record's metadata; ``None`` where unreadable), ``manoeuvre``,
-    ``group`` (free text, may be empty)."""
+    ``group`` (free text, may be empty).
+
+    Attributes
+    ----------
+    path : str
+        The record (absolute path).
+    condition : str
+        Its flight condition's label.
+    mu : float or None
+        Its advance ratio [-] (``None`` where unreadable).
+    manoeuvre : str
+        What was flown (free text).
+    group : str
+        A grouping label (free text, may be empty).
+    """
 
     path: str
     condition: str
@@ -46,6 +60,18 @@ class PlanEntry:
 
 @dataclass(frozen=True)
 class Plan:
+    """A campaign's plan: its records with their flight conditions.
+
+    Attributes
+    ----------
+    source : str
+        The folder or manifest the plan was read from.
+    entries : tuple of PlanEntry
+        The records, in plan order.
+    settings : dict
+        Settings the manifest gives (model, band [Hz] ...), overridden by the options.
+    """
+
     source: str
     entries: tuple
     settings: dict = field(default_factory=dict)
@@ -78,7 +104,16 @@ def _entry(path: Path, condition="", manoeuvre="", group="") -> PlanEntry:
 
 def read_plan(path, exclude=()) -> Plan:
     """The plan at ``path`` (folder, CSV or TOML manifest); folders under
-    ``exclude`` (the campaign's own output) are never scanned."""
+    ``exclude`` (the campaign's own output) are never scanned.
+
+    Parameters
+    ----------
+    path : path-like
+        A folder of records (``*.csv``) or a manifest (``.csv`` or ``.toml``: record,
+        flight condition, manoeuvre, group).
+    exclude : iterable of path-like
+        Folders never scanned (the campaign's own output).
+    """
     p = Path(path)
     if not p.exists():
         raise InputError(f"{p}: no such folder or manifest")
@@ -173,3 +208,7 @@ def write_plan_csv(entries, path, base=None) -> str:
                 pass
         w.writerow([str(rel), e.condition, e.manoeuvre, e.group])
     return buf.getvalue()
+
+
+__all__ = ["MANIFEST_SUFFIXES", "SETTINGS_KEYS", "PlanEntry", "Plan", "read_plan",
+           "write_plan_csv"]

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
 from ..errors import InputError
 from ._checks import finite_float
+from ..progress import SHOW as progress
+from ..progress import warn
 
 if TYPE_CHECKING:
     from ..model.structure import Structure
@@ -58,6 +60,18 @@ def add_report_option(p, what="plots"):
     """``--report DIR``: a report folder."""
     p.add_argument("--report", metavar="DIR",
                    help=f"write {what} and DIR/index.html (the folder is created)")
+
+
+def add_progress_options(p, default=None):
+    """``--quiet`` and ``--progress``: whether progress is shown on standard error
+    (default: when it is a terminal; :mod:`inflowsim.progress`).  A command's
+    action parser passes ``default=argparse.SUPPRESS`` (the command's own stands)."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--quiet", "-q", dest="show_progress", action="store_false",
+                   default=default, help="show no progress (warnings and errors still)")
+    g.add_argument("--progress", dest="show_progress", action="store_true",
+                   help="show progress on standard error even when it is not a "
+                        "terminal (default: only on a terminal)")
 
 
 def add_json_option(p, help="one JSON document on stdout"):
@@ -151,7 +165,7 @@ def read_parameter_file(path):
     from ..model.paramfile import read_parameters
     ps = read_parameters(path)
     for w in ps.warnings():
-        progress(f"warning: {w}")
+        warn(w)
     return ps
 
 
@@ -182,10 +196,10 @@ def read_records(paths, args):
         if tw:
             rec = rec.with_meta(trim_window=f"{tw[0]!r} {tw[1]!r}")
         for w in rec.warnings():
-            progress(f"warning: {w}")
+            warn(w)
         trim = find_trim(rec)
         if trim.warning:
-            progress(f"warning: {trim.warning}")
+            warn(trim.warning)
         recs.append(rec)
     return recs
 
@@ -216,11 +230,6 @@ def check_seed(seed):
     """Refuse a noise seed numpy cannot take."""
     if not 0 <= seed < 2 ** 32:
         raise InputError(f"--seed {seed}: must be an integer in [0, 2**32)")
-
-
-def progress(msg):
-    sys.stderr.write(msg + "\n")
-    sys.stderr.flush()
 
 
 def start_values(args):

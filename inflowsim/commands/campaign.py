@@ -7,8 +7,8 @@ together (a joint diagnosis and ladder); across conditions: agreement on the
 missing effect.  Runs on a local Dask cluster of the machine's cores, or on the
 cluster at ``--scheduler``.  Results are stored under ``--out`` keyed by each
 record's hash, the settings and the package version: a restarted campaign skips
-what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.md``,
-``estimates_vs_mu.png``, ``schedule.json`` (each parameter against ``mu``:
+what is done.  Writes ``campaign.parquet``, ``campaign.csv``, ``report.html``,
+``report.md``, ``estimates_vs_mu.png``, ``schedule.json`` (each parameter against ``mu``:
 ``inflowsim fmu build --schedule``) and ``campaign.json`` there; ``--json``
 prints the document on stdout (the progress bar is on stderr).
 """
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ._checks import finite_float
-from ._common import add_also_option, pool_with, print_json, progress, unknown_effect
+from ._common import add_also_option, pool_with, print_json, progress, unknown_effect, warn
 
 HELP = "a campaign of records at several flight conditions, on Dask (resumable)"
 
@@ -59,7 +59,6 @@ def add_arguments(p):
                         "inflow time constants, which go like 1/V; both: the "
                         "criterion chooses per parameter)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _setting(s, key, kinds, what, default):
@@ -137,7 +136,7 @@ def run(args) -> int:
     if args.schedule_order < 0:
         raise InputError(f"--schedule-order {args.schedule_order}: must be >= 0")
     res = run_campaign(plan, out, settings, scheduler=args.scheduler, workers=args.workers,
-                       progress=not args.quiet, schedule_criterion=args.schedule_criterion,
+                       progress=progress, schedule_criterion=args.schedule_criterion,
                        schedule_max_order=args.schedule_order,
                        schedule_variables=(("mu", "1/mu") if args.schedule_variable == "both"
                                            else (args.schedule_variable,)))
@@ -157,7 +156,7 @@ def run(args) -> int:
               f"{len(ag['disagreements'])} record(s) disagree with their condition")
         bad = [r for r in res.records if r.get("status") != "ok"]
         for r in bad:
-            progress(f"error: {r.get('error')}")
+            warn(f"{r.get('record')} could not be analysed: {r.get('error')}")
         if res.schedule is not None:
             sch = res.schedule
             trend = [p.name for p in sch.parameters if not p.constant]
@@ -167,7 +166,7 @@ def run(args) -> int:
                   + ("; with the trim the conditions flew at" if sch.trim else "") + ")")
         else:
             print(f"schedule: none ({res.schedule_note})")
-        print(f"report: {res.files['report']}")
+        print(f"report: {res.files['html']} (and {res.files['report']})")
     if res.records and len(failed) == len(res.records):
         raise InputError(f"every one of the {len(failed)} records failed (the first: "
                          f"{failed[0].get('error')}); see {res.files['report']}")

@@ -85,6 +85,9 @@ def add_arguments(p):
                    help="time delay of the recorded flap [s] (adds time-delay)")
     p.add_argument("--blades", type=int, default=4, metavar="N",
                    help="nonlinear truth: number of blades (default 4)")
+    p.add_argument("--mu", type=float, metavar="MU",
+                   help="advance ratio of the flight (default 0.249, the Puma at "
+                        "100 kt; --campaign: --speeds)")
     p.add_argument("--speed", choices=("eq14", "mu"), default="eq14",
                    help="nonlinear truth: speed through the disc, Eq. (14) (default) "
                         "or the trim mu (then the inflow is the basic model)")
@@ -286,7 +289,8 @@ def _nonlinear(args, man, values):
                          f"{', '.join(NONLINEAR_SET)}"
                          + ("" if "servo-actuators" in args.add else
                             " (servo_tau, servo_zeta with --add servo-actuators)"))
-    rotor = RotorSpec(n_blades=args.blades, speed=args.speed, **values)
+    rotor = RotorSpec(constants=_constants(args), n_blades=args.blades, speed=args.speed,
+                      **values)
     return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
@@ -319,14 +323,31 @@ def _linear(args, man, values):
     if args.delay is not None:
         params["delay"] = args.delay
     params.update(values)
-    build_model(s, params, PUMA)            # one-line refusal of unknown or bad values
+    k = _constants(args)
+    build_model(s, params, k)               # one-line refusal of unknown or bad values
     FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
-    return VirtualTest(structure=s.name, parameters=params, manoeuvres=man,
+    return VirtualTest(structure=s.name, parameters=params, constants=k, manoeuvres=man,
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,
                        seed=args.seed, body=FlightTest().body if not args.no_body
                        else _still_body(), hold=args.hold,
                        noise_color_hz=args.noise_color_hz,
                        description=f"{_what(args, man)}, linear truth {s.name}")
+
+
+#: The advance ratios a single flight test flies (the nonlinear truth's trim and
+#: the linear models' range).
+MU_RANGE = (0.0, 0.5)
+
+
+def _constants(args):
+    """The Puma's constants at ``--mu`` (refused outside :data:`MU_RANGE`)."""
+    from ..model.params import PUMA
+    if args.mu is None:
+        return PUMA
+    if not (math.isfinite(args.mu) and MU_RANGE[0] < args.mu <= MU_RANGE[1]):
+        raise InputError(f"--mu {args.mu:g}: the advance ratio must be in "
+                         f"({MU_RANGE[0]:g}, {MU_RANGE[1]:g}]")
+    return PUMA.with_mu(args.mu)
 
 
 def _what(args, manoeuvres) -> str:
@@ -351,6 +372,8 @@ def _campaign(args) -> int:
     if args.out or args.truth_json or args.json:
         raise InputError("--campaign writes its own records and plan: drop --out, "
                          "--truth-json and --json")
+    if args.mu is not None:
+        raise InputError("--mu flies one record; a campaign's speeds are --speeds")
     if args.truth != "nonlinear" or args.add or args.set or args.model:
         raise InputError("--campaign flies the nonlinear truth as it is: drop --truth, "
                          "--model, --add and --set")
@@ -393,7 +416,7 @@ def run(args) -> int:
     _check_flight(args)
     progress(f"flighttest: generating {args.duration:g} s at {args.dt:g} s "
              f"({args.truth} truth)")
-    res = flighttest(test)
+    res = flighttest(test, progress)
     write_record(res.record, args.out, overwrite=args.force)
     truth = json.loads(json.dumps(res.truth, default=_plain))
     if args.truth_json:

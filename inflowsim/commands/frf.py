@@ -33,8 +33,10 @@ def add_arguments(p):
     p.add_argument("--overlap", type=fraction, default=0.75, metavar="R",
                    help="overlap of consecutive windows (default 0.75)")
     add_trim_window_option(p)
-    p.add_argument("--unwrap", action="store_true",
-                   help="report plots: unwrap the phase (labelled); default +-180 deg")
+    p.add_argument("--unwrap", action="store_true", default=True,
+                   help="report plots: the phase unwrapped (the default)")
+    p.add_argument("--wrap", dest="unwrap", action="store_false",
+                   help="report plots: the phase wrapped to +-180 deg")
     add_report_option(p, "Bode plots")
     add_json_option(p)
 

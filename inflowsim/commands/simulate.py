@@ -22,7 +22,7 @@ from pathlib import Path
 
 from ._checks import finite_float
 from ..errors import InputError
-from ._common import add_model_arguments, load_model, print_json, progress
+from ._common import add_model_arguments, load_model, print_json, warn
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
 
@@ -48,7 +48,7 @@ def run(args) -> int:
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
     for w in rec.warnings():
-        progress(f"warning: {w}")
+        warn(w)
     model = load_model(args, rec.constants)
     inputs = [q for q in (args.record, args.params) if q]
     out = check_output(args.out, args.force, inputs)

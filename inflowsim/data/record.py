@@ -57,7 +57,22 @@ def band_needs(band_hz) -> float:
 
 @dataclass(frozen=True, eq=False)
 class Record(ReadOnlyArrays):
-    """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
+    """One run: time ``t`` [s], channels by name (SI, totals), metadata.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Sample times [s].
+    channels : mapping of str to ndarray
+        Channels by canonical name, totals in SI (angles [rad], rates [rad/s],
+        accelerations [rad/s^2], velocities and inflow over ``Omega R`` [-]).
+    meta : mapping of str to str
+        The ``# key: value`` metadata (``omega`` [rad/s], ``mu`` [-], ``hold`` ...).
+    source : str
+        Where it was read from.
+    order : tuple of str
+        The columns' order as read.
+    """
 
     t: np.ndarray
     channels: Mapping[str, np.ndarray]
@@ -300,6 +315,23 @@ class Trim:
     ``t_start``, ``t_end`` [s] the window; ``n_samples`` in it; ``t_movement`` the
     first control movement found [s] (``None`` for a given window); ``warning``
     one line when the trim deserves the user's attention, else ``None``.
+
+    Attributes
+    ----------
+    values : mapping of str to float
+        Trim value per channel (SI, as the channels).
+    method : {"quiet", "window"}
+        How the window was found.
+    t_end : float
+        The window's end [s].
+    n_samples : int
+        Samples in the window [-].
+    t_start : float
+        The window's start [s].
+    t_movement : float or None
+        The first control movement [s] (``None`` for a given window).
+    warning : str or None
+        A short lead-in's warning.
     """
 
     values: Mapping[str, float]
@@ -414,6 +446,13 @@ def find_trim(rec: Record, window=None) -> Trim:
     controls never move is all trim.  Fewer than ``MIN_TRIM_SAMPLES`` quiet samples
     is an error naming the remedy; a lead-in shorter than ``SHORT_TRIM`` s is
     used with a warning.
+
+    Parameters
+    ----------
+    rec : Record
+        The record (totals).
+    window : (float, float), optional
+        The trim window ``(t0, t1)`` [s].
     """
     t = rec.t
     window = window if window is not None else _trim_window_meta(rec)
@@ -476,7 +515,18 @@ def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
 
 
 def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
-    """SI perturbation inputs in ``model.inputs`` order (record names)."""
+    """SI perturbation inputs in ``model.inputs`` order (record names).
+
+    Parameters
+    ----------
+    rec : Record
+        The record (totals, SI: angles [rad], rates [rad/s], accelerations [rad/s^2],
+        velocities over ``Omega R`` [-]).
+    model : Model
+        The model whose ``inputs`` order the columns.
+    trim : Trim
+        The trim subtracted (:func:`find_trim`).
+    """
     return perturbations(rec, trim, model.inputs)
 
 
@@ -509,6 +559,11 @@ def read_record(path) -> Record:
     2-hour record at 64 Hz: 350 MB and 2.5 s for the text, its lines and their
     floats held at once; now about twice the array); any row it refuses sends the
     file through :func:`parse_record`, which names the first bad line.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV record (``docs/record-format.md``).
     """
     from ..fileio import check_input_file, read_input_bytes
     p = Path(path)
@@ -662,5 +717,24 @@ def format_record(rec: Record) -> str:
 
 
 def write_record(rec: Record, path, overwrite: bool = False, protect=()) -> Path:
-    """Write ``rec`` (12 significant digits) atomically; never over ``protect``."""
+    """Write ``rec`` (12 significant digits) atomically; never over ``protect``.
+
+    Parameters
+    ----------
+    rec : Record
+        The record.
+    path : path-like
+        The CSV file to write.
+    overwrite : bool
+        Replace an existing regular file (default: refuse).
+    protect : iterable of path-like
+        Files never written over (a command's inputs).
+    """
     return safe_write_text(path, format_record(rec), overwrite, protect)
+
+
+__all__ = ["REQUIRED_META", "INPUT_COLUMNS", "FLAP_COLUMNS", "CONTROL_COLUMNS", "JITTER",
+           "DT_PLAUSIBLE", "BAND_ROUNDING", "MAX_SAMPLES", "band_needs", "Record",
+           "TRIM_MARGIN", "MIN_TRIM_SAMPLES", "SHORT_TRIM", "Trim", "first_movement",
+           "require_control_movement", "find_trim", "perturbations", "model_inputs",
+           "header_meta", "read_record", "parse_record", "format_record", "write_record"]

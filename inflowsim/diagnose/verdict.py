@@ -201,3 +201,6 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
     from dataclasses import replace
     left = v.excess_explained if status == "partly-explained" else None
     return replace(v, stand_ins=stand_ins(effects, fit, left))
+
+
+__all__ = ["STATUSES", "SIGMAS", "Verdict", "power_over_floor", "stand_ins", "verdict"]

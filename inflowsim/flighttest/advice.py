@@ -31,3 +31,6 @@ def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD):
         hub = BodyModel().response(controls, dt, omega_r, constants.mu)
         cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
         yield f"{shape} on {ch}", cols
+
+
+__all__ = ["STANDARD", "standard_manoeuvres"]

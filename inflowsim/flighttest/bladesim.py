@@ -72,6 +72,7 @@ import numpy as np
 from ..errors import InputError
 from ..channels import FLAP, INFLOW
 from ..model.params import PUMA, Constants
+from ..progress import bar
 from ..physics.theory import PUMA_LAMBDA_BETA2, PUMA_N_BETA, pitt_peters_time_constants
 
 SPEEDS = ("eq14", "mu")
@@ -304,7 +305,7 @@ class BladeRotor:
         return x + h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4)
 
     def integrate(self, x0, psi0: float, u_samples, dpsi: float, max_step: float = MAX_STEP,
-                  u_fine=None):
+                  u_fine=None, progress=None):
         """States at every sample and every RK4 sub-step.
 
         Parameters
@@ -323,6 +324,8 @@ class BladeRotor:
             Continuously varying inputs: ``u_fine(n_sub)`` returns the inputs at
             every half sub-step, shape ``(1 + 2 (N-1) n_sub, 10)`` (azimuth
             ``psi0 + j h / 2``); ``u_samples`` are then not held.
+        progress : callable, optional
+            Progress (:func:`inflowsim.progress.bar`), stepped per sample.
 
         Returns
         -------
@@ -341,17 +344,21 @@ class BladeRotor:
         sub[0] = x
         j = 0
         fine = None if u_fine is None else np.asarray(u_fine(n_sub), dtype=float)
-        for k in range(n - 1):
-            uk = tuple(float(v) for v in u_samples[k])
-            base = psi0 + k * dpsi
-            for m in range(n_sub):
-                if fine is None:
-                    x = self.step(base + m * h, x, uk, h)
-                else:
-                    i = 2 * j
-                    x = self.step(base + m * h, x, fine[i], h, fine[i + 1], fine[i + 2])
-                j += 1
-                sub[j] = x
+        with bar(progress, n - 1, "flighttest: flying the blades", "sample") as b:
+            for k in range(n - 1):
+                uk = tuple(float(v) for v in u_samples[k])
+                base = psi0 + k * dpsi
+                for m in range(n_sub):
+                    if fine is None:
+                        x = self.step(base + m * h, x, uk, h)
+                    else:
+                        i = 2 * j
+                        x = self.step(base + m * h, x, fine[i], h, fine[i + 1],
+                                      fine[i + 2])
+                    j += 1
+                    sub[j] = x
+                if k % 100 == 99:
+                    b.update(100)
         if not np.all(np.isfinite(sub[j])):
             raise InputError("the blade simulation diverged (non-finite state): "
                              "inputs too large or rotor unstable")
@@ -461,3 +468,7 @@ def multiblade_derivatives(rotor: BladeRotor, psi: float, z, u) -> np.ndarray:
     p = multiblade(f[nb:2 * nb], psi)
     dd = np.array([p[0], p[1] - 2 * db[2] + b[1], p[2] + 2 * db[1] + b[2]])
     return np.concatenate([dd, f[2 * nb:]])
+
+
+__all__ = ["SPEEDS", "MAX_STEP", "RotorSpec", "BladeRotor", "RotorTrim",
+           "multiblade_derivatives"]

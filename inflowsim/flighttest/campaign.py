@@ -229,3 +229,8 @@ def plan_text(items) -> str:
     for it in items:
         w.writerow([it.name, it.condition, it.manoeuvre, f"repeat {it.repeat}"])
     return buf.getvalue()
+
+
+__all__ = ["MUS", "WIDTH", "CAMPAIGN_SHAPES", "SWEEP_HZ", "AMPLITUDE_DEG", "CampaignItem",
+           "campaign_items", "truth_label", "flown_label", "campaign_record",
+           "virtual_campaign", "plan_text"]

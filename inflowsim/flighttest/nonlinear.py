@@ -146,7 +146,15 @@ class FlightTest:
 
 @dataclass(frozen=True, eq=False)
 class FlightTestResult:
-    """The record and a description of its truth (for ``--truth-json``)."""
+    """The record and a description of its truth (for ``--truth-json``).
+
+    Attributes
+    ----------
+    record : Record
+        The record (totals).
+    truth : dict
+        Its truth: parameters, trim, settings.
+    """
 
     record: Record
     truth: dict
@@ -193,7 +201,8 @@ def _hermite(sub, n_sub, nb, dpsi, s):
             + (-2 * f3 + 3 * f2) * b1 + (f3 - f2) * d1)
 
 
-def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
+def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None,
+                   progress=None):
     """Integrate the blades for true control perturbations and hub motion.
 
     Parameters
@@ -207,6 +216,8 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         ``inputs_at(t) -> (len(t), 10)``: the inputs (azimuth units, totals) at any
         times [s], for continuously varying inputs; without it the sampled inputs
         are held over each sample.
+    progress : callable, optional
+        Progress (:func:`inflowsim.progress.bar`) of the integration.
 
     Returns
     -------
@@ -242,7 +253,7 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
         return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
     x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step,
-                                    None if inputs_at is None else fine)
+                                    None if inputs_at is None else fine, progress)
     x = x[n_pre:]
     t = np.arange(n) * test.dt
     psi = om * t
@@ -276,7 +287,13 @@ def _commanded_controls(test: FlightTest, t):
 def true_controls(test: FlightTest):
     """``controls_at(t) -> (len(t), 3)``: the blades' pitch perturbations [rad] at any
     times [s]: the command, or its response through the servo actuators
-    (``test.servo``), integrated here in continuous time (DOP853, rtol 1e-12)."""
+    (``test.servo``), integrated here in continuous time (DOP853, rtol 1e-12).
+
+    Parameters
+    ----------
+    test : FlightTest
+        The flight test (manoeuvres, azimuth bias, servo actuators).
+    """
     if test.servo is None:
         return lambda t: _commanded_controls(test, np.atleast_1d(t))
     tau, zeta = test.servo
@@ -302,7 +319,19 @@ def true_controls(test: FlightTest):
 def continuous_hub(test: FlightTest, omega_r, mu, controls_at=None):
     """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls
     (``controls_at``, default :func:`true_controls`), integrated in continuous time
-    (DOP853, rtol 1e-12), at any times [s]."""
+    (DOP853, rtol 1e-12), at any times [s].
+
+    Parameters
+    ----------
+    test : FlightTest
+        The flight test (body model and manoeuvres).
+    omega_r : float
+        Tip speed ``Omega R`` [m/s].
+    mu : float
+        Trim advance ratio [-].
+    controls_at : callable, optional
+        The blades' pitch at any times (:func:`true_controls`).
+    """
     if test.body is None:
         return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
     controls_at = controls_at or true_controls(test)
@@ -322,8 +351,16 @@ def continuous_hub(test: FlightTest, omega_r, mu, controls_at=None):
     return hub_at
 
 
-def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
-    """A record (totals) from the nonlinear individual-blade truth; see module doc."""
+def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> FlightTestResult:
+    """A record (totals) from the nonlinear individual-blade truth; see module doc.
+
+    Parameters
+    ----------
+    test : FlightTest
+        What is flown (manoeuvres, speed, rotor, sensors).
+    progress : callable, optional
+        Progress of the blades' integration (:func:`inflowsim.progress.bar`).
+    """
     t_start = time.perf_counter()
     test.check()
     k = test.rotor.constants
@@ -345,10 +382,10 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
             return u_trim + np.column_stack([
                 c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
                 h["pdot"] / om**2, h["mux"], h["muy"]])
-        res = blade_response(test, true, hub, inputs_at)
+        res = blade_response(test, true, hub, inputs_at, progress)
     else:
         hub = _hub(test, true, omega_r, k.mu)
-        res = blade_response(test, true, hub)
+        res = blade_response(test, true, hub, progress=progress)
     trim = res["trim"]
     rng = np.random.default_rng(test.seed)
     tc = test.trim_controls
@@ -404,7 +441,14 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
 
 
 def linear_flighttest(test: VirtualTest) -> FlightTestResult:
-    """A record from a linear structure plus effects (:func:`virtual_record`)."""
+    """A record from a linear structure plus effects (:func:`virtual_record`).
+
+    Parameters
+    ----------
+    test : VirtualTest
+        The linear truth (structure, parameters, manoeuvres, duration [s], step [s],
+        noise [rad]).
+    """
     from ..model.build import build_model
     from ..model.presets import preset_parameters
     params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
@@ -421,9 +465,23 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
     return FlightTestResult(rec, truth)
 
 
-def flighttest(test) -> FlightTestResult:
-    """Run a virtual flight test: :class:`FlightTest` (nonlinear truth) or
-    :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth)."""
+def flighttest(test, progress=None) -> FlightTestResult:
+    """Run a virtual flight test.
+
+    Parameters
+    ----------
+    test : FlightTest or VirtualTest
+        :class:`FlightTest` (nonlinear truth) or
+        :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth).
+    progress : callable, optional
+        Progress of the nonlinear truth's integration (:func:`inflowsim.progress.bar`;
+        the linear truth takes well under a second).
+    """
     if isinstance(test, VirtualTest):
         return linear_flighttest(test)
-    return nonlinear_flighttest(test)
+    return nonlinear_flighttest(test, progress)
+
+
+__all__ = ["TRIM_CONTROLS", "INFLOW_COLUMNS", "FlightTest", "FlightTestResult",
+           "trim_inputs", "blade_response", "continuous_hub", "nonlinear_flighttest",
+           "linear_flighttest", "flighttest"]

@@ -32,7 +32,13 @@ def unknown_effect(name: str) -> str:
 
 @dataclass(frozen=True)
 class Structure:
-    """A base model plus a set of effects (kept in catalogue order)."""
+    """A base model plus a set of effects (kept in catalogue order).
+
+    Attributes
+    ----------
+    effects : tuple of str
+        The effects added to the basic model (catalogue names).
+    """
 
     effects: tuple = ()
 
@@ -131,3 +137,6 @@ class Structure:
 
     def __str__(self) -> str:
         return self.name
+
+
+__all__ = ["BASE_PARAMETERS", "PRESETS", "Structure"]

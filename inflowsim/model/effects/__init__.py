@@ -35,7 +35,13 @@ CATALOGUE: dict[str, Effect] = {}
 def register(effect: Effect) -> Effect:
     """Add an effect to the catalogue, and its parameters' facts to
     :data:`inflowsim.model.params.SPECS` (used by effect modules outside this
-    package too)."""
+    package too).
+
+    Parameters
+    ----------
+    effect : Effect
+        The effect (its name, parameters with their units and ranges, and equations).
+    """
     for spec in effect.specs:
         register_spec(spec)
     CATALOGUE[effect.name] = effect
@@ -48,7 +54,13 @@ for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
 
 def needs_trim(structures) -> bool:
     """Some structure of ``structures`` (names or parsed) has an effect linearised
-    about the trim state (:attr:`Effect.about_trim`)."""
+    about the trim state (:attr:`Effect.about_trim`).
+
+    Parameters
+    ----------
+    structures : iterable of str or Structure
+        The structures.
+    """
     from ..structure import Structure
     return any(CATALOGUE[e].about_trim for st in structures
                for e in Structure.parse(st).effects if e in CATALOGUE)
