@@ -118,6 +118,11 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
         u8 = _select(inputs, INPUTS[:8], m) * scale
         c = c + a0s * (w[:, :3] @ dbeta_x + w[:, 3:6] @ pb + w[:, 6:9] @ pl)
         d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
+    for e in effects:
+        eff = CATALOGUE.get(e)
+        if eff is not None and eff.loads is not None:
+            # an effect's appended states' own loads (higher inflow states)
+            c = c + a0s * (eff.loads(p, k) @ _select(states, eff.states, n))
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
     return np.vstack([c, c_hub]), np.vstack([d, np.zeros((2, m))])

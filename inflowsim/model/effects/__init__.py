@@ -22,6 +22,7 @@ from . import second_harmonic_flap  # noqa: E402
 from . import momentum_speed  # noqa: E402
 from . import time_shifts  # noqa: E402
 from . import servo_actuators  # noqa: E402
+from . import peters_he  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
              momentum_speed, servo_actuators)
 
@@ -39,7 +40,7 @@ def register(effect: Effect) -> Effect:
     return effect
 
 
-for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
+for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS) + list(peters_he.EFFECTS):
     register(_e)
 
 
