@@ -71,10 +71,11 @@ def _grid(nr=40, npsi=72):
     return (x + 1) / 2, w / 2, 2 * np.pi * np.arange(npsi) / npsi
 
 
-def model(power, mu, n_beta, lambda_beta2, a0s, v, omega):
+def model(power, mu, n_beta, lambda_beta2, a0s, v, omega, gain=None):
     """``(E, A, B, C)``: azimuth-time descriptor, states ``(beta, alpha)``, inputs the
     eight azimuth-unit inputs, ``C`` the six recorded outputs (flap, and the
-    least-squares linear inflow ``lambda0, lambda1c, lambda1s``)."""
+    least-squares linear inflow ``lambda0, lambda1c, lambda1s``).  ``gain``: the
+    inflow-gain matrix ``L`` (default Peters-He's, by quadrature)."""
     st = states_of(power)
     n = len(st)
     r, wr, psi = _grid()
@@ -101,7 +102,7 @@ def model(power, mu, n_beta, lambda_beta2, a0s, v, omega):
     half = a0s / 2.0 * wm
     tq = lambda fs: np.array([[half[i] * pressure(g, f) for f in fs]
                               for i, g in enumerate(shapes)])
-    linv = np.linalg.inv(gain(power))
+    linv = np.linalg.inv(globals()['gain'](power) if gain is None else gain)
     k = mass(power)
     # flap: C beta' + D beta = H_alpha alpha + H_theta theta + H_nu nu + H_eta eta
     flw = [R, 2 * R * c, 2 * R * s]
@@ -146,3 +147,25 @@ def state_space(desc, omega):
     e, a, b, cm = desc
     scale = input_scale(omega)[:8]
     return omega * np.linalg.solve(e, a), omega * np.linalg.solve(e, b) * scale, cm
+
+
+def steady_loads(desc, x, u, power, mu, a0s, omega):
+    """``(C_T, C_mc, C_ms)`` at a steady state ``x`` (no flap rate) and SI inputs ``u``:
+    ``a0 s (1/2) avg int F (1, -r cos psi, -r sin psi) dr`` by quadrature."""
+    st = states_of(power)
+    r, wr, psi = _grid()
+    R, P = np.meshgrid(r, psi, indexing="ij")
+    W = np.outer(wr, np.ones_like(psi)) / len(psi)
+    c, s = np.cos(P), np.sin(P)
+    ua = np.asarray(u, float)[:8] * input_scale(omega)[:8]
+    b0, b1c, b1s = x[:3]
+    lam = sum(x[3 + i] * shape(m, j, R) * (np.cos(m * P) if k == "c" else np.sin(m * P))
+              for i, (k, m, j) in enumerate(st))
+    ut = R + mu * s
+    th = ua[0] + ua[1] * c + ua[2] * s
+    # single-blade flap and rate at steady multiblade state (beta' = 0)
+    beta = b0 + b1c * c + b1s * s
+    rate = b1s * c - b1c * s
+    up = ua[3] - lam - R * rate - mu * beta * c + R * (ua[5] * s + ua[4] * c)
+    f = th * ut * ut + up * ut
+    return a0s * 0.5 * np.array([np.sum(W * f), -np.sum(W * f * R * c), -np.sum(W * f * R * s)])

@@ -185,7 +185,8 @@ def _with_blocks(eq: Equations, second_order: bool):
     else:
         top = np.vstack([fx, lx])
     # the base equations' input columns routed through a block's state
-    obj = any(np.asarray(x).dtype == object for x in (b0, top))
+    obj = any(np.asarray(x).dtype == object
+              for x in (b0, top) + tuple(bl.b for bl in blocks) + tuple(bl.a for bl in blocks))
     b0, top = _object_safe(b0, obj), _object_safe(top, obj)
     off = 0
     for bl in blocks:
@@ -213,6 +214,20 @@ def _with_blocks(eq: Equations, second_order: bool):
         rows_e.append(left_e)
         rows_a.append(left_a)
         rows_b.append(np.asarray(bl.b))
+        off += bl.n
+    # another block's input columns routed through a block's state too (the pitch a
+    # servo actuator gives drives the higher inflow states as it drives the base)
+    off = 0
+    for k, bl in enumerate(blocks):
+        for col, i in bl.through:
+            for q, other in enumerate(blocks):
+                if q == k:
+                    continue
+                bq = _object_safe(rows_b[q], obj)
+                aq = _object_safe(rows_a[q], obj)
+                aq[:, n0 + off + i] = aq[:, n0 + off + i] + bq[:, col]
+                bq[:, col] = 0 * bq[:, col]
+                rows_a[q], rows_b[q] = aq, bq
         off += bl.n
     e = np.vstack([e_top] + rows_e)
     a = np.vstack([a_top] + rows_a)
