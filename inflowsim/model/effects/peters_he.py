@@ -42,6 +42,7 @@ import numpy as np
 from ._effect import Effect
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
+from ...physics import loads as ld
 from ...physics import peters_he as ph
 
 #: Effect name -> highest radial power of its truncation.
@@ -100,7 +101,10 @@ def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None):
     f_x = k_ph * 4.0 * n_beta * fl[:, col + 3:]
     proj = ph.linear_projection(states)[:, 3:]
     to_output = np.vstack([np.zeros((3, len(states) - 3)), k_ph * proj])
-    loads = k_ph * q[b_, col + 3:] / T_BASE[:, None]
+    # loads of the higher states' inflow; the base states are the recorded inflow
+    # (to_output is a change of variables), so the base rows' G_lambda lambda counts
+    # the projection once too many
+    loads = k_ph * (q[b_, col + 3:] / T_BASE[:, None] - ld.g_lambda(mu) @ proj)
     return {"p_lambda": p_lambda, "e": e, "a": a, "a_z": a_z, "b": b, "f_x": f_x,
             "l_x": l_x, "to_output": to_output, "loads": loads}
 
