@@ -379,8 +379,6 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     if eq.blocks:
         end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
-        if any(bl.to_output is not None for bl in eq.blocks):
-            c = _own(_output_map(n, meas, eq.blocks))
     elif s.second_order:
         end_basis, end_input = slow_manifold(eq, n_inputs, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
@@ -402,19 +400,15 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                  end_basis=end_basis, end_input=end_input)
 
 
-def _output_map(n, meas, blocks=()):
+def _output_map(n, meas):
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
-    off = n - sum(bl.n for bl in blocks)
-    for bl in blocks:
-        if bl.to_output is not None:
-            # an appended state's share of what the record calls beta, lambda
-            c[:, off:off + bl.n] += np.asarray(bl.to_output, dtype=float)
-        off += bl.n
+    # an appended state's share of what the record calls beta, lambda is in the
+    # states themselves (equations.assemble: to_output is a change of variables)
     return c
 
 

@@ -24,6 +24,7 @@ from . import wake_distortion, wake_distortion_lag  # noqa: E402
 from . import time_shifts  # noqa: E402
 from . import servo_actuators  # noqa: E402
 from . import lead_lag  # noqa: E402
+from . import peters_he  # noqa: E402
 _MODULES += (flap_inertia, skewed_wake, advance_ratio_perturbation, second_harmonic_flap,
              momentum_speed, wake_distortion, wake_distortion_lag, servo_actuators,
              lead_lag)
@@ -48,7 +49,7 @@ def register(effect: Effect) -> Effect:
     return effect
 
 
-for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS):
+for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS) + list(peters_he.EFFECTS):
     register(_e)
 
 
