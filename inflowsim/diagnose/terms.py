@@ -611,7 +611,7 @@ def _freed(prob, theta, statistic):
     base (chi-square with one degree of freedom each)."""
     p = prob.params(theta)
     dof = len(prob.splits)
-    pv = float(stats.chi2.sf(max(statistic, 0.0), dof))
+    pv = float(chi2_sf(max(statistic, 0.0), dof))
     return tuple((n, _GROUP_NAMES[GROUPS[g]], float(p[n]),
                   float(p[n] + theta[prob.n_base + i]), float(statistic), pv)
                  for i, (n, g) in enumerate(prob.splits))
