@@ -606,7 +606,10 @@ def _read_streamed(fh, source: str) -> Record | None:
         if not (ln.startswith("#") or not ln.strip()):
             break
     meta, header, _ = _parse_head(head, source)
-    data = np.loadtxt(fh, delimiter=",", comments=None, dtype=float, ndmin=2)
+    import warnings
+    with warnings.catch_warnings():      # no rows: parse_record says what is wrong
+        warnings.simplefilter("ignore", UserWarning)
+        data = np.loadtxt(fh, delimiter=",", comments=None, dtype=float, ndmin=2)
     if data.shape[0] == 0 or data.shape[1] != len(header):
         return None
     return _finish(data, header, meta, source)
