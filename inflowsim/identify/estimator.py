@@ -42,6 +42,7 @@ from ..errors import InputError
 from ..model.build import build_model
 from ..model.presets import preset_parameters, theory_parameters
 from ..model.structure import Structure
+from ..progress import bar
 from .problem import Problem, unstack
 from .results import FitResult, RecordFit, channel_fit
 from .transform import DEFAULT_BAND, as_record, record_spectra
@@ -476,27 +477,38 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     starts = _starts(s, spectra[0].constants, start)
     if not multistart:
         starts = starts[:1]
-    # every start gets a short run (one relaxation round); the best continues
-    trials = []
-    for label, vals in starts:
-        vals = dict(vals)
-        vals.update(fixed)
-        prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
-        if not prob.free:
-            raise InputError("identify: every parameter is fixed; nothing to estimate")
-        try:
-            build_model(s, prob.params(prob.theta0()), spectra[0].constants)
-        except InputError as exc:
-            raise InputError(f"start values ({label}): {exc}") from None
-        say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
-            f"{prob.n_freq} frequencies")
-        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
-        say(f"  start {label}: cost {j:.6f} after {iters} iterations")
-        trials.append((j, label, prob, st, iters))
-    j, label, prob, st, it0 = min(trials, key=lambda x: x[0])
-    say(f"  continuing from start {label}")
-    st, j, iters, conv = _fit(prob, st.theta,
-                              report=lambda i, c: say(f"  iteration {i}: cost {c:.6f}"))
+    # every start gets a short run (one relaxation round); the best continues.  Only
+    # the best start's problem and state are kept (its responses and nuisance
+    # bases are the record's length: 90 MB of a 2-hour record's three starts)
+    trials, best = [], None
+    with bar(progress, len(starts), f"identify {s.name}: trying starts", "start") as b:
+        for label, vals in starts:
+            vals = dict(vals)
+            vals.update(fixed)
+            prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
+            if not prob.free:
+                raise InputError("identify: every parameter is fixed; nothing to estimate")
+            try:
+                build_model(s, prob.params(prob.theta0()), spectra[0].constants)
+            except InputError as exc:
+                raise InputError(f"start values ({label}): {exc}") from None
+            b.set_postfix_str(f"{label}: {len(prob.free)} parameters, "
+                              f"{prob.n_freq} frequencies")
+            st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
+            b.update()
+            trials.append((j, label, iters))
+            if best is None or j < best[0]:   # the first of equal costs, as min() takes
+                best = (j, label, prob, st, iters)
+            del prob, st
+    j, label, prob, st, it0 = best
+    del best
+
+    def step(b, i, c):
+        b.set_postfix_str(f"cost {c:.6f}", refresh=False)
+        b.update()
+    with bar(progress, None, f"identify {s.name}: fitting from start {label}",
+             "iteration") as b:
+        st, j, iters, conv = _fit(prob, st.theta, report=lambda i, c: step(b, i, c))
     say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
     return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
 
@@ -547,6 +559,29 @@ class Evaluation:
 
     ``residuals[r]`` is ``(nf, 3)`` complex (measured minus predicted flap transform,
     end effects eliminated) at ``f_hz[r]``; ``S[r]`` the estimated covariance.
+
+    Attributes
+    ----------
+    cost : float
+        Cost (12) [-].
+    residuals : tuple of ndarray
+        Per record, ``(nf, 3)`` complex residual spectra [rad s].
+    f_hz : tuple of ndarray
+        Per record, frequencies [Hz].
+    S : tuple of ndarray
+        Per record, residual covariance [rad^2 s^2].
+    Z, Y : tuple of ndarray
+        Per record, measured and predicted flap transforms [rad s].
+    band_hz : tuple of float
+        The band [Hz].
+    n_freq : int
+        Frequencies over all records [-].
+    records : tuple of str
+        The records.
+    fit : dict
+        Per channel fit figures (:func:`~inflowsim.identify.results.channel_fit`).
+    nu : tuple
+        Per record, the end-effect nuisance.
     """
 
     cost: float
@@ -569,6 +604,21 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
     ``S`` and the end-effect nuisance are still estimated (they are not model
     parameters), so the cost is the one :func:`identify` minimises and costs of
     nested structures on the same records and band compare as log-likelihoods.
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    band_hz : (float, float)
+        Analysis band [Hz].
+    grid_hz : float, optional
+        Frequency grid spacing [Hz] (default each record's ``1 / T``).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
     """
     s = Structure.parse(structure)
     recs = _records(records)
@@ -583,3 +633,8 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       n_freq=prob.n_freq, records=tuple(sp.source for sp in spectra),
                       fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)),
                       nu=tuple(st.nus))
+
+
+__all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
+           "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
+           "evaluate"]

@@ -20,6 +20,33 @@ class RecordFit:
     replay the record in time with its ``hold``; ``nu`` all the end-effect nuisance
     (:func:`inflowsim.identify.freqmodel.flap_response`); ``S`` the record's
     residual covariance (3x3).
+
+    Attributes
+    ----------
+    source : str
+        The record.
+    constants : Constants
+        Its flight condition and rotor.
+    dt : float
+        Sample step [s].
+    f_hz : ndarray
+        Frequencies [Hz].
+    Z, Y : ndarray, shape (nf, 3)
+        Measured and predicted flap transforms [rad s].
+    x0 : ndarray
+        Estimated initial state (end effects).
+    S : ndarray, shape (3, 3)
+        Residual covariance [rad^2 s^2].
+    trim : mapping of str to float
+        The trim subtracted (SI).
+    trim_method : str
+        How it was found.
+    u_time, z_time : ndarray
+        Input and flap perturbations in time (SI).
+    hold : str
+        Intersample behaviour of the inputs.
+    nu : ndarray or None
+        Every end-effect nuisance.
     """
 
     source: str
@@ -67,6 +94,13 @@ def channel_fit(Z: np.ndarray, Y: np.ndarray) -> dict:
     ``mag_rms_db`` RMS of ``20 log10(|Y|/|Z|)`` [dB]; ``phase_rms_deg`` RMS of the
     wrapped phase of ``Y/Z`` [deg]; ``fit_percent`` :func:`fit_percent` over the
     band; ``residual_rms`` RMS ``|Z - Y|``.
+
+    Parameters
+    ----------
+    Z : ndarray, shape (nf, 3)
+        Measured flap transforms [rad s].
+    Y : ndarray, shape (nf, 3)
+        Predicted flap transforms [rad s].
     """
     out = {}
     for i, ch in enumerate(FLAP):
@@ -216,3 +250,6 @@ class FitResult:
         :attr:`judged`) and ``conditional_why`` (the reason, or ``None``)."""
         return {"conditional": (self.conditional is not None) if self.judged else None,
                 "conditional_why": self.conditional}
+
+
+__all__ = ["RecordFit", "fit_percent", "channel_fit", "FitResult"]

@@ -39,7 +39,16 @@ def _header(result):
 def markdown_table(result) -> str:
     """The parameter table (estimate, 1-sigma CR bound, coloured-residual bound,
     robust bound, theory value) and the per-channel fit, in Markdown; below the
-    table, why the estimates are conditional where they are."""
+    table, why the estimates are conditional where they are.
+
+    Parameters
+    ----------
+    result : FitResult
+        The fit.
+    """
+    # written here, not by pandas' to_markdown (the campaign's reports use it): the
+    # commands print this table and pandas' import alone costs 1.6 s (measured
+    # after NumPy, under the shared machine's load), longer than many fits
     out = [_header(result), "",
            "| parameter | estimate | 1-sigma | 1-sigma (coloured) | 1-sigma (robust) "
            "| theory | note |",
@@ -59,3 +68,6 @@ def markdown_table(result) -> str:
     if result.warnings:
         out += ["", "Warnings:", ""] + [f"- {w}" for w in result.warnings]
     return "\n".join(out) + "\n"
+
+
+__all__ = ["table_rows", "markdown_table"]

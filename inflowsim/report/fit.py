@@ -71,3 +71,7 @@ def band_study_report(study, rep: Report | None = None) -> Report:
     rep.attach("bandstudy.json", json_text(study.to_json()),
                "the estimates and bounds")
     return rep
+
+
+__all__ = ["PARAMETER_HEADER", "FIT_HEADER", "fit_report", "write_report",
+           "band_study_report"]
