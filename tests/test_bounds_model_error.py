@@ -145,3 +145,17 @@ def test_diagnose_marks_the_base_estimates_in_text_and_json(tmp_path):
     assert d.verdict.status == "no-missing-effect"
     assert not any(p["conditional"] for p in d.to_json()["parameters"].values())
     assert "[conditional]" not in format_diagnosis(d)
+
+
+def test_a_stand_in_or_excess_left_makes_the_estimates_conditional():
+    from inflowsim.diagnose.search import verdict_reason
+    from inflowsim.diagnose.verdict import StandIn, Verdict
+    lead = StandIn("time-delay", (("physical", "delay", -0.003, 0.0005, 0.0, 1.0,
+                                   "a measurement chain cannot lead"),))
+    clean = Verdict("explained", (), (), (), ("time-delay",))
+    assert verdict_reason(clean) is None
+    assert verdict_reason(Verdict("no-missing-effect", (), (), ())) is None
+    why = verdict_reason(Verdict("explained", (), (), (), ("time-delay",), (lead,)))
+    assert why.startswith("conditional on an incomplete structure") and "stand-in" in why
+    left = Verdict("unexplained", (), (), (("beta1s", 0.6, 12.0),))
+    assert "beta1s peaks at 12 times the floor" in verdict_reason(left)
