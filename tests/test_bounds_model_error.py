@@ -129,3 +129,33 @@ def test_ladder_and_report_mark_the_conditional_estimates(tmp_path):
     page = fit_report(marked(fit, analyses_of([rec], fit, fit.band_hz))).write(
         tmp_path / "rep").read_text()
     assert "conditional on an incomplete structure" in page and "1-sigma (robust)" in page
+
+
+def test_diagnose_marks_the_base_estimates_in_text_and_json(tmp_path):
+    from inflowsim.diagnose import diagnose
+    from inflowsim.report.ladder import format_diagnosis
+    rec, _ = write_record(tmp_path / "c.csv", "coupling", 0, 2)
+    ok, _ = write_record(tmp_path / "ok.csv", None, 0, 2)
+    d = diagnose(rec, "basic", pool=["time-delay"], assess=False)
+    assert d.verdict.status in ("unexplained", "partly-explained")
+    params = d.to_json()["parameters"]
+    assert all(p["conditional"] and p["conditional_why"] for p in params.values())
+    assert "[conditional] every estimate above is conditional" in format_diagnosis(d)
+    d = diagnose(ok, "basic", pool=["time-delay"], assess=False)
+    assert d.verdict.status == "no-missing-effect"
+    assert not any(p["conditional"] for p in d.to_json()["parameters"].values())
+    assert "[conditional]" not in format_diagnosis(d)
+
+
+def test_a_stand_in_or_excess_left_makes_the_estimates_conditional():
+    from inflowsim.diagnose.search import verdict_reason
+    from inflowsim.diagnose.verdict import StandIn, Verdict
+    lead = StandIn("time-delay", (("physical", "delay", -0.003, 0.0005, 0.0, 1.0,
+                                   "a measurement chain cannot lead"),))
+    clean = Verdict("explained", (), (), (), ("time-delay",))
+    assert verdict_reason(clean) is None
+    assert verdict_reason(Verdict("no-missing-effect", (), (), ())) is None
+    why = verdict_reason(Verdict("explained", (), (), (), ("time-delay",), (lead,)))
+    assert why.startswith("conditional on an incomplete structure") and "stand-in" in why
+    left = Verdict("unexplained", (), (), (("beta1s", 0.6, 12.0),))
+    assert "beta1s peaks at 12 times the floor" in verdict_reason(left)

@@ -150,14 +150,26 @@ def parameter_entries(fit, ident=None) -> dict:
 
 
 def verdict_reason(verd) -> str | None:
-    """The reason a verdict that leaves excess gives every estimate of the structure
-    judged (``None`` for ``explained`` and ``no-missing-effect``)."""
-    if verd is None or verd.status not in ("partly-explained", "unexplained"):
+    """The reason a verdict gives every estimate of the structure judged to be
+    conditional on an incomplete structure: excess left (``partly-explained``,
+    ``unexplained``), or an effect named that is a stand-in (it fits the band
+    without being the physics, so the estimates beside it absorb what it is not);
+    ``None`` otherwise."""
+    if verd is None:
         return None
-    where = ", ".join(f"{c} peaks at {r:.3g} times the floor near {f:.3g} Hz"
-                      for c, f, r in verd.where)
-    return (f"conditional on an incomplete structure: the verdict is {verd.status} "
-            f"({where}); the bounds do not include the bias of what the structure lacks")
+    if verd.status in ("partly-explained", "unexplained"):
+        where = ", ".join(f"{c} peaks at {r:.3g} times the floor near {f:.3g} Hz"
+                          for c, f, r in verd.where)
+        return (f"conditional on an incomplete structure: the verdict is {verd.status} "
+                f"({where}); the bounds do not include the bias of what the structure "
+                "lacks")
+    standing = [x.effect for x in getattr(verd, "stand_ins", ())]
+    if standing:
+        return (f"conditional on an incomplete structure: {', '.join(standing)} "
+                f"{'is a stand-in' if len(standing) == 1 else 'are stand-ins'} (see the "
+                "verdict); the bounds do not include the bias of what the structure "
+                "lacks")
+    return None
 
 
 def _as_list(records):
@@ -543,9 +555,11 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         rungs.append(Rung(st, marked(fit, analyses), added, None, analyses))
         prev = st
     added = tuple(r.added for r in rungs[1:] if r.added)
-    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),
-                  verdict(rungs[0].analyses, rungs[-1].analyses, added,
-                          fit=rungs[-1].fit),
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, fit=rungs[-1].fit)
+    last = rungs[-1]
+    rungs[-1] = dataclasses.replace(last, fit=marked(last.fit, last.analyses,
+                                                     reason=verdict_reason(verd)))
+    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz), verd,
                   identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))
 
 
