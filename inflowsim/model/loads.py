@@ -37,6 +37,7 @@ from ..physics import loads as ld
 from .build import _frozen
 from .effects import CATALOGUE
 from .effects import second_harmonic_flap as shf
+from .effects import lead_lag as llg
 from .equations import rotation
 
 #: The aerodynamic loads, then the flap-spring hub moments (``channels.LOADS``).
@@ -118,6 +119,9 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
         u8 = _select(inputs, INPUTS[:8], m) * scale
         c = c + a0s * (w[:, :3] @ dbeta_x + w[:, 3:6] @ pb + w[:, 6:9] @ pl)
         d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
+    if llg.NAME in effects:
+        # the lag's own term: its rate and displacement change the blades' airspeed
+        c = c + a0s * (llg.in_loads(p, k) @ _select(states, llg.STATES, n))
     for e in effects:
         eff = CATALOGUE.get(e)
         if eff is not None and eff.loads is not None:
