@@ -107,6 +107,13 @@ def test_the_campaign_says_its_dashboard_address():
             raise KeyError("dashboard")
     assert "no dashboard" in dashboard(NoBoard()) and "bokeh" in dashboard(NoBoard())
 
+    class Unserved:                   # a scheduler without one: no made-up address
+        dashboard_link = "http://127.0.0.1:8787/status"
+
+        def scheduler_info(self):
+            return {"services": {}}
+    assert "no dashboard" in dashboard(Unserved())
+
 
 def test_a_single_flight_test_chooses_its_speed(capsys, tmp_path):
     """``flighttest --mu`` (issue #39): the record flies at that advance ratio; one
