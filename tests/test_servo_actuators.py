@@ -168,3 +168,21 @@ def test_the_nonlinear_truths_servos_are_the_servo_transfer_function():
         assert np.abs(got[:, j] - cmd[:, j]).max() > 0.05 * np.abs(cmd[:, j]).max()
     with pytest.raises(ifs.InputError, match="hold continuous"):
         FlightTest(servo=(0.03, 0.6), hold="zoh").check()
+
+
+@pytest.mark.slow
+def test_the_worked_example_of_workflow_md(tmp_path, capsys):
+    """``docs/workflow.md``, "A worked example": servos, then lag, then the floor."""
+    from inflowsim.cli import main
+    rec = str(tmp_path / "lagservo.csv")
+    assert main(["flighttest", "--truth", "linear", "--model", "glauert", "--add",
+                 "lead-lag", "--add", "servo-actuators", "--input", "3211", "--seed", "4",
+                 "--out", rec]) == 0
+    capsys.readouterr()
+    assert main(["ladder", rec, "--model", "glauert", "--also", "lead-lag",
+                 "servo-actuators", "--json"]) == 0
+    import json
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["verdict"]["status"] == "explained"
+    assert doc["verdict"]["effects"] == ["servo-actuators", "lead-lag"]
+    assert max(doc["verdict"]["remaining_excess"].values()) < 1.5
