@@ -10,7 +10,8 @@ from inflowsim.data.record import find_trim, read_record
 
 def test_writes_a_record_and_the_truth(tmp_path, capsys):
     out, tj = tmp_path / "ft.csv", tmp_path / "truth.json"
-    rc = main(["flighttest", "--duration", "2", "--seed", "3", "--azimuth-bias", "0.2",
+    rc = main(["flighttest", "--duration", "2", "--start", "1", "--seed", "3",
+               "--azimuth-bias", "0.2",
                "--delay", "0.02", "--out", str(out), "--truth-json", str(tj)])
     assert rc == 0
     rec = read_record(out)
@@ -27,8 +28,8 @@ def test_writes_a_record_and_the_truth(tmp_path, capsys):
     assert main(["flighttest", "--duration", "2", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "exists" in err and err.count("\n") == 1 and out.read_bytes() == before
-    assert main(["flighttest", "--duration", "2", "--seed", "4", "--out", str(out),
-                 "--force"]) == 0
+    assert main(["flighttest", "--duration", "2", "--start", "1", "--seed", "4", "--out",
+                 str(out), "--force"]) == 0
     assert out.read_bytes() != before
 
 

@@ -67,7 +67,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import stats
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
 from ..identify.estimator import _fit, _records, _spectra, _state
@@ -76,6 +75,7 @@ from ..identify.problem import Problem, _stack
 from ..errors import InputError
 from ..identify.transform import DEFAULT_BAND, record_spectra
 from ..model.build import apply_effects, model_from_equations
+from .tails import chi2_sf
 
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
            "BLOCKS"]
@@ -611,7 +611,7 @@ def _freed(prob, theta, statistic):
     base (chi-square with one degree of freedom each)."""
     p = prob.params(theta)
     dof = len(prob.splits)
-    pv = float(stats.chi2.sf(max(statistic, 0.0), dof))
+    pv = float(chi2_sf(max(statistic, 0.0), dof))
     return tuple((n, _GROUP_NAMES[GROUPS[g]], float(p[n]),
                   float(p[n] + theta[prob.n_base + i]), float(statistic), pv)
                  for i, (n, g) in enumerate(prob.splits))
@@ -658,7 +658,7 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
     with np.errstate(divide="ignore", invalid="ignore"):
         stat = np.where(testable, 2.0 * num ** 2 / np.where(testable, den, 1.0) / dof, 0.0)
         coef = np.where(testable, -num / np.where(testable, den, 1.0), 0.0)
-    pval = np.where(testable, stats.chi2.sf(stat, 1), 1.0)
+    pval = np.where(testable, chi2_sf(stat, 1), 1.0)
     padj = np.ones_like(pval)
     idx = np.flatnonzero(testable)
     m = idx.size

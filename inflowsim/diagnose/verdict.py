@@ -201,3 +201,6 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
         return v
     from dataclasses import replace
     return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained))
+
+
+__all__ = ["STATUSES", "SIGMAS", "Verdict", "power_over_floor", "stand_ins", "verdict"]

@@ -299,7 +299,7 @@ def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     prob = Problem(s, [sp], params)
     S = test.noise_flap ** 2 * len(rec) * np.eye(3)
     st = _state(prob, prob.theta0(), [S])
-    cov, _, dead, _ = _bounds(prob, st)
+    cov, _, _, dead, _ = _bounds(prob, st)
     out = {}
     for i, g in enumerate(prob.free):
         v = cov[i, i]

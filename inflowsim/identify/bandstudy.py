@@ -15,7 +15,25 @@ from .transform import DEFAULT_BAND
 @dataclass(frozen=True, eq=False)
 class BandStudy:
     """``lower_hz`` (snapped lower limits), per parameter ``estimates`` and ``sigma``
-    (lists aligned with ``lower_hz``), ``cost``, ``n_freq`` and ``converged`` per fit."""
+    (lists aligned with ``lower_hz``), ``cost``, ``n_freq`` and ``converged`` per fit.
+
+    Attributes
+    ----------
+    structure : str
+        The structure fitted.
+    upper_hz : float
+        Upper band limit [Hz].
+    lower_hz : ndarray
+        Snapped lower limits [Hz].
+    estimates, sigma : dict of str to list
+        Per parameter, estimates and 1-sigma bounds aligned with ``lower_hz`` (SI).
+    cost : list of float
+        Cost (12) per fit [-].
+    n_freq : list of int
+        Frequencies per fit [-].
+    converged : list of bool
+        Whether each fit converged.
+    """
 
     structure: str
     upper_hz: float
@@ -50,6 +68,21 @@ def band_study(records, structure, upper_hz=DEFAULT_BAND[1], lowers_hz=None,
     Further keywords (``fixed``, ``ties``) go to :func:`identify`.  Fits run from
     the highest lower limit (fewest frequencies, the paper's band) downwards,
     each starting from the previous estimates.
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structure : str or Structure
+        The structure fitted.
+    upper_hz : float
+        Upper band limit [Hz].
+    lowers_hz : sequence of float, optional
+        Lower band limits [Hz] (default :func:`default_lowers`).
+    progress : callable, optional
+        Told one line per fit.
+    **kw
+        ``fixed``, ``ties``: as :func:`~inflowsim.identify.identify` takes them.
     """
     s = Structure.parse(structure)
     recs = _records(records)
@@ -73,3 +106,6 @@ def band_study(records, structure, upper_hz=DEFAULT_BAND[1], lowers_hz=None,
         sigma={n: [r.sigma.get(n) for r in order] for n in names},
         cost=[r.cost for r in order], n_freq=[r.n_freq for r in order],
         converged=[r.converged for r in order])
+
+
+__all__ = ["BandStudy", "default_lowers", "band_study"]

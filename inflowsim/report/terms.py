@@ -13,7 +13,6 @@ input).
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.patches import Rectangle
 
 from .plots import new_figure, save_png
 
@@ -52,6 +51,7 @@ def missing_terms_plot(terms, path=None, title=None):
     ax.set_yticklabels([f"{_BLOCK[b]} {_TEX.get(e, e)}" for b, e in terms.equations])
     ri = {e: i for i, e in enumerate(terms.equations)}
     ci = {v: j for j, v in enumerate(terms.variables)}
+    from matplotlib.patches import Rectangle
     for t in terms.significant:
         i, j = ri[(t.block, t.equation)], ci[t.variable]
         ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2.0,

@@ -30,3 +30,6 @@ EFFECT = Effect(
                                    "flap; it cannot lead the pitch that drives it")),),
     alternatives=("delay-beta0", "delay-beta1c", "delay-beta1s"),
 )
+
+
+__all__ = ["EFFECT"]
