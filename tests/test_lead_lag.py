@@ -274,3 +274,20 @@ def test_the_lag_needs_the_trim_and_registers_its_facts():
     assert eff.theory(hl)["nu_zeta"] == 0.65 and eff.theory(ifs.PUMA)["nu_zeta"] == 0.25
     r = eff.plausible_ranges(hl)["nu_zeta"]
     assert r[0] <= 0.5 and r[1] >= 0.8
+
+
+def test_the_linear_flight_test_flies_the_lag(tmp_path):
+    """``flighttest --truth linear --add lead-lag`` (the truth linearised about the
+    virtual Puma's trim, as every effect about the trim is): a record whose flap
+    differs from the same flight without the lag."""
+    from inflowsim.cli import main
+    from inflowsim.data.record import read_record
+    out = {}
+    for add in ([], ["--add", "lead-lag"]):
+        path = tmp_path / f"r{len(add)}.csv"
+        assert main(["flighttest", "--truth", "linear", *add, "--duration", "6",
+                     "--noise", "0", "--out", str(path)]) == 0
+        out[len(add)] = read_record(path)
+    assert "lead-lag" in out[2].meta["description"]
+    d = np.abs(out[2].channels["beta1s"] - out[0].channels["beta1s"]).max()
+    assert d > 1e-3 * np.abs(out[0].channels["beta1s"] - out[0].channels["beta1s"][0]).max()

@@ -277,13 +277,17 @@ def _linear(args, man, values):
         s = s.with_effect("azimuth-bias")
     if args.delay is not None and "time-delay" not in s.effects:
         s = s.with_effect("time-delay")
-    params = truth_parameters(s, PUMA)
+    # an effect linearised about the trim sees the record's, as the truth will
+    # (flighttest.virtual): the Puma's trim totals
+    from ..flighttest.virtual import PUMA_TRIM
+    k = PUMA.with_trim(dict(PUMA_TRIM, mux=PUMA.mu)) if PUMA.trim is None else PUMA
+    params = truth_parameters(s, k)
     if args.azimuth_bias is not None:
         params["azimuth_bias"] = args.azimuth_bias
     if args.delay is not None:
         params["delay"] = args.delay
     params.update(values)
-    build_model(s, params, PUMA)            # one-line refusal of unknown or bad values
+    build_model(s, params, k)               # one-line refusal of unknown or bad values
     FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
     return VirtualTest(structure=s.name, parameters=params, manoeuvres=man,
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,

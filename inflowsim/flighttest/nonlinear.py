@@ -361,8 +361,11 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
     """A record from a linear structure plus effects (:func:`virtual_record`)."""
     from ..model.build import build_model
     from ..model.presets import preset_parameters
-    params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
-    m = build_model(test.structure, params, test.constants)   # validates
+    k = test.constants
+    if k.trim is None:         # effects linearised about trim see the record's (virtual)
+        k = k.with_trim(dict(PUMA_TRIM, mux=k.mu))
+    params = test.parameters or preset_parameters(test.structure, k, "paper")
+    m = build_model(test.structure, params, k)   # validates
     rec = virtual_record(replace(test, parameters=dict(params)))
     truth = {"truth": "linear", "structure": m.structure.name,
              "effects": list(m.structure.effects), "parameters": dict(m.parameters),
