@@ -291,3 +291,21 @@ def test_the_linear_flight_test_flies_the_lag(tmp_path):
     assert "lead-lag" in out[2].meta["description"]
     d = np.abs(out[2].channels["beta1s"] - out[0].channels["beta1s"]).max()
     assert d > 1e-3 * np.abs(out[0].channels["beta1s"] - out[0].channels["beta1s"][0]).max()
+
+
+def test_the_lag_sees_the_servos_pitch():
+    """With servo-actuators the lag's own pitch forcing follows the servos' output,
+    as the flap's does: at a command frequency far above the servos' bandwidth the
+    whole response (flap and lag) falls with the servo's transfer function."""
+    k = ifs.PUMA.with_trim({"theta0": 0.17, "theta1c": 0.01, "theta1s": -0.05, "beta0": 0.06,
+                            "beta1c": 0.01, "beta1s": -0.002, "muz": 0.0})
+    s0 = ifs.Structure.parse("glauert+lead-lag")
+    s = s0.with_effect("servo-actuators")
+    p = truth_parameters(s, k) | {"servo_tau": 0.03, "servo_zeta": 0.6}
+    f = np.array([0.3, 1.0, 4.0])
+    h = ifs.build_model(s, p, k).frequency_response(f)
+    h0 = ifs.build_model(s0, {n: p[n] for n in s0.parameters}, k).frequency_response(f)
+    sv = 2j * np.pi * f
+    g = 1.0 / ((0.03 * sv) ** 2 + 2 * 0.6 * 0.03 * sv + 1.0)
+    np.testing.assert_allclose(h[:, :3], h0[:, :3] * g, rtol=0,
+                               atol=1e-12 * np.abs(h0).max())

@@ -217,6 +217,20 @@ def _with_blocks(eq: Equations, second_order: bool):
     e = np.vstack([e_top] + rows_e)
     a = np.vstack([a_top] + rows_a)
     b = np.vstack([b0] + rows_b)
+    # another block's rows see a routed input through that state too (the lag's
+    # pitch forcing sees the servos' output pitch, not the command)
+    routes = []
+    off = 0
+    for bl in blocks:
+        routes += [(n0 + off, bl.n, col, n0 + off + i) for col, i in bl.through]
+        off += bl.n
+    if routes:
+        obj = any(x.dtype == object for x in (a, b))
+        a, b = _object_safe(a, obj), _object_safe(b, obj)
+        for start, n, col, state in routes:
+            rows = [r for r in range(n0, a.shape[0]) if not start <= r < start + n]
+            a[rows, state] = a[rows, state] + b[rows, col]
+            b[rows, col] = 0 * b[rows, col]
     if all(x.dtype != object for x in (e, a, b)):
         e, a, b = (np.ascontiguousarray(x, dtype=float) for x in (e, a, b))
     return e, a, b
