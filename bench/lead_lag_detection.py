@@ -20,12 +20,13 @@ def main(which, seeds):
     cases = T.CASES if which == "lag" else [T.CASES[0], T.CASES[3], T.CASES[4]]
     tmp = Path(tempfile.mkdtemp())
     for seed in seeds:
-        for rotor, kind, rate, colour in cases:
+        for rotor, kind, rate, colour, band, truth in cases:
             t0 = time.time()
             path = tmp / f"{which}_{rotor}_{kind}_{rate}_{seed}.csv"
             if which == "lag":
-                rec, p = T._record(path, "glauert+lead-lag", rotor, kind, rate, colour, seed)
-                lad = ladder(rec, "glauert", pool=T.POOL)
+                rec, p = T._record(path, "glauert+lead-lag", rotor, kind, rate, colour, seed,
+                                   params=truth)
+                lad = ladder(rec, "glauert", band_hz=band, pool=T.POOL)
                 first = lad.rungs[0].diagnosis
                 row = first.decision.added_row if first.decision else None
                 fit = lad.final.fit
@@ -36,10 +37,12 @@ def main(which, seeds):
                            first_gain=row.schwarz_gain if row else None,
                            est={n: [fit.parameters.get(n), fit.sigma.get(n), p[n]]
                                 for n in T.LAG},
-                           within=not T._within(fit, p), secs=time.time() - t0)
+                           within=("nu_zeta" in fit.parameters and not T._within(fit, p)),
+                           names=[(c.effect, c.reason) for c in first.candidates[:3]],
+                           secs=time.time() - t0)
             else:
                 rec, _ = T._record(path, "glauert", rotor, kind, rate, colour, seed)
-                d = diagnose(rec, "glauert", pool=T.POOL)
+                d = diagnose(rec, "glauert", band_hz=band, pool=T.POOL)
                 lag = [c for c in d.candidates if c.effect == "lead-lag"]
                 res = dict(case=[rotor, kind, rate, colour, seed], missing=d.missing_effect,
                            lag=lag[0].reason if lag else None, secs=time.time() - t0)
