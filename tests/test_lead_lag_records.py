@@ -176,10 +176,10 @@ def test_the_ladder_names_the_lag_and_ends_explained(tmp_path, rotor, kind, rate
     if rotor == "puma":
         assert not _within(lad.final.fit, p)
     else:
-        # measured on the hingeless sweep: the lag frequency within 1 sigma, the
-        # damper and the coupling biased low by 2-4 sigma (zeta_lag 0.040 +- 0.0025
-        # and 0.044 +- 0.0029 for 0.05; k_flap_lag 0.86 +- 0.044, 0.94 +- 0.05):
-        # open (model.md 9.1); what holds is the frequency and a coupling near theory
+        # measured on the hingeless sweep, seeds 5-9: the lag frequency within 1
+        # sigma; the damper and the coupling within 3 sigma in four seeds, 4.0 and 3.2
+        # sigma low in seed 5 (zeta_lag 0.040 +- 0.0025 for 0.05, k_flap_lag 0.86 +-
+        # 0.044): open (model.md 9.1); what holds in all is checked
         assert not _within(lad.final.fit, p, ("nu_zeta",))
         assert abs(lad.final.fit.parameters["k_flap_lag"] - 1.0) < 0.25
 
