@@ -33,12 +33,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 from scipy.special import digamma
 
 from ..data.record import FLAP_COLUMNS, find_trim, model_inputs, perturbations
 from ..identify.transform import DEFAULT_BAND
 from .lpm import in_band_noise
+from .tails import chi2_sf, f_sf
 from ..model.params import SPECS
 from ..simulate.replay import replay
 
@@ -271,7 +271,7 @@ def frequency_whiteness(e: np.ndarray, max_lag: int = MAX_LAG):
         return 0.0, 1.0, 0.0
     rho = np.array([np.sum(e[j:] * np.conj(e[:nf - j])) / den for j in range(1, L + 1)])
     q = float(2 * nf * np.sum(np.abs(rho) ** 2 * nf / (nf - np.arange(1, L + 1))))
-    return q, float(stats.chi2.sf(q, 2 * L)), float(np.abs(rho[0]))
+    return q, float(chi2_sf(q, 2 * L)), float(np.abs(rho[0]))
 
 
 def structure_statistic(ra: ResidualAnalysis, floors=None, max_lag: int = MAX_LAG) -> float:
@@ -334,7 +334,7 @@ def level_p_value(ra: ResidualAnalysis, c: int) -> float:
     """p-value of channel ``c``'s in-band residual power against the floor
     (``2 sum r ~ chi2(2 nf)`` for noise at the floor)."""
     r = ra.ratio[c]
-    return float(stats.chi2.sf(2 * r.sum(), 2 * r.size))
+    return float(chi2_sf(2 * r.sum(), 2 * r.size))
 
 
 def input_regression(ra: ResidualAnalysis, c: int, rank_tol: float = 1e-6):
@@ -368,7 +368,7 @@ def input_regression(ra: ResidualAnalysis, c: int, rank_tol: float = 1e-6):
     F = num / den if den > 0 else np.inf
     corr = [abs(np.sum(e * np.conj(U[:, j]))) ** 2 / float(np.sum(np.abs(U[:, j]) ** 2))
             for j in range(U.shape[1])]
-    return F, float(stats.f.sf(F, 2 * r, 2 * (nf - r))), r, names[int(np.argmax(corr))]
+    return F, float(f_sf(F, 2 * r, 2 * (nf - r))), r, names[int(np.argmax(corr))]
 
 
 def channel_structure(ra: ResidualAnalysis, c: int, alpha=ALPHA) -> dict:

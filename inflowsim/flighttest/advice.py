@@ -19,16 +19,18 @@ from .virtual import Manoeuvre, pilot_controls
 STANDARD = tuple((shape, ch) for shape in ("doublet", "3211", "sweep") for ch in CONTROLS)
 
 
-def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD) -> list:
-    """``[(label, {column: perturbation (n_samples,)})]`` for each of ``shapes``:
-    the controls and the airframe's hub motion [SI]."""
+def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD):
+    """``(label, {column: perturbation (n_samples,)})`` for each of ``shapes``, one
+    at a time (a generator: a 2-hour record's nine manoeuvres held together were
+    330 MB): the controls and the airframe's hub motion [SI]."""
     t = np.arange(n_samples) * dt
     omega_r = constants.omega * (constants.radius or 7.5)
-    out = []
     for shape, ch in shapes:
         length = min(20.0, max(t[-1] - 4.0, 1.0))
         controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape, length=length),))
         hub = BodyModel().response(controls, dt, omega_r, constants.mu)
         cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
-        out.append((f"{shape} on {ch}", cols))
-    return out
+        yield f"{shape} on {ch}", cols
+
+
+__all__ = ["STANDARD", "standard_manoeuvres"]

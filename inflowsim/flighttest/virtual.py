@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ..channels import CONTROLS, INFLOW
 from .body import HUB, BodyModel
@@ -163,6 +162,11 @@ def sensor_noise(rng, n: int, sigma: float, dt: float, color_hz=None) -> np.ndar
     if color_hz is None or sigma == 0:
         return sigma * w
     rho = float(np.exp(-2 * np.pi * color_hz * dt))
+    # scipy.signal.lfilter([s], [1, -rho], w[1:], zi=[rho w[0]]) gives the same
+    # doubles (tests/test_library_equivalence.py), but importing scipy.signal, which
+    # nothing else on this path loads, costs 1.7-2.3 s (measured under the shared
+    # machine's load, 16 on 2 cores) against about 2 ms for this loop over a 26.6 s
+    # record: the loop stays (issue #39)
     e = np.empty(n)
     e[0] = w[0]
     s = np.sqrt(1 - rho * rho)
@@ -213,6 +217,7 @@ def _continuous(test: VirtualTest, model, omega_r: float, t: np.ndarray):
     shifts = np.concatenate([model.delays[:3], model.input_delays])
     t0 = min(0.0, float(t[0] - max(shifts.max(), 0.0))) - 1.0
     t1 = float(t[-1] - min(shifts.min(), 0.0)) + test.dt
+    from scipy.integrate import solve_ivp
     sol = solve_ivp(rhs, (t0, t1), np.zeros(nb + n), method="DOP853", rtol=1e-12,
                     atol=1e-16, dense_output=True, max_step=ode_max_step(test))
     if not sol.success:
@@ -302,3 +307,8 @@ def virtual_record(test: VirtualTest = VirtualTest(), include_truth: bool = True
     if test.noise_color_hz is not None:
         meta["noise"] = f"first-order low-pass, corner {test.noise_color_hz:g} Hz"
     return Record.from_arrays(t, cols, meta, source="<virtual>")
+
+
+__all__ = ["PUMA_TRIM", "CONTROL_INDEX", "RISE", "KINDS", "Manoeuvre", "VirtualTest",
+           "pilot_controls", "scalar_signal", "ode_max_step", "sensor_noise", "noise_psd",
+           "control_response", "virtual_record"]

@@ -27,6 +27,12 @@ S_FLOOR = 1e-14
 #: evaluates the same ``theta`` again right after (``S`` re-estimated, the
 #: forward-difference Jacobian's base point), and the responses do not depend on ``S``.
 MEMO = 4
+MEMO_BYTES = 16 * 2 ** 20
+#: Bytes of responses one step of the Jacobian evaluates together
+#: (:meth:`Problem.jacobian`): every point of a normal record's Jacobian at once
+#: (a 26.6 s record's band: 37 bins, 60 kB a point), a few of a 2-hour record's
+#: (9 750 bins, 14 MB a point).
+POINT_BYTES = 32 * 2 ** 20
 
 
 class Problem:
@@ -118,7 +124,11 @@ class Problem:
             return out
         out = self._responses(theta)
         if remember:
-            if len(self._memo) >= MEMO:
+            # at most MEMO vectors, and past the last two at most MEMO_BYTES (a
+            # 2-hour record's responses are 6 MB a vector)
+            size = sum(y_u.nbytes + y_nu.nbytes for y_u, y_nu in out)
+            while self._memo and (len(self._memo) >= MEMO or len(self._memo) >= 2 and
+                                  (len(self._memo) + 1) * size > MEMO_BYTES):
                 del self._memo[next(iter(self._memo))]
             self._memo[key] = out
         return out
@@ -233,6 +243,15 @@ class Problem:
             resp[j] = r
         return [self._weighted(r, weights, nus) for r in resp]
 
+    def _point_bytes(self) -> int:
+        """Bytes of the temporaries one parameter vector's responses take at once
+        (every record, :func:`.freqmodel.flap_responses`): the resolvent and its
+        denominator ``(nf, n)``, the input terms, and the end-state responses
+        ``(nf, 3, 2 k)`` with their half ``(nf, 3, k)``, complex; ``k <= n``."""
+        n = len(self.structure.states)
+        m = len(self.structure.inputs)
+        return sum(16 * sp.f_hz.size * (4 * n + 2 * m + 3 + 9 * n) for sp in self.spectra)
+
     def jacobian(self, theta, weights, nus, bases, central=True):
         """Sensitivities of the projected weighted residuals to ``theta``.
 
@@ -267,7 +286,15 @@ class Problem:
                 tm[i] -= h[i]
                 plan.append((base, len(points), h[i]))
                 points.append(tm)
-        res = self._direct_many(points, weights, nus)
+        # the points in runs of at most POINT_BYTES of responses: each run's
+        # responses are reduced to its weighted residuals (small) before the next
+        # is evaluated, so a long record's Jacobian holds a few points' responses at
+        # once, not all of them (the same numbers: each point is evaluated alone or
+        # in a stack alike)
+        per = max(1, POINT_BYTES // max(self._point_bytes(), 1))
+        res = []
+        for j in range(0, len(points), per):
+            res += self._direct_many(points[j:j + per], weights, nus)
         for i, (ip, im, step) in enumerate(plan):
             for blk, a, b in zip(blocks, res[ip], res[im]):
                 blk[:, i] = (a - b) / step
@@ -291,3 +318,6 @@ def unstack(r, nf):
     """Inverse of the real stacking for one record: ``(nf, 3)`` complex."""
     h = r.size // 2
     return (r[:h] + 1j * r[h:]).reshape(nf, 3)
+
+
+__all__ = ["TYPICAL", "S_FLOOR", "MEMO", "Problem", "unstack"]

@@ -24,7 +24,16 @@ from .structure import Structure
 
 
 def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
-    """The basic momentum model, Eqs. (1)-(4), with all ten input columns."""
+    """The basic momentum model, Eqs. (1)-(4), with all ten input columns.
+
+    Parameters
+    ----------
+    p : mapping of str to float
+        The basic parameters ``lambda_beta2``, ``n_beta`` [-], ``tau`` or ``tau0``,
+        ``tau_cs`` (azimuth units [-]).
+    k : Constants
+        Flight condition and rotor (``mu`` [-], ``a0`` [1/rad], ``solidity`` [-] ...).
+    """
     mu, nb = k.mu, p["n_beta"]
     lb2 = p["lambda_beta2"]
     tau = p.get("tau", 1.0)   # superseded by separate-time-constants
@@ -80,7 +89,17 @@ def apply_effects(s: Structure, p: Mapping[str, float], k):
 
 
 def equations(structure, params: Mapping[str, float], constants: Constants):
-    """Structured equations and measurement of ``structure`` (validated inputs)."""
+    """Structured equations and measurement of ``structure`` (validated inputs).
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor.
+    """
     s = Structure.parse(structure)
     check_constants(constants)
     if not isinstance(params, Mapping):
@@ -94,7 +113,17 @@ def equations(structure, params: Mapping[str, float], constants: Constants):
 
 
 def descriptor(structure, params, constants):
-    """``E, A, B`` of Eq. (8) in azimuth time; inputs ``structure.inputs_az``."""
+    """``E, A, B`` of Eq. (8) in azimuth time; inputs ``structure.inputs_az``.
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor (``mu`` [-], ``omega`` [rad/s], ``a0`` [1/rad] ...).
+    """
     s, p, eq, _ = equations(structure, params, constants)
     e, a, b = assemble(eq, s.second_order)
     return e, a, b[:, : s.n_inputs]
@@ -127,6 +156,27 @@ class Model(ReadOnlyArrays):
     delayed by ``delays`` [s] (negative: a lead); the recorded input ``j`` lags the
     true one by ``input_delays[j]`` [s].  ``E, A, B`` are the azimuth-time descriptor of
     Eq. (8) with inputs in azimuth units.
+
+    Attributes
+    ----------
+    structure : Structure
+        The structure.
+    parameters : mapping of str to float
+        Its parameters (SI; time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor.
+    E, A, B : ndarray
+        Azimuth-time descriptor, Eq. (8) (inputs in azimuth units).
+    a, b, c, d : ndarray
+        SI state space: ``a`` [1/s], ``b`` per SI input, ``c``, ``d``.
+    delays : ndarray
+        Output delays [s] (negative: a lead).
+    measurement : Measurement
+        The measurement map.
+    input_delays : ndarray
+        Input lags [s].
+    end_basis, end_input : ndarray
+        The end-effect basis of the frequency-domain fit.
     """
 
     structure: Structure
@@ -329,8 +379,6 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     if eq.blocks:
         end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
-        if any(bl.to_output is not None for bl in eq.blocks):
-            c = _own(_output_map(n, meas, eq.blocks))
     elif s.second_order:
         end_basis, end_input = slow_manifold(eq, n_inputs, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
@@ -352,19 +400,15 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                  end_basis=end_basis, end_input=end_input)
 
 
-def _output_map(n, meas, blocks=()):
+def _output_map(n, meas):
     c = np.zeros((6, n))
     c[:, :6] = np.eye(6)
     c[1:3, 1:3] = rotation(meas.azimuth_bias)
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
-    off = n - sum(bl.n for bl in blocks)
-    for bl in blocks:
-        if bl.to_output is not None:
-            # an appended state's share of what the record calls beta, lambda
-            c[:, off:off + bl.n] += np.asarray(bl.to_output, dtype=float)
-        off += bl.n
+    # an appended state's share of what the record calls beta, lambda is in the
+    # states themselves (equations.assemble: to_output is a change of variables)
     return c
 
 

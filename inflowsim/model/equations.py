@@ -41,8 +41,13 @@ class StateBlock:
     on the inflow right-hand side.  ``through``: ``((input column, state index),
     ...)``: the base equations see that state where they saw that input (a servo
     actuator's output pitch in place of the recorded command); the input then
-    drives the block only.  ``to_output``: ``None`` or a ``6 x m`` map added to the
-    six outputs (``beta``, ``lambda`` as recorded).
+    drives the block only.  ``to_output``: ``None`` or a ``6 x m`` map: what the
+    block's states add to the model's ``(beta, lambda)`` as the record sees them
+    (before the azimuth bias rotates the recorded flap).  :func:`assemble` makes it a
+    change of state variables, ``x6 <- x6 + to_output x_block``, so that the first
+    six states are always the recorded quantities (the output map and the FMU's
+    outputs stay the first six states); the block's equations are written in the
+    variables before it (``model.md`` section 9).
 
     Every field is a pure function of the effect's parameters, so the FMU's C is
     generated from it as from the rest (:mod:`inflowsim.fmu.codegen`).  ``e`` must be
@@ -185,7 +190,8 @@ def _with_blocks(eq: Equations, second_order: bool):
     else:
         top = np.vstack([fx, lx])
     # the base equations' input columns routed through a block's state
-    obj = any(np.asarray(x).dtype == object for x in (b0, top))
+    obj = any(np.asarray(x).dtype == object
+              for x in (b0, top) + tuple(bl.b for bl in blocks) + tuple(bl.a for bl in blocks))
     b0, top = _object_safe(b0, obj), _object_safe(top, obj)
     off = 0
     for bl in blocks:
@@ -214,6 +220,20 @@ def _with_blocks(eq: Equations, second_order: bool):
         rows_a.append(left_a)
         rows_b.append(np.asarray(bl.b))
         off += bl.n
+    # another block's input columns routed through a block's state too (the pitch a
+    # servo actuator gives drives the higher inflow states as it drives the base)
+    off = 0
+    for k, bl in enumerate(blocks):
+        for col, i in bl.through:
+            for q, other in enumerate(blocks):
+                if q == k:
+                    continue
+                bq = _object_safe(rows_b[q], obj)
+                aq = _object_safe(rows_a[q], obj)
+                aq[:, n0 + off + i] = aq[:, n0 + off + i] + bq[:, col]
+                bq[:, col] = 0 * bq[:, col]
+                rows_a[q], rows_b[q] = aq, bq
+        off += bl.n
     e = np.vstack([e_top] + rows_e)
     a = np.vstack([a_top] + rows_a)
     b = np.vstack([b0] + rows_b)
@@ -231,6 +251,20 @@ def _with_blocks(eq: Equations, second_order: bool):
             rows = [r for r in range(n0, a.shape[0]) if not start <= r < start + n]
             a[rows, state] = a[rows, state] + b[rows, col]
             b[rows, col] = 0 * b[rows, col]
+    if any(bl.to_output is not None for bl in blocks):
+        # the recorded (beta, lambda) are the first six states: the change of
+        # variables x6 <- x6 + to_output x_block, i.e. E, A times (I - N), N holding
+        # to_output in the first six rows of the block's columns (N^2 = 0)
+        n = n0 + m
+        cols, off = [], 0
+        for bl in blocks:
+            cols.append(np.zeros((6, bl.n)) if bl.to_output is None
+                        else np.asarray(bl.to_output))
+            off += bl.n
+        nmat = np.vstack([np.hstack([np.zeros((6, n0))] + cols),
+                          np.zeros((n - 6, n))])
+        t_inv = np.eye(n) - nmat
+        e, a = e @ t_inv, a @ t_inv
     if all(x.dtype != object for x in (e, a, b)):
         e, a, b = (np.ascontiguousarray(x, dtype=float) for x in (e, a, b))
     return e, a, b

@@ -122,6 +122,11 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
     if llg.NAME in effects:
         # the lag's own term: its rate and displacement change the blades' airspeed
         c = c + a0s * (llg.in_loads(p, k) @ _select(states, llg.STATES, n))
+    for e in effects:
+        eff = CATALOGUE.get(e)
+        if eff is not None and eff.loads is not None:
+            # an effect's appended states' own loads (higher inflow states)
+            c = c + a0s * (eff.loads(p, k) @ _select(states, eff.states, n))
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
     return np.vstack([c, c_hub]), np.vstack([d, np.zeros((2, m))])

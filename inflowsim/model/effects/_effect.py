@@ -74,6 +74,11 @@ class Effect:
         Its equations are linearised about the record's trim state
         (``Constants.trim``, refused without it): a schedule must give the trim of
         each ``mu`` and the FMU takes it as parameters.
+    loads : callable, optional
+        ``(params, Constants) -> (3, len(states))``: its appended states' own part of
+        the aerodynamic loads ``(C_T, C_mc, C_ms) / (a0 s)`` (higher inflow states'
+        thrust and moments); runs on numbers or sympy symbols
+        (:func:`inflowsim.model.loads.load_rows`).
     """
 
     name: str
@@ -96,6 +101,7 @@ class Effect:
     theory_start: bool = False
     states: tuple = ()
     replaces_inputs: tuple = ()
+    loads: Callable | None = None
 
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""

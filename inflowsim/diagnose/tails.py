@@ -1,0 +1,49 @@
+"""Upper tails of the chi-square and F distributions, as ``scipy.stats`` gives them
+(``chi2.sf``, ``chi2.logsf``, ``f.sf``) through the same special functions
+(``chdtrc``, ``fdtrc``), without importing ``scipy.stats``: that import was a third
+of a diagnosis command's start (its docstring machinery and every distribution).
+The same numbers, bit for bit (``tests/test_command_imports.py``).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import special
+
+
+def _out(a):
+    a = np.asarray(a, dtype=float)
+    return a[()] if a.ndim == 0 else a
+
+
+def chi2_sf(x, df):
+    """``P(X > x)``, ``X`` chi-square with ``df`` degrees of freedom; 1 for ``x <= 0``,
+    NaN for ``df <= 0``."""
+    x = np.asarray(x, dtype=float)
+    df = np.asarray(df, dtype=float)
+    with np.errstate(invalid="ignore"):
+        out = np.where(x <= 0, 1.0, special.chdtrc(df, x))
+    return _out(np.where(df > 0, out, np.nan))
+
+
+def chi2_logsf(x, df):
+    """``ln P(X > x)`` (:func:`chi2_sf`): 0 for ``x <= 0``; above the median the log
+    of the tail, below it ``log1p`` of minus the distribution function (accurate
+    near 0), as ``scipy.stats`` takes it."""
+    x = np.asarray(x, dtype=float)
+    df = np.asarray(df, dtype=float)
+    median = 2 * special.gammaincinv(df / 2, 0.5)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inner = np.where(x > median, np.log(special.chdtrc(df, x)),
+                         np.log1p(-special.chdtr(df, x)))
+        out = np.where(x <= 0, 0.0, inner)
+    return _out(np.where(df > 0, out, np.nan))
+
+
+def f_sf(x, dfn, dfd):
+    """``P(F > x)``, ``F`` with ``(dfn, dfd)`` degrees of freedom; 1 for ``x <= 0``."""
+    x = np.asarray(x, dtype=float)
+    dfn = np.asarray(dfn, dtype=float)
+    dfd = np.asarray(dfd, dtype=float)
+    with np.errstate(invalid="ignore"):
+        out = np.where(x <= 0, 1.0, special.fdtrc(dfn, dfd, x))
+    return _out(np.where((dfn > 0) & (dfd > 0), out, np.nan))
