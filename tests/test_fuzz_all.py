@@ -867,3 +867,39 @@ def test_fuzz_all(base, tmp_path):
     assert len(cases) >= 1000 or CASES < 1000
     s = _check(run_cases(cases, base, tmp_path))
     print(json.dumps({k: v for k, v in s.items() if k != "problems"}))
+
+
+def _real(argv, stdout, preexec=None):
+    """``python -m inflowsim.cli argv`` as a real process (the interpreter's own
+    start and exit: how it sets up a closed descriptor, its last flush)."""
+    import subprocess
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+    p = subprocess.Popen([sys.executable, "-m", "inflowsim.cli", *argv], stdout=stdout,
+                         stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, env=env,
+                         preexec_fn=preexec)
+    if stdout == subprocess.PIPE:
+        p.stdout.close()                 # the reader is gone before the first write
+    err = p.stderr.read().decode()
+    return p.wait(timeout=60), err
+
+
+@pytest.mark.parametrize("how", ["closed", "help-full", "broken"])
+def test_real_standard_output(how):
+    """What the forked cases emulate, in real processes: ``>&-``, ``> /dev/full``
+    (``--help`` and ``--version`` too) and a pipe whose reader left."""
+    import subprocess
+    argv = {"help-full": ["--help"], "closed": ["--version"]}.get(how,
+                                                                  ["model", "-m", "basic"])
+    if how == "closed":
+        code, err = _real(argv, None, preexec=lambda: os.close(1))
+    elif how == "broken":
+        code, err = _real(argv, subprocess.PIPE)
+    else:
+        with open("/dev/full", "w") as full:
+            code, err = _real(argv, full)
+    lines = err.strip().splitlines()
+    assert "Traceback" not in err and "Exception ignored" not in err, err
+    if how == "broken":
+        assert code == 0 and err == "", err
+    else:
+        assert code == 2 and len(lines) == 1 and lines[0].startswith("inflowsim"), err
