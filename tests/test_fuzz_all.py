@@ -33,6 +33,8 @@ from pathlib import Path
 import pytest
 
 CASES = int(os.environ.get("INFLOWSIM_FUZZ_CASES", "1200"))
+#: Longest error line accepted (``inflowsim.cli.MAX_LINE`` and the prefix)
+MAX_LINE = 1100
 TIMEOUT = float(os.environ.get("INFLOWSIM_FUZZ_TIMEOUT", "180"))
 WORKERS = int(os.environ.get("INFLOWSIM_FUZZ_WORKERS", "2"))
 SEED = 37
@@ -796,7 +798,7 @@ def judge(case: Case, code, err: str, before: dict, after: dict) -> list:
         if len(errors) != 1 or not lines or ": error: " not in lines[-1] or \
                 not lines[-1].startswith("inflowsim"):
             bad.append("not one error line")
-        elif case.max_line and len(errors[0]) > case.max_line:
+        elif len(errors[0]) > (case.max_line or MAX_LINE):
             bad.append(f"error line of {len(errors[0])} characters")
         elif case.forbid and case.forbid in errors[0]:
             bad.append(f"error line says {case.forbid!r}")
