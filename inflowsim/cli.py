@@ -126,7 +126,7 @@ def _say(command, where, what):
     becomes of stderr itself."""
     prefix = f"inflowsim {command}" if command else "inflowsim"
     try:
-        sys.stderr.write(f"{prefix}: error: {where}{what}\n")
+        sys.stderr.write(f"{prefix}: error: {_one_line(f'{where}{what}')}\n")
         sys.stderr.flush()
     except (OSError, ValueError):
         pass
