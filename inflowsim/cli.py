@@ -19,7 +19,7 @@ COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "d
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):          # one line, exit 2 (argparse prints usage too)
-        sys.stderr.write(f"{self.prog}: error: {' '.join(str(message).split())}\n")
+        sys.stderr.write(f"{self.prog}: error: {_one_line(message)}\n")
         raise SystemExit(2)
 
 
@@ -130,7 +130,7 @@ def _say(command, where, what):
     becomes of stderr itself."""
     prefix = f"inflowsim {command}" if command else "inflowsim"
     try:
-        sys.stderr.write(f"{prefix}: error: {where}{what}\n")
+        sys.stderr.write(f"{prefix}: error: {_one_line(f'{where}{what}')}\n")
         sys.stderr.flush()
     except (OSError, ValueError):
         pass
@@ -218,8 +218,17 @@ def _users_os_error(exc: OSError) -> bool:
                              errno.ENAMETOOLONG))
 
 
+#: Longest error line [characters]: a message quoting a 100,000-character argument
+#: keeps its start and end.
+MAX_LINE = 1000
+
+
 def _one_line(exc) -> str:
-    return " ".join(str(exc).split())
+    text = " ".join(str(exc).split())
+    if len(text) > MAX_LINE:
+        half = MAX_LINE // 2 - 10
+        text = f"{text[:half]} ... ({len(text) - 2 * half:,} characters) ... {text[-half:]}"
+    return text
 
 
 if __name__ == "__main__":
