@@ -21,7 +21,8 @@ Run::
 
 ``python bench/outside.py KIND ...`` runs only those kinds (not written);
 ``python bench/outside.py --from-json [MINUTES]`` writes the table again from the
-stored rows.
+stored rows; ``--ablation`` runs the map alone three ways on the same records
+(``bench/results/outside_ablation.json``, a section of the table).
 """
 from __future__ import annotations
 
@@ -73,9 +74,8 @@ def study_row(kind, seed, axes, rate, colour, folder) -> dict:
     fit = d.accepted.fit if d.accepted is not None else d.fit
     lead = ("time-delay" in v.effects and fit.parameters.get("delay", 0.0) < 0.0
             and not v.is_stand_in("time-delay"))
-    unflagged = [e for e in v.effects if v.status == "partly-explained"
-                 and v.excess_explained is not None and v.excess_explained < 0.5
-                 and not v.is_stand_in(e)]
+    unflagged = [e for e in v.effects if v.excess_explained is not None
+                 and v.excess_explained < 0.5 and not v.is_stand_in(e)]
     freed = mt.freed
     return {"kind": kind, "seed": seed, "axes": axes, "rate": rate, "colour_hz": colour,
             "top": [top.block, top.equation, top.variable],
@@ -172,6 +172,20 @@ def run(kinds=KINDS, say=print, each=None):
     return rows
 
 
+def _ablation_section() -> list[str]:
+    path = HERE / "results" / "outside_ablation.json"
+    if not path.exists():
+        return []
+    rows = json.loads(path.read_text())
+    return ["## The map alone, before and after", "",
+            "`python bench/outside.py --ablation` (the same records; the base fit and "
+            "the map only): the top entry in place (block, equation and variable), "
+            "with the score test at the base fit as before issue #36, with its top "
+            "entries confirmed by refits only, with the shared parameters freed per "
+            "row group only, and with both (the default).", "",
+            *ablation_lines(rows), ""]
+
+
 def write(rows, wall, complete=True):
     (HERE / "results").mkdir(exist_ok=True)
     (HERE / "results" / "outside.json").write_text(json.dumps(rows, indent=1))
@@ -190,16 +204,78 @@ def write(rows, wall, complete=True):
              "the shared `lambda_beta2` moved plus a term in the coning row, so no "
              "single entry can place it; freeing the shared parameters per row group "
              "absorbs it, and the map reports those values (`missing_terms_freed`).",
-             "", "## Per record", "", *table(rows), ""]
+             "",
+             "Against issue #36's done-when: no delay lead and no effect leaving most "
+             "of the excess is named without the stand-in flag (met); the map's top "
+             "entry lies where the truth's term acts on 72 % of the placeable records, "
+             "not the 90 % asked (not met). The misses: `pitch-lag` acts in every row "
+             "through the blade pitch, and its coning-row term is often placed in the "
+             "recorded coning instead (the coning settles within hundredths of a "
+             "second, so the two differ little in the band) or in an inflow-coupled "
+             "cyclic entry; `rotor-speed`'s term is proportional to a slow extra state "
+             "(0.8 s behind the inflow) that no single entry is, and on the records "
+             "where the top misses it is in the right (coning) row on another "
+             "variable.", "", *_ablation_section(), "## Per record", "", *table(rows), ""]
     (HERE / "outside.md").write_text("\n".join(lines))
 
 
+#: The map's variants the ablation compares (``missing_terms`` keywords).
+VARIANTS = (("base", {"free_shared": False, "confirm": 0}),
+            ("refits", {"free_shared": False}),
+            ("freed", {"confirm": 0}), ("freed+refits", {}))
+LABELS = {"base": "base fit (before)", "refits": "refits only",
+          "freed": "shared freed", "freed+refits": "freed + refits (default)"}
+
+
+def ablation(kinds=KINDS, say=print) -> list:
+    """The map alone on the study's records, three ways: the score test at the base
+    fit (before issue #36), with the shared parameters freed per row group, and
+    freed with the top entries confirmed by refits (the default): is the top entry
+    where the truth's term acts?"""
+    from inflowsim.diagnose.terms import missing_terms
+    from inflowsim.identify import identify
+    out = []
+    with tempfile.TemporaryDirectory() as folder:
+        for kind, seed, axes, rate, colour in cases(kinds):
+            rec, info = outside_record(Path(folder) / "r.csv", kind, seed, rate=rate,
+                                       axes=axes, colour_hz=colour)
+            fit = identify(rec, "basic")
+            row = {"kind": kind, "seed": seed, "axes": axes}
+            for name, kw in VARIANTS:
+                t = missing_terms(rec, fit, **kw).terms[0]
+                row[name] = [t.block, t.equation, t.variable]
+                row[name + "_hit"] = bool(info["truth"].acts_at(t.block, t.equation,
+                                                                t.variable))
+            say(f"{kind} {seed} {axes}: " + " ".join(
+                f"{n} {row[n + '_hit']}" for n, _ in VARIANTS))
+            out.append(row)
+    return out
+
+
+def ablation_lines(rows) -> list[str]:
+    names = [n for n, _ in VARIANTS if n + "_hit" in rows[0]]
+    out = ["| truth | " + " | ".join(LABELS[n] for n in names) + " |",
+           "|" + " --- |" * (len(names) + 1)]
+    for kind in sorted({r["kind"] for r in rows}):
+        rk = [r for r in rows if r["kind"] == kind]
+        out.append(f"| {kind} | " + " | ".join(
+            f"{sum(r[n + '_hit'] for r in rk)} of {len(rk)}" for n in names) + " |")
+    placed = [r for r in rows if r["kind"] not in AMBIGUOUS]
+    out.append("| all but " + ", ".join(AMBIGUOUS) + " | " + " | ".join(
+        f"{sum(r[n + '_hit'] for r in placed)} of {len(placed)}" for n in names) + " |")
+    return out
+
+
 def rejudged(rows):
-    """The rows' flag counts computed again from their data (the definitions above),
-    for a table written from ``bench/results/outside.json``."""
+    """The rows' flags computed again from their stored data with the library's
+    rule (:func:`inflowsim.diagnose.verdict.stand_ins` on the stored share), for a
+    table written from ``bench/results/outside.json``."""
+    from inflowsim.diagnose.verdict import stand_ins
     for r in rows:
-        r["unflagged_excess"] = [e for e in r["effects"] if r["status"] ==
-                                 "partly-explained" and r["excess_explained"] is not None
+        if r["effects"]:
+            extra = [x.effect for x in stand_ins(r["effects"], None, r["excess_explained"])]
+            r["stand_ins"] = list(dict.fromkeys(r["stand_ins"] + extra))
+        r["unflagged_excess"] = [e for e in r["effects"] if r["excess_explained"] is not None
                                  and r["excess_explained"] < 0.5
                                  and e not in r["stand_ins"]]
         r["lead_unflagged"] = bool("time-delay" in r["effects"] and (r["delay"] or 0) < 0
@@ -208,6 +284,12 @@ def rejudged(rows):
 
 
 def main(argv):
+    if argv[:1] == ["--ablation"]:
+        rows = ablation()
+        (HERE / "results").mkdir(exist_ok=True)
+        (HERE / "results" / "outside_ablation.json").write_text(json.dumps(rows, indent=1))
+        print("\n".join(ablation_lines(rows)))
+        return
     if argv[:1] == ["--from-json"]:
         rows = rejudged(json.loads((HERE / "results" / "outside.json").read_text()))
         write(rows, float(argv[1]) * 60 if len(argv) > 1 else 0.0,

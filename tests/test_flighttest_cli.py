@@ -93,3 +93,15 @@ def test_3211_body_motion_stays_bounded():
                                      manoeuvres=(Manoeuvre(shape="3211"),), hold="zoh"))
     mux = rec["mux"] - 0.249
     assert np.max(np.abs(mux)) < 0.02 and np.max(np.abs(mux[rec.t > 150])) < 1e-3
+
+
+@pytest.mark.parametrize("add", ["advance-ratio-perturbation", "lead-lag"])
+def test_a_linear_truth_linearised_about_the_trim_flies(tmp_path, add):
+    """Effects linearised about the trim take the virtual record's trim (they were
+    refused for want of one when the truth's constants came from --mu)."""
+    from inflowsim.cli import main
+    from inflowsim.data.record import read_record
+    out = tmp_path / "r.csv"
+    assert main(["flighttest", "--truth", "linear", "--model", "basic", "--add", add,
+                 "--duration", "6", "--out", str(out)]) == 0
+    assert len(read_record(out)) == 600

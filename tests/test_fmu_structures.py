@@ -68,6 +68,7 @@ STRUCTURES = (
     "basic+separate-time-constants+peters-he-10",
     "glauert+flap-inertia+azimuth-bias+peters-he-15",
     "glauert+servo-actuators+time-delay+peters-he-15",
+    "glauert+lead-lag+servo-actuators+wake-distortion+peters-he-10",
 )
 
 #: A trim state (totals) for the effect linearised about it.

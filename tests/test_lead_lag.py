@@ -274,3 +274,38 @@ def test_the_lag_needs_the_trim_and_registers_its_facts():
     assert eff.theory(hl)["nu_zeta"] == 0.65 and eff.theory(ifs.PUMA)["nu_zeta"] == 0.25
     r = eff.plausible_ranges(hl)["nu_zeta"]
     assert r[0] <= 0.5 and r[1] >= 0.8
+
+
+def test_the_linear_flight_test_flies_the_lag(tmp_path):
+    """``flighttest --truth linear --add lead-lag`` (the truth linearised about the
+    virtual Puma's trim, as every effect about the trim is): a record whose flap
+    differs from the same flight without the lag."""
+    from inflowsim.cli import main
+    from inflowsim.data.record import read_record
+    out = {}
+    for add in ([], ["--add", "lead-lag"]):
+        path = tmp_path / f"r{len(add)}.csv"
+        assert main(["flighttest", "--truth", "linear", *add, "--duration", "6",
+                     "--noise", "0", "--out", str(path)]) == 0
+        out[len(add)] = read_record(path)
+    assert "lead-lag" in out[2].meta["description"]
+    d = np.abs(out[2].channels["beta1s"] - out[0].channels["beta1s"]).max()
+    assert d > 1e-3 * np.abs(out[0].channels["beta1s"] - out[0].channels["beta1s"][0]).max()
+
+
+def test_the_lag_sees_the_servos_pitch():
+    """With servo-actuators the lag's own pitch forcing follows the servos' output,
+    as the flap's does: at a command frequency far above the servos' bandwidth the
+    whole response (flap and lag) falls with the servo's transfer function."""
+    k = ifs.PUMA.with_trim({"theta0": 0.17, "theta1c": 0.01, "theta1s": -0.05, "beta0": 0.06,
+                            "beta1c": 0.01, "beta1s": -0.002, "muz": 0.0})
+    s0 = ifs.Structure.parse("glauert+lead-lag")
+    s = s0.with_effect("servo-actuators")
+    p = truth_parameters(s, k) | {"servo_tau": 0.03, "servo_zeta": 0.6}
+    f = np.array([0.3, 1.0, 4.0])
+    h = ifs.build_model(s, p, k).frequency_response(f)
+    h0 = ifs.build_model(s0, {n: p[n] for n in s0.parameters}, k).frequency_response(f)
+    sv = 2j * np.pi * f
+    g = 1.0 / ((0.03 * sv) ** 2 + 2 * 0.6 * 0.03 * sv + 1.0)
+    np.testing.assert_allclose(h[:, :3], h0[:, :3] * g, rtol=0,
+                               atol=1e-12 * np.abs(h0).max())

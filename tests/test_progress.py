@@ -78,7 +78,12 @@ def test_shown_follows_the_setting(monkeypatch):
         progress.configure(None)
 
 
-def test_fmu_build_says_what_it_is_doing(capsys, tmp_path):
+def test_fmu_build_says_what_it_is_doing(capsys, tmp_path, monkeypatch):
+    """The steps are named as they run (the compiler itself is not under test
+    here: a stand-in writes the library, so the test takes a second, not ten)."""
+    import inflowsim.fmu.build as build
+    monkeypatch.setattr(build, "compile_library",
+                        lambda src, out_so, **kw: out_so.write_bytes(b"\x7fELF"))
     out = tmp_path / "m.fmu"
     code, stdout, err = run(capsys, "fmu", "build", "-m", "basic", "--out", out,
                             "--progress")
@@ -86,3 +91,40 @@ def test_fmu_build_says_what_it_is_doing(capsys, tmp_path):
     lines = _lines(err)
     assert any("generating the C equations" in ln for ln in lines), err
     assert any("compiling" in ln for ln in lines), err
+
+
+def test_the_campaign_says_its_dashboard_address():
+    """The dashboard's address, or why there is none (no bokeh, no dashboard)."""
+    from types import SimpleNamespace
+
+    from inflowsim.campaign.engine import dashboard
+    assert dashboard(SimpleNamespace(dashboard_link="http://127.0.0.1:8787/status")) \
+        == "http://127.0.0.1:8787/status"
+
+    class NoBoard:
+        @property
+        def dashboard_link(self):
+            raise KeyError("dashboard")
+    assert "no dashboard" in dashboard(NoBoard()) and "bokeh" in dashboard(NoBoard())
+
+    class Unserved:                   # a scheduler without one: no made-up address
+        dashboard_link = "http://127.0.0.1:8787/status"
+
+        def scheduler_info(self):
+            return {"services": {}}
+    assert "no dashboard" in dashboard(Unserved())
+
+
+def test_a_single_flight_test_chooses_its_speed(capsys, tmp_path):
+    """``flighttest --mu`` (issue #39): the record flies at that advance ratio; one
+    outside (0, 0.5] is refused in one line."""
+    from conftest import assert_user_error
+
+    from inflowsim.data.record import read_record
+    out = tmp_path / "r.csv"
+    code, _, err = run(capsys, "flighttest", "--truth", "linear", "--mu", "0.15",
+                       "--duration", "6", "--out", out)
+    assert code == 0, err
+    assert read_record(out).constants.mu == pytest.approx(0.15)
+    code, out_, err = run(capsys, "flighttest", "--mu", "0.9", "--out", tmp_path / "x.csv")
+    assert_user_error(code, out_, err, "--mu 0.9")

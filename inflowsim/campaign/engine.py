@@ -92,8 +92,15 @@ def _client(scheduler, workers, progress=None):
                                dashboard_address=board, silence_logs=logging.ERROR)
         client = Client(cluster)
     if progress is not None:
-        progress(f"campaign: Dask dashboard at {dashboard(client)}")
+        # a local scheduler without bokeh serves no dashboard page (404) at the
+        # address it lists
+        where = dashboard(client) if scheduler or board else NO_DASHBOARD
+        progress(f"campaign: Dask dashboard at {where}")
     return client, cluster
+
+
+#: What the campaign says when its scheduler serves no dashboard.
+NO_DASHBOARD = "none (the scheduler runs no dashboard; pip install bokeh for one)"
 
 
 def dashboard(client) -> str:
@@ -103,10 +110,15 @@ def dashboard(client) -> str:
     ----------
     client : dask.distributed.Client
     """
+    none = NO_DASHBOARD
     try:
+        # dashboard_link formats a default port even when the scheduler serves none
+        info = client.scheduler_info() if hasattr(client, "scheduler_info") else None
+        if info is not None and "dashboard" not in (info.get("services") or {}):
+            return none
         return client.dashboard_link
     except (KeyError, AttributeError):
-        return "none (the scheduler runs no dashboard; pip install bokeh for one)"
+        return none
 
 
 def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
@@ -285,4 +297,4 @@ def _map(client, fn, jobs, done, failed):
         done(tag, res)
 
 
-__all__ = ["Store", "CampaignResult", "dashboard", "run_campaign"]
+__all__ = ["Store", "CampaignResult", "NO_DASHBOARD", "dashboard", "run_campaign"]

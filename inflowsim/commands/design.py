@@ -86,12 +86,11 @@ def run(args) -> int:
     params = None
     if args.params:
         params = dict(read_structure_parameters(args.params, args.model)[1].parameters)
-    progress("design: optimising and computing the expected bounds")
     d = design_input(args.model, params, interest=args.interest, effects=args.add,
                      channels=args.channels, limit_deg=args.limit_deg,
                      limit="rms" if args.rms else "peak", duration=args.duration,
                      t_start=args.start, dt=args.dt, band_hz=tuple(args.band),
-                     noise_flap=args.noise)
+                     noise_flap=args.noise, progress=progress)
     doc = d.to_json()
     if args.out:
         safe_write_text(args.out, json_text(doc), overwrite=args.force,

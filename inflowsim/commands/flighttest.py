@@ -304,10 +304,9 @@ def _nonlinear(args, man, values):
 def _linear(args, man, values):
     from ..flighttest.nonlinear import FlightTest
     from ..model.build import build_model
-    from ..model.params import PUMA
     from ..model.presets import truth_parameters
     from ..model.structure import Structure
-    from ..flighttest.virtual import VirtualTest
+    from ..flighttest.virtual import PUMA_TRIM, VirtualTest
     if args.blades != 4 or args.speed != "eq14":
         raise InputError("--blades and --speed apply to --truth nonlinear only")
     s = Structure.parse(args.model or "glauert")
@@ -317,14 +316,17 @@ def _linear(args, man, values):
         s = s.with_effect("azimuth-bias")
     if args.delay is not None and "time-delay" not in s.effects:
         s = s.with_effect("time-delay")
-    params = truth_parameters(s, PUMA)
+    k = _constants(args)
+    # effects linearised about the trim see the virtual record's trim (as the
+    # record's generator gives them, flighttest.virtual)
+    k_trim = k if k.trim is not None else k.with_trim(dict(PUMA_TRIM, mux=k.mu))
+    params = truth_parameters(s, k_trim)
     if args.azimuth_bias is not None:
         params["azimuth_bias"] = args.azimuth_bias
     if args.delay is not None:
         params["delay"] = args.delay
     params.update(values)
-    k = _constants(args)
-    build_model(s, params, k)               # one-line refusal of unknown or bad values
+    build_model(s, params, k_trim)          # one-line refusal of unknown or bad values
     FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
     return VirtualTest(structure=s.name, parameters=params, constants=k, manoeuvres=man,
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,

@@ -25,9 +25,10 @@ the band rather than being it.  Each named effect is a stand-in
   (:attr:`~inflowsim.model.params.ParameterSpec.physical`: a ``time-delay`` whose
   delay is a lead) or its *plausible* range (``ParameterSpec.plausible``, for the
   rotor's hub) by more than :data:`SIGMAS` of its bound; or
-- excess is left (``partly-explained``) and the effects named together remove
-  less than :data:`STAND_IN_SHARE` of the starting structure's excess over the
-  floor (``excess_explained``).
+- the effects named together remove less than :data:`STAND_IN_SHARE` of the
+  starting structure's excess over the floor (``excess_explained``; also where
+  the verdict finds no significant structured excess left: most of the
+  starting excess power is still there).
 
 The text then reads "behaves like X in this band; the missing physics is
 probably elsewhere: see the map".
@@ -91,8 +92,8 @@ class StandIn:
 
 def stand_ins(effects, fit, excess_explained, sigmas: float = SIGMAS) -> tuple:
     """The :class:`StandIn` among ``effects`` (named, in the fitted structure of
-    ``fit``) given the share of the excess they remove together (``None`` where
-    none is left: an effect that brings the residual to the floor leaves nothing)."""
+    ``fit``) given the share of the excess they remove together (``None``: the
+    starting structure had none)."""
     from ..model.effects import CATALOGUE
     from ..model.params import SPECS
     k = fit.constants[0] if fit is not None else None
@@ -199,8 +200,7 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
     if not effects:
         return v
     from dataclasses import replace
-    left = v.excess_explained if status == "partly-explained" else None
-    return replace(v, stand_ins=stand_ins(effects, fit, left))
+    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained))
 
 
 __all__ = ["STATUSES", "SIGMAS", "Verdict", "power_over_floor", "stand_ins", "verdict"]

@@ -451,12 +451,15 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
     """
     from ..model.build import build_model
     from ..model.presets import preset_parameters
-    params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
-    m = build_model(test.structure, params, test.constants)   # validates
+    k = test.constants
+    if k.trim is None:       # effects linearised about trim see the record's (virtual_record)
+        k = k.with_trim(dict(PUMA_TRIM, mux=k.mu))
+    params = test.parameters or preset_parameters(test.structure, k, "paper")
+    m = build_model(test.structure, params, k)   # validates
     rec = virtual_record(replace(test, parameters=dict(params)))
     truth = {"truth": "linear", "structure": m.structure.name,
              "effects": list(m.structure.effects), "parameters": dict(m.parameters),
-             "constants": test.constants.as_dict(),
+             "constants": k.as_dict(),
              "manoeuvres": [asdict(x) for x in test.manoeuvres],
              "hold": test.hold,
              "measurement": {"noise_flap": test.noise_flap,

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.structure import Structure
+from ..progress import bar
 from .estimator import _records, identify
 from .transform import DEFAULT_BAND
 
@@ -80,7 +81,7 @@ def band_study(records, structure, upper_hz=DEFAULT_BAND[1], lowers_hz=None,
     lowers_hz : sequence of float, optional
         Lower band limits [Hz] (default :func:`default_lowers`).
     progress : callable, optional
-        Told one line per fit.
+        Progress (:func:`inflowsim.progress.bar`): a step per fit.
     **kw
         ``fixed``, ``ties``: as :func:`~inflowsim.identify.identify` takes them.
     """
@@ -88,15 +89,17 @@ def band_study(records, structure, upper_hz=DEFAULT_BAND[1], lowers_hz=None,
     recs = _records(records)
     lowers = np.sort(np.asarray(lowers_hz if lowers_hz is not None
                                 else default_lowers(recs[0], upper_hz), dtype=float))
-    say = progress or (lambda m: None)
     fits = {}
     start = kw.pop("start", None)
-    for f1 in lowers[::-1]:
-        r = identify(recs, s, band_hz=(f1, upper_hz), start=start,
-                     multistart=start is None or not fits, **kw)
-        say(f"bandstudy: lower {r.band_hz[0]:.4g} Hz: cost {r.cost:.4f}")
-        fits[f1] = r
-        start = {n: v for n, v in r.parameters.items() if n not in r.fixed}
+    with bar(progress, len(lowers), f"bandstudy {s.name}", "fit") as b:
+        for f1 in lowers[::-1]:
+            b.set_postfix_str(f"lower limit {f1:.4g} Hz")
+            r = identify(recs, s, band_hz=(f1, upper_hz), start=start,
+                         multistart=start is None or not fits, **kw)
+            b.set_postfix_str(f"lower {r.band_hz[0]:.4g} Hz: cost {r.cost:.4f}")
+            b.update()
+            fits[f1] = r
+            start = {n: v for n, v in r.parameters.items() if n not in r.fixed}
     order = [fits[f] for f in lowers]
     names = list(order[0].parameters)
     return BandStudy(

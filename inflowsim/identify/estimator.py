@@ -40,6 +40,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.build import build_model
+from ..model.effects import CATALOGUE
 from ..model.presets import preset_parameters, theory_parameters
 from ..model.structure import Structure
 from ..progress import bar
@@ -440,6 +441,16 @@ def _starts(structure, constants, start):
     cands = []
     if start:
         cands.append(("start", {**theory, **start}))
+        # an effect started at its neutral saddle (Effect.theory_start) is also
+        # tried at its theory values, the rest as started
+        for e in structure.effects:
+            eff = CATALOGUE[e]
+            if not eff.theory_start:
+                continue
+            neutral = eff.neutral_values(constants)
+            if all(n in start and np.isclose(start[n], neutral[n]) for n in eff.parameters):
+                cands.append((f"start, {e} at theory", {
+                    **theory, **start, **{n: theory[n] for n in eff.parameters}}))
     cands.append(("theory", dict(theory)))
     try:
         paper = preset_parameters(structure, constants, "paper")

@@ -237,6 +237,20 @@ def _with_blocks(eq: Equations, second_order: bool):
     e = np.vstack([e_top] + rows_e)
     a = np.vstack([a_top] + rows_a)
     b = np.vstack([b0] + rows_b)
+    # another block's rows see a routed input through that state too (the lag's
+    # pitch forcing sees the servos' output pitch, not the command)
+    routes = []
+    off = 0
+    for bl in blocks:
+        routes += [(n0 + off, bl.n, col, n0 + off + i) for col, i in bl.through]
+        off += bl.n
+    if routes:
+        obj = any(x.dtype == object for x in (a, b))
+        a, b = _object_safe(a, obj), _object_safe(b, obj)
+        for start, n, col, state in routes:
+            rows = [r for r in range(n0, a.shape[0]) if not start <= r < start + n]
+            a[rows, state] = a[rows, state] + b[rows, col]
+            b[rows, col] = 0 * b[rows, col]
     if any(bl.to_output is not None for bl in blocks):
         # the recorded (beta, lambda) are the first six states: the change of
         # variables x6 <- x6 + to_output x_block, i.e. E, A times (I - N), N holding

@@ -34,17 +34,20 @@ def rung_label(rung) -> str:
     return "+" + " + ".join(getattr(rung, "atoms", ()) or rung.added.split("+"))
 
 
-def held_parameters(fit) -> tuple:
-    """The parameters of ``fit``'s effects held fixed (not estimated), e.g. one part
-    of an effect not added yet, at its neutral value.
+def held_parameters(fit, structure=None) -> tuple:
+    """The parameters of the effects of ``structure`` (default ``fit``'s) that ``fit``
+    holds fixed (not estimated), e.g. one part of an effect not added yet, at its
+    neutral value.
 
     Parameters
     ----------
     fit : FitResult
+    structure : Structure, optional
     """
     from ..model.effects import CATALOGUE
     fixed = set(getattr(fit, "fixed", ()) or ())
-    return tuple(n for e in fit.structure.effects for n in CATALOGUE[e].parameters
+    effects = (structure or fit.structure).effects
+    return tuple(n for e in effects if e in CATALOGUE for n in CATALOGUE[e].parameters
                  if n in fixed)
 
 
@@ -57,7 +60,8 @@ def column_label(rung) -> str:
     ----------
     rung : Rung
     """
-    held = held_parameters(rung.fit)
+    held = (held_parameters(rung.fit, rung.structure)
+            if getattr(rung.fit, "fixed", ()) else ())
     if not held:
         return rung.structure.name
     vals = {rung.fit.parameters[n] for n in held}

@@ -64,6 +64,12 @@ class Effect:
     replaces_inputs : tuple of (str, str)
         ``(input, state)``: the base equations and the loads see that state where
         they saw that recorded input (its block's ``through``).
+    theory_start : bool
+        Its neutral values are a saddle of the likelihood (parameters that act only
+        through another, as the lag's frequency and damping through
+        ``k_flap_lag = 0``, have no gradient there): a fit started with the effect
+        at neutral also tries it at its theory values
+        (:func:`inflowsim.identify.estimator.identify`'s starts).
     about_trim : bool
         Its equations are linearised about the record's trim state
         (``Constants.trim``, refused without it): a schedule must give the trim of
@@ -92,6 +98,7 @@ class Effect:
     specs: tuple = ()
     parts: tuple = ()
     about_trim: bool = False
+    theory_start: bool = False
     states: tuple = ()
     replaces_inputs: tuple = ()
     loads: Callable | None = None

@@ -124,6 +124,7 @@ EFFECT = Effect(
                          plausible=(0.5, 1.5, "the Coriolis and blade-element coupling "
                                     "follow from the trim: theory 1"))),
     about_trim=True,
+    theory_start=True,
     states=STATES,
     offered=False,
 )
