@@ -8,12 +8,8 @@ assembly), ``simulate`` (sampled-data relations, the fixed-step simulator, repla
 ``diagnose`` (validation, failures, candidate effects, the ladder), ``flighttest``
 (virtual records), ``report`` (figures and documents), ``campaign`` (many records
 on Dask), ``fmu`` (the co-simulation FMU) and ``commands`` (the ``inflowsim``
-command line).  The import paths of 0.1.0 (``record``, ``simulator`` ... directly
-under the package) still work and warn (:mod:`._legacy`).
+command line).
 """
-from . import _legacy
-
-_legacy.install()
 
 __version__ = "0.1.0"
 

@@ -62,3 +62,51 @@ def test_record_format_states_the_codes_limits():
     assert f"exceeds {LIMIT:.0e}".replace("+0", "") in text
     for key in ("# hold:", "# trim_window:"):
         assert key in text
+
+
+def _anchors(path):
+    """The anchors of a Markdown file: ``<a id>``s and GitHub's heading slugs."""
+    text = path.read_text(encoding="utf-8")
+    ids = set(re.findall(r'<a id="([^"]+)">', text))
+    for h in re.findall(r"^#+ (.*)$", text, re.M):
+        slug = re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-")
+        ids.add(slug)
+    return ids
+
+
+#: Pages whose relative links are checked (issue #40: the studies moved out of the
+#: changelog and the results pages into bench/studies/, linked from there).
+LINKED_PAGES = ["CHANGELOG.md", "bench/*.md", "bench/studies/*.md"]
+
+
+def test_links_of_the_changelog_and_the_studies_resolve():
+    """Every relative link (inline or a reference definition) names a file that
+    exists and, with ``#anchor``, an anchor of that file."""
+    bad = []
+    for pattern in LINKED_PAGES:
+        for page in sorted(ROOT.glob(pattern)):
+            text = page.read_text(encoding="utf-8")
+            targets = re.findall(r"\]\(([^)\s]+)\)", text) + \
+                re.findall(r"^\[[^\]]+\]: (\S+)", text, re.M)
+            for t in targets:
+                if re.match(r"\w+:", t):                 # http:, mailto: ...
+                    continue
+                file, _, anchor = t.partition("#")
+                target = (page.parent / file).resolve() if file else page
+                if not target.is_file():
+                    bad.append(f"{page.relative_to(ROOT)}: {t} (no file)")
+                elif anchor and anchor not in _anchors(target):
+                    bad.append(f"{page.relative_to(ROOT)}: {t} (no anchor)")
+    assert not bad, bad
+
+
+def test_changelog_is_one_short_line_a_change():
+    """The changelog says each change in one line (issue #40: it had held 659 lines
+    of findings, lines up to 899 characters); the detail is linked."""
+    lines = (ROOT / "CHANGELOG.md").read_text(encoding="utf-8").splitlines()
+    long = [f"{i + 1}: {len(s)}" for i, s in enumerate(lines) if len(s) > 200]
+    assert not long, long
+    # a bullet is one line: no continuation lines indented under it
+    wrapped = [i + 1 for i, s in enumerate(lines)
+               if s.startswith("  ") and not s.lstrip().startswith("|")]
+    assert not wrapped, wrapped

@@ -1,5 +1,5 @@
-"""The package's architecture (issue #12): layers, one source of each fact, thin
-commands, and the import paths users had before the layers."""
+"""The package's architecture (issue #12): layers, no import circle (issue #40), one
+source of each fact, thin commands."""
 import ast
 import importlib
 from pathlib import Path
@@ -7,14 +7,12 @@ from pathlib import Path
 import pytest
 
 import inflowsim
-from inflowsim import _legacy
 
 PKG = Path(inflowsim.__file__).parent
 #: Each layer may import itself and the layers before it (and the foundation).
 LAYERS = ["physics", "model", "simulate", "data", "identify", "diagnose", "flighttest",
           "report", "campaign", "fmu", "commands"]
-FOUNDATION = {"errors", "fileio", "channels", "defaults", "frozen", "progress", "_legacy",
-              "__init__"}
+FOUNDATION = {"errors", "fileio", "channels", "defaults", "frozen", "progress", "__init__"}
 
 
 def _layer(module):
@@ -58,6 +56,116 @@ def test_layers_import_only_downward():
     assert not bad, bad
 
 
+def _module_names():
+    """Absolute name of every module of the package -> its file."""
+    out = {}
+    for path in PKG.rglob("*.py"):
+        if "csrc" in path.parts:
+            continue
+        parts = ["inflowsim", *path.relative_to(PKG).with_suffix("").parts]
+        out[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    return out
+
+
+def import_graph(everywhere: bool = False):
+    """Module -> the package's modules it imports: the imports at module level (in
+    ``if``/``try`` blocks too), or, with ``everywhere``, also those inside functions.
+    Relative imports are resolved; ``from a import b`` is an import of ``a.b`` when
+    that is a module, else of ``a`` (the package's ``__init__``)."""
+    modules = _module_names()
+    graph = {}
+    for name, path in modules.items():
+        pkg = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        tree = ast.parse(path.read_text())
+        if everywhere:
+            nodes = list(ast.walk(tree))
+        else:
+            nodes, todo = [], list(tree.body)
+            while todo:                      # module level, through if/try blocks
+                node = todo.pop()
+                nodes.append(node)
+                if isinstance(node, (ast.If, ast.Try)):
+                    todo += node.body + node.orelse + getattr(node, "finalbody", [])
+                    todo += [n for h in getattr(node, "handlers", []) for n in h.body]
+        deps = set()
+        for node in nodes:
+            if isinstance(node, ast.Import):
+                deps.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                base = (".".join(pkg[: len(pkg) - node.level + 1] + [node.module or ""])
+                        .strip(".") if node.level else node.module or "")
+                for a in node.names:
+                    deps.add(f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base)
+        graph[name] = {d for d in deps if d in modules and d != name}
+    return graph
+
+
+def import_circles(graph):
+    """The graph's circles: each strongly connected set of two or more modules
+    (Tarjan's algorithm), sorted, as lists of names."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                part.append(w)
+                if w == v:
+                    break
+            if len(part) > 1:
+                found.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(found)
+
+
+def test_import_circles_are_found():
+    """The search finds a circle (two modules and three) and nothing else."""
+    g = {"a": {"b"}, "b": {"a", "c"}, "c": set(), "d": {"e"}, "e": {"f"}, "f": {"d"},
+         "g": {"c"}}
+    assert import_circles(g) == [["a", "b"], ["d", "e", "f"]]
+    assert import_circles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
+def test_no_import_circle():
+    """No module of the package imports, at module level, a module that imports it
+    back, directly or around a longer circle (issue #40)."""
+    circles = import_circles(import_graph())
+    assert not circles, "import circles: " + "; ".join(" <-> ".join(c) for c in circles)
+
+
+#: The one circle left through imports made inside functions: the effect registry.
+#: ``model.structure``, ``model.presets`` and ``model.build`` read the catalogue of
+#: ``model.effects`` at module level, while checking and loading user effects
+#: (``model.effects.user``) needs the structures, presets and base equations
+#: (imported inside its functions).  Removed by a registry module of its own that
+#: the structure reads, with the user-effect checks moved above ``model.build``.
+REGISTRY = ["inflowsim.model.build", "inflowsim.model.effects",
+            "inflowsim.model.effects.user", "inflowsim.model.presets",
+            "inflowsim.model.structure"]
+
+
+def test_no_import_circle_through_functions():
+    """Counting the imports inside functions too, the effect registry's is the only
+    circle (issue #40: ``advance_ratio_perturbation`` <-> ``momentum_speed`` and
+    ``report.plots`` <-> ``report.frf_plots`` are gone)."""
+    circles = import_circles(import_graph(everywhere=True))
+    assert [c for c in circles if c != REGISTRY] == [], circles
+
+
 def test_commands_are_thin():
     """Command modules parse arguments and print: no command imports another, and
     what they define is HELP, add_arguments, run and private helpers."""
@@ -85,34 +193,6 @@ def test_no_global_matplotlib_backend_switch():
             if isinstance(node, (ast.Import, ast.ImportFrom)):
                 names = [a.name for a in node.names] + [getattr(node, "module", "") or ""]
                 assert not any("pyplot" in n for n in names), path
-
-
-@pytest.mark.parametrize("old", sorted(_legacy.ALIASES))
-def test_old_import_paths_still_work_and_warn(old):
-    import sys
-    sys.modules.pop(f"inflowsim.{old}", None)        # import it afresh
-    new = _legacy.target(f"inflowsim.{old}")
-    with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
-        a = importlib.import_module(f"inflowsim.{old}")
-    b = importlib.import_module(new)
-    assert a is b and a.__spec__.name == b.__name__
-
-
-def test_nothing_of_the_package_uses_an_old_path():
-    """New code, docs and tests use the layered paths (issue #28 item 6)."""
-    import re
-    old = "|".join(re.escape(k) for k in sorted(_legacy.ALIASES, key=len, reverse=True))
-    pat = re.compile(r"\binflowsim\.(" + old + r")\b(?=[\s.,;:)`'\"\]]|$)"
-                     r"|from inflowsim import [\w, ]*\b(" + old + r")\b")
-    root = Path(__file__).resolve().parents[1]
-    files = [root / "README.md", *root.glob("docs/*.md"), *root.glob("examples/**/*.py"),
-             *root.glob("bench/*.py"), *root.glob("tests/*.py"),
-             *root.glob("inflowsim/**/*.py")]
-    bad = [f"{p.relative_to(root)}:{i + 1}" for p in files
-           if p.name not in ("_legacy.py", "test_layout.py")
-           for i, line in enumerate(p.read_text(encoding="utf-8").splitlines())
-           if pat.search(line)]
-    assert not bad, bad
 
 
 def test_documented_imports():

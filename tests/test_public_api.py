@@ -12,8 +12,8 @@ import pytest
 import inflowsim
 
 #: Not public: the command line (argument parsing and printing, ``HELP``/``run``),
-#: the compatibility shim, the FMU's C sources.
-SKIP = ("inflowsim.commands", "inflowsim.cli", "inflowsim._legacy", "inflowsim.fmu.csrc")
+#: the FMU's C sources.
+SKIP = ("inflowsim.commands", "inflowsim.cli", "inflowsim.fmu.csrc")
 
 
 def _modules():

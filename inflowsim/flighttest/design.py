@@ -290,7 +290,7 @@ def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     white flap noise ``test.noise_flap`` as ``S``."""
     from dataclasses import replace
     from .virtual import virtual_record
-    from ..identify.estimator import _bounds, _state
+    from ..identify.estimator import covariances, fit_state
     from ..identify.problem import Problem
     from ..identify.transform import record_spectra
     rec = virtual_record(replace(test, noise_flap=0.0), include_truth=False)
@@ -299,8 +299,8 @@ def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     sp = record_spectra(rec, s.inputs, band_hz)
     prob = Problem(s, [sp], params)
     S = test.noise_flap ** 2 * len(rec) * np.eye(3)
-    st = _state(prob, prob.theta0(), [S])
-    cov, _, _, dead, _ = _bounds(prob, st)
+    st = fit_state(prob, prob.theta0(), [S])
+    cov, _, _, dead, _ = covariances(prob, st)
     out = {}
     for i, g in enumerate(prob.free):
         v = cov[i, i]

@@ -81,7 +81,24 @@ class _State:
         return float(sum(x @ x for x in self.r))
 
 
-def _state(prob, theta, S):
+def fit_state(prob, theta, S):
+    """The fit's state at ``theta``: the model's responses, the end-effect nuisance
+    solved for by variable projection, the residuals and their weights.
+
+    Parameters
+    ----------
+    prob : Problem
+        The identification problem (:class:`inflowsim.identify.problem.Problem`).
+    theta : ndarray
+        Free parameters, in ``prob.free`` order.
+    S : list of ndarray
+        Each record's residual spectral density ``S`` (3 x 3) [rad^2].
+
+    Returns
+    -------
+    _State
+        ``theta``, ``resp``, ``nus``, ``bases``, ``r`` (residuals), ``S``, ``weights``.
+    """
     weights = [Problem.weight(s) for s in S]
     resp = prob.responses(theta)
     sol = prob.solve_nuisance(resp, weights)
@@ -93,17 +110,17 @@ def _relax_S(prob, theta, S=None, rounds=4):
     """Nuisance and ``S`` for fixed parameters (a few alternations)."""
     if S is None:
         S = [np.eye(3) for _ in prob.spectra]
-    st = _state(prob, theta, S)
+    st = fit_state(prob, theta, S)
     for _ in range(rounds):
         S = prob.estimate_S(prob.eps(st.resp, st.nus))
-        st = _state(prob, theta, S)
+        st = fit_state(prob, theta, S)
     return st
 
 
 def _reweighted(prob, st):
     """The state with ``S`` re-estimated from its own residuals (relaxation step)."""
     S = prob.estimate_S(prob.eps(st.resp, st.nus))
-    return _state(prob, st.theta, S)
+    return fit_state(prob, st.theta, S)
 
 
 def _concentrated(prob, st):
@@ -152,7 +169,7 @@ def _lm(prob, st, max_iter, report=None):
             grow = np.exp(np.clip(np.where(logm, delta, 0.0), -5, 5))
             tn = np.clip(np.where(logm, st.theta * grow, st.theta + step), lo, hi)
             try:
-                sn = _state(prob, tn, st.S)
+                sn = fit_state(prob, tn, st.S)
             except InputError:            # outside a parameter's range / unstable build
                 lam *= 10
                 continue
@@ -285,8 +302,28 @@ def null_directions(M):
     return sorted(dead), flat
 
 
-def _bounds(prob, st):
-    """Covariance (determined directions), undetermined parameter indices."""
+def covariances(prob, st):
+    """Cramer-Rao covariances of the free parameters at a fit's state, over the
+    directions the records determine.
+
+    Parameters
+    ----------
+    prob : Problem
+        The identification problem.
+    st : _State
+        The state at the estimate (:func:`fit_state`).
+
+    Returns
+    -------
+    cov, cov_coloured, cov_robust : ndarray
+        White-residual, coloured-residual (sandwich) and robust covariances, in
+        ``prob.free`` order (NaN where undetermined), scaled for the degrees of
+        freedom the fit took.
+    dead : list of int
+        Indices of the parameters the records do not determine.
+    n_null : int
+        Dimension of the information matrix's null space.
+    """
     M, blocks = _information(prob, st)
     p = M.shape[0]
     dead, null_dirs = null_directions(M)
@@ -526,7 +563,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
 
 def _result(prob, st, j, iters, conv, starts):
     theta = st.theta
-    cov, cov_c, cov_r, dead, n_null = _bounds(prob, st)
+    cov, cov_c, cov_r, dead, n_null = covariances(prob, st)
     warns, corr = _warnings(prob, theta, cov, dead, n_null, conv, iters)
     params = prob.params(theta)
     sigma, sigma_c, sigma_r = {}, {}, {}
@@ -646,6 +683,10 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       nu=tuple(st.nus))
 
 
+#: The state's former name, still imported by modules of ``identify`` and
+#: ``diagnose`` and by tests.
+_state = fit_state
+
 __all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
            "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
-           "evaluate"]
+           "evaluate", "fit_state", "covariances"]

@@ -3,14 +3,15 @@ magnitude [dB], phase [deg] and coherence, with the error bands, and models on t
 
 Computing stays in :func:`inflowsim.identify.frf.frequency_response`; this module
 only draws its :class:`~inflowsim.identify.frf.FrequencyResponse`
-(:func:`inflowsim.report.plots.frequency_response_plot` draws a validation through
-it).
+and a validation's measured and model responses
+(:class:`~inflowsim.diagnose.validation.FrequencyComparison`), re-exported by
+:mod:`inflowsim.report.plots`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .plots import new_figure, save_png
+from .figure import new_figure, save_png
 from .style import ROLE_COLOURS, align_phase_deg, log_frequency_axis, model_colours
 
 #: Half-width of the error bands, in stated errors (about 95 % for a Gaussian).
@@ -47,7 +48,12 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
 
     Parameters
     ----------
-    fr : FrequencyResponse
+    fr : FrequencyResponse, or ValidationResult or a sequence of them
+        The measured responses; or a validation (models compared on one record): the
+        measured responses of the first, conditioned on the other inputs, each
+        model's analytic responses on top (labelled with its cost ``J``,
+        :class:`~inflowsim.diagnose.validation.FrequencyComparison`; ``models``
+        must then be left out), every pair by default.
     pairs : sequence of (output, input), optional
         Responses to draw, one column each (default every pair).
     models : mapping of label to complex array, optional
@@ -71,6 +77,18 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
     from matplotlib.ticker import FormatStrFormatter, NullFormatter
 
     from ..identify.frf import COHERENCE_OK
+    if not hasattr(fr, "h"):                 # validation results
+        res = list(fr) if isinstance(fr, (list, tuple)) else [fr]
+        if models is not None:
+            raise TypeError("frequency_response_plot: a validation brings its models; "
+                            "leave models out")
+        fr = res[0].frequency.measured
+        models = {f"{r.structure} (J {r.frequency.overall_cost:.3g})": r.frequency.model
+                  for r in res}
+        names = ", ".join(r.structure for r in res)
+        title = title or (f"Flap responses, each conditioned on the other inputs: "
+                          f"measured and {names}, {res[0].band_hz[0]:.4g}-"
+                          f"{res[0].band_hz[1]:.4g} Hz")
     thr = COHERENCE_OK if threshold is None else threshold
     if pairs is None:
         pairs = [(o, i) for i in fr.inputs for o in fr.outputs]

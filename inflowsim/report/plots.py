@@ -16,33 +16,13 @@ import numpy as np
 
 from ..data.record import FLAP_COLUMNS
 from ..channels import CONTROLS
-from ..fileio import atomic_path
+from .figure import DPI, new_figure, save_png  # noqa: F401  (re-exported)
+from .frf_plots import BAND_SIGMA, frequency_response_plot  # noqa: F401  (re-exported)
 
 #: Axis labels of the flap channels (units: degrees on plots, radians inside).
 FLAP_LABELS = {"beta0": r"$\beta_0$", "beta1c": r"$\beta_{1c}$", "beta1s": r"$\beta_{1s}$"}
 #: The pilot controls' colours (the same in every control panel).
 CONTROL_COLOURS = {"theta0": "tab:gray", "theta1c": "tab:olive", "theta1s": "tab:cyan"}
-DPI = 110
-
-
-def new_figure(nrows=1, ncols=1, size=(8.0, 6.0), sharex=True):
-    """A figure on an Agg canvas and its axes array (always 2-D).  Matplotlib is
-    imported here, on the first figure: a command that draws nothing never loads it."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=size, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(nrows, ncols, sharex=sharex, squeeze=False)
-    return fig, axes
-
-
-def save_png(fig, path, dpi: int = DPI) -> Path:
-    """Save ``fig`` as PNG at ``path``, replacing a regular file only and never
-    leaving it half-written (:func:`inflowsim.fileio.atomic_path`)."""
-    p = Path(path)
-    with atomic_path(p) as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi, metadata={"Software": "inflowsim"})
-    return p
 
 
 def _as_list(results):
@@ -149,40 +129,6 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
     return fig
 
 
-def frequency_response_plot(results, path=None, title=None, unwrap: bool = True):
-    """Bode plot of a validation: the measured responses of the flap to each input,
-    conditioned on the others, with error bands and coherence, and each model's
-    analytic responses on top (:class:`~inflowsim.diagnose.validation.FrequencyComparison`).
-
-    Parameters
-    ----------
-    results : ValidationResult or sequence of them
-        Models compared on one record; measured taken from the first.
-    path : path-like, optional
-        Save as PNG.
-    title : str, optional
-    unwrap : bool
-        Unwrap the phases (the default; labelled); ``False``: wrapped to +-180 deg.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        One column per response pair (inputs, then outputs); rows magnitude [dB],
-        phase [deg], coherence (:func:`inflowsim.report.frf_plots.frequency_response_plot`).
-    """
-    from .frf_plots import frequency_response_plot as bode
-    res = _as_list(results)
-    fr = res[0].frequency.measured
-    models = {f"{r.structure} (J {r.frequency.overall_cost:.3g})": r.frequency.model
-              for r in res}
-    names = ", ".join(r.structure for r in res)
-    return bode(fr, pairs=[(o, i) for i in fr.inputs for o in fr.outputs], models=models,
-                path=path, unwrap=unwrap,
-                title=title or f"Flap responses, each conditioned on the other inputs: "
-                               f"measured and {names}, {res[0].band_hz[0]:.4g}-"
-                               f"{res[0].band_hz[1]:.4g} Hz")
-
-
 def _log_frequency_axis(ax):
     from .style import log_frequency_axis
     log_frequency_axis(ax)
@@ -192,7 +138,6 @@ def error_spectrum_plot(results: Sequence, path=None, title=None):
     """Measured over model response against frequency: magnitude [dB] and phase
     [deg] per response pair, where the measurement is read (coherence >= 0.6, two
     windows); the shaded band is the measurement's +-2 stated errors about 0."""
-    from .frf_plots import BAND_SIGMA
     res = _as_list(results)
     fig, ax = new_figure(2, 1, size=(8.0, 5.5))
     styles = ("-", "--", ":", "-.")

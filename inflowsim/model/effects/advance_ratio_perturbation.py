@@ -42,26 +42,16 @@ structure stays regular (checked in the tests).
 """
 
 from ._effect import Effect
+from ._trim import true_trim_state
+from .momentum_speed import EFFECT as SPEED
+from .momentum_speed import trim_inflow
 from ...physics import bladeelement as be
 from ...physics import loads as ld
-from ..equations import rotation
 from ..params import ParameterSpec
 
 NAME = "advance-ratio-perturbation"
 MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
 
-
-
-def true_trim_state(k, azimuth_bias: float = 0.0, effect: str = NAME):
-    """Trim ``(theta, beta, muz)`` of constants ``k`` (one line naming ``effect``
-    if missing), cyclic components rotated from recorded to true by
-    ``R(-azimuth_bias)``: what every effect linearised about the trim starts from."""
-    theta, beta, muz = be.trim_state(k.trim, effect)
-    if azimuth_bias:
-        r = rotation(-azimuth_bias)
-        theta[1:3] = r @ theta[1:3]
-        beta[1:3] = r @ beta[1:3]
-    return theta, beta, muz
 
 
 def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
@@ -71,16 +61,14 @@ def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
     way to Eq. (14)'s, the one that effect linearises about.  The effect's terms
     are linear in the trim inflow, so ``k_v = 1`` is exactly Eq. (14)'s trim and
     ``k_v = 0`` the structure without ``momentum-speed``: the two stay nested."""
-    theta, beta, muz = true_trim_state(k, azimuth_bias)
+    theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
     lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     if k_v is not None:
-        from .momentum_speed import trim_inflow
         lam = lam + k_v * (trim_inflow(k, azimuth_bias) - lam)
     return theta, beta, muz, lam
 
 
 def _equations(eq, p, k):
-    from .momentum_speed import EFFECT as SPEED
     # with momentum-speed (its parameter among the structure's) the structure's trim
     # inflow is Eq. (14)'s
     k_v = p[SPEED.parameters[0]] if SPEED.parameters[0] in p else None

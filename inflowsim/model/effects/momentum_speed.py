@@ -27,7 +27,7 @@ from functools import lru_cache
 import numpy as np
 
 from ._effect import Effect
-from .advance_ratio_perturbation import true_trim_state
+from ._trim import true_trim_state
 from ...physics import momentum_speed as ms
 from ..equations import rotation
 from ..params import ParameterSpec
