@@ -42,3 +42,6 @@ def marked(fit, analyses, alpha=ALPHA, reason=None):
     if fit.judged and why == fit.conditional:
         return fit
     return dataclasses.replace(fit, conditional=why, judged=True)
+
+
+__all__ = ["conditional_reason", "marked"]

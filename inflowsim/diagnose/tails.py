@@ -47,3 +47,6 @@ def f_sf(x, dfn, dfd):
     with np.errstate(invalid="ignore"):
         out = np.where(x <= 0, 1.0, special.fdtrc(dfn, dfd, x))
     return _out(np.where((dfn > 0) & (dfd > 0), out, np.nan))
+
+
+__all__ = ["chi2_sf", "chi2_logsf", "f_sf"]

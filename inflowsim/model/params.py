@@ -244,6 +244,10 @@ class ParameterSpec:
         The plausible range is in seconds (a time constant in azimuth units).
     plausible_by_hub : tuple
         Plausible ranges per hub type.
+    physical : tuple or None
+        ``(low, high, why)``: what the parameter can be at all for what it claims to
+        be (a ``time-delay`` never leads); an estimate beyond it by more than three
+        bounds makes the effect a stand-in (``inflowsim.diagnose.verdict``).
     """
 
     name: str

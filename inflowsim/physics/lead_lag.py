@@ -135,3 +135,6 @@ def lag_structure(nu_zeta, zeta_lag, b):
               [o, o, -2 * b, o, o, o, o, -2 * b, o],
               [o, 2 * b, o, o, o, o, o, o, -2 * b]])
     return z, x
+
+
+__all__ = ["flap_lag_aero", "flap_coupling", "load_coupling", "lag_aero", "lag_structure"]

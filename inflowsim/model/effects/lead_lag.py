@@ -128,3 +128,6 @@ EFFECT = Effect(
     states=STATES,
     offered=False,
 )
+
+
+__all__ = ["NAME", "STATES", "NU_THEORY", "in_loads", "block", "EFFECT"]

@@ -149,3 +149,6 @@ SPEC = ParameterSpec("k_ph", "-", "coupling of the higher Peters-He inflow state
                                 "factor of about 3 of Peters-He's"))
 
 EFFECTS = tuple(_effect(n, pw) for n, pw in POWERS.items())
+
+
+__all__ = ["POWERS", "S_BASE", "LINV_BASE", "T_BASE", "layout", "names", "parts", "SPEC", "EFFECTS"]

@@ -84,3 +84,6 @@ EFFECT = Effect(
     replaces_inputs=(("theta0", "theta0_a"), ("theta1c", "theta1c_a"),
                      ("theta1s", "theta1s_a")),
 )
+
+
+__all__ = ["NAME", "FLOOR", "STATES", "block", "EFFECT"]

@@ -104,3 +104,6 @@ EFFECT = Effect(
                                               "skews; correlations with flight data "
                                               "use 1-2")),),
 )
+
+
+__all__ = ["KELLER_HOVER", "SKEW_TABLE", "skew_angle", "keller_gain", "EFFECT"]

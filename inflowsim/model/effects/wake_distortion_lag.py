@@ -98,3 +98,6 @@ EFFECT = Effect(
                          plausible_seconds=True),),
     states=STATES,
 )
+
+
+__all__ = ["NAME", "FLOOR", "STATES", "block", "transport_speed", "EFFECT"]
