@@ -41,6 +41,7 @@ TRUE_VALUES = {
     "skewed-wake": {},                      # its theory value for the Puma
     "advance-ratio-perturbation": {},       # k_mu = 1
     "second-harmonic-flap": {},             # k_beta2 = 1
+    "wake-distortion": {"K_R": 1.0},
 }
 KINDS = [("continuous", 64), ("continuous", 256), ("zoh", 64), ("zoh", 256)]
 

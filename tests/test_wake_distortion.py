@@ -415,3 +415,33 @@ def test_the_lag_is_found_beside_wake_distortion(tmp_path, rotor, kind, rate, co
     for n, v in (("tau_w", tau_w), ("K_R", 1.0)):
         assert abs(fit.parameters[n] - v) < 3 * fit.sigma[n], (n, fit.parameters[n],
                                                                  fit.sigma[n])
+
+
+# -- the virtual flight test ---------------------------------------------------------
+def test_flighttest_flies_it_in_both_truths(tmp_path, capsys):
+    """``flighttest --truth linear --add wake-distortion`` and the blade truth's
+    ``--set K_R=``: the truths say so, and the flap moves differently with it."""
+    import json
+    from inflowsim.cli import main
+    flap = {}
+    for truth, extra in (("linear", ["--truth", "linear", "--model", "basic",
+                                     "--add", "wake-distortion", "--set", "K_R=1.0"]),
+                         ("nonlinear", ["--set", "K_R=0.5"])):
+        for on in (True, False):
+            argv = extra if on else [a for a in extra if a not in (
+                "--add", "wake-distortion", "--set", "K_R=1.0", "K_R=0.5")]
+            out, tj = tmp_path / f"{truth}{on}.csv", tmp_path / f"{truth}{on}.json"
+            assert main(["flighttest", *argv, "--duration", "1.5", "--start", "0.2",
+                         "--noise", "0", "--out", str(out), "--truth-json", str(tj)]) == 0
+            t = json.loads(tj.read_text())
+            rec = read_record(out)
+            flap[truth, on] = np.column_stack([rec["beta1c"], rec["beta1s"]])
+            if truth == "linear" and on:
+                assert t["structure"] == "basic+wake-distortion"
+                assert t["parameters"]["K_R"] == 1.0
+            if truth == "nonlinear":
+                assert t["rotor"].get("K_R") == (0.5 if on else None)
+    capsys.readouterr()
+    for truth in ("linear", "nonlinear"):
+        d = np.abs(flap[truth, True] - flap[truth, False]).max()
+        assert d > 1e-4 * np.abs(flap[truth, False]).max(), truth

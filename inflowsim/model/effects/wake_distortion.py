@@ -95,8 +95,8 @@ EFFECT = Effect(
     theory=lambda k: {"K_R": keller_gain(skew_angle(k))},
     neutral=lambda k: {"K_R": 0.0},
     equations=_equations,
-    # asked for by name until the detection study (bench/wake.md) says otherwise
-    offered=False,
+    # offered by default: the detection study of bench/wake.md
+    offered=True,
     specs=(ParameterSpec("K_R", "-", "wake-curvature gain: cyclic inflow per tip-path "
                          "plane pitch and roll rate (Keller)", -20.0, 20.0,
                          plausible=(0.0, 2.5, "the kinematic wake's vortex tube gives "
