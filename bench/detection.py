@@ -49,7 +49,25 @@ EFFECT_VALUES = {
     "separate-time-constants": {"tau0": 2.0, "tau_cs": 20.0},
     "azimuth-bias": {"azimuth_bias": 0.3},
     "time-delay": {"delay": 0.03},
+    "wake-distortion": {"K_R": 1.0},
 }
+#: Rotors of the study (``--rotor``): the Puma of the paper, and a hingeless rotor of
+#: the Bo 105's size (flap frequency squared 1.25, Lock number 5.2) at 100 kt.
+ROTORS = {
+    "puma": ({}, {}),
+    "hingeless": ({"mu": 0.236, "a0": 5.7, "solidity": 0.07, "omega": 44.4,
+                   "radius": 4.91, "hub": "hingeless"},
+                  {"lambda_beta2": 1.25, "n_beta": 0.65}),
+}
+
+
+def rotor_of():
+    """(constants, base parameters) of the study's rotor (``INFLOWSIM_STUDY_ROTOR``)."""
+    import os
+    from dataclasses import replace
+    from inflowsim.model.params import PUMA
+    c, p = ROTORS[os.environ.get("INFLOWSIM_STUDY_ROTOR", "puma")]
+    return replace(PUMA, **c), p
 NOISE = 1e-4
 COLOUR_HZ = 2.0
 #: noise kinds: ``coloured`` has the white noise's variance (so 6-10 times its power
@@ -88,18 +106,19 @@ def truth_of(kind, effect):
     import inflowsim as ifs
     from inflowsim.model.presets import paper_table, theory_parameters, truth_parameters
     from inflowsim.flighttest.virtual import VirtualTest, virtual_record
-    k = virtual_record(VirtualTest(duration=1.0)).constants
+    constants, rotor = rotor_of()
+    k = virtual_record(VirtualTest(duration=1.0, constants=constants)).constants
     if kind == "null":
         if effect == "basic":
             s = ifs.Structure.parse("basic")
-            return s, theory_parameters(s, k) | {"tau": 5.0}, s
+            return s, theory_parameters(s, k) | {"tau": 5.0} | rotor, s
         s = ifs.Structure.parse("glauert")
-        return s, truth_parameters(s, k), s
+        return s, truth_parameters(s, k) | rotor, s
     if kind == "multi":
         s = ifs.Structure.parse("glauert")
-        return s, truth_parameters(s, k), ifs.Structure.parse("basic")
+        return s, truth_parameters(s, k) | rotor, ifs.Structure.parse("basic")
     s = ifs.Structure.parse("basic").with_effect(effect)
-    p = truth_parameters(s, k) | {"tau": 5.0} | EFFECT_VALUES.get(effect, {})
+    p = truth_parameters(s, k) | {"tau": 5.0} | rotor | EFFECT_VALUES.get(effect, {})
     if effect == "hub-velocity-coupling":
         p |= {n: v for n, v in paper_table(2)[1].items() if n[0] == "k"}
     return s, {n: v for n, v in p.items() if n in s.parameters}, ifs.Structure.parse("basic")
@@ -112,6 +131,7 @@ def record_for(kind, effect, hold, rate, noise, seed):
         return nonlinear_flighttest_of(kind, hold, rate, sigma, col, seed).record, None
     s, p, base = truth_of(kind, effect)
     rec = virtual_record(VirtualTest(structure=s, parameters=p, dt=1 / rate, seed=seed,
+                                     constants=rotor_of()[0],
                                      noise_flap=sigma, manoeuvres=_manoeuvres(),
                                      hold=hold, noise_color_hz=col))
     return rec, (s, p, base)
@@ -173,7 +193,7 @@ def run_one(job):
     rec, truth = record_for(kind, effect, hold, rate, noise, seed)
     base = "basic" if truth is None else truth[2]
     out = {"kind": kind, "effect": effect, "hold": hold, "rate": rate, "noise": noise,
-           "seed": seed}
+           "seed": seed, "rotor": os.environ.get("INFLOWSIM_STUDY_ROTOR", "puma")}
     if kind in ("null", "hidden"):
         d = diagnose(rec, base, rule=rule, pool=pool)
         out["missing_effect"] = d.missing_effect
@@ -242,10 +262,11 @@ def summary(paths):
             if line.strip()]
     by = {}
     for r in rows:
-        key = (r["kind"], r["effect"], r["hold"], r["rate"], r["noise"])
+        key = (r["kind"], r["effect"], r["hold"], r["rate"], r["noise"],
+               r.get("rotor", "puma"))
         by.setdefault(key, []).append(r)
-    print("| kind | effect | hold | rate | noise | records | result |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
+    print("| kind | effect | hold | rate | noise | rotor | records | result |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for key in sorted(by):
         rs = by[key]
         kind, effect = key[0], key[1]
@@ -261,7 +282,8 @@ def summary(paths):
             finals = sorted({r["final"] for r in rs})
             res = f"final {', '.join(finals)}; max floor ratio " + ", ".join(
                 f"{max(r['final_floor_ratio']):.2f}" for r in rs)
-        print(f"| {kind} | {effect} | {key[2]} | {key[3]} | {key[4]} | {len(rs)} | {res} |")
+        print(f"| {kind} | {effect} | {key[2]} | {key[3]} | {key[4]} | {key[5]} | {len(rs)} "
+              f"| {res} |")
 
 
 def main(argv=None):
@@ -284,6 +306,9 @@ def main(argv=None):
                          "deviance from the floor")
     ap.add_argument("--offer", help="comma-separated effects not offered by default, "
                     "added to every pool and to the hidden effects")
+    ap.add_argument("--rotor", choices=tuple(ROTORS), default="puma",
+                    help="the truth's rotor (virtual records; the nonlinear truth is the "
+                         "Puma)")
     ap.add_argument("--summary", nargs="+")
     a = ap.parse_args(argv)
     if a.summary:
@@ -297,8 +322,9 @@ def main(argv=None):
     if offer:
         import os
         os.environ["INFLOWSIM_STUDY_OFFER"] = ",".join(offer)
+    import os
+    os.environ["INFLOWSIM_STUDY_ROTOR"] = a.rotor
     if a.width is not None:
-        import os
         os.environ["INFLOWSIM_STUDY_WIDTH"] = str(a.width)
     if a.measure != "auto":
         import os

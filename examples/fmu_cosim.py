@@ -4,7 +4,8 @@
 
 Builds the FMU (FMI 2.0, or 3.0 with FMI_VERSION 3), replays the record's inputs (perturbations about the trim found in
 the quiet lead-in) through it with fmpy, and plots the FMU's flap against the Python
-Simulator and the measurements (``OUT_DIR/fmu_cosim.png``, default ``.``).
+Simulator and the measurements (``OUT_DIR/fmu_cosim.png``, default
+``inflowsim-fmu-cosim`` in the system's temporary folder).
 """
 from __future__ import annotations
 
@@ -28,8 +29,9 @@ from inflowsim.flighttest.virtual import VirtualTest, virtual_record  # noqa: E4
 FLAP = ("beta0", "beta1c", "beta1s")
 
 
-def main(out_dir=".", fmi_version="2"):
-    out = Path(out_dir)
+def main(out_dir=None, fmi_version="2"):
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(out_dir or Path(tempfile.gettempdir()) / "inflowsim-fmu-cosim")
     out.mkdir(parents=True, exist_ok=True)
     rec = virtual_record(VirtualTest(structure="glauert", seed=0))
     k = rec.constants

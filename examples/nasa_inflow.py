@@ -2,34 +2,39 @@
 
 Run:  python examples/nasa_inflow.py [DATA_DIR] [--out DIR]
 
-Reads the surveys at mu 0.15, 0.23 and 0.35 (DATA_DIR, default
-``../shared/data/nasa-lv-inflow`` relative to the repository root) as they are,
+Reads the surveys at mu 0.15, 0.23 and 0.35 (DATA_DIR, default the copy the package
+ships, ``inflowsim/data/nasa_lv_inflow``: NASA public data, source and licence named
+there) as they are,
 prints every defect found and what was done about it, fits Eq. (6) to each survey,
 computes the model's trim inflow at the surveys' run conditions (momentum with
 ``V ~ mu`` and with the mass-flow speed, the skewed-wake gradient, Table 3's
 Glauert Eq. (19)), prints the tables of ``docs/measured-inflow.md`` and writes the
 figures ``nasa-radial-cuts.png``, ``nasa-harmonics.png``, ``nasa-disc.png`` into
-DIR (default ``docs/figures``).  A missing DATA_DIR: one line on stderr, exit 2.
+DIR (default ``inflowsim-nasa-inflow`` in the system's temporary folder: nothing is
+written into the repository unless asked, e.g. ``--out docs/figures`` to renew the
+committed figures).  A missing DATA_DIR: one line on stderr, exit 2.
 """
 import argparse
 import sys
+import tempfile
 from pathlib import Path
 
-from inflowsim.data.nasa_lv import read_surveys
+from inflowsim.data.nasa_lv import DATA_DIR, read_surveys
 from inflowsim.errors import InputError
 
-ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_DATA = ROOT.parent / "shared" / "data" / "nasa-lv-inflow"
+DEFAULT_DATA = DATA_DIR
+DEFAULT_OUT = Path(tempfile.gettempdir()) / "inflowsim-nasa-inflow"
 FIGURES = ("nasa-radial-cuts.png", "nasa-harmonics.png", "nasa-disc.png")
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("data", nargs="?", default=str(DEFAULT_DATA),
-                    help="folder of the surveys (default ../shared/data/nasa-lv-inflow "
-                         "beside the repository)")
-    ap.add_argument("--out", default=str(ROOT / "docs" / "figures"),
-                    help="folder for the PNG figures (default docs/figures)")
+                    help="folder of the surveys (default the package's copy, "
+                         f"{DATA_DIR})")
+    ap.add_argument("--out", default=str(DEFAULT_OUT),
+                    help=f"folder for the PNG figures (default {DEFAULT_OUT}; "
+                         "--out docs/figures renews the committed ones)")
     args = ap.parse_args(argv)
     try:
         surveys = read_surveys(args.data)

@@ -8,7 +8,8 @@ the rotor (``Simulator``: Glauert inflow, Puma theory values) steps once and giv
 its loads (``Simulator.loads()``: thrust and the flap springs' hub moments), and the
 airframe integrates them. The flight condition follows the airspeed every frame
 (``set_mu``) with the mass-flow speed through the disc, so the same rotor flies in hover
-and at 55 m/s. Writes ``OUTDIR/simulator_loop.png`` (default ``simulator-loop``).
+and at 55 m/s. Writes ``OUTDIR/simulator_loop.png`` (default ``inflowsim-simulator-loop`` in the
+system's temporary folder).
 
 ``simulator_loop.c`` is the same loop in C on the FMU: ``simulator_loop_fmu.py`` builds
 the FMU from :func:`rotor_model` and runs it; same inputs, model, step and duration,
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import math
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -123,23 +125,29 @@ def fly(duration=45.0):
 
 
 def plot(log, path):
-    fig, ax = new_figure(4, 1, size=(8.0, 10.0))
+    """The flight, one quantity per axis: speed and height; attitudes and controls
+    [deg]; flap [deg]; thrust [kN]; hub moments [kN m] (thrust and moments apart:
+    they differ in unit and size)."""
+    fig, ax = new_figure(5, 1, size=(8.0, 12.0))
     t = log[:, 0]
     ax[0, 0].plot(t, log[:, 1], label="airspeed [m/s]")
-    ax[0, 0].plot(t, 100 * log[:, 2], label="mu x 100")
+    ax[0, 0].plot(t, 100 * log[:, 2], label="mu x 100 [-]")
     ax[0, 0].plot(t, log[:, 3], label="height change [m]")
+    ax[0, 0].set_ylabel("speed [m/s], height [m]")
     ax[1, 0].plot(t, np.degrees(log[:, 4]), label="pitch attitude")
     ax[1, 0].plot(t, np.degrees(log[:, 5]), label="roll attitude")
     for j, n in enumerate(("theta0", "theta1c", "theta1s")):
         ax[1, 0].plot(t, np.degrees(log[:, 6 + j]), "--", label=n)
-    ax[1, 0].set_ylabel("[deg]")
+    ax[1, 0].set_ylabel("attitude, control [deg]")
     ax[2, 0].plot(t, np.degrees(log[:, 9]), label="beta1c")
     ax[2, 0].plot(t, np.degrees(log[:, 10]), label="beta1s")
     ax[2, 0].set_ylabel("flap [deg]")
-    ax[3, 0].plot(t, log[:, 11] / 1e3, label="thrust [kN]")
-    ax[3, 0].plot(t, log[:, 12] / 1e3, label="pitch moment [kN m]")
-    ax[3, 0].plot(t, log[:, 13] / 1e3, label="roll moment [kN m]")
-    ax[3, 0].set_xlabel("time [s]")
+    ax[3, 0].plot(t, log[:, 11] / 1e3, color="k", label="thrust")
+    ax[3, 0].set_ylabel("thrust [kN]")
+    ax[4, 0].plot(t, log[:, 12] / 1e3, label="pitch moment")
+    ax[4, 0].plot(t, log[:, 13] / 1e3, label="roll moment")
+    ax[4, 0].set_ylabel("hub moment [kN m]")
+    ax[4, 0].set_xlabel("time [s]")
     for a in ax[:, 0]:
         a.grid(True, alpha=0.3)
         a.legend(fontsize="small", loc="best")
@@ -148,7 +156,8 @@ def plot(log, path):
 
 
 def main(argv):
-    out = Path(argv[1] if len(argv) > 1 else "simulator-loop")
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(argv[1] if len(argv) > 1 else Path(tempfile.gettempdir()) / "inflowsim-simulator-loop")
     out.mkdir(parents=True, exist_ok=True)
     log = fly()
     path = plot(log, out / "simulator_loop.png")

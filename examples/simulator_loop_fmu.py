@@ -6,7 +6,7 @@ rotor loads from hover to forward flight, with no Python in the loop.
 
 Needs a C compiler (``cc``/``gcc`` or ``$CC``).  Writes ``OUTDIR/inflowsim.fmu``, the
 program, ``OUTDIR/simulator_loop_fmu.csv`` and ``OUTDIR/simulator_loop_fmu.png``
-(default ``simulator-loop-fmu``).
+(default ``inflowsim-simulator-loop-fmu`` in the system's temporary folder).
 """
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
@@ -27,7 +28,9 @@ HERE = Path(__file__).resolve().parent
 
 
 def main(argv):
-    out = Path(argv[1] if len(argv) > 1 else "simulator-loop-fmu")
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(argv[1] if len(argv) > 1
+               else Path(tempfile.gettempdir()) / "inflowsim-simulator-loop-fmu")
     out.mkdir(parents=True, exist_ok=True)
     cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
     if not cc:
@@ -53,7 +56,7 @@ def main(argv):
                           guid, str(csv)], capture_output=True, text=True, check=True)
     print(res.stdout, end="")
     log = np.genfromtxt(csv, delimiter=",", names=True)
-    fig, ax = new_figure(3, 1, size=(8.0, 8.0))
+    fig, ax = new_figure(4, 1, size=(8.0, 10.0))
     t = log["t"]
     ax[0, 0].plot(t, log["airspeed"], label="airspeed [m/s]")
     ax[0, 0].plot(t, 100 * log["mu"], label="mu x 100")
@@ -61,11 +64,14 @@ def main(argv):
     for n in ("pitch", "roll", "theta0", "theta1c", "theta1s"):
         ax[1, 0].plot(t, np.degrees(log[n]), "--" if n.startswith("theta") else "-",
                       label=n)
-    ax[1, 0].set_ylabel("[deg]")
-    ax[2, 0].plot(t, log["thrust"] / 1e3, label="thrust [kN]")
-    ax[2, 0].plot(t, log["pitch_moment"] / 1e3, label="pitch moment [kN m]")
-    ax[2, 0].plot(t, log["roll_moment"] / 1e3, label="roll moment [kN m]")
-    ax[2, 0].set_xlabel("time [s]")
+    ax[0, 0].set_ylabel("speed [m/s], height [m]")
+    ax[1, 0].set_ylabel("attitude, control [deg]")
+    ax[2, 0].plot(t, log["thrust"] / 1e3, color="k", label="thrust")
+    ax[2, 0].set_ylabel("thrust [kN]")
+    ax[3, 0].plot(t, log["pitch_moment"] / 1e3, label="pitch moment")
+    ax[3, 0].plot(t, log["roll_moment"] / 1e3, label="roll moment")
+    ax[3, 0].set_ylabel("hub moment [kN m]")
+    ax[3, 0].set_xlabel("time [s]")
     for a in ax[:, 0]:
         a.grid(True, alpha=0.3)
         a.legend(fontsize="small", loc="best")

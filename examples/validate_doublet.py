@@ -6,9 +6,11 @@ Makes a virtual record (glauert truth with the paper's Table 3 values, flap nois
 1e-4 rad), writes it as CSV, reads it back as any flight record would be read,
 replays its measured inputs through the ``basic`` (Table 1) and ``glauert``
 (Table 3) presets, prints the fit figures and writes a report with the paper-like
-plots into OUT_DIR (default ``validate-doublet``).
+plots into OUT_DIR (default ``inflowsim-validate-doublet`` in the system's temporary
+folder).
 """
 import sys
+import tempfile
 from pathlib import Path
 
 from inflowsim import build_model, preset_parameters
@@ -18,8 +20,9 @@ from inflowsim.diagnose.validation import validate
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
-def main(out_dir="validate-doublet"):
-    out = Path(out_dir)
+def main(out_dir=None):
+    # default: a temporary folder, never the repository (issue #39)
+    out = Path(out_dir or Path(tempfile.gettempdir()) / "inflowsim-validate-doublet")
     out.mkdir(parents=True, exist_ok=True)
     csv = out / "doublet.csv"
     if not csv.exists():

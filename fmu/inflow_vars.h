@@ -6,7 +6,7 @@
 
 #include "inflow_names.h"  /* prefixed internal names for static linking */
 
-#define IFS_GUID "{21cd8fca-1ad2-5535-8810-f3bfd2deeca9}"
+#define IFS_GUID "{2eb040db-34c6-5f83-a9fe-9c8422234c3c}"
 #define IFS_MODEL_IDENTIFIER "inflowsim"
 #define IFS_N_REALS 47
 #define IFS_N_INTEGERS 2
@@ -106,9 +106,9 @@ typedef struct {
     double lambda1s;  /* output [-] */
     double lambda_beta2;  /* parameter [-] */
     double n_beta;  /* parameter [-] */
-    double tau;  /* parameter [rad] */
-    double tau0;  /* parameter [rad] */
-    double tau_cs;  /* parameter [rad] */
+    double tau;  /* parameter [-] */
+    double tau0;  /* parameter [-] */
+    double tau_cs;  /* parameter [-] */
     double k01;  /* parameter [-] */
     double k02;  /* parameter [-] */
     double k11;  /* parameter [-] */

@@ -114,3 +114,9 @@ def input_scale(omega: float, names=INPUTS) -> np.ndarray:
 
 def unit_of(name: str) -> str:
     return BY_NAME[name].unit
+
+
+__all__ = ["Channel", "INPUT_CHANNELS", "N_BASE_INPUTS", "FLAP_CHANNELS",
+           "INFLOW_CHANNELS", "FLAP_RATE_CHANNELS", "LOAD_CHANNELS", "INPUTS", "INPUTS_AZ",
+           "INPUT_UNITS", "FLAP", "INFLOW", "FLAP_RATE", "OUTPUTS", "LOADS", "CONTROLS",
+           "BY_NAME", "LIMIT", "input_scale", "unit_of"]

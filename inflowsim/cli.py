@@ -19,7 +19,7 @@ COMMANDS = ("demo", "model", "simulate", "validate", "identify", "bandstudy", "d
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):          # one line, exit 2 (argparse prints usage too)
-        sys.stderr.write(f"inflowsim: error: {message}\n")
+        sys.stderr.write(f"{self.prog}: error: {_one_line(message)}\n")
         raise SystemExit(2)
 
 
@@ -28,6 +28,7 @@ def build_parser():
                      "simulate, validate, identify, diagnose, FMU.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"inflowsim {__version__}")
+    from .commands._common import add_progress_options
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         try:
@@ -38,19 +39,67 @@ def build_parser():
             raise
         p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
+        add_progress_options(p)
         p.set_defaults(_run=mod.run)
     return parser
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "_run", None):
-        parser.print_help(sys.stderr)
+    """Run one command; return its exit status: 0 done, 2 refused (one line on
+    stderr), 130 interrupted.
+
+    Standard output is handled here once for every command (issue #37): closed
+    (``>&-``) is refused before any work; a reader that stops early (``| head``)
+    ends the command quietly with status 0, as Unix tools do; a write that fails
+    (``> /dev/full``) is one line naming it and status 2, ``--help`` and
+    ``--version`` included."""
+    stdout, stderr = sys.stdout, sys.stderr
+    if stderr is None:                    # 2>&- : nowhere to say anything; the status says
+        sys.stderr = open(os.devnull, "w")
+    if _closed(stdout):
+        sys.stderr.write("inflowsim: error: standard output is closed; redirect it to "
+                         "a file or /dev/null\n")
+        sys.stderr.flush()
+        sys.stderr = stderr
         return 2
-    stdout = sys.stdout
     sys.stdout = _NamedStream(stdout, _stream_name(stdout, "standard output"))
+    sys.stderr = _NamedStream(sys.stderr, _stream_name(sys.stderr, "standard error"),
+                              lossy=True)
+    command = None
     try:
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:         # --help, --version, or a refused option
+            sys.stdout.flush()            # text lost on a full disk is said, not 0
+            return exc.code if isinstance(exc.code, int) else 2
+        command = getattr(args, "command", None)
+        if not getattr(args, "_run", None):
+            sys.stderr.write("inflowsim: error: choose a command "
+                             "(inflowsim --help lists them)\n")
+            return 2
+        return _run(args)
+    except BrokenPipeError:
+        if not (sys.stdout.broken or sys.stderr.broken):
+            raise                         # not ours: a pipe of the program's own
+        _quiet(stdout)
+        return 0
+    except InputError as exc:             # standard output itself failing (full disk)
+        _say(command, "", _one_line(exc))
+        return 2
+    finally:
+        for named, raw in ((sys.stdout, stdout), (sys.stderr, stderr)):
+            if getattr(named, "failed", False) or getattr(named, "broken", False):
+                _quiet(raw)               # its unwritable rest must not fail at exit
+        sys.stdout, sys.stderr = stdout, stderr
+
+
+def _run(args) -> int:
+    from . import progress
+    from .commands._checks import check_paths
+    progress.configure(getattr(args, "show_progress", None))
+    try:
+        check_paths(args)
         if hasattr(args, "effect_file"):
             from .commands._common import load_effects
             load_effects(args)
@@ -58,8 +107,10 @@ def main(argv=None) -> int:
         sys.stdout.flush()          # a full disk under stdout is reported here, named
         return code
     except InputError as exc:
-        sys.stderr.write(f"inflowsim {args.command}: error: {_one_line(exc)}\n")
+        _say(args.command, "", _one_line(exc))
         return 2
+    except BrokenPipeError:
+        raise
     except OSError as exc:
         # what the output checks cannot foresee about the user's files and disk (full,
         # read-only, permissions changed meanwhile) is the user's to fix: one line;
@@ -67,14 +118,49 @@ def main(argv=None) -> int:
         if not _users_os_error(exc):
             raise
         where = f"{exc.filename}: " if exc.filename else ""
-        sys.stderr.write(f"inflowsim {args.command}: error: {where}"
-                         f"{exc.strerror or exc}\n")
+        _say(args.command, where, exc.strerror or str(exc))
         return 2
     except KeyboardInterrupt:
         sys.stderr.write("inflowsim: interrupted\n")
         return 130
-    finally:
-        sys.stdout = stdout
+
+
+def _say(command, where, what):
+    """The one error line (``inflowsim CMD: error: ...``) on stderr, whatever
+    becomes of stderr itself."""
+    prefix = f"inflowsim {command}" if command else "inflowsim"
+    try:
+        sys.stderr.write(f"{prefix}: error: {_one_line(f'{where}{what}')}\n")
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        pass
+
+
+def _closed(stream) -> bool:
+    """``stream`` is missing (Python's ``sys.stdout`` when fd 1 was closed at start)
+    or its file descriptor is not open."""
+    if stream is None:
+        return True
+    try:
+        fd = stream.fileno()
+    except (AttributeError, OSError, ValueError):
+        return False                      # not a file (a test's capture): usable
+    try:
+        os.fstat(fd)
+    except OSError:
+        return True
+    return False
+
+
+def _quiet(stream):
+    """After a broken pipe: point the stream's descriptor at /dev/null so the
+    interpreter's last flush says nothing."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())
+        os.close(devnull)
+    except (AttributeError, OSError, ValueError):
+        pass
 
 
 def _stream_name(stream, what: str) -> str:
@@ -91,17 +177,28 @@ class _NamedStream:
     """A text stream whose OS errors name it: a write to a full disk through
     ``> file`` says which file (the OS error of a write carries no file name)."""
 
-    def __init__(self, stream, name):
-        self._stream, self._name = stream, name
+    def __init__(self, stream, name, lossy=False):
+        self._stream, self._name, self._lossy = stream, name, lossy
+        self.broken = self.failed = False
 
     def _named(self, call, *a):
         try:
             return call(*a)
-        except OSError as exc:
-            if exc.filename is None and exc.errno is not None and _users_os_error(exc):
-                raise type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno),
-                                self._name) from exc
+        except BrokenPipeError:
+            self.broken = True
+            if self._lossy:
+                return None
             raise
+        except OSError as exc:
+            if self._lossy:               # stderr: messages lost, the status still says
+                self.failed = True
+                return None
+            # the stream is the user's (a file, a device, a disk): any failure to
+            # write it is theirs to fix, said in one line
+            self.failed = True
+            raise InputError(f"{self._name}: "
+                             f"{exc.strerror or os.strerror(exc.errno or 0) or exc}") \
+                from exc
 
     def write(self, text):
         return self._named(self._stream.write, text)
@@ -121,8 +218,17 @@ def _users_os_error(exc: OSError) -> bool:
                              errno.ENAMETOOLONG))
 
 
+#: Longest error line [characters]: a message quoting a 100,000-character argument
+#: keeps its start and end.
+MAX_LINE = 1000
+
+
 def _one_line(exc) -> str:
-    return " ".join(str(exc).split())
+    text = " ".join(str(exc).split())
+    if len(text) > MAX_LINE:
+        half = MAX_LINE // 2 - 10
+        text = f"{text[:half]} ... ({len(text) - 2 * half:,} characters) ... {text[-half:]}"
+    return text
 
 
 if __name__ == "__main__":

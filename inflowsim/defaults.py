@@ -15,3 +15,6 @@ HOLDS = ("continuous", "zoh", "foh")
 
 #: Significance level per candidate effect of the diagnosis.
 ALPHA = 1e-3
+
+
+__all__ = ["DEFAULT_BAND", "HOLDS", "ALPHA"]

@@ -7,3 +7,6 @@ class InputError(ValueError):
 
 class RecordError(InputError):
     """A flight-test record that does not follow ``record-format.md``."""
+
+
+__all__ = ["InputError", "RecordError"]

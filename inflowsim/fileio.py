@@ -166,6 +166,123 @@ def _remove(tmp):
         os.unlink(tmp)
 
 
+#: Largest input file read [bytes], by kind: a record of
+#: :data:`inflowsim.data.record.MAX_SAMPLES` rows of its columns fits in the first;
+#: parameter files, schedules, designs and manifests are a few kB, effect files
+#: a few hundred lines.  A judgement: a larger file is refused before it is read.
+MAX_INPUT_BYTES = {"record": 1 << 30, "json": 16 << 20, "manifest": 16 << 20,
+                   "effect": 1 << 20}
+
+#: Deepest nesting of lists and objects accepted in an input JSON or TOML file: every
+#: file the package reads is at most four deep.
+MAX_NESTING = 32
+
+
+def check_input_file(path, what: str = "file", kind: str = "json") -> Path:
+    """Refuse (``InputError``) an input ``path`` that is empty, missing, not a
+    regular file (a folder, FIFO, device or socket: refused before anything opens
+    it, so nothing blocks), or larger than ``MAX_INPUT_BYTES[kind]``."""
+    if path is None or not str(path).strip():
+        raise InputError(f"{what} {str(path)!r}: an empty file name")
+    p = Path(path)
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such {'file' if what == 'record' else what}") from None
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(st.st_mode):
+        kind_of = next((k for test, k in _KINDS if test(st.st_mode)), "not a regular file")
+        raise InputError(f"{p}: is {kind_of}; the {what} must be a regular file")
+    limit = MAX_INPUT_BYTES[kind]
+    if st.st_size > limit:
+        raise InputError(f"{p}: {st.st_size:,} bytes; a {what} larger than "
+                         f"{limit:,} bytes is refused")
+    return p
+
+
+def read_input_bytes(path, what: str = "file", kind: str = "json") -> bytes:
+    """The bytes of the input ``path`` after :func:`check_input_file` (one line,
+    naming the file, for any problem reading it)."""
+    p = check_input_file(path, what, kind)
+    try:
+        with p.open("rb") as f:
+            data = f.read(MAX_INPUT_BYTES[kind] + 1)
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    if len(data) > MAX_INPUT_BYTES[kind]:
+        raise InputError(f"{p}: a {what} larger than {MAX_INPUT_BYTES[kind]:,} bytes "
+                         "is refused")
+    return data
+
+
+def read_input_text(path, what: str = "file", kind: str = "json",
+                    encoding: str = "utf-8") -> str:
+    """:func:`read_input_bytes` decoded (``InputError`` naming the byte where the
+    text is not ``encoding``)."""
+    data = read_input_bytes(path, what, kind)
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+
+
+def check_nesting(doc, source: str, limit: int = MAX_NESTING):
+    """Refuse a parsed document nested deeper than ``limit`` (walked without
+    recursion); return ``doc``."""
+    stack = [(doc, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if isinstance(node, dict):
+            node = list(node.values())
+        elif not isinstance(node, list):
+            continue
+        if depth > limit:
+            raise InputError(f"{source}: nested more than {limit} deep; not a file "
+                             "this program writes")
+        stack.extend((v, depth + 1) for v in node if isinstance(v, (dict, list)))
+    return doc
+
+
+def _bracket_depth(text: str) -> int:
+    """The deepest nesting of ``[``/``{`` in JSON ``text`` outside strings."""
+    import re
+    depth = deepest = 0
+    for m in re.finditer(r'"(?:[^"\\]|\\.)*"|[\[{]|[\]}]', text):
+        c = m.group()[0]
+        if c in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c in "]}":
+            depth -= 1
+    return deepest
+
+
+def parse_json(text: str, source: str, **kw):
+    """``json.loads(text, **kw)`` refusing (one line naming ``source``) text that is
+    not JSON or that nests deeper than :data:`MAX_NESTING` (checked before parsing:
+    the parser recurses)."""
+    import json
+    if _bracket_depth(text) > MAX_NESTING:
+        raise InputError(f"{source}: nested more than {MAX_NESTING} deep; not a file "
+                         "this program writes")
+    try:
+        return json.loads(text, **kw)
+    except RecursionError:
+        raise InputError(f"{source}: nested too deeply") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{source}: not valid JSON ({exc.msg}, line {exc.lineno})") \
+            from None
+    except ValueError as exc:
+        raise InputError(f"{source}: not valid JSON ({exc})") from None
+
+
+def read_json(path, what: str = "file"):
+    """The JSON document in the input ``path``: regular file, size and nesting
+    limits, UTF-8 (a byte-order mark allowed)."""
+    return parse_json(read_input_text(path, what, "json", "utf-8-sig"), str(path))
+
+
 def json_text(doc) -> str:
     """``doc`` as JSON text (indented, newline-terminated) that every parser reads:
     NaN and infinities become ``null`` (JSON has no such numbers), NumPy arrays and
@@ -198,3 +315,7 @@ def _plain(o):
     if hasattr(o, "to_json"):
         return _plain(o.to_json())
     raise TypeError(f"cannot write {type(o).__name__} as JSON")
+
+
+__all__ = ["check_replaceable", "check_output", "check_folder", "check_writable", "umask",
+           "safe_write_text", "atomic_path", "json_text"]

@@ -17,6 +17,7 @@ from inflowsim.campaign.engine import run_campaign
 from inflowsim.cli import main
 from inflowsim.data.record import write_record
 from inflowsim.diagnose import diagnose
+from inflowsim.diagnose.verdict import STATUSES
 from inflowsim.flighttest.virtual import Manoeuvre
 from inflowsim.model.params import PUMA
 
@@ -54,6 +55,19 @@ def first(plan_dir, tmp_path_factory):
     return out, go
 
 
+def test_old_verdicts_read_in_the_one_vocabulary():
+    """Results stored before issue #39 said adequate / missing-effect: they read as
+    their ladder's status, else through the documented alias."""
+    from inflowsim.campaign.work import OLD_VERDICTS, current_verdict
+    assert set(OLD_VERDICTS.values()) <= set(STATUSES)
+    assert current_verdict({"verdict": "adequate"})["verdict"] == "no-missing-effect"
+    held = {"verdict": "missing-effect", "ladder": {"verdict": {"status": "partly-explained"}}}
+    assert current_verdict(held)["verdict"] == "partly-explained"
+    assert current_verdict({"verdict": "error"})["verdict"] == "error"
+    with pytest.raises(TypeError):
+        OLD_VERDICTS["adequate"] = "x"                  # read-only
+
+
 @pytest.mark.slow
 def test_campaign_rows_tables_report(first, plan_dir):
     out, go = first
@@ -69,6 +83,7 @@ def test_campaign_rows_tables_report(first, plan_dir):
         assert {"record", "condition", "missing_effect", "verdict"} <= set(r)
         if name != "broken.csv":
             assert r["status"] == "ok" and r["estimates"]["tau0"]["sigma"] > 0
+            assert r["verdict"] in STATUSES          # diagnose's vocabulary
     assert recs["mu0.2_theta1c.csv"]["manoeuvre"] == "doublet theta1c"
     conds = {c["condition"]: c for c in doc["conditions"]}
     assert set(conds) == {"mu=0.200", "mu=0.300"}
@@ -122,7 +137,7 @@ def _stub_tasks(monkeypatch):
                     "verdict": "error", "missing_effect": None, "error": "broken"}
         return {"kind": "record", "record": path, **(info or {}), "status": "ok",
                 "error": None, "mu": info["plan_mu"], "missing_effect": "glauert",
-                "verdict": "missing-effect", "accepted": ["glauert"],
+                "verdict": "explained", "accepted": ["glauert"],
                 "ladder_added": ["glauert"], "final_structure": "glauert",
                 "candidates": {"glauert": {"accepted": True, "reason": ""}},
                 "base_fit": {"structure": "basic", "cost": -1.0, "n_freq": 10,
@@ -137,7 +152,7 @@ def _stub_tasks(monkeypatch):
                 "status": "ok", "error": None, "mu": mu,
                 "missing_effect": "glauert" if condition == "mu=0.200" else None,
                 "trim": {"theta0": 0.1 + mu, "theta1s": -0.2 * mu},
-                "verdict": "missing-effect", "base_fit": {"structure": "basic",
+                "verdict": "explained", "base_fit": {"structure": "basic",
                                                           "parameters": {
                     "tau": {"estimate": 1.0 + mu, "sigma": 0.05},
                     "n_beta": {"estimate": 1.0, "sigma": None}}}}
@@ -195,7 +210,11 @@ def test_restart_redoes_only_what_is_missing(plan_dir, tmp_path, monkeypatch):
     assert [t.order for t in sch.trim] == [1, 1]
     assert sch.trim_values(0.25)["theta1s"] == pytest.approx(-0.05)
     assert sch.trim_values(0.5) == sch.trim_values(0.3)
-    assert "| theta1s | 1 |" in Path(third.files["report"]).read_text()
+    import re
+    assert re.search(r"\|\s*theta1s\s*\|\s*1\s*\|", Path(third.files["report"]).read_text())
+    page = Path(third.files["html"]).read_text()          # the same report as a page
+    assert page.startswith("<!DOCTYPE html>") and "<td>theta1s</td>" in page
+    assert '<img src="estimates_vs_mu.png"' in page
     doc = json.loads(Path(third.files["json"]).read_text())
     assert doc["schedule"]["trim"]["theta0"]["order"] == 1
     assert doc["schedule"]["parameters"]["tau"]["order"] == 0   # 2 conditions: a constant

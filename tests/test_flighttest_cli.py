@@ -10,7 +10,8 @@ from inflowsim.data.record import find_trim, read_record
 
 def test_writes_a_record_and_the_truth(tmp_path, capsys):
     out, tj = tmp_path / "ft.csv", tmp_path / "truth.json"
-    rc = main(["flighttest", "--duration", "2", "--seed", "3", "--azimuth-bias", "0.2",
+    rc = main(["flighttest", "--duration", "2", "--start", "1", "--seed", "3",
+               "--azimuth-bias", "0.2",
                "--delay", "0.02", "--out", str(out), "--truth-json", str(tj)])
     assert rc == 0
     rec = read_record(out)
@@ -27,8 +28,8 @@ def test_writes_a_record_and_the_truth(tmp_path, capsys):
     assert main(["flighttest", "--duration", "2", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "exists" in err and err.count("\n") == 1 and out.read_bytes() == before
-    assert main(["flighttest", "--duration", "2", "--seed", "4", "--out", str(out),
-                 "--force"]) == 0
+    assert main(["flighttest", "--duration", "2", "--start", "1", "--seed", "4", "--out",
+                 str(out), "--force"]) == 0
     assert out.read_bytes() != before
 
 
@@ -92,3 +93,15 @@ def test_3211_body_motion_stays_bounded():
                                      manoeuvres=(Manoeuvre(shape="3211"),), hold="zoh"))
     mux = rec["mux"] - 0.249
     assert np.max(np.abs(mux)) < 0.02 and np.max(np.abs(mux[rec.t > 150])) < 1e-3
+
+
+@pytest.mark.parametrize("add", ["advance-ratio-perturbation", "lead-lag"])
+def test_a_linear_truth_linearised_about_the_trim_flies(tmp_path, add):
+    """Effects linearised about the trim take the virtual record's trim (they were
+    refused for want of one when the truth's constants came from --mu)."""
+    from inflowsim.cli import main
+    from inflowsim.data.record import read_record
+    out = tmp_path / "r.csv"
+    assert main(["flighttest", "--truth", "linear", "--model", "basic", "--add", add,
+                 "--duration", "6", "--out", str(out)]) == 0
+    assert len(read_record(out)) == 600

@@ -502,7 +502,7 @@ def test_bad_parameter_is_refused_with_its_name_and_range(unzipped, guid):
     s = open_fmu(unzipped, guid, logger=log)
     with pytest.raises(Exception, match="fmi2SetReal"):
         s.setReal([VR["n_beta"]], [-1.0])
-    assert "n_beta" in log.text() and "(0, 10]" in log.text()
+    assert "n_beta" in log.text() and "[1e-06, 10]" in log.text()
     assert s.getReal([VR["n_beta"]])[0] > 0          # not stored
     with pytest.raises(Exception):
         s.setReal([VR["mu"]], [0.05])
@@ -686,7 +686,7 @@ def test_fmi3_errors_name_what_is_wrong(unzipped3, guid, record):
     outs = [VR[n] for n in OUTPUTS]
     with pytest.raises(Exception):
         s.setFloat64([VR["n_beta"]], [-1.0])
-    assert "n_beta" in log.text() and "(0, 10]" in log.text()
+    assert "n_beta" in log.text() and "[1e-06, 10]" in log.text()
     with pytest.raises(Exception):
         s.setInt32([VR["structure"]], [1])          # fixed after initialization
     assert "structure" in log.text()
@@ -1192,8 +1192,9 @@ def test_two_fmus_link_statically_with_function_prefixes(tmp_path, unzipped, gui
 
 def test_every_refused_range_is_declared(fmu_path, unzipped, guid):
     """Every parameter and input the FMU range-checks declares the range it checks, an
-    open lower bound as the least double above it (issue #10 part 5): the declared
-    minimum is accepted and the next double below refused."""
+    open lower bound at 0 as :data:`~inflowsim.fmu.variables.POSITIVE_MIN` (issue #39;
+    it was the least double above 0): the declared minimum is accepted and the next
+    double below refused."""
     md = read_model_description(str(fmu_path))
     by_name = {v.name: v for v in md.modelVariables}
     from inflowsim.fmu.variables import VARIABLES
@@ -1208,9 +1209,12 @@ def test_every_refused_range_is_declared(fmu_path, unzipped, guid):
     s = instantiated_fmu(unzipped, guid, "range", log)
     s.setupExperiment(startTime=0.0)
     s.enterInitializationMode()
+    from inflowsim.fmu.variables import POSITIVE_MIN
     low = float(by_name["n_beta"].min)
-    assert low == math.nextafter(0.0, 1.0)
+    assert low == POSITIVE_MIN             # a documented minimum, not 5e-324 (issue #39)
     s.setReal([VR["n_beta"]], [low])                   # accepted
+    with pytest.raises(Exception):
+        s.setReal([VR["n_beta"]], [math.nextafter(low, 0.0)])   # refused
     with pytest.raises(Exception):
         s.setReal([VR["n_beta"]], [0.0])              # refused
     s.freeInstance()
@@ -1314,9 +1318,12 @@ def test_a_parameter_the_model_cannot_take_is_refused_at_once(unzipped, guid, re
         s.doStep(k * DT, DT)
     outs = [VR[n] for n in OUTPUTS + LOADS]
     before = s.getReal(outs)
+    from inflowsim.fmu.variables import POSITIVE_MIN
     with pytest.raises(Exception):
-        s.setReal([VR["n_beta"]], [math.nextafter(0.0, 1.0)])
-    assert "singular" in log.text()
+        # below the declared minimum (issue #39: a documented minimum, so E cannot
+        # be made singular through n_beta any more, as 5e-324 did)
+        s.setReal([VR["n_beta"]], [math.nextafter(POSITIVE_MIN, 0.0)])
+    assert "outside the allowed range" in log.text()
     assert s.getReal([VR["n_beta"]])[0] == m.parameters["n_beta"]
     assert s.getReal(outs) == before
     s.doStep(20 * DT, DT)                              # and it goes on

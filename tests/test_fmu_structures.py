@@ -56,6 +56,19 @@ STRUCTURES = (
     "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
     "basic+separate-time-constants+flap-inertia+advance-ratio-perturbation+momentum-speed",
     "basic+azimuth-bias+momentum-speed",
+    "basic+wake-distortion",
+    "glauert+flap-inertia+wake-distortion+azimuth-bias",
+    "basic+wake-distortion+wake-distortion-lag",
+    "glauert+flap-inertia+wake-distortion+wake-distortion-lag+time-delay",
+    "glauert+servo-actuators",
+    "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
+    "glauert+lead-lag",
+    "basic+flap-inertia+advance-ratio-perturbation+lead-lag+time-delay",
+    "basic+peters-he-6",
+    "basic+separate-time-constants+peters-he-10",
+    "glauert+flap-inertia+azimuth-bias+peters-he-15",
+    "glauert+servo-actuators+time-delay+peters-he-15",
+    "glauert+lead-lag+servo-actuators+wake-distortion+peters-he-10",
 )
 
 #: A trim state (totals) for the effect linearised about it.
@@ -74,7 +87,8 @@ def parameters(structure) -> dict:
     p.update({k: v for k, v in {"azimuth_bias": 0.2, "delay": 0.034,
                                 "delay_beta0": 0.013, "delay_beta1c": 0.047,
                                 "delay_beta1s": 0.021, "k_skew": 0.6,
-                                "flap_inertia": 1.0}.items() if k in p})
+                                "flap_inertia": 1.0, "K_R": 1.2, "tau_w": 8.0,
+                                "k_ph": 1.3}.items() if k in p})
     if "k01" in p:
         p.update(k01=0.05, k02=-0.03, k11=0.4, k12=0.1, k21=-0.2, k22=0.3)
     return p
@@ -159,7 +173,9 @@ def built(tmp_path_factory, structure, version=2, model=None):
 FMI2_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay",
                 "basic+delay-beta0+delay-beta1c", "glauert+delay-beta1s",
                 "basic+separate-time-constants+hub-velocity-coupling",
-                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap")
+                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
+                "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
+                "basic+peters-he-6")
 
 
 @pytest.mark.parametrize("structure", [
@@ -179,7 +195,7 @@ def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory)
 
 #: FMI 3.0 shares the generated model with FMI 2.0: by default nine states and output
 #: delays; every structure is slow.
-FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s")
+FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s", "glauert+servo-actuators")
 
 
 @pytest.mark.parametrize("structure", [

@@ -187,20 +187,28 @@ def test_response_object_pickles_and_writes_json(sweep):
     assert tischler_cost(fr, off, "beta1c", "theta1s") > 100
 
 
-def test_bode_plot_phase_wrapped_unless_asked(sweep, tmp_path):
+def test_bode_plot_phase_unwrapped_unless_asked(sweep, tmp_path):
+    """Issue #39: the phase is unwrapped by default (no vertical wrapping artefact),
+    the model on the measurement's branch; wrapped to +-180 deg when asked."""
     from inflowsim.report.frf_plots import frequency_response_plot
     test, rec = sweep
     fr = frequency_response(rec, band_hz=(0.2, 3.0), points_per_decade=20)
     fig = frequency_response_plot(fr, models={"truth": truth_for(test, fr)},
                                   path=tmp_path / "b.png")
     assert (tmp_path / "b.png").stat().st_size > 1000
+    assert "unwrapped" in fig.axes[3].get_ylabel()
+    for ax in fig.axes[3:6]:
+        for line in ax.get_lines():
+            y = np.asarray(line.get_ydata(), float)
+            y = y[np.isfinite(y)]
+            assert np.all(np.abs(np.diff(y)) < 180)           # no jump of a turn
+    fig = frequency_response_plot(fr, models={"truth": truth_for(test, fr)},
+                                  unwrap=False)
     for ax in fig.axes[3:6]:
         for line in ax.get_lines():
             y = np.asarray(line.get_ydata(), float)
             assert np.all(np.abs(y[np.isfinite(y)]) <= 180)
     assert fig.axes[3].get_ylabel() == "phase [deg]"
-    fig = frequency_response_plot(fr, unwrap=True)
-    assert "unwrapped" in fig.axes[3].get_ylabel()
 
 
 def test_frf_command(sweep, tmp_path, capsys):

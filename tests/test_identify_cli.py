@@ -28,14 +28,14 @@ def test_json_shape_and_out_round_trip(rec_path, tmp_path, capsys):
     out = tmp_path / "fit.json"
     before = rec_path.read_bytes()
     assert main(["identify", str(rec_path), "--model", "glauert", "--json",
-                 "--out", str(out)]) == 0
+                 "--out", str(out), "--progress"]) == 0
     cap = capsys.readouterr()
     doc = json.loads(cap.out)
     assert {"structure", "effects", "band_hz", "cost", "parameters", "fit"} <= set(doc)
     assert doc["structure"] == "glauert"
     assert doc["band_hz"] == pytest.approx([6 / 26.6, 42 / 26.6])
     assert set(doc["parameters"]["tau_cs"]) >= {"estimate", "sigma"}
-    assert "identify glauert" in cap.err          # progress on stderr only
+    assert "identify glauert" in cap.err          # progress (asked) on stderr only
     ps = read_parameters(out)
     m = build_model(ps.structure, ps.parameters, ps.constants)
     assert m.parameters["c3"] == pytest.approx(doc["parameters"]["c3"]["estimate"])

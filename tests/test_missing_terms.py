@@ -121,9 +121,12 @@ def test_nothing_is_significant_on_a_null_record():
     rec, fit, terms = mapped(None, 0)
     assert terms.significant == (), terms.rows[:3]
     assert "no single added term is significant" in terms.describe()[0]
-    # every excited entry is tested: theta0 is silent in these records
+    # every excited entry is tested: theta0 is silent in these records, and the
+    # coning stiffness is lambda_beta2 freed in the coning row (issue #36)
     untested = [t for t in terms.terms if not t.testable]
-    assert {t.variable for t in untested} == {"theta0"}
+    assert {t.variable for t in untested if (t.block, t.equation, t.variable)
+            != ("flap", "beta0", "beta0")} == {"theta0"}
+    assert {n for n, *_ in terms.freed} == {"lambda_beta2", "n_beta", "tau"}
     assert terms.n_tested == len(terms.terms) - len(untested)
 
 
@@ -154,6 +157,9 @@ def _cost_at(rec, fit, block, k_value):
 def test_the_gradient_is_the_cost_s_derivative(block):
     rec, fit, terms = mapped(block, 0)
     eq, var = HIDDEN[block][:2]
+    # the gradient at the base fit itself (the map's default is made with the shared
+    # parameters freed per row group)
+    terms = missing_terms(rec, fit, free_shared=False, confirm=0)
     t = next(t for t in terms.terms if (t.block, t.equation, t.variable) == (block, eq, var))
     h = 1e-5
     fd = (_cost_at(rec, fit, block, h) - _cost_at(rec, fit, block, -h)) / (2 * h)
@@ -168,7 +174,8 @@ def test_the_statistic_approaches_the_likelihood_ratio_of_a_refit():
     one-step estimate.  The score statistic is the smaller (its ``S`` is the base's,
     which holds the misfit; and it carries the bounds' degrees-of-freedom factor):
     the classical ``LM <= LR`` of a linear model."""
-    rec, fit, terms = mapped("flap", 0, 0.002)
+    rec, fit, _ = mapped("flap", 0, 0.002)
+    terms = missing_terms(rec, fit, free_shared=False)
     eq, var = HIDDEN["flap"][:2]
     t = next(t for t in terms.terms if (t.block, t.equation, t.variable) ==
              ("flap", eq, var))
@@ -179,15 +186,27 @@ def test_the_statistic_approaches_the_likelihood_ratio_of_a_refit():
     assert 3.0 < lr < 30.0, lr
     assert 0.75 * lr < t.statistic <= lr, (t.statistic, lr)
     assert t.coefficient == pytest.approx(est, rel=0.1)
+    # the map's own confirming refit of that entry is that refit
+    assert t.refit_statistic == pytest.approx(lr, rel=0.05, abs=0.5)
+    assert t.refit_coefficient == pytest.approx(est, rel=0.02)
 
 
-def test_groups_name_the_physics():
-    assert physics_group("flap", "beta1s", "beta1c") == "flap-to-pitch coupling (delta-3)"
-    assert physics_group("flap", "beta0", "beta0") == "flap stiffness (hinge spring)"
+def test_groups_name_the_entry_not_a_cause():
+    """Issue 36: servo dynamics were labelled "flap-rate coupling (lag or
+    gyroscopic)"; a label says what the entry is."""
+    assert physics_group("flap", "beta1s", "beta1c") == "cross-flap stiffness"
+    assert physics_group("flap", "beta0", "beta0") == "flap stiffness"
     assert physics_group("flap", "beta0", "beta0_prime") == "flap damping"
-    assert physics_group("inflow", "lambda1c", "q").startswith("hub-motion inflow")
-    assert physics_group("measurement", "beta1c", "beta1s") == "sensor phasing (azimuth)"
+    assert physics_group("flap", "beta1c", "beta1s_prime") == "cross flap-rate term"
+    assert physics_group("inflow", "lambda1c", "q") == "hub-motion forcing of the inflow"
+    assert physics_group("measurement", "beta1c", "beta1s") == "sensor cross-talk"
     assert physics_group("measurement", "beta0", "beta0") == "sensor gain"
+    words = {physics_group(b, e, v) for b in ("flap", "inflow", "measurement")
+             for e in ("beta0", "beta1c") for v in ("beta1s", "beta0_prime", "lambda1c",
+                                                    "theta1c", "q", "mux")
+             if not (b == "measurement" and v.endswith("_prime"))}
+    assert not any(w in g for g in words for w in ("lag", "gyroscopic", "delta-3",
+                                                   "Glauert", "wake skew", "azimuth"))
 
 
 def test_the_map_is_a_frozen_picklable_table_and_draws(tmp_path):
@@ -222,11 +241,12 @@ def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monke
     doc = json.loads(capsys.readouterr().out)
     top = doc["missing_terms"][0]
     assert (top["equation"], top["variable"], top["sign"]) == ("beta1s", "beta1c", 1)
-    assert top["group"] == "flap-to-pitch coupling (delta-3)" and top["significant"]
+    assert top["group"] == "cross-flap stiffness" and top["significant"]
+    assert top["refit_statistic"] > top["statistic"] > 0
     assert main(["diagnose", str(path), "--model", "basic"]) == 0
     out = capsys.readouterr().out
     assert "the data want a term in the beta1s equation proportional to beta1c" in out
-    assert "flap-to-pitch coupling" in out
+    assert "cross-flap stiffness" in out
     # and the report draws the map
     from inflowsim.report.ladder import diagnosis_report
     index = diagnosis_report(d).write(tmp_path / "rep")

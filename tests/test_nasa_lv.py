@@ -1,10 +1,10 @@
 """NASA laser-velocimeter inflow surveys (issue #25 item 4): the files as they are,
 their defects found, Eq. (6) fitted, the model's trim inflow, the example.
 
-The data live outside the repository, in ``shared/data/nasa-lv-inflow`` beside the
-repository root (``INFLOWSIM_NASA_DATA`` points elsewhere, e.g. from a worktree);
-tests that need them skip with the reason when the folder is absent.  The reader's
-and the fit's logic are also tested on tables the tests write.
+The data ship with the package (``inflowsim/data/nasa_lv_inflow``, issue #39: a
+clone has them; ``INFLOWSIM_NASA_DATA`` points elsewhere); tests that need them skip
+with the reason when the folder is absent.  The reader's and the fit's logic are
+also tested on tables the tests write.
 """
 from __future__ import annotations
 
@@ -28,11 +28,12 @@ from inflowsim.identify.inflow_survey import (area_mean_inflow, fit_first_harmon
 from inflowsim.model.steady_inflow import glauert_inflow, steady_inflow_predictions
 
 ROOT = Path(__file__).resolve().parents[1]
-DATA = Path(os.environ.get("INFLOWSIM_NASA_DATA")
-            or Path(__file__).resolve().parents[2] / "shared" / "data" / "nasa-lv-inflow")
+from inflowsim.data.nasa_lv import DATA_DIR
+
+DATA = Path(os.environ.get("INFLOWSIM_NASA_DATA") or DATA_DIR)
 needs_data = pytest.mark.skipif(
-    not DATA.is_dir(), reason=f"NASA LV inflow data not found at {DATA} (expected "
-    "shared/data/nasa-lv-inflow beside the repository; INFLOWSIM_NASA_DATA overrides)")
+    not DATA.is_dir(), reason=f"NASA LV inflow data not found at {DATA} (the package "
+    "ships them in inflowsim/data/nasa_lv_inflow; INFLOWSIM_NASA_DATA overrides)")
 
 #: The files as received (README table; measured with sha256sum).
 SHA256 = {
@@ -296,6 +297,28 @@ def test_example_missing_folder_is_one_line_exit_2(tmp_path):
     assert res.returncode == 2
     assert len(res.stderr.strip().splitlines()) == 1 and "no such data folder" in res.stderr
     assert not (tmp_path / "fig").exists()
+
+
+def test_the_data_ship_with_the_package_with_source_and_licence():
+    """A clone has the surveys (issue #39): the package's copy, byte for byte the
+    files as received, with where they come from and their licence."""
+    for name, digest in SHA256.items():
+        assert hashlib.sha256((DATA_DIR / name).read_bytes()).hexdigest() == digest
+    readme = (DATA_DIR / "README.md").read_text(encoding="utf-8")
+    assert "NASA Langley" in readme and "BladeAD" in readme
+    assert "Permission is hereby granted" in (DATA_DIR / "LICENSE-BladeAD.txt").read_text()
+    assert len(read_surveys()) == 3                    # the default folder
+
+
+def test_example_writes_nowhere_in_the_repository_by_default():
+    """examples/nasa_inflow.py's default output is a temporary folder, not docs/."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("nasa_inflow",
+                                                  ROOT / "examples" / "nasa_inflow.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert ROOT.resolve() not in Path(mod.DEFAULT_OUT).resolve().parents
+    assert Path(mod.DEFAULT_DATA) == DATA_DIR
 
 
 @needs_data

@@ -100,7 +100,7 @@ def test_json_and_pickle(pair, tmp_path, capsys):
     r = doc["responses"][0]
     assert set(r) >= {"input", "output", "frequency_hz", "real", "imag", "coherence",
                       "random_error", "model_real", "model_imag", "J"}
-    assert doc["cost"]["verdict"] == "good"
+    assert doc["cost"]["guideline"] == "good"
     p = tmp_path / "rec.csv"
     write_record(rec, p)
     code, out, err = run(capsys, "validate", p, "-m", "glauert")

@@ -27,8 +27,8 @@ def test_plots_are_labelled(tmp_path):
     fig = frequency_response_plot(res, path=tmp_path / "f.png")
     axes = fig.get_axes()
     assert len(axes) == 3 * 3               # magnitude, phase, coherence per flap channel
-    assert {a.get_ylabel() for a in axes} == {"magnitude [dB]", "phase [deg]",
-                                              r"coherence $\gamma^2$", ""}
+    assert {a.get_ylabel() for a in axes} == {"magnitude [dB]", "phase, unwrapped [deg]",
+                                              r"coherence $\gamma^2$ [-]", ""}
     assert "frequency [Hz]" in {a.get_xlabel() for a in axes}
     assert "glauert" in fig._suptitle.get_text() and "conditioned" in fig._suptitle.get_text()
     # one point per grid frequency, and each model's analytic response on top

@@ -14,6 +14,13 @@ __all__ = ["Plan", "PlanEntry", "read_plan", "Settings", "record_task", "conditi
 
 
 def run_campaign(*args, **kwargs):
-    """:func:`inflowsim.campaign.engine.run_campaign` (imported on first use)."""
+    """:func:`inflowsim.campaign.engine.run_campaign` (imported on first use).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As :func:`inflowsim.campaign.engine.run_campaign` takes them (plan, out,
+        settings, scheduler, workers [-], progress ...).
+    """
     from .engine import run_campaign as run
     return run(*args, **kwargs)

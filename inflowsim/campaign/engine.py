@@ -17,14 +17,14 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
+from ..progress import SHOW, bar
 from .plan import Plan
-from .work import (OK, Settings, agreement, condition_key, condition_task, file_hash,
-                   record_key, record_task, version)
+from .work import (OK, Settings, agreement, condition_key, condition_task,
+                   current_verdict, file_hash, record_key, record_task, version)
 
 
 class Store:
@@ -40,9 +40,10 @@ class Store:
     def get(self, kind, key):
         p = self._path(kind, key)
         try:
-            return json.loads(p.read_text())
+            doc = json.loads(p.read_text())
         except (OSError, ValueError):
             return None
+        return current_verdict(doc) if isinstance(doc, dict) else None
 
     def put(self, kind, key, doc):
         from ..fileio import atomic_path, json_text
@@ -50,38 +51,6 @@ class Store:
         p.parent.mkdir(parents=True, exist_ok=True)
         with atomic_path(p) as tmp:
             Path(tmp).write_text(json_text(doc))
-
-
-class Progress:
-    """A one-line progress bar on stderr (a line per step when not a terminal)."""
-
-    def __init__(self, total, label, stream=None, enabled=True):
-        self.total, self.label, self.done = total, label, 0
-        self.stream = stream or sys.stderr
-        self.enabled = enabled and total > 0
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        if self.enabled:
-            self._draw("")
-
-    def _draw(self, note):
-        width = 30
-        k = int(width * self.done / max(self.total, 1))
-        line = f"{self.label} [{'#' * k}{'.' * (width - k)}] {self.done}/{self.total} {note}"
-        if self.tty:
-            self.stream.write("\r" + line[:120].ljust(120))
-        else:
-            self.stream.write(line + "\n")
-        self.stream.flush()
-
-    def step(self, note=""):
-        self.done += 1
-        if self.enabled:
-            self._draw(note)
-
-    def close(self):
-        if self.enabled and self.tty:
-            self.stream.write("\n")
-            self.stream.flush()
 
 
 @dataclass
@@ -102,21 +71,54 @@ class CampaignResult:
     schedule_note: str = ""
 
 
-def _client(scheduler, workers):
+def _client(scheduler, workers, progress=None):
     """A Dask client: the scheduler at ``scheduler``, or a local cluster of
-    ``workers`` single-threaded processes (default: the machine's cores)."""
+    ``workers`` single-threaded processes (default: the machine's cores).  The
+    cluster's dashboard address is said through ``progress`` (a local cluster has
+    one when ``bokeh``, Dask's dashboard library, is installed)."""
+    import importlib.util
     import logging
 
     from dask.distributed import Client, LocalCluster
     if scheduler:
         try:
-            return Client(scheduler, timeout="20s"), None
+            client, cluster = Client(scheduler, timeout="20s"), None
         except (OSError, TimeoutError, ValueError) as exc:
             raise InputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-    n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    else:
+        n = workers or os.cpu_count() or 1
+        board = ":0" if importlib.util.find_spec("bokeh") else None
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=board, silence_logs=logging.ERROR)
+        client = Client(cluster)
+    if progress is not None:
+        # a local scheduler without bokeh serves no dashboard page (404) at the
+        # address it lists
+        where = dashboard(client) if scheduler or board else NO_DASHBOARD
+        progress(f"campaign: Dask dashboard at {where}")
+    return client, cluster
+
+
+#: What the campaign says when its scheduler serves no dashboard.
+NO_DASHBOARD = "none (the scheduler runs no dashboard; pip install bokeh for one)"
+
+
+def dashboard(client) -> str:
+    """The Dask dashboard's address of ``client``'s scheduler, or why there is none.
+
+    Parameters
+    ----------
+    client : dask.distributed.Client
+    """
+    none = NO_DASHBOARD
+    try:
+        # dashboard_link formats a default port even when the scheduler serves none
+        info = client.scheduler_info() if hasattr(client, "scheduler_info") else None
+        if info is not None and "dashboard" not in (info.get("services") or {}):
+            return none
+        return client.dashboard_link
+    except (KeyError, AttributeError):
+        return none
 
 
 def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=None,
@@ -130,7 +132,35 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     parameter schedule across conditions chooses each polynomial's variable and order
     (:func:`inflowsim.model.schedule.fit_schedule`); the schedule is computed from
     the stored results at the end of every run, so they are not part of the keys.
+    ``progress``: ``True`` a bar per stage and the Dask dashboard's address on
+    standard error when progress is shown (:mod:`inflowsim.progress`), ``False`` or
+    ``None`` nothing, a callable one line per result; ``stream`` is not used (kept
+    for callers that pass it).
+
+    Parameters
+    ----------
+    plan : Plan
+        The records and their conditions (:func:`~inflowsim.campaign.plan.read_plan`).
+    out : path-like
+        The results folder (created; reused by a restarted campaign).
+    settings : Settings
+        Model, band [Hz], candidates, level and hold of every analysis.
+    scheduler : str, optional
+        A Dask scheduler's address (``tcp://host:8786``); default a local cluster.
+    workers : int, optional
+        Local worker processes (default the cores; 0: everything in this process).
+    progress : bool, callable or None
+        Progress (see above).
+    stream : object, optional
+        Not used (kept for callers that pass it).
+    schedule_criterion : {"aic", "aicc", "bic", "chi2"}
+        How each schedule polynomial's order is chosen.
+    schedule_max_order : int
+        Highest polynomial order of the schedule.
+    schedule_variables : tuple of str
+        What the polynomials are in (``"mu"``, ``"1/mu"``) [-].
     """
+    progress = SHOW if progress is True else (progress or None)
     from ..model.schedule import CRITERIA
     if schedule_criterion not in CRITERIA:
         raise InputError(f"schedule criterion {schedule_criterion!r}: choose "
@@ -158,7 +188,7 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
     client = cluster = None
     try:
         if workers != 0 and todo:
-            client, cluster = _client(scheduler, workers)
+            client, cluster = _client(scheduler, workers, progress)
         _stage(client, record_task, [(entries[i].path, settings, infos[i]) for i in todo],
                todo, "records", keys, records, store, computed,
                lambda i: Path(entries[i].path).name, _record_failed, stream, progress)
@@ -182,7 +212,7 @@ def run_campaign(plan: Plan, out, settings: Settings, scheduler=None, workers=No
                                  "error": "no record of this condition could be analysed"}
                 ctodo.remove(j)
         if ctodo and client is None and workers != 0:
-            client, cluster = _client(scheduler, workers)
+            client, cluster = _client(scheduler, workers, progress)
         _stage(client, condition_task,
                [(cond_args[j][0], cond_args[j][1], settings) for j in ctodo], ctodo,
                "conditions", cond_keys, conditions, store, computed,
@@ -213,18 +243,19 @@ def _stage(client, fn, args, tags, kind, keys, results, store, computed, note, f
     finishes: key it, store it (unless transient), put it in ``results``, count it,
     step the progress bar with ``note(tag)``.  ``failed(a, exc)``: the error row of
     a task whose worker was lost."""
-    bar = Progress(len(tags), kind, stream, progress)
+    if not tags:
+        return
+    with bar(progress, len(tags), f"campaign: {kind}", kind[:-1]) as b:
+        def done(tag, res):
+            res["key"] = keys[tag]
+            if not res.get("transient"):
+                store.put(kind, keys[tag], res)
+            results[tag] = res
+            computed[kind] += 1
+            b.set_postfix_str(str(note(tag)), refresh=False)
+            b.update()
 
-    def done(tag, res):
-        res["key"] = keys[tag]
-        if not res.get("transient"):
-            store.put(kind, keys[tag], res)
-        results[tag] = res
-        computed[kind] += 1
-        bar.step(note(tag))
-
-    _map(client, fn, list(zip(args, tags)), done, failed)
-    bar.close()
+        _map(client, fn, list(zip(args, tags)), done, failed)
 
 
 def _lost(exc) -> dict:
@@ -264,3 +295,6 @@ def _map(client, fn, jobs, done, failed):
         except Exception as exc:               # a worker lost: the task's own error row
             res = failed(args, exc)
         done(tag, res)
+
+
+__all__ = ["Store", "CampaignResult", "NO_DASHBOARD", "dashboard", "run_campaign"]

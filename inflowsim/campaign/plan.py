@@ -35,7 +35,21 @@ SETTINGS_KEYS = ("model", "band", "candidates", "alpha", "max_steps", "hold")
 class PlanEntry:
     """One record of the plan: ``path`` (absolute), ``condition`` label, ``mu``
     [-] (from the record's metadata; ``None`` where unreadable), ``manoeuvre``,
-    ``group`` (free text, may be empty)."""
+    ``group`` (free text, may be empty).
+
+    Attributes
+    ----------
+    path : str
+        The record (absolute path).
+    condition : str
+        Its flight condition's label.
+    mu : float or None
+        Its advance ratio [-] (``None`` where unreadable).
+    manoeuvre : str
+        What was flown (free text).
+    group : str
+        A grouping label (free text, may be empty).
+    """
 
     path: str
     condition: str
@@ -46,6 +60,18 @@ class PlanEntry:
 
 @dataclass(frozen=True)
 class Plan:
+    """A campaign's plan: its records with their flight conditions.
+
+    Attributes
+    ----------
+    source : str
+        The folder or manifest the plan was read from.
+    entries : tuple of PlanEntry
+        The records, in plan order.
+    settings : dict
+        Settings the manifest gives (model, band [Hz] ...), overridden by the options.
+    """
+
     source: str
     entries: tuple
     settings: dict = field(default_factory=dict)
@@ -78,7 +104,16 @@ def _entry(path: Path, condition="", manoeuvre="", group="") -> PlanEntry:
 
 def read_plan(path, exclude=()) -> Plan:
     """The plan at ``path`` (folder, CSV or TOML manifest); folders under
-    ``exclude`` (the campaign's own output) are never scanned."""
+    ``exclude`` (the campaign's own output) are never scanned.
+
+    Parameters
+    ----------
+    path : path-like
+        A folder of records (``*.csv``) or a manifest (``.csv`` or ``.toml``: record,
+        flight condition, manoeuvre, group).
+    exclude : iterable of path-like
+        Folders never scanned (the campaign's own output).
+    """
     p = Path(path)
     if not p.exists():
         raise InputError(f"{p}: no such folder or manifest")
@@ -108,11 +143,12 @@ def _resolve(base: Path, rel: str, where: str) -> Path:
 
 
 def _read_csv(p: Path) -> Plan:
+    from ..fileio import read_input_text
+    text = read_input_text(p, "manifest", "manifest", "utf-8-sig")
     try:
-        text = p.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read the manifest ({exc})") from None
-    rows = list(csv.DictReader(io.StringIO(text)))
+        rows = list(csv.DictReader(io.StringIO(text)))
+    except csv.Error as exc:
+        raise InputError(f"{p}: not a CSV manifest ({exc})") from None
     if not rows or "record" not in (rows[0].keys() if rows else ()):
         raise InputError(f"{p}: a CSV manifest needs a header row with a 'record' "
                          "column (and optionally condition, manoeuvre, group)")
@@ -130,9 +166,13 @@ def _read_toml(p: Path) -> Plan:
     except ModuleNotFoundError:                       # Python 3.10
         raise InputError(f"{p}: TOML plans need Python 3.11 or later; "
                          "use a CSV manifest") from None
+    from ..fileio import check_nesting, read_input_text
+    text = read_input_text(p, "manifest", "manifest", "utf-8-sig")
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        doc = check_nesting(tomllib.loads(text), str(p))
+    except RecursionError:
+        raise InputError(f"{p}: nested too deeply") from None
+    except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{p}: cannot read the manifest ({exc})") from None
     recs = doc.get("record")
     if not isinstance(recs, list) or not recs:
@@ -168,3 +208,7 @@ def write_plan_csv(entries, path, base=None) -> str:
                 pass
         w.writerow([str(rel), e.condition, e.manoeuvre, e.group])
     return buf.getvalue()
+
+
+__all__ = ["MANIFEST_SUFFIXES", "SETTINGS_KEYS", "PlanEntry", "Plan", "read_plan",
+           "write_plan_csv"]

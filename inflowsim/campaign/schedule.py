@@ -99,3 +99,6 @@ def schedule_summary(sch, note: str = "") -> dict:
             "trim": {t.column: {"order": t.order, "max_residual": t.residual,
                                 "at": [{"mu": m, "value": t.value(m)} for m in at]}
                      for t in sch.trim}}
+
+
+__all__ = ["campaign_schedule", "schedule_summary"]

@@ -110,103 +110,194 @@ def _fmt(v, sig=None):
     return s if sig is None or sig != sig else f"{s} +- {sig:.2g}"
 
 
-def report_markdown(result, df, figure=None) -> str:
-    """The campaign report (markdown)."""
+def _h(level, text):
+    return {"kind": "heading", "level": level, "text": text}
+
+
+def _p(text):
+    return {"kind": "paragraph", "text": text}
+
+
+def _table(header, rows, right=()):
+    """A table block (:func:`inflowsim.report.document.render_page`); ``right``: the
+    columns right-aligned (numbers)."""
+    return {"kind": "table", "caption": None, "header": list(header),
+            "rows": [[(str(c), k in right) for k, c in enumerate(r)] for r in rows]}
+
+
+def _num(v):
+    return None if v is None or v != v else float(v)
+
+
+def report_blocks(result, df, figure=None) -> list:
+    """The campaign report as data: headings, paragraphs, tables, the figure, lists
+    (the kinds of :func:`inflowsim.report.document.render_page`), rendered as
+    Markdown (:func:`report_markdown`) and HTML (:func:`report_html`).
+
+    Parameters
+    ----------
+    result : CampaignResult
+    df : pandas.DataFrame
+        The campaign table (:func:`campaign_table`).
+    figure : str, optional
+        The figure's file name beside the report.
+    """
     ag = result.agreement
-    lines = [f"# Campaign report", "",
-             f"Plan: `{result.settings.get('plan')}`; model `{result.settings['model']}`, "
-             f"band {result.settings['band'][0]:g}-{result.settings['band'][1]:g} Hz, "
-             f"inflowsim {result.settings['version']}.", "",
-             f"{len(result.records)} records "
-             f"({sum(r.get('status') == 'ok' for r in result.records)} analysed), "
-             f"{len(result.conditions)} flight conditions.  Work: "
-             f"{result.computed['records']} records and {result.computed['conditions']} "
-             f"conditions computed, {result.reused['records']} and "
-             f"{result.reused['conditions']} found from an earlier run.", "",
-             "## The missing effect by condition", "",
-             "| condition | mu | records | joint fit names | records name |",
-             "|---|---:|---:|---|---|"]
+    st = result.settings
+    b = [_p(f"Plan: {st.get('plan')}; model {st['model']}, band {st['band'][0]:g}-"
+            f"{st['band'][1]:g} Hz, inflowsim {st['version']}."),
+         _p(f"{len(result.records)} records "
+            f"({sum(r.get('status') == 'ok' for r in result.records)} analysed), "
+            f"{len(result.conditions)} flight conditions.  Work: "
+            f"{result.computed['records']} records and {result.computed['conditions']} "
+            f"conditions computed, {result.reused['records']} and "
+            f"{result.reused['conditions']} found from an earlier run."),
+         _h(2, "The missing effect by condition")]
+    rows = []
     for c in result.conditions:
         by = ag["by_condition"].get(c["condition"], {})
         names = ", ".join(f"{k} x{v}" for k, v in sorted(by.get("records", {}).items()))
         joint = c.get("missing_effect") if c.get("status") == "ok" else \
             f"error: {c.get('error')}"
-        lines.append(f"| {c['condition']} | {_fmt(c.get('mu'))} | "
-                     f"{len(c.get('records') or [])} | {joint or 'none'} | {names} |")
-    lines += ["", f"Consensus across conditions: **{ag['consensus'] or 'none'}**"
-              f"{' (every condition)' if ag['unanimous'] else ''}.", ""]
-    lines += ["| effect | records naming it | conditions naming it |", "|---|---:|---:|"]
-    for e, v in sorted(ag["effects"].items(), key=lambda kv: -kv[1]["records"]):
-        lines.append(f"| {e if e != 'None' else 'none'} | {v['records']} | "
-                     f"{v['conditions']} |")
+        rows.append([c["condition"], _fmt(c.get("mu")), len(c.get("records") or []),
+                     joint or "none", c.get("verdict") or "", names])
+    b.append(_table(["condition", "mu [-]", "records", "joint fit names", "verdict",
+                     "records name"], rows, right=(1, 2)))
+    b.append(_p(f"Consensus across conditions: {ag['consensus'] or 'none'}"
+                f"{' (every condition)' if ag['unanimous'] else ''}.  Verdicts: "
+                "docs/interface.md, 'The verdict: one vocabulary'."))
+    b.append(_table(["effect", "records naming it", "conditions naming it"],
+                    [[e if e != "None" else "none", v["records"], v["conditions"]]
+                     for e, v in sorted(ag["effects"].items(),
+                                        key=lambda kv: -kv[1]["records"])], right=(1, 2)))
     if ag["disagreements"]:
-        lines += ["", "### Where records disagree with their condition", ""]
-        for d in ag["disagreements"]:
-            lines.append(f"- `{Path(d['record']).name}` ({d['condition']}): names "
-                         f"{d['record_says'] or 'none'}, the condition "
-                         f"{d['condition_says'] or 'none'}: {d['why']}")
+        b.append(_h(3, "Where records disagree with their condition"))
+        b.append({"kind": "list", "items": [
+            f"{Path(d['record']).name} ({d['condition']}): names "
+            f"{d['record_says'] or 'none'}, the condition "
+            f"{d['condition_says'] or 'none'}: {d['why']}" for d in ag["disagreements"]]})
     conds = df[(df["kind"] == "condition") & (df["status"] == "ok")].sort_values("mu")
     est = [c[4:] for c in df.columns if c.startswith("est_")]
     if len(conds) and est:
-        lines += ["", "## Estimates against mu (joint fit per condition, 1-sigma bounds)",
-                  "", "| parameter | " + " | ".join(f"mu {m:.3g}" for m in conds["mu"]) + " |",
-                  "|---|" + "---:|" * len(conds)]
+        from ..report.units import parameter_label, parameter_value
+        b.append(_h(2, "Estimates against mu (joint fit per condition, 1-sigma bounds)"))
+        rows = []
         for n in est:
-            vals = [_fmt(r.get(f"est_{n}"), r.get(f"sigma_{n}"))
+            vals = [_fmt(parameter_value(n, _num(r.get(f"est_{n}"))),
+                         parameter_value(n, _num(r.get(f"sigma_{n}"))))
                     for _, r in conds.iterrows()]
             if any(v != "-" for v in vals):
-                lines.append(f"| {n} | " + " | ".join(vals) + " |")
-    lines += _schedule_lines(getattr(result, "schedule", None),
-                             getattr(result, "schedule_note", ""))
+                rows.append([parameter_label(n)] + vals)
+        b.append(_table(["parameter"] + [f"mu {m:.3g}" for m in conds["mu"]], rows,
+                        right=tuple(range(1, len(conds) + 1))))
+    b += _schedule_blocks(getattr(result, "schedule", None),
+                          getattr(result, "schedule_note", ""))
     if figure:
-        lines += ["", f"![estimates against mu]({figure})"]
+        b.append({"kind": "figure", "src": figure, "alt": "estimates against mu",
+                  "caption": "Every estimate against the advance ratio: records (dots), "
+                             "conditions' joint fits (squares), 1-sigma bars, the "
+                             "schedule; a bound wider than the axis is marked, not drawn."})
     errs = [r for r in result.records if r.get("status") != "ok"]
     if errs:
-        lines += ["", "## Records that could not be analysed", ""]
-        lines += [f"- `{r['record']}`: {r.get('error')}" for r in errs]
-    return "\n".join(lines) + "\n"
+        b.append(_h(2, "Records that could not be analysed"))
+        b.append({"kind": "list", "items": [f"{r['record']}: {r.get('error')}"
+                                            for r in errs]})
+    return b
 
 
-def _schedule_lines(sch, note) -> list:
+def report_markdown(result, df, figure=None) -> str:
+    """The campaign report (Markdown), rendered from :func:`report_blocks`; the
+    tables by pandas' ``to_markdown`` (tabulate).
+
+    Parameters
+    ----------
+    result : CampaignResult
+    df : pandas.DataFrame
+        The campaign table.
+    figure : str, optional
+        The figure's file name beside the report.
+    """
+    import pandas as pd
+    lines = ["# Campaign report", ""]
+    for blk in report_blocks(result, df, figure):
+        k = blk["kind"]
+        if k == "heading":
+            lines += ["#" * blk["level"] + " " + blk["text"], ""]
+        elif k == "paragraph":
+            lines += [blk["text"], ""]
+        elif k == "list":
+            lines += [f"- {x}" for x in blk["items"]] + [""]
+        elif k == "figure":
+            lines += [f"![{blk['alt']}]({blk['src']})", ""]
+        elif k == "table":
+            right = ([any(num for _, num in col) for col in zip(*blk["rows"])]
+                     if blk["rows"] else [False] * len(blk["header"]))
+            frame = pd.DataFrame([[t for t, _ in r] for r in blk["rows"]],
+                                 columns=blk["header"])
+            lines += [frame.to_markdown(index=False, disable_numparse=True, colalign=[
+                "right" if r else "left" for r in right]), ""]
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def report_html(result, df, figure=None) -> str:
+    """The campaign report as an HTML page (the demo's page template,
+    :func:`inflowsim.report.document.render_page`), rendered from
+    :func:`report_blocks`.
+
+    Parameters
+    ----------
+    result : CampaignResult
+    df : pandas.DataFrame
+        The campaign table.
+    figure : str, optional
+        The figure's file name beside the page.
+    """
+    from ..report.document import render_page
+    return render_page("Campaign report", report_blocks(result, df, figure),
+                       subtitle=f"{len(result.records)} records, "
+                                f"{len(result.conditions)} flight conditions")
+
+
+def _schedule_blocks(sch, note) -> list:
     if sch is None:
-        return ["", "## Schedules", "", f"No schedule: {note or 'nothing to fit'}."]
+        return [_h(2, "Schedules"), _p(f"No schedule: {note or 'nothing to fit'}.")]
     lo, hi = sch.mu_range
     at = (lo, 0.5 * (lo + hi), hi)
     crit = {"aic": "AIC (chi-square + 2 k)", "aicc": "AICc", "bic": "BIC (chi-square + "
             "k ln n)", "chi2": f"the lowest order passing the chi-square test at "
             f"{sch.alpha:g}"}[sch.criterion]
-    lines = ["", "## Schedules (each parameter against mu, weighted by its bounds)", "",
-             f"Structure `{sch.structure}`, mu {lo:.3g} to {hi:.3g} (held beyond); "
-             f"polynomial order 0 to {sch.max_order} chosen by {crit}; bounds 1-sigma, "
-             "widened by sqrt(chi2/dof) where the conditions scatter more than their "
-             f"bounds.  A constant would do where its chi-square passes at "
-             f"{sch.alpha:g}.  File: `schedule.json` "
-             "(`inflowsim fmu build --schedule schedule.json`).", "",
-             "| parameter | order | " + " | ".join(f"mu {m:.3g}" for m in at)
-             + " | chi2/dof | constant would do (p) |",
-             "|---|---:|" + "---:|" * len(at) + "---:|---|"]
+    b = [_h(2, "Schedules (each parameter against mu, weighted by its bounds)"),
+         _p(f"Structure {sch.structure}, mu {lo:.3g} to {hi:.3g} (held beyond); "
+            f"polynomial order 0 to {sch.max_order} chosen by {crit}; bounds 1-sigma, "
+            "widened by sqrt(chi2/dof) where the conditions scatter more than their "
+            f"bounds.  A constant would do where its chi-square passes at "
+            f"{sch.alpha:g}.  File: schedule.json "
+            "(inflowsim fmu build --schedule schedule.json).")]
+    rows = []
     for p in sch.parameters:
-        vals = " | ".join(_fmt(p.value(m), p.bound(m)) for m in at)
         red = f"{p.chi2 / p.dof:.3g}" if p.dof > 0 else "-"
-        const = ("yes" if p.constant else "**no**") + (
+        const = ("yes" if p.constant else "no") + (
             f" ({p.constant_p:.2g})" if p.constant_p is not None else "")
-        lines.append(f"| {p.name} | {p.order} | {vals} | {red} | {const} |")
+        rows.append([p.name, p.order] + [_fmt(p.value(m), p.bound(m)) for m in at]
+                    + [red, const])
+    b.append(_table(["parameter", "order"] + [f"mu {m:.3g}" for m in at]
+                    + ["chi2/dof", "constant would do (p)"], rows,
+                    right=tuple(range(1, len(at) + 3))))
     if sch.held:
-        lines += ["", "Held (time shifts, or no bound): " + ", ".join(
-            f"{n} = {_fmt(v, s)}" for n, v, s in sch.held) + "."]
+        b.append(_p("Held (time shifts, or no bound): " + ", ".join(
+            f"{n} = {_fmt(v, s)}" for n, v, s in sch.held) + "."))
     if sch.trim:
-        lines += ["", "The trim the conditions flew at (measured totals, each a "
-                  "least-squares polynomial in mu, held beyond the range; what the "
-                  "effects linearised about trim are linearised about at each mu):", "",
-                  "| trim total | order | " + " | ".join(f"mu {m:.3g}" for m in at)
-                  + " | largest residual |", "|---|---:|" + "---:|" * len(at) + "---:|"]
-        for t in sch.trim:
-            lines.append(f"| {t.column} | {t.order} | "
-                         + " | ".join(_fmt(t.value(m)) for m in at)
-                         + f" | {t.residual:.2g} |")
+        b.append(_p("The trim the conditions flew at (measured totals, each a "
+                    "least-squares polynomial in mu, held beyond the range; what the "
+                    "effects linearised about trim are linearised about at each mu):"))
+        b.append(_table(["trim total", "order"] + [f"mu {m:.3g}" for m in at]
+                        + ["largest residual"],
+                        [[t.column, t.order] + [_fmt(t.value(m)) for m in at]
+                         + [f"{t.residual:.2g}"] for t in sch.trim],
+                        right=tuple(range(1, len(at) + 3))))
     if note:
-        lines += ["", note + "."]
-    return lines
+        b.append(_p(note + "."))
+    return b
 
 
 def write_outputs(result, out) -> dict:
@@ -221,7 +312,8 @@ def write_outputs(result, out) -> dict:
         result.conditions, opts.get("criterion", "aic"), opts.get("max_order", 3),
         variables=tuple(opts.get("variables", ("mu",))))
     files = {"parquet": str(out / "campaign.parquet"), "csv": str(out / "campaign.csv"),
-             "report": str(out / "report.md"), "json": str(out / "campaign.json")}
+             "report": str(out / "report.md"), "html": str(out / "report.html"),
+             "json": str(out / "campaign.json")}
     with atomic_path(files["parquet"]) as tmp:
         df.to_parquet(tmp, index=False)
     with atomic_path(files["csv"]) as tmp:
@@ -239,6 +331,12 @@ def write_outputs(result, out) -> dict:
         fig_name, files["figure"] = fig_path.name, str(fig_path)
     with atomic_path(files["report"]) as tmp:
         Path(tmp).write_text(report_markdown(result, df, fig_name))
+    with atomic_path(files["html"]) as tmp:
+        Path(tmp).write_text(report_html(result, df, fig_name), encoding="utf-8")
     with atomic_path(files["json"]) as tmp:
         Path(tmp).write_text(json_text(json_document(result, files)))
     return files
+
+
+__all__ = ["TABLE_COLUMNS", "TRIM_COLUMNS", "campaign_table", "json_document",
+           "report_blocks", "report_markdown", "report_html", "write_outputs"]

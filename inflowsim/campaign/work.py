@@ -19,6 +19,7 @@ import json
 import time
 import traceback
 from dataclasses import asdict, dataclass
+from types import MappingProxyType
 
 from ..errors import InputError
 
@@ -31,7 +32,23 @@ class Settings:
     """What every record and condition is analysed with (``diagnose``/``ladder``
     options): starting structure ``model``, ``band`` [Hz], candidate ``pool``
     (``None``: every applicable effect), significance ``alpha``, ladder
-    ``max_steps``, ``hold`` override (``None``: each record's own)."""
+    ``max_steps``, ``hold`` override (``None``: each record's own).
+
+    Attributes
+    ----------
+    model : str
+        The starting structure of every diagnosis and ladder.
+    band : (float, float)
+        Analysis band [Hz].
+    pool : tuple of str or None
+        Candidate effects (``None``: every applicable one).
+    alpha : float or None
+        Significance level per test [-] (``None``: the rule's).
+    max_steps : int
+        Ladder steps at most [-].
+    hold : str or None
+        Intersample behaviour of every record (``None``: each record's own).
+    """
 
     model: str = "glauert"
     band: tuple = (0.2256, 1.58)
@@ -92,8 +109,36 @@ def _one_line(exc) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def _verdict(missing) -> str:
-    return "adequate" if missing is None else "missing-effect"
+#: The campaign's verdicts before issue #39, as stored results and old tables hold
+#: them, and what they read as now: ``adequate`` (no effect named) is
+#: ``no-missing-effect``, ``missing-effect`` (one named) ``explained``; a stored result
+#: reads the status of its own ladder's verdict instead where it holds one.
+OLD_VERDICTS = MappingProxyType({"adequate": "no-missing-effect",
+                                 "missing-effect": "explained"})
+
+
+def current_verdict(doc: dict) -> dict:
+    """``doc`` (a stored result) with its ``verdict`` in the one vocabulary
+    (:data:`inflowsim.diagnose.verdict.STATUSES`, or ``error``): an old one is
+    read through :data:`OLD_VERDICTS`.
+
+    Parameters
+    ----------
+    doc : dict
+        A record's or condition's result (:func:`record_task`, :func:`condition_task`).
+    """
+    old = doc.get("verdict")
+    if old in OLD_VERDICTS:
+        status = ((doc.get("ladder") or {}).get("verdict") or {}).get("status")
+        doc = {**doc, "verdict": status or OLD_VERDICTS[old]}
+    return doc
+
+
+def _verdict(lad, diag) -> str:
+    """The row's verdict: the ladder's (what is left after the effects it added), in
+    diagnose's vocabulary."""
+    v = lad.verdict or diag.verdict
+    return v.status
 
 
 def _fit_summary(fit) -> dict:
@@ -106,7 +151,7 @@ def _fit_summary(fit) -> dict:
 
 def _ladder_summary(lad, diag) -> dict:
     return {"missing_effect": diag.missing_effect,
-            "verdict": _verdict(diag.missing_effect),
+            "verdict": _verdict(lad, diag),
             "accepted": list(diag.missing_effects),
             "ladder_added": [r.added for r in lad.rungs if r.added],
             "final_structure": lad.final.structure.name,
@@ -126,6 +171,15 @@ def record_task(path: str, settings: Settings, info: dict | None = None) -> dict
     ``{"kind": "record", "record", "status", "error", "warnings", "trim", "mu",
     "missing_effect", "verdict", ..., "seconds"}`` (:func:`_ladder_summary`;
     ``trim`` the record's trim totals, as a condition's).
+
+    Parameters
+    ----------
+    path : str
+        The record (CSV).
+    settings : Settings
+        The campaign's settings (model, band [Hz], candidates, level, hold ...).
+    info : dict, optional
+        The plan's labels of the record (condition, manoeuvre, group, plan ``mu`` [-]).
     """
     from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
@@ -172,7 +226,17 @@ def condition_task(condition: str, paths, settings: Settings) -> dict:
     record's ``a0, solidity, omega, radius``) and ``trim`` (each trim total of
     :data:`~inflowsim.physics.bladeelement.TRIM_KEYS`, the mean over the records of
     :func:`~inflowsim.data.record.find_trim`) [rad, -]: what the campaign's
-    schedule needs to fly this condition."""
+    schedule needs to fly this condition.
+
+    Parameters
+    ----------
+    condition : str
+        The flight condition's label.
+    paths : sequence of str
+        Its records (CSV), fitted together.
+    settings : Settings
+        The campaign's settings.
+    """
     from ..data.record import find_trim, read_record
     from ..diagnose.search import ladder
     t0 = time.perf_counter()
@@ -209,6 +273,13 @@ def agreement(records, conditions) -> dict:
     joint answer, with why (what its own diagnosis said of the joint answer's
     candidate).  ``consensus``: the effect named by the most conditions (ties:
     ``None``), ``unanimous``: every successful condition names it.
+
+    Parameters
+    ----------
+    records : sequence of dict
+        The records' results (:func:`record_task`).
+    conditions : sequence of dict
+        The conditions' results (:func:`condition_task`).
     """
     ok_recs = [r for r in records if r.get("status") == OK]
     ok_conds = [c for c in conditions if c.get("status") == OK]
@@ -255,3 +326,8 @@ def agreement(records, conditions) -> dict:
             "consensus": consensus,
             "unanimous": bool(ok_conds) and all(c.get("missing_effect") == consensus
                                                 for c in ok_conds)}
+
+
+__all__ = ["Settings", "RESULTS_FORMAT", "version", "file_hash", "record_key",
+           "condition_key", "OLD_VERDICTS", "current_verdict", "record_task",
+           "condition_task", "agreement"]

@@ -6,11 +6,15 @@ what they use.
 """
 from __future__ import annotations
 
+import math
 import sys
 from typing import TYPE_CHECKING
 
 from ..defaults import ALPHA, DEFAULT_BAND, HOLDS
 from ..errors import InputError
+from ._checks import finite_float
+from ..progress import SHOW as progress
+from ..progress import warn
 
 if TYPE_CHECKING:
     from ..model.structure import Structure
@@ -48,7 +52,7 @@ def add_band_option(p, default=None, what="frequency band [Hz]", default_text=No
     """``--band F1 F2`` [Hz]; the help names ``default`` (or ``default_text``)."""
     if default_text is None:
         default_text = f"{default[0]:g} {default[1]:g}"
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"), default=default,
+    p.add_argument("--band", nargs=2, type=finite_float, metavar=("F1", "F2"), default=default,
                    help=f"{what} (default {default_text})")
 
 
@@ -56,6 +60,18 @@ def add_report_option(p, what="plots"):
     """``--report DIR``: a report folder."""
     p.add_argument("--report", metavar="DIR",
                    help=f"write {what} and DIR/index.html (the folder is created)")
+
+
+def add_progress_options(p, default=None):
+    """``--quiet`` and ``--progress``: whether progress is shown on standard error
+    (default: when it is a terminal; :mod:`inflowsim.progress`).  A command's
+    action parser passes ``default=argparse.SUPPRESS`` (the command's own stands)."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--quiet", "-q", dest="show_progress", action="store_false",
+                   default=default, help="show no progress (warnings and errors still)")
+    g.add_argument("--progress", dest="show_progress", action="store_true",
+                   help="show progress on standard error even when it is not a "
+                        "terminal (default: only on a terminal)")
 
 
 def add_json_option(p, help="one JSON document on stdout"):
@@ -80,14 +96,14 @@ def add_flight_options(p, duration=None, dt=None, duration_help=None, dt_help=No
                                   "(default 1e-4)"):
     """``--start``, ``--duration``, ``--dt``, ``--noise``: the record a (virtual)
     flight test makes."""
-    p.add_argument("--start", type=float, default=2.0, metavar="S",
+    p.add_argument("--start", type=finite_float, default=2.0, metavar="S",
                    help="time of the first control movement [s] (default 2: a quiet "
                         "lead-in for trim)")
-    p.add_argument("--duration", type=float, default=duration, metavar="S",
+    p.add_argument("--duration", type=finite_float, default=duration, metavar="S",
                    help=duration_help or f"record length [s] (default {duration:g})")
-    p.add_argument("--dt", type=float, default=dt, metavar="S",
+    p.add_argument("--dt", type=finite_float, default=dt, metavar="S",
                    help=dt_help or f"sample step [s] (default {dt:g})")
-    p.add_argument("--noise", type=float, default=1e-4, metavar="R", help=noise_help)
+    p.add_argument("--noise", type=finite_float, default=1e-4, metavar="R", help=noise_help)
 
 
 def check_finite(args, *names):
@@ -149,7 +165,7 @@ def read_parameter_file(path):
     from ..model.paramfile import read_parameters
     ps = read_parameters(path)
     for w in ps.warnings():
-        progress(f"warning: {w}")
+        warn(w)
     return ps
 
 
@@ -164,7 +180,7 @@ def add_record_arguments(p):
 
 
 def add_trim_window_option(p):
-    p.add_argument("--trim-window", nargs=2, type=float, metavar=("T0", "T1"),
+    p.add_argument("--trim-window", nargs=2, type=finite_float, metavar=("T0", "T1"),
                    help="trim is the mean over T0-T1 s (default: the quiet lead-in "
                         "before the first control movement)")
 
@@ -180,10 +196,10 @@ def read_records(paths, args):
         if tw:
             rec = rec.with_meta(trim_window=f"{tw[0]!r} {tw[1]!r}")
         for w in rec.warnings():
-            progress(f"warning: {w}")
+            warn(w)
         trim = find_trim(rec)
         if trim.warning:
-            progress(f"warning: {trim.warning}")
+            warn(trim.warning)
         recs.append(rec)
     return recs
 
@@ -216,11 +232,6 @@ def check_seed(seed):
         raise InputError(f"--seed {seed}: must be an integer in [0, 2**32)")
 
 
-def progress(msg):
-    sys.stderr.write(msg + "\n")
-    sys.stderr.flush()
-
-
 def start_values(args):
     """``--params`` as start values for a fit of ``--model`` (names it shares)."""
     if not getattr(args, "params", None):
@@ -236,13 +247,13 @@ def start_values(args):
 
 def add_search_arguments(p):
     """Options shared by ``diagnose`` and ``ladder``: band, candidates, level, outputs."""
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
+    p.add_argument("--band", nargs=2, type=finite_float, metavar=("F1", "F2"),
                    default=DEFAULT_BAND, help=f"band [Hz] (default {DEFAULT_BAND[0]:g} "
                                               f"{DEFAULT_BAND[1]:g})")
     p.add_argument("--candidates", nargs="+", metavar="EFFECT",
                    help="effects to try (default: every applicable one)")
     add_also_option(p)
-    p.add_argument("--alpha", type=float, default=ALPHA,
+    p.add_argument("--alpha", type=finite_float, default=ALPHA,
                    help=f"significance level per candidate (default {ALPHA:g})")
     p.add_argument("--report", metavar="DIR", help="write DIR/index.html with plots")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
@@ -261,16 +272,30 @@ def pool_with(candidates, also):
     from ..model.effects import CATALOGUE
     for e in also:
         if e not in CATALOGUE:
-            raise InputError(f"--also {e}: not an effect (known: {', '.join(CATALOGUE)})")
+            raise InputError(f"--also {e}: {unknown_effect(e, CATALOGUE)}")
     base = list(candidates) if candidates else [n for n, e in CATALOGUE.items()
                                                 if e.offered]
     return base + [e for e in also if e not in base]
+
+
+def unknown_effect(name, known=None) -> str:
+    """:func:`inflowsim.model.structure.unknown_effect` without its first words."""
+    from ..model.structure import unknown_effect as text
+    return "not an effect" + text(name).split(")", 1)[0].split(f"{name!r}", 1)[1] + ")"
 
 
 def check_search_arguments(args):
     """Refuse bad search options and an unusable ``--report`` folder before the work."""
     if not 0 < args.alpha < 0.5:
         raise InputError(f"--alpha {args.alpha:g}: choose a level in (0, 0.5)")
+    check_finite(args, "band")
+    from ._checks import check_band
+    check_band(args.band)
+    pool = pool_with(args.candidates, args.also) or ()      # refused before any fit
+    from ..model.effects import CATALOGUE
+    for e in pool:
+        if e not in CATALOGUE:
+            raise InputError(f"--candidates {e}: {unknown_effect(e)}")
     if args.report:
         from ..report.document import check_report_folder
         check_report_folder(args.report, protect=args.record)
@@ -279,15 +304,20 @@ def check_search_arguments(args):
 def parse_fix(items) -> dict:
     out = {}
     for it in items:
-        name, _, val = it.partition("=")
+        name, sep, val = it.partition("=")
         name = name.strip()
         if not name:
             raise InputError(f"--fix {it!r}: give NAME or NAME=VALUE")
+        if sep and not val.strip():
+            raise InputError(f"--fix {it!r}: no value after '='; give NAME=VALUE, or "
+                             "NAME alone for its theory value")
         if val:
             try:
                 out[name] = float(val)
             except ValueError:
                 raise InputError(f"--fix {it!r}: {val!r} is not a number") from None
+            if not math.isfinite(out[name]):
+                raise InputError(f"--fix {it!r}: the value must be finite")
         else:
             out[name] = None
     return out

@@ -2,6 +2,7 @@
 (the paper's Figure 6), with a plot."""
 from __future__ import annotations
 
+from ._checks import finite_float, positive_float
 from ._common import (add_record_arguments, parse_fix, print_json, progress, read_records,
                       structure_of)
 
@@ -14,9 +15,9 @@ def add_arguments(p):
                    help="structure: basic, empirical, glauert, then +effect terms")
     p.add_argument("--add", action="append", default=[], metavar="EFFECT",
                    help="add an effect to the structure (repeatable)")
-    p.add_argument("--upper", type=float, default=1.58, metavar="F",
+    p.add_argument("--upper", type=positive_float, default=1.58, metavar="F",
                    help="upper band limit [Hz] (default 1.58)")
-    p.add_argument("--lower", nargs="+", type=float, metavar="F",
+    p.add_argument("--lower", nargs="+", type=positive_float, metavar="F",
                    help="lower limits [Hz] (default: ten from 2/T)")
     p.add_argument("--fix", action="append", default=[], metavar="NAME[=VALUE]",
                    help="hold a parameter fixed")

@@ -24,9 +24,10 @@ def run(args) -> int:
         print_json(summary)
         return 0
     print(f"hidden truth: {summary['truth']}; started from {summary['start']}")
+    from ..report.ladder import rung_label
     for r in lad.rungs:
         fits = ", ".join(f"{c} {v['fit_percent']:.1f}%" for c, v in r.fit.fit.items())
-        step = f"+{r.added}" if r.added else r.structure.name
+        step = rung_label(r)
         print(f"  {step:<28} cost {r.fit.cost:10.2f}   {fits}")
     print(f"final structure: {summary['final']}")
     print(f"report: {path}")

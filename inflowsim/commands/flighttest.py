@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from ._checks import finite_float, positive_float, positive_int
 from ..channels import CONTROLS
 from ..errors import InputError
 from ._common import (add_add_option, add_channels_option, add_flight_options,
@@ -23,8 +24,10 @@ from ._common import (add_add_option, add_channels_option, add_flight_options,
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
-NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay")
-NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs")
+NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay", "servo-actuators")
+NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs", "K_R")
+#: ``--set`` names of the nonlinear truth's servo actuators (with ``--add servo-actuators``)
+SERVO_SET = ("servo_tau", "servo_zeta")
 
 
 def add_arguments(p):
@@ -49,39 +52,42 @@ def add_arguments(p):
                         "record length and step replace --input, --duration, --dt")
     add_channels_option(p, help="multisine: the controls moved at once (default all "
                                 "three)")
-    p.add_argument("--sweep-range", "--freq-range", nargs=2, type=float,
+    p.add_argument("--sweep-range", "--freq-range", nargs=2, type=finite_float,
                    metavar=("F1", "F2"), default=None,
                    help="sweep or multisine: frequency range [Hz] (default 0.15 3)")
-    p.add_argument("--sweep-duration", "--input-duration", type=float, metavar="T",
+    p.add_argument("--sweep-duration", "--input-duration", type=finite_float, metavar="T",
                    help="sweep or multisine: its length [s] (default: to 1 s before "
                         "the record's end); the multisine's base frequency is 1/T")
-    p.add_argument("--fade", type=float, default=1.0, metavar="S",
+    p.add_argument("--fade", type=finite_float, default=1.0, metavar="S",
                    help="sweep or multisine: fade in and out [s] (default 1)")
-    p.add_argument("--amplitude-deg", type=float, default=None, metavar="A",
+    p.add_argument("--amplitude-deg", type=finite_float, default=None, metavar="A",
                    help="input amplitude [deg], the peak of a sweep or of each "
                         "multisine channel (default 1; --campaign 0.25: the truth's "
                         "linear range at the default --noise)")
-    p.add_argument("--width", type=float, default=0.4, metavar="S",
+    p.add_argument("--width", type=finite_float, default=0.4, metavar="S",
                    help="doublet half-width or 3211 unit [s] (default 0.4)")
     add_flight_options(p, duration_help="record length [s] (default 26.6: 0.0376 Hz "
                                         "resolution; --campaign 20)",
                        dt_help="sample step [s] (default 0.01; --campaign 0.015625)")
-    p.add_argument("--noise-color-hz", type=float, metavar="F",
+    p.add_argument("--noise-color-hz", type=finite_float, metavar="F",
                    help="colour the flap noise by a first-order low-pass with corner F "
                         "[Hz] (default white)")
     p.add_argument("--hold", choices=("continuous", "zoh"), default="continuous",
                    help="continuous: smooth inputs, the truth integrated with them, as "
                         "measured data (default); zoh: inputs held over each sample")
-    p.add_argument("--rise", type=float, default=0.1, metavar="S",
+    p.add_argument("--rise", type=finite_float, default=0.1, metavar="S",
                    help="10-90%% rise time of each switch of the pilot input [s] "
                         "(default 0.1; 0 for sharp steps)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="noise seed")
-    p.add_argument("--azimuth-bias", type=float, metavar="RAD",
+    p.add_argument("--azimuth-bias", type=finite_float, metavar="RAD",
                    help="offset of the recorded azimuth [rad] (adds azimuth-bias)")
-    p.add_argument("--delay", type=float, metavar="S",
+    p.add_argument("--delay", type=finite_float, metavar="S",
                    help="time delay of the recorded flap [s] (adds time-delay)")
     p.add_argument("--blades", type=int, default=4, metavar="N",
                    help="nonlinear truth: number of blades (default 4)")
+    p.add_argument("--mu", type=float, metavar="MU",
+                   help="advance ratio of the flight (default 0.249, the Puma at "
+                        "100 kt; --campaign: --speeds)")
     p.add_argument("--speed", choices=("eq14", "mu"), default="eq14",
                    help="nonlinear truth: speed through the disc, Eq. (14) (default) "
                         "or the trim mu (then the inflow is the basic model)")
@@ -95,9 +101,9 @@ def add_arguments(p):
                         "existing records of the same truth, flown alike, are kept, "
                         "others refused; --speed, --blades and --no-body choose the "
                         "truth)")
-    p.add_argument("--speeds", nargs="+", type=float, metavar="MU",
+    p.add_argument("--speeds", nargs="+", type=positive_float, metavar="MU",
                    help="--campaign: advance ratios (default 0.10 0.15 ... 0.35)")
-    p.add_argument("--repeats", type=int, default=1, metavar="N",
+    p.add_argument("--repeats", type=positive_int, default=1, metavar="N",
                    help="--campaign: records per speed, control and shape (default 1)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="--campaign: generating processes (default: the cores)")
@@ -135,13 +141,17 @@ def _check_outputs(args):
 #: inputs.
 MIN_DT = 1e-5
 MAX_AMPLITUDE_DEG = 20.0
+#: Blades of the nonlinear truth: multiblade coordinates need three; eight is the most
+#: any helicopter flies (a judgement: ``interface.md``).
+MIN_BLADES, MAX_BLADES = 3, 8
 
 
 def _manoeuvre(args):
     from ..data.record import MAX_SAMPLES
     from ..flighttest.virtual import Manoeuvre
     designed = _designed(args) if args.design else None
-    check_finite(args, "amplitude_deg", "start", "width", "duration", "dt", "noise", "rise")
+    check_finite(args, "amplitude_deg", "start", "width", "duration", "dt", "noise", "rise",
+                 "fade", "sweep_range", "sweep_duration", "speeds", "noise_color_hz")
     check_seed(args.seed)
     if not MIN_DT <= args.dt <= 1.0:
         raise InputError(f"--dt {args.dt:g}: the sample step must be in [{MIN_DT:g}, 1] s")
@@ -150,9 +160,19 @@ def _manoeuvre(args):
                          f"samples of --dt {args.dt:g} s")
     if args.noise < 0:
         raise InputError(f"--noise {args.noise:g}: a standard deviation is >= 0")
-    if abs(args.amplitude_deg) > MAX_AMPLITUDE_DEG:
-        raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: a pilot input beyond "
-                         f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range")
+    if not 0 < args.amplitude_deg <= MAX_AMPLITUDE_DEG:
+        raise InputError(f"--amplitude-deg {args.amplitude_deg:g}: must be in (0, "
+                         f"{MAX_AMPLITUDE_DEG:g}] deg (the shape sets the signs; beyond "
+                         f"{MAX_AMPLITUDE_DEG:g} deg leaves any linear model's range)")
+    if args.delay is not None and not (math.isfinite(args.delay)
+                                       and 0 <= args.delay < args.duration):
+        raise InputError(f"--delay {args.delay:g}: a recording delay is in [0, "
+                         f"--duration {args.duration:g}) s")
+    if args.azimuth_bias is not None and not (math.isfinite(args.azimuth_bias)
+                                              and abs(args.azimuth_bias) <= math.pi):
+        raise InputError(f"--azimuth-bias {args.azimuth_bias:g}: an azimuth offset is in "
+                         "[-pi, pi] rad")
+
     if args.width <= 0:
         raise InputError(f"--width {args.width}: must be > 0 s")
     if args.rise < 0 or args.rise > args.width:
@@ -173,15 +193,25 @@ def _manoeuvre(args):
                       width=args.width, rise=args.rise),)
 
 
+def _check_flight(args):
+    """The checks that follow the truth's own (its messages first): the input starts
+    within the record; the nonlinear rotor's blades within the limits."""
+    if not args.design and not 0 <= args.start < args.duration:
+        raise InputError(f"--start {args.start:g}: the input must start within the "
+                         f"record, in [0, --duration {args.duration:g}) s")
+    if not MIN_BLADES <= args.blades <= MAX_BLADES:
+        raise InputError(f"--blades {args.blades}: n_blades must be {MIN_BLADES} to "
+                         f"{MAX_BLADES} (multiblade coordinates need 3; no rotor flies "
+                         f"more than {MAX_BLADES})")
+
+
 def _designed(args):
-    import json as _json
+    from ..fileio import read_json
     from ..flighttest.design import manoeuvres_from_json
     try:
-        doc = _json.loads(Path(args.design).read_text())
-    except FileNotFoundError:
-        raise InputError(f"--design {args.design}: no such file") from None
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"--design {args.design}: not readable JSON ({exc})") from None
+        doc = read_json(args.design, "design file")
+    except InputError as exc:
+        raise InputError(f"--design {exc}") from None
     try:
         man, args.duration, args.dt = manoeuvres_from_json(doc)
     except InputError as exc:
@@ -248,26 +278,35 @@ def _nonlinear(args, man, values):
         raise InputError(f"--add {bad[0]}: the nonlinear truth has its physics built in "
                          f"and takes only the measurement effects "
                          f"{', '.join(NONLINEAR_EFFECTS)} (use --truth linear for {bad[0]})")
+    servo = None
+    if "servo-actuators" in args.add:
+        from ..model.effects.servo_actuators import EFFECT as SERVO
+        sv = SERVO.theory(None) | {n: values.pop(n) for n in SERVO_SET if n in values}
+        servo = (sv["servo_tau"], sv["servo_zeta"])
     unknown = sorted(set(values) - set(NONLINEAR_SET))
     if unknown:
         raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
-                         f"{', '.join(NONLINEAR_SET)}")
-    rotor = RotorSpec(n_blades=args.blades, speed=args.speed, **values)
+                         f"{', '.join(NONLINEAR_SET)}"
+                         + ("" if "servo-actuators" in args.add else
+                            " (servo_tau, servo_zeta with --add servo-actuators)"))
+    rotor = RotorSpec(constants=_constants(args), n_blades=args.blades, speed=args.speed,
+                      **values)
     return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
                       body=None if args.no_body else FlightTest().body,
-                      hold=args.hold, noise_color_hz=args.noise_color_hz,
-                      description=f"{_what(args, man)}, nonlinear blade-element truth")
+                      hold=args.hold, noise_color_hz=args.noise_color_hz, servo=servo,
+                      description=f"{_what(args, man)}, nonlinear blade-element truth"
+                      + (f", servo actuators {servo[0]:g} s, damping {servo[1]:g}"
+                         if servo else ""))
 
 
 def _linear(args, man, values):
     from ..flighttest.nonlinear import FlightTest
     from ..model.build import build_model
-    from ..model.params import PUMA
     from ..model.presets import truth_parameters
     from ..model.structure import Structure
-    from ..flighttest.virtual import VirtualTest
+    from ..flighttest.virtual import PUMA_TRIM, VirtualTest
     if args.blades != 4 or args.speed != "eq14":
         raise InputError("--blades and --speed apply to --truth nonlinear only")
     s = Structure.parse(args.model or "glauert")
@@ -277,20 +316,40 @@ def _linear(args, man, values):
         s = s.with_effect("azimuth-bias")
     if args.delay is not None and "time-delay" not in s.effects:
         s = s.with_effect("time-delay")
-    params = truth_parameters(s, PUMA)
+    k = _constants(args)
+    # effects linearised about the trim see the virtual record's trim (as the
+    # record's generator gives them, flighttest.virtual)
+    k_trim = k if k.trim is not None else k.with_trim(dict(PUMA_TRIM, mux=k.mu))
+    params = truth_parameters(s, k_trim)
     if args.azimuth_bias is not None:
         params["azimuth_bias"] = args.azimuth_bias
     if args.delay is not None:
         params["delay"] = args.delay
     params.update(values)
-    build_model(s, params, PUMA)            # one-line refusal of unknown or bad values
+    build_model(s, params, k_trim)          # one-line refusal of unknown or bad values
     FlightTest(duration=args.duration, dt=args.dt, noise_flap=args.noise).check()
-    return VirtualTest(structure=s.name, parameters=params, manoeuvres=man,
+    return VirtualTest(structure=s.name, parameters=params, constants=k, manoeuvres=man,
                        duration=args.duration, dt=args.dt, noise_flap=args.noise,
                        seed=args.seed, body=FlightTest().body if not args.no_body
                        else _still_body(), hold=args.hold,
                        noise_color_hz=args.noise_color_hz,
                        description=f"{_what(args, man)}, linear truth {s.name}")
+
+
+#: The advance ratios a single flight test flies (the nonlinear truth's trim and
+#: the linear models' range).
+MU_RANGE = (0.0, 0.5)
+
+
+def _constants(args):
+    """The Puma's constants at ``--mu`` (refused outside :data:`MU_RANGE`)."""
+    from ..model.params import PUMA
+    if args.mu is None:
+        return PUMA
+    if not (math.isfinite(args.mu) and MU_RANGE[0] < args.mu <= MU_RANGE[1]):
+        raise InputError(f"--mu {args.mu:g}: the advance ratio must be in "
+                         f"({MU_RANGE[0]:g}, {MU_RANGE[1]:g}]")
+    return PUMA.with_mu(args.mu)
 
 
 def _what(args, manoeuvres) -> str:
@@ -315,6 +374,8 @@ def _campaign(args) -> int:
     if args.out or args.truth_json or args.json:
         raise InputError("--campaign writes its own records and plan: drop --out, "
                          "--truth-json and --json")
+    if args.mu is not None:
+        raise InputError("--mu flies one record; a campaign's speeds are --speeds")
     if args.truth != "nonlinear" or args.add or args.set or args.model:
         raise InputError("--campaign flies the nonlinear truth as it is: drop --truth, "
                          "--model, --add and --set")
@@ -325,6 +386,7 @@ def _campaign(args) -> int:
     if args.amplitude_deg is None:
         args.amplitude_deg = AMPLITUDE_DEG
     _manoeuvre(args)                       # the shared checks of duration, step, noise
+    _check_flight(args)
     plan = virtual_campaign(args.campaign, mus=tuple(args.speeds or MUS),
                             repeats=args.repeats, duration=args.duration, dt=args.dt,
                             noise=args.noise, workers=args.workers, progress=progress,
@@ -353,9 +415,10 @@ def run(args) -> int:
     test = (_nonlinear if args.truth == "nonlinear" else _linear)(args, man, values)
     if hasattr(test, "check"):
         test.check()                        # refuse before the progress line
+    _check_flight(args)
     progress(f"flighttest: generating {args.duration:g} s at {args.dt:g} s "
              f"({args.truth} truth)")
-    res = flighttest(test)
+    res = flighttest(test, progress)
     write_record(res.record, args.out, overwrite=args.force)
     truth = json.loads(json.dumps(res.truth, default=_plain))
     if args.truth_json:

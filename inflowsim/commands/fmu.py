@@ -11,8 +11,11 @@ follow the schedule at the ``mu`` of every step.
 """
 from __future__ import annotations
 
+import argparse
+
 from ..errors import InputError
-from ._common import add_effect_arguments, print_json, progress, read_parameter_file
+from ._common import (add_effect_arguments, add_progress_options, print_json, progress,
+                      read_parameter_file)
 
 HELP = "build the FMI 2.0 (or 3.0) co-simulation FMU (native C, no Python inside)"
 
@@ -41,6 +44,7 @@ def add_arguments(p):
                         "FMU runs its structure with the parameters at the mu of every "
                         "step")
     add_effect_arguments(b)
+    add_progress_options(b, default=argparse.SUPPRESS)
     b.add_argument("--force", action="store_true", help="replace an existing file")
     b.add_argument("--json", action="store_true",
                    help="print {\"fmu\", \"guid\", \"model_identifier\"} on stdout")

@@ -9,6 +9,7 @@ random error), or with ``--json`` the document of ``interface.md`` (``{"response
 """
 from __future__ import annotations
 
+from ._checks import finite_float, fraction, positive_float
 from ..channels import FLAP, INPUTS
 from ..errors import InputError
 from ._common import (add_band_option, add_json_option, add_report_option,
@@ -26,14 +27,16 @@ def add_arguments(p):
     p.add_argument("--outputs", nargs="+", metavar="CH", default=list(FLAP),
                    help="output channels (default beta0 beta1c beta1s)")
     add_band_option(p, what="band [Hz] of the log-spaced grid", default_text="0.1 5")
-    p.add_argument("--windows", nargs="+", type=float, metavar="S",
+    p.add_argument("--windows", nargs="+", type=positive_float, metavar="S",
                    help="window lengths [s] of the composite (default: five from half "
                         "the shortest record down)")
-    p.add_argument("--overlap", type=float, default=0.75, metavar="R",
+    p.add_argument("--overlap", type=fraction, default=0.75, metavar="R",
                    help="overlap of consecutive windows (default 0.75)")
     add_trim_window_option(p)
-    p.add_argument("--unwrap", action="store_true",
-                   help="report plots: unwrap the phase (labelled); default +-180 deg")
+    p.add_argument("--unwrap", action="store_true", default=True,
+                   help="report plots: the phase unwrapped (the default)")
+    p.add_argument("--wrap", dest="unwrap", action="store_false",
+                   help="report plots: the phase wrapped to +-180 deg")
     add_report_option(p, "Bode plots")
     add_json_option(p)
 
@@ -55,6 +58,8 @@ def run(args) -> int:
         check_report_folder(args.report, protect=args.record)
     from ..identify.frf import DEFAULT_FRF_BAND, frequency_response
     recs = read_records(args.record, args)
+    for rec in recs:                 # a dead sensor has no response to measure
+        rec.require_measured([c for c in args.outputs if c in rec.channels])
     fr = frequency_response(recs, inputs=args.inputs, outputs=args.outputs,
                             band_hz=tuple(args.band or DEFAULT_FRF_BAND),
                             windows_s=args.windows,

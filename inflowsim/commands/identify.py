@@ -1,6 +1,9 @@
 """``inflowsim identify``: frequency-domain output-error fit with 1-sigma bounds.
 
 Prints the parameter table (or with ``--json`` the ``interface.md`` document);
+every estimate is marked conditional on an incomplete structure where the fit's
+residual keeps structured excess over the record's noise floor (the diagnosis's
+test, :mod:`inflowsim.diagnose.conditional`);
 ``--out FIT.json`` writes that document, a parameter file that ``simulate``,
 ``validate`` and the FMU read as it is; ``--report DIR`` writes the tables
 (Markdown, HTML), the frequency-domain fit and the time-domain reconstruction
@@ -8,9 +11,10 @@ plots.  Progress goes to stderr.
 """
 from __future__ import annotations
 
+from ._checks import finite_float
 from ..defaults import DEFAULT_BAND
 from ._common import (add_effect_arguments, add_record_arguments, parse_fix, parse_ties,
-                      print_json, progress, read_parameter_file, read_records,
+                      print_json, progress, read_parameter_file, read_records, warn,
                       structure_of)
 
 HELP = "estimate a structure's parameters with 1-sigma bounds (frequency-domain output error)"
@@ -24,7 +28,7 @@ def add_arguments(p):
     add_effect_arguments(p)
     p.add_argument("--add", action="append", default=[], metavar="EFFECT",
                    help="add an effect to the structure (repeatable)")
-    p.add_argument("--band", nargs=2, type=float, metavar=("F1", "F2"),
+    p.add_argument("--band", nargs=2, type=finite_float, metavar=("F1", "F2"),
                    help=f"frequency band [Hz] (default {DEFAULT_BAND[0]:g} "
                         f"{DEFAULT_BAND[1]:g}, snapped to the "
                         "record's grid 1/T)")
@@ -66,8 +70,14 @@ def run(args) -> int:
     band = tuple(args.band) if args.band else DEFAULT_BAND
     result = identify(recs, s, band_hz=band, start=start, fixed=parse_fix(args.fix),
                       ties=parse_ties(args.tie), progress=progress, hold=args.hold)
+    from ..diagnose.conditional import marked
+    from ..diagnose.search import analyses_of
+    # the level and structure tests need no in-band colour estimate (check_colour)
+    result = marked(result, analyses_of(recs, result, band, check_colour=False))
     for w in result.warnings:
-        progress(f"warning: {w}")
+        warn(w)
+    if result.conditional:
+        warn(f"every estimate is {result.conditional}")
     doc = result.to_json()
     if args.out:
         write_json(doc, args.out, overwrite=args.force, protect=args.records)

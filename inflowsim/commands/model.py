@@ -8,6 +8,7 @@ valid ``--params`` file.
 """
 from __future__ import annotations
 
+from ._checks import finite_float
 from ._common import add_model_arguments, load_model, print_json
 
 HELP = "show a structure: states, inputs, parameters, E, A, B and eigenvalues"
@@ -15,7 +16,7 @@ HELP = "show a structure: states, inputs, parameters, E, A, B and eigenvalues"
 
 def add_arguments(p):
     add_model_arguments(p)
-    p.add_argument("--mu", type=float, metavar="X",
+    p.add_argument("--mu", type=finite_float, metavar="X",
                    help="advance ratio of the flight condition (default the parameter "
                         "file's, else the Puma's 0.249)")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")

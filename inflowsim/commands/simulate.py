@@ -20,8 +20,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from ._checks import finite_float
 from ..errors import InputError
-from ._common import add_model_arguments, load_model, print_json, progress
+from ._common import add_model_arguments, load_model, print_json, warn
 
 HELP = "replay a record's inputs through the fixed-step simulator; write a record CSV"
 
@@ -29,7 +30,7 @@ HELP = "replay a record's inputs through the fixed-step simulator; write a recor
 def add_arguments(p):
     p.add_argument("record", metavar="RECORD", help="flight-test record (CSV)")
     add_model_arguments(p)
-    p.add_argument("--dt", type=float, metavar="S",
+    p.add_argument("--dt", type=finite_float, metavar="S",
                    help="simulator step [s] (default the record's; inputs are held)")
     p.add_argument("--method", choices=("zoh", "rk4"), default="zoh",
                    help="discretisation: exact zero-order hold (default) or RK4")
@@ -47,7 +48,7 @@ def run(args) -> int:
         raise InputError(f"--dt {args.dt}: the step must be a finite number > 0 s")
     rec = read_record(args.record)
     for w in rec.warnings():
-        progress(f"warning: {w}")
+        warn(w)
     model = load_model(args, rec.constants)
     inputs = [q for q in (args.record, args.params) if q]
     out = check_output(args.out, args.force, inputs)

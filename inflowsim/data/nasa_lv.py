@@ -1,6 +1,7 @@
 """NASA laser-velocimeter inflow surveys (Elliott et al. 1988, Hoad et al. 1989).
 
-Reads the tables of ``shared/data/nasa-lv-inflow/`` as they are (never edits them):
+Reads the tables of ``inflowsim/data/nasa_lv_inflow/`` (shipped with the package: NASA
+public data, source and licence named there) as they are (never edits them):
 time-averaged induced inflow over the tip speed at stations ``(psi, r/R)`` above a
 four-bladed model rotor at ``mu`` 0.15, 0.23 and 0.35, and the run conditions of the
 folder's ``README.md``.  Every defect the reader finds is returned as a
@@ -483,15 +484,26 @@ def _missing_points(name, psi_deg, r, dup):
                    "coverage")]
 
 
-def read_surveys(folder) -> tuple[Survey, ...]:
+#: The surveys as the package ships them (NASA public data; the tables' source and
+#: licence in the folder's ``README.md`` and ``LICENSE-BladeAD.txt``).
+DATA_DIR = Path(__file__).resolve().parent / "nasa_lv_inflow"
+
+
+def read_surveys(folder=None) -> tuple[Survey, ...]:
     """Every ``mu_*.csv`` of ``folder`` with its run conditions, by ascending ``mu``.
+
+    Parameters
+    ----------
+    folder : path-like, optional
+        The surveys' folder (its ``README.md`` gives the run conditions); default
+        :data:`DATA_DIR`, the copy the package ships.
 
     One-line :class:`InputError` if the folder or its README is missing.
     """
-    folder = Path(folder)
+    folder = Path(DATA_DIR if folder is None else folder)
     if not folder.is_dir():
-        raise InputError(f"{folder}: no such data folder (the NASA inflow surveys, "
-                         "shared/data/nasa-lv-inflow)")
+        raise InputError(f"{folder}: no such data folder (the NASA inflow surveys; the "
+                         f"package ships them in {DATA_DIR})")
     table = read_conditions(folder)
     sums = _readme_checksums(folder)
     files = sorted(p for p in folder.iterdir() if _FILE.match(p.name))
@@ -506,5 +518,5 @@ def read_surveys(folder) -> tuple[Survey, ...]:
     return tuple(sorted(out, key=lambda s: s.conditions.mu_nominal))
 
 
-__all__ = ["Defect", "RunConditions", "Survey", "read_conditions", "read_survey",
-           "read_surveys", "sha256_of"]
+__all__ = ["DATA_DIR", "Defect", "RunConditions", "Survey", "read_conditions",
+           "read_survey", "read_surveys", "sha256_of"]

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
-from ..errors import RecordError
+from ..errors import InputError, RecordError
 from .. import channels as chan
 from ..channels import CONTROLS, FLAP, INPUTS
 from ..fileio import safe_write_text
@@ -57,7 +57,22 @@ def band_needs(band_hz) -> float:
 
 @dataclass(frozen=True, eq=False)
 class Record(ReadOnlyArrays):
-    """One run: time ``t`` [s], channels by name (SI, totals), metadata."""
+    """One run: time ``t`` [s], channels by name (SI, totals), metadata.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Sample times [s].
+    channels : mapping of str to ndarray
+        Channels by canonical name, totals in SI (angles [rad], rates [rad/s],
+        accelerations [rad/s^2], velocities and inflow over ``Omega R`` [-]).
+    meta : mapping of str to str
+        The ``# key: value`` metadata (``omega`` [rad/s], ``mu`` [-], ``hold`` ...).
+    source : str
+        Where it was read from.
+    order : tuple of str
+        The columns' order as read.
+    """
 
     t: np.ndarray
     channels: Mapping[str, np.ndarray]
@@ -287,6 +302,9 @@ TRIM_MARGIN = 0.2
 MIN_TRIM_SAMPLES = 5
 #: A quiet lead-in shorter than this [s] gives a trim, with a warning.
 SHORT_TRIM = 0.5
+#: Consecutive samples a control's departure must hold to be a movement
+#: (:func:`first_movement`): a single noise sample is not one.
+PERSIST = 3
 
 
 @dataclass(frozen=True)
@@ -297,6 +315,23 @@ class Trim:
     ``t_start``, ``t_end`` [s] the window; ``n_samples`` in it; ``t_movement`` the
     first control movement found [s] (``None`` for a given window); ``warning``
     one line when the trim deserves the user's attention, else ``None``.
+
+    Attributes
+    ----------
+    values : mapping of str to float
+        Trim value per channel (SI, as the channels).
+    method : {"quiet", "window"}
+        How the window was found.
+    t_end : float
+        The window's end [s].
+    n_samples : int
+        Samples in the window [-].
+    t_start : float
+        The window's start [s].
+    t_movement : float or None
+        The first control movement [s] (``None`` for a given window).
+    warning : str or None
+        A short lead-in's warning.
     """
 
     values: Mapping[str, float]
@@ -340,9 +375,13 @@ def first_movement(rec: Record) -> int | None:
     """Index of the first sample where a pilot control has left its initial value.
 
     Per control: baseline the median of the first 0.25 s, noise the robust spread
-    of the first differences over the first second; moved where the departure
-    exceeds ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth
-    input, at one ten-thousandth of its size).  ``None`` where no control moves.
+    of the first differences over the first second (their median absolute
+    deviation, ``1.4826 MAD / sqrt 2``); moved where the departure exceeds
+    ``max(6 noise, 1e-4 x the largest departure)`` (the onset of a smooth input,
+    at one ten-thousandth of its size) on :data:`PERSIST` consecutive samples: one
+    noise sample beyond the threshold (a 4-sigma sample at ``t = 0`` with the
+    noise estimated a third low) is not a movement.  ``None`` where no control
+    moves.
     """
     t = rec.t
     first = None
@@ -359,10 +398,30 @@ def first_movement(rec: Record) -> int | None:
         big = float(dep.max())
         if big == 0.0:
             continue
-        moved = np.flatnonzero(dep > max(6.0 * noise, 1e-4 * big))
+        out = dep > max(6.0 * noise, 1e-4 * big)
+        if out.size >= PERSIST:
+            held = np.convolve(out, np.ones(PERSIST, dtype=int), "valid") == PERSIST
+        else:
+            held = out & out.all()
+        moved = np.flatnonzero(held)
+        if not moved.size and _moves_from_start(v, noise, big):
+            moved = np.array([0])
         if moved.size and (first is None or moved[0] < first):
             first = int(moved[0])
     return first
+
+
+def _moves_from_start(v, noise: float, big: float) -> bool:
+    """A control already moving in its first second: the spread of its first
+    differences there (``noise``, which would be the sensor's noise in a quiet
+    lead-in) is three times that of white noise measured by the second differences
+    over the whole record, and its excursion ``big`` is beyond six of the latter
+    (issue #37: such a control was called constant)."""
+    if v.size < 8:
+        return False
+    d2 = np.diff(v, 2)
+    white = 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0)
+    return noise > 3.0 * white and big > 6.0 * white
 
 
 def require_control_movement(rec: Record) -> Record:
@@ -387,6 +446,13 @@ def find_trim(rec: Record, window=None) -> Trim:
     controls never move is all trim.  Fewer than ``MIN_TRIM_SAMPLES`` quiet samples
     is an error naming the remedy; a lead-in shorter than ``SHORT_TRIM`` s is
     used with a warning.
+
+    Parameters
+    ----------
+    rec : Record
+        The record (totals).
+    window : (float, float), optional
+        The trim window ``(t0, t1)`` [s].
     """
     t = rec.t
     window = window if window is not None else _trim_window_meta(rec)
@@ -449,7 +515,18 @@ def perturbations(rec: Record, trim: Trim, names) -> np.ndarray:
 
 
 def model_inputs(rec: Record, model, trim: Trim) -> np.ndarray:
-    """SI perturbation inputs in ``model.inputs`` order (record names)."""
+    """SI perturbation inputs in ``model.inputs`` order (record names).
+
+    Parameters
+    ----------
+    rec : Record
+        The record (totals, SI: angles [rad], rates [rad/s], accelerations [rad/s^2],
+        velocities over ``Omega R`` [-]).
+    model : Model
+        The model whose ``inputs`` order the columns.
+    trim : Trim
+        The trim subtracted (:func:`find_trim`).
+    """
     return perturbations(rec, trim, model.inputs)
 
 
@@ -476,13 +553,25 @@ def header_meta(path) -> dict:
 def read_record(path) -> Record:
     """Read a CSV record; raise :class:`RecordError` (one line) on any format error.
 
-    The data rows are parsed by ``numpy.loadtxt`` as the file streams in (a 2-hour
-    record at 64 Hz: 350 MB and 2.5 s for the text, its lines and their floats
-    held at once; now about twice the array); any row it refuses sends the file
-    through :func:`parse_record`, which names the first bad line.
+    The path is checked first (:func:`inflowsim.fileio.check_input_file`: a regular
+    file within the size limit; a FIFO or device is refused before anything opens
+    it).  The data rows are parsed by ``numpy.loadtxt`` as the file streams in (a
+    2-hour record at 64 Hz: 350 MB and 2.5 s for the text, its lines and their
+    floats held at once; now about twice the array); any row it refuses sends the
+    file through :func:`parse_record`, which names the first bad line.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV record (``docs/record-format.md``).
     """
+    from ..fileio import check_input_file, read_input_bytes
     p = Path(path)
     src = str(p)
+    try:
+        check_input_file(p, "record", "record")
+    except InputError as exc:
+        raise RecordError(str(exc)) from None
     try:
         with open(p, encoding="utf-8-sig", newline=None) as fh:
             rec = _read_streamed(fh, src)
@@ -490,20 +579,12 @@ def read_record(path) -> Record:
             return rec
     except (UnicodeDecodeError, ValueError):
         pass                                  # parse_record says what is wrong
-    except FileNotFoundError:
-        raise RecordError(f"{src}: no such file") from None
-    except IsADirectoryError:
-        raise RecordError(f"{src}: is a directory, not a record") from None
     except OSError as exc:
         raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
     try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise RecordError(f"{src}: no such file") from None
-    except IsADirectoryError:
-        raise RecordError(f"{src}: is a directory, not a record") from None
-    except OSError as exc:
-        raise RecordError(f"{src}: cannot read ({exc.strerror})") from None
+        raw = read_input_bytes(p, "record", "record")
+    except InputError as exc:
+        raise RecordError(str(exc)) from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -525,7 +606,10 @@ def _read_streamed(fh, source: str) -> Record | None:
         if not (ln.startswith("#") or not ln.strip()):
             break
     meta, header, _ = _parse_head(head, source)
-    data = np.loadtxt(fh, delimiter=",", comments=None, dtype=float, ndmin=2)
+    import warnings
+    with warnings.catch_warnings():      # no rows: parse_record says what is wrong
+        warnings.simplefilter("ignore", UserWarning)
+        data = np.loadtxt(fh, delimiter=",", comments=None, dtype=float, ndmin=2)
     if data.shape[0] == 0 or data.shape[1] != len(header):
         return None
     return _finish(data, header, meta, source)
@@ -636,5 +720,24 @@ def format_record(rec: Record) -> str:
 
 
 def write_record(rec: Record, path, overwrite: bool = False, protect=()) -> Path:
-    """Write ``rec`` (12 significant digits) atomically; never over ``protect``."""
+    """Write ``rec`` (12 significant digits) atomically; never over ``protect``.
+
+    Parameters
+    ----------
+    rec : Record
+        The record.
+    path : path-like
+        The CSV file to write.
+    overwrite : bool
+        Replace an existing regular file (default: refuse).
+    protect : iterable of path-like
+        Files never written over (a command's inputs).
+    """
     return safe_write_text(path, format_record(rec), overwrite, protect)
+
+
+__all__ = ["REQUIRED_META", "INPUT_COLUMNS", "FLAP_COLUMNS", "CONTROL_COLUMNS", "JITTER",
+           "DT_PLAUSIBLE", "BAND_ROUNDING", "MAX_SAMPLES", "band_needs", "Record",
+           "TRIM_MARGIN", "MIN_TRIM_SAMPLES", "SHORT_TRIM", "Trim", "first_movement",
+           "require_control_movement", "find_trim", "perturbations", "model_inputs",
+           "header_meta", "read_record", "parse_record", "format_record", "write_record"]

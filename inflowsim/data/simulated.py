@@ -78,3 +78,6 @@ def simulate_record(rec: Record, model, dt: float | None = None, method: str = "
     meta["synthetic"] = "true"
     meta["hold"] = "zoh"          # the fixed-step simulator holds its inputs
     return Record.from_arrays(t, cols, meta)
+
+
+__all__ = ["KEPT_META", "held_inputs", "simulate_record"]

@@ -26,6 +26,7 @@ from ..errors import InputError
 from ..model.effects import CATALOGUE
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
+from ..progress import bar
 from .rule import DEFAULT_RULE, Decision, Rule, Scored, explained_pairs
 
 
@@ -52,7 +53,8 @@ def applicable(structure: Structure, pool=None) -> list[str]:
     out = []
     for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
         if name not in CATALOGUE:
-            raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
         if name in structure.effects:
             continue
         if excluded(name, structure.effects):
@@ -79,7 +81,8 @@ def atoms(base_fit, pool=None) -> list[Atom]:
     out = []
     for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
         if name not in CATALOGUE:
-            raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
         eff = CATALOGUE[name]
         parts = [tuple(p) for p in eff.parts] or [tuple(eff.parameters)]
         if name in s.effects:
@@ -251,21 +254,25 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
     ``judge(fit)`` (the residual's excess, :func:`inflowsim.diagnose.search.diagnose`)
     where it is admissible."""
     found = []
-    for atom in atoms(base_fit, pool):
-        if progress:
-            progress(f"trying {base_fit.structure.name}+{atom.label}")
-        found.append((atom, _single(records, base_fit, atom, band_hz, fit_fn, rule)))
+    alone = atoms(base_fit, pool)
+    name = base_fit.structure.name
+    with bar(progress, len(alone), f"{name}: trying each effect", "fit") as b:
+        for atom in alone:
+            b.set_postfix_str(atom.label)
+            found.append((atom, _single(records, base_fit, atom, band_hz, fit_fn, rule)))
+            b.update()
     lim = math.log10(rule.alpha)
     top = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
                  key=lambda t: -t[1].schwarz_gain)[:rule.width]
     rows = [r for _, r in found]
-    for i, (a, ra) in enumerate(top):
-        for b, rb in top[i + 1:]:
-            if progress:
-                progress(f"pairing {a.label} with {b.label}")
-            r = _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule)
+    pairs = [(a, ra, b, rb) for i, (a, ra) in enumerate(top) for b, rb in top[i + 1:]]
+    with bar(progress, len(pairs), f"{name}: trying pairs", "fit") as b:
+        for a, ra, c, rc in pairs:
+            b.set_postfix_str(f"{a.label} with {c.label}")
+            r = _pair(records, base_fit, a, c, ra, rc, band_hz, fit_fn, rule)
             if r is not None:
                 rows.append(r)
+            b.update()
     if judge is None:
         return tuple(rows)
     base = judge(None)
@@ -485,3 +492,8 @@ def least_significant(records, fit, labels, band_hz, hold=None,
         if lp >= math.log10(rule.alpha) and (worst is None or lp > worst[2]):
             worst = (label, f, lp)
     return worst
+
+
+__all__ = ["Atom", "applicable", "excluded", "atoms", "nested_start", "lr_test",
+           "schwarz_gain", "lattice", "Candidate", "describe", "candidates_of",
+           "offered_effects", "atom_of", "least_significant"]

@@ -66,3 +66,7 @@ def expected_for_noise(nf: int, r: int, fitted: int = 0) -> float:
     in the basis's span and each takes half a complex dimension's power from the
     noise there: the bound where all of them lie in it."""
     return (3.0 * r - 0.5 * fitted) * (nf - r) / (nf - r - 1)
+
+
+__all__ = ["DEGREES", "project", "smooth_input_basis", "noise_levels", "input_excess",
+           "expected_for_noise"]

@@ -100,3 +100,6 @@ def in_band_noise(record, inputs, band_hz, hold, f_band) -> np.ndarray | None:
         trend = np.exp(A @ coef)
         out.append(np.exp(xb @ coef) * np.mean(est[ok, c] / trend))
     return np.array(out)
+
+
+__all__ = ["LPM_SPAN", "local_polynomial_noise", "in_band_noise"]

@@ -54,3 +54,6 @@ def validation_responses(results, labels=None, inputs=None, band_hz=None):
                                 overlap=meas.overlap, sources=(r0.source,))
         models[lab] = fr.h
     return meas, models
+
+
+__all__ = ["validation_responses"]

@@ -386,3 +386,7 @@ def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
         return Decision(rows, None, False, rule)
     failed = set(rows[0].failed(rule))
     return Decision(rows, 0, not failed & {"parsimonious", "material", "whiter"}, rule)
+
+
+__all__ = ["STATEMENT", "WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "rule_with",
+           "Scored", "Decision", "explained_pairs", "explain", "rule_from_json", "decide"]

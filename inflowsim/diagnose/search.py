@@ -25,6 +25,7 @@ from .failures import (COLOURED, Failure, parameter_failures, residual_analysis,
 from ..identify import identify
 from ..identify.identifiability import Identifiability, identifiability
 from .verdict import Verdict, verdict
+from .conditional import marked
 from ..identify.transform import DEFAULT_BAND
 from ..model.build import build_model
 from ..model.structure import Structure
@@ -40,6 +41,31 @@ class Diagnosis:
     accepted (:mod:`inflowsim.diagnose.rule`); ``candidates`` its atoms, the added
     one first; ``missing_effect`` the effect of the atom the rule adds first, or
     ``None``; ``missing_effects`` those of the whole accepted structure.
+
+    Attributes
+    ----------
+    structure : Structure
+        The structure diagnosed.
+    fit : FitResult
+        Its fit.
+    failures : tuple of Failure
+        Where it fails.
+    candidates : tuple of Candidate
+        The atoms tried, the added one first.
+    missing_effect : str or None
+        The effect the rule adds first.
+    band_hz : tuple of float
+        The analysis band [Hz].
+    analyses : tuple of ResidualAnalysis
+        The fit's residual analyses, per record.
+    verdict : Verdict or None
+        The verdict (``docs/interface.md``: one vocabulary).
+    identifiability : Identifiability or None
+        What the records determine of the structure.
+    missing_terms : object
+        The score map of single-entry additions, or ``None``.
+    decision : Decision or None
+        The rule's table and what it accepted.
     """
 
     structure: Structure
@@ -89,6 +115,8 @@ class Diagnosis:
                                     if self.identifiability else None),
                 "missing_terms": (self.missing_terms.to_json()
                                   if self.missing_terms is not None else None),
+                "missing_terms_freed": (self.missing_terms.freed_json()
+                                        if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -96,7 +124,10 @@ def parameter_entries(fit, ident=None) -> dict:
     """``{name: {"estimate", "sigma", "determined", "held", ...}}`` of a fit: with
     ``ident`` (:func:`~inflowsim.identify.identifiability.identifiability`) every
     entry also carries its insensitivity, CIFER percentages, the bound with the
-    held values' uncertainty and what it is conditional on."""
+    held values' uncertainty and what it is conditional on.  An estimated entry
+    carries ``sigma_robust`` and whether it is conditional on an incomplete
+    structure (``conditional``, ``conditional_why``:
+    :mod:`inflowsim.diagnose.conditional`)."""
     fixed = set(fit.fixed or ())
     out = {}
     for n, v in fit.parameters.items():
@@ -105,6 +136,10 @@ def parameter_entries(fit, ident=None) -> dict:
              "held": n in fixed or (n not in fit.sigma)}
         if e["held"]:
             e["held_at"] = float(v)
+        else:
+            e["sigma_robust"] = getattr(fit, "sigma_robust", {}).get(n)
+            if hasattr(fit, "conditional_entry"):
+                e.update(fit.conditional_entry())
         out[n] = e
     if ident is not None:
         for p in ident.parameters:
@@ -114,13 +149,48 @@ def parameter_entries(fit, ident=None) -> dict:
     return out
 
 
+def verdict_reason(verd) -> str | None:
+    """The reason a verdict gives every estimate of the structure judged to be
+    conditional on an incomplete structure: excess left (``partly-explained``,
+    ``unexplained``), or an effect named that is a stand-in (it fits the band
+    without being the physics, so the estimates beside it absorb what it is not);
+    ``None`` otherwise."""
+    if verd is None:
+        return None
+    if verd.status in ("partly-explained", "unexplained"):
+        where = ", ".join(f"{c} peaks at {r:.3g} times the floor near {f:.3g} Hz"
+                          for c, f, r in verd.where)
+        return (f"conditional on an incomplete structure: the verdict is {verd.status} "
+                f"({where}); the bounds do not include the bias of what the structure "
+                "lacks")
+    standing = [x.effect for x in getattr(verd, "stand_ins", ())]
+    if standing:
+        return (f"conditional on an incomplete structure: {', '.join(standing)} "
+                f"{'is a stand-in' if len(standing) == 1 else 'are stand-ins'} (see the "
+                "verdict); the bounds do not include the bias of what the structure "
+                "lacks")
+    return None
+
+
 def _as_list(records):
     return list(records) if isinstance(records, (list, tuple)) else [records]
 
 
 def analyses_of(records, fit, band_hz, check_colour=True):
     """The fit's residual analysis on each record (its own residual and initial
-    state, each record's own flight condition and trim)."""
+    state, each record's own flight condition and trim).
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    fit : FitResult
+        The fitted structure.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    check_colour : bool
+        Also test the residual's whiteness (coloured noise) [-].
+    """
     out = []
     for rec, data in zip(_as_list(records), fit.data):
         m = build_model(fit.structure, fit.parameters, rec.constants)
@@ -130,7 +200,19 @@ def analyses_of(records, fit, band_hz, check_colour=True):
 
 def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
     """Failures of a fitted structure on each record (spectra, residual tests,
-    estimates)."""
+    estimates).
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    fit : FitResult
+        The fitted structure.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    analyses : list of ResidualAnalysis, optional
+        The fit's residual analyses (default: computed, :func:`analyses_of`).
+    """
     out: list[Failure] = []
     for ra in analyses or analyses_of(records, fit, band_hz):
         out += spectrum_failures(ra) + residual_tests(ra)
@@ -219,6 +301,10 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     rule : Rule, optional
         The acceptance rule's settings (:class:`~inflowsim.diagnose.rule.Rule`;
         default :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
+    progress : callable, optional
+        Progress (:mod:`inflowsim.progress`): the base fit's, a bar per lattice.
+    base_fit : FitResult, optional
+        The structure's fit when already made (the ladder's next rung).
     assess : bool
         Say what the records determine of the base structure
         (``Diagnosis.identifiability``, with the standard manoeuvres that would
@@ -245,12 +331,15 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     cands = candidates_of(dec)
     if dec.accepted:
         verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
-                                             check_colour=False), dec.effects, alpha)
+                                             check_colour=False), dec.effects, alpha,
+                       fit=dec.chosen.fit)
     else:
         fails += unexplained(analyses, alpha)
         verd = verdict(analyses, analyses, (), alpha)
     best = dec.effects[0] if dec.accepted else None
     ident = identifiability(recs, fit, band_hz, hold, manoeuvres) if assess else None
+    # the base fit's estimates are conditional where its residual keeps excess
+    fit = marked(fit, analyses, alpha, verdict_reason(verd))
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
                      missing_terms(recs, fit, band_hz, hold) if assess else None, dec)
@@ -258,7 +347,23 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
 
 @dataclass(frozen=True)
 class Rung:
-    """One structure tried on the ladder, with the diagnosis made on it."""
+    """One structure tried on the ladder, with the diagnosis made on it.
+
+    Attributes
+    ----------
+    structure : Structure
+        The structure of the rung.
+    fit : FitResult
+        Its fit.
+    added : str or None
+        The effects added on this rung, ``"a+b"`` (``None`` on the first).
+    diagnosis : Diagnosis or None
+        The diagnosis made on it.
+    analyses : tuple of ResidualAnalysis
+        The fit's residual analyses per record.
+    atoms : tuple of str
+        The rule's atoms added (an effect, or one part of one: ``glauert (k0p, kc, ks)``).
+    """
 
     structure: Structure
     fit: object = field(repr=False)
@@ -273,6 +378,22 @@ class Rung:
 
 @dataclass(frozen=True)
 class Ladder:
+    """What :func:`ladder` (or :func:`explicit_ladder`) climbed.
+
+    Attributes
+    ----------
+    rungs : tuple of Rung
+        The structures tried, in order.
+    band_hz : tuple of float
+        The analysis band [Hz].
+    verdict : Verdict or None
+        The verdict on the last rung.
+    identifiability : Identifiability or None
+        What the records determine of the last rung.
+    removed : tuple of (str, float)
+        Atoms removed as explained by later ones, with ``log10 p`` [-].
+    """
+
     rungs: tuple
     band_hz: tuple
     #: how much of the first rung's excess the effects added leave unexplained
@@ -299,6 +420,10 @@ class Ladder:
                                   if self.final.diagnosis is not None
                                   and self.final.diagnosis.missing_terms is not None
                                   else None),
+                "missing_terms_freed": (self.final.diagnosis.missing_terms.freed_json()
+                                        if self.final.diagnosis is not None
+                                        and self.final.diagnosis.missing_terms is not None
+                                        else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
@@ -320,6 +445,30 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
 
     The next rung's fit is the accepted structure's own fit (already made on the
     lattice), so each rung costs one lattice.
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structure : str or Structure
+        The starting structure (a preset, then ``+effect`` terms).
+    band_hz : (float, float)
+        Analysis band [Hz], snapped to the records' grids.
+    max_steps : int
+        Rungs added at most (and atoms removed at most) [-].
+    pool : list of str, optional
+        Candidate effects (default the catalogue's offered ones).
+    alpha : float, optional
+        Significance level per test [-] (default the rule's, 1e-3).
+    progress : callable, optional
+        Progress (:mod:`inflowsim.progress`): a bar per lattice, a line per rung.
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
+    manoeuvres : callable, optional
+        The manoeuvres whose information the last rung's assessment reports
+        (:func:`inflowsim.flighttest.advice.standard_manoeuvres`).
+    rule : Rule, optional
+        The acceptance rule's settings (default :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
     """
     recs = _as_list(records)
     rule = rule_with(rule, alpha)
@@ -363,19 +512,38 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     gone = {atom_of(a).effect for a, _ in removed if atom_of(a).whole}
     added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")
                                 if e in d.structure.effects and e not in gone))
-    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha)
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha,
+                   fit=rungs[-1].fit)
     # the last rung is the answer: it says what the records determine of it and,
     # where excess is left, where a term is missing
     ident = identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres)
     last = dataclasses.replace(d, identifiability=ident,
                                missing_terms=missing_terms(recs, d.fit, band_hz, hold))
-    rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=last)
+    fin = marked(rungs[-1].fit, rungs[-1].analyses, alpha, verdict_reason(verd))
+    rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=dataclasses.replace(last, fit=fin),
+                                    fit=fin)
     return Ladder(tuple(rungs), d.band_hz, verd, ident, tuple(removed))
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
                     hold=None, manoeuvres=None) -> Ladder:
-    """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert)."""
+    """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert).
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structures : sequence of str
+        The structures to fit, in order (``basic empirical glauert``).
+    band_hz : (float, float)
+        Analysis band [Hz].
+    progress : callable, optional
+        Progress (:mod:`inflowsim.progress`).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
+    manoeuvres : callable, optional
+        The manoeuvres whose information the last rung's assessment reports.
+    """
     recs = _as_list(records)
     rungs, prev = [], None
     for s in structures:
@@ -383,10 +551,17 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
         added = None if prev is None else "+".join(
             e for e in st.effects if e not in prev.effects) or None
-        rungs.append(Rung(st, fit, added, None,
-                          tuple(analyses_of(recs, fit, band_hz))))
+        analyses = tuple(analyses_of(recs, fit, band_hz))
+        rungs.append(Rung(st, marked(fit, analyses), added, None, analyses))
         prev = st
     added = tuple(r.added for r in rungs[1:] if r.added)
-    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz),
-                  verdict(rungs[0].analyses, rungs[-1].analyses, added),
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, fit=rungs[-1].fit)
+    last = rungs[-1]
+    rungs[-1] = dataclasses.replace(last, fit=marked(last.fit, last.analyses,
+                                                     reason=verdict_reason(verd)))
+    return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz), verd,
                   identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))
+
+
+__all__ = ["Diagnosis", "parameter_entries", "analyses_of", "failures_of",
+           "FLOOR_MEASURES", "diagnose", "Rung", "Ladder", "ladder", "explicit_ladder"]

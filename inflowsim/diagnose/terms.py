@@ -34,6 +34,27 @@ assuming independence; an entry whose sensitivity lies in the span of the base's
 own parameters (``|P j|^2`` below ``1e-8 |j|^2``) cannot be told from them and is
 reported untestable (not counted).
 
+**Robust to absorbing parameters** (issue #36).  A base parameter shared by
+several equations (the flap frequency ``lambda_beta2`` and ``n_beta`` of every
+flap row, the inflow's ``tau``) soaks up part of a term that acts in some rows
+only, and the score test at that biased fit blames the rows it left wrong (a
+cyclic term's score lands in the coning row).  So, by default:
+
+1. the shared parameters are freed per row group (:data:`GROUPS`: the coning row
+   and the cyclic flap rows, the uniform and the cyclic inflow rows; each a free
+   offset of the parameter in the first-harmonic rows, :func:`shared_parameters`),
+   the base refitted with them, and the score test made at that fit with the
+   offsets among the base's parameters (``MissingTerms.freed``: the values per
+   group and the likelihood ratio of freeing them);
+2. the :data:`CONFIRM` entries of largest score are refitted, each with its
+   coefficient and every other parameter free, and ranked first by the
+   likelihood-ratio statistic of that refit (``Term.refit_statistic``): the entry
+   whose refit lowers the cost most wins.
+
+A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
+plus a coning term: no single entry can place it, and step 1 absorbs it (the
+freed values report it).
+
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
 and end effects included) with the one entry perturbed in the structured equations
@@ -48,7 +69,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
-from ..identify.estimator import _records, _spectra, _state
+from ..identify.estimator import _fit, _records, _spectra, _state
 from ..identify.freqmodel import _continuous_input, flap_response
 from ..identify.problem import Problem, _stack
 from ..errors import InputError
@@ -68,6 +89,13 @@ BLOCKS = ("flap", "inflow", "measurement")
 CONFOUNDED = 1e-8
 #: Central-difference step of an entry [descriptor units].
 STEP = 1e-6
+#: The entries of largest score statistic refitted to confirm the map's order.
+CONFIRM = 6
+#: Levenberg-Marquardt iterations of a confirming refit.
+REFIT_ITERATIONS = 30
+#: Typical size of a shared parameter's offset in one row group, relative to the
+#: parameter (finite-difference steps).
+TYPICAL_SHARED = 0.1
 
 _KIND_OF = {**{n: "flap" for n in FLAP}, **{n: "rate" for n in FLAP_RATE},
             **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS}}
@@ -76,42 +104,42 @@ _HUB = {"muz", "q", "p", "qdot", "pdot"}
 
 
 def physics_group(block: str, equation: str, variable: str) -> str:
-    """The physics a term in ``equation`` (of ``block``) proportional to
-    ``variable`` stands for: what would give one."""
+    """What a term in ``equation`` (of ``block``) proportional to ``variable`` *is*:
+    the kind of entry (a stiffness, a damping, a forcing, a sensor's gain ...),
+    never a guess at its cause where several causes give the same entry (a
+    cross flap-rate term comes from servo lags, blade lag or gyroscopic coupling
+    alike; issue #36)."""
     kind = _KIND_OF[variable]
     own = equation == variable or (kind == "rate" and variable == f"{equation}_prime")
     if block == "flap":
         if kind == "flap":
-            return "flap stiffness (hinge spring)" if own else \
-                "flap-to-pitch coupling (delta-3)"
+            return "flap stiffness" if own else "cross-flap stiffness"
         if kind == "rate":
-            return "flap damping" if own else "flap-rate coupling (lag or gyroscopic)"
+            return "flap damping" if own else "cross flap-rate term"
         if kind == "inflow":
-            return "inflow feedback on the flap"
+            return "inflow forcing of the flap"
         if variable in _PITCH:
-            return "control coupling (pitch-link or rigging)"
+            return "pitch forcing of the flap"
         if variable in _HUB:
-            return "hub-motion coupling of the flap"
+            return "hub-motion forcing of the flap"
         return "in-plane velocity forcing of the flap"
     if block == "inflow":
-        if kind in ("flap", "rate"):
-            return "flap-to-inflow loading (wake)"
+        if kind == "flap":
+            return "flap forcing of the inflow"
+        if kind == "rate":
+            return "flap-rate forcing of the inflow"
         if kind == "inflow":
-            return "inflow gain" if own else "inflow coupling (wake skew)"
+            return "inflow gain" if own else "cross-inflow coupling"
         if variable in _PITCH:
-            return "pitch-to-inflow loading"
+            return "pitch forcing of the inflow"
         if variable in _HUB:
-            return "hub-motion inflow coupling (Glauert F)"
-        return "in-plane velocity inflow coupling (Glauert G)"
+            return "hub-motion forcing of the inflow"
+        return "in-plane velocity forcing of the inflow"
     if kind == "flap":
-        if own:
-            return "sensor gain"
-        if {equation, variable} == {"beta1c", "beta1s"}:
-            return "sensor phasing (azimuth)"
-        return "sensor cross-talk"
+        return "sensor gain" if own else "sensor cross-talk"
     if kind == "inflow":
-        return "unmeasurable inflow term (no sensor sees inflow: the model lacks one)"
-    return "sensor feedthrough of an input"
+        return "inflow in the recorded flap (no sensor sees inflow: the model lacks a term)"
+    return "input feedthrough to the recorded flap"
 
 
 @dataclass(frozen=True)
@@ -123,7 +151,11 @@ class Term:
     one-step estimate ``coefficient`` (descriptor units: azimuth time, inputs in
     azimuth units; on the right-hand side of the equation); ``testable`` False
     where the entry cannot be told from the base's own parameters; ``gradient``
-    ``dJ/dk`` of the cost (12) at ``k = 0`` (``S`` and the base's parameters held).
+    ``dJ/dk`` of the cost (12) at ``k = 0`` (``S`` and the base's parameters held),
+    at the fit the map is made at; ``refit_statistic`` ``2 (J - J_refit)`` of the
+    confirming refit with the entry free (``None``: not refitted) and
+    ``refit_coefficient`` its estimate; ``group`` what kind of entry it is
+    (:func:`physics_group`).
     """
 
     block: str
@@ -137,6 +169,8 @@ class Term:
     group: str
     testable: bool = True
     gradient: float = 0.0
+    refit_statistic: float | None = None
+    refit_coefficient: float | None = None
 
     def significant(self, alpha: float = ALPHA) -> bool:
         return self.testable and self.p_adjusted <= alpha
@@ -153,6 +187,10 @@ class Term:
                 "p_adjusted": float(self.p_adjusted), "sign": int(self.sign),
                 "coefficient": float(self.coefficient), "group": self.group,
                 "testable": bool(self.testable), "gradient": float(self.gradient),
+                "refit_statistic": (None if self.refit_statistic is None
+                                    else float(self.refit_statistic)),
+                "refit_coefficient": (None if self.refit_coefficient is None
+                                      else float(self.refit_coefficient)),
                 "significant": bool(self.significant(alpha))}
 
 
@@ -173,6 +211,11 @@ class MissingTerms:
     equations: tuple          # ((block, equation), ...)
     variables: tuple
     correction: str = "holm"
+    #: how many entries lead the ranking by a confirming refit
+    confirmed: int = 0
+    #: the shared parameters freed per row group, the map made at that fit:
+    #: ``((parameter, where, value elsewhere, value there, statistic, p), ...)``
+    freed: tuple = ()
 
     @property
     def rows(self) -> tuple:
@@ -184,6 +227,11 @@ class MissingTerms:
 
     def to_json(self) -> list:
         return list(self.rows)
+
+    def freed_json(self) -> list:
+        """The freed shared parameters as JSON rows (``"missing_terms_freed"``)."""
+        return [{"parameter": n, "rows": w, "value_elsewhere": a, "value_in_rows": b,
+                 "statistic": st, "p_value": pv} for n, w, a, b, st, pv in self.freed]
 
     def grid(self) -> np.ndarray:
         """``-log10 p`` (unadjusted) per ``(equation, variable)``; NaN where the
@@ -197,19 +245,33 @@ class MissingTerms:
                     max(t.p_value, 1e-300))
         return out
 
+    def describe_freed(self) -> list[str]:
+        """The shared parameters freed per row group, when freeing them is
+        significant (level ``alpha``): one sentence, else none."""
+        if not self.freed or self.freed[0][5] > self.alpha:
+            return []
+        each = "; ".join(f"{n} {b:.4g} in {w} against {a:.4g} elsewhere"
+                         for n, w, a, b, _, _ in self.freed)
+        return [f"the shared parameters want other values per row group (likelihood "
+                f"ratio {self.freed[0][4]:.1f}, p = {self.freed[0][5]:.2g}): {each}; "
+                "the map is made with them so freed"]
+
     def describe(self, limit: int = 3) -> list[str]:
         """Sentences for the text output: the significant terms (at most
         ``limit``), or that none is."""
         sig = self.significant
+        out = self.describe_freed()
         if not sig:
-            return [f"no single added term is significant (score test of {self.n_tested} "
-                    f"entries, Holm-corrected at {self.alpha:g})"]
-        out = []
+            return out + [f"no single added term is significant (score test of "
+                          f"{self.n_tested} entries, Holm-corrected at {self.alpha:g})"]
         for t in sig[:limit]:
+            refit = ("" if t.refit_statistic is None else
+                     f", refit likelihood ratio {t.refit_statistic:.1f}")
             out.append(f"the data want a term in {t.where()} proportional to {t.variable} "
                        f"(sign {'+' if t.sign > 0 else '-'}, score {t.statistic:.1f}, "
-                       f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} entries): "
-                       f"{'an' if t.group[0] in 'aeiou' else 'a'} {t.group} would give one")
+                       f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} "
+                       f"entries{refit}): {'an' if t.group[0] in 'aeiou' else 'a'} "
+                       f"{t.group}")
         if len(sig) > limit:
             out.append(f"... and {len(sig) - limit} more significant entries")
         return out
@@ -260,8 +322,190 @@ def _feedthrough(model, sp, i, j):
     return np.exp(-2j * np.pi * sp.f_hz * d) * sp.U[:, j]
 
 
+#: The row groups a shared parameter is freed over: the coning row and the cyclic
+#: rows of the flap equation, the uniform row and the cyclic rows of the inflow
+#: equation (the blocks' fields whose rows they are).
+GROUPS = (("flap", (0,)), ("flap", (1, 2)), ("inflow", (0,)), ("inflow", (1, 2)))
+_FIELDS = {"flap": ("m2", "c", "d", "h_lambda", "h_u"),
+           "inflow": ("d_tau", "p_dbeta", "p_beta", "p_lambda", "p_u")}
+_GROUP_NAMES = {("flap", (0,)): "the coning row", ("flap", (1, 2)): "the cyclic flap rows",
+                ("inflow", (0,)): "the uniform inflow row",
+                ("inflow", (1, 2)): "the cyclic inflow rows"}
+
+
+def _touched(s, p, k, name):
+    """The groups (indices into :data:`GROUPS`) whose rows parameter ``name``
+    changes."""
+    eq0, _ = apply_effects(s, p, k)
+    v = float(p[name])
+    eq1, _ = apply_effects(s, {**p, name: v + 1e-4 * max(abs(v), 1.0)}, k)
+    out = []
+    for g, (block, rows) in enumerate(GROUPS):
+        if any(np.any(np.asarray(getattr(eq1, f), dtype=float)[list(rows)]
+                      != np.asarray(getattr(eq0, f), dtype=float)[list(rows)])
+               for f in _FIELDS[block]):
+            out.append(g)
+    return out
+
+
+def shared_parameters(fit) -> tuple:
+    """``((parameter, group), ...)``: each free parameter of the base model (not of
+    an effect) that acts in both the first-harmonic (cyclic) rows and the
+    zeroth-harmonic row of a block, with the cyclic group it is freed over
+    (:data:`GROUPS`).  ``lambda_beta2`` and ``n_beta`` of the flap equation, ``tau``
+    of the inflow equation in ``basic``."""
+    from ..model.effects import CATALOGUE
+    s = fit.structure
+    own = {n for e in s.effects if e in CATALOGUE for n in CATALOGUE[e].parameters}
+    tied = {n for t in fit.ties for n in t}
+    k = fit.constants[0]
+    out = []
+    for n in s.parameters:
+        if n in own or n in tied or n in set(fit.fixed) or n not in fit.sigma:
+            continue
+        g = _touched(s, dict(fit.parameters), k, n)
+        for zero, cyc in ((0, 1), (2, 3)):
+            if zero in g and cyc in g:
+                out.append((n, cyc))
+    return tuple(out)
+
+
+class _Augmented(Problem):
+    """The base's fit problem with its shared parameters freed per row group
+    (``splits``: ``(parameter, group)``, each a free offset ``delta`` of the
+    parameter in that group's rows) and, optionally, one entry's coefficient ``k``
+    free (``entry``: ``(block, row, variable)``), appended to the free vector in
+    that order."""
+
+    def __init__(self, structure, spectra, values, fixed, ties, splits, entry, n_inputs):
+        super().__init__(structure, spectra, values, fixed=fixed, ties=ties)
+        self.ties_given = tuple(tuple(t) for t in ties)
+        self.splits = tuple(splits)
+        self.entry = entry
+        self.n_inputs = n_inputs
+        self.n_base = len(self.free)
+        self.free_names = self.free_names + tuple(f"{n}@{g}" for n, g in self.splits) \
+            + (("k",) if entry is not None else ())
+
+    @property
+    def n_extra(self):
+        return len(self.splits) + (self.entry is not None)
+
+    def theta0(self):
+        return np.append(super().theta0(), np.zeros(self.n_extra))
+
+    def params(self, theta):
+        return super().params(np.asarray(theta)[:self.n_base])
+
+    def bounds(self):
+        lo, hi = super().bounds()
+        return (np.append(lo, np.full(self.n_extra, -np.inf)),
+                np.append(hi, np.full(self.n_extra, np.inf)))
+
+    def log_mask(self):
+        return np.append(super().log_mask(), np.zeros(self.n_extra, dtype=bool))
+
+    def typical(self, theta):
+        theta = np.asarray(theta, dtype=float)
+        base = super().typical(theta[:self.n_base])
+        p = self.params(theta)
+        extra = [max(abs(theta[self.n_base + i]), TYPICAL_SHARED * abs(p[n]), 1e-3)
+                 for i, (n, _) in enumerate(self.splits)]
+        if self.entry is not None:
+            extra.append(max(abs(theta[-1]), 0.1))
+        return np.append(base, extra)
+
+    def _inside(self, theta):
+        return super()._inside(np.asarray(theta)[:self.n_base]) and \
+            bool(np.isfinite(theta).all())
+
+    def equations(self, theta, k):
+        """``(p, eq, meas)`` of ``theta`` at constants ``k``, without the entry: each
+        freed group's rows from the structure at the parameter plus its offset."""
+        from ..model.params import SPECS
+        theta = np.asarray(theta, dtype=float)
+        p = self._checked(theta)
+        eq, meas = apply_effects(self.structure, p, k)
+        for g in sorted({g for _, g in self.splits}):
+            pg = dict(p)
+            for i, (n, gg) in enumerate(self.splits):
+                if gg == g:
+                    pg[n] = p[n] + float(theta[self.n_base + i])
+                    sp = SPECS[n]
+                    if not (sp.lower < pg[n] < sp.upper or (
+                            not sp.lower_open and pg[n] == sp.lower)):
+                        raise InputError(f"{n} = {pg[n]:g} in {_GROUP_NAMES[GROUPS[g]]}: "
+                                         "outside its range")
+            eqg, _ = apply_effects(self.structure, pg, k)
+            block, rows = GROUPS[g]
+            new = {}
+            for f in _FIELDS[block]:
+                m = np.array(getattr(eq, f), dtype=float)
+                m[list(rows)] = np.asarray(getattr(eqg, f), dtype=float)[list(rows)]
+                new[f] = m
+            eq = eq.with_(**new)
+        return p, eq, meas
+
+    def _responses_many(self, thetas):
+        out = []
+        for theta in thetas:
+            kv = float(theta[-1]) if self.entry is not None else 0.0
+            resp = []
+            for sp in self.spectra:
+                k = sp.constants
+                p, eq, meas = self.equations(theta, k)
+                if self.entry is not None:
+                    block, i, v = self.entry
+                    if block != "measurement":
+                        eq = _perturb(eq, block, i, v, kv)
+                    elif _KIND_OF[v] != "input":
+                        fm = np.zeros((3, 6)) if meas.flap_map is None else \
+                            np.array(meas.flap_map, dtype=float)
+                        fm[i, (FLAP + INFLOW).index(v)] += kv
+                        meas = meas.with_(flap_map=fm)
+                m = model_from_equations(self.structure, p, eq, meas, k,
+                                         n_inputs=self.n_inputs)
+                y_u, y_nu, _ = flap_response(m, sp)
+                if self.entry is not None and self.entry[0] == "measurement" and \
+                        _KIND_OF[self.entry[2]] == "input":
+                    y_u = y_u.copy()
+                    y_u[:, self.entry[1]] += kv * _feedthrough(
+                        m, sp, self.entry[1], INPUTS.index(self.entry[2]))
+                y_u.flags.writeable = False
+                y_nu.flags.writeable = False
+                resp.append((y_u, y_nu))
+            out.append(resp)
+        return out
+
+
+def _fitted(prob, theta):
+    """``(state, J_start, J)``: the fit of ``prob`` from ``theta`` and the cost (12)
+    at the start (``S`` relaxed there); ``None`` where it fails."""
+    try:
+        _, j0, _, _ = _fit(prob, theta, max_iter=0)
+        st, j, _, _ = _fit(prob, theta, max_iter=REFIT_ITERATIONS)
+    except (InputError, np.linalg.LinAlgError):
+        return None
+    return st, j0, j
+
+
+def _refit(prob, theta, entry):
+    """``(2 (J_start - J), k)``: the likelihood-ratio statistic of ``prob``'s
+    problem refitted with ``entry``'s coefficient free (every parameter free
+    again, ``S`` relaxed, from ``theta`` and ``k = 0``), and the refitted
+    coefficient; ``None`` where the refit fails (an unstable model on the way)."""
+    aug = _Augmented(prob.structure, prob.spectra, prob.params(theta), prob.fixed,
+                     prob.ties_given, prob.splits, entry, prob.n_inputs)
+    got = _fitted(aug, np.append(theta, 0.0))
+    if got is None:
+        return None
+    st, j0, j = got
+    return float(2.0 * (j0 - j)), float(st.theta[-1])
+
+
 def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
-                  alpha: float = ALPHA) -> MissingTerms:
+                  alpha: float = ALPHA, confirm: int = CONFIRM,
+                  free_shared: bool = True) -> MissingTerms:
     """Score map of every single-entry addition at a base fit.
 
     Parameters
@@ -276,11 +520,19 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         The hold override the fit was made with.
     alpha : float
         Family-wise level of the Holm-corrected map.
+    confirm : int
+        How many entries of largest score statistic are refitted (the base with
+        that entry free): those lead the ranking, by the refit's likelihood-ratio
+        statistic.  0: the score order alone.
+    free_shared : bool
+        Free the base's shared parameters per row group (:func:`shared_parameters`)
+        and make the map at that fit; False: at the base fit itself.
 
     Returns
     -------
     MissingTerms
-        Every entry, ranked by statistic; untestable ones last.
+        Every entry: the refitted ones first, by their likelihood-ratio statistic,
+        then the rest by score statistic; untestable ones last.
     """
     recs = _records(records)
     s = fit.structure
@@ -298,11 +550,25 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                          "was made with (its frequencies differ)")
     full = spectra if n_in == s.n_inputs else [
         record_spectra(r, inputs, band_hz, None, hold) for r in recs]
-    prob = Problem(s, spectra, dict(fit.parameters), fixed=tuple(fit.fixed),
-                   ties=tuple(fit.ties))
+    splits = shared_parameters(fit) if free_shared else ()
+    prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed), tuple(fit.ties),
+                      splits, None, n_in)
     theta = prob.theta0()
-    st = _state(prob, theta, list(fit.S))
-    if prob.free:
+    freed = None
+    if splits:
+        # the shared parameters freed per row group: the map is made at that fit
+        got = _fitted(prob, theta)
+        if got is not None:
+            st, j0, j = got
+            theta = st.theta
+            freed = _freed(prob, theta, 2.0 * (j0 - j))
+        else:
+            prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed),
+                              tuple(fit.ties), (), None, n_in)
+            theta = prob.theta0()
+    if freed is None:
+        st = _state(prob, theta, list(fit.S))
+    if prob.free or prob.n_extra:
         jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
     else:
         jb = np.zeros((sum(r.size for r in st.r), 0))
@@ -310,10 +576,9 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     entries = _entries(inputs)
     je = np.empty((r.size, len(entries)))
     row0 = 0
-    p = prob.params(theta)
     for sp, W, nu, Q, rr in zip(full, st.weights, st.nus, st.bases, st.r):
         k = sp.constants
-        eq, meas = apply_effects(s, p, k)
+        p, eq, meas = prob.equations(theta, k)
         m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
         blk = je[row0:row0 + rr.size]          # rows of je: filled in place
         for col, (block, i, v) in enumerate(entries):
@@ -334,7 +599,39 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
             blk[:, col] = -_stack(dy @ W.T)
         _minus_projection(blk, Q)       # the nuisance end states, as the estimator
         row0 += rr.size
-    return _table(s, entries, je, jb, r, st, alpha, inputs)
+    table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
+    return _confirmed(table, prob, theta, confirm)
+
+
+def _freed(prob, theta, statistic):
+    """The shared parameters' values per row group at the freed fit: ``((parameter,
+    where, value in the other rows, value in these rows, statistic, p), ...)``,
+    ``statistic`` the likelihood-ratio statistic of all of them freed against the
+    base (chi-square with one degree of freedom each)."""
+    p = prob.params(theta)
+    dof = len(prob.splits)
+    pv = float(chi2_sf(max(statistic, 0.0), dof))
+    return tuple((n, _GROUP_NAMES[GROUPS[g]], float(p[n]),
+                  float(p[n] + theta[prob.n_base + i]), float(statistic), pv)
+                 for i, (n, g) in enumerate(prob.splits))
+
+
+def _confirmed(table, prob, theta, confirm):
+    """``table`` with its ``confirm`` testable entries of largest score refitted
+    (:func:`_refit`) and ranked first by the refit's statistic."""
+    head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
+    if not head:
+        return table
+    done = []
+    for t in head:
+        row = (INFLOW if t.block == "inflow" else FLAP).index(t.equation)
+        got = _refit(prob, theta, (t.block, row, t.variable))
+        done.append(t if got is None else replace(
+            t, refit_statistic=got[0], refit_coefficient=got[1]))
+    done.sort(key=lambda t: -(t.refit_statistic if t.refit_statistic is not None
+                              else -np.inf))
+    rest = [t for t in table.terms if t not in head]
+    return replace(table, terms=tuple(done + rest), confirmed=len(done))
 
 
 #: Largest temporary of the projections [bytes]: a 2-hour record's 162 columns of

@@ -243,9 +243,10 @@ class ValidationResult:
             "n_frequencies": int(self.dft_f_hz.size),
             "inputs": list(fc.inputs),
             "hub_paths": list(fc.paths),
-            "cost": {"overall": _num(overall), "verdict": cost_verdict(overall),
+            # Tischler's guideline rating, not a verdict (one vocabulary: interface.md)
+            "cost": {"overall": _num(overall), "guideline": cost_verdict(overall),
                      "per_pair": [{"output": o, "input": i, "J": _num(j),
-                                   "verdict": cost_verdict(j)}
+                                   "guideline": cost_verdict(j)}
                                   for (o, i), j in fc.cost.items()]},
             "responses": doc["responses"],
             "response_grid": {k: doc[k] for k in ("windows_s", "n_averages", "overlap",

@@ -15,6 +15,23 @@ raises the level but is not input-correlated).  Then:
 ``remaining_excess`` is each channel's mean residual power over the floor in the
 band (1: noise alone); ``where`` the channels that keep excess, with the frequency
 of their largest ratio.
+
+**Stand-ins** (issue #36).  An effect named whose estimate is impossible for what
+it claims to be, or that leaves most of the excess, mimics the missing physics in
+the band rather than being it.  Each named effect is a stand-in
+(:class:`StandIn`, ``Verdict.stand_ins``) where
+
+- an estimate lies outside its parameter's *physical* range
+  (:attr:`~inflowsim.model.params.ParameterSpec.physical`: a ``time-delay`` whose
+  delay is a lead) or its *plausible* range (``ParameterSpec.plausible``, for the
+  rotor's hub) by more than :data:`SIGMAS` of its bound; or
+- the effects named together remove less than :data:`STAND_IN_SHARE` of the
+  starting structure's excess over the floor (``excess_explained``; also where
+  the verdict finds no significant structured excess left: most of the
+  starting excess power is still there).
+
+The text then reads "behaves like X in this band; the missing physics is
+probably elsewhere: see the map".
 """
 from __future__ import annotations
 
@@ -26,6 +43,87 @@ from ..data.record import FLAP_COLUMNS
 from .failures import ALPHA, excess_channels
 
 STATUSES = ("no-missing-effect", "explained", "partly-explained", "unexplained")
+#: Named effects that together remove less than this share of the excess over the
+#: floor are stand-ins.
+STAND_IN_SHARE = 0.5
+#: An estimate this many of its bounds outside its physical or plausible range
+#: makes its effect a stand-in (the rule's ``plausible_sigmas``).
+SIGMAS = 3.0
+
+
+@dataclass(frozen=True)
+class StandIn:
+    """A named effect that behaves like the missing physics without being it.
+
+    ``reasons``: ``((kind, parameter, estimate, sigma, low, high, why), ...)``,
+    ``kind`` ``"physical"`` (outside what the effect can be: ``why`` says what),
+    ``"plausible"`` (outside what the rotor's physics expects) or ``"excess"``
+    (the effects named leave most of the excess: ``estimate`` the share they
+    remove, ``low`` the share required, the other fields ``None``).
+    """
+
+    effect: str
+    reasons: tuple
+
+    def because(self) -> str:
+        out = []
+        for kind, n, e, sig, lo, hi, why in self.reasons:
+            if kind == "excess":
+                out.append(f"the effects named remove {100 * e:.0f} % of the excess "
+                           f"over the floor, under {100 * lo:.0f} %")
+            else:
+                pm = "" if sig is None else f" +- {sig:.2g}"
+                rng = f"[{lo:g}, {hi:g}]"
+                out.append(f"{n} = {e:.4g}{pm} is outside its {kind} range {rng}: {why}")
+        return "; ".join(out)
+
+    def describe(self) -> str:
+        return (f"{self.effect} is a stand-in: it behaves like {self.effect} in this "
+                f"band ({self.because()}); the missing physics is probably elsewhere: "
+                "see the map of missing terms")
+
+    def to_json(self) -> dict:
+        return {"effect": self.effect,
+                "reasons": [{"kind": k, "parameter": n, "estimate": e, "sigma": sig,
+                             "low": lo, "high": hi, "why": why}
+                            for k, n, e, sig, lo, hi, why in self.reasons],
+                "text": self.describe()}
+
+
+def stand_ins(effects, fit, excess_explained, sigmas: float = SIGMAS) -> tuple:
+    """The :class:`StandIn` among ``effects`` (named, in the fitted structure of
+    ``fit``) given the share of the excess they remove together (``None``: the
+    starting structure had none)."""
+    from ..model.effects import CATALOGUE
+    from ..model.params import SPECS
+    k = fit.constants[0] if fit is not None else None
+    out = []
+    for e in effects:
+        reasons = []
+        if fit is not None and e in CATALOGUE:
+            for n in CATALOGUE[e].parameters:
+                if n not in fit.parameters or n not in SPECS or n in set(fit.fixed or ()):
+                    continue
+                spec = SPECS[n]
+                est = float(fit.parameters[n])
+                sig = fit.sigma.get(n)
+                margin = sigmas * sig if sig is not None else 0.0
+                ranges = (("physical", spec.physical),
+                          ("plausible", spec.plausible_range(k.omega, k.hub)))
+                for kind, rng in ranges:
+                    if rng is None:
+                        continue
+                    lo, hi, why = rng
+                    if est + margin < lo or est - margin > hi:
+                        reasons.append((kind, n, est, None if sig is None else float(sig),
+                                        float(lo), float(hi), why))
+                        break
+        if excess_explained is not None and excess_explained < STAND_IN_SHARE:
+            reasons.append(("excess", None, float(excess_explained), None,
+                            STAND_IN_SHARE, None, None))
+        if reasons:
+            out.append(StandIn(e, tuple(reasons)))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -38,6 +136,11 @@ class Verdict:
     initial_excess: tuple            # the same for the starting structure
     where: tuple                     # ((channel, peak_hz, peak ratio), ...)
     effects: tuple = ()
+    #: the effects named that are stand-ins (:class:`StandIn`)
+    stand_ins: tuple = ()
+
+    def is_stand_in(self, effect: str) -> bool:
+        return any(x.effect == effect for x in self.stand_ins)
 
     @property
     def excess_explained(self) -> float | None:
@@ -54,7 +157,8 @@ class Verdict:
                 "initial_excess": dict(self.initial_excess),
                 "where": [{"channel": c, "peak_hz": f, "peak_over_floor": r}
                           for c, f, r in self.where],
-                "effects": list(self.effects)}
+                "effects": list(self.effects),
+                "stand_ins": [x.to_json() for x in self.stand_ins]}
 
     def describe(self) -> str:
         """One line, rendered from the fields."""
@@ -68,7 +172,10 @@ class Verdict:
             "partly-explained": f"partly explained by {named}: excess left ({where})",
             "unexplained": f"unexplained: excess outside the catalogue ({where})",
         }[self.status]
-        return f"verdict: {text}; residual power over the floor: {left}"
+        out = f"verdict: {text}; residual power over the floor: {left}"
+        for x in self.stand_ins:
+            out += f"; {x.describe()}"
+        return out
 
 
 def power_over_floor(analyses) -> tuple:
@@ -77,14 +184,23 @@ def power_over_floor(analyses) -> tuple:
                  for c, ch in enumerate(FLAP_COLUMNS))
 
 
-def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA) -> Verdict:
+def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
+            fit=None) -> Verdict:
     """The verdict from the starting structure's and the final structure's residual
-    analyses (the same when nothing was named)."""
+    analyses (the same when nothing was named); ``fit`` the final structure's fit,
+    whose estimates say which named effects are stand-ins (:func:`stand_ins`)."""
     final = final_analyses if effects else initial_analyses
     where = tuple(w[:3] for w in excess_channels(final, alpha))
     if effects:
         status = "partly-explained" if where else "explained"
     else:
         status = "unexplained" if where else "no-missing-effect"
-    return Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
-                   where, tuple(effects))
+    v = Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
+                where, tuple(effects))
+    if not effects:
+        return v
+    from dataclasses import replace
+    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained))
+
+
+__all__ = ["STATUSES", "SIGMAS", "Verdict", "power_over_floor", "stand_ins", "verdict"]

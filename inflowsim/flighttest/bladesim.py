@@ -72,6 +72,7 @@ import numpy as np
 from ..errors import InputError
 from ..channels import FLAP, INFLOW
 from ..model.params import PUMA, Constants
+from ..progress import bar
 from ..physics.theory import PUMA_LAMBDA_BETA2, PUMA_N_BETA, pitt_peters_time_constants
 
 SPEEDS = ("eq14", "mu")
@@ -102,6 +103,11 @@ class RotorSpec:
         Gauss-Legendre points along each blade (3 integrate the polynomial lift exactly).
     n_disc_psi, n_disc_r : int
         Disc quadrature for the momentum loads (uniform azimuth x Gauss-Legendre radius).
+    K_R : float
+        Keller's wake-curvature gain [-] (``wake-distortion``, ``model.md``): the
+        cyclic inflow equations gain ``K_R (q_tpp, p_tpp)``, the tip-path plane's
+        pitch and roll rates from the blades' flap.  0 (default): no wake bending,
+        the truth of the detection studies.
     """
 
     constants: Constants = PUMA
@@ -114,6 +120,7 @@ class RotorSpec:
     n_span: int = 4
     n_disc_psi: int = 12
     n_disc_r: int = 4
+    K_R: float = 0.0
 
     def __post_init__(self):
         pp = pitt_peters_time_constants(self.constants.mu)
@@ -133,6 +140,8 @@ class RotorSpec:
                 raise InputError(f"{name} = {v}: must be a finite number > 0")
         if self.speed not in SPEEDS:
             raise InputError(f"speed {self.speed!r}: choose {' or '.join(SPEEDS)}")
+        if not np.isfinite(self.K_R):
+            raise InputError(f"K_R = {self.K_R}: must be a finite number")
         for name in ("n_span", "n_disc_psi", "n_disc_r"):
             if int(getattr(self, name)) < 3:
                 raise InputError(f"{name} = {getattr(self, name)}: need at least 3 points")
@@ -273,6 +282,13 @@ class BladeRotor:
         out[nb:2 * nb] = (moment - self.spec.lambda_beta2 * x[:nb]
                           + bb @ (0.0, 2.0 * pb + dqb, dpb - 2.0 * qb))
         out[2 * nb:] = self.minv @ (c_blade - c_mom)
+        if self.spec.K_R:
+            # wake curvature: the tip-path plane's rates qbar - beta1c', pbar - beta1s'
+            # (the blades' rate harmonics are beta1c' + beta1s, beta1s' - beta1c)
+            (b0, b1c, b1s), (d0, d1c, d1s) = (x[:2 * nb].reshape(2, nb) @ bb) * self._mbc
+            kr = self.spec.K_R / self.spec.tau_cs
+            out[2 * nb + 1] += kr * (qb - (d1c - b1s))
+            out[2 * nb + 2] += kr * (pb - (d1s + b1c))
         return out
 
     def step(self, psi, x, u, h, u_mid=None, u_end=None) -> np.ndarray:
@@ -289,7 +305,7 @@ class BladeRotor:
         return x + h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4)
 
     def integrate(self, x0, psi0: float, u_samples, dpsi: float, max_step: float = MAX_STEP,
-                  u_fine=None):
+                  u_fine=None, progress=None):
         """States at every sample and every RK4 sub-step.
 
         Parameters
@@ -308,6 +324,8 @@ class BladeRotor:
             Continuously varying inputs: ``u_fine(n_sub)`` returns the inputs at
             every half sub-step, shape ``(1 + 2 (N-1) n_sub, 10)`` (azimuth
             ``psi0 + j h / 2``); ``u_samples`` are then not held.
+        progress : callable, optional
+            Progress (:func:`inflowsim.progress.bar`), stepped per sample.
 
         Returns
         -------
@@ -326,17 +344,21 @@ class BladeRotor:
         sub[0] = x
         j = 0
         fine = None if u_fine is None else np.asarray(u_fine(n_sub), dtype=float)
-        for k in range(n - 1):
-            uk = tuple(float(v) for v in u_samples[k])
-            base = psi0 + k * dpsi
-            for m in range(n_sub):
-                if fine is None:
-                    x = self.step(base + m * h, x, uk, h)
-                else:
-                    i = 2 * j
-                    x = self.step(base + m * h, x, fine[i], h, fine[i + 1], fine[i + 2])
-                j += 1
-                sub[j] = x
+        with bar(progress, n - 1, "flighttest: flying the blades", "sample") as b:
+            for k in range(n - 1):
+                uk = tuple(float(v) for v in u_samples[k])
+                base = psi0 + k * dpsi
+                for m in range(n_sub):
+                    if fine is None:
+                        x = self.step(base + m * h, x, uk, h)
+                    else:
+                        i = 2 * j
+                        x = self.step(base + m * h, x, fine[i], h, fine[i + 1],
+                                      fine[i + 2])
+                    j += 1
+                    sub[j] = x
+                if k % 100 == 99:
+                    b.update(100)
         if not np.all(np.isfinite(sub[j])):
             raise InputError("the blade simulation diverged (non-finite state): "
                              "inputs too large or rotor unstable")
@@ -446,3 +468,7 @@ def multiblade_derivatives(rotor: BladeRotor, psi: float, z, u) -> np.ndarray:
     p = multiblade(f[nb:2 * nb], psi)
     dd = np.array([p[0], p[1] - 2 * db[2] + b[1], p[2] + 2 * db[1] + b[2]])
     return np.concatenate([dd, f[2 * nb:]])
+
+
+__all__ = ["SPEEDS", "MAX_STEP", "RotorSpec", "BladeRotor", "RotorTrim",
+           "multiblade_derivatives"]

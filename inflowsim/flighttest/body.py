@@ -115,3 +115,6 @@ class BodyModel:
         c, d = self.hub_matrices(omega_r, mu)
         h = x @ c.T + np.asarray(controls) @ d.T
         return {name: h[:, i] for i, name in enumerate(HUB)}
+
+
+__all__ = ["G", "HUB", "BodyModel"]

@@ -179,8 +179,12 @@ def virtual_campaign(folder, mus=MUS, controls=CONTROLS, shapes=CAMPAIGN_SHAPES,
             raise InputError(f"{path}: is not a regular file; the campaign writes its "
                              "record there: move it or use another folder")
         if path.exists():
-            # records written before the truth was named were all of the default truth
-            kept = header_meta(path).get("truth") or truth_label()
+            # records written before the truth was named were all of the default truth,
+            # and say so in their description; any other record is another truth's
+            meta = header_meta(path)
+            desc = meta.get("description", "")
+            kept = meta.get("truth") or (truth_label() if desc.endswith(
+                "nonlinear blade-element truth") else f"not recorded: '{desc}'")
             if kept != label:
                 raise InputError(f"{path}: a record of another truth ({kept}) is in "
                                  f"the folder, not one of '{label}': write this "
@@ -225,3 +229,8 @@ def plan_text(items) -> str:
     for it in items:
         w.writerow([it.name, it.condition, it.manoeuvre, f"repeat {it.repeat}"])
     return buf.getvalue()
+
+
+__all__ = ["MUS", "WIDTH", "CAMPAIGN_SHAPES", "SWEEP_HZ", "AMPLITUDE_DEG", "CampaignItem",
+           "campaign_items", "truth_label", "flown_label", "campaign_record",
+           "virtual_campaign", "plan_text"]

@@ -51,6 +51,7 @@ import numpy as np
 
 from ..channels import CONTROLS, INPUTS
 from ..errors import InputError
+from ..progress import bar
 from ..identify.transform import DEFAULT_BAND
 
 #: Iterations of the multiplicative algorithm.
@@ -299,7 +300,7 @@ def expected_bounds(test, structure, params, band_hz=DEFAULT_BAND) -> dict:
     prob = Problem(s, [sp], params)
     S = test.noise_flap ** 2 * len(rec) * np.eye(3)
     st = _state(prob, prob.theta0(), [S])
-    cov, _, dead, _ = _bounds(prob, st)
+    cov, _, _, dead, _ = _bounds(prob, st)
     out = {}
     for i, g in enumerate(prob.free):
         v = cov[i, i]
@@ -313,7 +314,7 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
                  limit_deg: float = 1.0, limit: str = "peak", duration: float = 26.6,
                  t_start: float = 2.0, dt: float = 0.01, fade: float = 1.0,
                  band_hz=DEFAULT_BAND, noise_flap: float = 1e-4,
-                 iterations: int = ITERATIONS) -> InputDesign:
+                 iterations: int = ITERATIONS, progress=None) -> InputDesign:
     """Design a multisine that maximises the information on ``interest``.
 
     Parameters
@@ -340,6 +341,11 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
         Identification band [Hz]: the harmonics lie in it.
     noise_flap : float
         Flap sensor noise [rad] (white) the bounds are expected for.
+    iterations : int
+        Iterations of the power optimisation [-].
+    progress : callable, optional
+        Progress (:func:`inflowsim.progress.bar`): the five steps (information,
+        powers, peak-limited split, the bounds before and after) as they run.
 
     Returns
     -------
@@ -394,15 +400,21 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
     free = list(s.parameters)
     f_all = np.array([kk / length for h in hs for kk in h])
     ctrl = np.array([CONTROLS.index(c) for c, h in zip(channels, hs) for _ in h])
+    steps = bar(progress, 5, f"design {s.name}", "step")
+    steps.set_postfix_str("information per harmonic")
     info_all = harmonic_information(s, params, k, free, body, f_all,
                                     noise_flap ** 2 * np.eye(3))
+    steps.update()
     info = info_all[ctrl, np.arange(f_all.size)]                      # (n, p, p)
     blocks, i0 = [], 0
     for h in hs:
         blocks.append(np.arange(i0, i0 + len(h)))
         i0 += len(h)
     s_idx = [free.index(n) for n in interest]
+    steps.set_postfix_str("optimising the harmonics' powers")
     w, gain = optimise_powers(info, blocks, iterations, s_idx)
+    steps.update()
+    steps.set_postfix_str(f"the {limit}-limited amplitudes")
     lim = np.radians(limit_deg)
     if limit == "peak":
         # the power-optimal split is not the peak-limited optimum: search the family
@@ -439,15 +451,21 @@ def design_input(structure, parameters=None, interest=None, effects=(), channels
         harmonics=tuple(tuple(int(x) for x in h) for h in hs), amplitudes=tuple(amps),
         peak=tuple(peaks), sigma_before={}, sigma_after={}, noise_flap=float(noise_flap),
         band_hz=tuple(float(x) for x in band_hz), criterion_gain=float(gain))
+    steps.update()
     before = VirtualTest(structure=s.name, parameters=params, manoeuvres=(Manoeuvre(
         t_start=t_start),), duration=duration, dt=dt, noise_flap=noise_flap)
     after = VirtualTest(structure=s.name, parameters=params,
                         manoeuvres=design.manoeuvres(), duration=duration, dt=dt,
                         noise_flap=noise_flap)
     from dataclasses import replace
-    return replace(design,
-                   sigma_before=expected_bounds(before, s, params, band_hz),
-                   sigma_after=expected_bounds(after, s, params, band_hz))
+    with steps:
+        steps.set_postfix_str("expected bounds: a doublet")
+        sigma_before = expected_bounds(before, s, params, band_hz)
+        steps.update()
+        steps.set_postfix_str("expected bounds: the design")
+        sigma_after = expected_bounds(after, s, params, band_hz)
+        steps.update()
+    return replace(design, sigma_before=sigma_before, sigma_after=sigma_after)
 
 
 def format_design(d) -> str:

@@ -145,3 +145,7 @@ def eq14_coupling(spec: RotorSpec, trim_controls=None, trim_muz: float = 0.0) ->
                              N_PSI, STEP)
     tau = np.diag([spec.tau0, spec.tau_cs, spec.tau_cs])
     return {"A": tau @ (e14.A[6:] - jac[3:, :9]), "B": tau @ (e14.B[6:] - jac[3:, 9:])}
+
+
+__all__ = ["N_PSI", "STEP", "STATES", "TruthLinearisation", "linearise",
+           "truth_parameters", "model_linearisation", "eq14_coupling"]

@@ -78,6 +78,10 @@ class FlightTest:
     include_truth : bool
         Add the true inflow perturbation columns ``lambda0, lambda1c, lambda1s``.
     description : str
+    servo : (float, float) or None
+        Servo actuators between the pilot's command and the blade pitch: time
+        constant ``1/omega_n`` [s] and damping [-] of second-order dynamics on each
+        control (``model.md``, servo actuators); ``None``: the pitch is the command.
     hold : {"continuous", "zoh"}
         ``continuous`` (default): smooth pilot inputs, the body integrated in
         continuous time (DOP853) and the blades' RK4 fed the inputs at every stage
@@ -102,6 +106,7 @@ class FlightTest:
     description: str = "longitudinal cyclic doublet, 100 kt, nonlinear blade-element truth"
     hold: str = "continuous"
     noise_color_hz: float | None = None
+    servo: tuple | None = None
 
     def check(self) -> "FlightTest":
         self.rotor.check()
@@ -127,12 +132,29 @@ class FlightTest:
                                  "theta1c or theta1s")
         if self.hold not in KINDS:
             raise InputError(f"hold {self.hold!r}: choose {', '.join(KINDS)}")
+        if self.servo is not None:
+            tau, zeta = self.servo
+            if not (np.isfinite(tau) and 1e-3 <= tau <= 0.5):
+                raise InputError(f"servo time constant {tau:g} s: need 0.001-0.5 s")
+            if not (np.isfinite(zeta) and 0.05 <= zeta <= 5.0):
+                raise InputError(f"servo damping {zeta:g}: need 0.05-5")
+            if self.hold != "continuous":
+                raise InputError("servo actuators need hold continuous (a servo's output "
+                                 "is not held between samples)")
         return self
 
 
 @dataclass(frozen=True, eq=False)
 class FlightTestResult:
-    """The record and a description of its truth (for ``--truth-json``)."""
+    """The record and a description of its truth (for ``--truth-json``).
+
+    Attributes
+    ----------
+    record : Record
+        The record (totals).
+    truth : dict
+        Its truth: parameters, trim, settings.
+    """
 
     record: Record
     truth: dict
@@ -179,7 +201,8 @@ def _hermite(sub, n_sub, nb, dpsi, s):
             + (-2 * f3 + 3 * f2) * b1 + (f3 - f2) * d1)
 
 
-def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
+def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None,
+                   progress=None):
     """Integrate the blades for true control perturbations and hub motion.
 
     Parameters
@@ -193,6 +216,8 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         ``inputs_at(t) -> (len(t), 10)``: the inputs (azimuth units, totals) at any
         times [s], for continuously varying inputs; without it the sampled inputs
         are held over each sample.
+    progress : callable, optional
+        Progress (:func:`inflowsim.progress.bar`) of the integration.
 
     Returns
     -------
@@ -228,7 +253,7 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None):
         j = np.arange(1 + 2 * (len(u_all) - 1) * n_sub)
         return inputs_at((j / (2 * n_sub) - n_pre) * test.dt)
     x, sub, n_sub = rotor.integrate(x0, -n_pre * dpsi, u_all, dpsi, test.max_step,
-                                    None if inputs_at is None else fine)
+                                    None if inputs_at is None else fine, progress)
     x = x[n_pre:]
     t = np.arange(n) * test.dt
     psi = om * t
@@ -251,37 +276,91 @@ def _hub(test: FlightTest, controls_true, omega_r, mu) -> dict:
     return test.body.response(controls_true, test.dt, omega_r, mu)
 
 
-def _true_controls(test: FlightTest, t):
-    """True pitch perturbations at times ``t`` (the recorded-frame pilot input
+def _commanded_controls(test: FlightTest, t):
+    """Commanded pitch perturbations at times ``t`` (the recorded-frame pilot input
     rotated back by the azimuth bias)."""
     pilot = pilot_controls(t, test.manoeuvres)
     pilot[:, 1:3] = pilot[:, 1:3] @ rotation(-test.azimuth_bias).T
     return pilot
 
 
-def continuous_hub(test: FlightTest, omega_r, mu):
-    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls,
-    integrated in continuous time (DOP853, rtol 1e-12), at any times [s]."""
+def true_controls(test: FlightTest):
+    """``controls_at(t) -> (len(t), 3)``: the blades' pitch perturbations [rad] at any
+    times [s]: the command, or its response through the servo actuators
+    (``test.servo``), integrated here in continuous time (DOP853, rtol 1e-12).
+
+    Parameters
+    ----------
+    test : FlightTest
+        The flight test (manoeuvres, azimuth bias, servo actuators).
+    """
+    if test.servo is None:
+        return lambda t: _commanded_controls(test, np.atleast_1d(t))
+    tau, zeta = test.servo
+    wn = 1.0 / tau
+    t0 = -max(test.delay, 0.0) - 2 * test.dt
+    t_end = test.duration + test.dt
+
+    def rhs(tt, x):
+        c = _commanded_controls(test, np.atleast_1d(tt))[0]
+        return np.concatenate([x[3:], wn * wn * (c - x[:3]) - 2.0 * zeta * wn * x[3:]])
+    from scipy.integrate import solve_ivp
+    with np.errstate(divide="ignore", invalid="ignore"):   # the quiet lead-in: all zero
+        sol = solve_ivp(rhs, (t0, t_end), np.zeros(6), method="DOP853", rtol=1e-12,
+                        atol=1e-16, dense_output=True,
+                        max_step=min(ode_max_step(test), tau / 4))
+
+    def controls_at(t):
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        return sol.sol(np.clip(t, t0, t_end))[:3].T
+    return controls_at
+
+
+def continuous_hub(test: FlightTest, omega_r, mu, controls_at=None):
+    """``hub_at(t) -> {channel: array}``: the body driven by the smooth true controls
+    (``controls_at``, default :func:`true_controls`), integrated in continuous time
+    (DOP853, rtol 1e-12), at any times [s].
+
+    Parameters
+    ----------
+    test : FlightTest
+        The flight test (body model and manoeuvres).
+    omega_r : float
+        Tip speed ``Omega R`` [m/s].
+    mu : float
+        Trim advance ratio [-].
+    controls_at : callable, optional
+        The blades' pitch at any times (:func:`true_controls`).
+    """
     if test.body is None:
         return lambda t: {c: np.zeros(np.size(t)) for c in HUB}
+    controls_at = controls_at or true_controls(test)
     a, b = test.body.matrices()
     c, d = test.body.hub_matrices(omega_r, mu)
     t_end = test.duration + test.dt
     t0 = -max(test.delay, 0.0) - 2 * test.dt
     from scipy.integrate import solve_ivp
-    sol = solve_ivp(lambda tt, x: a @ x + b @ _true_controls(test, tt)[0], (t0, t_end),
+    sol = solve_ivp(lambda tt, x: a @ x + b @ controls_at(tt)[0], (t0, t_end),
                     np.zeros(a.shape[0]), method="DOP853", rtol=1e-12, atol=1e-16,
                     dense_output=True, max_step=ode_max_step(test))
 
     def hub_at(t):
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + _true_controls(test, t) @ d.T
+        h = sol.sol(np.clip(t, t0, t_end)).T @ c.T + controls_at(t) @ d.T
         return {name: h[:, i] for i, name in enumerate(HUB)}
     return hub_at
 
 
-def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
-    """A record (totals) from the nonlinear individual-blade truth; see module doc."""
+def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> FlightTestResult:
+    """A record (totals) from the nonlinear individual-blade truth; see module doc.
+
+    Parameters
+    ----------
+    test : FlightTest
+        What is flown (manoeuvres, speed, rotor, sensors).
+    progress : callable, optional
+        Progress of the blades' integration (:func:`inflowsim.progress.bar`).
+    """
     t_start = time.perf_counter()
     test.check()
     k = test.rotor.constants
@@ -289,23 +368,24 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
     n = int(round(test.duration / test.dt))
     t = np.arange(n) * test.dt
     pilot = pilot_controls(t, test.manoeuvres)            # recorded frame
-    true = _true_controls(test, t)
+    controls_at = true_controls(test)
+    true = controls_at(t)
     omega_r = k.omega * radius
     if test.hold == "continuous":
-        hub_at = continuous_hub(test, omega_r, k.mu)
+        hub_at = continuous_hub(test, omega_r, k.mu, controls_at)
         hub = hub_at(t)
         u_trim = _trim_inputs(test)
         om = k.omega
 
         def inputs_at(tt):
-            h, c = hub_at(tt), _true_controls(test, tt)
+            h, c = hub_at(tt), controls_at(tt)
             return u_trim + np.column_stack([
                 c, h["muz"], h["q"] / om, h["p"] / om, h["qdot"] / om**2,
                 h["pdot"] / om**2, h["mux"], h["muy"]])
-        res = blade_response(test, true, hub, inputs_at)
+        res = blade_response(test, true, hub, inputs_at, progress)
     else:
         hub = _hub(test, true, omega_r, k.mu)
-        res = blade_response(test, true, hub)
+        res = blade_response(test, true, hub, progress=progress)
     trim = res["trim"]
     rng = np.random.default_rng(test.seed)
     tc = test.trim_controls
@@ -340,7 +420,8 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
                        "tau0": test.rotor.tau0, "tau_cs": test.rotor.tau_cs,
                        "speed": test.rotor.speed, "n_span": test.rotor.n_span,
                        "n_disc_psi": test.rotor.n_disc_psi,
-                       "n_disc_r": test.rotor.n_disc_r},
+                       "n_disc_r": test.rotor.n_disc_r}
+             | ({"K_R": test.rotor.K_R} if test.rotor.K_R else {}),
              "constants": k.as_dict(),
              "trim_controls": dict(tc), "trim_muz": test.trim_muz,
              "trim": trim.as_dict(),
@@ -351,6 +432,8 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
              "body": None if test.body is None else asdict(test.body),
              "manoeuvres": [asdict(m) for m in test.manoeuvres],
              "hold": test.hold,
+             "servo": None if test.servo is None else {"servo_tau": test.servo[0],
+                                                       "servo_zeta": test.servo[1]},
              "integration": {"method": "rk4", "step_deg": math.degrees(
                  k.omega * test.dt / res["n_sub"]), "substeps_per_sample": res["n_sub"]},
              "generation_seconds": elapsed}
@@ -358,15 +441,25 @@ def nonlinear_flighttest(test: FlightTest = FlightTest()) -> FlightTestResult:
 
 
 def linear_flighttest(test: VirtualTest) -> FlightTestResult:
-    """A record from a linear structure plus effects (:func:`virtual_record`)."""
+    """A record from a linear structure plus effects (:func:`virtual_record`).
+
+    Parameters
+    ----------
+    test : VirtualTest
+        The linear truth (structure, parameters, manoeuvres, duration [s], step [s],
+        noise [rad]).
+    """
     from ..model.build import build_model
     from ..model.presets import preset_parameters
-    params = test.parameters or preset_parameters(test.structure, test.constants, "paper")
-    m = build_model(test.structure, params, test.constants)   # validates
+    k = test.constants
+    if k.trim is None:       # effects linearised about trim see the record's (virtual_record)
+        k = k.with_trim(dict(PUMA_TRIM, mux=k.mu))
+    params = test.parameters or preset_parameters(test.structure, k, "paper")
+    m = build_model(test.structure, params, k)   # validates
     rec = virtual_record(replace(test, parameters=dict(params)))
     truth = {"truth": "linear", "structure": m.structure.name,
              "effects": list(m.structure.effects), "parameters": dict(m.parameters),
-             "constants": test.constants.as_dict(),
+             "constants": k.as_dict(),
              "manoeuvres": [asdict(x) for x in test.manoeuvres],
              "hold": test.hold,
              "measurement": {"noise_flap": test.noise_flap,
@@ -375,9 +468,23 @@ def linear_flighttest(test: VirtualTest) -> FlightTestResult:
     return FlightTestResult(rec, truth)
 
 
-def flighttest(test) -> FlightTestResult:
-    """Run a virtual flight test: :class:`FlightTest` (nonlinear truth) or
-    :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth)."""
+def flighttest(test, progress=None) -> FlightTestResult:
+    """Run a virtual flight test.
+
+    Parameters
+    ----------
+    test : FlightTest or VirtualTest
+        :class:`FlightTest` (nonlinear truth) or
+        :class:`~inflowsim.flighttest.virtual.VirtualTest` (linear truth).
+    progress : callable, optional
+        Progress of the nonlinear truth's integration (:func:`inflowsim.progress.bar`;
+        the linear truth takes well under a second).
+    """
     if isinstance(test, VirtualTest):
         return linear_flighttest(test)
-    return nonlinear_flighttest(test)
+    return nonlinear_flighttest(test, progress)
+
+
+__all__ = ["TRIM_CONTROLS", "INFLOW_COLUMNS", "FlightTest", "FlightTestResult",
+           "trim_inputs", "blade_response", "continuous_hub", "nonlinear_flighttest",
+           "linear_flighttest", "flighttest"]

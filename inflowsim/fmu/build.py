@@ -10,7 +10,6 @@ thin layers (``inflow_fmi2.c``, ``inflow_fmi3.c``) over the same slave and model
 from __future__ import annotations
 
 import hashlib
-import html
 import os
 import platform
 import shutil
@@ -22,6 +21,7 @@ from pathlib import Path
 
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
+from ..progress import bar
 from .generate import SOURCES, generated_files, guid, time_vr
 from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 
@@ -229,7 +229,13 @@ def description_for(model=None) -> Description:
     :class:`~inflowsim.model.Model` or identified parameter set (its structure, its
     parameters and constants as start values), or a
     :class:`~inflowsim.model.schedule.Schedule` (its structure, its scheduled
-    parameters computed from ``mu`` at every step, its held ones start values)."""
+    parameters computed from ``mu`` at every step, its held ones start values).
+
+    Parameters
+    ----------
+    model : None, str, Structure, Description, Model, ParameterSet or Schedule
+        What the FMU runs (see above).
+    """
     from ..model.structure import Structure
     from .codegen import supported
     from .values import refuse_leads
@@ -302,36 +308,17 @@ def _build_description(fmi_version: int) -> str:
             "</fmiBuildDescription>\n")
 
 
-def documentation_html(fmi_version=2, d: Description = DEFAULT) -> str:
-    """``documentation/index.html``: conventions and the variable table."""
-    v_ = _version(fmi_version)
-    fmi = f"fmi{v_}"
-    status_error = f"{fmi}Error"
-    files = " ".join(sources(v_))
-    structures = ", ".join(f"{i} <code>{html.escape(n)}</code>"
-                           for i, n in enumerate(d.structures))
-    time_row = ("" if v_ == 2 else
-                f"<tr><td><code>time</code></td><td>{time_vr(d)}</td><td>Float64</td>"
-                "<td>independent</td><td>continuous</td><td></td><td>s</td>"
-                "<td>simulation time (read-only)</td></tr>\n")
-    rows = time_row + "\n".join(
-        f"<tr><td><code>{html.escape(v.name)}</code></td><td>{i}</td><td>{v.type}</td>"
-        f"<td>{v.causality}</td><td>{v.variability}</td>"
-        f"<td>{'' if v.start is None else v.start}</td><td>{html.escape(v.unit)}</td>"
-        f"<td>{html.escape(v.description)}</td></tr>" for i, v in enumerate(d.variables))
-    if v_ == 3:
-        rows = rows.replace("<td>Real</td>", "<td>Float64</td>").replace(
-            "<td>Integer</td>", "<td>Int32</td>")
-    return f"""<!DOCTYPE html>
+#: ``documentation/index.html`` (a Jinja2 template; every text escaped).
+DOCUMENTATION = """<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>inflowsim FMU</title></head><body>
-<h1>inflowsim: rotor flap and Glauert-augmented dynamic inflow (FMI {v_}.0 co-simulation)</h1>
+<h1>inflowsim: rotor flap and Glauert-augmented dynamic inflow (FMI {{ v }}.0 co-simulation)</h1>
 <p>First-order multiblade flapping with dynamic inflow, after "Glauert augmentation of
 rotor inflow dynamics" (ERF 1989): basic momentum model (Eq. 1-4), empirical model
 (Eq. 13) and Glauert-augmented model (Eq. 19-20), and the effects the diagnosis adds.
-This FMU runs {structures}, selected by the integer parameter <code>structure</code>;
+This FMU runs {% for n in structures %}{{ loop.index0 }} <code>{{ n }}</code>{{ ", " if not loop.last }}{% endfor %}, selected by the integer parameter <code>structure</code>;
 its C equations are generated from inflowsim's Python model
 (<code>inflow_equations.c</code>).
-{"GUID" if v_ == 2 else "Instantiation token"} {guid(d)}.</p>
+{{ "GUID" if v == 2 else "Instantiation token" }} {{ guid }}.</p>
 <h2>Conventions</h2>
 <ul>
 <li><b>Inputs and outputs are perturbations about trim</b>, in SI units (rad, rad/s,
@@ -343,23 +330,25 @@ The recorded flap outputs include the azimuth bias rotation.</li>
 0.1 to 0.5); changing it between steps rebuilds the discrete matrices, as
 <code>Simulator.set_mu</code>.</li>
 <li>Time constants <code>tau, tau0, tau_cs</code> are in azimuth units (seconds times
-&Omega;), as in the paper.</li>
-<li><code>{fmi}DoStep(t, h)</code> holds the inputs over [t, t+h) and leaves the outputs at
+&Omega;, dimensionless: unit <code>1</code>), as in the paper.  Dimensionless
+quantities declare the unit <code>1</code>; a parameter that must be positive has
+the minimum {{ positive_min }}.</li>
+<li><code>{{ fmi }}DoStep(t, h)</code> holds the inputs over [t, t+h) and leaves the outputs at
 t+h: internal exact zero-order-hold steps of <code>dt</code> plus one exact remainder
 step, so any communication step is exact.  Time is counted in steps, never summed.</li>
 <li>Tunable parameters and constants may change between steps (the matrices are
 rebuilt); <code>dt</code> and <code>structure</code> are fixed after initialization.</li>
-{_schedule_html(d)}
-<li>A value out of range or not finite is refused with <code>{status_error}</code> and a
+{% if schedule %}<li><b>Scheduled parameters</b> {% for n in schedule.names %}<code>{{ n }}</code>{{ ", " if not loop.last }}{% endfor %} follow <code>mu</code>: each a polynomial in mu fitted across a campaign's flight conditions (inflowsim fmu build --schedule{% if schedule.trim %}; the trim totals <code>trim_*</code> from the conditions' measured trims{% endif %}), held at its end values outside mu {{ schedule.lo }} to {{ schedule.hi }}; they are local variables (read-only), computed at every step's mu, the matrices tabulated with them.</li>
+{% endif %}<li>A value out of range or not finite is refused with <code>{{ fmi }}Error</code> and a
 logged message naming it; the state and the stored value are untouched.</li>
 <li>Apply an identified parameter file in one call:
 <code>fmpy.simulate_fmu(fmu, start_values=inflowsim.fmu.start_values(read_parameters(path)))</code>.</li>
 </ul>
 <h2>Building from <code>sources/</code></h2>
 <p><code>cc -std=c99 -O2 -ffp-contract=off -fPIC -shared -fvisibility=hidden -o
-inflowsim.so {files} -lm</code>.  Without <code>-ffp-contract=off</code> a compiler may fuse
+inflowsim.so {{ files }} -lm</code>.  Without <code>-ffp-contract=off</code> a compiler may fuse
 multiply-adds and the results differ from inflowsim's at the level of rounding.
-On glibc x86-64, <code>{fmi}DoStep</code> is compiled twice (AVX2 and baseline) and the
+On glibc x86-64, <code>{{ fmi }}DoStep</code> is compiled twice (AVX2 and baseline) and the
 loader picks one; both give the same numbers bit for bit.
 <code>-DIFS_NO_CLONES</code> builds the baseline only; <code>-DIFS_SCALAR_STEP</code>
 uses the plain-C step (what compilers without GNU vector types get), again with the
@@ -368,26 +357,49 @@ same numbers.</p>
 <table border="1" cellpadding="3">
 <tr><th>name</th><th>value reference</th><th>type</th><th>causality</th>
 <th>variability</th><th>start</th><th>unit</th><th>description</th></tr>
-{rows}
-</table>
-<p>The FMI {v_}.0 headers in <code>sources/</code> are under the 2-clause BSD licence
+{% for r in rows %}<tr><td><code>{{ r.name }}</code></td><td>{{ r.vr }}</td><td>{{ r.type }}</td><td>{{ r.causality }}</td><td>{{ r.variability }}</td><td>{{ r.start }}</td><td>{{ r.unit }}</td><td>{{ r.description }}</td></tr>
+{% endfor %}</table>
+<p>The FMI {{ v }}.0 headers in <code>sources/</code> are under the 2-clause BSD licence
 (<code>sources/LICENSE-FMI.txt</code>).</p>
 </body></html>
 """
 
 
-def _schedule_html(d: Description) -> str:
-    if d.schedule is None:
-        return ""
-    lo, hi = d.schedule.mu_range
-    names = ", ".join(f"<code>{html.escape(n)}</code>" for n in d.scheduled)
-    trim = ("; the trim totals <code>trim_*</code> from the conditions' measured trims"
-            if any(n.startswith("trim_") for n in d.scheduled) else "")
-    return (f"<li><b>Scheduled parameters</b> {names} follow <code>mu</code>: each a "
-            f"polynomial in mu fitted across a campaign's flight conditions (inflowsim "
-            f"fmu build --schedule{trim}), held at its end values outside mu {lo:g} to "
-            f"{hi:g}; they are local variables (read-only), computed at every step's "
-            "mu, the matrices tabulated with them.</li>")
+def documentation_html(fmi_version=2, d: Description = DEFAULT) -> str:
+    """``documentation/index.html``: conventions and the variable table
+    (:data:`DOCUMENTATION`, rendered by Jinja2).
+
+    Parameters
+    ----------
+    fmi_version : {2, 3}
+        The FMI version documented.
+    d : Description
+        The FMU's variables and structures.
+    """
+    from jinja2 import Environment
+
+    from .generate import xml_unit
+    from .variables import POSITIVE_MIN
+    v_ = _version(fmi_version)
+    types = {"Real": "Float64", "Integer": "Int32"} if v_ == 3 else {}
+    rows = [] if v_ == 2 else [
+        {"name": "time", "vr": time_vr(d), "type": "Float64", "causality": "independent",
+         "variability": "continuous", "start": "", "unit": "s",
+         "description": "simulation time (read-only)"}]
+    rows += [{"name": v.name, "vr": i, "type": types.get(v.type, v.type),
+              "causality": v.causality, "variability": v.variability,
+              "start": "" if v.start is None else v.start,
+              "unit": xml_unit(v.unit) if v.type == "Real" else v.unit,
+              "description": v.description} for i, v in enumerate(d.variables)]
+    schedule = None
+    if d.schedule is not None:
+        lo, hi = d.schedule.mu_range
+        schedule = {"names": d.scheduled, "lo": f"{lo:g}", "hi": f"{hi:g}",
+                    "trim": any(n.startswith("trim_") for n in d.scheduled)}
+    env = Environment(autoescape=True, keep_trailing_newline=True)
+    return env.from_string(DOCUMENTATION).render(
+        v=v_, fmi=f"fmi{v_}", structures=d.structures, guid=guid(d), rows=rows,
+        files=" ".join(sources(v_)), schedule=schedule, positive_min=f"{POSITIVE_MIN:g}")
 
 
 def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
@@ -408,8 +420,9 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         Cross-compiled binaries to add beside the native one: ``"win64"`` (with
         mingw-w64's ``x86_64-w64-mingw32-gcc``).
     say : callable, optional
-        Told ``"building OUT ..."`` once the output and the compilers are checked,
-        before the long work.
+        Progress (:func:`inflowsim.progress.bar`): told each step (generating the C
+        equations, compiling, packing) once the output and the compilers are
+        checked.
     model : optional
         What the FMU runs (:func:`description_for`): default the three presets
         (integer ``structure`` 0 basic, 1 empirical, 2 glauert); a structure text
@@ -433,20 +446,27 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
     plat = platform_folder(version)
     for target in platforms:                  # refuse before compiling anything
         require_cross_compiler(target)
-    if say:
-        say(f"building {out} ...")
-    with tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp, \
+    steps = 3 + len(platforms)
+    with bar(say, steps, f"fmu build {out}", "step") as b, \
+            tempfile.TemporaryDirectory(prefix="inflowsim-fmu-") as tmp, \
             _naming_os_errors(f"{tmp} (the build folder of {out})"):
         root = Path(tmp) / "fmu"
+        b.set_postfix_str("generating the C equations of " + ", ".join(d.structures))
         _stage_sources(root / "sources", version, d)
+        b.update()
         (root / "binaries" / plat).mkdir(parents=True)
+        b.set_postfix_str(f"compiling {plat} with {compiler()}")
         compile_library(root / "sources", root / "binaries" / plat / f"{MODEL_IDENTIFIER}.so",
                         fmi_version=version, say=say)
+        b.update()
         for target in platforms:
-            _, folders, name = CROSS[target]
+            cc, folders, name = CROSS[target]
+            b.set_postfix_str(f"compiling {target} with {cc}")
             (root / "binaries" / folders[version]).mkdir(parents=True, exist_ok=True)
             compile_library(root / "sources", root / "binaries" / folders[version] / name,
                             fmi_version=version, target=target, say=say)
+            b.update()
+        b.set_postfix_str("packing")
         (root / "documentation").mkdir()
         (root / "documentation" / "index.html").write_text(documentation_html(version, d),
                                                            encoding="utf-8")
@@ -457,4 +477,12 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
                 for p in sorted(root.rglob("*")):
                     if p.is_file():
                         z.write(p, p.relative_to(root).as_posix())
+        b.update()
     return out
+
+
+__all__ = ["CORE_SOURCES", "CORE_HEADERS", "LAYER", "DESCRIPTION", "FMI_VERSIONS",
+           "CFLAGS", "source_dir", "CROSS", "CROSS_CFLAGS", "cross_compiler",
+           "require_cross_compiler", "compiler", "sources", "platform_folder",
+           "compile_library", "description_for", "DOCUMENTATION", "documentation_html",
+           "build_fmu"]

@@ -85,7 +85,8 @@ def _symbols(structure: Structure):
 
     p = {n: sp.Symbol(n) for n in structure.parameters}
     trim = {c: sp.Symbol(n) for n, c in TRIM_PARAMETERS.items()}
-    k = SimpleNamespace(mu=sp.Symbol("mu"), a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
+    k = SimpleNamespace(mu=sp.Symbol("mu"), a0=sp.Symbol("a0"),
+                        a0s=sp.Symbol("a0") * sp.Symbol("solidity"),
                         omega=sp.Symbol("omega"), flow_speed=sp.Symbol("V"), trim=trim,
                         numeric=_NumericCalls(sp))
     return p, k
@@ -225,9 +226,14 @@ def _loads_c(s: Structure, meas, index: int, sp) -> list:
                 x = sp.sympify(arr[i, j])
                 if x.is_zero is not True:
                     targets.append((f"{name}[{i * ncol + j}]", x))
+    free = set().union(*(x.free_symbols for _, x in targets)) if targets else set()
+    # an effect linearised about the trim inflow (lead-lag) has the speed through
+    # the disc in its load terms: computed here as the descriptor's caller does
+    speed = (["    const double V = ifs_flow_speed(v);"]
+             if any(str(x) == "V" for x in free) else [])
     return ([f"static void loads_{index}(const IfsVariables *v, const double *a, "
-             "const double *b, double *lc, double *ld)", "{",
-             "    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);",
+             "const double *b, double *lc, double *ld)", "{"] + speed +
+            ["    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);",
              "    memset(ld, 0, sizeof(double) * IFS_NL * IFS_NU);"]
             + _assignments(sp, targets) + ["}", ""])
 

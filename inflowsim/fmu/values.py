@@ -26,7 +26,13 @@ _K = ("k01", "k02", "k11", "k12", "k21", "k22")
 
 def structure_code(structure) -> int:
     """The presets' FMU's integer ``structure`` for a structure, or
-    :class:`InputError`."""
+    :class:`InputError`.
+
+    Parameters
+    ----------
+    structure : str or Structure
+        A structure made of the presets' effects.
+    """
     s = Structure.parse(structure)
     extra = [e for e in s.effects if e not in SUPPORTED]
     if extra:
@@ -130,6 +136,18 @@ def apply_parameters(fmu, source, constants=None,
     steps).
 
     Returns the values set.
+
+    Parameters
+    ----------
+    fmu : fmpy FMU2Slave or FMU3Slave
+        An instantiated FMU.
+    source : Model, ParameterSet, FitResult or mapping
+        Where the values come from (:func:`start_values`): parameters (SI; time
+        constants in azimuth units) and constants.
+    constants : Constants, optional
+        The flight condition and rotor (default the source's).
+    description : Description
+        The FMU's variables (default the presets' FMU).
     """
     vals = (source if isinstance(source, Mapping)
             else start_values(source, constants, description))
@@ -145,3 +163,7 @@ def apply_parameters(fmu, source, constants=None,
     if reals:
         set_real([VR[n] for n in reals], [float(v) for v in reals.values()])
     return dict(vals)
+
+
+__all__ = ["SUPPORTED", "structure_code", "start_values", "refuse_leads",
+           "apply_parameters"]

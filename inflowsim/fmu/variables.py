@@ -76,7 +76,20 @@ class Variable:
         return None
 
 
-_UNITS = {"rad/s^2": "rad/s2", "azimuth rad": "rad"}
+#: Units as the FMU declares them: the time constants ``tau``, ``tau0``, ``tau_cs`` are
+#: in azimuth units (``psi = Omega t``, dimensionless: divide by ``omega`` for
+#: seconds), not an angle, so no ``deg`` display unit applies to them.
+_UNITS = {"rad/s^2": "rad/s2", "azimuth rad": "-"}
+#: How a description names a parameter's unit.
+_UNIT_TEXT = {"azimuth rad": "azimuth units, psi = Omega t, dimensionless: divide by "
+                             "omega for seconds"}
+#: The least value the FMU accepts for a quantity that must be positive (an open
+#: bound at 0 in the model's table, :data:`inflowsim.model.params.SPECS`, and
+#: ``a0``, ``solidity``, ``ct``): declared as its ``min`` and enforced by the C code
+#: (the least double above 0, 5e-324, told an importer nothing).  Far below any
+#: rotor's value: 1e-6 azimuth units is 36 ns of the Puma's rotor turn, and a flap
+#: frequency, lift slope, solidity or thrust coefficient of 1e-6 is none.
+POSITIVE_MIN = 1e-6
 _PARAMETERS = ("lambda_beta2", "n_beta", "tau", "tau0", "tau_cs",
                "k01", "k02", "k11", "k12", "k21", "k22",
                "c1", "c2", "c3", "c4", "k0p", "kc", "ks", "azimuth_bias")
@@ -106,6 +119,14 @@ def _parameter_names(structures) -> tuple:
             if n not in names and n != "delay":       # delay: every FMU has it
                 names.append(n)
     return tuple(names)
+
+
+def _range(lower, upper, lower_open=False) -> tuple:
+    """``(lower, upper, lower_open)`` as the FMU declares and enforces them: an open
+    bound at 0 becomes the closed :data:`POSITIVE_MIN`."""
+    if lower_open and lower == 0.0:
+        return POSITIVE_MIN, upper, False
+    return lower, upper, lower_open
 
 
 def _flap_delay(name: str) -> bool:
@@ -147,11 +168,13 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
                               _UNITS.get(s.unit, s.unit),
                               f"{s.description}, scheduled: a polynomial in mu, held "
                               "beyond the schedule's range (the value at the mu of the "
-                              f"last step) [{s.unit}]", s.lower, s.upper, s.lower_open))
+                              f"last step) [{_UNIT_TEXT.get(s.unit, s.unit)}]",
+                              *_range(s.lower, s.upper, s.lower_open)))
             continue
         v.append(Variable(name, "Real", "parameter", "tunable", start[name],
                           _UNITS.get(s.unit, s.unit),
-                          f"{s.description} [{s.unit}]", s.lower, s.upper, s.lower_open))
+                          f"{s.description} [{_UNIT_TEXT.get(s.unit, s.unit)}]",
+                          *_range(s.lower, s.upper, s.lower_open)))
     if needs_trim(structures):
         trim = k.trim or {}
         for name, col in TRIM_PARAMETERS.items():
@@ -172,9 +195,9 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
                               f"about which advance-ratio-perturbation is linearised "
                               f"[{unit}]", -1.0, 1.0))
     v.append(Variable("a0", "Real", "parameter", "tunable", k.a0, "1/rad",
-                      "blade lift-curve slope [1/rad]", 0.0, math.inf, True))
+                      "blade lift-curve slope [1/rad]", *_range(0.0, math.inf, True)))
     v.append(Variable("solidity", "Real", "parameter", "tunable", k.solidity, "-",
-                      "rotor solidity s [-]", 0.0, 1.0, True))
+                      "rotor solidity s [-]", *_range(0.0, 1.0, True)))
     v.append(Variable("omega", "Real", "parameter", "tunable", k.omega, "rad/s",
                       "rotor speed Omega [rad/s]", *OMEGA_RANGE))
     v.append(Variable("dt", "Real", "parameter", "fixed", DT, "s",
@@ -187,7 +210,7 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
     v.append(Variable("ct", "Real", "parameter", "tunable",
                       k.ct if k.ct is not None else CT_START, "-",
                       "trim thrust coefficient T / (rho pi R^2 (Omega R)^2), for the "
-                      "mass-flow speed (inflow_speed 1) [-]", 0.0, 0.05, True))
+                      "mass-flow speed (inflow_speed 1) [-]", *_range(0.0, 0.05, True)))
     v.append(Variable("delay", "Real", "parameter", "fixed", start.get("delay", 0.0), "s",
                       "time-delay effect: the recorded flap lags the rotor's by this [s] "
                       "(exact, fractions of dt included; at most 256 dt, communication "
@@ -210,7 +233,19 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
 @dataclass(frozen=True)
 class Description:
     """What one FMU is generated from: its structures (the integer ``structure``
-    indexes them) and every variable, in value-reference order."""
+    indexes them) and every variable, in value-reference order.
+
+    Attributes
+    ----------
+    structures : tuple of str
+        The structures the FMU runs (the integer ``structure`` indexes them).
+    variables : tuple of Variable
+        Every variable, in value-reference order.
+    vr : mapping of str to int
+        Value reference by name.
+    schedule : Schedule or None
+        Parameters that follow ``mu`` (``None``: none).
+    """
 
     structures: tuple
     variables: tuple
@@ -253,6 +288,17 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
     and whose held parameters are start values; its trim totals, where the
     structure is linearised about trim (:func:`~inflowsim.model.effects.needs_trim`),
     become local variables ``trim_<column>`` computed alike.
+
+    Parameters
+    ----------
+    structures : sequence of str or Structure
+        The structures the FMU runs (one integer ``structure`` each) [-].
+    start : mapping of str to float, optional
+        Parameter start values (SI; time constants in azimuth units, dimensionless).
+    constants : Constants, optional
+        The start flight condition and rotor (``mu`` [-], ``omega`` [rad/s] ...).
+    schedule : Schedule, optional
+        Parameters that follow ``mu`` at every step.
     """
     names = tuple(Structure.parse(st).name for st in structures)
     if not names:
@@ -291,3 +337,9 @@ INTEGERS = DEFAULT.integers
 PARAMETER_NAMES = _PARAMETERS
 #: Values of the default FMU's integer ``structure``.
 STRUCTURES = DEFAULT.codes
+
+
+__all__ = ["MODEL_IDENTIFIER", "MODEL_NAME", "DEFAULT_STRUCTURES", "DT", "CT_START",
+           "INFLOW_SPEEDS", "Variable", "POSITIVE_MIN", "Description", "describe",
+           "DEFAULT", "VARIABLES", "VR", "REALS", "INTEGERS", "PARAMETER_NAMES",
+           "STRUCTURES"]

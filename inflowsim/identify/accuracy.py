@@ -74,3 +74,6 @@ def parameter_accuracy(fit) -> tuple:
         out.append(ParameterAccuracy(n, est, float(sig[i]), float(cr), float(ip),
                                      tuple(flags)))
     return tuple(out)
+
+
+__all__ = ["CORRELATED", "ParameterAccuracy", "HEADER", "parameter_accuracy"]

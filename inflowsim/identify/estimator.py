@@ -23,7 +23,14 @@ of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
 projection (the Schur complement of the joint information).  A second bound
 (``sigma_colored``) corrects for coloured residuals, after Morelli and Klein: the
 sandwich ``M^-1 V M^-1`` with ``V`` from the residuals' local spectrum and their
-correlation across neighbouring frequencies (:func:`_colored`).
+correlation across neighbouring frequencies (:func:`_colored`).  A third
+(``sigma_robust``) is the misspecification-robust (Huber-White) sandwich of the
+per-frequency scores with a Newey-West band over neighbouring frequencies
+(:func:`_robust`): it holds whatever the residuals' distribution, level across
+the band or correlation between neighbouring bins, but, like every bound read
+from the residual, it bounds the scatter of the estimate about the value the
+structure converges to, not the bias an incomplete structure adds to it
+(``model.md`` section 7).
 """
 from __future__ import annotations
 
@@ -33,8 +40,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.build import build_model
+from ..model.effects import CATALOGUE
 from ..model.presets import preset_parameters, theory_parameters
 from ..model.structure import Structure
+from ..progress import bar
 from .problem import Problem, unstack
 from .results import FitResult, RecordFit, channel_fit
 from .transform import DEFAULT_BAND, as_record, record_spectra
@@ -213,6 +222,52 @@ def _colored(prob, st, blocks, cov):
     return cov @ V @ cov
 
 
+def _robust(prob, st, blocks, cov):
+    """Huber-White sandwich of the per-frequency scores, Newey-West band.
+
+    ``cov_r = M^-1 V M^-1`` (Huber 1967; White 1982, *Econometrica* 50, 1-25) with
+    the per-bin score ``s_k = 2 Re(G_k^H e~_k)`` (``G_k = d e_k / d theta`` of the
+    weighted, nuisance-projected residual ``e_k`` at frequency ``k``; the cost's
+    gradient is ``-sum_k s_k``) and
+
+        ``V = sum_k s_k s_k^T + sum_{j=1}^{L} w_j (Gamma_j + Gamma_j^T)``,
+        ``Gamma_j = sum_k s_k s_{k-j}^T``, ``w_j = 1 - j / (L + 1)``,
+
+    the Bartlett-weighted band of Newey and West (1987, *Econometrica* 55,
+    703-708) over neighbouring bins of one record; records add.  ``L`` spans the
+    main lobe of the record's window, ``L = ceil(1 / (N dt df))`` (``df`` the
+    spacing of the frequencies used): 1 on the record's own grid, more for a
+    finer ``grid_hz``, whose neighbouring bins share noise.  ``e~_k = e_k /
+    sqrt(1 - h_k)`` is the residual corrected for its leverage ``h_k`` (the
+    bin's mean diagonal of the hat matrix of the sensitivities and the end-effect
+    columns; MacKinnon and White 1985, *J. Econometrics* 29, 305-325, "HC2"): a
+    fit pulls the residual towards zero most where the data inform it most.
+    For circular white residuals of covariance ``S``, ``E s_k s_k^T = M_k`` and
+    the bins are independent, so ``V -> M`` and ``cov_r -> M^-1``, the
+    Cramer-Rao bound.  Unlike :func:`_colored` it uses each bin's own residual,
+    not a local average, so it needs no model of how the residual's level
+    varies across the band.
+    """
+    V = np.zeros_like(cov)
+    for sp, blk, r, Q in zip(prob.spectra, blocks, st.r, st.bases):
+        nf = sp.f_hz.size
+        df = np.min(np.diff(sp.f_hz)) if nf > 1 else np.inf
+        lmax = int(np.ceil(1.0 / (sp.n_samples * sp.dt * df) - 1e-9)) if nf > 1 else 0
+        lmax = min(max(lmax, 1), max(nf - 1, 0))
+        # leverage: diagonal of J (J^T J)^-1 J^T (J^T J = M / 2) plus the nuisance's Q Q^T
+        hd = np.einsum("ip,pq,iq->i", blk, 2.0 * cov, blk) + np.einsum("iq,iq->i", Q, Q)
+        h = blk.shape[0] // 2
+        hk = (hd[:h] + hd[h:]).reshape(nf, 3).sum(axis=1) / 6.0
+        G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
+        e = unstack(r, nf) / np.sqrt(np.clip(1.0 - hk, 1e-3, 1.0))[:, None]
+        s = 2.0 * np.real(np.einsum("kip,ki->kp", G.conj(), e))      # (nf, p)
+        V += s.T @ s
+        for j in range(1, lmax + 1):
+            g = s[j:].T @ s[:-j]
+            V += (1.0 - j / (lmax + 1)) * (g + g.T)
+    return cov @ V @ cov
+
+
 def null_directions(M):
     """``(undetermined indices, flat directions)`` of an information matrix: the
     flat directions ``(relative eigenvalue, unit vector)`` of the scaled ``M`` at
@@ -238,6 +293,7 @@ def _bounds(prob, st):
     ok = np.array([i for i in range(p) if i not in dead], dtype=int)
     cov = np.full((p, p), np.nan)
     cov_c = np.full((p, p), np.nan)
+    cov_r = np.full((p, p), np.nan)
     if ok.size:
         # S is estimated from residuals that lost the fitted degrees of freedom
         # (parameters and end-effect states): scale the bounds back up
@@ -248,7 +304,8 @@ def _bounds(prob, st):
         cov[np.ix_(ok, ok)] = sub * dof
         blocks_ok = [b[:, ok] for b in blocks]
         cov_c[np.ix_(ok, ok)] = _colored(prob, st, blocks_ok, sub) * dof
-    return cov, cov_c, sorted(dead), len(null_dirs)
+        cov_r[np.ix_(ok, ok)] = _robust(prob, st, blocks_ok, sub) * dof
+    return cov, cov_c, cov_r, sorted(dead), len(null_dirs)
 
 
 def _excitation_hint(prob):
@@ -347,6 +404,16 @@ def _starts(structure, constants, start):
     cands = []
     if start:
         cands.append(("start", {**theory, **start}))
+        # an effect started at its neutral saddle (Effect.theory_start) is also
+        # tried at its theory values, the rest as started
+        for e in structure.effects:
+            eff = CATALOGUE[e]
+            if not eff.theory_start:
+                continue
+            neutral = eff.neutral_values(constants)
+            if all(n in start and np.isclose(start[n], neutral[n]) for n in eff.parameters):
+                cands.append((f"start, {e} at theory", {
+                    **theory, **start, **{n: theory[n] for n in eff.parameters}}))
     cands.append(("theory", dict(theory)))
     try:
         paper = preset_parameters(structure, constants, "paper")
@@ -425,46 +492,54 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     # the best start's problem and state are kept (its responses and nuisance
     # bases are the record's length: 90 MB of a 2-hour record's three starts)
     trials, best = [], None
-    for label, vals in starts:
-        vals = dict(vals)
-        vals.update(fixed)
-        prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
-        if not prob.free:
-            raise InputError("identify: every parameter is fixed; nothing to estimate")
-        try:
-            build_model(s, prob.params(prob.theta0()), spectra[0].constants)
-        except InputError as exc:
-            raise InputError(f"start values ({label}): {exc}") from None
-        say(f"identify {s.name}: start {label}, {len(prob.free)} parameters, "
-            f"{prob.n_freq} frequencies")
-        st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
-        say(f"  start {label}: cost {j:.6f} after {iters} iterations")
-        trials.append((j, label, iters))
-        if best is None or j < best[0]:       # the first of equal costs, as min() takes
-            best = (j, label, prob, st, iters)
-        del prob, st
+    with bar(progress, len(starts), f"identify {s.name}: trying starts", "start") as b:
+        for label, vals in starts:
+            vals = dict(vals)
+            vals.update(fixed)
+            prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
+            if not prob.free:
+                raise InputError("identify: every parameter is fixed; nothing to estimate")
+            try:
+                build_model(s, prob.params(prob.theta0()), spectra[0].constants)
+            except InputError as exc:
+                raise InputError(f"start values ({label}): {exc}") from None
+            b.set_postfix_str(f"{label}: {len(prob.free)} parameters, "
+                              f"{prob.n_freq} frequencies")
+            st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
+            b.update()
+            trials.append((j, label, iters))
+            if best is None or j < best[0]:   # the first of equal costs, as min() takes
+                best = (j, label, prob, st, iters)
+            del prob, st
     j, label, prob, st, it0 = best
     del best
-    say(f"  continuing from start {label}")
-    st, j, iters, conv = _fit(prob, st.theta,
-                              report=lambda i, c: say(f"  iteration {i}: cost {c:.6f}"))
+
+    def step(b, i, c):
+        b.set_postfix_str(f"cost {c:.6f}", refresh=False)
+        b.update()
+    with bar(progress, None, f"identify {s.name}: fitting from start {label}",
+             "iteration") as b:
+        st, j, iters, conv = _fit(prob, st.theta, report=lambda i, c: step(b, i, c))
     say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
     return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
 
 
 def _result(prob, st, j, iters, conv, starts):
     theta = st.theta
-    cov, cov_c, dead, n_null = _bounds(prob, st)
+    cov, cov_c, cov_r, dead, n_null = _bounds(prob, st)
     warns, corr = _warnings(prob, theta, cov, dead, n_null, conv, iters)
     params = prob.params(theta)
-    sigma, sigma_c = {}, {}
+    sigma, sigma_c, sigma_r = {}, {}, {}
     for i, g in enumerate(prob.free):
         sd = float(np.sqrt(cov[i, i])) if np.isfinite(cov[i, i]) else None
         sc = float(np.sqrt(cov_c[i, i])) if np.isfinite(cov_c[i, i]) else None
-        if sc is not None and sd is not None:
-            sc = max(sc, sd)     # a correction, never below the Cramer-Rao bound
+        sr = float(np.sqrt(cov_r[i, i])) if np.isfinite(cov_r[i, i]) else None
+        if sd is not None:
+            # corrections, never below the Cramer-Rao bound
+            sc = None if sc is None else max(sc, sd)
+            sr = None if sr is None else max(sr, sd)
         for n in g:
-            sigma[n], sigma_c[n] = sd, sc
+            sigma[n], sigma_c[n], sigma_r[n] = sd, sc, sr
     data = []
     for sp, (y_u, y_nu), nu, S in zip(prob.spectra, st.resp, st.nus, st.S):
         m = build_model(prob.structure, params, sp.constants)
@@ -479,7 +554,8 @@ def _result(prob, st, j, iters, conv, starts):
     model = build_model(prob.structure, params, prob.spectra[0].constants)
     return FitResult(
         structure=prob.structure, constants=tuple(sp.constants for sp in prob.spectra),
-        parameters=params, sigma=sigma, sigma_colored=sigma_c, free=prob.free_names,
+        parameters=params, sigma=sigma, sigma_colored=sigma_c, sigma_robust=sigma_r,
+        free=prob.free_names,
         correlation=corr, fixed=prob.fixed,
         ties=tuple(g for g in prob.free if len(g) > 1), cost=float(j), S=tuple(st.S),
         band_hz=_band(prob.spectra), n_freq=prob.n_freq,
@@ -494,6 +570,29 @@ class Evaluation:
 
     ``residuals[r]`` is ``(nf, 3)`` complex (measured minus predicted flap transform,
     end effects eliminated) at ``f_hz[r]``; ``S[r]`` the estimated covariance.
+
+    Attributes
+    ----------
+    cost : float
+        Cost (12) [-].
+    residuals : tuple of ndarray
+        Per record, ``(nf, 3)`` complex residual spectra [rad s].
+    f_hz : tuple of ndarray
+        Per record, frequencies [Hz].
+    S : tuple of ndarray
+        Per record, residual covariance [rad^2 s^2].
+    Z, Y : tuple of ndarray
+        Per record, measured and predicted flap transforms [rad s].
+    band_hz : tuple of float
+        The band [Hz].
+    n_freq : int
+        Frequencies over all records [-].
+    records : tuple of str
+        The records.
+    fit : dict
+        Per channel fit figures (:func:`~inflowsim.identify.results.channel_fit`).
+    nu : tuple
+        Per record, the end-effect nuisance.
     """
 
     cost: float
@@ -516,6 +615,21 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
     ``S`` and the end-effect nuisance are still estimated (they are not model
     parameters), so the cost is the one :func:`identify` minimises and costs of
     nested structures on the same records and band compare as log-likelihoods.
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    band_hz : (float, float)
+        Analysis band [Hz].
+    grid_hz : float, optional
+        Frequency grid spacing [Hz] (default each record's ``1 / T``).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
     """
     s = Structure.parse(structure)
     recs = _records(records)
@@ -530,3 +644,8 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       n_freq=prob.n_freq, records=tuple(sp.source for sp in spectra),
                       fit=channel_fit(np.vstack([sp.Z for sp in spectra]), np.vstack(Y)),
                       nu=tuple(st.nus))
+
+
+__all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
+           "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
+           "evaluate"]

@@ -334,3 +334,8 @@ def describe(ident: Identifiability) -> list[str]:
     if ident.quiet_inputs and lines:
         lines.append(f"the record does not move {', '.join(ident.quiet_inputs)} in the band")
     return lines
+
+
+__all__ = ["CR_PERCENT_LIMIT", "INSENSITIVITY_PERCENT_LIMIT", "CONDITIONAL_SHARE",
+           "ParameterInfo", "FlatDirection", "ManoeuvreGain", "Identifiability",
+           "prior_sigma", "identifiability", "describe"]

@@ -318,3 +318,6 @@ def unstack(r, nf):
     """Inverse of the real stacking for one record: ``(nf, 3)`` complex."""
     h = r.size // 2
     return (r[:h] + 1j * r[h:]).reshape(nf, 3)
+
+
+__all__ = ["TYPICAL", "S_FLOOR", "MEMO", "Problem", "unstack"]

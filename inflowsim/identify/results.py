@@ -20,6 +20,33 @@ class RecordFit:
     replay the record in time with its ``hold``; ``nu`` all the end-effect nuisance
     (:func:`inflowsim.identify.freqmodel.flap_response`); ``S`` the record's
     residual covariance (3x3).
+
+    Attributes
+    ----------
+    source : str
+        The record.
+    constants : Constants
+        Its flight condition and rotor.
+    dt : float
+        Sample step [s].
+    f_hz : ndarray
+        Frequencies [Hz].
+    Z, Y : ndarray, shape (nf, 3)
+        Measured and predicted flap transforms [rad s].
+    x0 : ndarray
+        Estimated initial state (end effects).
+    S : ndarray, shape (3, 3)
+        Residual covariance [rad^2 s^2].
+    trim : mapping of str to float
+        The trim subtracted (SI).
+    trim_method : str
+        How it was found.
+    u_time, z_time : ndarray
+        Input and flap perturbations in time (SI).
+    hold : str
+        Intersample behaviour of the inputs.
+    nu : ndarray or None
+        Every end-effect nuisance.
     """
 
     source: str
@@ -67,6 +94,13 @@ def channel_fit(Z: np.ndarray, Y: np.ndarray) -> dict:
     ``mag_rms_db`` RMS of ``20 log10(|Y|/|Z|)`` [dB]; ``phase_rms_deg`` RMS of the
     wrapped phase of ``Y/Z`` [deg]; ``fit_percent`` :func:`fit_percent` over the
     band; ``residual_rms`` RMS ``|Z - Y|``.
+
+    Parameters
+    ----------
+    Z : ndarray, shape (nf, 3)
+        Measured flap transforms [rad s].
+    Y : ndarray, shape (nf, 3)
+        Predicted flap transforms [rad s].
     """
     out = {}
     for i, ch in enumerate(FLAP):
@@ -103,6 +137,11 @@ class FitResult:
     sigma_colored : dict
         Bounds corrected for coloured residuals (residual-spectrum sandwich after
         Morelli & Klein), never below ``sigma``; same keys.
+    sigma_robust : dict
+        Misspecification-robust bounds (Huber-White sandwich of the per-frequency
+        scores with a Newey-West band over neighbouring frequencies), never below
+        ``sigma``; same keys.  They hold whatever the residuals' distribution or
+        correlation, but not the bias of an incomplete structure (``conditional``).
     free : tuple of str
         Estimated quantities in ``correlation`` order (a tie group is ``a=b``).
     correlation : ndarray ``(p, p)``
@@ -130,6 +169,15 @@ class FitResult:
         Frequency data per record (plots, residual analysis).
     starts : tuple
         ``(label, cost)`` of every starting point tried.
+    conditional : str or None
+        Set by the diagnosis's test (:func:`inflowsim.diagnose.conditional.marked`)
+        when the residual keeps structured excess over the noise floor: every
+        estimate is then conditional on an incomplete structure, and this is the
+        reason, one line; ``None``: not judged, or the residual is at the floor.
+    judged : bool
+        Whether that test was made (:func:`~inflowsim.identify.identify` alone does
+        not make it; the commands, :func:`~inflowsim.diagnose.diagnose` and the
+        ladders do).
     """
 
     structure: Structure
@@ -153,6 +201,9 @@ class FitResult:
     model: object = field(repr=False)
     data: tuple = field(repr=False, default=())
     starts: tuple = ()
+    sigma_robust: dict = field(default_factory=dict)
+    conditional: str | None = None
+    judged: bool = False
 
     @property
     def residuals(self) -> list:
@@ -168,6 +219,10 @@ class FitResult:
                 entry["fixed"] = True
             if n in self.sigma_colored:
                 entry["sigma_colored"] = self.sigma_colored[n]
+            if n in self.sigma_robust:
+                entry["sigma_robust"] = self.sigma_robust[n]
+            if n not in self.fixed:
+                entry.update(self.conditional_entry())
             params[n] = entry
         consts = self.constants[0].as_dict()
         return {
@@ -188,3 +243,13 @@ class FitResult:
             "ties": [list(t) for t in self.ties],
             "trim": [d.trim_method for d in self.data],
         }
+
+    def conditional_entry(self) -> dict:
+        """The fields an estimated parameter's JSON entry carries about the
+        structure's completeness: ``conditional`` (bool; ``None`` where not
+        :attr:`judged`) and ``conditional_why`` (the reason, or ``None``)."""
+        return {"conditional": (self.conditional is not None) if self.judged else None,
+                "conditional_why": self.conditional}
+
+
+__all__ = ["RecordFit", "fit_percent", "channel_fit", "FitResult"]

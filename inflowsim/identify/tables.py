@@ -11,7 +11,9 @@ def _fmt(v, digits=4):
 
 
 def table_rows(result) -> list:
-    """``[(name, estimate, sigma, sigma_colored, theory, note)]`` per parameter."""
+    """``[(name, estimate, sigma, sigma_colored, sigma_robust, theory, note)]`` per
+    parameter; an estimate conditional on an incomplete structure
+    (``result.conditional``) says so in its note."""
     theory = theory_parameters(result.structure, result.constants[0])
     rows = []
     for n, v in result.parameters.items():
@@ -19,8 +21,10 @@ def table_rows(result) -> list:
             ("tied " + "=".join(t) for t in result.ties if n in t), "")
         if n not in result.fixed and result.sigma.get(n) is None:
             note = (note + "; " if note else "") + "not determined by the data: no bound"
+        if n not in result.fixed and getattr(result, "conditional", None):
+            note = (note + "; " if note else "") + "conditional"
         rows.append((n, v, result.sigma.get(n), result.sigma_colored.get(n),
-                     theory.get(n), note))
+                     getattr(result, "sigma_robust", {}).get(n), theory.get(n), note))
     return rows
 
 
@@ -34,13 +38,28 @@ def _header(result):
 
 def markdown_table(result) -> str:
     """The parameter table (estimate, 1-sigma CR bound, coloured-residual bound,
-    theory value) and the per-channel fit, in Markdown."""
+    robust bound, theory value) and the per-channel fit, in Markdown; below the
+    table, why the estimates are conditional where they are.
+
+    Parameters
+    ----------
+    result : FitResult
+        The fit.
+    """
+    # written here, not by pandas' to_markdown (the campaign's reports use it): the
+    # commands print this table and pandas' import alone costs 1.6 s (measured
+    # after NumPy, under the shared machine's load), longer than many fits
     out = [_header(result), "",
-           "| parameter | estimate | 1-sigma | 1-sigma (coloured) | theory | note |",
-           "| --- | ---: | ---: | ---: | ---: | --- |"]
-    for n, v, s, sc, th, note in table_rows(result):
-        out.append(f"| `{n}` | {_fmt(v, 5)} | {_fmt(s, 3) if n not in result.fixed else ''} "
-                   f"| {_fmt(sc, 3) if n not in result.fixed else ''} | {_fmt(th)} | {note} |")
+           "| parameter | estimate | 1-sigma | 1-sigma (coloured) | 1-sigma (robust) "
+           "| theory | note |",
+           "| --- | ---: | ---: | ---: | ---: | ---: | --- |"]
+    for n, v, s, sc, sr, th, note in table_rows(result):
+        free = n not in result.fixed
+        out.append(f"| `{n}` | {_fmt(v, 5)} | {_fmt(s, 3) if free else ''} "
+                   f"| {_fmt(sc, 3) if free else ''} | {_fmt(sr, 3) if free else ''} "
+                   f"| {_fmt(th)} | {note} |")
+    if getattr(result, "conditional", None):
+        out += ["", f"Every estimate is {result.conditional}."]
     out += ["", "| channel | magnitude error (RMS dB) | phase error (RMS deg) | fit % |",
             "| --- | ---: | ---: | ---: |"]
     for ch, f in result.fit.items():
@@ -49,3 +68,6 @@ def markdown_table(result) -> str:
     if result.warnings:
         out += ["", "Warnings:", ""] + [f"- {w}" for w in result.warnings]
     return "\n".join(out) + "\n"
+
+
+__all__ = ["table_rows", "markdown_table"]

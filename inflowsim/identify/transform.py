@@ -45,6 +45,15 @@ def snap_band(n_samples: int, dt: float, band_hz) -> tuple[np.ndarray, tuple]:
     limit), so a band never silently grows; it keeps every bin between them,
     never the DC bin, and must hold at least 3.
 
+    Parameters
+    ----------
+    n_samples : int
+        Record length ``N`` [samples].
+    dt : float
+        Sample step [s].
+    band_hz : (float, float)
+        The band asked for [Hz].
+
     Returns
     -------
     k : ndarray of int
@@ -185,6 +194,8 @@ def record_spectra(rec, inputs, band_hz=DEFAULT_BAND, grid_hz=None, hold=None,
         ``band_hz`` are kept, ``band_hz`` is not snapped.
     hold : str, optional
         Overrides the record's intersample behaviour (``# hold:``).
+    require_motion : bool
+        Refuse a record whose controls do not move (one line naming it).
     """
     rec = as_record(rec)
     hold = rec.hold_or(hold)
@@ -235,3 +246,7 @@ def _record_spectra(rec, inputs, band_hz, grid_hz, hold, require_motion):
         a.flags.writeable = False
     return Spectra(rec.source, k_const, dt, n, f, on_grid, tuple(inputs), U, Z, u, y,
                    trim.values, trim.describe(), hold)
+
+
+__all__ = ["SNAP_TOLERANCE", "snap_band", "dft", "Spectra", "as_record",
+           "transform_weights", "record_spectra"]

@@ -16,15 +16,24 @@ from ..frozen import FrozenDict, ReadOnlyArrays
 from ..physics import flapping as fl
 from ..physics import loads as ld
 from .effects import CATALOGUE
-from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement, assemble, input_scale,
-                        rotation)
+from .equations import (ARRAY_FIELDS, FLAP, INPUTS, OUTPUTS, Equations, Measurement,
+                        assemble, input_scale, rotation)
 from ..errors import InputError
 from .params import Constants, check_constants, check_parameters
 from .structure import Structure
 
 
 def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
-    """The basic momentum model, Eqs. (1)-(4), with all ten input columns."""
+    """The basic momentum model, Eqs. (1)-(4), with all ten input columns.
+
+    Parameters
+    ----------
+    p : mapping of str to float
+        The basic parameters ``lambda_beta2``, ``n_beta`` [-], ``tau`` or ``tau0``,
+        ``tau_cs`` (azimuth units [-]).
+    k : Constants
+        Flight condition and rotor (``mu`` [-], ``a0`` [1/rad], ``solidity`` [-] ...).
+    """
     mu, nb = k.mu, p["n_beta"]
     lb2 = p["lambda_beta2"]
     tau = p.get("tau", 1.0)   # superseded by separate-time-constants
@@ -49,7 +58,7 @@ def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
 #: Base equations remembered (:func:`base_equations`), most recent last.
 _BASE: dict = {}
 _BASE_MEMO = 8
-_BLOCKS = tuple(f.name for f in fields(Equations))
+_BLOCKS = ARRAY_FIELDS
 
 
 def _base_equations(mu, a0s, v, nb, lb2, tau) -> Equations:
@@ -80,7 +89,17 @@ def apply_effects(s: Structure, p: Mapping[str, float], k):
 
 
 def equations(structure, params: Mapping[str, float], constants: Constants):
-    """Structured equations and measurement of ``structure`` (validated inputs)."""
+    """Structured equations and measurement of ``structure`` (validated inputs).
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor.
+    """
     s = Structure.parse(structure)
     check_constants(constants)
     if not isinstance(params, Mapping):
@@ -94,7 +113,17 @@ def equations(structure, params: Mapping[str, float], constants: Constants):
 
 
 def descriptor(structure, params, constants):
-    """``E, A, B`` of Eq. (8) in azimuth time; inputs ``structure.inputs_az``."""
+    """``E, A, B`` of Eq. (8) in azimuth time; inputs ``structure.inputs_az``.
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    params : mapping of str to float
+        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor (``mu`` [-], ``omega`` [rad/s], ``a0`` [1/rad] ...).
+    """
     s, p, eq, _ = equations(structure, params, constants)
     e, a, b = assemble(eq, s.second_order)
     return e, a, b[:, : s.n_inputs]
@@ -127,6 +156,27 @@ class Model(ReadOnlyArrays):
     delayed by ``delays`` [s] (negative: a lead); the recorded input ``j`` lags the
     true one by ``input_delays[j]`` [s].  ``E, A, B`` are the azimuth-time descriptor of
     Eq. (8) with inputs in azimuth units.
+
+    Attributes
+    ----------
+    structure : Structure
+        The structure.
+    parameters : mapping of str to float
+        Its parameters (SI; time constants in azimuth units [-]).
+    constants : Constants
+        Flight condition and rotor.
+    E, A, B : ndarray
+        Azimuth-time descriptor, Eq. (8) (inputs in azimuth units).
+    a, b, c, d : ndarray
+        SI state space: ``a`` [1/s], ``b`` per SI input, ``c``, ``d``.
+    delays : ndarray
+        Output delays [s] (negative: a lead).
+    measurement : Measurement
+        The measurement map.
+    input_delays : ndarray
+        Input lags [s].
+    end_basis, end_input : ndarray
+        The end-effect basis of the frequency-domain fit.
     """
 
     structure: Structure
@@ -225,6 +275,30 @@ def slow_manifold(eq: Equations, n_inputs: int, scale: np.ndarray):
     return p, q
 
 
+def steady_manifold(e: np.ndarray, a: np.ndarray, b: np.ndarray, scale: np.ndarray):
+    """``(P, q)``: states ``x = P v + q u`` with every state after the first six steady.
+
+    The general form of :func:`slow_manifold` for structures with appended state
+    blocks (``model.md`` section 9): a record starts and ends in steady flight, so
+    there the appended states (and, with ``flap-inertia``, the flap rates) satisfy
+    their own rows of ``E x' = A x + B u`` with their derivatives and those of the
+    six slow states ``v = (beta, lambda)`` zero::
+
+        0 = A_rv v + A_rr w + B_r u,   w = -A_rr^-1 (A_rv v + B_r u)
+
+    ``e`` is not needed (the derivatives vanish) but kept in the signature beside
+    ``a, b`` (azimuth time); ``scale`` the inputs' azimuth scaling (SI ``u``).
+    """
+    n = a.shape[0]
+    arr, arv, br = a[6:, 6:], a[6:, :6], b[6:]
+    w_v = -np.linalg.solve(arr, arv)
+    w_u = -np.linalg.solve(arr, br) * scale
+    p = np.vstack([np.eye(6), w_v])
+    q = np.vstack([np.zeros((6, b.shape[1])), w_u])
+    assert p.shape == (n, 6)
+    return p, q
+
+
 def build_model(structure, params: Mapping[str, float], constants: Constants) -> Model:
     """Build and validate a :class:`Model`.
 
@@ -302,7 +376,10 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     else:
         c = _own(_output_map(n, meas))
     delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
-    if s.second_order:
+    if eq.blocks:
+        end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
+        end_basis, end_input = _own(end_basis), _own(end_input)
+    elif s.second_order:
         end_basis, end_input = slow_manifold(eq, n_inputs, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
     else:
@@ -330,6 +407,8 @@ def _output_map(n, meas):
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
+    # an appended state's share of what the record calls beta, lambda is in the
+    # states themselves (equations.assemble: to_output is a change of variables)
     return c
 
 

@@ -44,3 +44,6 @@ def describe_model(model, sigma=None) -> dict:
         "eigenvalues": [[float(e.real), float(e.imag)] for e in model.eigenvalues()],
         "delays_s": dict(zip(model.outputs, model.delays.tolist())),
     }
+
+
+__all__ = ["eigen_table", "describe_model"]

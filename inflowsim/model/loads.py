@@ -35,7 +35,9 @@ from ..channels import CONTROLS, FLAP, INFLOW, INPUTS, LOADS, input_scale
 from ..errors import InputError
 from ..physics import loads as ld
 from .build import _frozen
+from .effects import CATALOGUE
 from .effects import second_harmonic_flap as shf
+from .effects import lead_lag as llg
 from .equations import rotation
 
 #: The aerodynamic loads, then the flap-spring hub moments (``channels.LOADS``).
@@ -96,12 +98,20 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
     dbeta_x = pb @ a / om
     dbeta_u = pb @ b / om
     scale = input_scale(om, inputs)
-    th = _select(inputs, CONTROLS, m)
+    # a control a servo actuator's state stands for (Effect.replaces_inputs): the
+    # blade pitch is that state, not the recorded command
+    through = {i: x for e in effects if e in CATALOGUE
+               for i, x in CATALOGUE[e].replaces_inputs}
+    th = _select(inputs, [c if c not in through else None for c in CONTROLS], m)
+    th_x = _select(states, [through.get(c) for c in CONTROLS], n)
     # recorded cyclic pitch is the true one rotated by the azimuth bias (model.md 6);
     # the loads, like the flap dynamics, follow the true pitch
     th = np.vstack([th[:1], rotation(-azimuth_bias) @ th[1:3]])
+    th_x = np.vstack([th_x[:1], rotation(-azimuth_bias) @ th_x[1:3]])
     nu = _select(inputs, ("muz", "q", "p"), m) * scale
     c = a0s * (ld.g_dbeta(mu) @ dbeta_x + ld.g_beta(mu) @ pb + ld.g_lambda(mu) @ pl)
+    if through:
+        c = c + a0s * (ld.g_theta(mu) @ th_x)
     d = a0s * (ld.g_dbeta(mu) @ dbeta_u + ld.g_theta(mu) @ th + ld.g_nu(mu) @ nu)
     if shf.NAME in effects:
         # the 2/rev flap's own term, quasi-steady as the effect's flap equation has it
@@ -109,6 +119,14 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
         u8 = _select(inputs, INPUTS[:8], m) * scale
         c = c + a0s * (w[:, :3] @ dbeta_x + w[:, 3:6] @ pb + w[:, 6:9] @ pl)
         d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
+    if llg.NAME in effects:
+        # the lag's own term: its rate and displacement change the blades' airspeed
+        c = c + a0s * (llg.in_loads(p, k) @ _select(states, llg.STATES, n))
+    for e in effects:
+        eff = CATALOGUE.get(e)
+        if eff is not None and eff.loads is not None:
+            # an effect's appended states' own loads (higher inflow states)
+            c = c + a0s * (eff.loads(p, k) @ _select(states, eff.states, n))
     spring = -a0s * (p["lambda_beta2"] - 1.0) / (16.0 * p["n_beta"])
     c_hub = spring * pb[1:3]
     return np.vstack([c, c_hub]), np.vstack([d, np.zeros((2, m))])
@@ -138,7 +156,7 @@ def dimensional_loads(coefficients, constants, density: float) -> dict:
 def _select(names, wanted, n) -> np.ndarray:
     s = np.zeros((len(wanted), n))
     for i, w in enumerate(wanted):
-        if w in names:
+        if w is not None and w in names:
             s[i, list(names).index(w)] = 1.0
     return s
 

@@ -18,6 +18,23 @@ from .structure import Structure
 
 @dataclass(frozen=True)
 class ParameterSet:
+    """A parameter file's content (:func:`read_parameters`).
+
+    Attributes
+    ----------
+    structure : Structure
+        The structure the parameters are for.
+    constants : Constants or None
+        The flight condition and rotor the file gives (``mu`` [-], ``omega``
+        [rad/s] ...), or ``None``.
+    parameters : dict of str to float
+        The parameters (SI; angles [rad], time constants in azimuth units [-]).
+    sigma : dict of str to float or None
+        Their 1-sigma bounds (same units), ``None`` where not given.
+    source : str
+        Where they were read from.
+    """
+
     structure: Structure
     constants: Constants | None
     parameters: dict
@@ -131,18 +148,17 @@ def _number(v, what) -> float:
 
 
 def read_parameters(path) -> ParameterSet:
-    """Read and validate a parameter file; errors name the file and the problem."""
+    """Read and validate a parameter file; errors name the file and the problem.
+
+    Parameters
+    ----------
+    path : path-like
+        A parameter file (JSON; ``identify --out`` writes one).
+    """
+    from ..fileio import parse_json, read_input_text
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such parameter file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read ({exc})") from None
-    try:
-        doc = json.loads(text, parse_constant=lambda c: math.nan)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{p}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    text = read_input_text(p, "parameter file", "json")
+    doc = parse_json(text, str(p), parse_constant=lambda c: math.nan)
     try:
         return parse_parameter_doc(doc, str(p))
     except InputError as exc:
@@ -155,3 +171,6 @@ def write_json(doc: dict, path, overwrite: bool = False, protect=()) -> Path:
     existing file unless ``overwrite``, and never a path in ``protect``."""
     from ..fileio import json_text, safe_write_text
     return safe_write_text(path, json_text(doc), overwrite, protect)
+
+
+__all__ = ["ParameterSet", "parse_parameter_doc", "read_parameters", "write_json"]

@@ -225,6 +225,25 @@ class ParameterSpec:
     in seconds for a time constant in azimuth units, to be divided by ``Omega``).
     The base parameters are declared here; each effect declares its own
     (``Effect.specs``), and the catalogue registers them.
+
+    Attributes
+    ----------
+    name : str
+        Canonical name.
+    unit : str
+        Unit (``rad``, ``-``, ``s``, ``azimuth rad`` for azimuth units).
+    description : str
+        Meaning.
+    lower, upper : float
+        Allowed range (in ``unit``).
+    lower_open : bool
+        ``lower`` itself excluded.
+    plausible : tuple or None
+        ``(low, high, why)``: the physically plausible range.
+    plausible_seconds : bool
+        The plausible range is in seconds (a time constant in azimuth units).
+    plausible_by_hub : tuple
+        Plausible ranges per hub type.
     """
 
     name: str
@@ -239,6 +258,11 @@ class ParameterSpec:
     #: rotor's hub (:data:`HUBS`), the range for each; ``plausible`` covers them all
     #: and holds where the hub is not known
     plausible_by_hub: tuple = ()
+    #: ``(low, high, why)``: what the parameter can be at all for what its effect
+    #: claims to be (a measurement chain's delay cannot lead); ``None``: its
+    #: allowed range.  An effect named with an estimate outside it is a stand-in
+    #: (:mod:`inflowsim.diagnose.verdict`).
+    physical: tuple | None = None
 
     def plausible_for(self, hub: str | None = None):
         """``(low, high, why)`` as declared (seconds for ``plausible_seconds``) for
@@ -339,3 +363,8 @@ def check_parameters(values: Mapping[str, float], names) -> dict[str, float]:
     if missing:
         raise InputError(f"parameter {missing[0]} is missing")
     return {n: SPECS[n].check(values[n]) for n in names}
+
+
+__all__ = ["FrozenMap", "MU_MAX", "OMEGA_RANGE", "INFLOW_SPEEDS", "OMEGA_PLAUSIBLE",
+           "HUBS", "Constants", "PUMA", "ParameterSpec", "SPECS", "register",
+           "check_constants", "check_parameters"]

@@ -33,7 +33,13 @@ TABLE_OF_PRESET = {v[0]: k for k, v in _TABLES.items()}
 
 
 def paper_table(n: int) -> tuple[str, dict, dict]:
-    """``(preset, estimates, sigmas)`` of the paper's Table ``n`` (1, 2 or 3)."""
+    """``(preset, estimates, sigmas)`` of the paper's Table ``n`` (1, 2 or 3).
+
+    Parameters
+    ----------
+    n : {1, 2, 3}
+        The table: 1 basic, 2 empirical, 3 glauert.
+    """
     preset, rows = _TABLES[n]
     return preset, {k: v[0] for k, v in rows.items()}, {k: v[1] for k, v in rows.items()}
 
@@ -44,6 +50,14 @@ def theory_parameters(structure, constants: Constants = PUMA) -> dict:
     Flap: Puma theory ``lambda_beta2 = 1.06``, ``n_beta = 0.987``.  Inflow:
     Pitt-Peters apparent-mass time constants (``tau = tau0``).  Effects: their
     neutral values (``k0p = a0 s/(8 mu)``, all other augmentation zero).
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    constants : Constants
+        Flight condition and rotor (``mu`` [-], ``a0`` [1/rad], ``solidity`` [-]);
+        default the Puma at 100 kt.
     """
     s = Structure.parse(structure)
     tau0, _ = pitt_peters_time_constants(constants.flow_speed)
@@ -60,7 +74,18 @@ SOURCES = ("paper", "theory")
 def preset_parameters(structure, constants: Constants = PUMA, source: str = "paper") -> dict:
     """Parameters for ``structure``: ``source="paper"`` takes the paper's table for
     the matching preset (theory values for parameters the table lacks),
-    ``source="theory"`` takes :func:`theory_parameters`."""
+    ``source="theory"`` takes :func:`theory_parameters`.
+
+    Parameters
+    ----------
+    structure : str or Structure
+        The structure.
+    constants : Constants
+        Flight condition and rotor (``mu`` [-], ``a0`` [1/rad], ``solidity`` [-],
+        ``omega`` [rad/s]); default the Puma at 100 kt.
+    source : {"paper", "theory"}
+        Where the values come from.
+    """
     if source not in SOURCES:
         raise InputError(f"source {source!r}: choose {' or '.join(map(repr, SOURCES))}")
     s = Structure.parse(structure)
@@ -107,3 +132,7 @@ def truth_parameters(structure, constants: Constants = PUMA) -> dict:
                 elif name.startswith("delay_"):
                     vals[name] = 0.02
     return vals
+
+
+__all__ = ["TABLE_OF_PRESET", "paper_table", "theory_parameters", "SOURCES",
+           "preset_parameters", "DEMONSTRATION", "truth_parameters"]

@@ -183,12 +183,14 @@ class ParameterSchedule:
     @classmethod
     def from_json(cls, name: str, d: dict) -> "ParameterSchedule":
         c = d["constant"]
-        coef = tuple(float(v) for v in d["coefficients"])
-        cov = tuple(tuple(float(v) for v in r) for r in d["covariance"])
+        coef = tuple(_real(v, f"schedule of {name}: coefficient") for v in d["coefficients"])
+        cov = tuple(tuple(_real(v, f"schedule of {name}: covariance") for v in r)
+                    for r in d["covariance"])
         if not coef or len(cov) != len(coef) or any(len(r) != len(coef) for r in cov):
             raise InputError(f"schedule of {name}: coefficients and covariance disagree "
                              "in size")
-        scale = float(d["scale"])
+        scale = _real(d["scale"], f"schedule of {name}: scale")
+        _real(d["center"], f"schedule of {name}: center")
         if not (math.isfinite(scale) and scale > 0) or not all(map(math.isfinite, coef)):
             raise InputError(f"schedule of {name}: scale and coefficients must be finite "
                              "(scale > 0)")
@@ -251,8 +253,10 @@ class TrimSchedule:
 
     @classmethod
     def from_json(cls, column: str, d: dict) -> "TrimSchedule":
-        coef = tuple(float(v) for v in d["coefficients"])
-        scale = float(d["scale"])
+        coef = tuple(_real(v, f"trim schedule of {column}: coefficient")
+                     for v in d["coefficients"])
+        scale = _real(d["scale"], f"trim schedule of {column}: scale")
+        _real(d["center"], f"trim schedule of {column}: center")
         if not coef or not all(map(math.isfinite, coef)) or not (
                 math.isfinite(scale) and scale > 0):
             raise InputError(f"trim schedule of {column}: coefficients must be finite "
@@ -326,6 +330,22 @@ def fit_trim(mu, trims, max_order: int = TRIM_MAX_ORDER, center: float | None = 
 
 def _nan_none(v):
     return None if v is None or v != v else float(v)
+
+
+def _real(v, what: str) -> float:
+    """A JSON number that is finite (a string, boolean or null is refused: a file
+    this program writes has none there)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise InputError(f"{what} {v!r} is not a number")
+    x = float(v)
+    if not math.isfinite(x):
+        raise InputError(f"{what} {v!r} is not finite")
+    return x
+
+
+#: Points of ``mu_range`` at which :meth:`Schedule.checked` evaluates every
+#: scheduled value (its ends included).
+CHECK_POINTS = 101
 
 
 def _none_nan(v):
@@ -486,7 +506,12 @@ class Schedule:
         if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
             raise InputError(f"{where}: mu_range {lo:g}, {hi:g} must be finite, "
                              "0 <= lo <= hi")
-        for n in self.names + tuple(n for n, _, _ in self.held):
+        given = self.names + tuple(n for n, _, _ in self.held)
+        twice = sorted({n for n in given if given.count(n) > 1})
+        if twice:
+            raise InputError(f"{where}: {twice[0]} is given twice (scheduled or held: "
+                             "one of them)")
+        for n in given:
             if n not in s.parameters:
                 raise InputError(f"{where}: {n} is not a parameter of {s.name} "
                                  f"({', '.join(s.parameters)})")
@@ -504,7 +529,38 @@ class Schedule:
                                  f"({', '.join(TRIM_KEYS)})")
         if len(set(cols)) != len(cols):
             raise InputError(f"{where}: a trim total is scheduled twice")
+        self._check_values(where)
         return self
+
+    def _check_values(self, where: str) -> None:
+        """Every scheduled and held value, at :data:`CHECK_POINTS` speeds across
+        :attr:`mu_range`, finite and within its parameter's range (a time constant
+        a polynomial takes below zero, a coefficient of 1e308, refused here rather
+        than in the FMU's compiler or at run time)."""
+        from .params import MU_MAX, SPECS
+        lo, hi = self.mu_range
+        if hi > MU_MAX:
+            raise InputError(f"{where}: mu_range {lo:g}, {hi:g} reaches beyond the "
+                             f"model's mu <= {MU_MAX:g}")
+        for p in self.parameters + self.trim:
+            if not (math.isfinite(p.center) and math.isfinite(p.scale) and p.scale > 0):
+                raise InputError(f"{where}: {getattr(p, 'name', None) or p.column}: "
+                                 "center and scale must be finite (scale > 0)")
+        for mu in np.linspace(lo, hi, CHECK_POINTS):
+            try:
+                values = self(mu)
+                trims = self.trim_values(mu)
+            except (OverflowError, ZeroDivisionError):
+                raise InputError(f"{where}: its polynomials overflow at mu {mu:.4g}") \
+                    from None
+            for n, v in values.items():
+                try:
+                    SPECS[n].check(v)
+                except InputError as exc:
+                    raise InputError(f"{where}: at mu {mu:.4g}: {exc}") from None
+            for c, v in trims.items():
+                if not math.isfinite(v):
+                    raise InputError(f"{where}: trim {c} at mu {mu:.4g} is {v:g}")
 
 
 def _weighted_fit(x, y, w, k):
@@ -708,13 +764,9 @@ def write_schedule(schedule: Schedule, path, overwrite: bool = True) -> Path:
 
 def read_schedule(path) -> Schedule:
     """A schedule file (:func:`write_schedule`), or one line saying what is wrong."""
+    from ..fileio import read_json
     p = Path(path)
-    try:
-        doc = json.loads(p.read_text())
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
-    except ValueError as exc:
-        raise InputError(f"{p}: not JSON ({exc})") from None
+    doc = read_json(p, "schedule file")
     return Schedule.from_json(doc, str(p))
 
 

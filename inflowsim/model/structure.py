@@ -20,9 +20,25 @@ PRESETS = {
 }
 
 
+def unknown_effect(name: str) -> str:
+    """One short line for an effect name not in the catalogue: the closest names,
+    not the whole catalogue (issue #37: a line of 513 characters)."""
+    import difflib
+    close = difflib.get_close_matches(str(name), list(CATALOGUE), n=3, cutoff=0.5)
+    hint = (f"did you mean {' or '.join(close)}?" if close else
+            "docs/workflow.md lists the effects")
+    return f"unknown effect {name!r} ({hint})"
+
+
 @dataclass(frozen=True)
 class Structure:
-    """A base model plus a set of effects (kept in catalogue order)."""
+    """A base model plus a set of effects (kept in catalogue order).
+
+    Attributes
+    ----------
+    effects : tuple of str
+        The effects added to the basic model (catalogue names).
+    """
 
     effects: tuple = ()
 
@@ -32,7 +48,7 @@ class Structure:
             load_installed()           # an installed package's effects, once
         for name in self.effects:
             if name not in CATALOGUE:
-                raise InputError(f"unknown effect {name!r} (known: {', '.join(CATALOGUE)})")
+                raise InputError(unknown_effect(name))
         ordered = tuple(n for n in CATALOGUE if n in set(self.effects))
         object.__setattr__(self, "effects", ordered)
         for name in ordered:
@@ -108,7 +124,19 @@ class Structure:
 
     @property
     def states(self) -> tuple:
-        return FLAP + INFLOW + (FLAP_RATE if self.second_order else ())
+        """Flap, inflow, the flap rates with ``flap-inertia``, then each effect's
+        appended states (:attr:`Effect.states`) in catalogue order."""
+        extra = tuple(x for e in self.effects for x in CATALOGUE[e].states)
+        return FLAP + INFLOW + (FLAP_RATE if self.second_order else ()) + extra
+
+    @property
+    def replaced_inputs(self) -> dict:
+        """``{input: state}``: recorded inputs the base equations see through a state
+        (a servo actuator's output pitch)."""
+        return {i: x for e in self.effects for i, x in CATALOGUE[e].replaces_inputs}
 
     def __str__(self) -> str:
         return self.name
+
+
+__all__ = ["BASE_PARAMETERS", "PRESETS", "Structure"]

@@ -49,3 +49,6 @@ def flap_h_lambda(mu: float, n_beta: float) -> np.ndarray:
     return -n_beta * np.array([[4.0 / 3.0, 0.0, 2.0 / 3.0 * mu],
                                [0.0, 1.0, 0.0],
                                [2.0 * mu, 0.0, 1.0]])
+
+
+__all__ = ["flap_c", "flap_d", "flap_h_theta", "flap_h_nu", "flap_h_eta", "flap_h_lambda"]

@@ -137,3 +137,9 @@ def mass_flow_parameter(mu: float, ct: float) -> float:
     theory gives perturbations (Pitt and Peters 1981; Peters and HaQuang 1988).
     ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight."""
     return float(speed_through_disc(mu, momentum_inflow(mu, ct)))
+
+
+__all__ = ["MU_MIN", "g_dbeta", "g_beta", "g_theta", "g_nu", "g_lambda", "is_number",
+           "momentum_l", "NEWTON_STEPS", "NEWTON_TOL", "inflow_start",
+           "inflow_newton_step", "speed_through_disc", "momentum_inflow",
+           "mass_flow_parameter"]

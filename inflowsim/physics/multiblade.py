@@ -86,3 +86,7 @@ def _check_blades(n_blades):
     if int(n_blades) != n_blades or n_blades < 3:
         raise InputError(f"n_blades = {n_blades}: multiblade coordinates need a whole "
                          "number of at least 3 blades")
+
+
+__all__ = ["blade_azimuths", "multiblade", "reactionless", "blade_angles",
+           "multiblade_rates"]

@@ -18,3 +18,6 @@ def pitt_peters_time_constants(mu: float) -> tuple[float, float]:
     gives no theory value; these are starting values, not the paper's estimates.
     """
     return 4.0 / (3.0 * math.pi * mu), 32.0 / (45.0 * math.pi * mu)
+
+
+__all__ = ["PUMA_LAMBDA_BETA2", "PUMA_N_BETA", "pitt_peters_time_constants"]

@@ -53,13 +53,13 @@ def run_demo(out_dir, seed=0, say=None):
     """Write the demo into ``out_dir``; return ``(index.html path, summary dict)``."""
     from .model_frf import model_frf_section
     from .plots import time_response_plot
-    say = say or (lambda m: None)
+    progress, say = say, say or (lambda m: None)
     out = Path(out_dir)
     check_report_folder(out, ("record.csv",))     # refuse before any work
     text = format_record(demo_record(seed))
     rec = parse_record(text, str(out / "record.csv"))     # as a user would read it
     say("demo: fitting basic, diagnosing, adding effects ...")
-    lad = ladder([rec], START, progress=None)
+    lad = ladder([rec], START, progress=progress)
     first, last = lad.rungs[0], lad.rungs[-1]
     v_first = validate(rec, first.fit.model)
     v_last = validate(rec, last.fit.model)
@@ -78,9 +78,11 @@ def run_demo(out_dir, seed=0, say=None):
     rep.table(rows, FIT_HEADER)
     rep.paragraph(FIT_NOTE + (f" {NO_RESPONSE}: {NO_RESPONSE_TEXT}."
                               if any(NO_RESPONSE in r for r in rows) else ""))
-    rep.figure(time_response_plot([v_first, v_last]), "time",
-               "Time-domain reconstruction: measured flap, the basic model and the final "
-               "structure (the paper's Figures 1, 3, 5).")
+    rep.figure(time_response_plot([v_first, v_last], show_inputs=True, window="manoeuvre"),
+               "time",
+               "Time-domain reconstruction over the manoeuvres: measured flap, the basic "
+               "model and the final structure (the paper's Figures 1, 3, 5), and the "
+               "pilot's controls below.")
     model_frf_section(rep, [v_first, v_last], [f"{first.structure.name} (first)",
                                                f"{last.structure.name} (last)"],
                       fits={first.structure.name: first.fit, last.structure.name: last.fit},
@@ -117,6 +119,7 @@ def run_demo(out_dir, seed=0, say=None):
     path = rep.write(out)
     summary = {"report": str(path), "truth": TRUTH, "start": START,
                "ladder": [{"structure": r.structure.name, "added": r.added,
+                           "atoms": list(r.atoms),
                            "cost": r.fit.cost,
                            "fit_percent": {c: v["fit_percent"] for c, v in r.fit.fit.items()}}
                           for r in lad.rungs],
@@ -125,3 +128,6 @@ def run_demo(out_dir, seed=0, say=None):
                               "final": v_last.to_json()["channels"]},
                "missing_effects_found": [r.added for r in lad.rungs if r.added]}
     return path, summary, lad
+
+
+__all__ = ["TRUTH", "START", "demo_record", "FIT_NOTE", "run_demo"]

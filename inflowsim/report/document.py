@@ -21,7 +21,6 @@ refused too.  Every method but ``write`` returns the report, so calls chain.
 from __future__ import annotations
 
 import base64
-import html
 import io
 import math
 import os
@@ -33,7 +32,7 @@ from ..errors import InputError
 from ..fileio import atomic_path, check_folder, check_replaceable, safe_write_text
 
 MANIFEST = ".inflowsim-report"
-_CSS = """
+CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1100px;
 margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.6em;margin-bottom:.1em}.sub{color:#666;margin-top:0}
@@ -44,6 +43,94 @@ figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}
 figcaption{color:#555;font-size:.92em}pre{background:#f7f7f7;padding:.6em;overflow-x:auto}
 footer{color:#888;font-size:.85em;margin-top:2em;border-top:1px solid #eee}
 """
+
+
+#: The page: the title, the blocks in order (each a dict with its ``kind``), the
+#: stamp.  Jinja2 escapes every text (autoescape); figures' ``src`` is a file name
+#: or a data URL.
+PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="generator" content="inflowsim">
+<title>{{ title }}</title><style>{{ css | safe }}</style></head>
+<body>
+<h1>{{ title }}</h1>{% if subtitle %}<p class="sub">{{ subtitle }}</p>{% endif %}
+{% for b in blocks -%}
+{% if b.kind == "heading" -%}
+<h{{ b.level }}>{{ b.text }}</h{{ b.level }}>
+{%- elif b.kind == "paragraph" -%}
+<p>{{ b.text }}</p>
+{%- elif b.kind == "pre" -%}
+<pre>{{ b.text }}</pre>
+{%- elif b.kind == "list" -%}
+<ul>{% for item in b["items"] %}<li>{{ item }}</li>{% endfor %}</ul>
+{%- elif b.kind == "table" -%}
+<table>
+{% if b.caption %}<caption>{{ b.caption }}</caption>
+{% endif %}{% if b.header %}<tr>{% for h in b.header %}<th>{{ h }}</th>{% endfor %}</tr>
+{% endif %}{% for row in b.rows %}<tr>{% for text, num in row %}<td{% if num %} class="n"{% endif %}>{{ text }}</td>{% endfor %}</tr>
+{% endfor %}</table>
+{%- elif b.kind == "figure" -%}
+<figure><img src="{{ b.src }}" alt="{{ b.alt }}">{% if b.caption %}<figcaption>{{ b.caption }}</figcaption>{% endif %}</figure>
+{%- elif b.kind == "link" -%}
+<p><a href="{{ b.href }}">{{ b.label }}</a></p>
+{%- endif %}
+{% endfor -%}
+<footer>Written by inflowsim, {{ stamp }}.</footer>
+</body></html>
+"""
+
+
+def render_page(title: str, blocks, subtitle: str | None = None, stamp: str | None = None
+                ) -> str:
+    """The HTML page of ``blocks`` (:data:`PAGE`, a Jinja2 template; every text
+    escaped).
+
+    Parameters
+    ----------
+    title : str
+        Page title and top heading.
+    blocks : sequence of dict
+        ``{"kind": "heading", "level", "text"}``, ``{"kind": "paragraph", "text"}``,
+        ``{"kind": "pre", "text"}``, ``{"kind": "list", "items"}``,
+        ``{"kind": "table", "caption", "header", "rows"}`` (rows of ``(text,
+        numeric)`` cells), ``{"kind": "figure", "src", "alt", "caption"}``,
+        ``{"kind": "link", "href", "label"}``.
+    subtitle : str, optional
+        One line under the title.
+    stamp : str, optional
+        When it was written (default now, UTC).
+    """
+    from jinja2 import Environment
+    if stamp is None:
+        stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    env = Environment(autoescape=True, keep_trailing_newline=True)
+    return env.from_string(PAGE).render(title=str(title), subtitle=subtitle,
+                                        blocks=list(blocks), css=CSS, stamp=stamp)
+
+
+def table_block(rows, header=None, caption: str | None = None, digits: int = 4) -> dict:
+    """A table block of :func:`render_page`: cells as text (:func:`format_cell`),
+    numbers marked to be right-aligned.
+
+    Parameters
+    ----------
+    rows : sequence of sequence
+        The cells.
+    header : sequence of str, optional
+    caption : str, optional
+    digits : int
+        Significant digits of floats.
+    """
+    out = []
+    for row in rows:
+        cells = []
+        for v in row:
+            num = isinstance(v, (int, float)) and not isinstance(v, bool) or \
+                type(v).__module__ == "numpy"
+            cells.append((format_cell(v, digits), bool(num)))
+        out.append(cells)
+    return {"kind": "table", "caption": caption,
+            "header": [str(h) for h in header] if header else None, "rows": out}
 
 
 @dataclass(frozen=True)
@@ -62,7 +149,15 @@ class _Attachment:
 
 
 def format_cell(v, digits: int = 4) -> str:
-    """Text of one table cell: floats to ``digits`` significant digits."""
+    """Text of one table cell: floats to ``digits`` significant digits.
+
+    Parameters
+    ----------
+    v : object
+        The cell's value (a number, text, a bool or ``None``).
+    digits : int
+        Significant digits of a float [-].
+    """
     if v is None:
         return ""
     if isinstance(v, bool):
@@ -93,17 +188,17 @@ class Report:
     def heading(self, text: str, level: int = 2) -> "Report":
         """A section heading (``level`` 2-4)."""
         lv = min(max(int(level), 2), 4)
-        self._blocks.append(f"<h{lv}>{html.escape(str(text))}</h{lv}>")
+        self._blocks.append({"kind": "heading", "level": lv, "text": str(text)})
         return self
 
     def paragraph(self, text: str) -> "Report":
         """A paragraph of plain text (escaped)."""
-        self._blocks.append(f"<p>{html.escape(str(text))}</p>")
+        self._blocks.append({"kind": "paragraph", "text": str(text)})
         return self
 
     def preformatted(self, text: str) -> "Report":
         """Monospaced text kept as is (a command line, a table printed by the CLI)."""
-        self._blocks.append(f"<pre>{html.escape(str(text))}</pre>")
+        self._blocks.append({"kind": "pre", "text": str(text)})
         return self
 
     def table(self, rows, header=None, caption: str | None = None,
@@ -112,22 +207,7 @@ class Report:
 
         Floats are shown to ``digits`` significant digits, ``None`` as empty.
         """
-        out = ["<table>"]
-        if caption:
-            out.append(f"<caption>{html.escape(caption)}</caption>")
-        if header:
-            out.append("<tr>" + "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
-                       + "</tr>")
-        for row in rows:
-            cells = []
-            for v in row:
-                num = isinstance(v, (int, float)) and not isinstance(v, bool) or \
-                    type(v).__module__ == "numpy"
-                cls = ' class="n"' if num else ""
-                cells.append(f"<td{cls}>{html.escape(format_cell(v, digits))}</td>")
-            out.append("<tr>" + "".join(cells) + "</tr>")
-        out.append("</table>")
-        self._blocks.append("\n".join(out))
+        self._blocks.append(table_block(rows, header, caption, digits))
         return self
 
     def figure(self, fig, name: str, caption: str | None = None,
@@ -181,20 +261,14 @@ class Report:
         body = [self._render(b, d) for b in self._blocks]
         safe_write_text(d / MANIFEST, "\n".join(sorted(set(names) | owned)) + "\n",
                         overwrite=True)
-        stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-        sub = f'<p class="sub">{html.escape(self.subtitle)}</p>' if self.subtitle else ""
-        page = (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-                f"<meta name=\"generator\" content=\"inflowsim\">\n"
-                f"<title>{html.escape(self.title)}</title><style>{_CSS}</style></head>\n"
-                f"<body>\n<h1>{html.escape(self.title)}</h1>{sub}\n" + "\n".join(body)
-                + f"\n<footer>Written by inflowsim, {stamp}.</footer>\n</body></html>\n")
+        page = render_page(self.title, body, self.subtitle)
         return safe_write_text(d / "index.html", page, overwrite=True)
 
-    def _render(self, block, d: Path) -> str:
+    def _render(self, block, d: Path) -> dict:
         if isinstance(block, _Attachment):
             safe_write_text(d / block.name, block.text, overwrite=True)
-            label = html.escape(block.caption or block.name)
-            return f'<p><a href="{html.escape(block.name, quote=True)}">{label}</a></p>'
+            return {"kind": "link", "href": block.name,
+                    "label": block.caption or block.name}
         if not isinstance(block, _Figure):
             return block
         png = _png_bytes(block.source)
@@ -203,10 +277,8 @@ class Report:
         else:
             _write_bytes(d / f"{block.name}.png", png)
             src = f"{block.name}.png"
-        cap = (f"<figcaption>{html.escape(block.caption)}</figcaption>"
-               if block.caption else "")
-        alt = html.escape(block.caption or block.name, quote=True)
-        return f'<figure><img src="{src}" alt="{alt}">{cap}</figure>'
+        return {"kind": "figure", "src": src, "alt": block.caption or block.name,
+                "caption": block.caption}
 
 
 def check_report_folder(directory, names=("index.html",), protect=()) -> Path:
@@ -260,4 +332,5 @@ def _write_bytes(path: Path, data: bytes):
             f.write(data)
 
 
-__all__ = ["Report", "format_cell", "MANIFEST"]
+__all__ = ["Report", "format_cell", "MANIFEST", "CSS", "PAGE", "render_page",
+           "table_block", "check_report_folder"]

@@ -1,7 +1,8 @@
 """The report of an identification (``inflowsim identify --report``): one
 :class:`~.document.Report`, like every report of the package: ``index.html`` with
-the parameter table (the paper's Tables 1-3: estimate, Cramer-Rao and
-coloured-residual bounds, theory value), the per-channel fit, the warnings, the
+the parameter table (the paper's Tables 1-3: estimate, Cramer-Rao,
+coloured-residual and robust bounds, theory value, and whether the estimates are
+conditional on an incomplete structure), the per-channel fit, the warnings, the
 frequency-domain fit and the time-domain reconstruction of every record, and
 ``table.md`` and ``fit.json`` beside it."""
 from __future__ import annotations
@@ -11,8 +12,8 @@ from ..fileio import json_text
 from .document import Report
 from .fit_plots import band_study_plot, fit_plot, reconstruction_plot
 
-PARAMETER_HEADER = ["parameter", "estimate", "1-sigma", "1-sigma (coloured)", "theory",
-                    "note"]
+PARAMETER_HEADER = ["parameter", "estimate", "1-sigma", "1-sigma (coloured)",
+                    "1-sigma (robust)", "theory", "note"]
 FIT_HEADER = ["channel", "magnitude error (RMS dB)", "phase error (RMS deg)", "fit [%]"]
 
 
@@ -26,14 +27,17 @@ def fit_report(result, rep: Report | None = None) -> Report:
                   f"{result.iterations} iterations.")
     from .units import parameter_label, parameter_value
     rows = []
-    for n, v, s, sc, th, note in table_rows(result):
+    for n, v, s, sc, sr, th, note in table_rows(result):
         free = n not in result.fixed
         rows.append([parameter_label(n), parameter_value(n, v),
                      parameter_value(n, s) if free else "",
-                     parameter_value(n, sc) if free else "", parameter_value(n, th),
+                     parameter_value(n, sc) if free else "",
+                     parameter_value(n, sr) if free else "", parameter_value(n, th),
                      note or ("not determined" if free and s is None else "")])
     rep.table(rows, PARAMETER_HEADER, caption="Estimates with 1-sigma bounds (angles in "
               "degrees, time constants in azimuth units)")
+    if getattr(result, "conditional", None):
+        rep.paragraph(f"Every estimate is {result.conditional}.")
     rep.table([[ch, f["mag_rms_db"], f["phase_rms_deg"], f["fit_percent"]]
                for ch, f in result.fit.items()], FIT_HEADER, caption="Fit per channel")
     for w in result.warnings:
@@ -67,3 +71,7 @@ def band_study_report(study, rep: Report | None = None) -> Report:
     rep.attach("bandstudy.json", json_text(study.to_json()),
                "the estimates and bounds")
     return rep
+
+
+__all__ = ["PARAMETER_HEADER", "FIT_HEADER", "fit_report", "write_report",
+           "band_study_report"]

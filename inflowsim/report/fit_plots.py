@@ -33,33 +33,58 @@ def _done(fig, path):
     return fig
 
 
-def fit_plot(result, path=None, index: int = 0):
-    """Measured against predicted flap transforms, magnitude [dB] and phase [deg]."""
+def _unwrapped_deg(h):
+    ph = np.angle(h)
+    out = np.full(ph.shape, np.nan)
+    ok = np.isfinite(ph)
+    out[ok] = np.unwrap(ph[ok])
+    return np.degrees(out)
+
+
+def fit_plot(result, path=None, index: int = 0, colour=None):
+    """Measured against predicted flap transforms, magnitude [dB] and phase [deg]
+    (unwrapped, the model on the measurement's branch).  ``colour``: the model's
+    (default the base model's, :mod:`.style`)."""
+    from .style import ROLE_COLOURS, align_phase_deg, frequency_label, model_colours
+    colour = colour or model_colours(1)[0]
+    meas = ROLE_COLOURS["measured"]
     d = result.data[index]
     fig, ax = new_figure(2, 3, size=(12, 6))
     for i, ch in enumerate(FLAP):
-        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Z[:, i])), "k.", label="measured")
-        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Y[:, i])), "r-", label="model")
-        ax[1, i].plot(d.f_hz, np.degrees(np.angle(d.Z[:, i])), "k.")
-        ax[1, i].plot(d.f_hz, np.degrees(np.angle(d.Y[:, i])), "r-")
+        pz = _unwrapped_deg(d.Z[:, i])
+        py = align_phase_deg(_unwrapped_deg(d.Y[:, i]), pz)
+        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Z[:, i])), ".", color=meas,
+                      label="measured")
+        ax[0, i].plot(d.f_hz, 20 * np.log10(np.abs(d.Y[:, i])), "-", color=colour,
+                      label=f"model {result.structure.name}")
+        ax[1, i].plot(d.f_hz, pz, ".", color=meas)
+        ax[1, i].plot(d.f_hz, py, "-", color=colour)
         ax[0, i].set_title(ch)
-        ax[1, i].set_xlabel("frequency [Hz]")
+        ax[1, i].set_xlabel(frequency_label())
+        for a in ax[:, i]:
+            a.grid(True, alpha=0.3)
     ax[0, 0].set_ylabel("magnitude [dB rad]")
-    ax[1, 0].set_ylabel("phase [deg]")
+    ax[1, 0].set_ylabel("phase, unwrapped [deg]")
     ax[0, 0].legend()
     fig.suptitle(f"{result.structure.name}: frequency-domain fit, {d.source}")
     return _done(fig, path)
 
 
-def reconstruction_plot(result, path=None, index: int = 0):
-    """Measured and reconstructed flap perturbations against time."""
+def reconstruction_plot(result, path=None, index: int = 0, colour=None):
+    """Measured and reconstructed flap perturbations against time.  ``colour``: the
+    model's (default the base model's, :mod:`.style`)."""
+    from .style import ROLE_COLOURS, model_colours
+    colour = colour or model_colours(1)[0]
     t, z, y = reconstruction_response(result, index)
     fig, axes = new_figure(3, 1, size=(10, 7))
     ax = axes[:, 0]
     for i, ch in enumerate(FLAP):
-        ax[i].plot(t, np.degrees(z[:, i]), "k-", lw=0.8, label="measured")
-        ax[i].plot(t, np.degrees(y[:, i]), "r--", lw=1.0, label="model")
+        ax[i].plot(t, np.degrees(z[:, i]), "-", color=ROLE_COLOURS["measured"], lw=0.8,
+                   label="measured")
+        ax[i].plot(t, np.degrees(y[:, i]), "--", color=colour, lw=1.0,
+                   label=f"model {result.structure.name}")
         ax[i].set_ylabel(f"{ch} [deg]")
+        ax[i].grid(True, alpha=0.3)
     ax[0].legend()
     ax[-1].set_xlabel("time [s]")
     fig.suptitle(f"{result.structure.name}: time-domain reconstruction")
@@ -103,3 +128,7 @@ def band_study_plot(study, path=None):
     fig.suptitle(f"{study.structure}: estimates (1-sigma bars) against the lower "
                  f"frequency limit, upper limit {study.upper_hz:.4g} Hz")
     return _done(fig, path)
+
+
+__all__ = ["reconstruction_response", "fit_plot", "reconstruction_plot", "panel_grid",
+           "band_study_plot"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .plots import new_figure, save_png
+from .style import ROLE_COLOURS, align_phase_deg, log_frequency_axis, model_colours
 
 #: Half-width of the error bands, in stated errors (about 95 % for a Gaussian).
 BAND_SIGMA = 2.0
@@ -40,7 +41,7 @@ def _break_wraps(ph):
     return np.where(jump, np.nan, ph)
 
 
-def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool = False,
+def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool = True,
                             threshold=None, title=None):
     """Bode plot of measured responses with error bands and models overlaid.
 
@@ -55,7 +56,8 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
     path : path-like, optional
         Save as PNG there.
     unwrap : bool
-        Unwrap the phases (the axis says so); default wrapped to +-180 deg.
+        Unwrap the phases (the default; each model on the measurement's branch);
+        ``False``: wrapped to +-180 deg (the axis says which).
     threshold : float, optional
         Coherence below which points are drawn faint (default
         :data:`~inflowsim.identify.frf.COHERENCE_OK`).
@@ -75,6 +77,8 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
     pairs = list(pairs)
     fig, axes = new_figure(3, len(pairs), size=(3.2 * len(pairs) + 1.0, 7.0))
     f = fr.frequency_hz
+    meas = ROLE_COLOURS["measured"]
+    colours = model_colours(len(models or {}))
     for col, (out, inp) in enumerate(pairs):
         o, i = fr.index(out, inp)
         h = fr.h[o, i]
@@ -87,35 +91,36 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
         hi = 20 * np.log10(1 + BAND_SIGMA * err)
         band = good & np.isfinite(err)
         ax_m.fill_between(f, np.where(band, mag + lo, np.nan), np.where(band, mag + hi, np.nan),
-                          color="C0", alpha=0.25, lw=0, label=f"±{BAND_SIGMA:g} error")
-        ax_m.plot(f, np.where(good, mag, np.nan), "C0.-", ms=3, lw=0.8, label="measured")
+                          color=meas, alpha=0.15, lw=0, label=f"±{BAND_SIGMA:g} error")
+        ax_m.plot(f, np.where(good, mag, np.nan), ".-", color=meas, ms=3, lw=0.8,
+                  label="measured")
         ax_m.plot(f, np.where(good, np.nan, mag), ".", color="0.7", ms=3,
                   label=f"coherence < {thr:g}")
         dph = np.degrees(BAND_SIGMA * err)
         ax_p.fill_between(f, np.where(band, ph - dph, np.nan), np.where(band, ph + dph, np.nan),
-                          color="C0", alpha=0.25, lw=0)
-        ax_p.plot(f, np.where(good, ph if unwrap else _break_wraps(ph), np.nan), "C0.-",
-                  ms=3, lw=0.8)
+                          color=meas, alpha=0.15, lw=0)
+        ax_p.plot(f, np.where(good, ph if unwrap else _break_wraps(ph), np.nan), ".-",
+                  color=meas, ms=3, lw=0.8)
         ax_p.plot(f, np.where(good, np.nan, ph), ".", color="0.7", ms=3)
         for k, (label, hm) in enumerate((models or {}).items()):
             hm = np.asarray(hm)[o, i]
-            ax_m.plot(f, 20 * np.log10(np.abs(hm)), f"C{k + 1}-", lw=1.3, label=label)
+            ax_m.plot(f, 20 * np.log10(np.abs(hm)), "-", color=colours[k], lw=1.3,
+                      label=label)
             php = phase_deg(hm, unwrap)
-            if not unwrap:
-                php = _break_wraps(php)
-            ax_p.plot(f, php, f"C{k + 1}-", lw=1.3)
-        ax_c.plot(f, fr.coherence[o, i], "C0-", lw=1, label="partial" if len(fr.inputs) > 1
-                  else "coherence")
+            php = align_phase_deg(php, ph, good) if unwrap else _break_wraps(php)
+            ax_p.plot(f, php, "-", color=colours[k], lw=1.3)
+        ax_c.plot(f, fr.coherence[o, i], "-", color=meas, lw=1,
+                  label="partial" if len(fr.inputs) > 1 else "coherence")
         if len(fr.inputs) > 1:
             ax_c.plot(f, fr.multiple_coherence[o], "k:", lw=1, label="multiple")
-            ax_c.plot(f, fr.ordinary_coherence[o, i], "C3--", lw=0.8, label="ordinary")
+            ax_c.plot(f, fr.ordinary_coherence[o, i], "--", color="0.5", lw=0.8,
+                      label="ordinary")
         ax_c.axhline(thr, color="0.5", lw=0.6)
         ax_c.set_ylim(0, 1.05)
+        ax_c.set_ylabel(r"coherence $\gamma^2$ [-]" if col == 0 else "")
         ax_m.set_title(f"{out} / {inp}", fontsize=9)
         for ax in (ax_m, ax_p, ax_c):
-            ax.set_xscale("log")
-            ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-            ax.xaxis.set_minor_formatter(NullFormatter())
+            log_frequency_axis(ax)
             ax.grid(True, which="both", lw=0.3)
         if not unwrap:
             ax_p.set_ylim(-180, 180)
@@ -124,7 +129,6 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
         if col == 0:
             ax_m.set_ylabel("magnitude [dB]")
             ax_p.set_ylabel("phase, unwrapped [deg]" if unwrap else "phase [deg]")
-            ax_c.set_ylabel(r"coherence $\gamma^2$")
             ax_m.legend(fontsize=7, loc="best")
             ax_c.legend(fontsize=7, loc="lower left")
     fig.suptitle(title or "Frequency responses (" + ", ".join(fr.sources) + ")",
@@ -132,3 +136,6 @@ def frequency_response_plot(fr, pairs=None, models=None, path=None, unwrap: bool
     if path is not None:
         save_png(fig, path)
     return fig
+
+
+__all__ = ["BAND_SIGMA", "wrap_deg", "phase_deg", "frequency_response_plot"]

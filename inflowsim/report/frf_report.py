@@ -31,7 +31,7 @@ def summary_lines(fr) -> list[str]:
     return lines
 
 
-def frf_report(fr, models=None, unwrap: bool = False, title=None):
+def frf_report(fr, models=None, unwrap: bool = True, title=None):
     """A :class:`~inflowsim.report.document.Report` of a
     :class:`~inflowsim.identify.frf.FrequencyResponse`.
 
@@ -75,3 +75,6 @@ def frf_report(fr, models=None, unwrap: bool = False, title=None):
               "acceptable, <= 50 good)" if models else "Response pairs")
     rep.preformatted("\n".join(summary_lines(fr)))
     return rep
+
+
+__all__ = ["summary_lines", "frf_report"]

@@ -18,6 +18,57 @@ def _noise_ratio(fit):
     return np.array([[abs(S[i, i]) for i in range(3)] for S in fit.S]).mean(axis=0)
 
 
+def rung_label(rung) -> str:
+    """A rung's short name: the structure on the first rung, else ``+`` and what it
+    added, an effect's part named by its parameters (``+glauert (k0p, kc, ks)``, then
+    ``+glauert (c1, c2, c3, c4)``: the two parts of one effect added on two rungs
+    read apart).
+
+    Parameters
+    ----------
+    rung : Rung
+        A :class:`~inflowsim.diagnose.search.Rung`.
+    """
+    if rung.added is None:
+        return rung.structure.name
+    return "+" + " + ".join(getattr(rung, "atoms", ()) or rung.added.split("+"))
+
+
+def held_parameters(fit, structure=None) -> tuple:
+    """The parameters of the effects of ``structure`` (default ``fit``'s) that ``fit``
+    holds fixed (not estimated), e.g. one part of an effect not added yet, at its
+    neutral value.
+
+    Parameters
+    ----------
+    fit : FitResult
+    structure : Structure, optional
+    """
+    from ..model.effects import CATALOGUE
+    fixed = set(getattr(fit, "fixed", ()) or ())
+    effects = (structure or fit.structure).effects
+    return tuple(n for e in effects if e in CATALOGUE for n in CATALOGUE[e].parameters
+                 if n in fixed)
+
+
+def column_label(rung) -> str:
+    """A ladder column's heading: the structure and the parameters it holds fixed
+    with their values (``glauert, c1-c4 held at 0``: an effect whose other part is
+    not added yet shows as such).
+
+    Parameters
+    ----------
+    rung : Rung
+    """
+    held = (held_parameters(rung.fit, rung.structure)
+            if getattr(rung.fit, "fixed", ()) else ())
+    if not held:
+        return rung.structure.name
+    vals = {rung.fit.parameters[n] for n in held}
+    at = f" at {vals.pop():g}" if len(vals) == 1 else ""
+    return f"{rung.structure.name} ({', '.join(held)} held{at})"
+
+
 def ladder_rows(ladder) -> tuple[list, list]:
     """``(header, rows)``: parameters with bounds side by side (angles in degrees,
     every row naming its unit), cost, fit per channel, and the residual power per
@@ -25,7 +76,7 @@ def ladder_rows(ladder) -> tuple[list, list]:
     analyses, the residual covariance's diagonal [rad^2])."""
     from .units import parameter_label, parameter_value
     rungs = ladder.rungs
-    header = ["quantity"] + [r.structure.name for r in rungs]
+    header = ["quantity"] + [column_label(r) for r in rungs]
     names: list[str] = []
     for r in rungs:
         names += [n for n in r.fit.parameters if n not in names]
@@ -36,13 +87,17 @@ def ladder_rows(ladder) -> tuple[list, list]:
             if n in r.fit.parameters:
                 v = parameter_value(n, r.fit.parameters[n])
                 s = parameter_value(n, r.fit.sigma.get(n))
-                why = "fixed" if n in getattr(r.fit, "fixed", ()) else "not determined"
-                row.append(f"{v:.4g} ({s:.2g})" if s is not None else f"{v:.4g} ({why})")
+                fixed = n in getattr(r.fit, "fixed", ())
+                why = "fixed" if fixed else "not determined"
+                cell = f"{v:.4g} ({s:.2g})" if s is not None else f"{v:.4g} ({why})"
+                if not fixed and getattr(r.fit, "conditional", None):
+                    cell += CONDITIONAL_MARK
+                row.append(cell)
             else:
                 row.append("")
         rows.append(row)
     rows.append([COST_LABEL] + [f"{r.fit.cost:.1f}" for r in rungs])
-    rows.append(["added"] + [r.added or "" for r in rungs])
+    rows.append(["added"] + ["" if r.added is None else rung_label(r)[1:] for r in rungs])
     for ch in FLAP:
         rows.append([f"{ch} fit [%]"] + [f"{r.fit.fit[ch]['fit_percent']:.2f}" for r in rungs])
     ratios = [floor_ratios(r) for r in rungs]
@@ -57,15 +112,37 @@ def ladder_rows(ladder) -> tuple[list, list]:
     return header, rows
 
 
+#: Appended to an estimate conditional on an incomplete structure (the fit's residual
+#: keeps structured excess over the floor, :mod:`inflowsim.diagnose.conditional`).
+CONDITIONAL_MARK = " [conditional]"
+
+
+def conditional_lines(ladder) -> list:
+    """One line per rung whose estimates are conditional, with the reason."""
+    return [f"{CONDITIONAL_MARK.strip()} {r.structure.name}: every estimate is "
+            f"{r.fit.conditional}" for r in ladder.rungs
+            if getattr(r.fit, "conditional", None)]
+
+
 #: The cost's row and axis label: (12) is a log-likelihood, a pure number (its
 #: log-determinant takes S in rad^2: differences between rungs are what count).
 COST_LABEL = "cost J (Eq. 12) [-]"
 
 
 def ladder_markdown(ladder) -> str:
+    """The ladder's table (:func:`ladder_rows`) in Markdown, then what the records
+    determine, the removed atoms and the verdict.
+
+    Parameters
+    ----------
+    ladder : Ladder
+    """
+    # not pandas' to_markdown: ``inflowsim ladder`` prints this, and pandas' import
+    # costs 1.6 s (measured after NumPy, under the shared machine's load)
     header, rows = ladder_rows(ladder)
     out = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    out += conditional_lines(ladder)
     out += identifiability_lines(ladder.identifiability, ladder.final.structure.name)
     last = ladder.final.diagnosis
     if (ladder.verdict is not None and ladder.verdict.status in
@@ -106,7 +183,7 @@ def ladder_plot(ladder, path=None):
     fig, ax2 = new_figure(2, 1, size=(8.0, 6.5), sharex=True)
     axes = ax2[:, 0]
     x = np.arange(len(ladder.rungs))
-    labels = [r.structure.name if r.added is None else f"+{r.added}" for r in ladder.rungs]
+    labels = [rung_label(r) for r in ladder.rungs]
     axes[0].plot(x, [r.fit.cost for r in ladder.rungs], "o-", color="k")
     axes[0].set_ylabel(COST_LABEL)
     axes[0].set_title("Add the missing effect, watch the error fall")
@@ -141,7 +218,7 @@ def worse_channels(ladder, tolerance=0.5):
         for ch in FLAP:
             a, b = prev.fit.fit[ch]["fit_percent"], r.fit.fit[ch]["fit_percent"]
             if a is not None and b is not None and b < a - tolerance:
-                out.append(f"Adding {r.added} made {ch} worse (fit {a:.1f} % -> "
+                out.append(f"Adding {rung_label(r)[1:]} made {ch} worse (fit {a:.1f} % -> "
                            f"{b:.1f} %) while the cost fell {prev.fit.cost - r.fit.cost:.1f}:"
                            f" the effect trades {ch} for the other channels; look at "
                            f"{ch}'s residual before trusting its new parameters.")
@@ -277,13 +354,16 @@ def format_diagnosis(d) -> str:
         physics = "; ".join(next(x.physics for x in d.candidates if x.effect == e)
                             for e in d.missing_effects)
         v = d.verdict
+        standing = [x.effect for x in (v.stand_ins if v is not None else ())]
+        stand = ("" if not standing else
+                 f" [{', '.join(standing)}: a stand-in, see the verdict]")
         if v is not None and v.status == "partly-explained":
             share = v.excess_explained
             part = "" if share is None else f" {100 * share:.0f} % of the excess over the floor;"
-            lines.append(f"part of the missing physics: {named} explains{part} "
+            lines.append(f"part of the missing physics: {named}{stand} explains{part} "
                          f"excess is left (see the verdict): {physics}")
         else:
-            lines.append(f"missing effect: {named}: {physics}")
+            lines.append(f"missing effect: {named}{stand}: {physics}")
         covered = [o.atom for o in d.candidates if o.explained_by in d.decision.added]
         if covered:
             lines.append(f"  it also explains what {', '.join(covered)} would: not "
@@ -295,10 +375,37 @@ def format_diagnosis(d) -> str:
     if d.missing_terms is not None:
         lines.append("where a term is missing (score test of every single-entry addition):")
         lines += [f"  {line}" for line in d.missing_terms.describe()]
+    lines += estimate_lines(d.fit)
     lines += identifiability_lines(d.identifiability, d.structure.name)
     if d.verdict is not None:
         lines.append(d.verdict.describe())
     return "\n".join(lines)
+
+
+def estimate_lines(fit) -> list:
+    """The fitted structure's estimates with their Cramer-Rao and robust bounds, and
+    whether they are conditional on an incomplete structure, rendered from the fit."""
+    from .units import parameter_value
+    parts = []
+    for n in fit.parameters:
+        if n in fit.fixed or n not in fit.sigma:
+            continue
+        v, s = parameter_value(n, fit.parameters[n]), parameter_value(n, fit.sigma[n])
+        sr = parameter_value(n, getattr(fit, "sigma_robust", {}).get(n))
+        if s is None:
+            parts.append(f"{n} {v:.4g} (not determined)")
+        elif sr is None:
+            parts.append(f"{n} {v:.4g} ({s:.2g})")
+        else:
+            parts.append(f"{n} {v:.4g} ({s:.2g}; robust {sr:.2g})")
+    if not parts:
+        return []
+    head = (f"estimates of {fit.structure.name} (1-sigma Cramer-Rao; robust; angles in "
+            "degrees, time constants in azimuth units):")
+    out = [head, "  " + ", ".join(parts)]
+    if getattr(fit, "conditional", None):
+        out.append(f"  {CONDITIONAL_MARK.strip()} every estimate above is {fit.conditional}")
+    return out
 
 
 def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
@@ -318,6 +425,10 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.heading("Structures scored by the rule", 3)
         rep.table(structure_rows(d.decision), STRUCTURE_HEADER, digits=4)
     rep.paragraph(f"Missing effect: {' + '.join(d.missing_effects) or 'none accepted'}.")
+    if getattr(d.fit, "conditional", None):
+        rep.paragraph(f"The estimates of {d.structure.name} are {d.fit.conditional}.")
+    if d.verdict is not None:
+        rep.paragraph(d.verdict.describe()[0].upper() + d.verdict.describe()[1:] + ".")
     from .fit_plots import fit_plot
     from .plots import residual_spectrum_plot
     rep.figure(candidate_plot(d), f"{prefix}-candidates",
@@ -328,7 +439,8 @@ def diagnosis_report(d, rep: Report | None = None, prefix="diagnose") -> Report:
         rep.paragraph(" ".join(d.missing_terms.describe()))
         rep.figure(missing_terms_plot(d.missing_terms), f"{prefix}-terms",
                    "Score test of every single-entry addition to the flap and inflow "
-                   "equations and the measurement map at the base fit: colour -log10 p, "
+                   "equations and the measurement map at the base fit (its shared "
+                   "parameters freed per row group): colour -log10 p, "
                    "framed where significant after Holm's correction, with the sign "
                    "of the term the data want.")
     if d.analyses:
@@ -360,6 +472,11 @@ def ladder_report(ladder, rep: Report | None = None, record=None,
                   "power over the noise floor (1: nothing left but sensor noise) as "
                   "each effect is added.")
     rep.table(rows, header)
+    for line in conditional_lines(ladder):
+        rep.paragraph(line)
+    if ladder.verdict is not None:
+        rep.paragraph(ladder.verdict.describe()[0].upper() + ladder.verdict.describe()[1:]
+                      + ".")
     for note in worse_channels(ladder):
         rep.paragraph(note)
     rep.figure(ladder_plot(ladder), "ladder",
@@ -415,3 +532,11 @@ def decision_lines(decision) -> list:
         out.append(f"rule: the admissible structure of largest gain, "
                    f"{' + '.join(c.atoms)}, is not accepted: {describe(c, decision)}")
     return out
+
+
+__all__ = ["rung_label", "held_parameters", "column_label", "ladder_rows", "COST_LABEL",
+           "ladder_markdown", "identifiability_lines", "floor_ratios", "ladder_plot",
+           "worse_channels", "candidate_plot", "FAILURE_HEADER", "failure_rows",
+           "failure_message", "candidate_rows", "CANDIDATE_HEADER", "STRUCTURE_HEADER",
+           "structure_rows", "format_diagnosis", "diagnosis_report", "ladder_report",
+           "decision_lines"]

@@ -72,7 +72,7 @@ def responses_paragraph(r0) -> str:
             "stated-error bands; grey: coherence below 0.6). The models' responses are "
             "their analytic transfer functions (time shifts and the record's "
             f"intersample behaviour, {r0.hold}, included)." + hub +
-            " Phases wrapped to +-180 deg.")
+            " Phases unwrapped, each model on the measurement's branch.")
 
 
 def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", heading=None,
@@ -106,3 +106,7 @@ def model_frf_section(rep, results, labels=None, fits=None, prefix="frf", headin
                           f"<= {CR_LIMIT:g} %, insensitivity <= {INSENSITIVITY_LIMIT:g} %;"
                           " angles in degrees)")
     return fr
+
+
+__all__ = ["cost_rows", "accuracy_row", "cost_caption", "responses_paragraph",
+           "model_frf_section"]

@@ -20,6 +20,8 @@ from ..fileio import atomic_path
 
 #: Axis labels of the flap channels (units: degrees on plots, radians inside).
 FLAP_LABELS = {"beta0": r"$\beta_0$", "beta1c": r"$\beta_{1c}$", "beta1s": r"$\beta_{1s}$"}
+#: The pilot controls' colours (the same in every control panel).
+CONTROL_COLOURS = {"theta0": "tab:gray", "theta1c": "tab:olive", "theta1s": "tab:cyan"}
 DPI = 110
 
 
@@ -47,36 +49,74 @@ def _as_list(results):
     return list(results) if isinstance(results, (list, tuple)) else [results]
 
 
-def time_response_plot(results, path=None, show_inputs: bool = False, title=None):
+def manoeuvre_window(t, u, names, before: float = 1.0, after: float = 4.0):
+    """``(t0, t1)`` [s]: from ``before`` seconds ahead of the first control movement
+    to ``after`` seconds past the last (the record's ends at most); the whole record
+    when no control moves.
+
+    Parameters
+    ----------
+    t : array_like
+        Times [s].
+    u : array_like, shape (N, m)
+        Input perturbations (radians for the controls).
+    names : sequence of str
+        The inputs' names; the pilot controls (``CONTROLS``) are looked at.
+    before, after : float
+        Margins [s].
+    """
+    t = np.asarray(t, dtype=float)
+    u = np.asarray(u, dtype=float)
+    cols = [j for j, n in enumerate(names) if n in CONTROLS]
+    if not cols or len(t) < 2:
+        return float(t[0]), float(t[-1])
+    dev = np.abs(u[:, cols] - u[:1, cols]).max(axis=1)
+    scale = np.abs(u[:, cols]).max()
+    moving = np.flatnonzero(dev > 1e-3 * scale) if scale > 0 else np.array([], int)
+    if moving.size == 0:
+        return float(t[0]), float(t[-1])
+    return (max(float(t[0]), float(t[moving[0]]) - before),
+            min(float(t[-1]), float(t[moving[-1]]) + after))
+
+
+def time_response_plot(results, path=None, show_inputs: bool = False, title=None,
+                       window=None):
     """Measured against predicted multiblade flap against time.
 
     Parameters
     ----------
     results : ValidationResult or sequence of them
         One or several models on the same record; the measured flap is taken
-        from the first.
+        from the first.  Colours follow :func:`.style.model_colours` (the first
+        model the base model's, the last the final model's).
     path : path-like, optional
         Save the figure there as PNG.
     show_inputs : bool
         Add a panel with the pilot control perturbations [deg].
     title : str, optional
         Default names the structure(s) and the record.
+    window : (float, float) or "manoeuvre", optional
+        Time axis limits [s]; ``"manoeuvre"``: zoomed on the control movements
+        (:func:`manoeuvre_window`); default the whole record.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    from .style import ROLE_COLOURS, model_colours
     res = _as_list(results)
     r0 = res[0]
     n = 3 + bool(show_inputs)
+    colours = model_colours(len(res))
     fig, ax = new_figure(n, 1, size=(8.0, 2.1 * n + 0.6))
     for i, c in enumerate(FLAP_COLUMNS):
         a = ax[i, 0]
-        a.plot(r0.t, np.degrees(r0.measured[:, i]), color="k", lw=1.0, label="measured")
-        for r in res:
-            a.plot(r.t, np.degrees(r.predicted[:, i]), lw=1.2, label=f"{r.structure} "
-                   f"(fit {r.channels[c].fit_percent:.1f} % over {r.band_hz[0]:.3g}-"
-                   f"{r.band_hz[1]:.3g} Hz)")
+        a.plot(r0.t, np.degrees(r0.measured[:, i]), color=ROLE_COLOURS["measured"],
+               lw=1.0, label="measured")
+        for r, colour in zip(res, colours):
+            a.plot(r.t, np.degrees(r.predicted[:, i]), lw=1.2, color=colour,
+                   label=f"{r.structure} (fit {r.channels[c].fit_percent:.1f} % over "
+                         f"{r.band_hz[0]:.3g}-{r.band_hz[1]:.3g} Hz)")
         a.set_ylabel(f"{FLAP_LABELS[c]} [deg]")
         a.grid(True, alpha=0.3)
         a.legend(loc="upper right", fontsize="small")
@@ -84,11 +124,23 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
         a = ax[3, 0]
         for j, name in enumerate(r0.inputs):
             if name in CONTROLS and np.ptp(r0.u[:, j]) > 1e-9:
-                a.plot(r0.t, np.degrees(r0.u[:, j]), lw=1.0, label=name)
-        a.set_ylabel("pitch [deg]")
+                a.plot(r0.t, np.degrees(r0.u[:, j]), lw=1.0,
+                       color=CONTROL_COLOURS[name], label=name)
+        a.set_ylabel("control [deg]")
         a.grid(True, alpha=0.3)
         a.legend(loc="upper right", fontsize="small")
     ax[-1, 0].set_xlabel("time [s]")
+    if window is not None:
+        t0, t1 = (manoeuvre_window(r0.t, r0.u, r0.inputs) if window == "manoeuvre"
+                  else window)
+        ax[-1, 0].set_xlim(t0, t1)
+        sel = (r0.t >= t0) & (r0.t <= t1)
+        ys = [np.degrees(r0.measured[sel])] + [np.degrees(r.predicted[sel]) for r in res]
+        for k, a in enumerate(ax[:3, 0]):          # the flap's scale over the window
+            lo = min(float(np.nanmin(y[:, k])) for y in ys)
+            hi = max(float(np.nanmax(y[:, k])) for y in ys)
+            pad = 0.08 * (hi - lo) or 0.01
+            a.set_ylim(lo - pad, hi + pad)
     names = ", ".join(r.structure for r in res)
     fig.suptitle(title or f"Flap perturbations about trim: measured and {names} "
                  f"({Path(r0.source).name})")
@@ -97,7 +149,7 @@ def time_response_plot(results, path=None, show_inputs: bool = False, title=None
     return fig
 
 
-def frequency_response_plot(results, path=None, title=None, unwrap: bool = False):
+def frequency_response_plot(results, path=None, title=None, unwrap: bool = True):
     """Bode plot of a validation: the measured responses of the flap to each input,
     conditioned on the others, with error bands and coherence, and each model's
     analytic responses on top (:class:`~inflowsim.diagnose.validation.FrequencyComparison`).
@@ -110,7 +162,7 @@ def frequency_response_plot(results, path=None, title=None, unwrap: bool = False
         Save as PNG.
     title : str, optional
     unwrap : bool
-        Unwrap the phases (labelled); default wrapped to +-180 deg.
+        Unwrap the phases (the default; labelled); ``False``: wrapped to +-180 deg.
 
     Returns
     -------
@@ -132,10 +184,8 @@ def frequency_response_plot(results, path=None, title=None, unwrap: bool = False
 
 
 def _log_frequency_axis(ax):
-    from matplotlib.ticker import FormatStrFormatter, NullFormatter
-    ax.set_xscale("log")
-    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(NullFormatter())
+    from .style import log_frequency_axis
+    log_frequency_axis(ax)
 
 
 def error_spectrum_plot(results: Sequence, path=None, title=None):
@@ -256,7 +306,7 @@ def coherence_plot(results, path=None, title=None):
         a.axhline(COHERENCE_OK, color="0.5", lw=0.6)
         a.set_ylim(0, 1.02)
         _log_frequency_axis(a)
-        a.set_ylabel(f"coherence with {inp}" + (" (partial)" if q > 1 else ""))
+        a.set_ylabel(f"coherence with {inp}" + (" (partial)" if q > 1 else "") + " [-]")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize="small", ncol=2)
     ax[-1, 0].set_xlabel("frequency [Hz]")
@@ -269,4 +319,4 @@ def coherence_plot(results, path=None, title=None):
 
 __all__ = ["new_figure", "save_png", "time_response_plot", "frequency_response_plot",
            "error_spectrum_plot", "residual_spectrum_plot", "coherence_plot",
-           "FLAP_LABELS"]
+           "manoeuvre_window", "FLAP_LABELS", "CONTROL_COLOURS"]

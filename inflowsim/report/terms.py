@@ -4,9 +4,11 @@ Draws a :class:`~inflowsim.diagnose.terms.MissingTerms` (computing stays in
 :mod:`inflowsim.diagnose.terms`): one row per equation (flap, inflow, the recorded
 flap of the measurement map), one column per variable; the colour is the score
 test's unadjusted ``-log10 p``, the significant entries (Holm-corrected) are
-framed and carry the sign of the term the data want.  Grey: not tested (a flap
-rate in the measurement map) or not testable (confounded with the base's own
-parameters, or a silent input).
+framed and carry the sign of the term the data want; the top entry of the
+ranking (confirmed by a refit with it free, ``Term.refit_statistic``) is framed in
+orange and named in the title.  Grey: not tested (a flap rate in the measurement
+map) or not testable (confounded with the base's own parameters, or a silent
+input).
 """
 from __future__ import annotations
 
@@ -56,6 +58,13 @@ def missing_terms_plot(terms, path=None, title=None):
                                edgecolor="red"))
         ax.text(j, i, "+" if t.sign > 0 else "\u2212", ha="center", va="center",
                 color="white", fontsize=11, fontweight="bold")
+    top = next((t for t in terms.terms if t.testable), None)
+    if top is not None and top.refit_statistic is not None and top.significant(terms.alpha):
+        i, j = ri[(top.block, top.equation)], ci[top.variable]
+        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=3.0,
+                               edgecolor="orange"))
+    else:
+        top = None
     for y in (2.5, 5.5):
         ax.axhline(y, color="black", lw=1.0)
     for x in (2.5, 5.5, 8.5):
@@ -63,9 +72,11 @@ def missing_terms_plot(terms, path=None, title=None):
     ax.set_xlabel("variable the term is proportional to")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label(r"$-\log_{10} p$ (score test, 1 dof)")
+    first = ("" if top is None else
+             f"; first by refit: {top.equation} x {top.variable} ({_BLOCK[top.block]})")
     ax.set_title(title or f"Where a term is missing in {terms.structure}: "
                  f"{len(terms.significant)} of {terms.n_tested} entries significant "
-                 f"(Holm, {terms.alpha:g})")
+                 f"(Holm, {terms.alpha:g}){first}", fontsize=9)
     if path is not None:
         save_png(fig, path)
     return fig

@@ -137,3 +137,7 @@ def validation_report(results, title=None, subtitle=None):
     for note in r0.frequency.measured.notes:
         rep.paragraph(f"Note: {note}")
     return rep
+
+
+__all__ = ["fit_rows", "FIT_HEADER", "NO_RESPONSE", "NO_RESPONSE_TEXT", "fit_table_rows",
+           "format_table", "validation_report"]

@@ -171,3 +171,7 @@ def lifted_replay(phi, gam, u, x0, block: int | None = None):
         xs[:, j, :] = xb
         xb = xb @ phit + ub[:, j, :] @ gamt
     return xs.reshape(nb * L, n)[:nsamp]
+
+
+__all__ = ["METHODS", "zoh", "rk4", "TaylorZoh", "rk4_max_step", "discretize",
+           "lifted_replay"]

@@ -72,3 +72,6 @@ def replay(model, u, dt: float, hold: str = "zoh", x0=None, states: bool = False
     if states:
         return y, run(0.0)
     return y
+
+
+__all__ = ["output_groups", "replay"]

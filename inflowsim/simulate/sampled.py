@@ -261,3 +261,8 @@ def gregory_weights(n_samples: int, ends: int = 6) -> np.ndarray:
     c[:K] += delta
     c[N - K:] += delta[::-1]
     return c
+
+
+__all__ = ["DEFAULT_HOLD", "HOLD_TEXT", "BASES", "check_hold", "expm",
+           "interval_integrals", "shift_taps", "extended", "tapped_inputs",
+           "gregory_weights"]

@@ -503,3 +503,6 @@ class Simulator:
         """States at every sample for inputs ``u`` (``(N, n)``)."""
         x0 = np.zeros(self.n) if x0 is None else np.asarray(x0, dtype=float)
         return lifted_replay(self.phi, self.gam, np.asarray(u, dtype=float), x0)
+
+
+__all__ = ["U_MAX", "checked_inputs", "Simulator"]

@@ -58,10 +58,27 @@ class Effect:
         on the rates and ``G`` on the in-plane velocities).  A record that leaves
         one part undetermined can still test the others: the diagnosis holds that
         part at neutral.  Default: one part, all or nothing.
+    states : tuple of str
+        Names of the states it appends (its :class:`~inflowsim.model.equations.StateBlock`
+        has them, in this order, after the base states).
+    replaces_inputs : tuple of (str, str)
+        ``(input, state)``: the base equations and the loads see that state where
+        they saw that recorded input (its block's ``through``).
+    theory_start : bool
+        Its neutral values are a saddle of the likelihood (parameters that act only
+        through another, as the lag's frequency and damping through
+        ``k_flap_lag = 0``, have no gradient there): a fit started with the effect
+        at neutral also tries it at its theory values
+        (:func:`inflowsim.identify.estimator.identify`'s starts).
     about_trim : bool
         Its equations are linearised about the record's trim state
         (``Constants.trim``, refused without it): a schedule must give the trim of
         each ``mu`` and the FMU takes it as parameters.
+    loads : callable, optional
+        ``(params, Constants) -> (3, len(states))``: its appended states' own part of
+        the aerodynamic loads ``(C_T, C_mc, C_ms) / (a0 s)`` (higher inflow states'
+        thrust and moments); runs on numbers or sympy symbols
+        (:func:`inflowsim.model.loads.load_rows`).
     """
 
     name: str
@@ -81,6 +98,10 @@ class Effect:
     specs: tuple = ()
     parts: tuple = ()
     about_trim: bool = False
+    theory_start: bool = False
+    states: tuple = ()
+    replaces_inputs: tuple = ()
+    loads: Callable | None = None
 
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""

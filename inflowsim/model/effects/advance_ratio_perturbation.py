@@ -111,3 +111,6 @@ EFFECT = Effect(
     uses_inplane=True,
     about_trim=True,
 )
+
+
+__all__ = ["NAME", "MUX", "true_trim_state", "true_trim", "EFFECT"]

@@ -38,3 +38,6 @@ EFFECT = Effect(
                                                        "error, not a bias")),),
     measurement=_measurement,
 )
+
+
+__all__ = ["EFFECT"]

@@ -58,3 +58,6 @@ EFFECT = Effect(
     second_order=True,
     boundary=("flap_inertia",),
 )
+
+
+__all__ = ["FLOOR", "EFFECT"]

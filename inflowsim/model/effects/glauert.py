@@ -74,3 +74,6 @@ EFFECT = Effect(
     # two terms of Eq. (19): a record without in-plane motion still tests F
     parts=(("k0p", "kc", "ks"), ("c1", "c2", "c3", "c4")),
 )
+
+
+__all__ = ["NAMES", "f_matrix", "g_matrix", "EFFECT"]

@@ -26,3 +26,6 @@ EFFECT = Effect(
     uses_inplane=True,
     alternatives=("glauert",),
 )
+
+
+__all__ = ["NAMES", "EFFECT"]

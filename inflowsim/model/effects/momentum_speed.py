@@ -110,3 +110,6 @@ EFFECT = Effect(
                          plausible=(0.5, 1.5, "the linearisation is exact for small "
                                               "perturbations: theory 1")),),
 )
+
+
+__all__ = ["NAME", "coupling", "trim_inflow", "EFFECT"]

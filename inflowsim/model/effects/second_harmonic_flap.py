@@ -106,3 +106,6 @@ EFFECT = Effect(
                          plausible=(0.5, 1.5, "the harmonic balance of the blade "
                                               "equation: theory 1")),),
 )
+
+
+__all__ = ["NAME", "condensed", "quasi_steady", "in_loads", "EFFECT"]

@@ -31,3 +31,6 @@ EFFECT = Effect(
                          plausible_seconds=True)),
     removes=("tau",),
 )
+
+
+__all__ = ["EFFECT"]

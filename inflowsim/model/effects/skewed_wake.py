@@ -99,3 +99,6 @@ EFFECT = Effect(
                          plausible=(0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is positive "
                                               "and below 15 pi/64")),),
 )
+
+
+__all__ = ["SKEW", "skew_l", "theory_skew", "EFFECT"]

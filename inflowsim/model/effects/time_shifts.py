@@ -56,3 +56,6 @@ def _effect(channel, output):
 
 
 EFFECTS = tuple(_effect(c, True) for c in FLAP) + tuple(_effect(c, False) for c in INPUTS)
+
+
+__all__ = ["EFFECTS"]

@@ -237,7 +237,13 @@ def register_user(effect, source: str) -> Effect:
 
 
 def unregister(name: str) -> None:
-    """Remove a user effect and its parameters (the catalogue's stay)."""
+    """Remove a user effect and its parameters (the catalogue's stay).
+
+    Parameters
+    ----------
+    name : str
+        The user effect's name.
+    """
     from . import CATALOGUE
     if name not in USER_EFFECTS:
         raise InputError(f"{name} is not a user effect")
@@ -249,7 +255,15 @@ def unregister(name: str) -> None:
 
 @contextmanager
 def registered(*effects, source="<memory>"):
-    """Register effects for the duration of a ``with`` block (tests, scripts)."""
+    """Register effects for the duration of a ``with`` block (tests, scripts).
+
+    Parameters
+    ----------
+    *effects : Effect
+        The effects.
+    source : str
+        Where they come from (named in refusals).
+    """
     names = []
     try:
         for e in effects:
@@ -284,12 +298,18 @@ def load_effect_file(path) -> tuple:
 
     Refuses (one line naming the file) a missing file, a syntax error, an import
     that fails, no ``EFFECT``, and anything :func:`check_effect` refuses.
+
+    Parameters
+    ----------
+    path : path-like
+        A Python file defining ``EFFECT`` (or ``EFFECTS``).
     """
     p = Path(path)
     src = str(path)
-    if not p.is_file():
-        raise InputError(f"{src}: no such effect file")
-    text = p.read_bytes()
+    from ...fileio import read_input_bytes
+    if p.suffix != ".py":
+        raise InputError(f"{src}: an effect file is Python source ending in .py")
+    text = read_input_bytes(p, "effect file", "effect")
     tag = hashlib.sha1(str(p.resolve()).encode()).hexdigest()[:10]
     modname = f"inflowsim_user_effect_{re.sub(r'[^0-9a-zA-Z_]', '_', p.stem)}_{tag}"
     if modname in sys.modules:
@@ -305,6 +325,10 @@ def load_effect_file(path) -> tuple:
         sys.modules[modname] = module
         try:
             exec(code, module.__dict__)
+        except SystemExit as exc:        # sys.exit() at import: not an effect's doing
+            del sys.modules[modname]
+            raise InputError(f"{src}: importing it called sys.exit({exc.code!r}); an "
+                             "effect file defines EFFECT and must not exit") from None
         except Exception as exc:
             del sys.modules[modname]
             raise InputError(f"{src}: importing it raised {type(exc).__name__}: "
@@ -338,7 +362,13 @@ def load_installed() -> tuple:
 
 
 def load_effect_files(paths=()) -> tuple:
-    """Installed effects, then each of ``paths`` (``--effect-file``, repeatable)."""
+    """Installed effects, then each of ``paths`` (``--effect-file``, repeatable).
+
+    Parameters
+    ----------
+    paths : iterable of path-like
+        Python files defining effects (``--effect-file``).
+    """
     out = list(load_installed())
     for path in paths or ():
         out += load_effect_file(path)

@@ -1,0 +1,96 @@
+"""FMU step cost against the number of inflow states: 3 (the present model), 6, 10 and
+15 (Peters-He, ``peters-he-6/10/15``), beside each step's arithmetic floor.
+
+    python bench/fmu_states.py [--base basic] [--steps N] [--rounds R]
+
+Builds one FMU per structure (``inflowsim.fmu.build_fmu(model=...)``: ``BASE``,
+``BASE+peters-he-6``, ``BASE+peters-he-10``, ``BASE+peters-he-15``), compiles
+``bench/fmu_driver.c`` and ``bench/fp_rate.c`` as ``bench/fmu_bench.py`` does, then runs
+the driver on the libraries in turn, ``--rounds`` times (each run the best of five runs
+of ``--steps`` steps per case), keeping each case's best: the libraries interleaved so
+that a change of machine load falls on all of them alike.  ``fp_rate`` is run in every
+round too (best kept).  The floor of a step is its ``NX (NX + NU)`` multiplies (the
+matrix-vector product ``x <- [Phi Gamma] [x; u]``) in whole vectors of four at the
+measured rate of 4-wide multiplies (no fused multiply-add: every build rounds alike).
+Prints a Markdown table.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import platform
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--base", default="basic", help="structure the inflow states are added to")
+    ap.add_argument("--steps", type=int, default=1_000_000)
+    ap.add_argument("--rounds", type=int, default=5)
+    args = ap.parse_args(argv)
+    from fmpy import extract, read_model_description
+    from inflowsim.fmu import build_fmu
+    from inflowsim.fmu.build import compiler, source_dir
+    from fmu_bench import compile_drivers
+
+    structures = [args.base] + [f"{args.base}+peters-he-{n}" for n in (6, 10, 15)]
+    inflow = dict(zip(structures, (3, 6, 10, 15)))
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        libs = {}
+        for i, st in enumerate(structures):
+            fmu = build_fmu(tmp / f"s{i}.fmu", model=st)
+            unz = Path(extract(str(fmu), str(tmp / f"x{i}")))
+            text = (unz / "sources" / "inflow_vars.h").read_text()
+            nx = int(re.search(r"#define IFS_NX (\d+)", text).group(1))
+            nu = int(re.search(r"#define IFS_N_INPUTS (\d+)", text).group(1))
+            libs[st] = (unz / "binaries" / "linux64" / "inflowsim.so",
+                        read_model_description(str(fmu)).guid, nx, nu)
+        cc = compiler()
+        compile_drivers(cc, f"-I{source_dir()}", tmp)
+        rate_exe = tmp / "fp_rate"
+        subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
+                        "-Werror", "-o", str(rate_exe), str(HERE / "fp_rate.c")], check=True)
+        best: dict = {}
+        mul_rate = 0.0
+        for _ in range(args.rounds):
+            out = subprocess.run([str(rate_exe)], check=True, capture_output=True,
+                                 text=True).stdout
+            rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
+            mul_rate = max(mul_rate, rates["mul_per_ns"])
+            for st, (so, guid, _, _) in libs.items():
+                out = subprocess.run([str(tmp / "driver"), str(so), guid,
+                                      str(tmp / "onestate.so"), str(args.steps)],
+                                     check=True, capture_output=True, text=True).stdout
+                for line in out.splitlines():
+                    name, value = line.split()
+                    if name in ("glauert_dostep", "glauert_set_dostep_get"):
+                        key = (st, name)
+                        best[key] = min(best.get(key, math.inf), float(value))
+    flags = Path("/proc/cpuinfo").read_text().split() if Path("/proc/cpuinfo").is_file() else []
+    print(f"machine: {platform.processor() or platform.machine()}, {platform.system()} "
+          f"{platform.release()}, AVX2 {'yes' if 'avx2' in flags else 'no'}; "
+          f"4-wide multiplies {mul_rate:.2f} per ns (best of {args.rounds} rounds)")
+    print(f"steps {args.steps} per run, best of 5 runs x {args.rounds} rounds, libraries "
+          "interleaved")
+    print("| structure | inflow states | NX | fmi2DoStep [ns] | set + step + get [ns] | "
+          "floor [ns] | step / floor | step / 3-state step |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    first = best[(structures[0], "glauert_dostep")]
+    for st, (_, _, nx, nu) in libs.items():
+        step = best[(st, "glauert_dostep")]
+        floor = math.ceil(nx * (nx + nu) / 4) / mul_rate
+        print(f"| {st} | {inflow[st]} | {nx} | {step:.1f} | "
+              f"{best[(st, 'glauert_set_dostep_get')]:.1f} | {floor:.1f} | "
+              f"{step / floor:.2f} | {step / first:.2f} |")
+
+
+if __name__ == "__main__":
+    main()

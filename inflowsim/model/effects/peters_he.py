@@ -1,0 +1,151 @@
+"""``peters-he-6``, ``peters-he-10``, ``peters-he-15``: Peters-He finite-state inflow of
+higher order, appended to the present three inflow states (``model.md`` section 9.4).
+
+The present model's ``lambda0, lambda1c, lambda1s`` are the lowest Peters-He states
+``sqrt(3) alpha_1^0, sqrt(15/2) alpha_2^1, sqrt(15/2) beta_2^1`` (the radial shape
+functions ``sqrt(3)`` and ``sqrt(15/2) r``).  Each effect appends the states of the
+truncation by highest radial power ``P = 2, 3, 4`` beyond these three (3, 7, 12
+states: 6, 10, 15 inflow states in all), with the Peters-He apparent mass ``K_n^m``
+and inflow gain ``L = Gamma`` (axial-flow form ``X = 0``, as the base model's local
+momentum: the wake-skew coupling is :mod:`.skewed_wake`'s), forced by the
+blade-element pressure integrals of :mod:`inflowsim.physics.peters_he`.
+
+In ``alpha`` (all states, the first three the base)::
+
+    K alpha' + V L^-1 alpha = tau / 2,   tau = a0 s w_m Q(beta, beta', theta, nu, alpha)
+
+with ``w_m = 1/2`` for ``m = 0`` and 1 otherwise.  The base rows keep the present
+model's own form (its time constants and the local-momentum ``L``, which is the
+three-state Pitt-Peters gain); the effect adds, scaled by ``k_ph``:
+
+- to the base inflow rows, the difference between the ``N``-state ``L^-1`` and the
+  three-state one on the base states, the coupling ``L^-1`` to the higher states and
+  the loads of the higher states' inflow (``p_lambda`` and ``l_x``);
+- to the flap rows, the flap moments of the higher states' inflow (``f_x``);
+- to the recorded ``lambda0, lambda1c, lambda1s``, the least-squares projection of the
+  higher states' inflow on ``(1, r cos psi, r sin psi)`` (``to_output``);
+- to the loads, the higher states' thrust and moments (:attr:`Effect.loads`).
+
+``k_ph = 0`` is the present three-state structure exactly (the higher states still
+move, but nothing sees them); ``k_ph = 1`` is Peters-He of that order.  The higher
+states' own rows are Peters-He's unscaled.
+
+Parameter ``k_ph`` [-]: theory 1, neutral 0.
+"""
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from ._effect import Effect
+from ..equations import StateBlock, rotation
+from ..params import ParameterSpec
+from ...physics import loads as ld
+from ...physics import peters_he as ph
+
+#: Effect name -> highest radial power of its truncation.
+POWERS = {"peters-he-6": 2, "peters-he-10": 3, "peters-he-15": 4}
+#: The base states in Peters-He's variables: lambda_b = S alpha_b.
+S_BASE = np.array([math.sqrt(3.0), math.sqrt(7.5), math.sqrt(7.5)])
+#: The present model's (three-state Pitt-Peters) L^-1 in alpha: V L^-1 alpha = tau/2
+#: gives lambda0 = C_T/(2V), (lambda1c, lambda1s) = -2 (C_mc, C_ms)/V.
+LINV_BASE = np.array([1.5, 15.0 / 8.0, 15.0 / 8.0])
+#: The base load rows from the pressure integrals: Q_b = T c/(a0 s).
+T_BASE = np.array([math.sqrt(3.0), -math.sqrt(7.5), -math.sqrt(7.5)])
+
+
+@lru_cache(maxsize=None)
+def layout(power: int):
+    """``(states, linv, mass, w)`` of the truncation: states (``physics.peters_he``),
+    ``L^-1`` of all of them (X = 0), the apparent masses, the ``tau`` weights."""
+    states = ph.truncation(power)
+    linv = np.linalg.inv(ph.gain_matrix(states))
+    mass = np.array([ph.apparent_mass(m, n) for _, m, n in states])
+    w = np.array([0.5 if m == 0 else 1.0 for _, m, _ in states])
+    return states, linv, mass, w
+
+
+def names(power: int) -> tuple:
+    return ph.state_names(layout(power)[0][3:])
+
+
+def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None):
+    """Every term of the effect (azimuth time), on numbers or sympy symbols.
+
+    Returns ``dict`` with ``p_lambda`` (3x3 added to the base's), ``block`` (the
+    :class:`StateBlock` fields ``e, a, a_z, b, f_x, l_x, to_output``) and ``loads``
+    (3 x m, over ``a0 s``)."""
+    states, linv, mass, w = layout(power)
+    q = ph.forces(states).at(mu)                    # (n, 12 + n)
+    fl = ph.flap_forces(states).at(mu)              # (3, 12 + n)
+    sinv = 1.0 / S_BASE
+    b_, h_ = slice(0, 3), slice(3, None)
+    col = 12                                        # first state column of q
+    half = (a0s / 2.0) * w[:, None]                 # tau/2 = (a0 s/2) w Q
+    qz = half * q                                   # (n, 12 + n)
+    # higher rows: K_h alpha_h' = -V Linv_h alpha + tau_h/2
+    e = np.diag(mass[h_])
+    a = -v * linv[h_, h_] + qz[h_, col + 3:]
+    a_lam = (-v * linv[h_, b_] + qz[h_, col:col + 3]) * sinv[None, :]
+    a_z = np.hstack([qz[h_, 0:3], a_lam, qz[h_, 3:6]])
+    b = np.hstack([qz[h_, 6:12], np.zeros((len(states) - 3, max(n_inputs - 6, 0)))])
+    if azimuth_bias is not None:
+        # the model takes recorded pitch: the true pitch drives the rotor (model.md 6)
+        b = np.hstack([b[:, :1], b[:, 1:3] @ rotation(-azimuth_bias), b[:, 3:]])
+    # base rows in the present model's form: multiply by S (V Linv_base)^-1
+    dv = (S_BASE / LINV_BASE)[:, None]              # D V
+    p_lambda = -k_ph * dv * (linv[b_, b_] - np.diag(LINV_BASE)) * sinv[None, :]
+    l_x = -k_ph * dv * (linv[b_, h_] - (qz[b_, col + 3:]) / v)
+    f_x = k_ph * 4.0 * n_beta * fl[:, col + 3:]
+    proj = ph.linear_projection(states)[:, 3:]
+    to_output = np.vstack([np.zeros((3, len(states) - 3)), k_ph * proj])
+    # loads of the higher states' inflow; the base states are the recorded inflow
+    # (to_output is a change of variables), so the base rows' G_lambda lambda counts
+    # the projection once too many
+    loads = k_ph * (q[b_, col + 3:] / T_BASE[:, None] - ld.g_lambda(mu) @ proj)
+    return {"p_lambda": p_lambda, "e": e, "a": a, "a_z": a_z, "b": b, "f_x": f_x,
+            "l_x": l_x, "to_output": to_output, "loads": loads}
+
+
+def _effect(name: str, power: int) -> Effect:
+    state_names = names(power)
+
+    def equations(eq, p, k):
+        t = parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"],
+                  eq.h_u.shape[1], p.get("azimuth_bias"))
+        bl = StateBlock(effect=name, states=state_names, e=t["e"], a=t["a"],
+                        a_z=t["a_z"], b=t["b"], f_x=t["f_x"], l_x=t["l_x"],
+                        to_output=t["to_output"])
+        return eq.with_(p_lambda=eq.p_lambda + t["p_lambda"], blocks=eq.blocks + (bl,))
+
+    def loads(p, k):
+        return parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"])["loads"]
+
+    n_total = len(state_names) + 3
+    return Effect(
+        name=name,
+        physics=f"The induced inflow has more radial and harmonic shape than the linear "
+                f"lambda0 + r (lambda1c cos + lambda1s sin): Peters-He finite-state "
+                f"inflow with {n_total} states (highest radial power {power}), its "
+                "higher states coupled to flap and the recorded inflow by k_ph.",
+        paper="extension (Peters & He 1991, 1995 finite-state inflow)",
+        parameters=("k_ph",),
+        theory=lambda k: {"k_ph": 1.0},
+        neutral=lambda k: {"k_ph": 0.0},
+        equations=equations,
+        specs=(SPEC,),
+        alternatives=tuple(n for n in POWERS if n != name),
+        offered=False,
+        states=state_names,
+        loads=loads,
+    )
+
+
+SPEC = ParameterSpec("k_ph", "-", "coupling of the higher Peters-He inflow states (1: "
+                     "Peters-He, 0: the three-state model)", -1.0, 5.0,
+                     plausible=(0.3, 2.0, "the higher inflow states' coupling within a "
+                                "factor of about 3 of Peters-He's"))
+
+EFFECTS = tuple(_effect(n, pw) for n, pw in POWERS.items())
