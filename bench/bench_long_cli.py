@@ -18,6 +18,13 @@ machine's load falls on both alike; the best of the repetitions is kept for each
 (the machine is shared: the least is the one least disturbed).  The load average
 is printed with every row.  The figures that travel are the ratios to the peer
 and the growth with length.
+
+``--records A.csv B.csv --model basic`` times the same commands on given records
+instead (the default 26.6 s flight tests: ``diagnose --model basic``, ``identify
+--json``'s start-up)::
+
+    python bench/bench_long_cli.py --baseline /tmp/old --records default.csv \
+        --model basic --repeat 3
 """
 from __future__ import annotations
 
@@ -33,8 +40,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 MAIN = "import sys; from inflowsim.cli import main; sys.exit(main())"
-COMMANDS = {"identify": ["identify", "--model", "glauert", "--json"],
-            "diagnose": ["diagnose", "--model", "glauert", "--json"]}
+COMMANDS = {"identify": ["identify", "--json"], "diagnose": ["diagnose", "--json"]}
 
 
 def write_records(folder: Path, minutes) -> dict:
@@ -70,13 +76,20 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--minutes", type=float, nargs="+", default=[2, 20, 120])
     ap.add_argument("--commands", nargs="+", default=list(COMMANDS), choices=list(COMMANDS))
+    ap.add_argument("--model", default="glauert", help="the structure fitted (default glauert)")
+    ap.add_argument("--records", type=Path, nargs="+", default=None,
+                    help="time these CSV records instead of the long ones (--minutes unused)")
     ap.add_argument("--baseline", type=Path, default=None,
                     help="the peer tree (a copy of another commit's inflowsim/)")
     ap.add_argument("--repeat", type=int, default=2, help="ABBA repetitions (best kept)")
-    ap.add_argument("--dir", type=Path, default=Path("/tmp/inflowsim_long"))
+    ap.add_argument("--dir", type=Path, default=Path("/tmp/inflowsim_long"),
+                    help="where the long records are written (kept) and the commands run")
     ap.add_argument("--out", default=None, help="also write the table here (markdown)")
     args = ap.parse_args(argv)
-    recs = write_records(args.dir, args.minutes)
+    if args.records:
+        recs = {p.name: p.resolve() for p in args.records}
+    else:
+        recs = {f"{m:g} min": p for m, p in write_records(args.dir, args.minutes).items()}
     trees = [("this", ROOT)] + ([("peer", args.baseline.resolve())] if args.baseline else [])
     order = [trees[0], trees[-1], trees[-1], trees[0]] if len(trees) > 1 else trees
     rows = []
@@ -87,11 +100,12 @@ def main(argv=None):
             for _ in range(args.repeat):
                 for tag, tree in order:
                     loads.append(os.getloadavg()[0])
-                    cpu, sys_, mb = run_once(tree, [*COMMANDS[cmd], str(path)], args.dir)
+                    cpu, sys_, mb = run_once(tree, [*COMMANDS[cmd], "--model", args.model,
+                                                    str(path)], args.dir)
                     old = best.get(tag)
                     best[tag] = (min(cpu, old[0]), min(sys_, old[1]), min(mb, old[2])) \
                         if old else (cpu, sys_, mb)
-                    print(f"{cmd:9s} {m:5g} min {tag:5s} {cpu:7.1f} s CPU ({sys_:.1f} sys) "
+                    print(f"{cmd:9s} {m:12s} {tag:5s} {cpu:7.1f} s CPU ({sys_:.1f} sys) "
                           f"{mb:6.0f} MB  load {loads[-1]:.1f}", file=sys.stderr)
             rows.append((cmd, m, best, min(loads), max(loads)))
     head = "| command | record | CPU [s] | of which system | peak RSS [MB] |"
@@ -102,10 +116,10 @@ def main(argv=None):
     lines = [head + " load (1 min) |", sep + "---|"]
     for cmd, m, best, lo, hi in rows:
         c, s, r = best["this"]
-        line = f"| {cmd} | {m:g} min | {c:.1f} | {s:.1f} | {r:.0f} |"
+        line = f"| {cmd} --model {args.model} | {m} | {c:.2f} | {s:.2f} | {r:.0f} |"
         if "peer" in best:
             pc, _, pr = best["peer"]
-            line += f" {pc:.1f} | {pr:.0f} | {c / pc:.2f} | {r / pr:.2f} |"
+            line += f" {pc:.2f} | {pr:.0f} | {c / pc:.2f} | {r / pr:.2f} |"
         lines.append(line + f" {lo:.1f}-{hi:.1f} |")
     text = "\n".join(lines) + "\n"
     print(text)

@@ -580,7 +580,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         k = sp.constants
         p, eq, meas = prob.equations(theta, k)
         m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
-        blk = np.empty((rr.size, len(entries)))
+        blk = je[row0:row0 + rr.size]          # rows of je: filled in place
         for col, (block, i, v) in enumerate(entries):
             if block == "measurement":
                 if _KIND_OF[v] == "input":
@@ -597,8 +597,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                                           n_inputs=n_in)
                 dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
             blk[:, col] = -_stack(dy @ W.T)
-        blk -= Q @ (Q.T @ blk)          # the nuisance end states, as the estimator
-        je[row0:row0 + rr.size] = blk
+        _minus_projection(blk, Q)       # the nuisance end states, as the estimator
         row0 += rr.size
     table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
     return _confirmed(table, prob, theta, confirm)
@@ -635,6 +634,25 @@ def _confirmed(table, prob, theta, confirm):
     return replace(table, terms=tuple(done + rest), confirmed=len(done))
 
 
+#: Largest temporary of the projections [bytes]: a 2-hour record's 162 columns of
+#: sensitivities are 76 MB; beyond this they are projected in place, in row blocks
+#: (the same products, row by row); a normal record's as one product.
+BLOCK_BYTES = 32 * 2 ** 20
+
+
+def _minus_projection(x, Q):
+    """``x - Q (Q^T x)`` written over ``x`` (returned); in row blocks when ``x``
+    holds more than :data:`BLOCK_BYTES`."""
+    c = Q.T @ x
+    if x.nbytes <= BLOCK_BYTES:
+        x -= Q @ c
+        return x
+    rows = max(1, BLOCK_BYTES // (8 * max(x.shape[1], 1)) // 4)
+    for i in range(0, x.shape[0], rows):
+        x[i:i + rows] -= Q[i:i + rows] @ c
+    return x
+
+
 def _table(s, entries, je, jb, r, st, alpha, inputs):
     # projection off the base's parameters (scaled SVD: undetermined directions
     # of the base are dropped, as the estimator's bounds do)
@@ -643,6 +661,11 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
         scale[scale == 0] = 1.0
         u, sv, _ = np.linalg.svd(jb / scale, full_matrices=False)
         ub = u[:, sv > 1e-9 * max(sv.max(), 1e-300)]
+    grad = 2.0 * (je.T @ r)
+    raw = np.einsum("ij,ij->j", je, je)
+    if jb.shape[1] and je.nbytes > BLOCK_BYTES:
+        pe = _minus_projection(je, ub)   # in place: je is not needed after
+    elif jb.shape[1]:
         pe = je - ub @ (ub.T @ je)
     else:
         pe = je
@@ -651,9 +674,7 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
                                                                    for Q in st.bases)
     dof = n_data / max(n_data - lost, 1)
     num = pe.T @ r
-    grad = 2.0 * (je.T @ r)
     den = np.einsum("ij,ij->j", pe, pe)
-    raw = np.einsum("ij,ij->j", je, je)
     testable = (raw > 0) & (den > CONFOUNDED * raw)
     with np.errstate(divide="ignore", invalid="ignore"):
         stat = np.where(testable, 2.0 * num ** 2 / np.where(testable, den, 1.0) / dof, 0.0)

@@ -31,6 +31,7 @@ def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD):
         hub = BodyModel().response(controls, dt, omega_r, constants.mu)
         cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
         yield f"{shape} on {ch}", cols
+        del controls, hub, cols                # not alive while the next is made
 
 
 __all__ = ["STANDARD", "standard_manoeuvres"]

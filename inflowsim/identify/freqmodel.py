@@ -248,13 +248,20 @@ def flap_response(model, sp, method="auto"):
     if nf <= BLOCK:
         return _flap_response(model, sp, method)
     from dataclasses import replace
-    parts = []
+    # each block written into the whole (the blocks and their concatenation held at
+    # once were twice a 2-hour floor band's 86 MB of end-state responses)
+    y_u = y_nu = groups = None
     for i in range(0, nf, BLOCK):
         blk = slice(i, min(i + BLOCK, nf))
-        parts.append(_flap_response(model, replace(sp, f_hz=sp.f_hz[blk], U=sp.U[blk],
-                                                    Z=sp.Z[blk]), method))
-    return (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
-            parts[0][2])
+        a, b, g = _flap_response(model, replace(sp, f_hz=sp.f_hz[blk], U=sp.U[blk],
+                                                 Z=sp.Z[blk]), method)
+        if y_u is None:
+            y_u = np.empty((nf,) + a.shape[1:], dtype=a.dtype)
+            y_nu = np.empty((nf,) + b.shape[1:], dtype=b.dtype)
+            groups = g
+        y_u[blk], y_nu[blk] = a, b
+        del a, b
+    return y_u, y_nu, groups
 
 
 def flap_responses(models, sp):

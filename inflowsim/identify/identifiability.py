@@ -289,6 +289,9 @@ def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
         msp = _manoeuvre_spectra(sp0, s, cols)
         mp = Problem(s, [msp], fit.parameters, fixed=(), ties=ties)
         Mm, _ = _information(mp, [S[0]])
+        # one manoeuvre's record-long arrays alive at a time (the next is made
+        # while these names still hold this one's)
+        del cols, msp, mp
         Mt = M + Mm
         ok_t, _ = _determined(Mt)
         inv_t = np.linalg.pinv(Mt[np.ix_(ok_t, ok_t)], hermitian=True)

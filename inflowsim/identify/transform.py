@@ -83,20 +83,22 @@ def dft(x: np.ndarray, dt: float, f_hz: np.ndarray, on_grid: bool,
     ``c_n = weights`` (default 1)."""
     x = np.asarray(x, dtype=float)
     n = x.shape[0]
-    if weights is not None:
-        x = x * np.asarray(weights, dtype=float)[:, None]
+    w = None if weights is None else np.asarray(weights, dtype=float)
+    # the weights applied a column or a block at a time (the same products): a long
+    # record never holds a weighted copy of all its columns
     if on_grid:
         k = np.rint(np.asarray(f_hz) * n * dt).astype(int)
         # a column at a time: only the band's bins are kept, so a long record never
         # holds the whole (N/2, c) transform
         out = np.empty((k.size, x.shape[1]), dtype=complex)
         for c in range(x.shape[1]):
-            out[:, c] = np.fft.rfft(x[:, c])[k]
+            out[:, c] = np.fft.rfft(x[:, c] if w is None else x[:, c] * w)[k]
         return out
     out = np.zeros((np.size(f_hz), x.shape[1]), dtype=complex)
     for i in range(0, n, _DFT_BLOCK):      # bounded (nf, block) phase matrix
         m = np.arange(i, min(i + _DFT_BLOCK, n))
-        out += np.exp(-2j * np.pi * np.outer(f_hz, m) * dt) @ x[m]
+        xm = x[m] if w is None else x[m] * w[m, None]
+        out += np.exp(-2j * np.pi * np.outer(f_hz, m) * dt) @ xm
     return out
 
 
