@@ -331,12 +331,12 @@ IFS_INLINE void unpack_rows(IfsModel *m)
 #endif
 }
 
-/* [phi gam] at v->mu from the table, evaluated straight into m->pg (and m->prow):
+/* [phi gam] at mu from the table, evaluated straight into m->pg (and m->prow):
  * half 0 is stored in their order, four entries a vector (IFS_HOT: the AVX2 clone
- * four doubles at a time; the same operations per entry, so the same numbers). */
-IFS_HOT void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
+ * four doubles at a time; the same operations per entry, so the same numbers;
+ * static: a global function's clones export their resolver). */
+static IFS_HOT void mu_apply(const IfsMuTable *t, double mu, IfsModel *m)
 {
-    const double mu = v->mu;
     double x;
     const int seg = ifs_mu_table_locate(t, mu, &x);
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
@@ -367,6 +367,11 @@ IFS_HOT void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsM
     }
 #endif
     unpack_rows(m);
+}
+
+void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
+{
+    mu_apply(t, v->mu, m);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;

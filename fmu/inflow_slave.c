@@ -542,10 +542,17 @@ IFS_INLINE int ifs_slave_step_mu(IfsSlave *s, double t, double h)
     IFS_STEP_FAST_BODY(s, t, h, ifs_slave_mu_from_table(s), IFS_STEP_NARROW(s));
 }
 
-IFS_HOT int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h)
+/* (static: a global function's clones export their resolver) */
+static IFS_HOT int step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
+                             double h)
 {
     if (s->dirty && ifs_slave_step_mu(s, t, h)) return IFS_OK;
     return ifs_slave_step(s, lg, fn, t, h);
+}
+
+int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h)
+{
+    return step_rest(s, lg, fn, t, h);
 }
 
 #ifdef IFS_WIDE_STEP

@@ -214,8 +214,7 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
  * fast path gave it a stack frame: 25 instructions of the fixed-mu step): the fast
  * step after a change of mu alone, taken from the table (a flight condition
  * changing every step), else the general step (ifs_slave_step).  An AVX2 and a
- * baseline version, like DoStep (IFS_HOT on the definition only: a clone calling a
- * clone of another file named a local symbol). */
+ * baseline version inside, like DoStep. */
 int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);
 
 #ifdef IFS_WIDE_STEP
