@@ -150,6 +150,7 @@ IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference v
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
+    if (ifs_slave_set_mu(&c->s, vr, nvr, value)) return fmi2OK;
     return (fmi2Status)ifs_slave_set_reals(&c->s, &c->log, "fmi2SetReal", vr, nvr, value);
 }
 

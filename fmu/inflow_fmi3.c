@@ -221,6 +221,7 @@ IFS_EXPORT fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference
     size_t i;
     if (!c) return fmi3Error;
     if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
+    if (ifs_slave_set_mu(&c->s, vr, nvr, values)) return fmi3OK;
     for (i = 0; vr && i < nvr; i++)
         if (vr[i] == IFS_VR_time)
             return ERR(c, "%s: time is the independent variable; fmi3DoStep advances it", fn);

@@ -252,14 +252,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
     int parameters = 0;
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
-    /* a new mu alone, the flight condition of a simulator changing speed every step:
-     * stored (the step takes it from the table), the checks below in brief */
-    if (n == 1 && vr[0] == IFS_VR_mu && !s->params_changed && value[0] >= IFS_MU_LO &&
-        value[0] <= IFS_MU_HI && real_ok(&ifs_real_vars[IFS_VR_mu], value[0])) {
-        if (s->v.mu != value[0]) s->dirty = 1;
-        s->v.mu = value[0];
-        return IFS_OK;
-    }
+    if (ifs_slave_set_mu(s, vr, n, value)) return IFS_OK;
     /* the simulator loop's frame: inputs only, each within its declared range (NaN
      * fails the test), which need no rebuild: stored at once.  The general checks
      * below cost half again as much per value (bench/fmu.md). */

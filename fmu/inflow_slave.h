@@ -104,6 +104,26 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, double value[]);
 int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[]);
+/* A new mu alone (n == 1), the flight condition of a simulator changing speed every
+ * step, inline in the FMI layers' set functions: within the table's range and mu's
+ * declared one, with no other parameter change pending, it is stored (the step
+ * takes it from the table: ifs_slave_step_rest) and 1 returned, as
+ * ifs_slave_set_reals would (the general call cost 70 instructions more, a quarter
+ * of the mu step, bench/fmu.md); else 0 and nothing done. */
+static inline int ifs_slave_set_mu(IfsSlave *s, const unsigned int vr[], size_t n,
+                                   const double value[])
+{
+    if (n == 1 && vr && value && vr[0] == IFS_VR_mu && !s->params_changed &&
+        value[0] >= IFS_MU_LO && value[0] <= IFS_MU_HI &&
+        value[0] >= ifs_real_vars[IFS_VR_mu].lower &&
+        value[0] <= ifs_real_vars[IFS_VR_mu].upper &&
+        !(ifs_real_vars[IFS_VR_mu].lower_open && value[0] == ifs_real_vars[IFS_VR_mu].lower)) {
+        if (s->v.mu != value[0]) s->dirty = 1;
+        s->v.mu = value[0];
+        return 1;
+    }
+    return 0;
+}
 /* Integers (the structure) by value reference. */
 int ifs_slave_get_ints(const IfsSlave *s, const IfsLog *lg, const char *fn,
                        const unsigned int vr[], size_t n, int value[]);
