@@ -150,6 +150,7 @@ IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference v
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
+    if (ifs_slave_set_mu(&c->s, vr, nvr, value)) return fmi2OK;
     return (fmi2Status)ifs_slave_set_reals(&c->s, &c->log, "fmi2SetReal", vr, nvr, value);
 }
 
@@ -295,14 +296,15 @@ IFS_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp,
                "(maxOutputDerivativeOrder is 0)");
 }
 
-/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin) */
-#define DO_STEP(FAST)                                                                  \
+/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin), else
+ * REST (ifs_slave_step_rest or its twin: a new mu from the table, the general step) */
+#define DO_STEP(FAST, REST)                                                            \
     do {                                                                               \
         Instance *c = (Instance *)comp;                                                \
         (void)no_set_prior;                                                            \
         if (!c) return fmi2Error;                                                      \
         if (FAST(&c->s, t, h)) return fmi2OK;                                          \
-        return (fmi2Status)ifs_slave_step(&c->s, &c->log, "fmi2DoStep", t, h);        \
+        return (fmi2Status)REST(&c->s, &c->log, "fmi2DoStep", t, h);                   \
     } while (0)
 
 #ifdef IFS_WIDE_STEP
@@ -314,13 +316,13 @@ static __attribute__((target("avx2"))) fmi2Status do_step_wide(fmi2Component com
                                                                fmi2Real h,
                                                                fmi2Boolean no_set_prior)
 {
-    DO_STEP(ifs_slave_step_fast_wide);
+    DO_STEP(ifs_slave_step_fast_wide, ifs_slave_step_rest_wide);
 }
 
 static fmi2Status do_step_base(fmi2Component comp, fmi2Real t, fmi2Real h,
                                fmi2Boolean no_set_prior)
 {
-    DO_STEP(ifs_slave_step_fast);
+    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
 }
 
 static fmi2DoStepTYPE *resolve_do_step(void)
@@ -336,7 +338,7 @@ IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
 IFS_EXPORT IFS_HOT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
                                          fmi2Boolean no_set_prior)
 {
-    DO_STEP(ifs_slave_step_fast);
+    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
 }
 #endif
 

@@ -221,6 +221,7 @@ IFS_EXPORT fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference
     size_t i;
     if (!c) return fmi3Error;
     if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
+    if (ifs_slave_set_mu(&c->s, vr, nvr, values)) return fmi3OK;
     for (i = 0; vr && i < nvr; i++)
         if (vr[i] == IFS_VR_time)
             return ERR(c, "%s: time is the independent variable; fmi3DoStep advances it", fn);
@@ -621,8 +622,9 @@ IFS_EXPORT fmi3Status fmi3GetOutputDerivatives(fmi3Instance inst, const fmi3Valu
                   "is 0)");
 }
 
-/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin) */
-#define DO_STEP(FAST)                                                                  \
+/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin), else
+ * REST (ifs_slave_step_rest or its twin: a new mu from the table, the general step) */
+#define DO_STEP(FAST, REST)                                                                \
     do {                                                                               \
         Instance *c = (Instance *)inst;                                                \
         int st = IFS_OK;                                                               \
@@ -630,7 +632,7 @@ IFS_EXPORT fmi3Status fmi3GetOutputDerivatives(fmi3Instance inst, const fmi3Valu
         if (!c) return fmi3Error;                                                      \
         if (!event_needed || !terminate || !early_return || !last_successful_time)     \
             return ERR(c, "fmi3DoStep: null output argument");                         \
-        if (!FAST(&c->s, t, h)) st = ifs_slave_step(&c->s, &c->log, "fmi3DoStep", t, h); \
+        if (!FAST(&c->s, t, h)) st = REST(&c->s, &c->log, "fmi3DoStep", t, h);         \
         *event_needed = fmi3False;                                                     \
         *terminate = fmi3False;                                                        \
         *early_return = fmi3False;                                                     \
@@ -646,7 +648,7 @@ do_step_wide(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_set
              fmi3Boolean *event_needed, fmi3Boolean *terminate, fmi3Boolean *early_return,
              fmi3Float64 *last_successful_time)
 {
-    DO_STEP(ifs_slave_step_fast_wide);
+    DO_STEP(ifs_slave_step_fast_wide, ifs_slave_step_rest_wide);
 }
 
 static fmi3Status do_step_base(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
@@ -654,7 +656,7 @@ static fmi3Status do_step_base(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
                                fmi3Boolean *terminate, fmi3Boolean *early_return,
                                fmi3Float64 *last_successful_time)
 {
-    DO_STEP(ifs_slave_step_fast);
+    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
 }
 
 static fmi3DoStepTYPE *resolve_do_step(void)
@@ -674,6 +676,6 @@ IFS_EXPORT IFS_HOT fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3F
                                          fmi3Boolean *terminate, fmi3Boolean *early_return,
                                          fmi3Float64 *last_successful_time)
 {
-    DO_STEP(ifs_slave_step_fast);
+    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
 }
 #endif

@@ -244,16 +244,40 @@ int ifs_advance(IfsModel *m, const double u[NU], double h)
 
 /* --- mu table --- */
 
-static void mu_entries(const IfsModel *m, double out[IFS_MU_NTAB])
+/* Where entry e of the table's half 0 lives in m (IfsMuTable, inflow_numerics.h:
+ * [phi gam] in the order the step reads it); NULL for padding. */
+static double *half0_slot(IfsModel *m, int e)
 {
-    int i, j;
+    const int whole = 4 * IFS_NG4 * NA;
+    if (e < whole)                       /* rows 4g .. 4g + 3 of column j */
+        return m->pg + (e / 4 % NA) * IFS_LD + 4 * (e / (4 * NA)) + e % 4;
+    e -= whole;
+#if IFS_NX == 6
+    /* rows 4, 5 of columns 2k, 2k + 1 */
+    return m->pg + (2 * (e / 4) + e % 4 / 2) * IFS_LD + 4 + e % 2;
+#elif defined(IFS_ROW_STEP)
+    {
+        const int l = e / IFS_RL, j = e % IFS_RL;
+        (void)l;
+        if (j < NX || (j >= 4 * IFS_XB && j < 4 * IFS_XB + NU)) return m->prow + e;
+        return NULL;
+    }
+#else
+    return NULL;
+#endif
+}
+
+static void mu_entries(IfsModel *m, double out[IFS_MU_NTAB])
+{
+    int i, j, e;
     memset(out, 0, sizeof(double) * IFS_MU_NTAB);      /* the padding */
+    for (e = 0; e < IFS_MU_HALF0; e++) {
+        const double *slot = half0_slot(m, e);
+        if (slot) out[e] = *slot;
+    }
     for (i = 0; i < NX; i++)
-        for (j = 0; j < NA; j++) {
-            out[j * NX + i] = m->pg[j * IFS_LD + i];    /* by columns, unpadded */
-            out[IFS_MU_HALF + i * NA + j] =
-                j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
-        }
+        for (j = 0; j < NA; j++)
+            out[IFS_MU_HALF0 + i * NA + j] = j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
 }
 
 /* The table's exact entries at mu: an exact build's [phi gam] by columns (unpadded)
@@ -288,13 +312,66 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
     return ifs_mu_table_fit(t, mu_build_entries, &b);
 }
 
+/* The rows of m->prow back into m->pg (the inverse of pack_rows). */
+IFS_INLINE void unpack_rows(IfsModel *m)
+{
+#ifdef IFS_ROW_STEP
+    int l, j;
+    IFS_UNROLL
+    for (l = 0; l < IFS_NLEFT; l++) {
+        const int i = 4 * IFS_NG4 + l;
+        IFS_UNROLL
+        for (j = 0; j < NX; j++) m->pg[j * IFS_LD + i] = m->prow[l * IFS_RL + j];
+        IFS_UNROLL
+        for (j = 0; j < NU; j++)
+            m->pg[(NX + j) * IFS_LD + i] = m->prow[l * IFS_RL + 4 * IFS_XB + j];
+    }
+#else
+    (void)m;
+#endif
+}
+
+/* [phi gam] at mu from the table, evaluated straight into m->pg (and m->prow):
+ * half 0 is stored in their order, four entries a vector (IFS_HOT: the AVX2 clone
+ * four doubles at a time; the same operations per entry, so the same numbers;
+ * static: a global function's clones export their resolver). */
+static IFS_HOT void mu_apply(const IfsMuTable *t, double mu, IfsModel *m)
+{
+    double x;
+    const int seg = ifs_mu_table_locate(t, mu, &x);
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    int g, j, e = 0;
+    for (g = 0; g < IFS_NG4; g++) {
+        IFS_UNROLL
+        for (j = 0; j < NA; j++, e += 4)
+            IFS_MU_HORNER4(t, seg, x, e, *(ifs_v4 *)(m->pg + j * IFS_LD + 4 * g));
+    }
+#if IFS_NX == 6
+    IFS_UNROLL
+    for (j = 0; j < NA; j += 2, e += 4) {
+        ifs_v4 w;
+        IFS_MU_HORNER4(t, seg, x, e, w);
+        *(ifs_v2 *)(m->pg + j * IFS_LD + 4) = (ifs_v2){w[0], w[1]};
+        *(ifs_v2 *)(m->pg + (j + 1) * IFS_LD + 4) = (ifs_v2){w[2], w[3]};
+    }
+#elif defined(IFS_ROW_STEP)
+    IFS_UNROLL
+    for (j = 0; j < IFS_MU_TAIL; j += 4, e += 4)
+        IFS_MU_HORNER4(t, seg, x, e, *(ifs_v4 *)(m->prow + j));
+#endif
+#else
+    int e;
+    for (e = 0; e < IFS_MU_HALF0; e++) {
+        double *slot = half0_slot(m, e);
+        if (slot) *slot = ifs_mu_horner(t, seg, x, e);
+    }
+#endif
+    unpack_rows(m);
+}
+
 void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
-    double f[IFS_MU_HALF];
-    int j;
-    ifs_mu_table_eval(t, v->mu, 0, f);
-    for (j = 0; j < NA; j++) memcpy(m->pg + j * IFS_LD, f + j * NX, sizeof(double) * NX);
-    pack_rows(m);
+    mu_apply(t, v->mu, m);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;

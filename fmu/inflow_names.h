@@ -48,6 +48,8 @@
 #define ifs_slave_set_reals IFS_NAME(ifs_slave_set_reals)
 #define ifs_slave_set_start_time IFS_NAME(ifs_slave_set_start_time)
 #define ifs_slave_step IFS_NAME(ifs_slave_step)
+#define ifs_slave_step_rest IFS_NAME(ifs_slave_step_rest)
+#define ifs_slave_step_rest_wide IFS_NAME(ifs_slave_step_rest_wide)
 #define ifs_state_deserialize IFS_NAME(ifs_state_deserialize)
 #define ifs_state_get IFS_NAME(ifs_state_get)
 #define ifs_state_serialize IFS_NAME(ifs_state_serialize)

@@ -140,47 +140,29 @@ static void mu_edges(double e[IFS_MU_NSEG + 1])
 #endif
 }
 
-/* The table's interpolant at mu: [phi gam] (half 0, by columns) or [a b] (half 1,
- * row-major).  Horner's rule on four entries at a time, the degrees innermost so
- * the sums stay in registers; each entry gets the same operations in the same
- * order in the vector and the scalar code.  (IFS_HOT: the AVX2 clone does four
- * doubles a vector; the same numbers.) */
-static IFS_HOT void mu_eval_half(const IfsMuTable *t, double mu, int half,
-                                 double out[IFS_MU_HALF])
+/* Entries first .. first + n - 1 (n a multiple of four) of the interpolant at mu,
+ * four at a time.  (IFS_HOT: the AVX2 clone does four doubles a vector; the same
+ * numbers.) */
+static IFS_HOT void mu_eval_range(const IfsMuTable *t, double mu, int first, int n,
+                                  double *out)
 {
-    const int first = half * IFS_MU_HALF;
-    int seg = (int)(IFS_MU_NSEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
-    double lo, hi, x;
-    int k, e;
-    /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
-    if (seg < 0) seg = 0;
-    if (seg >= IFS_MU_NSEG) seg = IFS_MU_NSEG - 1;
-    while (seg > 0 && mu < t->edge[seg]) seg--;
-    while (seg < IFS_MU_NSEG - 1 && mu >= t->edge[seg + 1]) seg++;
-    lo = t->edge[seg];
-    hi = t->edge[seg + 1];
-    x = (2.0 * mu - lo - hi) / (hi - lo);
-    for (e = 0; e < IFS_MU_HALF; e += 4) {
+    double x;
+    const int seg = ifs_mu_table_locate(t, mu, &x);
+    int e;
+    for (e = 0; e < n; e += 4) {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-        ifs_v4 acc = *(const ifs_v4 *)(t->p[seg][IFS_MU_DEG] + first + e);
-        IFS_UNROLL
-        for (k = IFS_MU_DEG - 1; k >= 0; k--)
-            acc = acc * x + *(const ifs_v4 *)(t->p[seg][k] + first + e);
-        *(ifs_v4 *)(out + e) = acc;
+        IFS_MU_HORNER4(t, seg, x, first + e, *(ifs_v4 *)(out + e));
 #else
         int i;
-        for (i = e; i < e + 4; i++) {
-            double acc = t->p[seg][IFS_MU_DEG][first + i];
-            for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][first + i];
-            out[i] = acc;
-        }
+        for (i = e; i < e + 4; i++) out[i] = ifs_mu_horner(t, seg, x, first + i);
 #endif
     }
 }
 
-void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double out[IFS_MU_HALF])
+void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out)
 {
-    mu_eval_half(t, mu, half, out);
+    if (half == 0) mu_eval_range(t, mu, 0, IFS_MU_HALF0, out);
+    else mu_eval_range(t, mu, IFS_MU_HALF0, IFS_MU_HALF, out);
 }
 
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
@@ -224,13 +206,13 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
         double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
         const double mu = 0.5 * (t->edge[seg] + t->edge[seg + 1]);
         if (entries(ctx, mu, want) != 0) return t->state;
-        mu_eval_half(t, mu, 0, got);
-        mu_eval_half(t, mu, 1, got + IFS_MU_HALF);
+        ifs_mu_table_eval(t, mu, 0, got);
+        ifs_mu_table_eval(t, mu, 1, got + IFS_MU_HALF0);
         for (e = 0; e < IFS_MU_NTAB; e++)
-            if (fabs(want[e]) > scale[e >= IFS_MU_HALF])
-                scale[e >= IFS_MU_HALF] = fabs(want[e]);
+            if (fabs(want[e]) > scale[e >= IFS_MU_HALF0])
+                scale[e >= IFS_MU_HALF0] = fabs(want[e]);
         for (e = 0; e < IFS_MU_NTAB; e++) {
-            const double r = fabs(got[e] - want[e]) / scale[e >= IFS_MU_HALF];
+            const double r = fabs(got[e] - want[e]) / scale[e >= IFS_MU_HALF0];
             if (!(r <= worst)) worst = r;       /* NaN-safe */
         }
     }

@@ -81,12 +81,26 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
  * (and IFS_MU_N_KNOTS more where a parameter schedule has kinks: IFS_MU_NSEG),
  * on each a polynomial of degree IFS_MU_DEG in the local variable x in [-1, 1]
  * through exact values at the Chebyshev-Gauss nodes, stored as power coefficients
- * (Horner's rule).  Two halves of IFS_MU_HALF entries, each checked at every
- * segment's midpoint against an exact value relative to the half's largest entry;
- * the table is used only if that is within IFS_MU_TOL.
+ * (Horner's rule).  Two halves, each checked at every segment's midpoint against
+ * an exact value relative to the half's largest entry; the table is used only if
+ * that is within IFS_MU_TOL.  Half 0 ([phi gam], IFS_MU_HALF0 entries) is stored in
+ * the order the step reads it, so a mu change evaluates it straight into the
+ * model's matrices (ifs_mu_table_apply, inflow_model.c): the whole groups of four
+ * rows, column by column; then the rows after them: with six states rows 4-5 of two
+ * columns at a time, else the packed rows of the row step (IFS_ROW_STEP,
+ * inflow_model.h), zero-padded.  Half 1 ([a b], row-major, IFS_MU_HALF entries) is
+ * read rarely (a remainder step, a load).
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
-#define IFS_MU_NTAB (2 * IFS_MU_HALF)
+#if IFS_NX % 4 == 0
+#define IFS_MU_TAIL 0
+#elif IFS_NX == 6
+#define IFS_MU_TAIL (2 * IFS_NA)   /* 32: rows 4-5 of columns j, j + 1 (NA even) */
+#else
+#define IFS_MU_TAIL ((IFS_NX % 4) * 4 * ((IFS_NX + 3) / 4 + (IFS_NU + 3) / 4))
+#endif
+#define IFS_MU_HALF0 (4 * (IFS_NX / 4) * IFS_NA + IFS_MU_TAIL)
+#define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
 typedef struct {
     int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
     double err;                /* the largest relative error found by the check */
@@ -100,7 +114,47 @@ typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);
-/* Half 0 or 1 of the interpolant at mu (within the table's range). */
-void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double out[IFS_MU_HALF]);
+/* Half 0 (IFS_MU_HALF0 entries) or 1 (IFS_MU_HALF) of the interpolant at mu (within
+ * the table's range). */
+void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out);
+
+/* The segment holding mu, and mu's local variable in it (in [-1, 1]). */
+IFS_INLINE int ifs_mu_table_locate(const IfsMuTable *t, double mu, double *x)
+{
+    int seg = (int)(IFS_MU_NSEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
+    double lo, hi;
+    /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
+    if (seg < 0) seg = 0;
+    if (seg >= IFS_MU_NSEG) seg = IFS_MU_NSEG - 1;
+    while (seg > 0 && mu < t->edge[seg]) seg--;
+    while (seg < IFS_MU_NSEG - 1 && mu >= t->edge[seg + 1]) seg++;
+    lo = t->edge[seg];
+    hi = t->edge[seg + 1];
+    *x = (2.0 * mu - lo - hi) / (hi - lo);
+    return seg;
+}
+
+/* Horner's rule for entry e of segment seg at x: the same operations for every
+ * entry in the scalar and the vector form, so the same numbers */
+IFS_INLINE double ifs_mu_horner(const IfsMuTable *t, int seg, double x, int e)
+{
+    double acc = t->p[seg][IFS_MU_DEG][e];
+    int k;
+    for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][e];
+    return acc;
+}
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+/* ... for entries e .. e + 3, into the ifs_v4 out (a macro: a function returning a
+ * 32-byte vector changes the ABI without AVX) */
+#define IFS_MU_HORNER4(t, seg, x, e, out)                                              \
+    do {                                                                               \
+        ifs_v4 acc_ = *(const ifs_v4 *)((t)->p[seg][IFS_MU_DEG] + (e));                \
+        int k_;                                                                        \
+        IFS_UNROLL                                                                     \
+        for (k_ = IFS_MU_DEG - 1; k_ >= 0; k_--)                                       \
+            acc_ = acc_ * (x) + *(const ifs_v4 *)((t)->p[seg][k_] + (e));              \
+        out = acc_;                                                                    \
+    } while (0)
+#endif
 
 #endif

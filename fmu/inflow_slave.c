@@ -252,14 +252,28 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
     int parameters = 0;
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    if (ifs_slave_set_mu(s, vr, n, value)) return IFS_OK;
     /* the simulator loop's frame: inputs only, each within its declared range (NaN
      * fails the test), which need no rebuild: stored at once.  The general checks
      * below cost half again as much per value (bench/fmu.md). */
+    /* mu as well, within the table's range with no other parameter pending: a
+     * flight condition changing every step (stored; the step applies it) */
     for (i = 0; i < n; i++)
-        if (vr[i] >= IFS_NU || !(fabs(value[i]) <= IFS_INPUT_LIMIT)) break;
+        if (vr[i] < IFS_NU ? !(fabs(value[i]) <= IFS_INPUT_LIMIT)
+                           : (vr[i] != IFS_VR_mu || s->params_changed ||
+                              !(value[i] >= IFS_MU_LO && value[i] <= IFS_MU_HI) ||
+                              !real_ok(&ifs_real_vars[IFS_VR_mu], value[i])))
+            break;
     if (i == n) {
         double *in = (double *)ifs_slave_inputs(s);
-        for (i = 0; i < n; i++) in[vr[i]] = value[i];
+        for (i = 0; i < n; i++) {
+            if (vr[i] < IFS_NU) {
+                in[vr[i]] = value[i];
+            } else {
+                if (s->v.mu != value[i]) s->dirty = 1;
+                s->v.mu = value[i];
+            }
+        }
         return IFS_OK;
     }
     /* check everything first: a refused call changes nothing */
@@ -496,6 +510,60 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
     ifs_slave_update_outputs(s);
     return status;
 }
+
+/* After a change of mu alone (s->dirty): [phi gam] from the mu table, as rebuild
+ * takes it, if the table is valid for the parameters and holds mu (then 1, and
+ * s->dirty cleared); else 0 and nothing done (the general step rebuilds).  The
+ * caller checked that no delay is active. */
+IFS_INLINE int ifs_slave_mu_from_table(IfsSlave *s)
+{
+#if IFS_N_SCHEDULED || IFS_SCHEDULED_BIAS
+    (void)s;
+    return 0;
+#else
+    if (s->params_changed || !s->tab || s->tab->state != 1 || s->phase != IFS_PH_STEP ||
+        !(s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI))
+        return 0;
+    ifs_mu_table_apply(s->tab, &s->v, &s->m);
+    s->dirty = 0;
+    return 1;
+#endif
+}
+
+IFS_INLINE int ifs_slave_step_mu(IfsSlave *s, double t, double h)
+{
+    IFS_STEP_FAST_BODY(s, t, h, ifs_slave_mu_from_table(s), IFS_STEP_NARROW(s));
+}
+
+/* (static: a global function's clones export their resolver) */
+static IFS_HOT int step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
+                             double h)
+{
+    if (s->dirty && ifs_slave_step_mu(s, t, h)) return IFS_OK;
+    return ifs_slave_step(s, lg, fn, t, h);
+}
+
+int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h)
+{
+    return step_rest(s, lg, fn, t, h);
+}
+
+#ifdef IFS_WIDE_STEP
+static inline __attribute__((target("avx2"), always_inline)) int
+ifs_slave_step_mu_wide(IfsSlave *s, double t, double h)
+{
+    IFS_STEP_FAST_BODY(s, t, h, ifs_slave_mu_from_table(s),
+                       ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
+}
+
+__attribute__((target("avx2"))) int ifs_slave_step_rest_wide(IfsSlave *s, const IfsLog *lg,
+                                                              const char *fn, double t,
+                                                              double h)
+{
+    if (s->dirty && ifs_slave_step_mu_wide(s, t, h)) return IFS_OK;
+    return ifs_slave_step(s, lg, fn, t, h);
+}
+#endif
 
 /* --- FMU state --- */
 

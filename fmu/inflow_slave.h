@@ -104,6 +104,26 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, double value[]);
 int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[]);
+/* A new mu alone (n == 1), the flight condition of a simulator changing speed every
+ * step, inline in the FMI layers' set functions: within the table's range and mu's
+ * declared one, with no other parameter change pending, it is stored (the step
+ * takes it from the table: ifs_slave_step_rest) and 1 returned, as
+ * ifs_slave_set_reals would (the general call cost 70 instructions more, a quarter
+ * of the mu step, bench/fmu.md); else 0 and nothing done. */
+static inline int ifs_slave_set_mu(IfsSlave *s, const unsigned int vr[], size_t n,
+                                   const double value[])
+{
+    if (n == 1 && vr && value && vr[0] == IFS_VR_mu && !s->params_changed &&
+        value[0] >= IFS_MU_LO && value[0] <= IFS_MU_HI &&
+        value[0] >= ifs_real_vars[IFS_VR_mu].lower &&
+        value[0] <= ifs_real_vars[IFS_VR_mu].upper &&
+        !(ifs_real_vars[IFS_VR_mu].lower_open && value[0] == ifs_real_vars[IFS_VR_mu].lower)) {
+        if (s->v.mu != value[0]) s->dirty = 1;
+        s->v.mu = value[0];
+        return 1;
+    }
+    return 0;
+}
 /* Integers (the structure) by value reference. */
 int ifs_slave_get_ints(const IfsSlave *s, const IfsLog *lg, const char *fn,
                        const unsigned int vr[], size_t n, int value[]);
@@ -183,16 +203,17 @@ IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
 
 /* The simulator loop's usual step, inline in the FMI layer's DoStep: the same
  * step as last time, equal to the internal step, nothing to rebuild, on time.
- * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step.  (t == now
+ * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step_rest.  (t == now
  * first: a loop's usual t is the FMU's time to the bit, and the tolerance's six
- * floating-point operations cost 0.8 ns of the nine-state step.) */
-#define IFS_STEP_FAST_BODY(s, t, h, STEP)                                               \
+ * floating-point operations cost 0.8 ns of the nine-state step.)  READY: the model
+ * is ready for the step (nothing to rebuild, or a new mu taken from the table). */
+#define IFS_STEP_FAST_BODY(s, t, h, READY, STEP)                                       \
     do {                                                                               \
-        if ((s)->phase == IFS_PH_STEP && !(s)->dirty && !(s)->delay.active &&          \
+        if ((s)->phase == IFS_PH_STEP && !(s)->delay.active &&                         \
             (h) == (s)->h_comm && (h) == (s)->m.dt) {                                  \
             const double now_ = ifs_slave_time(s);                                     \
             if (((t) == now_ || fabs((t) - now_) <= 1e-9 * (1.0 + fabs(now_))) &&      \
-                now_ + (h) <= (s)->t_stop) {                                           \
+                now_ + (h) <= (s)->t_stop && (READY)) {                                \
                 STEP;                                                                  \
                 (s)->n_comm++;                                                         \
                 return 1;                                                              \
@@ -201,11 +222,20 @@ IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
         return 0;                                                                      \
     } while (0)
 
+#define IFS_STEP_NARROW(s)                                                             \
+    (ifs_step((s)->m.pg, (s)->m.x, ifs_slave_inputs(s)), ifs_slave_update_outputs(s))
+
 IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 {
-    IFS_STEP_FAST_BODY(s, t, h, (ifs_step(s->m.pg, s->m.x, ifs_slave_inputs(s)),
-                                 ifs_slave_update_outputs(s)));
+    IFS_STEP_FAST_BODY(s, t, h, !s->dirty, IFS_STEP_NARROW(s));
 }
+
+/* What DoStep does when the fast step did not step, out of line (a call in DoStep's
+ * fast path gave it a stack frame: 25 instructions of the fixed-mu step): the fast
+ * step after a change of mu alone, taken from the table (a flight condition
+ * changing every step), else the general step (ifs_slave_step).  An AVX2 and a
+ * baseline version inside, like DoStep. */
+int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);
 
 #ifdef IFS_WIDE_STEP
 /* The same, four rows at a time, for the AVX2 variant of the FMI layers' DoStep (a
@@ -213,9 +243,12 @@ IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
 static inline __attribute__((target("avx2"), always_inline)) int
 ifs_slave_step_fast_wide(IfsSlave *s, double t, double h)
 {
-    IFS_STEP_FAST_BODY(s, t, h,
+    IFS_STEP_FAST_BODY(s, t, h, !s->dirty,
                        ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
 }
+/* ifs_slave_step_rest with the four-wide step */
+int ifs_slave_step_rest_wide(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
+                             double h);
 #endif
 
 /* --- FMU state: a tagged copy of the slave; the layers differ only in allocation --- */
