@@ -23,9 +23,12 @@ def _lines(err):
 def test_identify_progress_only_when_asked(capsys, rec_path):
     code, out, err = run(capsys, "identify", rec_path, "-m", "basic")
     assert code == 0 and "lambda_beta2" in out
-    assert err == ""                          # stderr is not a terminal: nothing
+    # stderr is not a terminal: no progress, only warnings (basic on a glauert record:
+    # every estimate is conditional on an incomplete structure)
+    warnings = _lines(err)
+    assert all(ln.startswith("warning:") for ln in warnings), err
     code, out_q, err = run(capsys, "identify", rec_path, "-m", "basic", "--quiet")
-    assert code == 0 and err == "" and out_q == out
+    assert code == 0 and _lines(err) == warnings and out_q == out
     code, out_p, err = run(capsys, "identify", rec_path, "-m", "basic", "--progress")
     assert code == 0 and out_p == out          # stdout is the same, progress apart
     lines = _lines(err)
@@ -48,10 +51,8 @@ def test_warnings_are_shown_with_quiet(capsys, rec_path, tmp_path):
 
 
 def test_quiet_and_progress_exclude_each_other(capsys):
-    with pytest.raises(SystemExit) as exc:
-        run(capsys, "model", "-m", "basic", "--quiet", "--progress")
-    out, err = capsys.readouterr()
-    assert exc.value.code == 2 and out == "" and "not allowed" in err
+    code, out, err = run(capsys, "model", "-m", "basic", "--quiet", "--progress")
+    assert code == 2 and out == "" and "not allowed" in err
 
 
 def test_a_callers_function_gets_one_line_per_step():
