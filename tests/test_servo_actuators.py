@@ -139,6 +139,7 @@ def test_hidden_servos_over_seeds_and_record_kinds(tmp_path, seed, kind, rate, c
     _check_named_and_explained(rec, truth, base, white=colour_hz is None)
 
 
+@pytest.mark.slow
 def test_no_alarm_with_servos_offered_on_a_record_without_them(tmp_path):
     from servo_records import record as rec_of
     rec, _ = rec_of(tmp_path / "r.csv", "basic", 1e-4, 0.7, kind="two-axis", seed=5)
