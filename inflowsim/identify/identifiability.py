@@ -318,7 +318,8 @@ def describe(ident: Identifiability) -> list[str]:
             if best:
                 line += f"; a {best[0]} would determine it (sigma {best[1]:.2g})"
         elif p.held:
-            line = f"{p.name}: held by the user at {p.held_at:.4g}"
+            # fixed by the user, or a part of an effect the ladder has not added
+            line = f"{p.name}: held fixed at {p.held_at:.4g} (not estimated)"
         else:
             line = f"{p.name} = {p.estimate:.4g} +- {p.sigma:.2g}"
             if p.flags:
