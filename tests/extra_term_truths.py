@@ -23,9 +23,9 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import inflowsim as ifs
-from inflowsim.data.record import read_record
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import truth_parameters
+from csv_records import flap_noise, write_csv
 
 DURATION = 30.0
 RATE = 100.0               # [Hz]
@@ -99,15 +99,11 @@ def write_record(path, kind=None, seed=0, axes=2, structure="basic", size=None,
                   rtol=1e-10, atol=1e-14, max_step=0.05).y.T
     u, uv = inputs(t, z.T)
     y = z[:, :n] @ m.c[:3].T + uv.T @ np.asarray(m.d)[:3].T
-    y = y + noise * np.random.default_rng(seed).normal(size=(len(t), 3))
+    y = y + flap_noise(seed, len(t), RATE, None, noise)
     tr = k.trim
     cols = {"t": t, "theta0": tr["theta0"] + 0 * t, "theta1c": tr["theta1c"] + u["theta1c"],
             "theta1s": tr["theta1s"] + u["theta1s"], "muz": 0 * t, "p": u["p"], "q": u["q"],
             "pdot": u["pdot"], "qdot": u["qdot"], "mux": tr["mux"] + 0 * t, "muy": 0 * t,
             "beta0": tr["beta0"] + y[:, 0], "beta1c": tr["beta1c"] + y[:, 1],
             "beta1s": tr["beta1s"] + y[:, 2]}
-    lines = [f"# omega: {k.omega}", f"# mu: {k.mu}", f"# a0: {k.a0}",
-             f"# solidity: {k.solidity}", ",".join(cols)]
-    lines += [",".join(f"{cols[c][i]:.12g}" for c in cols) for i in range(len(t))]
-    path.write_text("\n".join(lines) + "\n")
-    return read_record(path), p
+    return write_csv(path, k, cols), p

@@ -15,9 +15,9 @@ from scipy import signal
 from scipy.integrate import solve_ivp
 
 import inflowsim as ifs
-from inflowsim.data.record import read_record
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import truth_parameters
+from csv_records import flap_noise, write_csv
 
 NOISE = 1e-4                      # [rad] per sample
 T_BODY, K_Q, K_P = 0.6, -1.5, 1.2   # body-rate filter [s], [1/s per rad]
@@ -83,12 +83,7 @@ def record(path, base, servo_tau, servo_zeta, *, kind="two-axis", rate=128,
     q, pp, th = w[:, n], w[:, n + 1], w[:, n + 2:n + 4]
     qd, pd = (K_Q * th[:, 0] - q) / T_BODY, (K_P * th[:, 1] - pp) / T_BODY
     y = w[:, :n] @ m.c[:3].T
-    noise = np.random.default_rng(seed).normal(size=(len(t), 3))
-    if colour_hz:
-        b, a = signal.butter(2, colour_hz / (rate / 2))
-        noise = signal.lfilter(b, a, noise, axis=0)
-        noise /= noise.std(axis=0)
-    y = y + NOISE * noise
+    y = y + flap_noise(seed, len(t), rate, colour_hz, NOISE)
     c1s, c1c = pilot(kind, t)
     tr = k.trim
     cols = {"t": t, "theta0": tr["theta0"] + 0 * t, "theta1c": tr["theta1c"] + c1c,
@@ -96,8 +91,4 @@ def record(path, base, servo_tau, servo_zeta, *, kind="two-axis", rate=128,
             "pdot": pd, "qdot": qd, "mux": tr["mux"] + 0 * t, "muy": 0 * t,
             "beta0": tr["beta0"] + y[:, 0], "beta1c": tr["beta1c"] + y[:, 1],
             "beta1s": tr["beta1s"] + y[:, 2]}
-    lines = [f"# omega: {k.omega}", f"# mu: {k.mu}", f"# a0: {k.a0}",
-             f"# solidity: {k.solidity}", ",".join(cols)]
-    lines += [",".join(f"{cols[c][i]:.12g}" for c in cols) for i in range(len(t))]
-    path.write_text("\n".join(lines) + "\n")
-    return read_record(path), p | {"servo_tau": servo_tau, "servo_zeta": servo_zeta}
+    return write_csv(path, k, cols), p | {"servo_tau": servo_tau, "servo_zeta": servo_zeta}

@@ -16,11 +16,11 @@ from scipy import signal
 from scipy.integrate import solve_ivp
 
 import inflowsim as ifs
-from inflowsim.data.record import read_record
 from inflowsim.defaults import DEFAULT_BAND
 from inflowsim.diagnose import diagnose, ladder
 from inflowsim.diagnose.candidates import offered_effects
 from inflowsim.model.presets import truth_parameters
+from csv_records import flap_noise, write_csv
 
 NOISE = 1e-4          # [rad], standard deviation per sample
 T_BODY, K_Q, K_P = 0.6, -1.5, 1.2      # body-rate filter [s], [1/s per rad]
@@ -91,23 +91,14 @@ def _record(path, truth, rotor="puma", kind="two-axis", rate=200, colour_hz=None
                   rtol=1e-10, atol=1e-13, max_step=0.05).y.T
     u, uv = inputs(t, z[:, n], z[:, n + 1])
     y = z[:, :n] @ m.c[:3].T
-    noise = np.random.default_rng(seed).normal(size=(len(t), 3))
-    if colour_hz:
-        b, a = signal.butter(2, colour_hz / (rate / 2))
-        noise = signal.lfilter(b, a, noise, axis=0)
-        noise /= noise.std(axis=0)
-    y = y + NOISE * noise
+    y = y + flap_noise(seed, len(t), rate, colour_hz, NOISE)
     cols = {"t": t, "theta0": trim["theta0"] + 0 * t,
             "theta1c": trim["theta1c"] + u["theta1c"],
             "theta1s": trim["theta1s"] + u["theta1s"], "muz": 0 * t, "p": u["p"],
             "q": u["q"], "pdot": u["pdot"], "qdot": u["qdot"], "mux": k.mu + 0 * t,
             "muy": 0 * t, "beta0": trim["beta0"] + y[:, 0],
             "beta1c": trim["beta1c"] + y[:, 1], "beta1s": trim["beta1s"] + y[:, 2]}
-    lines = [f"# omega: {k.omega}", f"# mu: {k.mu}", f"# a0: {k.a0}",
-             f"# solidity: {k.solidity}", f"# hub: {k.hub}", ",".join(cols)]
-    lines += [",".join(f"{cols[c][i]:.12g}" for c in cols) for i in range(len(t))]
-    path.write_text("\n".join(lines) + "\n")
-    return read_record(path), p
+    return write_csv(path, k, cols, hub=True), p
 
 
 LAG = ("nu_zeta", "zeta_lag", "k_flap_lag")

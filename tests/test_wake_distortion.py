@@ -34,6 +34,7 @@ from inflowsim.model.params import PUMA, Constants
 from inflowsim.model.presets import theory_parameters, truth_parameters
 from inflowsim.physics.loads import momentum_l
 from inflowsim.flighttest.virtual import Manoeuvre, PUMA_TRIM, VirtualTest, virtual_record
+from csv_records import flap_noise, write_csv
 
 #: Candidates: the offered effects, and this one whether offered or not.
 POOL = [n for n, e in CATALOGUE.items() if e.offered or n == "wake-distortion"]
@@ -206,17 +207,8 @@ def _pilot(t, kind):
     return 0 * t, 0.7 * a * env * np.sin(ph)
 
 
-def _noise(rng, n, colour_hz, rate):
-    e = rng.normal(size=(n, 3))
-    if colour_hz:
-        b, a = signal.butter(2, colour_hz / (rate / 2))
-        e = signal.lfilter(b, a, e, axis=0)
-        e /= e.std(axis=0)
-    return NOISE * e
-
-
 def _noise_psd(f_hz, colour_hz, rate):
-    """Expected ``|DFT|^2 / N`` of :func:`_noise` at ``f_hz`` [rad^2]."""
+    """Expected ``|DFT|^2 / N`` of ``csv_records.flap_noise`` at ``f_hz`` [rad^2]."""
     if not colour_hz:
         return np.full(np.shape(f_hz), NOISE ** 2)
     b, a = signal.butter(2, colour_hz / (rate / 2))
@@ -267,18 +259,14 @@ def write_record(path, rotor, kind, rate, colour_hz, seed, k_r, tau_w=None):
     z = solve_ivp(rhs, (0, t[-1]), np.zeros(n + 4), method="DOP853", t_eval=t,
                   rtol=1e-11, atol=1e-14, max_step=0.05).y.T
     u, _ = inputs(t, z[:, n], z[:, n + 1])
-    y = z[:, :3] + _noise(np.random.default_rng(seed), len(t), colour_hz, rate)
+    y = z[:, :3] + flap_noise(seed, len(t), rate, colour_hz, NOISE)
     cols = {"t": t, "theta0": TRIM["theta0"] + 0 * t,
             "theta1c": TRIM["theta1c"] + u["theta1c"],
             "theta1s": TRIM["theta1s"] + u["theta1s"], "muz": 0 * t, "p": u["p"],
             "q": u["q"], "pdot": u["pdot"], "qdot": u["qdot"], "mux": k.mu + 0 * t,
             "muy": 0 * t, "beta0": TRIM["beta0"] + y[:, 0],
             "beta1c": TRIM["beta1c"] + y[:, 1], "beta1s": TRIM["beta1s"] + y[:, 2]}
-    lines = [f"# omega: {k.omega}", f"# mu: {k.mu}", f"# a0: {k.a0}",
-             f"# solidity: {k.solidity}", f"# hub: {k.hub}", ",".join(cols)]
-    lines += [",".join(f"{cols[c][i]:.12g}" for c in cols) for i in range(len(t))]
-    path.write_text("\n".join(lines) + "\n")
-    return read_record(path)
+    return write_csv(path, k, cols, hub=True)
 
 
 def floor_ratio(fit, rec, colour_hz, rate):
