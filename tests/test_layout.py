@@ -166,6 +166,34 @@ def test_no_import_circle_through_functions():
     assert [c for c in circles if c != REGISTRY] == [], circles
 
 
+def test_no_private_import_across_packages():
+    """A module imports no private name (``_x``) from another package of the layers
+    (issue #40): a helper one package uses from another has a public name in its
+    home module."""
+    bad = []
+    for path in PKG.rglob("*.py"):
+        if "csrc" in path.parts:
+            continue
+        parts = path.relative_to(PKG).with_suffix("").parts
+        pkg = parts[:-1]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            if node.level:
+                base = list(pkg[: len(pkg) - node.level + 1]) + (
+                    node.module.split(".") if node.module else [])
+            elif (node.module or "").startswith("inflowsim."):
+                base = node.module.split(".")[1:]
+            else:
+                continue
+            for a in node.names:
+                if a.name.startswith("_") and not a.name.startswith("__") and \
+                        base[:1] != list(parts[:1]):
+                    bad.append(f"{path.relative_to(PKG)} imports {a.name} from "
+                               f"{'.'.join(base)}")
+    assert not bad, bad
+
+
 def test_commands_are_thin():
     """Command modules parse arguments and print: no command imports another, and
     what they define is HELP, add_arguments, run and private helpers."""

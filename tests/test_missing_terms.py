@@ -23,7 +23,7 @@ from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.terms import MissingTerms, missing_terms, physics_group
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
-from inflowsim.identify.estimator import _records, _spectra, _state
+from inflowsim.identify.estimator import as_records, spectra_of, fit_state
 from inflowsim.identify.problem import Problem
 from inflowsim.model.effects import Effect, ParameterSpec, registered
 from inflowsim.model.presets import theory_parameters
@@ -146,10 +146,10 @@ def _cost_at(rec, fit, block, k_value):
     ``S`` held at the base fit's (the end effects re-solved)."""
     with registered(hidden_effect(block)):
         s = ifs.Structure.parse(f"basic+{NAME}")
-        spectra = _spectra(_records(rec), s, fit.band_hz, None, None)
+        spectra = spectra_of(as_records(rec), s, fit.band_hz, None, None)
         vals = dict(fit.parameters) | {"k_hidden": k_value}
         prob = Problem(s, spectra, vals, fixed=tuple(s.parameters))
-        st = _state(prob, np.zeros(0), list(fit.S))
+        st = fit_state(prob, np.zeros(0), list(fit.S))
         return prob.cost(st.r, st.S)
 
 

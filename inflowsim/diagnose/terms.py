@@ -69,9 +69,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
-from ..identify.estimator import _fit, _records, _spectra, _state
-from ..identify.freqmodel import _continuous_input, flap_response
-from ..identify.problem import Problem, _stack
+from ..identify.estimator import fit_from, as_records, spectra_of, fit_state
+from ..identify.freqmodel import continuous_input, flap_response
+from ..identify.problem import Problem, stack
 from ..errors import InputError
 from ..identify.transform import DEFAULT_BAND, record_spectra
 from ..model.build import apply_effects, model_from_equations
@@ -318,7 +318,7 @@ def _feedthrough(model, sp, i, j):
     if d == 0:
         return sp.U[:, j]
     if sp.hold == "continuous":
-        return _continuous_input(sp, d)[:, j]
+        return continuous_input(sp, d)[:, j]
     return np.exp(-2j * np.pi * sp.f_hz * d) * sp.U[:, j]
 
 
@@ -482,8 +482,8 @@ def _fitted(prob, theta):
     """``(state, J_start, J)``: the fit of ``prob`` from ``theta`` and the cost (12)
     at the start (``S`` relaxed there); ``None`` where it fails."""
     try:
-        _, j0, _, _ = _fit(prob, theta, max_iter=0)
-        st, j, _, _ = _fit(prob, theta, max_iter=REFIT_ITERATIONS)
+        _, j0, _, _ = fit_from(prob, theta, max_iter=0)
+        st, j, _, _ = fit_from(prob, theta, max_iter=REFIT_ITERATIONS)
     except (InputError, np.linalg.LinAlgError):
         return None
     return st, j0, j
@@ -534,7 +534,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         Every entry: the refitted ones first, by their likelihood-ratio statistic,
         then the rest by score statistic; untestable ones last.
     """
-    recs = _records(records)
+    recs = as_records(records)
     s = fit.structure
     # the in-plane inputs where every record has them: the entries a structure
     # without them cannot reach are the ones a hidden in-plane term would want
@@ -542,7 +542,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                                     for r in recs)
     inputs = INPUTS if inplane else INPUTS[:N_BASE_INPUTS]
     n_in = len(inputs)
-    spectra = _spectra(recs, s, band_hz, None, hold)
+    spectra = spectra_of(recs, s, band_hz, None, hold)
     if len(spectra) != len(fit.data) or any(
             sp.f_hz.shape != d.f_hz.shape or not np.allclose(sp.f_hz, d.f_hz)
             for sp, d in zip(spectra, fit.data)):
@@ -567,7 +567,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                               tuple(fit.ties), (), None, n_in)
             theta = prob.theta0()
     if freed is None:
-        st = _state(prob, theta, list(fit.S))
+        st = fit_state(prob, theta, list(fit.S))
     if prob.free or prob.n_extra:
         jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
     else:
@@ -596,7 +596,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                 mm = model_from_equations(s, p, _perturb(eq, block, i, v, -STEP), meas, k,
                                           n_inputs=n_in)
                 dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
-            blk[:, col] = -_stack(dy @ W.T)
+            blk[:, col] = -stack(dy @ W.T)
         _minus_projection(blk, Q)       # the nuisance end states, as the estimator
         row0 += rr.size
     table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
