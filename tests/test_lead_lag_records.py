@@ -18,7 +18,7 @@ from scipy.integrate import solve_ivp
 import inflowsim as ifs
 from inflowsim.defaults import DEFAULT_BAND
 from inflowsim.diagnose import diagnose, ladder
-from inflowsim.diagnose.candidates import offered_effects
+from inflowsim.diagnose.rule import offered_effects
 from inflowsim.model.presets import truth_parameters
 from csv_records import flap_noise, write_csv
 

@@ -133,7 +133,7 @@ def test_alternatives_exclude_each_other_either_way_round():
     glauert: the diagnosis's atoms keep them apart from either side (the lattice
     of a ladder that added one never offers the other)."""
     from types import SimpleNamespace
-    from inflowsim.diagnose.candidates import atoms, excluded
+    from inflowsim.diagnose.rule import atoms, excluded
     from inflowsim.model.structure import Structure
     pool = ["glauert", "momentum-speed", "skewed-wake"]
     for have, other in (("glauert", "momentum-speed"), ("momentum-speed", "glauert")):

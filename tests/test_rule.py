@@ -16,9 +16,9 @@ from scipy import stats
 
 import inflowsim as ifs
 from inflowsim.diagnose import diagnose
-from inflowsim.diagnose.candidates import atoms, candidates_of, describe, lattice
+from inflowsim.diagnose.candidates import candidates_of, describe
 from inflowsim.diagnose.rule import (DEFAULT_RULE, STATEMENT, TESTS, Decision, Rule,
-                                     Scored, decide)
+                                     Scored, atoms, decide, lattice)
 from inflowsim.errors import InputError
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import theory_parameters, truth_parameters
@@ -39,15 +39,44 @@ def _norm(text):
 
 
 # -- the statement -----------------------------------------------------------------------
-def test_the_rule_is_five_lines_and_the_docs_and_report_say_the_same():
+def test_the_rule_is_five_steps_in_order_and_its_text_is_rendered_from_them():
+    """The five lines are the docstrings of the module's five steps, which are its
+    top-level functions in that order; the report prints the rendered lines."""
+    import ast
+    import inflowsim.diagnose.rule as rule
+    assert [s.__name__ for s in rule.STEPS] == ["atoms", "lattice", "admissible",
+                                                "accepted", "added"]
+    tree = ast.parse(Path(rule.__file__).read_text())
+    order = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
+    assert [order.index(s.__name__) for s in rule.STEPS] == sorted(
+        order.index(s.__name__) for s in rule.STEPS)
     assert len(STATEMENT) == 5
-    assert [s[:2] for s in STATEMENT] == ["1.", "2.", "3.", "4.", "5."]
-    workflow = _norm((ROOT / "docs" / "workflow.md").read_text())
-    for line in STATEMENT:
-        assert _norm(line) in workflow, line
-    # every setting the lines name is an argument of Rule
+    for i, (line, step) in enumerate(zip(STATEMENT, rule.STEPS), 1):
+        title = step.__name__.capitalize()
+        assert line.startswith(f"{i}. {title}. "), line
+        assert line[len(f"{i}. "):].replace(" ", "") in " ".join(
+            step.__doc__.split()).replace("**", "").replace("``", "").replace(" ", "")
+    # every setting the lines name is a field of Rule
     for name in ("width", "alpha", "plausible_sigmas", "schwarz_min", "material"):
         assert any(name in line for line in STATEMENT) and hasattr(DEFAULT_RULE, name)
+
+
+def test_every_constant_of_the_decision_is_a_field_of_the_rule():
+    """No module of the diagnosis keeps a number of the decision of its own: the
+    names the rule replaced are gone, and one alpha."""
+    import inflowsim.diagnose.excess as excess
+    import inflowsim.diagnose.failures as failures
+    import inflowsim.diagnose.lpm as lpm
+    import inflowsim.diagnose.terms as terms
+    import inflowsim.diagnose.verdict as verdict
+    from inflowsim import defaults
+    for mod, names in ((failures, ("ALPHA", "MAX_LAG", "FLOOR_SUBBANDS", "COLOURED")),
+                       (excess, ("DEGREES",)), (lpm, ("LPM_SPAN",)),
+                       (verdict, ("SIGMAS", "STAND_IN_SHARE"))):
+        assert not [n for n in names if hasattr(mod, n)], mod.__name__
+    assert DEFAULT_RULE.alpha is defaults.ALPHA is terms.ALPHA
+    doc = Rule.to_json(DEFAULT_RULE)
+    assert Rule(**doc) == DEFAULT_RULE and "max_steps" in doc and "max_lag" in doc
 
 
 OLD_WORDS = ("ranked by a likelihood-ratio test", "four tests", "leaves less structure",

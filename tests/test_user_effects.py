@@ -66,7 +66,7 @@ def test_a_file_effect_is_registered_and_usable(tmp_path, clean):
     m0 = build_model("basic", theory_parameters("basic", PUMA), PUMA)
     assert m.A[2, 1] == pytest.approx(m0.A[2, 1] + 0.1)
     # a candidate like any other: offered to the diagnosis
-    from inflowsim.diagnose.candidates import applicable
+    from inflowsim.diagnose.rule import applicable
     assert "my-coupling" in applicable(Structure.parse("basic"), None)
     unregister("my-coupling")
     assert "my-coupling" not in CATALOGUE and "k_mc" not in SPECS

@@ -69,6 +69,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
+from ..defaults import ALPHA       # the map's family-wise level: the rule's alpha
 from ..identify.estimator import fit_from, as_records, spectra_of, fit_state
 from ..identify.freqmodel import continuous_input, flap_response
 from ..identify.problem import Problem, stack
@@ -80,8 +81,6 @@ from .tails import chi2_sf
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
            "BLOCKS"]
 
-#: Family-wise level of the map (after the Holm correction).
-ALPHA = 1e-3
 #: The blocks of equations tested, in display order.
 BLOCKS = ("flap", "inflow", "measurement")
 #: Relative information left after projecting off the base's parameters below which
