@@ -22,7 +22,7 @@ from inflowsim.data.record import write_record
 from inflowsim.diagnose import diagnose
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
-from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.presets import paper_table, theory_parameters
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "effects" / \

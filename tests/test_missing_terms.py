@@ -25,7 +25,8 @@ from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
 from inflowsim.identify.estimator import as_records, spectra_of, fit_state
 from inflowsim.identify.problem import Problem
-from inflowsim.model.effects import Effect, ParameterSpec, registered
+from inflowsim.model.effects import Effect, ParameterSpec
+from inflowsim.model.effects.user import registered
 from inflowsim.model.presets import theory_parameters
 from inflowsim.report.terms import missing_terms_plot
 

@@ -124,7 +124,7 @@ def test_the_effect_is_nested_and_adds_the_coupling():
         build_model("glauert+momentum-speed", {}, k)
     with pytest.raises(InputError, match="trim"):
         build_model(base + "+momentum-speed", dict(p, k_V=1.0), PUMA.with_mu(0.15))
-    from inflowsim.model.effects import needs_trim
+    from inflowsim.model.structure import needs_trim
     assert needs_trim([base + "+momentum-speed"])       # the FMU takes the trim
 
 

@@ -14,9 +14,9 @@ from conftest import assert_user_error, run, virtual
 from inflowsim import PUMA, Structure, build_model, theory_parameters
 from inflowsim.data.record import write_record
 from inflowsim.errors import InputError
-from inflowsim.model.effects import (CATALOGUE, USER_EFFECTS, load_effect_file,
-                                     unregister)
+from inflowsim.model.effects import CATALOGUE
 from inflowsim.model.effects import user as user_module
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.equations import rotation
 from inflowsim.model.params import SPECS
 

@@ -100,7 +100,7 @@ def supported(structure) -> Structure:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
                              "input cannot be applied by a causal step (inflowsim.simulate.replay "
                              "applies it to a whole record)")
-    from ..model.effects import USER_EFFECTS
+    from ..model.effects.user import USER_EFFECTS
     if any(name in USER_EFFECTS for name in s.effects):
         # a user effect may add an output map (Measurement.flap_map): not in the C
         if apply_effects(s, *_symbols(s))[1].flap_map is not None:
