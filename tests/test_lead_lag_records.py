@@ -172,9 +172,9 @@ def test_the_ladder_names_the_lag_and_ends_explained(tmp_path, rotor, kind, rate
         assert not _within(lad.final.fit, p)
     else:
         # measured on the hingeless sweep, seeds 5-9: the lag frequency within 1
-        # sigma; the damper and the coupling within 3 sigma in four seeds, 4.0 and 3.2
-        # sigma low in seed 5 (zeta_lag 0.040 +- 0.0025 for 0.05, k_flap_lag 0.86 +-
-        # 0.044): open (model.md 9.1); what holds in all is checked
+        # sigma; the damper and the coupling within 3 sigma in four seeds, 4.1 and 3.2
+        # sigma low in seed 5: a tail draw, not a bias (30 seeds: mean error within
+        # 0.1 bound, spread 1.02-1.21 bounds; model.md 9.1); what holds in all is checked
         assert not _within(lad.final.fit, p, ("nu_zeta",))
         assert abs(lad.final.fit.parameters["k_flap_lag"] - 1.0) < 0.25
 
