@@ -33,7 +33,7 @@ Two parts (``Effect.parts``): the coupling ``k_flap_lag``, then the frequency an
 damper.  Where ``k_flap_lag = 0`` the lag's frequency and damper act on nothing (they
 are not identified under the null: Davies' problem), so a likelihood-ratio test of
 all three is not chi-square with 3 degrees of freedom: on 96 null records it gave
-p < 0.05 in 35 and p < 1e-3 in 3 (``bench/detection.md``).  The diagnosis therefore
+p < 0.05 in 35 and p < 1e-3 in 3 (``bench/rotor-physics.md``).  The diagnosis therefore
 tests the coupling alone, the frequency and the damper held at their theory values (a
 chi-square law with one degree of freedom), and the frequency and the damper as a
 second part once the coupling is in, where they are identified.
