@@ -150,6 +150,9 @@ CASES = [
     # reach it, a soft-inplane rotor's light damping (with the theory damper, 0.2,
     # and 1 deg doublets its lag stays below this noise: measured, model.md 9.1)
     ("hingeless", "sweep", 256, None, (0.2256, 3.5), (("zeta_lag", 0.05),)),
+    # a lag off its theory (0.25/rev, 0.2): the coupling is tested at the theory
+    # frequency and damper, which then come in as the effect's second part
+    ("puma", "two-axis", 200, None, DEFAULT_BAND, (("nu_zeta", 0.32), ("zeta_lag", 0.3))),
 ]
 
 
