@@ -160,3 +160,52 @@ def test_flighttest_add_lead_lag_flies_the_blades_lag(tmp_path, capsys):
         capsys.readouterr()
         assert main(["flighttest", *common, *argv, "--out", str(tmp_path / "x.csv")]) == 2
         assert words in capsys.readouterr().err
+
+
+#: The blade-truth records of the identification: Puma at mu 0.249, the trim mu as
+#: the speed through the disc and the hub fixed (the rigid truth is then exactly
+#: ``BASE`` linearised), a 3-2-1-1 on theta1s, noise 1e-4 rad, seed 5.
+BASE = "basic+separate-time-constants+flap-inertia"
+NU, ZL = 0.25, 0.2
+
+
+@pytest.fixture(scope="module")
+def blade_fits():
+    from inflowsim.flighttest.nonlinear import FlightTest, nonlinear_flighttest
+    from inflowsim.flighttest.virtual import Manoeuvre
+    from inflowsim.identify.estimator import identify
+    man = (Manoeuvre(channel="theta1s", shape="3211", amplitude=np.radians(1.0),
+                     t_start=2.0, width=0.4),)
+    out = {}
+    for name, lag in (("rigid", {}), ("lag", {"nu_zeta": NU, "zeta_lag": ZL})):
+        test = FlightTest(rotor=RotorSpec(speed="mu", **lag), manoeuvres=man, seed=5,
+                          body=None)
+        rec = nonlinear_flighttest(test).record
+        out[name] = {s: identify(rec, s) for s in (BASE, BASE + "+lead-lag")}
+    return out
+
+
+@pytest.mark.slow
+def test_lead_lag_is_seen_in_a_blade_truth_record(blade_fits):
+    """The rigid truth's record is explained by BASE at its own values; the lagged
+    truth's is not, and lead-lag takes most of what BASE leaves (measured: the
+    cost falls about 50 times; nu_zeta 0.298 +- 0.003 against 0.25)."""
+    rigid, lag = blade_fits["rigid"], blade_fits["lag"]
+    assert abs(rigid[BASE].parameters["flap_inertia"] - 1.0) < 3 * \
+        rigid[BASE].sigma["flap_inertia"]
+    assert lag[BASE].cost > 20 * rigid[BASE].cost
+    assert lag[BASE + "+lead-lag"].cost < 0.1 * lag[BASE].cost
+    nu = lag[BASE + "+lead-lag"].parameters["nu_zeta"]
+    assert abs(nu - NU) < 0.25 * NU
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the lead-lag effect is linearised about an "
+                   "axisymmetric trim without steady lag; in forward flight the blade "
+                   "truth's cyclic trim and steady lag add couplings as large as the "
+                   "effect's own (model.md 9.1, 'The blade truth'): nu_zeta 0.298 +- "
+                   "0.003, zeta_lag 0.276 +- 0.013 against 0.25, 0.2")
+def test_lead_lag_from_a_blade_truth_record_within_3_sigma(blade_fits):
+    fit = blade_fits["lag"][BASE + "+lead-lag"]
+    for name, truth in (("nu_zeta", NU), ("zeta_lag", ZL)):
+        assert abs(fit.parameters[name] - truth) < 3 * fit.sigma[name], name
