@@ -38,7 +38,8 @@ def test_a_schedule_of_the_new_effects_flies_the_simulator_at_every_mu():
     assert all(sch[n].order >= 1 for n in ("servo_tau", "nu_zeta", "k_ph", "K_R"))
     assert sch.trim_columns and sch.mu_range == (TRIM_MUS[0], TRIM_MUS[-1])
     m0 = sch.model(PUMA, 0.2)
-    assert m0.structure.name == build_model(STRUCTURE, sch(0.2), m0.constants).structure.name
+    assert m0.structure.name == build_model(STRUCTURE, sch(0.2),
+                                            m0.constants).structure.name
     sim = Simulator(m0, 0.01, schedule=sch)
     rng = np.random.default_rng(0)
     x = np.zeros(m0.a.shape[0])

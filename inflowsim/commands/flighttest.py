@@ -294,14 +294,14 @@ def _nonlinear(args, man, values):
             raise InputError("--set k_flap_lag: the nonlinear truth's flap-lag coupling "
                              "is its physics (k_flap_lag = 1); set nu_zeta, zeta_lag")
         values = {n: v for n, v in LAG.theory(k).items() if n in LAG_SET} | values
-    unknown = sorted(set(values) - set(NONLINEAR_SET)
-                     - (set(LAG_SET) if "lead-lag" in args.add else set()))
+    takes = NONLINEAR_SET + (LAG_SET if "lead-lag" in args.add else ())
+    unknown = sorted(set(values) - set(takes))
     if unknown:
         extra = [f"{', '.join(names)} with --add {effect}" for effect, names in
                  (("servo-actuators", SERVO_SET), ("lead-lag", LAG_SET))
                  if effect not in args.add]
         raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
-                         f"{', '.join(NONLINEAR_SET + (LAG_SET if 'lead-lag' in args.add else ()))}"
+                         f"{', '.join(takes)}"
                          + (f" ({'; '.join(extra)})" if extra else ""))
     rotor = RotorSpec(constants=k, n_blades=args.blades, speed=args.speed, **values)
     return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
