@@ -102,6 +102,23 @@ def test_base_equations_in_parts_are_the_plain_ones():
             assert _same(getattr(got, f), getattr(want, f)), (n, f)
 
 
+def test_models_made_without_the_dataclass_init_have_every_field():
+    """The models and equations a fit makes skip the frozen dataclass's __init__:
+    every field is still set, and the model pickles as one made by __init__."""
+    import dataclasses
+    import pickle
+
+    from inflowsim.model.build import Model
+    from inflowsim.model.equations import Equations
+    m = build_model("glauert+time-delay", preset_parameters("glauert+time-delay"), PUMA)
+    assert set(vars(m)) == {f.name for f in dataclasses.fields(Model)}
+    eq = base_equations(preset_parameters("basic"), PUMA)
+    assert set(vars(eq)) == {f.name for f in dataclasses.fields(Equations)}
+    again = pickle.loads(pickle.dumps(m))
+    assert _same(again.a, m.a) and not again.a.flags.writeable
+    assert dict(again.parameters) == dict(m.parameters)
+
+
 @functools.lru_cache(maxsize=None)
 def _spectra(structure):
     p = preset_parameters(structure)

@@ -53,10 +53,19 @@ def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
     d_tau = _part(("tau", tau), lambda: (tau * np.eye(3),))
     c, h_lambda, h_u = flap
     p_dbeta, p_beta, p_lambda, p_u = inflow
-    return Equations(m2=np.zeros((3, 3)), c=c.copy(), d=d[0].copy(),
-                     h_lambda=h_lambda.copy(), h_u=h_u.copy(), d_tau=d_tau[0].copy(),
-                     p_dbeta=p_dbeta.copy(), p_beta=p_beta.copy(),
-                     p_lambda=p_lambda.copy(), p_u=p_u.copy())
+    return _new(Equations, m2=np.zeros((3, 3)), c=c.copy(), d=d[0].copy(),
+                h_lambda=h_lambda.copy(), h_u=h_u.copy(), d_tau=d_tau[0].copy(),
+                p_dbeta=p_dbeta.copy(), p_beta=p_beta.copy(), p_lambda=p_lambda.copy(),
+                p_u=p_u.copy(), blocks=())
+
+
+def _new(cls, **values):
+    """``cls(**values)`` for a frozen dataclass without ``__post_init__``, given every
+    field: its generated ``__init__`` (one ``object.__setattr__`` a field) costs more
+    than the rest of a small object made in every step of a fit."""
+    obj = object.__new__(cls)
+    obj.__dict__.update(values)
+    return obj
 
 
 #: Parts of the base equations remembered (:func:`base_equations`), most recent last.
@@ -424,13 +433,13 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
         in_delay = dict(ind)
         return np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
 
-    return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
-                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
-                 c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
-                 delays=_own(delays), measurement=meas,
-                 input_delays=_shared(("input delays", ind, n_inputs), input_delays,
-                                      not ind),
-                 end_basis=end_basis, end_input=end_input)
+    return _new(Model, structure=s, parameters=FrozenDict(dict(p)), constants=constants,
+                E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
+                c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
+                delays=_own(delays), measurement=meas,
+                input_delays=_shared(("input delays", ind, n_inputs), input_delays,
+                                     not ind),
+                end_basis=end_basis, end_input=end_input)
 
 
 def _output_map(n, meas):
