@@ -349,9 +349,10 @@ def _batch_products(ms, decs, den, sp):
     y_u = ((inp @ Vi.transpose(0, 2, 1)) * r) @ cv.transpose(0, 2, 1)
     e = (r @ (cv.transpose(0, 2, 1)[:, :, :, None] * vp[:, :, None, :]).reshape(
         nm, n, -1)).reshape(nm, nf, 3, k)
-    y_nu = np.zeros((nm, nf, 3, 2 * k), dtype=complex)
-    y_nu[:, :, :, :k] = zs[:, None, None] * e
-    y_nu[:, :, :, k:] = ze[:, None, None] * e
+    # the two halves written in place (the same products as assigning them)
+    y_nu = np.empty((nm, nf, 3, 2 * k), dtype=complex)
+    np.multiply(zs[:, None, None], e, out=y_nu[:, :, :, :k])
+    np.multiply(ze[:, None, None], e, out=y_nu[:, :, :, k:])
     return [(y_u[j], y_nu[j], shift_groups(m)) for j, m in enumerate(ms)]
 
 

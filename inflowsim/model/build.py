@@ -417,7 +417,11 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                     lambda: _output_map(n, meas), type(ab) is float)
     else:
         c = _own(_output_map(n, meas))
-    delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
+    md = meas.delays
+    plain = type(md) is tuple and all(type(x) is float for x in md)
+    delays = _shared(("delays", md, tuple(math.copysign(1.0, x) for x in md) if plain
+                      else None),
+                     lambda: np.concatenate([np.asarray(md, float), np.zeros(3)]), plain)
     if eq.blocks:
         end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
@@ -436,7 +440,7 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     return _new(Model, structure=s, parameters=FrozenDict(dict(p)), constants=constants,
                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
                 c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
-                delays=_own(delays), measurement=meas,
+                delays=delays, measurement=meas,
                 input_delays=_shared(("input delays", ind, n_inputs), input_delays,
                                      not ind),
                 end_basis=end_basis, end_input=end_input)
