@@ -166,13 +166,16 @@ def assemble(eq: Equations, second_order: bool):
 
 _F64 = np.dtype(np.float64)
 _SQUARE = ("m2", "c", "d", "h_lambda", "d_tau", "p_dbeta", "p_beta", "p_lambda")
+_FLOAT_FIELDS = _SQUARE + ("h_u", "p_u")
 
 
 def _float_blocks(eq: Equations) -> bool:
     """Every block a float array of its shape (3 x 3; ``h_u``, ``p_u`` 3 rows and
     the same columns): :func:`_assemble_float` applies.  One pass over the blocks
     (the test runs in every model build of a fit)."""
-    d = eq.__dict__
+    d = getattr(eq, "__dict__", {})
+    if not all(n in d for n in _FLOAT_FIELDS):     # not a plain Equations: np.block
+        return False
     for n in _SQUARE:
         x = d[n]
         if type(x) is not np.ndarray or not _is_f64(x) or x.shape != (3, 3):
