@@ -618,7 +618,7 @@ def _fit_with(records, base_fit, start_fit, add, band_hz, fit_fn):
     s = _structure_for(start_fit.structure, names)
     k = base_fit.constants[0]
     start = nested_start(start_fit, s, k)
-    free = {n for a in add for n in a.params}
+    free = dict.fromkeys(n for a in add for n in a.params)
     # what the start held stays held (the base's, and a first atom's flat directions)
     fixed = {n: float(start_fit.parameters[n]) for n in (start_fit.fixed or ())
              if n in s.parameters and n not in free}

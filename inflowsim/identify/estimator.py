@@ -81,7 +81,7 @@ class _State:
         return float(sum(x @ x for x in self.r))
 
 
-def fit_state(prob, theta, S):
+def fit_state(prob, theta, S, weights=None):
     """The fit's state at ``theta``: the model's responses, the end-effect nuisance
     solved for by variable projection, the residuals and their weights.
 
@@ -93,13 +93,17 @@ def fit_state(prob, theta, S):
         Free parameters, in ``prob.free`` order.
     S : list of ndarray
         Each record's residual spectral density ``S`` (3 x 3) [rad^2].
+    weights : list of ndarray, optional
+        ``Problem.weight`` of each ``S`` when already at hand (another state's of
+        the same ``S``); computed from ``S`` otherwise.
 
     Returns
     -------
     _State
         ``theta``, ``resp``, ``nus``, ``bases``, ``r`` (residuals), ``S``, ``weights``.
     """
-    weights = [Problem.weight(s) for s in S]
+    if weights is None:
+        weights = [Problem.weight(s) for s in S]
     resp = prob.responses(theta)
     sol = prob.solve_nuisance(resp, weights)
     return _State(theta, resp, [s[0] for s in sol], [s[1] for s in sol],
@@ -117,18 +121,21 @@ def _relax_S(prob, theta, S=None, rounds=4):
     return st
 
 
-def _reweighted(prob, st):
-    """The state with ``S`` re-estimated from its own residuals (relaxation step)."""
-    S = prob.estimate_S(prob.eps(st.resp, st.nus))
+def _reweighted(prob, st, S=None):
+    """The state with ``S`` re-estimated from its own residuals (relaxation step;
+    ``S`` that estimate when already made, :func:`_concentrated`)."""
+    if S is None:
+        S = prob.estimate_S(prob.eps(st.resp, st.nus))
     return fit_state(prob, st.theta, S)
 
 
-def _concentrated(prob, st):
+def _concentrated(prob, st, with_S=False):
     """Cost (12) with ``S`` at its optimum for these residuals: ``sum n_f ln|S|``
-    (plus the constant ``3 n_f``)."""
+    (plus the constant ``3 n_f``); ``with_S``: ``(cost, S)``."""
     S = prob.estimate_S(prob.eps(st.resp, st.nus))
-    return 3 * prob.n_freq + sum(sp.f_hz.size * float(np.log(np.real(np.linalg.det(x))))
-                                 for sp, x in zip(prob.spectra, S))
+    c = 3 * prob.n_freq + sum(sp.f_hz.size * float(np.log(np.real(np.linalg.det(x))))
+                              for sp, x in zip(prob.spectra, S))
+    return (c, S) if with_S else c
 
 
 def _lm(prob, st, max_iter, report=None):
@@ -169,11 +176,12 @@ def _lm(prob, st, max_iter, report=None):
             grow = np.exp(np.clip(np.where(logm, delta, 0.0), -5, 5))
             tn = np.clip(np.where(logm, st.theta * grow, st.theta + step), lo, hi)
             try:
-                sn = fit_state(prob, tn, st.S)
+                # the trial keeps the state's S, and so its weights
+                sn = fit_state(prob, tn, st.S, st.weights)
             except InputError:            # outside a parameter's range / unstable build
                 lam *= 10
                 continue
-            cn = _concentrated(prob, sn)
+            cn, s_new = _concentrated(prob, sn, with_S=True)
             if cn < c:
                 accepted = True
                 break
@@ -182,7 +190,7 @@ def _lm(prob, st, max_iter, report=None):
             return st, c, it, True       # no descent left: at a minimum to precision
         small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
         small_drop = (c - cn) <= tol
-        st, c = _reweighted(prob, sn), cn
+        st, c = _reweighted(prob, sn, s_new), cn
         lam = max(lam / 10, 1e-9)
         if report:
             report(it, c)
