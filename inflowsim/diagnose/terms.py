@@ -82,8 +82,25 @@ __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
 
 #: Family-wise level of the map (after the Holm correction).
 ALPHA = 1e-3
-#: The blocks of equations tested, in display order.
-BLOCKS = ("flap", "inflow", "measurement")
+#: The blocks of equations tested, in display order: the flap and inflow
+#: equations, the recorded flap, and the blade pitch (a term fed back into a pitch
+#: input, entering every row that input enters).
+BLOCKS = ("flap", "inflow", "measurement", "pitch")
+#: The rows of the ``"pitch"`` block: the collective and the cyclic blade pitch.
+PITCH_ROWS = ("theta0", "theta1")
+#: What a ``"pitch"`` entry feeds into the blade pitch, per row and variable:
+#: ``(pitch input index in INPUTS, state), ...``.  The blade's pitch gains ``k``
+#: times the blade's own flap angle, flap rate or inflow, which in multiblade
+#: coordinates is the collective from the coning-harmonic state and both cyclics
+#: each from its own component (``theta1c += k beta1c``, ``theta1s += k beta1s``).
+PITCH_FEEDS = {
+    ("theta0", "beta0"): ((0, "beta0"),),
+    ("theta0", "beta0_prime"): ((0, "beta0_prime"),),
+    ("theta0", "lambda0"): ((0, "lambda0"),),
+    ("theta1", "beta1"): ((1, "beta1c"), (2, "beta1s")),
+    ("theta1", "beta1_prime"): ((1, "beta1c_prime"), (2, "beta1s_prime")),
+    ("theta1", "lambda1"): ((1, "lambda1c"), (2, "lambda1s")),
+}
 #: Relative information left after projecting off the base's parameters below which
 #: an entry cannot be told from them.
 CONFOUNDED = 1e-8
@@ -98,7 +115,8 @@ REFIT_ITERATIONS = 30
 TYPICAL_SHARED = 0.1
 
 _KIND_OF = {**{n: "flap" for n in FLAP}, **{n: "rate" for n in FLAP_RATE},
-            **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS}}
+            **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS},
+            "beta1": "flap", "beta1_prime": "rate", "lambda1": "inflow"}
 _PITCH = set(INPUTS[:3])
 _HUB = {"muz", "q", "p", "qdot", "pdot"}
 
@@ -135,6 +153,12 @@ def physics_group(block: str, equation: str, variable: str) -> str:
         if variable in _HUB:
             return "hub-motion forcing of the inflow"
         return "in-plane velocity forcing of the inflow"
+    if block == "pitch":
+        return {"flap": "pitch-flap coupling", "rate": "pitch-flap-rate coupling",
+                "inflow": "pitch-inflow coupling"}[kind] + \
+            f" ({'collective' if equation == 'theta0' else 'cyclic'}: the blade pitch " \
+            "follows the blade's own " + {"flap": "flap angle", "rate": "flap rate",
+                                          "inflow": "inflow"}[kind] + ")"
     if kind == "flap":
         return "sensor gain" if own else "sensor cross-talk"
     if kind == "inflow":
@@ -179,6 +203,9 @@ class Term:
         """``"the beta1s equation"``, ``"the recorded beta1c"``."""
         if self.block == "measurement":
             return f"the recorded {self.equation}"
+        if self.block == "pitch":
+            return ("the collective pitch" if self.equation == "theta0" else
+                    "the cyclic pitch (each cyclic from its own component)")
         return f"the {self.equation} equation"
 
     def to_json(self, alpha: float = ALPHA) -> dict:
@@ -240,7 +267,7 @@ class MissingTerms:
         ri = {e: i for i, e in enumerate(self.equations)}
         ci = {v: j for j, v in enumerate(self.variables)}
         for t in self.terms:
-            if t.testable:
+            if t.testable and (t.block, t.equation) in ri and t.variable in ci:
                 out[ri[(t.block, t.equation)], ci[t.variable]] = -np.log10(
                     max(t.p_value, 1e-300))
         return out
@@ -277,6 +304,11 @@ class MissingTerms:
         return out
 
 
+def _rows(block):
+    """The row names of ``block``."""
+    return {"inflow": INFLOW, "pitch": PITCH_ROWS}.get(block, FLAP)
+
+
 def _entries(inputs):
     """``[(block, row, variable), ...]`` in map order."""
     states = FLAP + FLAP_RATE + INFLOW
@@ -284,7 +316,41 @@ def _entries(inputs):
     for block, rows in (("flap", FLAP), ("inflow", INFLOW)):
         out += [(block, i, v) for i in range(3) for v in states + tuple(inputs)]
     out += [("measurement", i, v) for i in range(3) for v in FLAP + INFLOW + tuple(inputs)]
+    out += [("pitch", PITCH_ROWS.index(e), v) for e, v in PITCH_FEEDS]
     return out
+
+
+def _pitch_weights(eq, j):
+    """``(flap rows, inflow rows)``: how much of a term fed back into pitch input
+    ``j`` enters each row of the flap and the inflow equation (the input's columns
+    ``h_u``, ``p_u``); zeros where an appended block routes the input through its
+    own states (a servo: the feedback would enter that block instead, not tested)."""
+    if any(np.any(np.asarray(bl.b, dtype=float)[:, j] != 0) for bl in eq.blocks):
+        return np.zeros(3), np.zeros(3)
+    return (np.asarray(eq.h_u, dtype=float)[:, j].copy(),
+            np.asarray(eq.p_u, dtype=float)[:, j].copy())
+
+
+def _perturb_entry(eq, block, i, variable, k):
+    """``eq`` with entry ``(block, i, variable)``'s term ``k * variable`` added: one
+    row's right-hand side (:func:`_perturb`), or for the ``"pitch"`` block ``k``
+    times the state(s) of :data:`PITCH_FEEDS` added to the pitch input(s) wherever
+    they enter (every flap and inflow row, weighted by their columns of ``h_u`` and
+    ``p_u``)."""
+    if block != "pitch":
+        return _perturb(eq, block, i, variable, k)
+    for j, v, wf, wi in _pitch_parts(eq, i, variable):
+        for r in range(3):
+            eq = _perturb(eq, "flap", r, v, k * wf[r])
+            eq = _perturb(eq, "inflow", r, v, k * wi[r])
+    return eq
+
+
+def _pitch_parts(eq, i, variable):
+    """``[(input, state, flap-row weights, inflow-row weights), ...]`` of pitch
+    entry ``(PITCH_ROWS[i], variable)`` (:data:`PITCH_FEEDS`) in ``eq``."""
+    return [(j, v, *_pitch_weights(eq, j))
+            for j, v in PITCH_FEEDS[(PITCH_ROWS[i], variable)]]
 
 
 def _perturb(eq, block, i, variable, k):
@@ -457,7 +523,7 @@ class _Augmented(Problem):
                 if self.entry is not None:
                     block, i, v = self.entry
                     if block != "measurement":
-                        eq = _perturb(eq, block, i, v, kv)
+                        eq = _perturb_entry(eq, block, i, v, kv)
                     elif _KIND_OF[v] != "input":
                         fm = np.zeros((3, 6)) if meas.flap_map is None else \
                             np.array(meas.flap_map, dtype=float)
@@ -574,6 +640,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         jb = np.zeros((sum(r.size for r in st.r), 0))
     r = np.concatenate(st.r)
     entries = _entries(inputs)
+    index = {e: c for c, e in enumerate(entries)}
     je = np.empty((r.size, len(entries)))
     row0 = 0
     for sp, W, nu, Q, rr in zip(full, st.weights, st.nus, st.bases, st.r):
@@ -582,6 +649,14 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
         blk = je[row0:row0 + rr.size]          # rows of je: filled in place
         for col, (block, i, v) in enumerate(entries):
+            if block == "pitch":
+                # linear in the entries: the rows' columns, weighted as the input
+                # enters them
+                blk[:, col] = sum(wf[r] * blk[:, index[("flap", r, x)]]
+                                  + wi[r] * blk[:, index[("inflow", r, x)]]
+                                  for _, x, wf, wi in _pitch_parts(eq, i, v)
+                                  for r in range(3))
+                continue
             if block == "measurement":
                 if _KIND_OF[v] == "input":
                     dy = np.zeros((sp.f_hz.size, 3), dtype=complex)
@@ -624,7 +699,7 @@ def _confirmed(table, prob, theta, confirm):
         return table
     done = []
     for t in head:
-        row = (INFLOW if t.block == "inflow" else FLAP).index(t.equation)
+        row = _rows(t.block).index(t.equation)
         got = _refit(prob, theta, (t.block, row, t.variable))
         done.append(t if got is None else replace(
             t, refit_statistic=got[0], refit_coefficient=got[1]))
@@ -691,13 +766,15 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
             padj[e] = running
     rows = []
     for col, (block, i, v) in enumerate(entries):
-        eq_name = (INFLOW if block == "inflow" else FLAP)[i]
+        eq_name = _rows(block)[i]
         rows.append(Term(block, eq_name, v, float(stat[col]), float(pval[col]),
                          float(padj[col]), int(np.sign(coef[col]) or 1), float(coef[col]),
                          physics_group(block, eq_name, v), bool(testable[col]),
                          float(grad[col])))
     rows.sort(key=lambda t: (not t.testable, -t.statistic))
-    eqs = tuple((b, n) for b in BLOCKS for n in (INFLOW if b == "inflow" else FLAP))
+    # the map's axes: the rows of one equation or the recorded flap (the pitch
+    # entries, several rows at once, are in the text and the JSON)
+    eqs = tuple((b, n) for b in BLOCKS if b != "pitch" for n in _rows(b))
     variables = FLAP + FLAP_RATE + INFLOW + tuple(inputs)
     return MissingTerms(structure=s.name, terms=tuple(rows), alpha=float(alpha),
                         n_tested=int(m), equations=eqs, variables=variables)
