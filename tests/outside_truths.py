@@ -95,6 +95,12 @@ class Truth:
         equations and variables where this truth's term acts."""
         return (block, equation) in self.equations and variable in self.variables
 
+    def places(self, entries) -> bool:
+        """Whether the map's first group ``entries`` (``((block, equation, variable),
+        ...)``: the entries the record cannot tell apart, most often one) places
+        this truth's term: one of them lies where it acts (:meth:`acts_at`)."""
+        return any(self.acts_at(*e) for e in entries)
+
     def to_json(self) -> dict:
         return {"kind": self.kind, "physics": self.physics,
                 "equations": [list(e) for e in self.equations],

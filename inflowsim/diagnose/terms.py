@@ -8,7 +8,16 @@ the equations* the data want.  At the base fit, every single-entry addition
   ``D_tau lambda' + lambda = L c + ... + k v`` -- with ``v`` any one flap angle,
   flap rate (azimuth time), inflow or input (azimuth units), and
 * to the measurement map, ``beta_m,i = (C x)_i + k v`` with ``v`` a state
-  (``beta``, ``lambda``) or an input (feedthrough),
+  (``beta``, ``lambda``) or an input (feedthrough), and
+* to the blade pitch (block ``"pitch"``, :data:`PITCH_FEEDS`): the blade's pitch
+  gains ``k`` times the blade's own flap angle, flap rate or inflow, which in
+  multiblade coordinates is ``theta0 += k v0`` (row ``theta0``, ``v0`` the coning
+  harmonic's ``beta0``, ``beta0'`` or ``lambda0``) or ``theta1c += k v1c``,
+  ``theta1s += k v1s`` (row ``theta1``, variable ``beta1``, ``beta1_prime`` or
+  ``lambda1``): one coefficient entering every flap and inflow row the pitch
+  enters, by the pitch's columns of ``H_u`` and ``P_u`` (a pitch-flap coupling:
+  delta-3, blade torsion or a flexible control system alike; a single row's entry
+  holds only a part of it, issue #36),
 
 is tested by the score (Lagrange-multiplier) statistic of its coefficient ``k`` at
 ``k = 0`` (Rao, 1948; Silvey, 1959).  No refit: with ``J_b`` the sensitivities of
@@ -51,9 +60,22 @@ cyclic term's score lands in the coning row).  So, by default:
    likelihood-ratio statistic of that refit (``Term.refit_statistic``): the entry
    whose refit lowers the cost most wins.
 
+3. the refitted entries whose likelihood-ratio statistic lies within :data:`TIE`
+   (3.84, chi-square one degree of freedom at 95 %) of the first's are reported
+   with it as the map's first group (``Term.first_group``,
+   :attr:`MissingTerms.first_group`): the record cannot tell them apart (a
+   likelihood-ratio confidence set for which entry it is), and the text names
+   them all.
+
 A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
 plus a coning term: no single entry can place it, and step 1 absorbs it (the
 freed values report it).
+
+A pitch entry's sensitivity is the sum of its rows' entries' sensitivities
+weighted by the pitch's columns (the model is linear in the entries at ``k = 0``);
+its confirming refit perturbs every row.  Where an appended block routes a pitch
+input through its own states (servo actuators) the feedback would enter that
+block: such pitch entries are not tested (their sensitivity is zero).
 
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
@@ -78,7 +100,7 @@ from ..model.build import apply_effects, model_from_equations
 from .tails import chi2_sf
 
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
-           "BLOCKS"]
+           "BLOCKS", "PITCH_ROWS", "PITCH_FEEDS", "TIE"]
 
 #: Family-wise level of the map (after the Holm correction).
 ALPHA = 1e-3
@@ -113,6 +135,11 @@ REFIT_ITERATIONS = 30
 #: Typical size of a shared parameter's offset in one row group, relative to the
 #: parameter (finite-difference steps).
 TYPICAL_SHARED = 0.1
+#: Refitted entries whose likelihood-ratio statistic lies within this of the
+#: first's are reported with it, as one group the record cannot tell apart (the
+#: chi-square one-degree-of-freedom 95 % point: a likelihood-ratio confidence set
+#: for which entry it is).
+TIE = 3.84
 
 _KIND_OF = {**{n: "flap" for n in FLAP}, **{n: "rate" for n in FLAP_RATE},
             **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS},
@@ -195,6 +222,9 @@ class Term:
     gradient: float = 0.0
     refit_statistic: float | None = None
     refit_coefficient: float | None = None
+    #: in the map's first group: refitted, and its refit statistic within
+    #: :data:`TIE` of the first entry's (the record cannot tell them apart)
+    first_group: bool = False
 
     def significant(self, alpha: float = ALPHA) -> bool:
         return self.testable and self.p_adjusted <= alpha
@@ -218,6 +248,7 @@ class Term:
                                     else float(self.refit_statistic)),
                 "refit_coefficient": (None if self.refit_coefficient is None
                                       else float(self.refit_coefficient)),
+                "first_group": bool(self.first_group),
                 "significant": bool(self.significant(alpha))}
 
 
@@ -251,6 +282,13 @@ class MissingTerms:
     @property
     def significant(self) -> tuple:
         return tuple(t for t in self.terms if t.significant(self.alpha))
+
+    @property
+    def first_group(self) -> tuple:
+        """The entries leading the map that the record cannot tell apart: the first
+        and every refitted entry whose refit statistic is within :data:`TIE` of its
+        (just the first where none is, or nothing was refitted)."""
+        return tuple(t for t in self.terms if t.first_group) or self.terms[:1]
 
     def to_json(self) -> list:
         return list(self.rows)
@@ -291,6 +329,12 @@ class MissingTerms:
         if not sig:
             return out + [f"no single added term is significant (score test of "
                           f"{self.n_tested} entries, Holm-corrected at {self.alpha:g})"]
+        group = [t for t in self.first_group if t.significant(self.alpha)]
+        if len(group) > 1:
+            out.append("the record cannot tell apart the first " + str(len(group)) +
+                       " entries (their refits lower the cost to within "
+                       f"{TIE:g} of each other): a term in " + "; or ".join(
+                           f"{t.where()} proportional to {t.variable}" for t in group))
         for t in sig[:limit]:
             refit = ("" if t.refit_statistic is None else
                      f", refit likelihood ratio {t.refit_statistic:.1f}")
@@ -705,6 +749,10 @@ def _confirmed(table, prob, theta, confirm):
             t, refit_statistic=got[0], refit_coefficient=got[1]))
     done.sort(key=lambda t: -(t.refit_statistic if t.refit_statistic is not None
                               else -np.inf))
+    if done[0].refit_statistic is not None:
+        best = done[0].refit_statistic
+        done = [replace(t, first_group=True) if t.refit_statistic is not None
+                and t.refit_statistic >= best - TIE else t for t in done]
     rest = [t for t in table.terms if t not in head]
     return replace(table, terms=tuple(done + rest), confirmed=len(done))
 
