@@ -661,27 +661,12 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     full = spectra if n_in == s.n_inputs else [
         record_spectra(r, inputs, band_hz, None, hold) for r in recs]
     splits = shared_parameters(fit) if free_shared else ()
-    prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed), tuple(fit.ties),
-                      splits, None, n_in)
-    theta = prob.theta0()
-    freed = None
-    if splits:
-        # the shared parameters freed per row group: the map is made at that fit
-        got = _fitted(prob, theta)
-        if got is not None:
-            st, j0, j = got
-            theta = st.theta
-            freed = _freed(prob, theta, 2.0 * (j0 - j))
-        else:
-            prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed),
-                              tuple(fit.ties), (), None, n_in)
-            theta = prob.theta0()
-    if freed is None:
-        st = _state(prob, theta, list(fit.S))
-    if prob.free or prob.n_extra:
-        jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
-    else:
-        jb = np.zeros((sum(r.size for r in st.r), 0))
+    try:
+        prob, theta, st, freed, jb = _made_at(s, full, fit, splits, n_in)
+    except (InputError, np.linalg.LinAlgError):
+        # the freed fit stopped at a range's edge (the Jacobian's central steps
+        # leave it): the map is made at the base fit itself
+        prob, theta, st, freed, jb = _made_at(s, full, fit, (), n_in)
     r = np.concatenate(st.r)
     entries = _entries(inputs)
     index = {e: c for c, e in enumerate(entries)}
@@ -720,6 +705,34 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         row0 += rr.size
     table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
     return _confirmed(table, prob, theta, confirm)
+
+
+def _made_at(s, full, fit, splits, n_in):
+    """``(problem, theta, state, freed, J_b)``: the fit the map is made at (the
+    base's shared parameters freed per row group ``splits``, refitted; the base fit
+    itself without splits or where that refit fails), its state and the
+    sensitivities of its free parameters (central differences)."""
+    prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed), tuple(fit.ties),
+                      splits, None, n_in)
+    theta = prob.theta0()
+    freed = None
+    if splits:
+        got = _fitted(prob, theta)
+        if got is not None:
+            st, j0, j = got
+            theta = st.theta
+            freed = _freed(prob, theta, 2.0 * (j0 - j))
+        else:
+            prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed),
+                              tuple(fit.ties), (), None, n_in)
+            theta = prob.theta0()
+    if freed is None:
+        st = _state(prob, theta, list(fit.S))
+    if prob.free or prob.n_extra:
+        jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
+    else:
+        jb = np.zeros((sum(r.size for r in st.r), 0))
+    return prob, theta, st, freed, jb
 
 
 def _freed(prob, theta, statistic):
