@@ -333,7 +333,7 @@ class MissingTerms:
         if len(group) > 1:
             out.append("the record cannot tell apart the first " + str(len(group)) +
                        " entries (their refits lower the cost to within "
-                       f"{TIE:g} of each other): a term in " + "; or ".join(
+                       f"{TIE:g} of each other): a term in " + ", or in ".join(
                            f"{t.where()} proportional to {t.variable}" for t in group))
         for t in sig[:limit]:
             refit = ("" if t.refit_statistic is None else
