@@ -6,9 +6,11 @@ effect offers; per kind seeds 1-5 with both cyclics moved and seeds 1-5 with one
 noise, or Butterworth-coloured at 3 Hz on seeds 3 and 5), ``diagnose(record,
 "basic")`` with the default rule, and per record:
 
-- the map's top entry (:mod:`inflowsim.diagnose.terms`: shared parameters freed
-  per row group, the top entries confirmed by refits) and whether it lies in the
-  equations and variables where the truth's term acts (``Truth.acts_at``);
+- the map's first group (:mod:`inflowsim.diagnose.terms`: shared parameters freed
+  per row group, the top entries confirmed by refits, the entries whose refits
+  lie within 3.84 of the first's) and whether one of them lies in the equations
+  and variables where the truth's term acts (``Truth.places``); and whether the
+  top entry alone does (``Truth.acts_at``);
 - whether freeing the shared parameters per row group was significant, and the
   values;
 - the verdict, the effects named, the share of the excess they remove and which
@@ -21,8 +23,10 @@ Run::
 
 ``python bench/outside.py KIND ...`` runs only those kinds (not written);
 ``python bench/outside.py --from-json [MINUTES]`` writes the table again from the
-stored rows; ``--ablation`` runs the map alone three ways on the same records
-(``bench/results/outside_ablation.json``, a section of the table).
+stored rows (and the bounds' rows of ``bench/bounds_outside.py``, when they are
+there); ``--ablation`` runs the map alone four ways on the same records and prints
+whether the top entry alone is in place (``bench/results/outside_ablation.json``,
+not in the page).
 """
 from __future__ import annotations
 
