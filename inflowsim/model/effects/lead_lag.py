@@ -136,7 +136,6 @@ EFFECT = Effect(
     theory_start=True,
     parts=(("k_flap_lag",), ("nu_zeta", "zeta_lag")),
     states=STATES,
-    offered=False,
 )
 
 

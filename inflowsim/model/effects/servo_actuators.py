@@ -81,7 +81,6 @@ EFFECT = Effect(
     boundary=("servo_tau",),
     parts=(("servo_tau",), ("servo_zeta",)),
     # asked for by name (--also) until a detection study of its own has passed
-    offered=False,
     states=STATES,
     replaces_inputs=(("theta0", "theta0_a"), ("theta1c", "theta1c_a"),
                      ("theta1s", "theta1s_a")),
