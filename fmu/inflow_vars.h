@@ -21,6 +21,8 @@
 #define IFS_MU_HI 0.5
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
+#define IFS_MU_SPLIT 16
+#define IFS_MU_FDEG 4
 #define IFS_MU_TOL 1e-12
 #define IFS_MU_KNOT_GAP 1e-09
 #define IFS_TAYLOR_TOL 1e-17
