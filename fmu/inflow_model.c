@@ -140,12 +140,12 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     double e[NX * NX], a[NX * NX], b[NX * NU], rhs[NX * NA];
     const double om = v->omega;
     /* inputs in SI -> azimuth units: qbar = q/Omega, qbar' = qdot/Omega^2 */
-    const double in_scale[NU] = {1, 1, 1, 1, 1 / om, 1 / om, 1 / (om * om),
-                                 1 / (om * om), 1, 1};
+    static const int omega_power[NU] = IFS_INPUT_OMEGA_POWERS;
+    double in_scale[NU];
     int i, j;
 
     if (v->inflow_speed == 0 && !(v->mu >= IFS_MU_LO && v->mu <= IFS_MU_HI)) {
-        snprintf(msg, msg_len, "mu = %g is outside the allowed range [0.1, 0.5]: "
+        snprintf(msg, msg_len, "mu = %g is outside the allowed range " IFS_MU_RANGE ": "
                  "forward-flight local momentum (V ~ mu) needs fast forward flight; "
                  "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
         return -1;
@@ -159,6 +159,11 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         snprintf(msg, msg_len, "structure = %d is outside the allowed range [0, %d] (%s)",
                  v->structure, IFS_N_STRUCTURES - 1, IFS_STRUCTURE_NAMES);
         return -1;
+    }
+    for (j = 0; j < NU; j++) {
+        double s = 1.0;
+        for (i = 0; i < omega_power[j]; i++) s *= om;
+        in_scale[j] = 1 / s;
     }
     ifs_descriptor(v, e, a, b);
     for (i = 0; i < NX; i++) {

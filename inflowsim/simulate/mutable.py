@@ -240,6 +240,7 @@ def c_defines() -> list:
             "with the Simulator */",
             f"#define IFS_MU_LO {MU_LO!r}",
             f"#define IFS_MU_HI {MU_HI!r}",
+            f'#define IFS_MU_RANGE "[{MU_LO:g}, {MU_HI:g}]"  /* for messages */',
             f"#define IFS_MU_SEG {SEGMENTS}",
             f"#define IFS_MU_DEG {DEGREE}",
             f"#define IFS_MU_SPLIT {SPLIT}",

@@ -10,7 +10,7 @@ outside the package (a file, ``--effect-file``, or an installed package's
 """
 from __future__ import annotations
 
-from ._effect import Effect, ParameterSpec
+from ._effect import Effect, ParameterSpec, RuntimeSolve
 from ..params import register as register_spec
 from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
                time_delay)
@@ -70,5 +70,6 @@ def needs_trim(structures) -> bool:
 from .user import (load_effect_file, load_effect_files, load_installed,  # noqa: E402
                    registered, unregister, USER_EFFECTS)
 
-__all__ = ["Effect", "ParameterSpec", "CATALOGUE", "register", "needs_trim", "load_effect_file", "load_effect_files",
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "CATALOGUE", "register", "needs_trim",
+           "load_effect_file", "load_effect_files",
            "load_installed", "registered", "unregister", "USER_EFFECTS"]
