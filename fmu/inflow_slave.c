@@ -631,3 +631,53 @@ int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char 
     memcpy(*state, bytes, sizeof(IfsSavedState));
     return IFS_OK;
 }
+
+/* --- an FMI instance --- */
+
+IfsInstance *ifs_instance_alloc(size_t size, IfsCalloc alloc, IfsRelease release, void *mem,
+                                const char *name, int logging_on)
+{
+    /* the instance holds the delay line (no large stack copy), and is allocated
+     * before any check so that refusals can be logged through it */
+    void *block;
+    IfsInstance *c = (IfsInstance *)ifs_align64(alloc(mem, size + 64), &block);
+    if (!c) return NULL;
+    memset(c, 0, size);
+    c->block = block;
+    c->alloc = alloc;
+    c->release = release;
+    c->mem = mem;
+    c->log.env = c;
+    c->log.debug = logging_on;
+    snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
+    return c;
+}
+
+int ifs_instance_start(IfsInstance *c, const char *refusal, const char *what,
+                       const char *token)
+{
+    if (refusal || !token || strcmp(token, IFS_GUID) != 0) {
+        if (refusal)
+            ifs_log(&c->log, IFS_ERROR, "%s", refusal);
+        else
+            ifs_log(&c->log, IFS_ERROR, "%s %s does not match this binary's %s", what,
+                    token ? token : "(null)", IFS_GUID);
+        c->release(c->mem, c->block);
+        return -1;
+    }
+    ifs_slave_init(&c->s);
+    c->s.tab = (IfsMuTable *)c->alloc(c->mem, sizeof(IfsMuTable));
+    return 0;
+}
+
+void ifs_instance_free(IfsInstance *c)
+{
+    if (c->s.tab) c->release(c->mem, c->s.tab);
+    c->release(c->mem, c->block);
+}
+
+void *ifs_instance_calloc(void *ctx, size_t n)
+{
+    const IfsInstance *c = (const IfsInstance *)ctx;
+    return c->alloc(c->mem, n);
+}
