@@ -26,9 +26,13 @@ What the terms mean, and why:
   its range's edge (``flap_inertia = 0``) the 50:50 mixture of Self and Liang (1987).
   A single atom is tested against the base.  A flexible atom that a simpler one
   (fewer parameters) explains, not significant beside it while the simpler one is
-  beside it, shows no physics of its own: no structure holding it is admissible
-  (``explained_by``; Glauert's four in-plane gains mimic the blades' direct
-  in-plane forcing, one gain ``k_mu``, on the nonlinear blade truth).
+  beside it, shows no physics of its own there: no structure holding it is
+  admissible (``explained_by``; Glauert's four in-plane gains mimic the blades'
+  direct in-plane forcing, one gain ``k_mu``, on the nonlinear blade truth) unless,
+  in a structure without the simpler atom, the simpler atom in its place scores at
+  least ``schwarz_min`` less (``G``): beside another atom the flexible one then
+  shows what the simpler one cannot take (the pair test is made at the base, where
+  a partner's part of the residual can hide it).
 - *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
   range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
 - *Material*: the structure removes at least ``material`` of the base residual's excess
