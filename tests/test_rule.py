@@ -171,6 +171,48 @@ def test_a_pair_with_an_atom_not_significant_beside_the_other_is_not_admissible(
     assert "glauert (c1, c2, c3, c4) not significant beside the others" in describe(mimic, d)
 
 
+def _collective_rung(ab_wd_gain):
+    """Rung 1 of the collective-doublet ladder on the Table-3 glauert truth (seed 0,
+    ``basic+glauert``; gains and log10 p as measured): the separate time constants
+    (two parameters) are not significant beside the wake distortion (one) in their
+    pair, yet beside the azimuth bias they score far more than it does there."""
+    stc, wd, ab, sw = ("separate-time-constants", "wake-distortion", "azimuth-bias",
+                       "skewed-wake")
+    return [replace(_row([stc], 6.57, [-3.77]), dof=2), _row([wd], 104.11, [-24.9]),
+            _row([ab], 211.06, [-48.27]), _row([sw], 318.76, [-71.75]),
+            replace(_row([wd, stc], 96.65, [-21.83, -0.73]), dof=3),
+            replace(_row([ab, stc], 461.65, [-101.42, -56.76]), dof=3),
+            _row([ab, wd], ab_wd_gain, [-40.79, -17.38])]
+
+
+def test_an_atom_a_simpler_one_explains_in_their_pair_is_judged_where_it_stands():
+    """Explained in its pair, an atom is still admissible beside another where the
+    simpler atom in its place scores ``schwarz_min`` less: the azimuth bias with the
+    time constants (G 462, the truth's effects) against a wake skew alone (319), which
+    the ladder named, with a delay that leads, when the explanation held everywhere."""
+    d = decide(_collective_rung(280.90))
+    assert d.accepted and d.chosen.atoms == ("azimuth-bias", "separate-time-constants")
+    assert d.chosen.explained_by == () and d.added == ("azimuth-bias",)
+    rows = {r.atoms: r for r in d.rows}
+    # where the simpler atom stands beside it, or alone, the explanation holds
+    for atoms_ in [("separate-time-constants",),
+                   ("wake-distortion", "separate-time-constants")]:
+        assert dict(rows[atoms_].explained_by) == {
+            "separate-time-constants": "wake-distortion"}
+        assert "own" in rows[atoms_].failed()
+    # the simpler atom in its place within schwarz_min: explained there too
+    d = decide(_collective_rung(461.65 - DEFAULT_RULE.schwarz_min))
+    assert d.chosen.atoms == ("azimuth-bias", "wake-distortion")
+    row = {r.atoms: r for r in d.rows}[("azimuth-bias", "separate-time-constants")]
+    assert "own" in row.failed()
+    assert ("separate-time-constants explained by the simpler wake-distortion: not "
+            "significant beside it, and does as well in its place (Schwarz gain 459.6 "
+            "against 461.6)") in describe(row, d)
+    # a stored table is decided again the same (the rows' JSON carries the gains)
+    again = decide([Scored.from_json(r.to_json()) for r in _collective_rung(280.90)])
+    assert again.chosen.atoms == ("azimuth-bias", "separate-time-constants")
+
+
 def test_implausible_and_unfitted_structures_are_never_admissible():
     bad = _row(["skewed-wake"], 300.0, [-40.0],
                implausible=(("k_skew", -0.6, 0.05, 0.0, 1.5, "positive"),))

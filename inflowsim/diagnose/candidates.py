@@ -92,7 +92,13 @@ def describe(row: Scored, decision: Decision) -> str:
         words.append(f"implausible: {n} = {e:.4g} +- {s:.2g} is outside [{lo:g}, {hi:g}]: "
                      f"{why}")
     for atom, by in row.explained_by:
-        words.append(f"{atom} explained by the simpler {by}: not significant beside it")
+        swap = {by if x == atom else x for x in row.atoms}
+        g = next((r.schwarz_gain for r in decision.rows if set(r.atoms) == swap), None)
+        where = "" if by in row.atoms or g is None else (
+            f", and does as well in its place (Schwarz gain {g:.1f} against "
+            f"{row.schwarz_gain:.1f})")
+        words.append(f"{atom} explained by the simpler {by}: not significant beside "
+                     f"it{where}")
     failed = row.failed(rule)
     if not words and chosen is not None and row != chosen and \
             not (decision.accepted and set(row.atoms) <= set(chosen.atoms)):

@@ -165,10 +165,13 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
         floor = np.repeat(np.maximum(floor, np.finfo(float).tiny)[:, None], nf, axis=1)
         return floor, (float(band_hz[0]), float(band_hz[1])), ()
     sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False)
-    y_u, y_nu, _ = flap_response(model, sp)
-    e = sp.Z - y_u
-    coef = _end_states(y_nu, e)
-    p = np.abs(e - y_nu @ coef) ** 2
+    if sp.f_hz.size <= STREAM_BINS:
+        y_u, y_nu, _ = flap_response(model, sp)
+        e = sp.Z - y_u
+        coef = _end_states(y_nu, e)
+        p = np.abs(e - y_nu @ coef) ** 2
+    else:
+        p = _floor_power_streamed(model, sp)
     chunks = np.array_split(np.arange(len(p)), rule.floor_subbands)
     level = np.median([np.median(p[c], axis=0) for c in chunks], axis=0) / np.log(2)
     floor = np.repeat(np.maximum(level, np.finfo(float).tiny)[:, None], nf, axis=1)
@@ -184,6 +187,49 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
 STREAM_BINS = 16384
 
 
+def _qr_update(R, c, y_nu, e):
+    """The QR factor ``R`` and rotated right side ``c`` of :func:`_end_states`'s
+    least squares with the bins of one more block ``y_nu`` ``(nb, 3, q)``,
+    ``e`` ``(nb, 3)`` appended."""
+    a = y_nu.reshape(-1, y_nu.shape[2])
+    b = e.ravel()
+    Q, R = np.linalg.qr(np.vstack([R, a.real, a.imag]))
+    return R, Q.T @ np.concatenate([c, b.real, b.imag])
+
+
+def _floor_power_streamed(model, sp):
+    """``|e - y_nu coef|^2`` ``(nf, 3)`` of :func:`noise_floor` for a floor band
+    of more than :data:`STREAM_BINS` bins, block by block: the end-state responses
+    ``y_nu`` (86 MB for a 2-hour record's floor band) are never held whole, each
+    block's computed once for the least squares and again for its residual.  The
+    blocks are :func:`~inflowsim.identify.freqmodel.flap_response`'s own and
+    :func:`_end_states`'s, so every number is the one of the whole arrays."""
+    from dataclasses import replace
+    from ..identify.freqmodel import flap_response
+    nf = sp.f_hz.size
+    blocks = [slice(i, min(i + STREAM_BINS, nf)) for i in range(0, nf, STREAM_BINS)]
+
+    def part(blk):
+        return flap_response(model, replace(sp, f_hz=sp.f_hz[blk], U=sp.U[blk],
+                                            Z=sp.Z[blk]))
+    e = np.empty(sp.Z.shape, dtype=complex)
+    R, c = None, np.zeros(0)
+    for blk in blocks:
+        y_u, y_nu, _ = part(blk)
+        e[blk] = sp.Z[blk] - y_u
+        if R is None:
+            R = np.zeros((0, y_nu.shape[2]))
+        R, c = _qr_update(R, c, y_nu, e[blk])
+        del y_u, y_nu
+    coef, *_ = np.linalg.lstsq(R, c, rcond=None)
+    p = np.empty(e.shape)
+    for blk in blocks:
+        _, y_nu, _ = part(blk)
+        p[blk] = np.abs(e[blk] - y_nu @ coef) ** 2
+        del y_nu
+    return p
+
+
 def _end_states(y_nu, e):
     """Real ``coef`` minimising ``|e - y_nu coef|`` over every bin and channel:
     ``lstsq`` on the stacked real system, or for a long record the same least
@@ -197,10 +243,7 @@ def _end_states(y_nu, e):
         return coef
     R, c = np.zeros((0, q)), np.zeros(0)
     for i in range(0, nf, STREAM_BINS):
-        a = y_nu[i:i + STREAM_BINS].reshape(-1, q)
-        b = e[i:i + STREAM_BINS].ravel()
-        Q, R = np.linalg.qr(np.vstack([R, a.real, a.imag]))
-        c = Q.T @ np.concatenate([c, b.real, b.imag])
+        R, c = _qr_update(R, c, y_nu[i:i + STREAM_BINS], e[i:i + STREAM_BINS])
     coef, *_ = np.linalg.lstsq(R, c, rcond=None)
     return coef
 
