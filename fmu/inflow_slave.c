@@ -132,10 +132,16 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
         s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI) {
         ifs_mu_table_apply(s->tab, &s->v, &s->m);
 #if IFS_SCHEDULED_BIAS
-        {   /* the outputs' rotation follows the scheduled azimuth bias */
+        {   /* the outputs' rotation follows the scheduled azimuth bias: both of its
+             * copies (ifs_outputs reads cos_bias, sin_bias; the four-wide step of
+             * eight states or more reads rot, as set_bias in inflow_model.c sets them) */
             const double bias = ifs_bias_of(&s->v);
             s->m.cos_bias = cos(bias);
             s->m.sin_bias = sin(bias);
+            s->m.rot[0] = s->m.cos_bias;
+            s->m.rot[1] = s->m.sin_bias;
+            s->m.rot[2] = -s->m.sin_bias;
+            s->m.rot[3] = s->m.cos_bias;
         }
 #endif
         s->dirty = 0;
