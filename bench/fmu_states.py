@@ -50,7 +50,9 @@ def main(argv=None):
     from fmu_bench import compile_drivers
 
     structures = [args.base] + [f"{args.base}+{e}" for e in EXTRA]
-    inflow = dict(zip(structures, (3, 6, 10, 15, 3, 3, 6)))
+    # inflow states: Peters-He's order where the structure has one, else the three
+    inflow = {st: max([3] + [int(e.rsplit('-', 1)[1]) for e in st.split('+')
+                            if e.startswith('peters-he-')]) for st in structures}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         libs = {}

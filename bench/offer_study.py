@@ -12,17 +12,22 @@ errors in their bounds.  For the ladders (``multi``, ``nonlinear``): what they a
 from __future__ import annotations
 
 import collections
-import gzip
 import json
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from detection import _read  # noqa: E402  (a results file's text, .jsonl or .jsonl.gz)
+
 
 def _rows(paths):
     for p in paths:
-        p = Path(p)
-        text = gzip.decompress(p.read_bytes()).decode() if p.suffix == ".gz" else p.read_text()
-        yield from (json.loads(line) for line in text.splitlines() if line.strip())
+        yield from (json.loads(line) for line in _read(p).splitlines() if line.strip())
+
+
+def _span(values, fmt, sep=" to "):
+    """The least and the largest of ``values`` in ``fmt``, or ``-`` when there are none."""
+    return f"{min(values):{fmt}}{sep}{max(values):{fmt}}" if values else "-"
 
 
 def null_table(rows):
@@ -56,10 +61,9 @@ def hidden_table(rows):
         beside = collections.Counter(x for r in rs for x in r["missing_effects"] if x != e)
         fr = [x for r in rs for x in (r.get("with_floor_ratio") or [])]
         z = [v for r in rs for v in (r.get("z") or {}).values()]
-        print(f"| `{e}` | {rotor} | {len(rs)} | {first} | "
-              f"{', '.join(f'{k} {n}' for k, n in beside.items()) or 'none'} | "
-              + (f"{min(fr):.2f}-{max(fr):.2f} | " if fr else "- | "), end="")
-        print(f"{min(z):+.2f} to {max(z):+.2f} |" if z else "- |")
+        others = ", ".join(f"{k} {n}" for k, n in beside.items()) or "none"
+        print(f"| `{e}` | {rotor} | {len(rs)} | {first} | {others} | "
+              f"{_span(fr, '.2f', '-')} | {_span(z, '+.2f')} |")
 
 
 def ladder_table(rows):

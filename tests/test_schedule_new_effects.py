@@ -31,8 +31,8 @@ def test_a_schedule_of_the_new_effects_flies_the_simulator_at_every_mu():
     equals the exact zero-order hold of the model rebuilt at that mu with the
     scheduled parameters and trim (the table, not rebuilds), to 1e-11 of the state."""
     from inflowsim.model.build import build_model
-    from inflowsim.simulate.discrete import discretize
     from inflowsim.simulate.simulator import Simulator
+    from test_schedule import worst_against_rebuilds
     sch, p0 = _schedule()
     assert set(NEW) <= set(sch.names) and set(sch.names) == set(p0) | {"K_R"}
     assert all(sch[n].order >= 1 for n in ("servo_tau", "nu_zeta", "k_ph", "K_R"))
@@ -41,17 +41,7 @@ def test_a_schedule_of_the_new_effects_flies_the_simulator_at_every_mu():
     assert m0.structure.name == build_model(STRUCTURE, sch(0.2),
                                             m0.constants).structure.name
     sim = Simulator(m0, 0.01, schedule=sch)
-    rng = np.random.default_rng(0)
-    x = np.zeros(m0.a.shape[0])
-    worst = 0.0
-    for mu in np.linspace(0.101, 0.42, 30):
-        u = 1e-3 * rng.standard_normal(10)
-        sim.set_mu(mu)
-        y = sim.step(u)
-        m = sch.model(PUMA, mu)
-        phi, gam = discretize(m.a, m.b, 0.01)
-        x = phi @ x + gam @ u
-        worst = max(worst, np.abs(m.c @ x - y).max() / np.abs(x).max())
+    worst = worst_against_rebuilds(sim, sch, np.linspace(0.101, 0.42, 30))
     assert sim._mu_table and sim._mu_table.ok
     assert worst < 1e-11
     # the new effects' values follow mu: at the range's ends they differ
