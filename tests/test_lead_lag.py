@@ -269,7 +269,7 @@ def test_the_lag_needs_the_trim_and_registers_its_facts():
         ifs.build_model(s, truth_parameters(s, ifs.PUMA), ifs.PUMA)
     from inflowsim.model.effects import CATALOGUE
     eff = CATALOGUE["lead-lag"]
-    assert not eff.offered and eff.about_trim
+    assert eff.offered and eff.about_trim      # offered since its detection study
     assert s.states[-6:] == ("zeta0", "zeta1c", "zeta1s", "zeta0_prime", "zeta1c_prime",
                              "zeta1s_prime")
     hl = ifs.PUMA.__class__(**{**ifs.PUMA.__dict__, "hub": "hingeless"})
