@@ -40,7 +40,7 @@ import numpy as np
 
 from ..simulate.sampled import BASES, expm, shift_taps
 
-__all__ = ["flap_response", "flap_responses", "shift_groups", "window_integral", "shifted_transform",
+__all__ = ["flap_response", "flap_responses", "leading", "shift_groups", "window_integral", "shifted_transform",
            "zoh", "expm", "continuous_input"]
 
 
@@ -244,6 +244,7 @@ def flap_response(model, sp, method="auto"):
     groups : list
         :func:`shift_groups`.
     """
+    model = leading(model)
     nf = sp.f_hz.size
     if nf <= BLOCK:
         return _flap_response(model, sp, method)
@@ -264,6 +265,47 @@ def flap_response(model, sp, method="auto"):
     return y_u, y_nu, groups
 
 
+#: Fewest states a model keeps in :func:`leading`: flap and inflow.
+LEADING = 6
+
+
+def leading(model):
+    """``model`` with the states that drive neither the first ones nor the flap
+    outputs dropped: the smallest ``n0 >= 6`` with ``a[:n0, n0:] = 0`` and
+    ``c[:3, n0:] = 0`` exactly (an appended state block whose coupling is zero,
+    as ``lead-lag`` at ``k_flap_lag = 0``: its states are driven but drive
+    nothing).  The flap response and the end-state responses are then those of the
+    leading ``n0`` states alone, their end states ``end_basis[:n0] v +
+    end_input[:n0] u`` (the system is block-triangular: ``(s I - A)^-1`` and, for a
+    held record, ``exp(A dt)`` and its input taps keep the leading block as it is).
+    The model itself where no such ``n0 < n`` exists.
+
+    The same response as the whole model's, to rounding (the whole model's
+    eigenvectors mix the dropped states into the rest at rounding level): and a
+    parameter that acts only on the dropped states has, exactly, no influence,
+    rather than a rounding-level one a search can wander on.
+    """
+    a = model.a
+    n = a.shape[0]
+    if n <= LEADING:
+        return model
+    c = model.c
+    for n0 in range(LEADING, n):
+        if not a[:n0, n0:].any() and not c[:3, n0:].any():
+            break
+    else:
+        return model
+    out = object.__new__(type(model))
+    out.__dict__.update(model.__dict__)
+    for name, x in (("a", a[:n0, :n0]), ("b", model.b[:n0]), ("c", c[:, :n0]),
+                    ("end_basis", model.end_basis[:n0]),
+                    ("end_input", model.end_input[:n0])):
+        x = np.array(x)                 # contiguous, as a model's own arrays
+        x.flags.writeable = False
+        out.__dict__[name] = x
+    return out
+
+
 def flap_responses(models, sp):
     """:func:`flap_response` of several models on one record, as a list.
 
@@ -277,6 +319,7 @@ def flap_responses(models, sp):
     """
     if len(models) == 1:
         return [flap_response(models[0], sp)]
+    models = [leading(m) for m in models]
     out = [None] * len(models)
     groups = {}
     for i, m in enumerate(models):
