@@ -578,10 +578,19 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     # the best start's problem and state are kept (its responses and nuisance
     # bases are the record's length: 90 MB of a 2-hour record's three starts)
     trials, best = [], None
+    # a start that the fixed values make equal to an earlier one (an effect's theory
+    # start whose parameters are all held) has that one's short run: reported
+    # again, not run again (the same numbers)
+    runs = {}
     with bar(progress, len(starts), f"identify {s.name}: trying starts", "start") as b:
         for label, vals in starts:
             vals = dict(vals)
             vals.update(fixed)
+            same = tuple((n, float(vals[n]).hex()) for n in sorted(vals))
+            if same in runs:
+                trials.append((runs[same][0], label, runs[same][1]))
+                b.update()
+                continue
             prob = Problem(s, spectra, vals, fixed=tuple(fixed), ties=ties)
             if not prob.free:
                 raise InputError("identify: every parameter is fixed; nothing to estimate")
@@ -594,6 +603,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
             st, j, iters, _ = fit_from(prob, prob.theta0(), max_iter=SHORT_RUN)
             b.update()
             trials.append((j, label, iters))
+            runs[same] = (j, iters)
             if best is None or j < best[0]:   # the first of equal costs, as min() takes
                 best = (j, label, prob, st, iters)
             del prob, st
