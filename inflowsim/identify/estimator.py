@@ -166,9 +166,10 @@ def _lm(prob, st, max_iter, report=None):
         dmax = max(d.max(), 1e-300)
         d = np.where(d > 1e-12 * dmax, d, dmax * 1e-12)
         accepted = False
+        at_lo, at_hi = st.theta <= lo, st.theta >= hi
         while lam < 1e12:
             try:
-                delta = np.linalg.solve(H + lam * np.diag(d), -g)
+                delta = _step(H, g, lam * d, at_lo, at_hi)
             except np.linalg.LinAlgError:
                 lam *= 10
                 continue
@@ -197,6 +198,33 @@ def _lm(prob, st, max_iter, report=None):
         if small_step or (small_drop and lam <= 1e-2):
             return st, c, it, True
     return st, c, max_iter, False
+
+
+def _step(H, g, damp, at_lo, at_hi):
+    """The damped Gauss-Newton step ``(H + diag(damp)) delta = -g``, with every
+    parameter that sits at a range limit and that the step would push past it held
+    (its row and column dropped, its step zero; repeated while another one is
+    pushed out).
+
+    A step clipped at the limit moves the held parameter by nothing while the
+    others move as if it had moved: a poor step, refused at small damping and
+    taken at large, so the damping never falls and the search crawls to its
+    iteration limit (a candidate effect whose best value is its neutral boundary,
+    as ``servo_tau`` on a record without servos).  Where no parameter is pushed
+    past a limit it is the plain solve, number for number."""
+    delta = np.linalg.solve(H + np.diag(damp), -g)
+    held = (at_lo & (delta < 0)) | (at_hi & (delta > 0))
+    while held.any():
+        free = ~held
+        delta = np.zeros_like(g)
+        if free.any():
+            sub = np.ix_(free, free)
+            delta[free] = np.linalg.solve(H[sub] + np.diag(damp[free]), -g[free])
+        more = (at_lo & (delta < 0)) | (at_hi & (delta > 0))
+        if not more.any():
+            break
+        held |= more
+    return delta
 
 
 def fit_from(prob, theta, max_iter=100, report=None):

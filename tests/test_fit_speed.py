@@ -1,0 +1,100 @@
+"""Candidate fits made cheap enough to offer the appended-state effects (issues #35,
+#38): the flap response of a model whose appended states drive nothing, taken from
+its leading states; the Levenberg-Marquardt step that holds a parameter at its
+range limit; a start equal to an earlier one reported, not run again."""
+import numpy as np
+import pytest
+
+from conftest import TWO_AXES, virtual
+from inflowsim.identify import freqmodel as fm
+from inflowsim.identify.estimator import _step, as_records, spectra_of
+from inflowsim.model.build import build_model
+from inflowsim.model.presets import theory_parameters
+from inflowsim.model.structure import Structure
+
+
+def _spectra(structure, hold):
+    rec = (virtual(structure="glauert", seed=1, manoeuvres=TWO_AXES) if hold == "continuous"
+           else virtual(structure="glauert", seed=1, manoeuvres=TWO_AXES, hold=hold, dt=0.02))
+    s = Structure.parse(structure)
+    return s, spectra_of(as_records(rec), s, (0.2256, 1.58), None)[0]
+
+
+def _worst(a, b):
+    return max(np.max(np.abs(x - y)) / np.max(np.abs(y)) for x, y in zip(a, b))
+
+
+@pytest.mark.parametrize("structure,hold", [
+    ("basic+lead-lag", "continuous"), ("glauert+lead-lag+time-delay", "continuous"),
+    ("basic+flap-inertia+lead-lag", "continuous"), ("basic+lead-lag", "zoh")])
+def test_states_that_drive_nothing_are_left_out_of_the_flap_response(structure, hold):
+    s, sp = _spectra(structure, hold)
+    p = theory_parameters(s, sp.constants)
+    p["k_flap_lag"] = 0.0                     # the lag states driven, driving nothing
+    if "delay" in p:
+        p["delay"] = 0.03
+    m = build_model(s, p, sp.constants)
+    lead = fm.leading(m)
+    n = m.a.shape[0] - 6
+    assert lead.a.shape == (n, n) and lead.end_basis.shape == (n, 6)
+    fast = fm.flap_response(m, sp)
+    plain = fm._flap_response(m, sp, "solve")          # every state, each bin solved
+    assert _worst(fast[:2], plain[:2]) < 1e-10
+    # the batched route of a Jacobian's points takes the same leading states
+    ms = [m, build_model(s, {**p, "nu_zeta": p["nu_zeta"] * 1.01}, sp.constants)]
+    for got, one in zip(fm.flap_responses(ms, sp), ms):
+        assert _worst(got[:2], fm._flap_response(one, sp, "solve")[:2]) < 1e-10
+
+
+@pytest.mark.parametrize("structure,change", [
+    ("basic+lead-lag", {}), ("basic+servo-actuators", {}), ("basic+flap-inertia", {}),
+    ("glauert", {}), ("basic+servo-actuators", {"servo_tau": 5e-6})])
+def test_coupled_states_are_kept(structure, change):
+    s, sp = _spectra(structure, "continuous")
+    m = build_model(s, {**theory_parameters(s, sp.constants), **change}, sp.constants)
+    assert fm.leading(m) is m
+
+
+def test_a_parameter_pushed_past_its_limit_is_held_in_the_step():
+    rng = np.random.default_rng(3)
+    J = rng.normal(size=(40, 4))
+    H, g = J.T @ J, J.T @ rng.normal(size=40)
+    damp = 1e-3 * np.diag(H)
+    free = np.linalg.solve(H + np.diag(damp), -g)
+    none = np.zeros(4, bool)
+    # no parameter at a limit: the plain damped solve, number for number
+    assert np.array_equal(_step(H, g, damp, none, none), free)
+    # at a limit with the step pointing inside: the plain solve too
+    at = np.sign(free) > 0                     # at the lower limit, stepping up
+    assert np.array_equal(_step(H, g, damp, at, none), free)
+    # at a limit with the step pointing out: held, the rest solved without it
+    i = int(np.argmin(free))
+    assert free[i] < 0
+    lo = none.copy()
+    lo[i] = True
+    got = _step(H, g, damp, lo, none)
+    keep = ~lo
+    want = np.linalg.solve(H[np.ix_(keep, keep)] + np.diag(damp[keep]), -g[keep])
+    assert got[i] == 0.0 and np.array_equal(got[keep], want)
+
+
+def test_a_start_equal_to_an_earlier_one_is_reported_with_its_cost(monkeypatch):
+    from inflowsim.identify import estimator, identify
+    rec = virtual(structure="glauert", seed=1, manoeuvres=TWO_AXES)
+    s = Structure.parse("basic+lead-lag")
+    from inflowsim.model.effects import CATALOGUE
+    neutral = CATALOGUE["lead-lag"].neutral_values(rec.constants)
+    runs = []
+    real = estimator.fit_from
+
+    def counted(prob, theta, max_iter=100, report=None):
+        runs.append(max_iter)
+        return real(prob, theta, max_iter, report)
+    monkeypatch.setattr(estimator, "fit_from", counted)
+    # started at neutral (a saddle: its theory start is tried too), k_flap_lag held
+    # there: the theory start is the plain start again
+    fit = identify(rec, s, start=neutral, fixed={n: None for n in neutral})
+    labels = [label for label, _ in fit.starts]
+    assert labels[:2] == ["start", "start, lead-lag at theory"]
+    assert fit.starts[0][1] == fit.starts[1][1]
+    assert runs.count(estimator.SHORT_RUN) == len(fit.starts) - 1
