@@ -311,8 +311,9 @@ def flap_responses(models, sp):
 
     The models a fit's Jacobian asks for at once (one per perturbed parameter)
     share a structure; where they share the simple case (a continuous record, one
-    delay group over the three flap channels, no input delays, first-order
-    flapping) their eigen-decompositions and frequency products are taken as stacks
+    delay group over the three flap channels, no input delays; any end-state
+    manifold, :func:`leading` states) their eigen-decompositions and frequency
+    products are taken as stacks
     (:func:`_batch`): the same LAPACK and BLAS call for each matrix as one model
     at a time, so the same numbers, without numpy's overhead per call.  Every
     other model goes through :func:`flap_response`.
@@ -339,8 +340,6 @@ def _batch_key(m, sp):
         return None
     g = m.measurement.delay_groups
     if len(g) != 1 or tuple(g[0]) != (0, 1, 2) or np.count_nonzero(m.input_delays):
-        return None
-    if np.count_nonzero(m.end_input) or m.end_basis.shape[0] != m.end_basis.shape[1]:
         return None
     return m.a.shape, m.b.shape, m.end_basis.shape
 
@@ -389,6 +388,13 @@ def _batch_products(ms, decs, den, sp):
     ud = np.stack([continuous_input(sp, float(m.delays[0]) - float(m.input_delays[0]))
                    for m in ms])
     inp = ud @ b.transpose(0, 2, 1)
+    # end states on the slow manifold, x = P v + q u, as _flap_response adds them
+    # (models with q = 0, first-order flapping, add nothing)
+    u0, u1 = sp.u_time[0], sp.u_time[-1]
+    for j, m in enumerate(ms):
+        q = m.end_input
+        if np.count_nonzero(q):
+            inp[j] += np.outer(zs, q @ u0) + np.outer(ze, q @ u1)
     r = 1.0 / den
     vp = Vi @ P
     cv = C @ V
