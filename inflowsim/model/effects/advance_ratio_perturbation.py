@@ -41,6 +41,8 @@ columns, which no other effect touches; the information matrix of the combined
 structure stays regular (checked in the tests).
 """
 
+import numpy as np
+
 from ._effect import Effect
 from ._trim import true_trim_state
 from .momentum_speed import EFFECT as SPEED
@@ -54,13 +56,46 @@ MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
 
 
 
+#: Trims remembered (:func:`true_trim`, a pure function of its arguments): every
+#: model a fit builds of a structure with this effect or ``lead-lag`` asks for the
+#: same one (0.1 ms of blade-element trim inflow each), most recent last.
+_TRIMS: dict = {}
+_TRIMS_MEMO = 16
+
+
 def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
     """Trim ``(theta, beta, muz, lam)`` of constants ``k``: :func:`true_trim_state`
     and the structure's trim inflow: the basic model's, or, in a structure with
     ``momentum-speed`` (its scale ``k_v``), the basic model's moved ``k_v`` of the
     way to Eq. (14)'s, the one that effect linearises about.  The effect's terms
     are linear in the trim inflow, so ``k_v = 1`` is exactly Eq. (14)'s trim and
-    ``k_v = 0`` the structure without ``momentum-speed``: the two stay nested."""
+    ``k_v = 0`` the structure without ``momentum-speed``: the two stay nested.
+    Read-only arrays, remembered for the last few arguments of plain numbers."""
+    key = None
+    if type(azimuth_bias) is float and (k_v is None or type(k_v) is float):
+        try:
+            key = (k, azimuth_bias, k_v)
+            out = _TRIMS.pop(key, None)
+        except TypeError:                 # constants holding symbols (code generation)
+            key = out = None
+        if out is not None:
+            _TRIMS[key] = out             # most recent last
+            return out
+    out = _true_trim(k, azimuth_bias, k_v)
+    if key is not None:
+        for x in out:
+            if isinstance(x, np.ndarray):
+                x.flags.writeable = False
+        if len(_TRIMS) >= _TRIMS_MEMO:
+            try:
+                del _TRIMS[next(iter(_TRIMS))]
+            except (KeyError, RuntimeError, StopIteration):
+                pass
+        _TRIMS[key] = out
+    return out
+
+
+def _true_trim(k, azimuth_bias, k_v):
     theta, beta, muz = true_trim_state(k, azimuth_bias, NAME)
     lam = be.trim_inflow(k.mu, k.a0s, theta, beta, muz, k.flow_speed)
     if k_v is not None:
