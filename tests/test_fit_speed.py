@@ -115,3 +115,26 @@ def test_a_jacobians_points_with_appended_states_are_evaluated_together(structur
         one = fm.flap_response(m, sp)
         assert all(np.array_equal(x, y) for x, y in zip(got[:2], one[:2]))
         assert _worst(got[:2], fm._flap_response(m, sp, "solve")[:2]) < 1e-12
+
+
+@pytest.mark.parametrize("structure", [
+    "basic+servo-actuators", "basic+lead-lag", "glauert+servo-actuators+lead-lag",
+    "basic+flap-inertia+servo-actuators+lead-lag", "basic+peters-he-10+servo-actuators",
+    "basic+flap-inertia+peters-he-6", "basic+wake-distortion-lag+servo-actuators"])
+def test_appended_blocks_filled_in_place_are_the_stacked_ones_bit_for_bit(structure):
+    from inflowsim.model.build import apply_effects
+    import importlib
+    eqs = importlib.import_module("inflowsim.model.equations")
+    from inflowsim.model.params import PUMA
+    s = Structure.parse(structure)
+    k = PUMA.with_trim({"theta0": 0.17, "theta1c": 0.01, "theta1s": -0.05, "beta0": 0.06,
+                        "beta1c": 0.01, "beta1s": 0.0, "muz": -0.02})
+    p = theory_parameters(s, k)
+    p.update({n: 0.03 for n in ("azimuth_bias",) if n in p})
+    eq, _ = apply_effects(s, p, k)
+    assert eq.blocks and all(eqs._float_block(bl) for bl in eq.blocks)
+    fast = eqs._with_blocks_float(eq, s.second_order)
+    plain = eqs._with_blocks_stacked(eq, s.second_order)
+    for x, y in zip(fast, plain):
+        assert x.shape == y.shape and x.dtype == y.dtype and x.flags.c_contiguous
+        assert np.array_equal(x, y) and np.array_equal(np.signbit(x), np.signbit(y))
