@@ -42,7 +42,13 @@ TRUE_VALUES = {
     "advance-ratio-perturbation": {},       # k_mu = 1
     "second-harmonic-flap": {},             # k_beta2 = 1
     "wake-distortion": {"K_R": 1.0},
+    "servo-actuators": {},                  # servo_tau = 0.02 s, servo_zeta = 0.7
+    "lead-lag": {},                         # k_flap_lag = 1 at the Puma's theory
 }
+#: Offered after detection studies of their own records (``bench/rotor-physics.md``,
+#: ``test_servo_actuators``, ``test_lead_lag_records``): here in the slow set only (a
+#: diagnosis with twelve-state candidates is several seconds).
+SLOW_ONLY = {"servo-actuators", "lead-lag"}
 KINDS = [("continuous", 64), ("continuous", 256), ("zoh", 64), ("zoh", 256)]
 
 
@@ -98,7 +104,8 @@ def floor_ratio(fit, rec, colour=None):
 
 # The default run tries each effect on one record kind (the kinds rotate, so every
 # kind is covered); the full cross product of effects and kinds is the slow set.
-ONE_KIND_EACH = [(e, *KINDS[i % len(KINDS)]) for i, e in enumerate(TRUE_VALUES)]
+ONE_KIND_EACH = [(e, *KINDS[i % len(KINDS)]) for i, e in enumerate(TRUE_VALUES)
+                 if e not in SLOW_ONLY]
 EVERY_KIND = [pytest.param(e, h, r, marks=pytest.mark.slow)
               for e in TRUE_VALUES for h, r in KINDS
               if (e, h, r) not in ONE_KIND_EACH]
@@ -187,8 +194,10 @@ def test_no_missing_effect_no_alarm(hold, rate, colour):
     # white noise is judged on the level deviance over the floor, coloured noise on
     # the residual's input-correlated excess (inflowsim.diagnose.excess)
     measure = "input-correlated excess" if colour else "level deviance"
-    assert {c.measure for c in d.candidates} == {measure}
-    assert {c["measure"] for c in d.to_json()["candidates"]} == {measure}
+    # (a candidate that could not be fitted, as lead-lag's frequency and damper with
+    # its coupling at neutral, measured nothing)
+    assert {c.measure for c in d.candidates if c.error is None} == {measure}
+    assert {c["measure"] for c in d.to_json()["candidates"] if "error" not in c} == {measure}
     assert {r.measure for r in d.decision.rows if r.excess_before is not None} == {measure}
     assert not [f for f in d.failures if f.kind in ("spectrum", "whiteness", "unexplained")]
 
