@@ -138,3 +138,16 @@ def test_appended_blocks_filled_in_place_are_the_stacked_ones_bit_for_bit(struct
     for x, y in zip(fast, plain):
         assert x.shape == y.shape and x.dtype == y.dtype and x.flags.c_contiguous
         assert np.array_equal(x, y) and np.array_equal(np.signbit(x), np.signbit(y))
+
+
+def test_a_later_part_that_acts_through_an_earlier_one_waits_for_it():
+    from types import SimpleNamespace
+    from inflowsim.diagnose.rule import atoms
+    base = SimpleNamespace(structure=Structure.parse("basic"), fixed=())
+    got = {a.label for a in atoms(base, ["servo-actuators", "lead-lag", "glauert"])}
+    assert got == {"servo-actuators (servo_tau)", "lead-lag (k_flap_lag)",
+                   "glauert (c1, c2, c3, c4)", "glauert (k0p, kc, ks)"}
+    # once the first part is in (the second held at neutral), the second is tried
+    lag = SimpleNamespace(structure=Structure.parse("basic+lead-lag"),
+                          fixed=("nu_zeta", "zeta_lag"))
+    assert [a.label for a in atoms(lag, ["lead-lag"])] == ["lead-lag (nu_zeta, zeta_lag)"]

@@ -445,7 +445,8 @@ def atoms(base_fit, pool=None) -> list[Atom]:
     where it has several (Glauert: ``F``, ``G``); what the record leaves flat is held, said.
 
     The atoms of ``base_fit``'s structure: each applicable effect of ``pool``
-    (:func:`applicable`), split into its parts (``Effect.parts``); and each part of
+    (:func:`applicable`), split into its parts (``Effect.parts``; only the first
+    where a later part acts through it, ``Effect.parts_in_order``); and each part of
     an effect of the structure that the base holds whole at neutral values (added on
     an earlier rung without it).  What the record leaves flat is held when the atom
     is fitted (:func:`lattice`).
@@ -469,7 +470,8 @@ def atoms(base_fit, pool=None) -> list[Atom]:
         if name in s.effects:
             out += [Atom(name, p) for p in parts if len(parts) > 1 and set(p) <= held]
         elif not excluded(name, s.effects):
-            out += [Atom(name, p) for p in parts]
+            # a later part acting only through an earlier one waits for it
+            out += [Atom(name, p) for p in (parts[:1] if eff.parts_in_order else parts)]
     return out
 
 

@@ -123,6 +123,12 @@ class Effect:
         on the rates and ``G`` on the in-plane velocities).  A record that leaves
         one part undetermined can still test the others: the diagnosis holds that
         part at neutral.  Default: one part, all or nothing.
+    parts_in_order : bool
+        A later part acts only through an earlier one, so that alone, the earlier
+        at neutral, it is not identified (the lag's frequency and damper at
+        ``k_flap_lag = 0``; the servos' damping at ``servo_tau -> 0``): the
+        diagnosis tries the first part alone and each later one once the parts
+        before it are in the structure.
     states : tuple of str
         Names of the states it appends (its :class:`~inflowsim.model.equations.StateBlock`
         has them, in this order, after the base states).
@@ -166,6 +172,7 @@ class Effect:
     boundary: tuple = ()
     specs: tuple = ()
     parts: tuple = ()
+    parts_in_order: bool = False
     about_trim: bool = False
     theory_start: bool = False
     states: tuple = ()

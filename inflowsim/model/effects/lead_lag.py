@@ -135,6 +135,7 @@ EFFECT = Effect(
     about_trim=True,
     theory_start=True,
     parts=(("k_flap_lag",), ("nu_zeta", "zeta_lag")),
+    parts_in_order=True,
     states=STATES,
 )
 

@@ -27,7 +27,9 @@ chi-square mixture.  Theory (typical hydraulic main-rotor servos, Tischler &
 Remple, *Aircraft and Rotorcraft System Identification*, 2nd ed., ch. 11: second
 order, ``omega_n`` 30-60 rad/s, ``zeta`` about 0.7): ``servo_tau = 0.02`` s,
 ``servo_zeta = 0.7``.  ``servo_zeta`` is a separate part: a record whose band
-leaves it undetermined still tests ``servo_tau`` with it held at 0.7.
+leaves it undetermined still tests ``servo_tau`` with it held at 0.7; it acts
+only through ``servo_tau`` (nothing at the floor), so the diagnosis tries it once
+``servo_tau`` is in (``Effect.parts_in_order``).
 """
 import numpy as np
 
@@ -80,6 +82,7 @@ EFFECT = Effect(
                                     "oscillation nor an overdamped crawl"))),
     boundary=("servo_tau",),
     parts=(("servo_tau",), ("servo_zeta",)),
+    parts_in_order=True,
     # asked for by name (--also) until a detection study of its own has passed
     states=STATES,
     replaces_inputs=(("theta0", "theta0_a"), ("theta1c", "theta1c_a"),
