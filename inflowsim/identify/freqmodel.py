@@ -310,7 +310,8 @@ def flap_responses(models, sp):
     """:func:`flap_response` of several models on one record, as a list.
 
     The models a fit's Jacobian asks for at once (one per perturbed parameter)
-    share a structure; where they share the simple case (a continuous record, one
+    share a structure; where they share the simple case (a continuous record of at
+    most :data:`BATCH_BINS` bins, one
     delay group over the three flap channels, no input delays; any end-state
     manifold, :func:`leading` states) their eigen-decompositions and frequency
     products are taken as stacks
@@ -334,9 +335,17 @@ def flap_responses(models, sp):
     return [r if r is not None else flap_response(m, sp) for r, m in zip(out, models)]
 
 
+#: Most bins for which :func:`flap_responses` stacks models (:func:`_batch`): the
+#: stack saves numpy's overhead per call, which counts on a normal record's band (37
+#: bins: 0.031 against 0.037 ms a model); on more bins one model at a time is the
+#: faster (500 bins 0.14 against 0.17 ms, a 2-hour record's 9,750 4.2 against 4.9-7.3
+#: ms: the stack's temporaries outgrow the caches), the same numbers either way.
+BATCH_BINS = 256
+
+
 def _batch_key(m, sp):
     """Shapes under which :func:`_batch` takes a model with others, or ``None``."""
-    if sp.hold != "continuous" or sp.f_hz.size > BLOCK:
+    if sp.hold != "continuous" or sp.f_hz.size > BATCH_BINS:
         return None
     g = m.measurement.delay_groups
     if len(g) != 1 or tuple(g[0]) != (0, 1, 2) or np.count_nonzero(m.input_delays):
