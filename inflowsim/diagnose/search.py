@@ -115,6 +115,8 @@ class Diagnosis:
                                   if self.missing_terms is not None else None),
                 "missing_terms_freed": (self.missing_terms.freed_json()
                                         if self.missing_terms is not None else None),
+                "missing_terms_answer": (self.missing_terms.answer_json()
+                                         if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -344,6 +346,10 @@ class Ladder:
                                         if self.final.diagnosis is not None
                                         and self.final.diagnosis.missing_terms is not None
                                         else None),
+                "missing_terms_answer": (self.final.diagnosis.missing_terms.answer_json()
+                                         if self.final.diagnosis is not None
+                                         and self.final.diagnosis.missing_terms is not None
+                                         else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
