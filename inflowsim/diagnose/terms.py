@@ -68,8 +68,7 @@ cyclic term's score lands in the coning row).  So, by default:
    single entry takes up what freeing does (a term that acts in the cyclic rows
    only, as a pitch-flap coupling on a record that moves one cyclic, is soaked up
    by the cyclic rows' own offsets, and the freed fit's map is left with noise):
-   the map is the base fit's.
-
+   the map is the base fit's;
 4. the refitted entries whose likelihood-ratio statistic lies within :data:`TIE`
    (3.84, chi-square one degree of freedom at 95 %) of the first's are reported
    with it as the map's first group (``Term.first_group``,
@@ -87,7 +86,9 @@ is named.
 
 A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
 plus a coning term: no single entry can place it, and step 1 absorbs it (the
-freed values report it).
+freed values report it); where the coning row's own stiffness takes it up as well
+(step 3 keeps the base fit), that entry's text says the record hardly tells it
+from the other rows' own term moved the other way.
 
 A pitch entry's sensitivity is the sum of its rows' entries' sensitivities
 weighted by the pitch's columns (the model is linear in the entries at ``k = 0``);
