@@ -254,8 +254,11 @@ def summary(rows) -> list[str]:
         out.append(f"- {', '.join(AMBIGUOUS)}: freeing the shared parameters per row "
                    f"group significant on {sig} of {len(amb)} records")
     named = [r for r in rows if r["effects"]]
+    partner = sum(any("partner" in x for x in r.get("stand_in_reasons", []))
+                  for r in named)
     out.append(f"- an effect named on {len(named)} of {len(rows)} records; stand-in "
-               f"flagged on {sum(bool(r['stand_ins']) for r in named)} of them")
+               f"flagged on {sum(bool(r['stand_ins']) for r in named)} of them "
+               f"(explaining only together with a partner: {partner})")
     out.append(f"- delay leads named without the flag: "
                f"{sum(r['lead_unflagged'] for r in rows)}; effects leaving most of the "
                f"excess named without the flag: "
