@@ -138,11 +138,15 @@ def named_lines(placed) -> list[str]:
     tied = [r for r in placed if _determination(r) == "tied"]
     ns = [r for r in placed if _determination(r) == "not-significant"]
     ok = sum(r["entry_hit"] for r in det)
+    rows_of = [{(e[0], e[1]) for e in r["group"]} for r in tied]
+    one = [(r, rs) for r, rs in zip(tied, rows_of) if len(rs) == 1]
+    eq_ok = sum(next(iter(rs)) in TRUTHS[r["kind"]].equations for r, rs in one)
     return [f"- the map names one entry (determined: significant, alone in its first "
             f"group) on {len(det)} of {len(placed)} records, where the truth's term acts "
             f"on {ok} of them ({100 * ok / max(len(det), 1):.0f} %); not determined on "
             f"{len(tied) + len(ns)}: tied {len(tied)} (the first group in place on "
-            f"{sum(r['hit'] for r in tied)}), no entry significant {len(ns)}"]
+            f"{sum(r['hit'] for r in tied)}; all in one equation, so that one named, on "
+            f"{len(one)}, the truth's on {eq_ok}), no entry significant {len(ns)}"]
 
 
 def table(rows) -> list[str]:

@@ -10,6 +10,7 @@ gradient matches central differences of the cost (12) and the statistic the
 likelihood-ratio statistic of an actual refit with the entry free.  The study
 over ten seeds per block is marked slow.
 """
+from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -299,8 +300,15 @@ def test_the_map_names_an_entry_only_where_it_is_determined():
     assert one.determination == "determined" and one.answer.variable == "p"
     tied = table(_term("p", 30, 60, True), _term("q", 29, 58, True))
     assert tied.determination == "tied" and tied.answer is None
-    assert "which of them is not determined" in " ".join(tied.describe())
     assert tied.answer_json()["first_group"][1]["variable"] == "q"
+    # both in the beta0 equation: the equation is determined, the variable not
+    assert tied.equation == ("flap", "beta0")
+    assert tied.answer_json()["equation"] == {"block": "flap", "equation": "beta0"}
+    assert "the equation is determined, the variable not" in " ".join(tied.describe())
+    apart = table(_term("p", 30, 60, True),
+                  replace(_term("q", 29, 58, True), block="measurement"))
+    assert apart.equation is None and "which of them is not determined" in " ".join(
+        apart.describe())
     none = table(_term("p", 3, 4, True, p=0.5), _term("q", 2, None, p=0.5))
     assert none.determination == "not-significant" and none.answer is None
     assert "not determined" in " ".join(none.describe())

@@ -351,17 +351,31 @@ class MissingTerms:
         determine one (:attr:`determination`)."""
         return self.terms[0] if self.determination == "determined" else None
 
+    @property
+    def equation(self):
+        """``(block, equation)`` every entry of a significant first group lies in
+        (the equation is determined where the variable may not be: a tie within one
+        equation), or ``None``."""
+        if self.determination == "not-significant":
+            return None
+        rows = {(t.block, t.equation) for t in self.first_group}
+        return next(iter(rows)) if len(rows) == 1 else None
+
     def answer_json(self) -> dict:
-        """``{"determination", "entry", "first_group", "made_freed", "freed_gain"}``:
-        what the map names (``"missing_terms_answer"``): ``entry`` the determined
-        entry's ``{"block", "equation", "variable", "group"}`` or ``None``;
-        ``first_group`` the entries the record cannot tell apart from the first."""
+        """``{"determination", "entry", "equation", "first_group", "made_freed",
+        "freed_gain"}``: what the map names (``"missing_terms_answer"``): ``entry``
+        the determined entry's ``{"block", "equation", "variable", "group"}`` or
+        ``None``; ``equation`` the ``{"block", "equation"}`` of :attr:`equation` or
+        ``None``; ``first_group`` the entries the record cannot tell apart from the
+        first."""
         def named(t):
             return {"block": t.block, "equation": t.equation, "variable": t.variable,
                     "group": t.group}
         a = self.answer
+        eq = self.equation
         return {"determination": self.determination,
                 "entry": None if a is None else named(a),
+                "equation": None if eq is None else {"block": eq[0], "equation": eq[1]},
                 "first_group": [named(t) for t in self.first_group],
                 "made_freed": bool(self.made_freed),
                 "freed_gain": None if self.freed_gain is None else float(self.freed_gain)}
@@ -436,7 +450,9 @@ class MissingTerms:
                        " entries (their refits lower the cost to within "
                        f"{TIE:g} of each other): a term in " + ", or in ".join(
                            f"{t.where()} proportional to {t.variable}" for t in group)
-                       + "; which of them is not determined")
+                       + ("; which of them is not determined" if self.equation is None
+                          else f"; all in {group[0].where()}: the equation is "
+                          "determined, the variable not"))
         for t in sig[:limit]:
             refit = ("" if t.refit_statistic is None else
                      f", refit likelihood ratio {t.refit_statistic:.1f}, p = "
