@@ -6,9 +6,10 @@ The present model's ``lambda0, lambda1c, lambda1s`` are the lowest Peters-He sta
 functions ``sqrt(3)`` and ``sqrt(15/2) r``).  Each effect appends the states of the
 truncation by highest radial power ``P = 2, 3, 4`` beyond these three (3, 7, 12
 states: 6, 10, 15 inflow states in all), with the Peters-He apparent mass ``K_n^m``
-and inflow gain ``L = Gamma`` (axial-flow form ``X = 0``, as the base model's local
-momentum: the wake-skew coupling is :mod:`.skewed_wake`'s), forced by the
-blade-element pressure integrals of :mod:`inflowsim.physics.peters_he`.
+and inflow gain ``L(X)`` of Peters & He's forward flight (``X = tan(chi/2)``, the wake
+skew of the record's trim: the couplings between harmonics of the skewed wake, the
+lowest three states' among them), forced by the blade-element pressure integrals of
+:mod:`inflowsim.physics.peters_he`.
 
 In ``alpha`` (all states, the first three the base)::
 
@@ -30,6 +31,14 @@ three-state Pitt-Peters gain); the effect adds, scaled by ``k_ph``:
 move, but nothing sees them); ``k_ph = 1`` is Peters-He of that order.  The higher
 states' own rows are Peters-He's unscaled.
 
+The wake skew: ``X = tan(chi/2) = mu / (sqrt(mu^2 + w^2) + w)``, ``w = lambda0 - muz``
+the trim flow down through the disc (``tan chi = mu / w``), with the structure's trim
+inflow (:func:`.advance_ratio_perturbation.true_trim`, as ``lead-lag``'s): the effects
+are linearised about the trim (``about_trim``; the FMU takes the trim as parameters and
+computes ``X`` and ``L(X)^-1`` in its C).  ``skewed-wake`` is an alternative: its
+Pitt-Peters pair is the three-state part of the skew ``L(X)`` already carries (scaled
+by ``k_ph`` with the rest), so the two are never combined (no skew counted twice).
+
 Parameter ``k_ph`` [-]: theory 1, neutral 0.
 """
 from __future__ import annotations
@@ -40,6 +49,7 @@ from functools import lru_cache
 import numpy as np
 
 from ._effect import Effect
+from .advance_ratio_perturbation import true_trim
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ...physics import loads as ld
@@ -58,26 +68,59 @@ T_BASE = np.array([math.sqrt(3.0), -math.sqrt(7.5), -math.sqrt(7.5)])
 
 @lru_cache(maxsize=None)
 def layout(power: int):
-    """``(states, linv, mass, w)`` of the truncation: states (``physics.peters_he``),
-    ``L^-1`` of all of them (X = 0), the apparent masses, the ``tau`` weights."""
+    """``(states, mass, w)`` of the truncation: states (``physics.peters_he``), the
+    apparent masses, the ``tau`` weights."""
     states = ph.truncation(power)
-    linv = np.linalg.inv(ph.gain_matrix(states))
     mass = np.array([ph.apparent_mass(m, n) for _, m, n in states])
     w = np.array([0.5 if m == 0 else 1.0 for _, m, _ in states])
-    return states, linv, mass, w
+    return states, mass, w
+
+
+@lru_cache(maxsize=64)
+def _linv_number(power: int, x: float) -> np.ndarray:
+    return np.linalg.inv(ph.gain_matrix(layout(power)[0], x))
+
+
+@lru_cache(maxsize=None)
+def _linv_symbolic(power: int):
+    """``(X, L(X)^-1)``: the inverse on a placeholder symbol, once per truncation."""
+    import sympy
+    x = sympy.Symbol("X_peters_he")
+    return x, ph.inverse(ph.gain_matrix(layout(power)[0], x))
+
+
+def gain_inverse(power: int, x) -> np.ndarray:
+    """``L(X)^-1`` of the truncation by ``power`` at wake skew ``X = tan(chi/2)`` [-]
+    (a number, or a sympy expression: the placeholder's inverse with ``X`` put in)."""
+    if ph.is_number(x):
+        return _linv_number(power, float(x))
+    sym, linv = _linv_symbolic(power)
+    rep = {sym: x}
+    return np.array([[e.xreplace(rep) if hasattr(e, "xreplace") else e for e in row]
+                     for row in linv], dtype=object)
+
+
+def wake_skew(p, k):
+    """``X = tan(chi/2)`` [-] of constants ``k`` (its trim; one line naming the effect
+    without one) and the structure's parameters ``p`` (the azimuth bias rotates the
+    recorded trim, ``momentum-speed``'s ``k_V`` moves the trim inflow)."""
+    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
+    return ph.wake_skew_x(k.mu, lam[0] - muz)
 
 
 def names(power: int) -> tuple:
     return ph.state_names(layout(power)[0][3:])
 
 
-def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None):
-    """Every term of the effect (azimuth time), on numbers or sympy symbols.
+def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None, x=0.0):
+    """Every term of the effect (azimuth time), on numbers or sympy symbols, at wake
+    skew ``x = tan(chi/2)`` [-] (0: axial flow).
 
     Returns ``dict`` with ``p_lambda`` (3x3 added to the base's), ``block`` (the
     :class:`StateBlock` fields ``e, a, a_z, b, f_x, l_x, to_output``) and ``loads``
     (3 x m, over ``a0 s``)."""
-    states, linv, mass, w = layout(power)
+    states, mass, w = layout(power)
+    linv = gain_inverse(power, x)
     q = ph.forces(states).at(mu)                    # (n, 12 + n)
     fl = ph.flap_forces(states).at(mu)              # (3, 12 + n)
     sinv = 1.0 / S_BASE
@@ -114,7 +157,7 @@ def _effect(name: str, power: int) -> Effect:
 
     def equations(eq, p, k):
         t = parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"],
-                  eq.h_u.shape[1], p.get("azimuth_bias"))
+                  eq.h_u.shape[1], p.get("azimuth_bias"), wake_skew(p, k))
         bl = StateBlock(effect=name, states=state_names, e=t["e"], a=t["a"],
                         a_z=t["a_z"], b=t["b"], f_x=t["f_x"], l_x=t["l_x"],
                         to_output=t["to_output"])
@@ -128,16 +171,18 @@ def _effect(name: str, power: int) -> Effect:
         name=name,
         physics=f"The induced inflow has more radial and harmonic shape than the linear "
                 f"lambda0 + r (lambda1c cos + lambda1s sin): Peters-He finite-state "
-                f"inflow with {n_total} states (highest radial power {power}), its "
-                "higher states coupled to flap and the recorded inflow by k_ph.",
+                f"inflow with {n_total} states (highest radial power {power}) and the "
+                "skewed wake's couplings between its harmonics, its higher states and "
+                "skew coupled to flap and the recorded inflow by k_ph.",
         paper="extension (Peters & He 1991, 1995 finite-state inflow)",
         parameters=("k_ph",),
         theory=lambda k: {"k_ph": 1.0},
         neutral=lambda k: {"k_ph": 0.0},
         equations=equations,
         specs=(SPEC,),
-        alternatives=tuple(n for n in POWERS if n != name),
+        alternatives=tuple(n for n in POWERS if n != name) + ("skewed-wake",),
         offered=False,
+        about_trim=True,
         states=state_names,
         loads=loads,
     )
@@ -151,4 +196,5 @@ SPEC = ParameterSpec("k_ph", "-", "coupling of the higher Peters-He inflow state
 EFFECTS = tuple(_effect(n, pw) for n, pw in POWERS.items())
 
 
-__all__ = ["POWERS", "S_BASE", "LINV_BASE", "T_BASE", "layout", "names", "parts", "SPEC", "EFFECTS"]
+__all__ = ["POWERS", "S_BASE", "LINV_BASE", "T_BASE", "layout", "gain_inverse", "wake_skew",
+           "names", "parts", "SPEC", "EFFECTS"]
