@@ -1,7 +1,8 @@
 """The diagnosis on records with Peters-He inflow hidden, made without the library's
-model: the direct construction of the whole Peters-He rotor
-(``tests/peters_he_direct.py``: its own shape functions, gain by quadrature, pressure
-and flap integrals) integrated by scipy's DOP853 with a smooth 3-2-1-1 and a doublet,
+model: the direct construction of the whole Peters-He rotor in forward flight
+(``tests/peters_he_direct.py``: its own shape functions, gain by quadrature and the
+skewed wake's couplings at ``X = tan(chi/2)`` of its own trim inflow, pressure and flap
+integrals) integrated by scipy's DOP853 with a smooth 3-2-1-1 and a doublet,
 body rates through a first-order filter of the cyclic, sampled at 128 or 200 Hz, white
 or coloured noise drawn here, written as a CSV record and read back.
 
@@ -22,7 +23,6 @@ from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.candidates import offered_effects
 from inflowsim.diagnose.search import ladder
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
-from inflowsim.model.effects import peters_he as eff
 
 sys.path.insert(0, str(Path(__file__).parent))
 import peters_he_direct as direct  # noqa: E402
@@ -52,10 +52,18 @@ def _pilot(t, amp_deg, single_axis):
 def make_record(path, power, rate, colour_hz, seed, mu=None, single_axis=False,
                 amp_deg=1.0):
     """A CSV record of the Peters-He rotor with ``power`` (1: the three-state model,
-    Pitt-Peters' gain), read back.  ``amp_deg``: the pilot's cyclic amplitude [deg]."""
+    Pitt-Peters' axial gain), read back.  ``amp_deg``: the pilot's cyclic amplitude
+    [deg].  The Peters-He rotor's gain is the skewed wake's at the record's trim (the
+    written trim totals, ``muz = 0``)."""
     k = virtual_record(VirtualTest(duration=1.0)).constants       # Puma, trim totals
     mu = k.mu if mu is None else mu
-    gain = np.diag(1.0 / eff.LINV_BASE) if power == 1 else None
+    tr = k.trim
+    if power == 1:
+        gain = np.diag([2 / 3, 8 / 15, 8 / 15])         # the Gram gain: local momentum
+    else:
+        x = direct.trim_skew(mu, k.a0s, mu, [tr[c] for c in ("theta0", "theta1c", "theta1s")],
+                             [tr[c] for c in ("beta0", "beta1c", "beta1s")], 0.0)
+        gain = direct.gain(power, x)
     desc = direct.model(power, mu, NB, LB2, k.a0s, mu, k.omega, gain=gain)
     a, b, c = direct.state_space(desc, k.omega)
     n = a.shape[0]
@@ -83,7 +91,6 @@ def make_record(path, power, rate, colour_hz, seed, mu=None, single_axis=False,
         noise = signal.lfilter(bb, aa, noise, axis=0)
         noise /= noise.std(axis=0)
     y = y + NOISE * noise
-    tr = k.trim
     cols = {"t": t, "theta0": tr["theta0"] + u["theta0"],
             "theta1c": tr["theta1c"] + u["theta1c"], "theta1s": tr["theta1s"] + u["theta1s"],
             "muz": 0 * t, "p": u["p"], "q": u["q"], "pdot": u["pdot"], "qdot": u["qdot"],
