@@ -81,23 +81,13 @@ def _linv_number(power: int, x: float) -> np.ndarray:
     return np.linalg.inv(ph.gain_matrix(layout(power)[0], x))
 
 
-@lru_cache(maxsize=None)
-def _linv_symbolic(power: int):
-    """``(X, L(X)^-1)``: the inverse on a placeholder symbol, once per truncation."""
-    import sympy
-    x = sympy.Symbol("X_peters_he")
-    return x, ph.inverse(ph.gain_matrix(layout(power)[0], x))
-
-
 def gain_inverse(power: int, x) -> np.ndarray:
-    """``L(X)^-1`` of the truncation by ``power`` at wake skew ``X = tan(chi/2)`` [-]
-    (a number, or a sympy expression: the placeholder's inverse with ``X`` put in)."""
+    """``L(X)^-1`` of the truncation by ``power`` at wake skew ``X = tan(chi/2)`` [-]:
+    LAPACK's for a number; for a sympy expression (the FMU) the exact rational
+    functions of :func:`inflowsim.physics.peters_he.gain_inverse_rational`."""
     if ph.is_number(x):
         return _linv_number(power, float(x))
-    sym, linv = _linv_symbolic(power)
-    rep = {sym: x}
-    return np.array([[e.xreplace(rep) if hasattr(e, "xreplace") else e for e in row]
-                     for row in linv], dtype=object)
+    return ph.gain_inverse_rational(layout(power)[0], x)
 
 
 def wake_skew(p, k):
