@@ -126,10 +126,15 @@ def skew_factor(kind: str, r: int, m: int, x):
 
 def wake_skew_x(mu, upflow):
     """``X = tan(chi/2)`` [-] of the wake skew ``tan chi = mu / (lambda0 - muz)``, with
-    ``upflow = lambda0 - muz`` the trim flow down through the disc:
-    ``X = mu / (sqrt(mu^2 + upflow^2) + upflow)`` (the half-angle formula; no
-    trigonometry, so it runs on sympy symbols).  Hover: 0; edgewise: 1."""
-    return mu / ((mu * mu + upflow * upflow) ** 0.5 + upflow)
+    ``upflow = lambda0 - muz`` the trim flow down through the disc: for numbers
+    ``X = mu / (sqrt(mu^2 + upflow^2) + upflow)`` (the half-angle formula), on sympy
+    expressions ``tan(atan2(mu, upflow)/2)`` (one atom: the FMU's code generation
+    expands polynomials in ``X``, and the half-angle form's powers would expand
+    multinomially).  Hover: 0; edgewise: 1."""
+    if is_number(mu) and is_number(upflow):
+        return mu / ((mu * mu + upflow * upflow) ** 0.5 + upflow)
+    import sympy
+    return sympy.tan(sympy.atan2(mu, upflow) / 2)
 
 
 def truncation(power: int) -> tuple:
