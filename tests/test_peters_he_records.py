@@ -152,9 +152,10 @@ def test_hidden_peters_he_6_study(tmp_path, seed, rate, colour_hz, mu, single_ax
 @pytest.mark.parametrize("seed", [21, 22, 23, 24, 25])
 def test_hidden_peters_he_6_small_inputs_coloured_noise(tmp_path, seed):
     """At 1 deg under coloured noise (128 Hz, 3 Hz low-pass) the effect is near the
-    detection threshold (measured: named on 3 of these 5 seeds, the other two at p =
-    0.007 and 0.0013 against the rule's 0.001): it is named, or nothing is; never
-    another effect in its place."""
+    detection threshold (measured on the axial-flow truth before the skewed gain:
+    named on 3 of these 5 seeds, the other two at p = 0.007 and 0.0013 against the
+    rule's 0.001; not recounted on the skewed truth, which passes): it is named, or
+    nothing is; never another effect in its place."""
     rec = make_record(tmp_path / "r.csv", 2, 128, 3.0, seed)
     d = diagnose(rec, BASE, pool=POOL)
     assert d.missing_effect in ("peters-he-6", None), [(c.effect, c.reason)
