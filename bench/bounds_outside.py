@@ -10,7 +10,9 @@ estimate: the widest bound of ``sigma``, ``sigma_colored``, ``sigma_robust``; wi
 ladder's final structures are ``bench/outside.py``'s business and cost a lattice
 each).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bounds_outside.py [KIND ...]``
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bounds_outside.py [KIND ...]`` (all kinds:
+the rows are written to ``bench/results/bounds_outside.json``, which
+``bench/outside.py`` summarises in ``bench/outside.md``)
 """
 from __future__ import annotations
 
@@ -58,6 +60,10 @@ def main(argv):
         for case in cases(kinds):
             rows += row(*case, d)
     print(f"{len(rows)} estimates, {time.time() - t0:.0f} s")
+    if not argv:
+        import json
+        (HERE / "results").mkdir(exist_ok=True)
+        (HERE / "results" / "bounds_outside.json").write_text(json.dumps(rows, indent=1))
     for r in rows:
         if not (r["within"] or r["marked"] or r["undetermined"]):
             print(f"  not covered, not marked: {r['kind']} seed {r['seed']} {r['axes']} "

@@ -1,5 +1,7 @@
 """FMU step cost against the number of inflow states: 3 (the present model), 6, 10 and
-15 (Peters-He, ``peters-he-6/10/15``), beside each step's arithmetic floor.
+15 (Peters-He, ``peters-he-6/10/15``), and with the servos and the lag mode
+(``servo-actuators``, ``lead-lag``, both with ``peters-he-6``), beside each step's
+arithmetic floor.
 
     python bench/fmu_states.py [--base basic] [--steps N] [--rounds R]
 
@@ -29,6 +31,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 
+#: what is added to ``--base``: the Peters-He orders, then the appended states of the
+#: rotor's own physics (3 servos x 2 states; the regressing lag mode's 2 x 3), alone
+#: and together with six inflow states (NX 21)
+EXTRA = ("peters-he-6", "peters-he-10", "peters-he-15", "servo-actuators", "lead-lag",
+         "servo-actuators+lead-lag+peters-he-6")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--base", default="basic", help="structure the inflow states are added to")
@@ -40,8 +49,10 @@ def main(argv=None):
     from inflowsim.fmu.build import compiler, source_dir
     from fmu_bench import compile_drivers
 
-    structures = [args.base] + [f"{args.base}+peters-he-{n}" for n in (6, 10, 15)]
-    inflow = dict(zip(structures, (3, 6, 10, 15)))
+    structures = [args.base] + [f"{args.base}+{e}" for e in EXTRA]
+    # inflow states: Peters-He's order where the structure has one, else the three
+    inflow = {st: max([3] + [int(e.rsplit('-', 1)[1]) for e in st.split('+')
+                            if e.startswith('peters-he-')]) for st in structures}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         libs = {}

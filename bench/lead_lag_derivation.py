@@ -6,7 +6,8 @@ aft; blade-element lift ``theta U_T^2 + U_P U_T`` and in-plane (aft) force
 zeta)``, ``U_P = muz - lambda_i - r beta' - mu beta cos(psi - zeta) + r (p sin psi + q
 cos psi)``, linearised about the axisymmetric trim (``theta_t``, ``beta_t``, up-flow
 ``u = muz_t - lambda0_t``), projected on ``(1, 2 cos psi, 2 sin psi)`` (flap, lag) and
-``(1, -r cos psi, -r sin psi) / 2`` (loads) and averaged over the azimuth.  Prints the
+``(1, -r cos(psi - zeta), -r sin(psi - zeta)) / 2`` (loads: the lagged blade's lift
+acts where the blade is) and averaged over the azimuth.  Prints the
 coefficients that :mod:`inflowsim.physics.lead_lag` holds (about a minute of sympy).
 
     python bench/lead_lag_derivation.py
@@ -45,9 +46,14 @@ if __name__ == "__main__":
     lag = ["z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
     for title, f, weights, cols in (
             ("flap rows (beta0, beta1c, beta1s) per lag", 4 * nb * r * LIFT, (1, 2 * c, 2 * s), lag),
-            ("loads (C_T, C_mc, C_ms)/(a0 s) per lag", LIFT / 2, (1, -r * c, -r * s), lag),
             ("lag rows (zeta0, zeta1c, zeta1s)", 4 * nb * r * DRAG, (1, 2 * c, 2 * s), NAMES)):
         lin = linear(f)
         print("#", title, cols)
         for w in weights:
             print([project(lin[n], w) for n in cols])
+    # the loads: a lagged blade's lift acts on the hub where the blade is, at
+    # psi - zeta (the weights linearised with the lift)
+    print("# loads (C_T, C_mc, C_ms)/(a0 s) per lag", lag)
+    for w in (1, -r * sp.cos(psi - zeta), -r * sp.sin(psi - zeta)):
+        lin = linear(LIFT / 2 * w)
+        print([project(lin[n], 1) for n in lag])

@@ -4,6 +4,11 @@ offered effects; one JSON line per record on stdout.
 
     python bench/lead_lag_detection.py lag 5,6,7,8,9 > lag.jsonl
     python bench/lead_lag_detection.py null 5,6,7,8,9 > null.jsonl
+    python bench/lead_lag_detection.py bounds 0-29 > bounds.jsonl
+
+``bounds``: the hingeless sweep (``CASES[4]``) fitted with its truth's structure,
+started at the truth: each estimate's error in its Cramer-Rao bounds, ``z``, over the
+seeds (are the bounds calibrated, or is there a bias?).
 """
 import json
 import sys
@@ -16,7 +21,24 @@ import test_lead_lag_records as T  # noqa: E402
 from inflowsim.diagnose import diagnose, ladder  # noqa: E402
 
 
+def bounds(seeds):
+    import inflowsim as ifs
+    from inflowsim.identify import identify
+    rotor, kind, rate, colour, band, truth = T.CASES[4]
+    s = ifs.Structure.parse("glauert+lead-lag")
+    tmp = Path(tempfile.mkdtemp())
+    for seed in seeds:
+        rec, p = T._record(tmp / f"bounds_{seed}.csv", str(s), rotor, kind, rate, colour,
+                           seed, params=truth)
+        fit = identify(rec, s, band_hz=band, start={n: p[n] for n in s.parameters})
+        print(json.dumps(dict(case=[rotor, kind, rate, colour, seed], z={
+            n: (fit.parameters[n] - p[n]) / fit.sigma[n] for n in fit.free
+            if fit.sigma.get(n)})), flush=True)
+
+
 def main(which, seeds):
+    if which == "bounds":
+        return bounds(seeds)
     cases = T.CASES if which == "lag" else [T.CASES[0], T.CASES[3], T.CASES[4]]
     tmp = Path(tempfile.mkdtemp())
     for seed in seeds:
@@ -50,4 +72,6 @@ def main(which, seeds):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], [int(s) for s in sys.argv[2].split(",")])
+    a, _, b = sys.argv[2].partition("-")
+    main(sys.argv[1], list(range(int(a), int(b) + 1)) if b
+         else [int(s) for s in sys.argv[2].split(",")])

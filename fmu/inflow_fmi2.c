@@ -11,22 +11,19 @@
 #include "inflow_slave.h"
 
 typedef struct {
-    IfsSlave s;                /* first, 64-byte aligned (see fmi2Instantiate) */
-    IfsLog log;
+    IfsInstance i;             /* first, 64-byte aligned (see fmi2Instantiate) */
     fmi2CallbackFunctions cb;
-    char name[128];
-    void *block;               /* what allocateMemory returned */
 } Instance;
 
 /* FMI 2.0 logger behind IfsLog */
 static void emit(void *env, int status, const char *category, const char *message)
 {
     Instance *c = (Instance *)env;
-    c->cb.logger(c->cb.componentEnvironment, c->name, (fmi2Status)status, category, "%s",
+    c->cb.logger(c->cb.componentEnvironment, c->i.name, (fmi2Status)status, category, "%s",
                  message);
 }
 
-#define ERR(c, ...) ((fmi2Status)ifs_log(&(c)->log, IFS_ERROR, __VA_ARGS__))
+#define ERR(c, ...) ((fmi2Status)ifs_log(&(c)->i.log, IFS_ERROR, __VA_ARGS__))
 
 /* An error for a call this FMU does not serve; a null component is an error too. */
 #define REFUSE(comp, ...) ((comp) ? ERR((Instance *)(comp), __VA_ARGS__) : fmi2Error)
@@ -43,8 +40,19 @@ IFS_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean on, si
     (void)n;
     (void)categories;
     if (!c) return fmi2Error;
-    c->log.debug = on;
+    c->i.log.debug = on;
     return fmi2OK;
+}
+
+/* the FMI 2.0 allocator behind IfsCalloc (ctx: the callback functions) */
+static void *alloc(void *ctx, size_t n)
+{
+    return ((const fmi2CallbackFunctions *)ctx)->allocateMemory(1, n);
+}
+
+static void release(void *ctx, void *p)
+{
+    ((const fmi2CallbackFunctions *)ctx)->freeMemory(p);
 }
 
 IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
@@ -53,44 +61,24 @@ IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2Str
                                          fmi2Boolean visible, fmi2Boolean logging_on)
 {
     Instance *c;
-    void *block;
     (void)resources;
     (void)visible;
     if (!cb || !cb->allocateMemory || !cb->freeMemory) return NULL;
-    /* allocated first (the instance holds the delay line: no large stack copy), so
-     * refusals can be logged through it, then freed */
-    c = (Instance *)ifs_align64(cb->allocateMemory(1, sizeof(Instance) + 64), &block);
+    c = (Instance *)ifs_instance_alloc(sizeof(Instance), alloc, release, (void *)cb, name,
+                                       logging_on);
     if (!c) return NULL;
-    memset(c, 0, sizeof *c);
-    c->block = block;
     c->cb = *cb;
-    c->log.emit = cb->logger ? emit : NULL;
-    c->log.debug = logging_on;
-    c->log.env = c;
-    snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
-    if (type != fmi2CoSimulation) {
-        ERR(c, "only co-simulation is provided");
-        cb->freeMemory(c->block);
+    c->i.mem = &c->cb;         /* the instance's copy from now on */
+    c->i.log.emit = cb->logger ? emit : NULL;
+    if (ifs_instance_start(&c->i, type != fmi2CoSimulation ? "only co-simulation is "
+                           "provided" : NULL, "GUID", guid) != 0)
         return NULL;
-    }
-    if (!guid || strcmp(guid, IFS_GUID) != 0) {
-        ERR(c, "GUID %s does not match this binary's %s", guid ? guid : "(null)",
-            IFS_GUID);
-        cb->freeMemory(c->block);
-        return NULL;
-    }
-    ifs_slave_init(&c->s);
-    /* the mu table lives apart (200 kB); without it mu changes rebuild exactly */
-    c->s.tab = (IfsMuTable *)cb->allocateMemory(1, sizeof(IfsMuTable));
     return c;
 }
 
 IFS_EXPORT void fmi2FreeInstance(fmi2Component comp)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return;
-    if (c->s.tab) c->cb.freeMemory(c->s.tab);
-    c->cb.freeMemory(c->block);
+    if (comp) ifs_instance_free(&((Instance *)comp)->i);
 }
 
 IFS_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tol_defined,
@@ -101,7 +89,7 @@ IFS_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tol_de
     (void)tol_defined;
     (void)tol;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_set_start_time(&c->s, &c->log, "fmi2SetupExperiment",
+    return (fmi2Status)ifs_slave_set_start_time(&c->i.s, &c->i.log, "fmi2SetupExperiment",
                                                 start, stop_defined != fmi2False, stop);
 }
 
@@ -109,21 +97,21 @@ IFS_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component comp)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_enter_init(&c->s, &c->log, "fmi2EnterInitializationMode");
+    return (fmi2Status)ifs_slave_enter_init(&c->i.s, &c->i.log, "fmi2EnterInitializationMode");
 }
 
 IFS_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component comp)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_exit_init(&c->s, &c->log, "fmi2ExitInitializationMode");
+    return (fmi2Status)ifs_slave_exit_init(&c->i.s, &c->i.log, "fmi2ExitInitializationMode");
 }
 
 IFS_EXPORT fmi2Status fmi2Terminate(fmi2Component comp)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    c->s.phase = IFS_PH_TERMINATED;
+    c->i.s.phase = IFS_PH_TERMINATED;
     return fmi2OK;
 }
 
@@ -131,7 +119,7 @@ IFS_EXPORT fmi2Status fmi2Reset(fmi2Component comp)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    ifs_slave_init(&c->s);
+    ifs_slave_init(&c->i.s);
     return fmi2OK;
 }
 
@@ -142,7 +130,7 @@ IFS_EXPORT fmi2Status fmi2GetReal(fmi2Component comp, const fmi2ValueReference v
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_get_reals(&c->s, &c->log, "fmi2GetReal", vr, nvr, value);
+    return (fmi2Status)ifs_slave_get_reals(&c->i.s, &c->i.log, "fmi2GetReal", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference vr[],
@@ -150,8 +138,8 @@ IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference v
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    if (ifs_slave_set_mu(&c->s, vr, nvr, value)) return fmi2OK;
-    return (fmi2Status)ifs_slave_set_reals(&c->s, &c->log, "fmi2SetReal", vr, nvr, value);
+    if (ifs_slave_set_mu(&c->i.s, vr, nvr, value)) return fmi2OK;
+    return (fmi2Status)ifs_slave_set_reals(&c->i.s, &c->i.log, "fmi2SetReal", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2GetInteger(fmi2Component comp, const fmi2ValueReference vr[],
@@ -159,7 +147,7 @@ IFS_EXPORT fmi2Status fmi2GetInteger(fmi2Component comp, const fmi2ValueReferenc
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_get_ints(&c->s, &c->log, "fmi2GetInteger", vr, nvr, value);
+    return (fmi2Status)ifs_slave_get_ints(&c->i.s, &c->i.log, "fmi2GetInteger", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2SetInteger(fmi2Component comp, const fmi2ValueReference vr[],
@@ -167,7 +155,7 @@ IFS_EXPORT fmi2Status fmi2SetInteger(fmi2Component comp, const fmi2ValueReferenc
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_set_ints(&c->s, &c->log, "fmi2SetInteger", vr, nvr, value);
+    return (fmi2Status)ifs_slave_set_ints(&c->i.s, &c->i.log, "fmi2SetInteger", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2GetBoolean(fmi2Component comp, const fmi2ValueReference vr[],
@@ -208,23 +196,19 @@ IFS_EXPORT fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference
 
 /* --- FMU state --- */
 
-static void *alloc(void *ctx, size_t n)
-{
-    return ((Instance *)ctx)->cb.allocateMemory(1, n);
-}
-
 IFS_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_get(&c->s, &c->log, "fmi2GetFMUstate", state, alloc, c);
+    return (fmi2Status)ifs_state_get(&c->i.s, &c->i.log, "fmi2GetFMUstate", state,
+                                     ifs_instance_calloc, &c->i);
 }
 
 IFS_EXPORT fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state)
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_set(&c->s, &c->log, "fmi2SetFMUstate", state);
+    return (fmi2Status)ifs_state_set(&c->i.s, &c->i.log, "fmi2SetFMUstate", state);
 }
 
 IFS_EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state)
@@ -250,7 +234,7 @@ IFS_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate sta
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_serialize(&c->log, "fmi2SerializeFMUstate", state,
+    return (fmi2Status)ifs_state_serialize(&c->i.log, "fmi2SerializeFMUstate", state,
                                            (unsigned char *)bytes, size);
 }
 
@@ -259,9 +243,9 @@ IFS_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_deserialize(&c->log, "fmi2DeSerializeFMUstate",
+    return (fmi2Status)ifs_state_deserialize(&c->i.log, "fmi2DeSerializeFMUstate",
                                              (const unsigned char *)bytes, size, state,
-                                             alloc, c);
+                                             ifs_instance_calloc, &c->i);
 }
 
 IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
@@ -270,7 +254,7 @@ IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
 {
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_directional(&c->s, &c->log, "fmi2GetDirectionalDerivative",
+    return (fmi2Status)ifs_slave_directional(&c->i.s, &c->i.log, "fmi2GetDirectionalDerivative",
                                              unknown, nu, known, nk, dknown, dunknown);
 }
 
@@ -303,8 +287,8 @@ IFS_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp,
         Instance *c = (Instance *)comp;                                                \
         (void)no_set_prior;                                                            \
         if (!c) return fmi2Error;                                                      \
-        if (FAST(&c->s, t, h)) return fmi2OK;                                          \
-        return (fmi2Status)REST(&c->s, &c->log, "fmi2DoStep", t, h);                   \
+        if (FAST(&c->i.s, t, h)) return fmi2OK;                                        \
+        return (fmi2Status)REST(&c->i.s, &c->i.log, "fmi2DoStep", t, h);               \
     } while (0)
 
 #ifdef IFS_WIDE_STEP
@@ -363,7 +347,7 @@ IFS_EXPORT fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind
     if (!c || !value) return fmi2Error;
     if (s != fmi2LastSuccessfulTime)
         return ERR(c, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is provided");
-    *value = ifs_slave_time(&c->s);
+    *value = ifs_slave_time(&c->i.s);
     return fmi2OK;
 }
 

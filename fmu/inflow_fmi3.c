@@ -13,12 +13,9 @@
 #include "inflow_slave.h"
 
 typedef struct {
-    IfsSlave s;                /* first, 64-byte aligned (see instantiate) */
-    IfsLog log;
+    IfsInstance i;             /* first, 64-byte aligned (see instantiate) */
     fmi3LogMessageCallback log_message;
     fmi3InstanceEnvironment env;
-    char name[128];
-    void *block;               /* what calloc returned */
 } Instance;
 
 /* FMI 3.0 logMessage behind IfsLog; the instance name leads the message */
@@ -26,11 +23,11 @@ static void emit(void *env, int status, const char *category, const char *messag
 {
     Instance *c = (Instance *)env;
     char buf[768];
-    snprintf(buf, sizeof buf, "%s: %s", c->name, message);
+    snprintf(buf, sizeof buf, "%s: %s", c->i.name, message);
     c->log_message(c->env, (fmi3Status)status, category, buf);
 }
 
-#define ERR(c, ...) ((fmi3Status)ifs_log(&(c)->log, IFS_ERROR, __VA_ARGS__))
+#define ERR(c, ...) ((fmi3Status)ifs_log(&(c)->i.log, IFS_ERROR, __VA_ARGS__))
 
 static fmi3Status refuse(fmi3Instance inst, const char *what)
 {
@@ -50,40 +47,34 @@ IFS_EXPORT fmi3Status fmi3SetDebugLogging(fmi3Instance inst, fmi3Boolean on, siz
     (void)n;
     (void)categories;
     if (!c) return fmi3Error;
-    c->log.debug = on;
+    c->i.log.debug = on;
     return fmi3OK;
+}
+
+/* the C library's allocator behind IfsCalloc */
+static void *alloc(void *ctx, size_t n)
+{
+    (void)ctx;
+    return calloc(1, n);
+}
+
+static void release(void *ctx, void *p)
+{
+    (void)ctx;
+    free(p);
 }
 
 static Instance *instantiate(fmi3String name, fmi3String token, fmi3Boolean logging_on,
                              fmi3InstanceEnvironment env, fmi3LogMessageCallback log_message,
                              const char *refusal)
 {
-    /* allocated first (the instance holds the delay line: no large stack copy), so
-     * refusals can be logged through it, then freed */
-    void *block;
-    Instance *c = (Instance *)ifs_align64(calloc(1, sizeof(Instance) + 64), &block);
+    Instance *c = (Instance *)ifs_instance_alloc(sizeof(Instance), alloc, release, NULL,
+                                                 name, logging_on);
     if (!c) return NULL;
-    c->block = block;
     c->log_message = log_message;
     c->env = env;
-    c->log.emit = log_message ? emit : NULL;
-    c->log.env = c;
-    c->log.debug = logging_on;
-    snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
-    if (refusal) {
-        ERR(c, "%s", refusal);
-        free(c->block);
-        return NULL;
-    }
-    if (!token || strcmp(token, IFS_GUID) != 0) {
-        ERR(c, "instantiation token %s does not match this binary's %s",
-            token ? token : "(null)", IFS_GUID);
-        free(c->block);
-        return NULL;
-    }
-    ifs_slave_init(&c->s);
-    /* the mu table lives apart (200 kB); without it mu changes rebuild exactly */
-    c->s.tab = (IfsMuTable *)calloc(1, sizeof(IfsMuTable));
+    c->i.log.emit = log_message ? emit : NULL;
+    if (ifs_instance_start(&c->i, refusal, "instantiation token", token) != 0) return NULL;
     return c;
 }
 
@@ -132,10 +123,7 @@ IFS_EXPORT fmi3Instance fmi3InstantiateScheduledExecution(
 
 IFS_EXPORT void fmi3FreeInstance(fmi3Instance inst)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return;
-    free(c->s.tab);
-    free(c->block);
+    if (inst) ifs_instance_free(&((Instance *)inst)->i);
 }
 
 IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean tol_defined,
@@ -147,17 +135,17 @@ IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean
     (void)tol_defined;
     (void)tol;
     if (!c) return fmi3Error;
-    if (ifs_slave_set_start_time(&c->s, &c->log, fn, start, stop_defined != fmi3False,
+    if (ifs_slave_set_start_time(&c->i.s, &c->i.log, fn, start, stop_defined != fmi3False,
                                  stop) != IFS_OK)
         return fmi3Error;
-    return (fmi3Status)ifs_slave_enter_init(&c->s, &c->log, fn);
+    return (fmi3Status)ifs_slave_enter_init(&c->i.s, &c->i.log, fn);
 }
 
 IFS_EXPORT fmi3Status fmi3ExitInitializationMode(fmi3Instance inst)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    return (fmi3Status)ifs_slave_exit_init(&c->s, &c->log, "fmi3ExitInitializationMode");
+    return (fmi3Status)ifs_slave_exit_init(&c->i.s, &c->i.log, "fmi3ExitInitializationMode");
 }
 
 IFS_EXPORT fmi3Status fmi3EnterEventMode(fmi3Instance inst)
@@ -169,7 +157,7 @@ IFS_EXPORT fmi3Status fmi3Terminate(fmi3Instance inst)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    c->s.phase = IFS_PH_TERMINATED;
+    c->i.s.phase = IFS_PH_TERMINATED;
     return fmi3OK;
 }
 
@@ -177,7 +165,7 @@ IFS_EXPORT fmi3Status fmi3Reset(fmi3Instance inst)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    ifs_slave_init(&c->s);
+    ifs_slave_init(&c->i.s);
     return fmi3OK;
 }
 
@@ -202,11 +190,11 @@ IFS_EXPORT fmi3Status fmi3GetFloat64(fmi3Instance inst, const fmi3ValueReference
     if (nvr > 0 && (!vr || !values)) return ERR(c, "%s: null array", fn);
     for (i = 0; i < nvr && vr[i] != IFS_VR_time; i++) {}
     if (i == nvr)
-        return (fmi3Status)ifs_slave_get_reals(&c->s, &c->log, fn, vr, nvr, values);
+        return (fmi3Status)ifs_slave_get_reals(&c->i.s, &c->i.log, fn, vr, nvr, values);
     for (i = 0; i < nvr; i++) {       /* time among them: one at a time */
         if (vr[i] == IFS_VR_time) {
-            values[i] = ifs_slave_time(&c->s);
-        } else if (ifs_slave_get_reals(&c->s, &c->log, fn, vr + i, 1, values + i) != IFS_OK) {
+            values[i] = ifs_slave_time(&c->i.s);
+        } else if (ifs_slave_get_reals(&c->i.s, &c->i.log, fn, vr + i, 1, values + i) != IFS_OK) {
             return fmi3Error;
         }
     }
@@ -221,11 +209,11 @@ IFS_EXPORT fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference
     size_t i;
     if (!c) return fmi3Error;
     if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
-    if (ifs_slave_set_mu(&c->s, vr, nvr, values)) return fmi3OK;
+    if (ifs_slave_set_mu(&c->i.s, vr, nvr, values)) return fmi3OK;
     for (i = 0; vr && i < nvr; i++)
         if (vr[i] == IFS_VR_time)
             return ERR(c, "%s: time is the independent variable; fmi3DoStep advances it", fn);
-    return (fmi3Status)ifs_slave_set_reals(&c->s, &c->log, fn, vr, nvr, values);
+    return (fmi3Status)ifs_slave_set_reals(&c->i.s, &c->i.log, fn, vr, nvr, values);
 }
 
 IFS_EXPORT fmi3Status fmi3GetInt32(fmi3Instance inst, const fmi3ValueReference vr[],
@@ -234,7 +222,7 @@ IFS_EXPORT fmi3Status fmi3GetInt32(fmi3Instance inst, const fmi3ValueReference v
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
     if (!counts_ok(c, "fmi3GetInt32", nvr, nv)) return fmi3Error;
-    return (fmi3Status)ifs_slave_get_ints(&c->s, &c->log, "fmi3GetInt32", vr, nvr, values);
+    return (fmi3Status)ifs_slave_get_ints(&c->i.s, &c->i.log, "fmi3GetInt32", vr, nvr, values);
 }
 
 IFS_EXPORT fmi3Status fmi3SetInt32(fmi3Instance inst, const fmi3ValueReference vr[],
@@ -243,7 +231,7 @@ IFS_EXPORT fmi3Status fmi3SetInt32(fmi3Instance inst, const fmi3ValueReference v
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
     if (!counts_ok(c, "fmi3SetInt32", nvr, nv)) return fmi3Error;
-    return (fmi3Status)ifs_slave_set_ints(&c->s, &c->log, "fmi3SetInt32", vr, nvr, values);
+    return (fmi3Status)ifs_slave_set_ints(&c->i.s, &c->i.log, "fmi3SetInt32", vr, nvr, values);
 }
 
 /* Types this FMU has no variables of: an empty call is fine, anything else an error. */
@@ -356,24 +344,19 @@ IFS_EXPORT fmi3Status fmi3GetVariableDependencies(
 
 /* --- FMU state --- */
 
-static void *alloc(void *ctx, size_t n)
-{
-    (void)ctx;
-    return malloc(n);
-}
-
 IFS_EXPORT fmi3Status fmi3GetFMUState(fmi3Instance inst, fmi3FMUState *state)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_get(&c->s, &c->log, "fmi3GetFMUState", state, alloc, c);
+    return (fmi3Status)ifs_state_get(&c->i.s, &c->i.log, "fmi3GetFMUState", state,
+                                     ifs_instance_calloc, &c->i);
 }
 
 IFS_EXPORT fmi3Status fmi3SetFMUState(fmi3Instance inst, fmi3FMUState state)
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_set(&c->s, &c->log, "fmi3SetFMUState", state);
+    return (fmi3Status)ifs_state_set(&c->i.s, &c->i.log, "fmi3SetFMUState", state);
 }
 
 IFS_EXPORT fmi3Status fmi3FreeFMUState(fmi3Instance inst, fmi3FMUState *state)
@@ -398,7 +381,7 @@ IFS_EXPORT fmi3Status fmi3SerializeFMUState(fmi3Instance inst, fmi3FMUState stat
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_serialize(&c->log, "fmi3SerializeFMUState", state, bytes,
+    return (fmi3Status)ifs_state_serialize(&c->i.log, "fmi3SerializeFMUState", state, bytes,
                                            size);
 }
 
@@ -407,8 +390,8 @@ IFS_EXPORT fmi3Status fmi3DeserializeFMUState(fmi3Instance inst, const fmi3Byte 
 {
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_deserialize(&c->log, "fmi3DeserializeFMUState", bytes, size,
-                                             state, alloc, c);
+    return (fmi3Status)ifs_state_deserialize(&c->i.log, "fmi3DeserializeFMUState", bytes, size,
+                                             state, ifs_instance_calloc, &c->i);
 }
 
 /* --- derivatives (exact zeros: no direct feedthrough); not provided: adjoints,
@@ -423,11 +406,11 @@ IFS_EXPORT fmi3Status fmi3GetDirectionalDerivative(
     const char *fn = "fmi3GetDirectionalDerivative";
     if (!c) return fmi3Error;
     if (ns != nk || nsens != nu)
-        return (fmi3Status)ifs_log(&c->log, IFS_ERROR, "%s: %lu seeds for %lu knowns, %lu "
+        return (fmi3Status)ifs_log(&c->i.log, IFS_ERROR, "%s: %lu seeds for %lu knowns, %lu "
                                    "sensitivities for %lu unknowns", fn, (unsigned long)ns,
                                    (unsigned long)nk, (unsigned long)nsens,
                                    (unsigned long)nu);
-    return (fmi3Status)ifs_slave_directional(&c->s, &c->log, fn, unknowns, nu, knowns, nk,
+    return (fmi3Status)ifs_slave_directional(&c->i.s, &c->i.log, fn, unknowns, nu, knowns, nk,
                                              seed, sensitivity);
 }
 
@@ -632,11 +615,11 @@ IFS_EXPORT fmi3Status fmi3GetOutputDerivatives(fmi3Instance inst, const fmi3Valu
         if (!c) return fmi3Error;                                                      \
         if (!event_needed || !terminate || !early_return || !last_successful_time)     \
             return ERR(c, "fmi3DoStep: null output argument");                         \
-        if (!FAST(&c->s, t, h)) st = REST(&c->s, &c->log, "fmi3DoStep", t, h);         \
+        if (!FAST(&c->i.s, t, h)) st = REST(&c->i.s, &c->i.log, "fmi3DoStep", t, h);   \
         *event_needed = fmi3False;                                                     \
         *terminate = fmi3False;                                                        \
         *early_return = fmi3False;                                                     \
-        *last_successful_time = ifs_slave_time(&c->s);                                 \
+        *last_successful_time = ifs_slave_time(&c->i.s);                               \
         return (fmi3Status)st;                                                         \
     } while (0)
 

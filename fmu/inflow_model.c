@@ -13,6 +13,9 @@
 #include <string.h>
 
 #include "inflow_model.h"
+#ifdef IFS_MU_FMA4
+#include <immintrin.h>   /* the table's fused multiply-adds, four at once */
+#endif
 
 #define NX IFS_NX
 #define NU IFS_NU
@@ -137,12 +140,12 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     double e[NX * NX], a[NX * NX], b[NX * NU], rhs[NX * NA];
     const double om = v->omega;
     /* inputs in SI -> azimuth units: qbar = q/Omega, qbar' = qdot/Omega^2 */
-    const double in_scale[NU] = {1, 1, 1, 1, 1 / om, 1 / om, 1 / (om * om),
-                                 1 / (om * om), 1, 1};
+    static const int omega_power[NU] = IFS_INPUT_OMEGA_POWERS;
+    double in_scale[NU];
     int i, j;
 
     if (v->inflow_speed == 0 && !(v->mu >= IFS_MU_LO && v->mu <= IFS_MU_HI)) {
-        snprintf(msg, msg_len, "mu = %g is outside the allowed range [0.1, 0.5]: "
+        snprintf(msg, msg_len, "mu = %g is outside the allowed range " IFS_MU_RANGE ": "
                  "forward-flight local momentum (V ~ mu) needs fast forward flight; "
                  "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
         return -1;
@@ -156,6 +159,11 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         snprintf(msg, msg_len, "structure = %d is outside the allowed range [0, %d] (%s)",
                  v->structure, IFS_N_STRUCTURES - 1, IFS_STRUCTURE_NAMES);
         return -1;
+    }
+    for (j = 0; j < NU; j++) {
+        double s = 1.0;
+        for (i = 0; i < omega_power[j]; i++) s *= om;
+        in_scale[j] = 1 / s;
     }
     ifs_descriptor(v, e, a, b);
     for (i = 0; i < NX; i++) {
@@ -331,47 +339,94 @@ IFS_INLINE void unpack_rows(IfsModel *m)
 #endif
 }
 
-/* [phi gam] at mu from the table, evaluated straight into m->pg (and m->prow):
- * half 0 is stored in their order, four entries a vector (IFS_HOT: the AVX2 clone
- * four doubles at a time; the same operations per entry, so the same numbers;
- * static: a global function's clones export their resolver). */
-static IFS_HOT void mu_apply(const IfsMuTable *t, double mu, IfsModel *m)
-{
-    double x;
-    const int seg = ifs_mu_table_locate(t, mu, &x);
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    int g, j, e = 0;
-    for (g = 0; g < IFS_NG4; g++) {
-        IFS_UNROLL
-        for (j = 0; j < NA; j++, e += 4)
-            IFS_MU_HORNER4(t, seg, x, e, *(ifs_v4 *)(m->pg + j * IFS_LD + 4 * g));
-    }
+/* [phi gam] at mu from the table's parts (prt, local variable y), evaluated straight
+ * into m->pg (and m->prow): half 0 is stored in their order, four entries a vector
+ * of fused multiply-adds FMA4 (the CPU's four at once, or the C library's fma lane
+ * by lane: one rounding each, so the same numbers) */
+#define MU_APPLY_BODY(FMA4)                                                            \
+    do {                                                                               \
+        int g_, j_, e_ = 0;                                                            \
+        IFS_UNROLL                                                                     \
+        for (g_ = 0; g_ < IFS_NG4; g_++) {                                             \
+            IFS_UNROLL                                                                 \
+            for (j_ = 0; j_ < NA; j_++, e_ += 4)                                       \
+                IFS_MU_FHORNER4(FMA4, t, prt, e_,                                      \
+                                *(ifs_v4 *)(m->pg + j_ * IFS_LD + 4 * g_));            \
+        }                                                                              \
+        MU_APPLY_TAIL(FMA4);                                                           \
+    } while (0)
 #if IFS_NX == 6
-    IFS_UNROLL
-    for (j = 0; j < NA; j += 2, e += 4) {
-        ifs_v4 w;
-        IFS_MU_HORNER4(t, seg, x, e, w);
-        *(ifs_v2 *)(m->pg + j * IFS_LD + 4) = (ifs_v2){w[0], w[1]};
-        *(ifs_v2 *)(m->pg + (j + 1) * IFS_LD + 4) = (ifs_v2){w[2], w[3]};
+#define MU_APPLY_TAIL(FMA4)                                                            \
+    IFS_UNROLL                                                                         \
+    for (j_ = 0; j_ < NA; j_ += 2, e_ += 4) {                                          \
+        ifs_v4 w_;                                                                     \
+        IFS_MU_FHORNER4(FMA4, t, prt, e_, w_);                                         \
+        *(ifs_v2 *)(m->pg + j_ * IFS_LD + 4) = (ifs_v2){w_[0], w_[1]};                 \
+        *(ifs_v2 *)(m->pg + (j_ + 1) * IFS_LD + 4) = (ifs_v2){w_[2], w_[3]};           \
     }
 #elif defined(IFS_ROW_STEP)
-    IFS_UNROLL
-    for (j = 0; j < IFS_MU_TAIL; j += 4, e += 4)
-        IFS_MU_HORNER4(t, seg, x, e, *(ifs_v4 *)(m->prow + j));
+/* the packed rows (m->prow), and each value again in its place in m->pg (what
+ * unpack_rows does, from the registers) */
+#define MU_ROW_COL(r) /* pg's column of position r of a packed row; -1 padding */      \
+    ((r) < 4 * IFS_XB ? ((r) < NX ? (r) : -1)                                          \
+                      : ((r) - 4 * IFS_XB < NU ? NX + (r) - 4 * IFS_XB : -1))
+#define MU_APPLY_TAIL(FMA4)                                                            \
+    IFS_UNROLL                                                                         \
+    for (j_ = 0; j_ < IFS_MU_TAIL; j_ += 4, e_ += 4) {                                 \
+        ifs_v4 w_;                                                                     \
+        int k_;                                                                        \
+        IFS_MU_FHORNER4(FMA4, t, prt, e_, w_);                                         \
+        *(ifs_v4 *)(m->prow + j_) = w_;                                                \
+        IFS_UNROLL                                                                     \
+        for (k_ = 0; k_ < 4; k_++)                                                     \
+            if (MU_ROW_COL((j_ + k_) % IFS_RL) >= 0)                                   \
+                m->pg[MU_ROW_COL((j_ + k_) % IFS_RL) * IFS_LD + 4 * IFS_NG4 +          \
+                      (j_ + k_) / IFS_RL] = w_[k_];                                    \
+    }
+#else
+#define MU_APPLY_TAIL(FMA4) (void)0
 #endif
+
+#ifdef IFS_MU_FMA4
+#define FMA4_CPU(acc, c)                                                               \
+    ((ifs_v4)_mm256_fmadd_pd((__m256d)(acc), (__m256d)yv, (__m256d)(c)))
+/* (static: called through ifs_mu_table_apply, where t->fma chose it) */
+static __attribute__((target("avx2,fma"))) void mu_apply_fma(const IfsMuTable *t, int prt,
+                                                             double y, IfsModel *m)
+{
+    const ifs_v4 yv = {y, y, y, y};
+    MU_APPLY_BODY(FMA4_CPU);
+}
+#endif
+
+static void mu_apply(const IfsMuTable *t, int prt, double y, IfsModel *m)
+{
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+#define FMA4_LIB(acc, c)                                                               \
+    ((ifs_v4){fma((acc)[0], y, (c)[0]), fma((acc)[1], y, (c)[1]),                      \
+              fma((acc)[2], y, (c)[2]), fma((acc)[3], y, (c)[3])})
+    MU_APPLY_BODY(FMA4_LIB);
 #else
     int e;
     for (e = 0; e < IFS_MU_HALF0; e++) {
         double *slot = half0_slot(m, e);
-        if (slot) *slot = ifs_mu_horner(t, seg, x, e);
+        if (slot) *slot = ifs_mu_fhorner(t, prt, y, e);
     }
-#endif
     unpack_rows(m);
+#endif
 }
 
 void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
-    mu_apply(t, v->mu, m);
+    double x, y;
+    const int seg = ifs_mu_table_locate(t, v->mu, &x);
+    const int prt = ifs_mu_table_part(seg, x, &y);
+#ifdef IFS_MU_FMA4
+    if (t->fma)
+        mu_apply_fma(t, prt, y, m);
+    else
+#endif
+        mu_apply(t, prt, y, m);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;

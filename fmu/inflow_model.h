@@ -98,8 +98,8 @@ typedef struct {
 /* The discrete matrices tabulated in mu for one set of parameters (IfsMuTable,
  * inflow_numerics.h): a flight condition changing every step costs a polynomial
  * evaluation instead of a rebuild and a matrix exponential.  [phi gam] (at dt, by
- * columns) and [a b] (row-major) are analytic in mu on [0.1, 0.5], their only
- * singularity mu = 0 (L ~ 1/mu).  Built on the first mu change after a parameter
+ * columns) and [a b] (row-major) are analytic in mu on [IFS_MU_LO, IFS_MU_HI], their
+ * only singularity mu = 0 (L ~ 1/mu).  Built on the first mu change after a parameter
  * change; else mu changes rebuild exactly. */
 /* Build the table for the parameters in v (mu ignored); returns t->state. */
 int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);

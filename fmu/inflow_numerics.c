@@ -140,9 +140,9 @@ static void mu_edges(double e[IFS_MU_NSEG + 1])
 #endif
 }
 
-/* Entries first .. first + n - 1 (n a multiple of four) of the interpolant at mu,
- * four at a time.  (IFS_HOT: the AVX2 clone does four doubles a vector; the same
- * numbers.) */
+/* Entries first .. first + n - 1 (n a multiple of four) of the coarse interpolant
+ * at mu, four at a time.  (IFS_HOT: the AVX2 clone does four doubles a vector; the
+ * same numbers.) */
 static IFS_HOT void mu_eval_range(const IfsMuTable *t, double mu, int first, int n,
                                   double *out)
 {
@@ -161,26 +161,73 @@ static IFS_HOT void mu_eval_range(const IfsMuTable *t, double mu, int first, int
 
 void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out)
 {
-    if (half == 0) mu_eval_range(t, mu, 0, IFS_MU_HALF0, out);
-    else mu_eval_range(t, mu, IFS_MU_HALF0, IFS_MU_HALF, out);
+    if (half == 0) {           /* the parts (the same numbers as ifs_mu_table_apply) */
+        double x, y;
+        const int seg = ifs_mu_table_locate(t, mu, &x);
+        const int prt = ifs_mu_table_part(seg, x, &y);
+        int e;
+        for (e = 0; e < IFS_MU_HALF0; e++) out[e] = ifs_mu_fhorner(t, prt, y, e);
+    } else {
+        mu_eval_range(t, mu, IFS_MU_HALF0, IFS_MU_HALF, out);
+    }
 }
 
-int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
+/* 1 if this CPU has AVX2 and FMA and this build evaluates the table with them */
+static int cpu_fma(void)
 {
-    const int N = IFS_MU_DEG + 1;
-    double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
+#ifdef IFS_MU_FMA4
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return 0;
+#endif
+}
+
+/* Chebyshev interpolation at N <= IFS_MU_DEG + 1 nodes as a matrix: the power
+ * coefficients c[i] = sum_j w[i][j] f_j of the polynomial through f_j at the
+ * Chebyshev-Gauss nodes cos(pi (j + 1/2) / N) (Chebyshev coefficients, then the
+ * Chebyshev polynomials' power coefficients; inflowsim.simulate.mutable.
+ * _power_coefficients) */
+static void cheb_power_matrix(int N, double w[IFS_MU_DEG + 1][IFS_MU_DEG + 1])
+{
     double T[IFS_MU_DEG + 1][IFS_MU_DEG + 1];        /* T_k(x) = sum_i T[k][i] x^i */
-    int seg, j, k, i, e;
-    double worst = 0.0;
+    double ch[IFS_MU_DEG + 1][IFS_MU_DEG + 1];       /* Chebyshev coefficient k of f_j */
+    int k, i, j;
     memset(T, 0, sizeof T);
     T[0][0] = 1.0;
     T[1][1] = 1.0;
     for (k = 2; k < N; k++)
         for (i = 0; i < N; i++)
             T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
+    for (k = 0; k < N; k++)
+        for (j = 0; j < N; j++)
+            ch[k][j] = cos(M_PI * k * (j + 0.5) / N) * (k == 0 ? 1.0 : 2.0) / N;
+    for (i = 0; i < N; i++)
+        for (j = 0; j < N; j++) {
+            double acc = 0.0;
+            for (k = i; k < N; k++) acc += T[k][i] * ch[k][j];
+            w[i][j] = acc;
+        }
+}
+
+int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
+{
+    const int N = IFS_MU_DEG + 1, NF = IFS_MU_FDEG + 1;
+    double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
+    double w[IFS_MU_DEG + 1][IFS_MU_DEG + 1], wf[IFS_MU_DEG + 1][IFS_MU_DEG + 1];
+    int seg, j, i, e, c;
+    double worst = 0.0;
+    cheb_power_matrix(N, w);
+    cheb_power_matrix(NF, wf);
     t->state = -1;
     t->err = 0.0;
+    t->fma = cpu_fma();
     mu_edges(t->edge);
+    for (c = seg = 0; c < IFS_MU_NGUESS; c++) {
+        const double at = IFS_MU_LO + (IFS_MU_HI - IFS_MU_LO) * c / IFS_MU_NGUESS;
+        while (seg < IFS_MU_NSEG - 1 && at >= t->edge[seg + 1]) seg++;
+        t->guess[c] = (unsigned char)seg;
+    }
     for (seg = 0; seg < IFS_MU_NSEG; seg++) {
         const double lo = t->edge[seg], hi = t->edge[seg + 1];
         for (j = 0; j < N; j++) {
@@ -188,18 +235,24 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
             if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j]) != 0)
                 return t->state;
         }
-        for (e = 0; e < IFS_MU_NTAB; e++) {
-            double c[IFS_MU_DEG + 1];
-            for (k = 0; k < N; k++) {             /* Chebyshev coefficients */
+        for (e = 0; e < IFS_MU_NTAB; e++)
+            for (i = 0; i < N; i++) {
                 double acc = 0.0;
-                for (j = 0; j < N; j++) acc += f[j][e] * cos(M_PI * k * (j + 0.5) / N);
-                c[k] = (k == 0 ? 1.0 : 2.0) * acc / N;
-            }
-            for (i = 0; i < N; i++) {             /* to powers of x */
-                double acc = 0.0;
-                for (k = i; k < N; k++) acc += c[k] * T[k][i];
+                for (j = 0; j < N; j++) acc += w[i][j] * f[j][e];
                 t->p[seg][i][e] = acc;
             }
+        /* the parts: the segment's polynomial at each part's nodes, again */
+        for (c = 0; c < IFS_MU_SPLIT; c++) {
+            for (j = 0; j < NF; j++) {
+                const double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / NF)) / IFS_MU_SPLIT - 1.0;
+                for (e = 0; e < IFS_MU_HALF0; e++) f[j][e] = ifs_mu_horner(t, seg, x, e);
+            }
+            for (e = 0; e < IFS_MU_HALF0; e++)
+                for (i = 0; i < NF; i++) {
+                    double acc = 0.0;
+                    for (j = 0; j < NF; j++) acc += wf[i][j] * f[j][e];
+                    t->q[seg * IFS_MU_SPLIT + c][i][e] = acc;
+                }
         }
     }
     for (seg = 0; seg < IFS_MU_NSEG; seg++) {      /* check between the nodes */

@@ -9,6 +9,7 @@
 #ifndef INFLOW_NUMERICS_H
 #define INFLOW_NUMERICS_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "inflow_vars.h"
@@ -90,6 +91,14 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
  * columns at a time, else the packed rows of the row step (IFS_ROW_STEP,
  * inflow_model.h), zero-padded.  Half 1 ([a b], row-major, IFS_MU_HALF entries) is
  * read rarely (a remainder step, a load).
+ *
+ * What a mu change evaluates, and the check checks, of half 0 is a finer table made
+ * from the first without another exact value: each segment cut into IFS_MU_SPLIT
+ * equal parts of x, on each the segment's polynomial interpolated again at the
+ * part's IFS_MU_FDEG + 1 Chebyshev-Gauss nodes (local variable y in [-1, 1]),
+ * evaluated by Horner's rule with fused multiply-adds (fma: one rounding, on every
+ * path, so every build gives the same numbers): inflowsim.simulate.mutable.MuTable,
+ * the same algorithm.
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #if IFS_NX % 4 == 0
@@ -101,10 +110,18 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
 #endif
 #define IFS_MU_HALF0 (4 * (IFS_NX / 4) * IFS_NA + IFS_MU_TAIL)
 #define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
+#define IFS_MU_NPART (IFS_MU_NSEG * IFS_MU_SPLIT)
+#define IFS_MU_NGUESS 64           /* cells of the segment guess, narrower than any */
 typedef struct {
+    /* the parts' power coefficients of half 0 (IfsMuTable's comment): what a mu
+     * change reads */
+    double q[IFS_MU_NPART][IFS_MU_FDEG + 1][IFS_MU_HALF0];
     int state;                 /* 0 not built, 1 valid, -1 not accurate enough */
+    int fma;                   /* 1: evaluate with the CPU's AVX2 and FMA (IFS_MU_FMA4) */
     double err;                /* the largest relative error found by the check */
     double edge[IFS_MU_NSEG + 1];                        /* segment ends */
+    /* the segment holding the start of cell c of IFS_MU_NGUESS equal cells */
+    unsigned char guess[IFS_MU_NGUESS];
     double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
 
@@ -114,24 +131,42 @@ typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);
-/* Half 0 (IFS_MU_HALF0 entries) or 1 (IFS_MU_HALF) of the interpolant at mu (within
- * the table's range). */
+/* Half 0 (IFS_MU_HALF0 entries, from the parts) or 1 (IFS_MU_HALF) of the
+ * interpolant at mu (within the table's range). */
 void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out);
+
+/* The table evaluated with the CPU's AVX2 and FMA where it has them (t->fma)
+ * and this build can (IFS_MU_FMA4); else with the C library's fma, the same numbers */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(IFS_SCALAR_STEP) && \
+    !defined(IFS_NO_CLONES)
+#define IFS_MU_FMA4 1
+#endif
 
 /* The segment holding mu, and mu's local variable in it (in [-1, 1]). */
 IFS_INLINE int ifs_mu_table_locate(const IfsMuTable *t, double mu, double *x)
 {
-    int seg = (int)(IFS_MU_NSEG * 0.5 * (mu - IFS_MU_LO) / (IFS_MU_HI - IFS_MU_LO));
+    int c = (int)((mu - IFS_MU_LO) * (IFS_MU_NGUESS / (IFS_MU_HI - IFS_MU_LO))), seg;
     double lo, hi;
-    /* a guess below the true segment (segments narrow toward mu_lo), then walk up */
-    if (seg < 0) seg = 0;
-    if (seg >= IFS_MU_NSEG) seg = IFS_MU_NSEG - 1;
+    if (c < 0) c = 0;
+    if (c >= IFS_MU_NGUESS) c = IFS_MU_NGUESS - 1;
+    seg = t->guess[c];
     while (seg > 0 && mu < t->edge[seg]) seg--;
     while (seg < IFS_MU_NSEG - 1 && mu >= t->edge[seg + 1]) seg++;
     lo = t->edge[seg];
     hi = t->edge[seg + 1];
     *x = (2.0 * mu - lo - hi) / (hi - lo);
     return seg;
+}
+
+/* The part of segment seg holding its local variable x, and x's local variable y
+ * in it (inflowsim.simulate.mutable.part, the same operations). */
+IFS_INLINE int ifs_mu_table_part(int seg, double x, double *y)
+{
+    int j = (int)((x + 1.0) * (0.5 * IFS_MU_SPLIT));
+    if (j < 0) j = 0;
+    if (j >= IFS_MU_SPLIT) j = IFS_MU_SPLIT - 1;
+    *y = (x + 1.0) * IFS_MU_SPLIT - (double)(2 * j + 1);
+    return seg * IFS_MU_SPLIT + j;
 }
 
 /* Horner's rule for entry e of segment seg at x: the same operations for every
@@ -141,6 +176,14 @@ IFS_INLINE double ifs_mu_horner(const IfsMuTable *t, int seg, double x, int e)
     double acc = t->p[seg][IFS_MU_DEG][e];
     int k;
     for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][e];
+    return acc;
+}
+/* ... and with fused multiply-adds for entry e of half 0 in part prt at y */
+IFS_INLINE double ifs_mu_fhorner(const IfsMuTable *t, int prt, double y, int e)
+{
+    double acc = t->q[prt][IFS_MU_FDEG][e];
+    int k;
+    for (k = IFS_MU_FDEG - 1; k >= 0; k--) acc = fma(acc, y, t->q[prt][k][e]);
     return acc;
 }
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
@@ -153,6 +196,17 @@ IFS_INLINE double ifs_mu_horner(const IfsMuTable *t, int seg, double x, int e)
         IFS_UNROLL                                                                     \
         for (k_ = IFS_MU_DEG - 1; k_ >= 0; k_--)                                       \
             acc_ = acc_ * (x) + *(const ifs_v4 *)((t)->p[seg][k_] + (e));              \
+        out = acc_;                                                                    \
+    } while (0)
+/* ifs_mu_fhorner for entries e .. e + 3 of part prt, with FMA4(acc, c) the four
+ * fused multiply-adds acc * y + c (the CPU's, or the C library's fma lane by lane) */
+#define IFS_MU_FHORNER4(FMA4, t, prt, e, out)                                          \
+    do {                                                                               \
+        ifs_v4 acc_ = *(const ifs_v4 *)((t)->q[prt][IFS_MU_FDEG] + (e));               \
+        int k_;                                                                        \
+        IFS_UNROLL                                                                     \
+        for (k_ = IFS_MU_FDEG - 1; k_ >= 0; k_--)                                      \
+            acc_ = FMA4(acc_, *(const ifs_v4 *)((t)->q[prt][k_] + (e)));               \
         out = acc_;                                                                    \
     } while (0)
 #endif

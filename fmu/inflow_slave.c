@@ -132,10 +132,16 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
         s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI) {
         ifs_mu_table_apply(s->tab, &s->v, &s->m);
 #if IFS_SCHEDULED_BIAS
-        {   /* the outputs' rotation follows the scheduled azimuth bias */
+        {   /* the outputs' rotation follows the scheduled azimuth bias: both of its
+             * copies (ifs_outputs reads cos_bias, sin_bias; the four-wide step of
+             * eight states or more reads rot, as set_bias in inflow_model.c sets them) */
             const double bias = ifs_bias_of(&s->v);
             s->m.cos_bias = cos(bias);
             s->m.sin_bias = sin(bias);
+            s->m.rot[0] = s->m.cos_bias;
+            s->m.rot[1] = s->m.sin_bias;
+            s->m.rot[2] = -s->m.sin_bias;
+            s->m.rot[3] = s->m.cos_bias;
         }
 #endif
         s->dirty = 0;
@@ -283,7 +289,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
             return refuse_real(s, lg, fn, vr[i], value[i]);
         if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < IFS_MU_LO)
-            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range [0.1, 0.5] "
+            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range " IFS_MU_RANGE " "
                            "with inflow_speed 0 (V ~ mu needs forward flight); set "
                            "inflow_speed 1 and ct first to reach hover", value[i]);
         parameters |= var->kind != IFS_INPUT;
@@ -630,4 +636,54 @@ int ifs_state_deserialize(const IfsLog *lg, const char *fn, const unsigned char 
     }
     memcpy(*state, bytes, sizeof(IfsSavedState));
     return IFS_OK;
+}
+
+/* --- an FMI instance --- */
+
+IfsInstance *ifs_instance_alloc(size_t size, IfsCalloc alloc, IfsRelease release, void *mem,
+                                const char *name, int logging_on)
+{
+    /* the instance holds the delay line (no large stack copy), and is allocated
+     * before any check so that refusals can be logged through it */
+    void *block;
+    IfsInstance *c = (IfsInstance *)ifs_align64(alloc(mem, size + 64), &block);
+    if (!c) return NULL;
+    memset(c, 0, size);
+    c->block = block;
+    c->alloc = alloc;
+    c->release = release;
+    c->mem = mem;
+    c->log.env = c;
+    c->log.debug = logging_on;
+    snprintf(c->name, sizeof c->name, "%s", name ? name : "inflowsim");
+    return c;
+}
+
+int ifs_instance_start(IfsInstance *c, const char *refusal, const char *what,
+                       const char *token)
+{
+    if (refusal || !token || strcmp(token, IFS_GUID) != 0) {
+        if (refusal)
+            ifs_log(&c->log, IFS_ERROR, "%s", refusal);
+        else
+            ifs_log(&c->log, IFS_ERROR, "%s %s does not match this binary's %s", what,
+                    token ? token : "(null)", IFS_GUID);
+        c->release(c->mem, c->block);
+        return -1;
+    }
+    ifs_slave_init(&c->s);
+    c->s.tab = (IfsMuTable *)c->alloc(c->mem, sizeof(IfsMuTable));
+    return 0;
+}
+
+void ifs_instance_free(IfsInstance *c)
+{
+    if (c->s.tab) c->release(c->mem, c->s.tab);
+    c->release(c->mem, c->block);
+}
+
+void *ifs_instance_calloc(void *ctx, size_t n)
+{
+    const IfsInstance *c = (const IfsInstance *)ctx;
+    return c->alloc(c->mem, n);
 }

@@ -251,6 +251,36 @@ int ifs_slave_step_rest_wide(IfsSlave *s, const IfsLog *lg, const char *fn, doub
                              double h);
 #endif
 
+/* --- an FMI instance: what both layers' instances start with --- */
+
+/* n zeroed bytes (NULL if there are none), and their release: the layer's allocator */
+typedef void *(*IfsCalloc)(void *ctx, size_t n);
+typedef void (*IfsRelease)(void *ctx, void *p);
+typedef struct {
+    IfsSlave s;                /* first, 64-byte aligned (IfsModel) */
+    IfsLog log;
+    char name[128];
+    void *block;               /* what alloc returned, the instance inside it */
+    IfsCalloc alloc;
+    IfsRelease release;
+    void *mem;                 /* their context */
+} IfsInstance;
+
+/* A zeroed instance of size bytes (the layer's, an IfsInstance first), 64-byte
+ * aligned, named (default "inflowsim"), logging at debug level if logging_on; NULL if
+ * the memory is not there.  The layer sets its own fields and c->log.emit, then calls
+ * ifs_instance_start. */
+IfsInstance *ifs_instance_alloc(size_t size, IfsCalloc alloc, IfsRelease release, void *mem,
+                                const char *name, int logging_on);
+/* Refuse the instance (log refusal if not NULL, else a token other than IFS_GUID,
+ * naming it what; free it; -1), or start it: the start values, and the mu table
+ * allocated apart (without it mu changes rebuild exactly); 0. */
+int ifs_instance_start(IfsInstance *c, const char *refusal, const char *what,
+                       const char *token);
+void ifs_instance_free(IfsInstance *c);
+/* n zeroed bytes from the instance's allocator (ctx: the IfsInstance): a saved state */
+void *ifs_instance_calloc(void *ctx, size_t n);
+
 /* --- FMU state: a tagged copy of the slave; the layers differ only in allocation --- */
 
 #define IFS_STATE_MAGIC 0x49465332u   /* "IFS2" */

@@ -15,12 +15,16 @@
 #define IFS_STRUCTURE_NAMES "0 basic, 1 empirical, 2 glauert"
 #define IFS_N_INPUTS 10  /* the perturbation inputs, theta0 .. muy */
 #define IFS_INPUT_LIMIT 1000000.0  /* |input| beyond it is refused */
+#define IFS_INPUT_OMEGA_POWERS {0, 0, 0, 0, 1, 1, 2, 2, 0, 0}  /* the inputs in azimuth units: u / Omega^k (inflowsim.channels) */
 
 /* the mu table and the Taylor remainder: inflowsim.simulate.mutable, shared with the Simulator */
 #define IFS_MU_LO 0.1
 #define IFS_MU_HI 0.5
+#define IFS_MU_RANGE "[0.1, 0.5]"  /* for messages */
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
+#define IFS_MU_SPLIT 16
+#define IFS_MU_FDEG 4
 #define IFS_MU_TOL 1e-12
 #define IFS_MU_KNOT_GAP 1e-09
 #define IFS_TAYLOR_TOL 1e-17

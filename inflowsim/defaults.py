@@ -13,8 +13,13 @@ DEFAULT_BAND = (0.2256, 1.58)
 #: Intersample behaviour of a record's inputs (record-format.md, ``# hold:``).
 HOLDS = ("continuous", "zoh", "foh")
 
-#: Significance level per candidate effect of the diagnosis.
+#: The diagnosis's one significance level: ``Rule.alpha``'s default
+#: (:mod:`inflowsim.diagnose.rule`), the level of each test the diagnosis makes.
 ALPHA = 1e-3
 
+#: Rungs a ladder adds at most (and atoms it removes at most): ``Rule.max_steps``'s
+#: default.
+MAX_STEPS = 6
 
-__all__ = ["DEFAULT_BAND", "HOLDS", "ALPHA"]
+
+__all__ = ["DEFAULT_BAND", "HOLDS", "ALPHA", "MAX_STEPS"]

@@ -95,6 +95,12 @@ class Truth:
         equations and variables where this truth's term acts."""
         return (block, equation) in self.equations and variable in self.variables
 
+    def places(self, entries) -> bool:
+        """Whether the map's first group ``entries`` (``((block, equation, variable),
+        ...)``: the entries the record cannot tell apart, most often one) places
+        this truth's term: one of them lies where it acts (:meth:`acts_at`)."""
+        return any(self.acts_at(*e) for e in entries)
+
     def to_json(self) -> dict:
         return {"kind": self.kind, "physics": self.physics,
                 "equations": [list(e) for e in self.equations],
@@ -109,8 +115,9 @@ TRUTHS = {t.kind: t for t in (
           (("flap", "beta1c"), ("flap", "beta1s")), ("beta1c", "beta1s"), 0.12),
     Truth("pitch-lag", "torsion: elastic cyclic pitch lagging the cyclic flap by tau_t",
           tuple(("flap", e) for e in _FLAP_ROWS)
-          + tuple(("inflow", e) for e in ("lambda0", "lambda1c", "lambda1s")),
-          ("beta1c", "beta1s") + _RATES[1:], 0.15, lag=0.01),
+          + tuple(("inflow", e) for e in ("lambda0", "lambda1c", "lambda1s"))
+          + (("pitch", "theta1"),),
+          ("beta1c", "beta1s") + _RATES[1:] + ("beta1", "beta1_prime"), 0.15, lag=0.01),
     Truth("rotor-speed", "rotor-speed variation: w = dOmega/Omega lags the inflow's "
           "torque and forces the coning equation",
           (("flap", "beta0"),), ("lambda0",), 2.0, lag=0.8, gain=4.0),

@@ -20,7 +20,7 @@ from scipy import stats
 
 import inflowsim as ifs
 from conftest import TWO_AXES
-from inflowsim.diagnose.candidates import lr_test
+from inflowsim.diagnose.rule import lr_test
 from inflowsim.cli import main
 from inflowsim.diagnose import diagnose, explicit_ladder, ladder
 from inflowsim.model.effects import CATALOGUE

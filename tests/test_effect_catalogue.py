@@ -19,7 +19,7 @@ import pytest
 
 from inflowsim import PUMA, Structure, build_model, theory_parameters
 from inflowsim.model.effects import CATALOGUE
-from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.params import SPECS
 from inflowsim.flighttest.virtual import PUMA_TRIM
 

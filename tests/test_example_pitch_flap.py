@@ -22,7 +22,7 @@ from inflowsim.data.record import write_record
 from inflowsim.diagnose import diagnose
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
-from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.presets import paper_table, theory_parameters
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "effects" / \
@@ -79,6 +79,11 @@ def test_the_map_points_at_the_flap_to_pitch_terms():
     # entry, not one of the causes that give it)
     assert any(t.group == "cross-flap stiffness" for t in top), \
         [(t.equation, t.variable, t.group) for t in top]
+    # and first the map's pitch entry (issue #36): the cyclic blade pitch fed from
+    # its own cyclic flap, with the example file's coupling (theta = -k3 beta)
+    first = terms.terms[0]
+    assert (first.block, first.equation, first.variable) == ("pitch", "theta1", "beta1")
+    assert first.refit_coefficient == pytest.approx(-K3, rel=0.1)
 
 
 def test_the_fit_from_the_file_recovers_k3(tmp_path, capsys):

@@ -21,7 +21,7 @@ from inflowsim.identify.estimator import _relax_S
 from inflowsim.identify.freqmodel import flap_response, flap_responses
 from inflowsim.identify.problem import Problem
 from inflowsim.identify.transform import record_spectra
-from inflowsim.model.build import apply_effects, base_equations
+from inflowsim.model.build import _base_equations, apply_effects, base_equations
 from inflowsim.model.equations import assemble
 from inflowsim.model.structure import Structure
 
@@ -83,6 +83,40 @@ def test_remembered_base_equations_are_copies():
     first.p_u[:] = 99.0                    # an effect editing its own copy in place
     again = base_equations(p, PUMA)
     assert _same(again.p_u, keep) and again.p_u is not first.p_u
+
+
+def test_base_equations_in_parts_are_the_plain_ones():
+    """Remembered in parts (inflow rows, flap rows, D, the time constants), each
+    parameter moved in turn as a Jacobian does: the numbers of the plain function."""
+    p = preset_parameters("basic")
+    k = PUMA
+    for n in (None, "n_beta", "lambda_beta2", "tau", None):
+        q = dict(p)
+        if n is not None:
+            q[n] = p[n] * (1 + 1e-6)
+        got = base_equations(q, k)
+        want = _base_equations(k.mu, k.a0s, k.flow_speed, q["n_beta"], q["lambda_beta2"],
+                               q["tau"])
+        for f in ("m2", "c", "d", "h_lambda", "h_u", "d_tau", "p_dbeta", "p_beta",
+                  "p_lambda", "p_u"):
+            assert _same(getattr(got, f), getattr(want, f)), (n, f)
+
+
+def test_models_made_without_the_dataclass_init_have_every_field():
+    """The models and equations a fit makes skip the frozen dataclass's __init__:
+    every field is still set, and the model pickles as one made by __init__."""
+    import dataclasses
+    import pickle
+
+    from inflowsim.model.build import Model
+    from inflowsim.model.equations import Equations
+    m = build_model("glauert+time-delay", preset_parameters("glauert+time-delay"), PUMA)
+    assert set(vars(m)) == {f.name for f in dataclasses.fields(Model)}
+    eq = base_equations(preset_parameters("basic"), PUMA)
+    assert set(vars(eq)) == {f.name for f in dataclasses.fields(Equations)}
+    again = pickle.loads(pickle.dumps(m))
+    assert _same(again.a, m.a) and not again.a.flags.writeable
+    assert dict(again.parameters) == dict(m.parameters)
 
 
 @functools.lru_cache(maxsize=None)

@@ -23,7 +23,7 @@ from fmpy.fmi3 import FMU3Slave  # noqa: E402
 from inflowsim.errors import InputError  # noqa: E402
 from inflowsim.fmu import apply_parameters, build_fmu, description_for  # noqa: E402
 from inflowsim.fmu.codegen import traced  # noqa: E402
-from inflowsim.model.effects import needs_trim  # noqa: E402
+from inflowsim.model.structure import needs_trim  # noqa: E402
 from inflowsim.fmu.generate import guid  # noqa: E402
 from inflowsim.model import build_model, descriptor  # noqa: E402
 from inflowsim.model.loads import load_matrices  # noqa: E402

@@ -18,7 +18,7 @@ from fmpy.validation import validate_fmu  # noqa: E402
 from conftest import assert_user_error, run  # noqa: E402
 from inflowsim.fmu import description_for  # noqa: E402
 from inflowsim.model import build_model  # noqa: E402
-from inflowsim.model.effects import USER_EFFECTS, load_effect_file, unregister  # noqa: E402
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister  # noqa: E402
 from inflowsim.model.params import PUMA  # noqa: E402
 from inflowsim.model.presets import truth_parameters  # noqa: E402
 from test_fmu_structures import fmu_run, inputs_of, python_run, record  # noqa: E402,F401

@@ -121,8 +121,10 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
         d[:, 2] = dze
         d[:, 3] = -nu**2 * ze - c_z * dze - 2 * b_t * dbe + z_aero
         dy[:4 * N_BLADES] = d.ravel()
-        c = np.array([(lift @ WG).imag, -((RG * np.cos(ps) * lift) @ WG).imag,
-                      -((RG * np.sin(ps) * lift) @ WG).imag]).sum(axis=1) * 0.5 / H / N_BLADES
+        # each blade's lift acts on the hub where the blade is, at psi - zeta
+        where = ps - 1j * H * ze[:, None] * kf
+        c = np.array([(lift @ WG).imag, -((RG * np.cos(where) * lift) @ WG).imag,
+                      -((RG * np.sin(where) * lift) @ WG).imag]).sum(axis=1) * 0.5 / H / N_BLADES
         dy[4 * N_BLADES:] = (lmat @ c - lam) / tau
         return dy
 

@@ -18,7 +18,7 @@ from scipy.integrate import solve_ivp
 import inflowsim as ifs
 from inflowsim.defaults import DEFAULT_BAND
 from inflowsim.diagnose import diagnose, ladder
-from inflowsim.diagnose.candidates import offered_effects
+from inflowsim.diagnose.rule import offered_effects
 from inflowsim.model.presets import truth_parameters
 from csv_records import flap_noise, write_csv
 
@@ -126,14 +126,18 @@ def _within(fit, p, names=LAG, sigmas=3.0):
 
 def test_the_lag_hidden_in_a_record_is_named_with_its_truth_within_3_sigma(tmp_path):
     """The quick case: Puma, two-axis doublets, white noise; the diagnosis asked to
-    consider lead-lag beside the glauert truth's base names it, estimates within
-    3 sigma (measured: nu 0.2502 +- 0.0012, zeta 0.204 +- 0.0044, k 0.995 +- 0.015
-    at seed 5)."""
+    consider lead-lag beside the glauert truth's base names it by its coupling
+    (the frequency and the damper, the effect's second part, held at theory, which
+    is the truth here), the coupling within 3 sigma; the ladder's second rung adds
+    the second part (``test_the_ladder_names_the_lag_and_ends_explained``)."""
     rec, p = _record(tmp_path / "rec.csv", "glauert+lead-lag", rate=64)
     d = diagnose(rec, "glauert", pool=["lead-lag"])
     assert d.missing_effect == "lead-lag", [(c.effect, c.reason) for c in d.candidates]
     added = d.candidates[0].added
-    assert all(abs(added[n][0] - p[n]) < 3 * added[n][1] for n in LAG), (added, p)
+    assert set(added) >= {"k_flap_lag"}, added
+    assert abs(added["k_flap_lag"][0] - p["k_flap_lag"]) < 3 * added["k_flap_lag"][1]
+    held = [(n, v) for n, v in added.items() if v[1] is None]
+    assert {n for n, _ in held} <= {"nu_zeta", "zeta_lag"}, added
 
 
 CASES = [
@@ -146,6 +150,9 @@ CASES = [
     # reach it, a soft-inplane rotor's light damping (with the theory damper, 0.2,
     # and 1 deg doublets its lag stays below this noise: measured, model.md 9.1)
     ("hingeless", "sweep", 256, None, (0.2256, 3.5), (("zeta_lag", 0.05),)),
+    # a lag off its theory (0.25/rev, 0.2): the coupling is tested at the theory
+    # frequency and damper, which then come in as the effect's second part
+    ("puma", "two-axis", 200, None, DEFAULT_BAND, (("nu_zeta", 0.32), ("zeta_lag", 0.3))),
 ]
 
 
@@ -168,9 +175,9 @@ def test_the_ladder_names_the_lag_and_ends_explained(tmp_path, rotor, kind, rate
         assert not _within(lad.final.fit, p)
     else:
         # measured on the hingeless sweep, seeds 5-9: the lag frequency within 1
-        # sigma; the damper and the coupling within 3 sigma in four seeds, 4.0 and 3.2
-        # sigma low in seed 5 (zeta_lag 0.040 +- 0.0025 for 0.05, k_flap_lag 0.86 +-
-        # 0.044): open (model.md 9.1); what holds in all is checked
+        # sigma; the damper and the coupling within 3 sigma in four seeds, 4.1 and 3.2
+        # sigma low in seed 5: a tail draw, not a bias (30 seeds: mean error within
+        # 0.1 bound, spread 1.02-1.21 bounds; model.md 9.1); what holds in all is checked
         assert not _within(lad.final.fit, p, ("nu_zeta",))
         assert abs(lad.final.fit.parameters["k_flap_lag"] - 1.0) < 0.25
 

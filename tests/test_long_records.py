@@ -108,6 +108,31 @@ def test_streamed_end_states_equal_lstsq(monkeypatch):
     assert np.allclose(failures._end_states(y_nu, e), whole, rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.parametrize("structure,hold", [c for c in CASES if c[1] == "continuous"])
+def test_streamed_floor_power_equals_the_whole(structure, hold, monkeypatch):
+    # the floor band's residual power block by block (end-state responses never
+    # held whole) against the whole arrays and lstsq.  Continuous records only: a
+    # held record's end-state responses over this band are near rank-deficient,
+    # where the QR's lstsq (its cutoff from R's 2kG rows) and the whole lstsq (from
+    # all rows) keep different directions, before this change as after
+    rec = _record(structure, hold)
+    m = _model(structure, rec)
+    sp = record_spectra(rec, m.inputs, (5.0, 25.6), hold=hold, require_motion=False)
+    y_u, y_nu, _ = freqmodel.flap_response(m, sp)
+    e = sp.Z - y_u
+    whole = np.abs(e - y_nu @ failures._end_states(y_nu, e)) ** 2
+    monkeypatch.setattr(failures, "STREAM_BINS", 97)
+    assert sp.f_hz.size > 3 * 97
+    parts = failures._floor_power_streamed(m, sp)
+    assert parts.shape == whole.shape and np.allclose(parts, whole, rtol=1e-9, atol=0)
+    floor, *_ = failures.noise_floor(rec, m, (0.2256, 1.58), hold, sp.f_hz[:5],
+                                     check_colour=False)
+    monkeypatch.setattr(failures, "STREAM_BINS", 16384)
+    floor_whole, *_ = failures.noise_floor(rec, m, (0.2256, 1.58), hold, sp.f_hz[:5],
+                                           check_colour=False)
+    assert np.allclose(floor, floor_whole, rtol=1e-9, atol=0)
+
+
 def test_transform_by_column_and_by_block(monkeypatch):
     rng = np.random.default_rng(3)
     x = rng.standard_normal((1000, 4))

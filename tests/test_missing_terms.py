@@ -23,9 +23,10 @@ from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.terms import MissingTerms, missing_terms, physics_group
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
-from inflowsim.identify.estimator import _records, _spectra, _state
+from inflowsim.identify.estimator import as_records, spectra_of, fit_state
 from inflowsim.identify.problem import Problem
-from inflowsim.model.effects import Effect, ParameterSpec, registered
+from inflowsim.model.effects import Effect, ParameterSpec
+from inflowsim.model.effects.user import registered
 from inflowsim.model.presets import theory_parameters
 from inflowsim.report.terms import missing_terms_plot
 
@@ -37,6 +38,9 @@ HIDDEN = {
     "flap": ("beta1s", "beta1c", ("d", 2, 1, -1.0), 0.05),
     "inflow": ("lambda0", "lambda1s", ("p_lambda", 0, 2, 1.0), 0.3),
     "measurement": ("beta1c", "beta0", ("flap_map", 1, 0, 1.0), 0.1),
+    # the cyclic blade pitch follows the cyclic flap (theta1c += k beta1c, theta1s
+    # += k beta1s): a term in every row the cyclic pitch enters (issue #36)
+    "pitch": ("theta1", "beta1", ("pitch", None, None, None), -0.1),
 }
 
 
@@ -47,6 +51,15 @@ def hidden_effect(block):
     def equations(eq, p, k):
         if name == "flap_map":
             return eq
+        if name == "pitch":
+            # written out here, not with the map's own code: each cyclic's columns of
+            # h_u (flap rows, right-hand side: d on the left) and p_u (inflow rows)
+            d, pb = np.array(eq.d, dtype=float), np.array(eq.p_beta, dtype=float)
+            hu, pu = np.asarray(eq.h_u, dtype=float), np.asarray(eq.p_u, dtype=float)
+            for col in (1, 2):             # theta1c from beta1c, theta1s from beta1s
+                d[:, col] -= p["k_hidden"] * hu[:, col]
+                pb[:, col] += p["k_hidden"] * pu[:, col]
+            return eq.with_(d=d, p_beta=pb)
         m = np.array(getattr(eq, name), dtype=float)
         m[i, j] += sign * p["k_hidden"]
         return eq.with_(**{name: m})
@@ -95,7 +108,8 @@ def mapped(block, seed, value=None, hold="zoh"):
 def top_is_hidden(block, terms):
     eq, var = HIDDEN[block][:2]
     top = terms.terms[0]
-    return (top.block, top.equation, top.variable) == (block, eq, var) and top.sign > 0
+    return (top.block, top.equation, top.variable) == (block, eq, var) and \
+        top.sign == np.sign(HIDDEN[block][3])
 
 
 @pytest.mark.parametrize("block", list(HIDDEN))
@@ -146,10 +160,10 @@ def _cost_at(rec, fit, block, k_value):
     ``S`` held at the base fit's (the end effects re-solved)."""
     with registered(hidden_effect(block)):
         s = ifs.Structure.parse(f"basic+{NAME}")
-        spectra = _spectra(_records(rec), s, fit.band_hz, None, None)
+        spectra = spectra_of(as_records(rec), s, fit.band_hz, None, None)
         vals = dict(fit.parameters) | {"k_hidden": k_value}
         prob = Problem(s, spectra, vals, fixed=tuple(s.parameters))
-        st = _state(prob, np.zeros(0), list(fit.S))
+        st = fit_state(prob, np.zeros(0), list(fit.S))
         return prob.cost(st.r, st.S)
 
 

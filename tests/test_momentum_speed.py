@@ -124,7 +124,7 @@ def test_the_effect_is_nested_and_adds_the_coupling():
         build_model("glauert+momentum-speed", {}, k)
     with pytest.raises(InputError, match="trim"):
         build_model(base + "+momentum-speed", dict(p, k_V=1.0), PUMA.with_mu(0.15))
-    from inflowsim.model.effects import needs_trim
+    from inflowsim.model.structure import needs_trim
     assert needs_trim([base + "+momentum-speed"])       # the FMU takes the trim
 
 
@@ -133,7 +133,7 @@ def test_alternatives_exclude_each_other_either_way_round():
     glauert: the diagnosis's atoms keep them apart from either side (the lattice
     of a ladder that added one never offers the other)."""
     from types import SimpleNamespace
-    from inflowsim.diagnose.candidates import atoms, excluded
+    from inflowsim.diagnose.rule import atoms, excluded
     from inflowsim.model.structure import Structure
     pool = ["glauert", "momentum-speed", "skewed-wake"]
     for have, other in (("glauert", "momentum-speed"), ("momentum-speed", "glauert")):

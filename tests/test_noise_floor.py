@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from conftest import TWO_AXES
-from inflowsim.diagnose.failures import COLOURED, residual_analysis, spectrum_failures
+from inflowsim.diagnose.failures import residual_analysis, spectrum_failures
+from inflowsim.diagnose.rule import DEFAULT_RULE
 from inflowsim.diagnose.lpm import in_band_noise, local_polynomial_noise
 from inflowsim.identify import DEFAULT_BAND, identify
 from inflowsim.model.build import build_model
@@ -60,7 +61,7 @@ def _coloured_reports(ra):
 def test_white_noise_is_not_reported_coloured(rate):
     rec, m, ra = _fitted_analysis(None, 1e-4, rate)
     assert len(ra.in_band_over_floor) == 3
-    assert all(k < COLOURED for k in ra.in_band_over_floor)
+    assert all(k < DEFAULT_RULE.coloured for k in ra.in_band_over_floor)
     assert not _coloured_reports(ra)
     expected = len(rec) * noise_psd(1e-4, rec.dt, ra.f_hz)
     assert np.allclose(ra.floor.mean(axis=1) / expected.mean(), 1, atol=0.3)
@@ -77,7 +78,7 @@ def test_coloured_noise_is_measured_in_the_band_and_reported(rate):
     inside = in_band_noise(rec, m.inputs, DEFAULT_BAND, None, ra.f_hz)
     ratio = inside.mean(axis=1) / expected.mean()
     assert np.all(np.abs(ratio - 1) < 0.35), ratio
-    assert all(k > COLOURED for k in ra.in_band_over_floor)
+    assert all(k > DEFAULT_RULE.coloured for k in ra.in_band_over_floor)
     msgs = [f.message for f in _coloured_reports(ra)]
     assert [t[:7] for t in msgs] == ["beta0: ", "beta1c:", "beta1s:"]
     assert "coloured" in msgs[0] and "overstate the model error" in msgs[0]

@@ -20,7 +20,7 @@ from scipy.integrate import solve_ivp
 
 from inflowsim.data.record import read_record
 from inflowsim.diagnose import diagnose
-from inflowsim.diagnose.candidates import offered_effects
+from inflowsim.diagnose.rule import offered_effects
 from inflowsim.diagnose.search import ladder
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 

@@ -16,9 +16,9 @@ from scipy import stats
 
 import inflowsim as ifs
 from inflowsim.diagnose import diagnose
-from inflowsim.diagnose.candidates import atoms, candidates_of, describe, lattice
+from inflowsim.diagnose.candidates import candidates_of, describe
 from inflowsim.diagnose.rule import (DEFAULT_RULE, STATEMENT, TESTS, Decision, Rule,
-                                     Scored, decide)
+                                     Scored, atoms, decide, lattice)
 from inflowsim.errors import InputError
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import theory_parameters, truth_parameters
@@ -39,15 +39,44 @@ def _norm(text):
 
 
 # -- the statement -----------------------------------------------------------------------
-def test_the_rule_is_five_lines_and_the_docs_and_report_say_the_same():
+def test_the_rule_is_five_steps_in_order_and_its_text_is_rendered_from_them():
+    """The five lines are the docstrings of the module's five steps, which are its
+    top-level functions in that order; the report prints the rendered lines."""
+    import ast
+    import inflowsim.diagnose.rule as rule
+    assert [s.__name__ for s in rule.STEPS] == ["atoms", "lattice", "admissible",
+                                                "accepted", "added"]
+    tree = ast.parse(Path(rule.__file__).read_text())
+    order = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
+    assert [order.index(s.__name__) for s in rule.STEPS] == sorted(
+        order.index(s.__name__) for s in rule.STEPS)
     assert len(STATEMENT) == 5
-    assert [s[:2] for s in STATEMENT] == ["1.", "2.", "3.", "4.", "5."]
-    workflow = _norm((ROOT / "docs" / "workflow.md").read_text())
-    for line in STATEMENT:
-        assert _norm(line) in workflow, line
-    # every setting the lines name is an argument of Rule
+    for i, (line, step) in enumerate(zip(STATEMENT, rule.STEPS), 1):
+        title = step.__name__.capitalize()
+        assert line.startswith(f"{i}. {title}. "), line
+        assert line[len(f"{i}. "):].replace(" ", "") in " ".join(
+            step.__doc__.split()).replace("**", "").replace("``", "").replace(" ", "")
+    # every setting the lines name is a field of Rule
     for name in ("width", "alpha", "plausible_sigmas", "schwarz_min", "material"):
         assert any(name in line for line in STATEMENT) and hasattr(DEFAULT_RULE, name)
+
+
+def test_every_constant_of_the_decision_is_a_field_of_the_rule():
+    """No module of the diagnosis keeps a number of the decision of its own: the
+    names the rule replaced are gone, and one alpha."""
+    import inflowsim.diagnose.excess as excess
+    import inflowsim.diagnose.failures as failures
+    import inflowsim.diagnose.lpm as lpm
+    import inflowsim.diagnose.terms as terms
+    import inflowsim.diagnose.verdict as verdict
+    from inflowsim import defaults
+    for mod, names in ((failures, ("ALPHA", "MAX_LAG", "FLOOR_SUBBANDS", "COLOURED")),
+                       (excess, ("DEGREES",)), (lpm, ("LPM_SPAN",)),
+                       (verdict, ("SIGMAS", "STAND_IN_SHARE"))):
+        assert not [n for n in names if hasattr(mod, n)], mod.__name__
+    assert DEFAULT_RULE.alpha is defaults.ALPHA is terms.ALPHA
+    doc = Rule.to_json(DEFAULT_RULE)
+    assert Rule(**doc) == DEFAULT_RULE and "max_steps" in doc and "max_lag" in doc
 
 
 OLD_WORDS = ("ranked by a likelihood-ratio test", "four tests", "leaves less structure",
@@ -140,6 +169,48 @@ def test_a_pair_with_an_atom_not_significant_beside_the_other_is_not_admissible(
     d = decide([flexible, mimic, simple])
     assert not mimic.admissible() and d.chosen == simple and d.accepted
     assert "glauert (c1, c2, c3, c4) not significant beside the others" in describe(mimic, d)
+
+
+def _collective_rung(ab_wd_gain):
+    """Rung 1 of the collective-doublet ladder on the Table-3 glauert truth (seed 0,
+    ``basic+glauert``; gains and log10 p as measured): the separate time constants
+    (two parameters) are not significant beside the wake distortion (one) in their
+    pair, yet beside the azimuth bias they score far more than it does there."""
+    stc, wd, ab, sw = ("separate-time-constants", "wake-distortion", "azimuth-bias",
+                       "skewed-wake")
+    return [replace(_row([stc], 6.57, [-3.77]), dof=2), _row([wd], 104.11, [-24.9]),
+            _row([ab], 211.06, [-48.27]), _row([sw], 318.76, [-71.75]),
+            replace(_row([wd, stc], 96.65, [-21.83, -0.73]), dof=3),
+            replace(_row([ab, stc], 461.65, [-101.42, -56.76]), dof=3),
+            _row([ab, wd], ab_wd_gain, [-40.79, -17.38])]
+
+
+def test_an_atom_a_simpler_one_explains_in_their_pair_is_judged_where_it_stands():
+    """Explained in its pair, an atom is still admissible beside another where the
+    simpler atom in its place scores ``schwarz_min`` less: the azimuth bias with the
+    time constants (G 462, the truth's effects) against a wake skew alone (319), which
+    the ladder named, with a delay that leads, when the explanation held everywhere."""
+    d = decide(_collective_rung(280.90))
+    assert d.accepted and d.chosen.atoms == ("azimuth-bias", "separate-time-constants")
+    assert d.chosen.explained_by == () and d.added == ("azimuth-bias",)
+    rows = {r.atoms: r for r in d.rows}
+    # where the simpler atom stands beside it, or alone, the explanation holds
+    for atoms_ in [("separate-time-constants",),
+                   ("wake-distortion", "separate-time-constants")]:
+        assert dict(rows[atoms_].explained_by) == {
+            "separate-time-constants": "wake-distortion"}
+        assert "own" in rows[atoms_].failed()
+    # the simpler atom in its place within schwarz_min: explained there too
+    d = decide(_collective_rung(461.65 - DEFAULT_RULE.schwarz_min))
+    assert d.chosen.atoms == ("azimuth-bias", "wake-distortion")
+    row = {r.atoms: r for r in d.rows}[("azimuth-bias", "separate-time-constants")]
+    assert "own" in row.failed()
+    assert ("separate-time-constants explained by the simpler wake-distortion: not "
+            "significant beside it, and does as well in its place (Schwarz gain 459.6 "
+            "against 461.6)") in describe(row, d)
+    # a stored table is decided again the same (the rows' JSON carries the gains)
+    again = decide([Scored.from_json(r.to_json()) for r in _collective_rung(280.90)])
+    assert again.chosen.atoms == ("azimuth-bias", "separate-time-constants")
 
 
 def test_implausible_and_unfitted_structures_are_never_admissible():

@@ -42,18 +42,18 @@ def test_a_long_free_response_in_blocks(monkeypatch):
 
 def test_the_jacobian_in_runs_of_points_is_the_same(monkeypatch):
     from inflowsim.identify import problem
-    from inflowsim.identify.estimator import _records, _spectra, _state
+    from inflowsim.identify.estimator import as_records, spectra_of, fit_state
     from inflowsim.model.presets import theory_parameters
     from inflowsim.model.structure import Structure
     rec = virtual(structure="glauert", seed=1, manoeuvres=TWO_AXES)
     s = Structure.parse("glauert")
-    sp = _spectra(_records(rec), s, (0.2256, 1.58), None)
+    sp = spectra_of(as_records(rec), s, (0.2256, 1.58), None)
     th = theory_parameters(s, sp[0].constants)
     out = []
     for limit in (problem.POINT_BYTES, 1):                    # all at once; one at a time
         monkeypatch.setattr(problem, "POINT_BYTES", limit)
         prob = problem.Problem(s, sp, th)
-        st = _state(prob, prob.theta0(), [np.eye(3)])
+        st = fit_state(prob, prob.theta0(), [np.eye(3)])
         out.append([prob.jacobian(prob.theta0(), st.weights, st.nus, st.bases, central=c)
                     for c in (True, False)])
     for a, b in zip(out[0], out[1]):

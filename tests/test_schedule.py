@@ -208,28 +208,36 @@ def _glauert_schedule():
     return replace(both, parameters=params), p0
 
 
+def worst_against_rebuilds(sim, sch, mus, dt=0.01):
+    """Step the scheduled Simulator ``sim`` along ``mus`` with seeded inputs beside
+    the exact zero-order hold of the model rebuilt at each ``mu`` with the
+    schedule's values: the largest output difference over the largest state."""
+    from inflowsim.simulate.discrete import discretize
+    rng = np.random.default_rng(0)
+    x = np.zeros(sim.model.a.shape[0])
+    worst = 0.0
+    for mu in mus:
+        u = 1e-3 * rng.standard_normal(10)
+        sim.set_mu(mu)
+        y = sim.step(u)
+        m = sch.model(PUMA, mu)
+        phi, gam = discretize(m.a, m.b, dt)
+        x = phi @ x + gam @ u
+        worst = max(worst, np.abs(m.c @ x - y).max() / np.abs(x).max())
+    return worst
+
+
 def test_simulator_steps_the_scheduled_matrices_of_every_mu():
     """mu swept through and beyond the schedule's range: each step equals the exact
     zero-order hold of the model built at that mu with the scheduled parameters
     (the table, with the range's ends as knots, to 1e-12 of the state)."""
     from inflowsim.model.build import build_model
-    from inflowsim.simulate.discrete import discretize
     from inflowsim.simulate.simulator import Simulator
     sch, p0 = _glauert_schedule()
     assert sch["tau0"].order >= 1 and sch.knots(0.1, 0.5) == (0.12, 0.30)
     sim = Simulator(build_model("glauert", p0, PUMA.with_mu(0.2)), 0.01, schedule=sch)
     assert sim.model.parameters["tau0"] == sch(0.2)["tau0"]
-    rng = np.random.default_rng(0)
-    x = np.zeros(6)
-    worst = 0.0
-    for k, mu in enumerate(np.linspace(0.101, 0.42, 300)):
-        u = 1e-3 * rng.standard_normal(10)
-        sim.set_mu(mu)
-        y = sim.step(u)
-        m = sch.model(PUMA, mu)
-        phi, gam = discretize(m.a, m.b, 0.01)
-        x = phi @ x + gam @ u
-        worst = max(worst, np.abs(m.c @ x - y).max() / np.abs(x).max())
+    worst = worst_against_rebuilds(sim, sch, np.linspace(0.101, 0.42, 300))
     assert sim._mu_table and sim._mu_table.ok        # the table, not rebuilds
     assert worst < 1e-11
     assert sim.model.parameters["tau0"] == sch(0.42)["tau0"] == sch(0.30)["tau0"]

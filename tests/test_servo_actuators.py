@@ -81,7 +81,7 @@ ALSO = ("servo-actuators",)
 
 
 def _pool():
-    from inflowsim.diagnose.candidates import offered_effects
+    from inflowsim.diagnose.rule import offered_effects
     return offered_effects() + [e for e in ALSO if e not in offered_effects()]
 
 

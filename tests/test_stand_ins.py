@@ -14,7 +14,8 @@ import pytest
 import inflowsim as ifs
 from conftest import TWO_AXES
 from inflowsim.diagnose import diagnose
-from inflowsim.diagnose.verdict import STAND_IN_SHARE, StandIn, stand_ins
+from inflowsim.diagnose.rule import DEFAULT_RULE
+from inflowsim.diagnose.verdict import StandIn, stand_ins
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.params import SPECS
 from inflowsim.model.presets import theory_parameters
@@ -74,7 +75,7 @@ def test_an_effect_that_leaves_most_of_the_excess_is_a_stand_in(tmp_path):
     v = d.verdict
     assert v.status in ("partly-explained", "unexplained"), v
     if v.effects:
-        assert v.excess_explained < STAND_IN_SHARE
+        assert v.excess_explained < DEFAULT_RULE.stand_in_share
         assert all(v.is_stand_in(e) for e in v.effects), v.stand_ins
         assert all(x.reasons[-1][0] == "excess" for x in v.stand_ins)
         assert "stand-in" in v.describe()
@@ -88,4 +89,4 @@ def test_stand_ins_are_data_rendered_to_text():
     assert "delay = -0.0035 +- 0.0003 is outside its physical range [0, 1]" in x.describe()
     assert stand_ins(("azimuth-bias",), None, 0.9) == ()
     (y,) = stand_ins(("azimuth-bias",), None, 0.2)
-    assert y.reasons == (("excess", None, 0.2, None, STAND_IN_SHARE, None, None),)
+    assert y.reasons == (("excess", None, 0.2, None, DEFAULT_RULE.stand_in_share, None, None),)

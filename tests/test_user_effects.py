@@ -14,9 +14,9 @@ from conftest import assert_user_error, run, virtual
 from inflowsim import PUMA, Structure, build_model, theory_parameters
 from inflowsim.data.record import write_record
 from inflowsim.errors import InputError
-from inflowsim.model.effects import (CATALOGUE, USER_EFFECTS, load_effect_file,
-                                     unregister)
+from inflowsim.model.effects import CATALOGUE
 from inflowsim.model.effects import user as user_module
+from inflowsim.model.effects.user import USER_EFFECTS, load_effect_file, unregister
 from inflowsim.model.equations import rotation
 from inflowsim.model.params import SPECS
 
@@ -66,7 +66,7 @@ def test_a_file_effect_is_registered_and_usable(tmp_path, clean):
     m0 = build_model("basic", theory_parameters("basic", PUMA), PUMA)
     assert m.A[2, 1] == pytest.approx(m0.A[2, 1] + 0.1)
     # a candidate like any other: offered to the diagnosis
-    from inflowsim.diagnose.candidates import applicable
+    from inflowsim.diagnose.rule import applicable
     assert "my-coupling" in applicable(Structure.parse("basic"), None)
     unregister("my-coupling")
     assert "my-coupling" not in CATALOGUE and "k_mc" not in SPECS

@@ -72,7 +72,7 @@ def campaign_schedule(conditions, criterion: str = "aic", max_order: int = 3,
         return None, str(exc)
     notes = [f"conditions left out (failed, or fitted with another structure than "
              f"{structure}): {', '.join(left)}"] if left else []
-    from ..model.effects import needs_trim
+    from ..model.structure import needs_trim
     if needs_trim([structure]) and not sch.trim:
         notes.append(f"{structure} is linearised about the trim, but the conditions "
                      "hold no trim totals: the schedule's simulator and FMU keep the "

@@ -21,6 +21,7 @@ import traceback
 from dataclasses import asdict, dataclass
 from types import MappingProxyType
 
+from ..defaults import MAX_STEPS
 from ..errors import InputError
 
 #: Status of a result.
@@ -54,7 +55,7 @@ class Settings:
     band: tuple = (0.2256, 1.58)
     pool: tuple | None = None
     alpha: float | None = None
-    max_steps: int = 6
+    max_steps: int = MAX_STEPS
     hold: str | None = None
 
     def as_dict(self) -> dict:

@@ -14,6 +14,7 @@ prints the document on stdout (the progress bar is on stderr).
 """
 from __future__ import annotations
 
+from ..defaults import MAX_STEPS
 from ..errors import InputError
 from ._checks import finite_float
 from ._common import add_also_option, pool_with, print_json, progress, unknown_effect, warn
@@ -44,7 +45,7 @@ def add_arguments(p):
     p.add_argument("--alpha", type=finite_float, default=None,
                    help="significance level per candidate")
     p.add_argument("--max-steps", type=int, default=None, help="ladder steps at most "
-                                                                "(default 6)")
+                                                                f"(default {MAX_STEPS})")
     p.add_argument("--hold", choices=("continuous", "zoh", "foh"),
                    help="intersample behaviour of every record (default each record's)")
     p.add_argument("--schedule-criterion", choices=("aic", "aicc", "bic", "chi2"),
@@ -94,7 +95,7 @@ def _settings(args, plan):
     if not 0 < float(alpha) < 0.5:
         raise InputError(f"--alpha {alpha:g}: choose a level in (0, 0.5)")
     steps = args.max_steps if args.max_steps is not None else \
-        _setting(s, "max_steps", int, "a whole number >= 0", 6)
+        _setting(s, "max_steps", int, "a whole number >= 0", MAX_STEPS)
     if steps < 0:
         raise InputError(f"--max-steps {steps}: must be >= 0")
     cands = args.candidates or _setting(s, "candidates", list, "a list of effect names",

@@ -24,10 +24,12 @@ from ._common import (add_add_option, add_channels_option, add_flight_options,
 
 HELP = "virtual flight test: write a record from a nonlinear blade truth or a linear model"
 
-NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay", "servo-actuators")
+NONLINEAR_EFFECTS = ("azimuth-bias", "time-delay", "servo-actuators", "lead-lag")
 NONLINEAR_SET = ("lambda_beta2", "n_beta", "tau0", "tau_cs", "K_R")
 #: ``--set`` names of the nonlinear truth's servo actuators (with ``--add servo-actuators``)
 SERVO_SET = ("servo_tau", "servo_zeta")
+#: ``--set`` names of the nonlinear truth's blade lead-lag (with ``--add lead-lag``)
+LAG_SET = ("nu_zeta", "zeta_lag")
 
 
 def add_arguments(p):
@@ -37,7 +39,8 @@ def add_arguments(p):
                      help="linear truth: structure (preset, then +effect terms); "
                           "default glauert")
     add_add_option(p, help="add an effect (repeatable); nonlinear truth: azimuth-bias, "
-                           "time-delay")
+                           "time-delay, servo-actuators (--set servo_tau, servo_zeta), "
+                           "lead-lag (each blade's lag; --set nu_zeta, zeta_lag)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a truth parameter value (repeatable), e.g. tau_cs=21.4")
     p.add_argument("--input", choices=("doublet", "3211", "sweep", "multisine"),
@@ -283,14 +286,24 @@ def _nonlinear(args, man, values):
         from ..model.effects.servo_actuators import EFFECT as SERVO
         sv = SERVO.theory(None) | {n: values.pop(n) for n in SERVO_SET if n in values}
         servo = (sv["servo_tau"], sv["servo_zeta"])
-    unknown = sorted(set(values) - set(NONLINEAR_SET))
+    k = _constants(args)
+    if "lead-lag" in args.add:
+        # the blades' lag: the effect's theory values for the rotor, or --set
+        from ..model.effects.lead_lag import EFFECT as LAG
+        if "k_flap_lag" in values:
+            raise InputError("--set k_flap_lag: the nonlinear truth's flap-lag coupling "
+                             "is its physics (k_flap_lag = 1); set nu_zeta, zeta_lag")
+        values = {n: v for n, v in LAG.theory(k).items() if n in LAG_SET} | values
+    takes = NONLINEAR_SET + (LAG_SET if "lead-lag" in args.add else ())
+    unknown = sorted(set(values) - set(takes))
     if unknown:
+        extra = [f"{', '.join(names)} with --add {effect}" for effect, names in
+                 (("servo-actuators", SERVO_SET), ("lead-lag", LAG_SET))
+                 if effect not in args.add]
         raise InputError(f"--set {unknown[0]}: the nonlinear truth takes "
-                         f"{', '.join(NONLINEAR_SET)}"
-                         + ("" if "servo-actuators" in args.add else
-                            " (servo_tau, servo_zeta with --add servo-actuators)"))
-    rotor = RotorSpec(constants=_constants(args), n_blades=args.blades, speed=args.speed,
-                      **values)
+                         f"{', '.join(takes)}"
+                         + (f" ({'; '.join(extra)})" if extra else ""))
+    rotor = RotorSpec(constants=k, n_blades=args.blades, speed=args.speed, **values)
     return FlightTest(rotor=rotor, manoeuvres=man, duration=args.duration, dt=args.dt,
                       noise_flap=args.noise, seed=args.seed,
                       azimuth_bias=args.azimuth_bias or 0.0, delay=args.delay or 0.0,
@@ -298,7 +311,9 @@ def _nonlinear(args, man, values):
                       hold=args.hold, noise_color_hz=args.noise_color_hz, servo=servo,
                       description=f"{_what(args, man)}, nonlinear blade-element truth"
                       + (f", servo actuators {servo[0]:g} s, damping {servo[1]:g}"
-                         if servo else ""))
+                         if servo else "")
+                      + (f", blade lead-lag nu_zeta {rotor.nu_zeta:g}, zeta_lag "
+                         f"{rotor.zeta_lag:g}" if rotor.lag else ""))
 
 
 def _linear(args, man, values):

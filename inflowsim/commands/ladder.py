@@ -9,6 +9,7 @@ the plot of the error falling.
 """
 from __future__ import annotations
 
+from ..defaults import MAX_STEPS
 from ._common import (add_effect_arguments, add_record_arguments, add_search_arguments,
                       check_search_arguments, pool_with, print_json, progress,
                       read_records)
@@ -22,7 +23,8 @@ def add_arguments(p):
     p.add_argument("--model", "-m", default="basic", help="starting structure (default basic)")
     p.add_argument("--structures", nargs="+", metavar="M",
                    help="climb these structures instead of searching")
-    p.add_argument("--max-steps", type=int, default=6, help="effects to add at most")
+    p.add_argument("--max-steps", type=int, default=MAX_STEPS,
+                   help=f"effects to add at most (default {MAX_STEPS})")
     add_search_arguments(p)
     add_record_arguments(p)
 

@@ -13,14 +13,15 @@ from __future__ import annotations
 
 import dataclasses
 
-from .failures import ALPHA, excess_channels
+from .failures import excess_channels
+from .rule import DEFAULT_RULE, Rule
 
 
-def conditional_reason(analyses, alpha=ALPHA) -> str | None:
+def conditional_reason(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> str | None:
     """One line saying why a fit's estimates are conditional, from its residual
     analyses (one per record), or ``None`` where no channel keeps structured
-    excess over the floor."""
-    where = excess_channels(analyses, alpha)
+    excess over the floor (tested at ``alpha``, default ``rule.alpha``)."""
+    where = excess_channels(analyses, alpha, rule)
     if not where:
         return None
     worst = {}
@@ -34,11 +35,11 @@ def conditional_reason(analyses, alpha=ALPHA) -> str | None:
             "of what the structure lacks")
 
 
-def marked(fit, analyses, alpha=ALPHA, reason=None):
+def marked(fit, analyses, alpha=None, reason=None, rule: Rule = DEFAULT_RULE):
     """``fit`` with :attr:`~inflowsim.identify.results.FitResult.conditional` set from
     its residual analyses (``reason`` where they show none but the caller knows
     one, e.g. a verdict on the same records)."""
-    why = conditional_reason(analyses, alpha) or reason
+    why = conditional_reason(analyses, alpha, rule) or reason
     if fit.judged and why == fit.conditional:
         return fit
     return dataclasses.replace(fit, conditional=why, judged=True)

@@ -6,7 +6,7 @@ floor is mostly noise and the share of it a candidate removes says little.  A
 model error, though, is the inputs seen through a wrong frequency response:
 ``dH(f) U(f)`` with ``dH`` smooth, plus a smooth transient.  Regressing each
 channel's residual on those terms (each input's transform times Legendre
-polynomials of degree < :data:`DEGREES` in frequency over the band, and the
+polynomials of degree < ``Rule.degrees`` in frequency over the band, and the
 polynomials alone) splits it into the part the inputs explain and the rest; the
 rest, per degree of freedom, is the channel's noise level in the band, whatever
 its colour.  The *input-correlated excess* is the explained part's power over
@@ -15,15 +15,21 @@ that level, summed over the channels: for noise alone its mean is
 law) less what the fit took from it (:func:`expected_for_noise`: half a
 dimension for every real parameter fitted, model and end effects, whose
 directions lie in the span), and a model error raises it.  The candidate tests
-(:mod:`inflowsim.diagnose.candidates`) use it in place of the deviance when a
+(:mod:`inflowsim.diagnose.rule`, line 4) use it in place of the deviance when a
 record's noise is coloured.
+
+:func:`judge` is line 4's measure of a fit's residual, either way: the level
+deviance from white noise at the base's floor (:func:`~.failures.level_deviance`),
+or, where a record's in-band noise is ``Rule.coloured`` times the floor or more,
+the input-correlated excess.
 """
 from __future__ import annotations
 
 import numpy as np
 
-#: Polynomials per input (degrees 0 .. DEGREES - 1) of the smooth response error.
-DEGREES = 3
+from .failures import (WHITE_DEVIANCE, analyses_of, floor_deviance, level_deviance,
+                       structure_statistic, white_level_deviance)
+from .rule import DEFAULT_RULE, Rule
 
 
 def project(e: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -31,12 +37,13 @@ def project(e: np.ndarray, Q: np.ndarray) -> np.ndarray:
     return (e @ Q.conj()) @ Q.T
 
 
-def smooth_input_basis(ra) -> np.ndarray:
+def smooth_input_basis(ra, rule: Rule = DEFAULT_RULE) -> np.ndarray:
     """Orthonormal basis ``(nf, r)`` of the smooth input-correlated residuals of a
-    :class:`~inflowsim.diagnose.failures.ResidualAnalysis`."""
+    :class:`~inflowsim.diagnose.failures.ResidualAnalysis`: each input's transform
+    times Legendre polynomials of degree < ``rule.degrees``, and those alone."""
     f = ra.f_hz
     x = 2 * (f - f.min()) / max(f.max() - f.min(), np.finfo(float).tiny) - 1
-    L = np.polynomial.legendre.legvander(x, DEGREES - 1)
+    L = np.polynomial.legendre.legvander(x, rule.degrees - 1)
     U = np.zeros((f.size, 0)) if ra.U is None else ra.U
     scale = np.abs(U).max(axis=0) if U.size else np.zeros(0)
     U = U[:, scale > 0] / scale[scale > 0]
@@ -68,5 +75,78 @@ def expected_for_noise(nf: int, r: int, fitted: int = 0) -> float:
     return (3.0 * r - 0.5 * fitted) * (nf - r) / (nf - r - 1)
 
 
-__all__ = ["DEGREES", "project", "smooth_input_basis", "noise_levels", "input_excess",
+#: The floor-based measures: (deviance of an analysis against floors, its mean for
+#: noise at the floor, the name candidates report), by ``Rule.white_measure``.
+FLOOR_MEASURES = {
+    "level": (level_deviance, lambda ra: white_level_deviance(ra.f_hz.size),
+              "level deviance"),
+    "deviance": (floor_deviance, lambda ra: WHITE_DEVIANCE * ra.ratio.size, "deviance"),
+}
+
+
+def judge(records, band_hz, base_fit, base_analyses, rule: Rule = DEFAULT_RULE):
+    """``judge(fit) -> dict``, line 4's measure of a fit's residual
+    (:func:`inflowsim.diagnose.rule.lattice`).
+
+    The residual's level deviance from white noise at the floor
+    (``rule.white_measure``) and its structure across frequency, against the base
+    fit's floors (the sensor noise does not change with the model); ``judge(None)``
+    describes the base, with the deviance expected of noise at the floor.  Where a
+    record's noise is coloured (the in-band noise ``rule.coloured`` times the floor
+    or more) the floor says little, and the measure is the residual's
+    input-correlated excess instead.
+
+    Parameters
+    ----------
+    records : list of Record
+        The records.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    base_fit : FitResult
+        The base structure's fit.
+    base_analyses : list of ResidualAnalysis
+        Its residual analyses, per record.
+    rule : Rule
+        The settings (:class:`~inflowsim.diagnose.rule.Rule`).
+    """
+    if any(k >= rule.coloured for ra in base_analyses for k in ra.in_band_over_floor):
+        # the floor is far below the noise: measure without it
+        bases = [smooth_input_basis(ra, rule) for ra in base_analyses]
+        levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
+
+        def measure(analyses):
+            return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
+                                    in zip(analyses, bases, levels)), "structure": 0.0}
+        base = measure(base_analyses)
+        # what the fit took from the noise: its parameters (shared by the records)
+        # and each record's end-effect nuisance
+        fitted = [len(base_fit.free) / len(base_fit.data) + np.size(d.nu)
+                  for d in base_fit.data]
+        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1], n)
+                                     for ra, Q, n in zip(base_analyses, bases, fitted))
+        base["measure"] = "input-correlated excess"
+    else:
+        deviance, white, label = FLOOR_MEASURES[rule.white_measure]
+        floors = [ra.floor for ra in base_analyses]
+
+        def measure(analyses):
+            return {"deviance": sum(deviance(ra, fl) for ra, fl in zip(analyses, floors)),
+                    "structure": sum(structure_statistic(ra, fl, rule.max_lag)
+                                     for ra, fl in zip(analyses, floors))}
+        base = measure(base_analyses)
+        base["white_deviance"] = sum(white(ra) for ra in base_analyses)
+        base["measure"] = label
+    cache = {id(base_fit): base}
+
+    def judged(fit):
+        if fit is None:
+            return base
+        if id(fit) not in cache:
+            cache[id(fit)] = measure(analyses_of(records, fit, band_hz, check_colour=False,
+                                                 rule=rule))
+        return cache[id(fit)]
+    return judged
+
+
+__all__ = ["FLOOR_MEASURES", "judge", "project", "smooth_input_basis", "noise_levels", "input_excess",
            "expected_for_noise"]

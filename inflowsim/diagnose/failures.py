@@ -10,7 +10,7 @@ minimised, on the same frequencies:
 * **Level.**  Each bin's residual power over the sensor-noise floor.  The floor is
   measured from the record, well above the rotor's response (from
   ``max(5 f2, 5 Hz)`` to 0.8 Nyquist, where the model predicts essentially
-  nothing), on the same residual (the fitted model and end states) at those
+  nothing; the numbers are :class:`~inflowsim.diagnose.rule.Rule`'s), on the same residual (the fitted model and end states) at those
   frequencies; that assumes white sensor noise.  The assumption is checked: the
   noise in the band, estimated without a model (:mod:`inflowsim.diagnose.lpm`), at
   three times that floor or more is reported as coloured.  Coloured noise lies above
@@ -36,16 +36,13 @@ import numpy as np
 from scipy.special import digamma
 
 from ..data.record import FLAP_COLUMNS, find_trim, model_inputs, perturbations
+from ..model.build import build_model
 from ..identify.transform import DEFAULT_BAND
 from .lpm import in_band_noise
+from .rule import DEFAULT_RULE, Rule
 from .tails import chi2_sf, f_sf
 from ..model.params import SPECS
 from ..simulate.replay import replay
-
-ALPHA = 1e-3
-#: Lags (bins) of the residual's correlation across frequency.
-MAX_LAG = 6
-
 
 
 @dataclass(frozen=True)
@@ -129,25 +126,18 @@ class TimeResidual:
         return perturbations(self.record, self.trim, FLAP_COLUMNS) - y
 
 
-def floor_band(record, band_hz):
+def floor_band(record, band_hz, rule: Rule = DEFAULT_RULE):
     """The band [Hz] where the noise floor is measured: ``max(5 f2, 5 Hz)`` to 0.8
-    Nyquist, or ``None`` where it holds fewer than 20 transform bins."""
-    lo, hi = max(5.0 * band_hz[1], 5.0), 0.8 * 0.5 / record.dt
-    return (lo, hi) if (hi - lo) * record.duration >= 20 else None
+    Nyquist, or ``None`` where it holds fewer than 20 transform bins (the numbers:
+    ``rule.floor_over_band``, ``floor_min_hz``, ``nyquist_share``,
+    ``floor_min_bins``)."""
+    lo = max(rule.floor_over_band * band_hz[1], rule.floor_min_hz)
+    hi = rule.nyquist_share * 0.5 / record.dt
+    return (lo, hi) if (hi - lo) * record.duration >= rule.floor_min_bins else None
 
 
-#: Sub-bands of the floor band: the floor is the median of their levels, so rotor
-#: harmonics (the N/rev ripple of a real rotor) in a few of them do not raise it.
-FLOOR_SUBBANDS = 8
-#: A channel whose noise in the band (:func:`inflowsim.diagnose.lpm.in_band_noise`)
-#: is this many times the floor above it has coloured noise, and the report says
-#: so.  (Over the 136 white-noise records of ``bench/detection.py`` the ratio is
-#: 0.57-1.68; a 2 Hz low-pass in the data system puts it at 29-830 on its 128
-#: coloured null records.)
-COLOURED = 3.0
-
-
-def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour=True):
+def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour=True,
+                rule: Rule = DEFAULT_RULE):
     """Sensor-noise power per transform bin ``(3, nf)`` at the band's frequencies
     ``f_band``, the band it was measured in [Hz], and per channel the noise in the
     band estimated without a model (:mod:`inflowsim.diagnose.lpm`) over that floor
@@ -157,16 +147,17 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
     fitted model is stable) over :func:`floor_band`, where the rotor barely
     answers, with its own end states there (those of the band fit are poorly
     determined in directions that grow at high frequency).  Its level is the
-    median over :data:`FLOOR_SUBBANDS` sub-bands of each sub-band's median bin
-    power over ``ln 2``, carried into the band as white noise: the assumption
-    of a white sensor noise, stated in every report (and checked: a channel
-    whose in-band noise is :data:`COLOURED` times the floor or more is reported
-    as coloured, :func:`spectrum_failures`).  Without a floor band, the quietest
+    median over ``rule.floor_subbands`` sub-bands (rotor harmonics in a few of
+    them do not raise it) of each sub-band's median bin power over ``ln 2``,
+    carried into the band as white noise: the assumption of a white sensor noise,
+    stated in every report (and checked: a channel whose in-band noise is
+    ``rule.coloured`` times the floor or more is reported as coloured,
+    :func:`spectrum_failures`).  Without a floor band, the quietest
     quartile of the in-band residual ``in_band`` ``(nf, 3)``.
     """
     from ..identify.freqmodel import flap_response
     from ..identify.transform import record_spectra
-    fb = floor_band(record, band_hz)
+    fb = floor_band(record, band_hz, rule)
     nf = np.size(f_band)
     if fb is None:
         p = np.abs(np.asarray(in_band)) ** 2
@@ -174,14 +165,17 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
         floor = np.repeat(np.maximum(floor, np.finfo(float).tiny)[:, None], nf, axis=1)
         return floor, (float(band_hz[0]), float(band_hz[1])), ()
     sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False)
-    y_u, y_nu, _ = flap_response(model, sp)
-    e = sp.Z - y_u
-    coef = _end_states(y_nu, e)
-    p = np.abs(e - y_nu @ coef) ** 2
-    chunks = np.array_split(np.arange(len(p)), FLOOR_SUBBANDS)
+    if sp.f_hz.size <= STREAM_BINS:
+        y_u, y_nu, _ = flap_response(model, sp)
+        e = sp.Z - y_u
+        coef = _end_states(y_nu, e)
+        p = np.abs(e - y_nu @ coef) ** 2
+    else:
+        p = _floor_power_streamed(model, sp)
+    chunks = np.array_split(np.arange(len(p)), rule.floor_subbands)
     level = np.median([np.median(p[c], axis=0) for c in chunks], axis=0) / np.log(2)
     floor = np.repeat(np.maximum(level, np.finfo(float).tiny)[:, None], nf, axis=1)
-    inside = in_band_noise(record, model.inputs, band_hz, hold, f_band) \
+    inside = in_band_noise(record, model.inputs, band_hz, hold, f_band, rule) \
         if check_colour else None
     ratio = () if inside is None else tuple(
         float(inside[c].mean() / floor[c].mean()) for c in range(3))
@@ -191,6 +185,49 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
 #: Floor-band bins above which the end states are solved block by block (a
 #: 2-hour record's floor band holds 150 000 bins).
 STREAM_BINS = 16384
+
+
+def _qr_update(R, c, y_nu, e):
+    """The QR factor ``R`` and rotated right side ``c`` of :func:`_end_states`'s
+    least squares with the bins of one more block ``y_nu`` ``(nb, 3, q)``,
+    ``e`` ``(nb, 3)`` appended."""
+    a = y_nu.reshape(-1, y_nu.shape[2])
+    b = e.ravel()
+    Q, R = np.linalg.qr(np.vstack([R, a.real, a.imag]))
+    return R, Q.T @ np.concatenate([c, b.real, b.imag])
+
+
+def _floor_power_streamed(model, sp):
+    """``|e - y_nu coef|^2`` ``(nf, 3)`` of :func:`noise_floor` for a floor band
+    of more than :data:`STREAM_BINS` bins, block by block: the end-state responses
+    ``y_nu`` (86 MB for a 2-hour record's floor band) are never held whole, each
+    block's computed once for the least squares and again for its residual.  The
+    blocks are :func:`~inflowsim.identify.freqmodel.flap_response`'s own and
+    :func:`_end_states`'s, so every number is the one of the whole arrays."""
+    from dataclasses import replace
+    from ..identify.freqmodel import flap_response
+    nf = sp.f_hz.size
+    blocks = [slice(i, min(i + STREAM_BINS, nf)) for i in range(0, nf, STREAM_BINS)]
+
+    def part(blk):
+        return flap_response(model, replace(sp, f_hz=sp.f_hz[blk], U=sp.U[blk],
+                                            Z=sp.Z[blk]))
+    e = np.empty(sp.Z.shape, dtype=complex)
+    R, c = None, np.zeros(0)
+    for blk in blocks:
+        y_u, y_nu, _ = part(blk)
+        e[blk] = sp.Z[blk] - y_u
+        if R is None:
+            R = np.zeros((0, y_nu.shape[2]))
+        R, c = _qr_update(R, c, y_nu, e[blk])
+        del y_u, y_nu
+    coef, *_ = np.linalg.lstsq(R, c, rcond=None)
+    p = np.empty(e.shape)
+    for blk in blocks:
+        _, y_nu, _ = part(blk)
+        p[blk] = np.abs(e[blk] - y_nu @ coef) ** 2
+        del y_nu
+    return p
 
 
 def _end_states(y_nu, e):
@@ -206,16 +243,14 @@ def _end_states(y_nu, e):
         return coef
     R, c = np.zeros((0, q)), np.zeros(0)
     for i in range(0, nf, STREAM_BINS):
-        a = y_nu[i:i + STREAM_BINS].reshape(-1, q)
-        b = e[i:i + STREAM_BINS].ravel()
-        Q, R = np.linalg.qr(np.vstack([R, a.real, a.imag]))
-        c = Q.T @ np.concatenate([c, b.real, b.imag])
+        R, c = _qr_update(R, c, y_nu[i:i + STREAM_BINS], e[i:i + STREAM_BINS])
     coef, *_ = np.linalg.lstsq(R, c, rcond=None)
     return coef
 
 
 def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
-                      fit=None, check_colour=True) -> ResidualAnalysis:
+                      fit=None, check_colour=True,
+                      rule: Rule = DEFAULT_RULE) -> ResidualAnalysis:
     """The residual of ``model`` on ``record`` over the band, against the floor.
 
     ``fit``: the record's :class:`~inflowsim.identify.RecordFit` of an
@@ -223,7 +258,8 @@ def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
     Without it the model is evaluated on the record (:func:`inflowsim.identify.evaluate`:
     the same residual, end effects eliminated, for given parameters).
     ``check_colour``: estimate the noise in the band (``in_band_over_floor``); it
-    does not depend on the model, so the candidate tests skip it.
+    does not depend on the model, so the candidate tests skip it.  ``rule``: the
+    floor band's numbers (:class:`~inflowsim.diagnose.rule.Rule`).
     """
     from ..identify import evaluate
     from ..identify.transform import dft, transform_weights
@@ -237,13 +273,44 @@ def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
     else:
         f, Z, Y, x0 = fit.f_hz, fit.Z, fit.Y, fit.x0
     e_t = TimeResidual(record, model, trim, hold, x0)
-    floor, fb, colour = noise_floor(record, model, band_hz, hold, f, Z - Y, check_colour)
+    floor, fb, colour = noise_floor(record, model, band_hz, hold, f, Z - Y, check_colour,
+                                    rule)
     ratio = (np.abs(Z - Y) ** 2).T / floor
     on_grid = np.allclose(f * len(record) * record.dt,
                           np.rint(f * len(record) * record.dt), atol=1e-6)
     U = dft(u, record.dt, f, on_grid, transform_weights(len(record), hold))
     return ResidualAnalysis(f, Z.T, Y.T, floor, ratio, e_t, fb, tuple(model.inputs), U,
                             hold, colour)
+
+
+def _as_list(records):
+    return list(records) if isinstance(records, (list, tuple)) else [records]
+
+
+def analyses_of(records, fit, band_hz, check_colour=True, rule: Rule = DEFAULT_RULE):
+    """The fit's residual analysis on each record (its own residual and initial
+    state, each record's own flight condition and trim).
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records (each with its own flight condition and trim).
+    fit : FitResult
+        The fitted structure.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    check_colour : bool
+        Also test the residual's whiteness (coloured noise) [-].
+    rule : Rule
+        The settings: the floor band's numbers
+        (:class:`~inflowsim.diagnose.rule.Rule`).
+    """
+    out = []
+    for rec, data in zip(_as_list(records), fit.data):
+        m = build_model(fit.structure, fit.parameters, rec.constants)
+        out.append(residual_analysis(rec, m, band_hz, fit=data, check_colour=check_colour,
+                                     rule=rule))
+    return out
 
 
 def _segments(f, mask):
@@ -258,7 +325,7 @@ def _segments(f, mask):
     return [(float(f[a]), float(f[b]), a, b) for a, b in out]
 
 
-def frequency_whiteness(e: np.ndarray, max_lag: int = MAX_LAG):
+def frequency_whiteness(e: np.ndarray, max_lag: int = DEFAULT_RULE.max_lag):
     """``(Q, p, rho_1)`` of one channel's complex residual across the band's bins:
     ``Q = 2 nf sum_{j=1..L} |rho_j|^2``, chi-square with ``2 L`` degrees of freedom
     for independent bins (white or coloured noise); model error, smooth in
@@ -274,7 +341,8 @@ def frequency_whiteness(e: np.ndarray, max_lag: int = MAX_LAG):
     return q, float(chi2_sf(q, 2 * L)), float(np.abs(rho[0]))
 
 
-def structure_statistic(ra: ResidualAnalysis, floors=None, max_lag: int = MAX_LAG) -> float:
+def structure_statistic(ra: ResidualAnalysis, floors=None,
+                        max_lag: int = DEFAULT_RULE.max_lag) -> float:
     """How much structure across frequency the residual keeps, in units of the
     noise: ``sum_c 2 nf sum_j |gamma_j|^2 nf / (nf - j)`` with ``gamma_j`` the
     autocovariance over ``j`` bins of the residual divided by the root of the
@@ -299,7 +367,7 @@ def floor_deviance(ra: ResidualAnalysis, floors=None) -> float:
     default the analysis's own).  Zero only for a residual exactly at the floor;
     for white noise at the floor its mean is ``0.5772`` a bin (Euler's constant),
     and it grows with any excess (model error) and any deficit (a fit of the
-    noise).  :mod:`inflowsim.diagnose.candidates` asks a candidate to lower it."""
+    noise).  The rule (:mod:`inflowsim.diagnose.rule`) asks a candidate to lower it."""
     fl = ra.floor if floors is None else np.asarray(floors)
     r = np.maximum(np.abs(ra.error) ** 2 / fl, 1e-300)
     return float(np.sum(r - 1.0 - np.log(r)))
@@ -371,26 +439,32 @@ def input_regression(ra: ResidualAnalysis, c: int, rank_tol: float = 1e-6):
     return F, float(f_sf(F, 2 * r, 2 * (nf - r))), r, names[int(np.argmax(corr))]
 
 
-def channel_structure(ra: ResidualAnalysis, c: int, alpha=ALPHA) -> dict:
+def channel_structure(ra: ResidualAnalysis, c: int, alpha=None,
+                      rule: Rule = DEFAULT_RULE) -> dict:
     """Whether channel ``c``'s residual is structured: smooth across frequency
-    (:func:`frequency_whiteness`) *and* dependent on the inputs
-    (:func:`input_regression`).  Coloured noise can pass the first (leakage
-    makes neighbouring bins alike) but not the second; model error fails both."""
-    q, p, rho1 = frequency_whiteness(ra.whitened[c])
+    (:func:`frequency_whiteness`, ``rule.max_lag``) *and* dependent on the inputs
+    (:func:`input_regression`), each at ``alpha`` (default ``rule.alpha``).
+    Coloured noise can pass the first (leakage makes neighbouring bins alike) but
+    not the second; model error fails both."""
+    alpha = rule.alpha if alpha is None else alpha
+    q, p, rho1 = frequency_whiteness(ra.whitened[c], rule.max_lag)
     F, p_in, r, best = input_regression(ra, c)
     return {"q": q, "p_value": p, "lag1": rho1, "input": best, "input_f": F,
             "input_rank": r, "input_p_value": p_in,
             "structured": bool(p < alpha and p_in < alpha)}
 
 
-def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
-    """Per channel: is the in-band residual above the noise floor, where, and is
-    the disagreement mostly magnitude or phase?  Unstructured excess is reported
-    as coloured noise."""
+def spectrum_failures(ra: ResidualAnalysis, alpha=None,
+                      rule: Rule = DEFAULT_RULE) -> list[Failure]:
+    """Per channel: is the in-band residual above the noise floor (at ``alpha``,
+    default ``rule.alpha``), where, and is the disagreement mostly magnitude or
+    phase?  Unstructured excess, and in-band noise ``rule.coloured`` times the
+    floor or more, are reported as coloured noise."""
+    alpha = rule.alpha if alpha is None else alpha
     out = []
     thr = -np.log(alpha)
     for c, k in enumerate(ra.in_band_over_floor):
-        if k < COLOURED:
+        if k < rule.coloured:
             continue
         ch = FLAP_COLUMNS[c]
         out.append(Failure(
@@ -408,7 +482,7 @@ def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
         if p >= alpha:
             continue
         excess = float(r.mean())
-        st = channel_structure(ra, c, alpha)
+        st = channel_structure(ra, c, alpha, rule)
         if not st["structured"]:
             out.append(Failure(
                 "coloured-noise", ch,
@@ -452,18 +526,20 @@ def spectrum_failures(ra: ResidualAnalysis, alpha=ALPHA) -> list[Failure]:
     return out
 
 
-def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=ALPHA
-                   ) -> list[Failure]:
+def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=None,
+                   rule: Rule = DEFAULT_RULE) -> list[Failure]:
     """Structure left in each channel's residual over the band: correlation across
-    frequency (``whiteness``) and with the inputs (``input-correlation``).
-    ``record`` and ``model`` are accepted for compatibility and not needed."""
+    frequency (``whiteness``) and with the inputs (``input-correlation``), at
+    ``alpha`` (default ``rule.alpha``).  ``record`` and ``model`` are accepted for
+    compatibility and not needed."""
+    alpha = rule.alpha if alpha is None else alpha
     out = []
     for c, ch in enumerate(FLAP_COLUMNS):
-        st = channel_structure(ra, c, alpha)
+        st = channel_structure(ra, c, alpha, rule)
         if st["p_value"] < alpha:
             out.append(Failure("whiteness", ch,
                                f"{ch}: residual is structured across frequency (Q = "
-                               f"{st['q']:.1f} over {min(MAX_LAG, ra.f_hz.size // 4)} bin "
+                               f"{st['q']:.1f} over {min(rule.max_lag, ra.f_hz.size // 4)} bin "
                                f"lags, p = {st['p_value']:.2g}, neighbour correlation "
                                f"{st['lag1']:.2f}): a smooth model error left in the band",
                                {"q": st["q"], "p_value": st["p_value"], "lag1": st["lag1"]}))
@@ -478,17 +554,18 @@ def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=ALPHA
     return out
 
 
-def excess_channels(analyses, alpha=ALPHA) -> list:
+def excess_channels(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> list:
     """``(channel, peak_hz, peak ratio, mean ratio)`` of every channel, over the
-    records, whose residual keeps excess over the floor (level test at ``alpha``)
-    that is structured (:func:`channel_structure`): the verdict's ``where`` and the
-    ``unexplained`` findings both come from here."""
+    records, whose residual keeps excess over the floor (level test at ``alpha``,
+    default ``rule.alpha``) that is structured (:func:`channel_structure`): the
+    verdict's ``where`` and the ``unexplained`` findings both come from here."""
+    alpha = rule.alpha if alpha is None else alpha
     out = []
     for ra in analyses:
         for c, ch in enumerate(FLAP_COLUMNS):
             if level_p_value(ra, c) >= alpha:
                 continue
-            if not channel_structure(ra, c, alpha)["structured"]:
+            if not channel_structure(ra, c, alpha, rule)["structured"]:
                 continue
             r = ra.ratio[c]
             k = int(np.argmax(r))
@@ -496,7 +573,7 @@ def excess_channels(analyses, alpha=ALPHA) -> list:
     return out
 
 
-def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
+def unexplained(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> list[Failure]:
     """The structured excess no candidate explains (:func:`excess_channels`), in one
     line per channel: ``unexplained residual: X times the noise floor at F Hz in
     beta1s``."""
@@ -506,7 +583,7 @@ def unexplained(analyses, alpha=ALPHA) -> list[Failure]:
         f"{peak:.3g} at {f:.3g} Hz in {ch}; outside the candidate catalogue (no "
         "structure of candidate effects is accepted)",
         {"excess_power": mean, "peak_hz": f, "peak_excess": peak})
-        for ch, f, peak, mean in excess_channels(analyses, alpha)]
+        for ch, f, peak, mean in excess_channels(analyses, alpha, rule)]
 
 
 def parameter_failures(parameters, sigma, correlation=None, names=None, omega=None,
@@ -556,7 +633,7 @@ def parameter_failures(parameters, sigma, correlation=None, names=None, omega=No
     return out
 
 
-__all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "spectrum_failures",
+__all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "analyses_of", "spectrum_failures",
            "residual_tests", "parameter_failures", "unexplained", "noise_floor",
            "frequency_whiteness", "structure_statistic", "channel_structure",
            "floor_deviance", "level_deviance", "white_level_deviance", "level_p_value",

@@ -19,14 +19,14 @@ model of the rotor, so model error does not raise it.
 
 Its estimates scatter (a few degrees of freedom per bin), so the level carried
 into the band is their smooth trend: ``ln`` of the estimates fitted by a line in
-``f`` from the band's lower edge to ``LPM_SPAN`` times its upper edge, scaled so
+``f`` from the band's lower edge to ``Rule.lpm_span`` times its upper edge, scaled so
 that its mean matches theirs.  Measured on 16 null records per kind (8 seeds at
 64 and 256 Hz, 3 channels each): over the band it is 0.76-1.46 times the noise's
 expected level for white noise and 0.74-1.41 for a 2 Hz low-pass (a quadratic
 in ``ln f``, which the few low-frequency bins leave loose, reached 3.3).
 
 The diagnosis uses it to *check* the white-noise floor
-(:data:`inflowsim.diagnose.failures.COLOURED`): a record with coloured noise is
+(``Rule.coloured``, :mod:`inflowsim.diagnose.rule`): a record with coloured noise is
 reported, and its candidates are judged on the input-correlated excess
 (:mod:`inflowsim.diagnose.excess`).  It is not used as the floor: its scatter
 (about 20 % per channel) is larger than what the weakest effects add, and as
@@ -37,12 +37,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .rule import DEFAULT_RULE, Rule
+
 #: Half-width [bins] and degree of the local polynomial.
 LPM_HALF, LPM_DEGREE = 8, 1
 #: Bins whose local regressions are solved together.
 _BLOCK = 2048
-#: The trend is fitted from the band's lower edge to this many times its upper edge.
-LPM_SPAN = 4.0
 
 
 def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray:
@@ -79,12 +79,31 @@ def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray
     return out
 
 
-def in_band_noise(record, inputs, band_hz, hold, f_band) -> np.ndarray | None:
+def in_band_noise(record, inputs, band_hz, hold, f_band,
+                  rule: Rule = DEFAULT_RULE) -> np.ndarray | None:
     """The trend of the local-polynomial noise estimates at ``f_band``, ``(3, nf)``
     in the units of the band fit's transforms; ``None`` where the record holds too
-    few bins for it."""
+    few bins for it.
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    inputs : sequence of str
+        The inputs the outputs are regressed on.
+    band_hz : (float, float)
+        Analysis band [Hz]; the trend is fitted from its lower edge to
+        ``rule.lpm_span`` times its upper edge (``rule.nyquist_share`` of Nyquist
+        at most).
+    hold : {"continuous", "zoh", "foh"} or None
+        Intersample behaviour of the inputs.
+    f_band : array_like
+        Frequencies [Hz] where the trend is evaluated.
+    rule : Rule
+        The settings (:class:`~inflowsim.diagnose.rule.Rule`).
+    """
     from ..identify.transform import record_spectra
-    hi = min(LPM_SPAN * band_hz[1], 0.8 * 0.5 / record.dt)
+    hi = min(rule.lpm_span * band_hz[1], rule.nyquist_share * 0.5 / record.dt)
     if (hi - band_hz[0]) * record.duration < 2 * LPM_HALF + 21:
         return None
     sp = record_spectra(record, inputs, (band_hz[0], hi), hold=hold, require_motion=False)
@@ -102,4 +121,4 @@ def in_band_noise(record, inputs, band_hz, hold, f_band) -> np.ndarray | None:
     return np.array(out)
 
 
-__all__ = ["LPM_SPAN", "local_polynomial_noise", "in_band_noise"]
+__all__ = ["local_polynomial_noise", "in_band_noise"]

@@ -1,17 +1,13 @@
-"""The diagnosis's acceptance rule: stated here, decided here, its settings an argument.
+"""The selection: which effect the diagnosis adds, by one rule with one settings object.
 
-The rule, in five lines (``docs/workflow.md`` states the same five):
-
-1. **Atoms.** Each catalogue effect the structure lacks is an atom, one per physical part
-   where it has several (Glauert: ``F``, ``G``); what the record leaves flat is held, said.
-2. **Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
-   of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
-3. **Admissible.** Each atom is significant beside the others and beside any simpler atom
-   it was paired with (level ``alpha``), and plausible for the rotor (``plausible_sigmas``).
-4. **Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
-   it takes at least ``material`` of the residual's excess over the noise (whiter).
-5. **Added.** Its atom of largest gain beside the others is added; when none is, an added
-   atom no longer significant beside the others is removed; the verdict says what is left.
+The rule is the five steps of this module, in order (:data:`STEPS`): :func:`atoms`,
+:func:`lattice`, :func:`admissible`, :func:`accepted` and :func:`added`.  Each step's
+docstring opens with its line of the rule; :data:`STATEMENT` renders the five lines
+from them (the reports print it).  Every number the decision uses is a field of
+:class:`Rule`, passed as ``rule=`` to :func:`select`, :func:`decide`,
+:func:`inflowsim.diagnose.diagnose` and :func:`inflowsim.diagnose.ladder` and read
+from it by the measurements (:mod:`.failures`, :mod:`.excess`, :mod:`.lpm`): a study
+varies a setting by passing ``Rule(...)``, never by patching a module.
 
 What the terms mean, and why:
 
@@ -30,64 +26,59 @@ What the terms mean, and why:
   its range's edge (``flap_inertia = 0``) the 50:50 mixture of Self and Liang (1987).
   A single atom is tested against the base.  A flexible atom that a simpler one
   (fewer parameters) explains, not significant beside it while the simpler one is
-  beside it, shows no physics of its own: no structure holding it is admissible
-  (``explained_by``; Glauert's four in-plane gains mimic the blades' direct
-  in-plane forcing, one gain ``k_mu``, on the nonlinear blade truth).
+  beside it, shows no physics of its own there: no structure holding it is
+  admissible (``explained_by``; Glauert's four in-plane gains mimic the blades'
+  direct in-plane forcing, one gain ``k_mu``, on the nonlinear blade truth) unless,
+  in a structure without the simpler atom, the simpler atom in its place scores at
+  least ``schwarz_min`` less (``G``): beside another atom the flexible one then
+  shows what the simpler one cannot take (the pair test is made at the base, where
+  a partner's part of the residual can hide it).
 - *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
   range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
 - *Material*: the structure removes at least ``material`` of the base residual's excess
   over the noise floor (its level deviance from white noise at the floor; on a record
-  whose sensor noise is coloured, :data:`~inflowsim.diagnose.failures.COLOURED` times
-  the floor or more, the residual's input-correlated excess, :mod:`.excess`), and the
-  residual moves toward the floor (*whiter*): an effect significant only because the
-  record is long, or that fits the noise, is not what the residual is made of.  Only
-  the structure chosen by ``G`` is put to it: a weaker structure is never named
-  because a stronger one explains a small share of a noisy excess.
-- *Removed* (the ladder, :func:`inflowsim.diagnose.candidates.least_significant`): when
-  nothing more is accepted, each atom the ladder added is tested beside all the others
-  (the final structure against it without that atom); the least significant, if its
-  p-value is ``alpha`` or more, is removed and not offered again, and the ladder goes
-  on.  Forward steps judge an atom beside those added before it only; a collective
-  doublet's ladder added a wake skew that the time constants and the azimuth bias,
-  added after it, explain (p = 0.1 beside them).
+  whose sensor noise is coloured, ``Rule.coloured`` times the floor or more, the
+  residual's input-correlated excess, :mod:`.excess`), and the residual moves toward
+  the floor (*whiter*): an effect significant only because the record is long, or
+  that fits the noise, is not what the residual is made of.  Only the structure
+  chosen by ``G`` is put to it: a weaker structure is never named because a stronger
+  one explains a small share of a noisy excess.
+- *Removed* (the ladder, :func:`least_significant`): when nothing more is accepted,
+  each atom the ladder added is tested beside all the others (the final structure
+  against it without that atom); the least significant, if its p-value is ``alpha``
+  or more, is removed and not offered again, and the ladder goes on.  Forward steps
+  judge an atom beside those added before it only; a collective doublet's ladder
+  added a wake skew that the time constants and the azimuth bias, added after it,
+  explain (p = 0.1 beside them).
 - *Gain beside the others*: ``2 (J_without - J) - k_atom ln n``, what the atom adds to
   the structure without it.  One atom is added a rung, the one the accepted structure
   needs most; its partner is judged again on the next rung, beside it, where a
   simpler pair can still take what a flexible atom (Glauert's four in-plane gains)
   would mimic.
 
-:func:`decide` applies the rule to a table of scored structures (:class:`Scored`, made
-by :func:`inflowsim.diagnose.candidates.lattice`): the decision is data
-(:class:`Decision`, with ``to_json``), and the text and reports are rendered from it.
-A study varies a setting by passing ``Rule(...)``, never by patching a module.
+The decision is data (:class:`Decision`, with ``to_json``; a stored table is decided
+again by :func:`decide`), and the text and reports are rendered from it
+(:mod:`.candidates`).  This module imports none of the diagnosis's measurements: the
+fits (``fit_fn``) and the excess measure (``judge``, :func:`.excess.judge`) are
+arguments.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 
-from ..defaults import ALPHA
+import numpy as np
+
+from ..defaults import ALPHA, MAX_STEPS
 from ..errors import InputError
-from .failures import COLOURED
-
-def _statement(doc: str) -> tuple:
-    """The numbered lines of the docstring's first list, each joined to one line."""
-    out, cur = [], None
-    for line in doc.split("What the terms mean")[0].splitlines():
-        t = line.strip()
-        if t[:2] in {f"{i}." for i in range(1, 10)}:
-            cur = [t]
-            out.append(cur)
-        elif cur is not None and t:
-            cur.append(t)
-    return tuple(" ".join(c).replace("**", "").replace("``", "") for c in out)
+from ..model.effects import CATALOGUE
+from ..model.presets import theory_parameters
+from ..model.structure import Structure
+from ..progress import bar
+from .tails import chi2_logsf, chi2_sf
 
 
-#: The rule's five lines, from the module docstring (``docs/workflow.md`` and the
-#: reports say the same; a test checks they agree).
-STATEMENT = _statement(__doc__)
-
-
+# -- the settings ---------------------------------------------------------------------
 #: What the material test measures on a white-noise record (studies may ask the other).
 WHITE_MEASURES = ("level", "deviance")
 #: The tests of lines 3 and 4, in the order they are stated.
@@ -97,16 +88,22 @@ TESTS = ("determined", "significant", "own", "plausible", "parsimonious", "mater
 
 @dataclass(frozen=True)
 class Rule:
-    """Settings of the rule (module docstring, lines 1-5).
+    """Every setting of the selection (the five steps of :mod:`inflowsim.diagnose.rule`)
+    and of the measurements it decides on.
 
     Attributes
     ----------
     alpha : float
-        Level of each likelihood-ratio test [-] (line 3).
+        Level of each likelihood-ratio test [-] (line 3), and of the residual tests
+        the failures, the verdict and the conditional marking make.
     width : int
         Significant atoms of largest gain paired with each other (line 2).
     plausible_sigmas : float
-        An estimate within this many sigma of its range is plausible [-] (line 3).
+        An estimate within this many sigma of its range is plausible [-] (line 3);
+        the verdict's stand-ins use the same.
+    stand_in_share : float
+        Named effects that together remove less than this share of the excess
+        over the floor are stand-ins (the verdict, line 5) [-].
     schwarz_min : float
         Schwarz gain the accepted structure must exceed [-] (line 4).
     material : float
@@ -117,46 +114,110 @@ class Rule:
         per-bin deviance (kept for studies).
     coloured : float
         In-band sensor noise this many times the floor or more makes the excess the
-        input-correlated one (0: every record).
+        input-correlated one (0: every record) [-].  Over the 136 white-noise
+        records of ``bench/detection.py`` the ratio is 0.57-1.68; a 2 Hz low-pass
+        in the data system puts it at 29-830 on its 128 coloured null records.
+    max_steps : int
+        Rungs the ladder adds at most, and atoms it removes at most (line 5) [-].
+    max_lag : int
+        Lags [bins] of the residual's correlation across frequency (the structure
+        tests of :mod:`.failures`).
+    floor_over_band : float
+        The noise floor is measured from this many times the band's upper edge [-] ...
+    floor_min_hz : float
+        ... and from this frequency at least [Hz] ...
+    nyquist_share : float
+        ... to this share of the Nyquist frequency [-] (also where the in-band noise
+        estimate ends, :mod:`.lpm`) ...
+    floor_min_bins : int
+        ... where it holds this many transform bins at least [-].
+    floor_subbands : int
+        Sub-bands of the floor band: the floor is the median of their levels, so
+        rotor harmonics in a few of them do not raise it [-].
+    lpm_span : float
+        The in-band noise's trend (:mod:`.lpm`) is fitted from the band's lower edge
+        to this many times its upper edge [-].
+    degrees : int
+        Legendre polynomials per input (degrees 0 .. ``degrees - 1``) of the smooth
+        response error the input-correlated excess measures (:mod:`.excess`) [-].
     """
 
     alpha: float = ALPHA
     width: int = 4
     plausible_sigmas: float = 3.0
+    stand_in_share: float = 0.5
     schwarz_min: float = 2.0
     material: float = 0.10
     white_measure: str = "level"
-    coloured: float = COLOURED
+    coloured: float = 3.0
+    max_steps: int = MAX_STEPS
+    max_lag: int = 6
+    floor_over_band: float = 5.0
+    floor_min_hz: float = 5.0
+    nyquist_share: float = 0.8
+    floor_min_bins: int = 20
+    floor_subbands: int = 8
+    lpm_span: float = 4.0
+    degrees: int = 3
 
     def __post_init__(self):
         if not 0 < self.alpha < 1:
             raise InputError(f"alpha = {self.alpha:g}: give a level between 0 and 1")
-        if int(self.width) != self.width or self.width < 0:
-            raise InputError(f"width = {self.width!r}: give a whole number of atoms >= 0")
+        for name in ("width", "max_steps"):
+            v = getattr(self, name)
+            if int(v) != v or v < 0:
+                raise InputError(f"{name} = {v!r}: give a whole number >= 0")
+        for name in ("max_lag", "floor_min_bins", "floor_subbands", "degrees"):
+            v = getattr(self, name)
+            if int(v) != v or v < 1:
+                raise InputError(f"{name} = {v!r}: give a whole number >= 1")
         if self.plausible_sigmas < 0 or not 0 <= self.material < 1:
             raise InputError("plausible_sigmas >= 0 and 0 <= material < 1, please")
+        if not 0 < self.nyquist_share <= 1 or self.lpm_span < 1:
+            raise InputError("0 < nyquist_share <= 1 and lpm_span >= 1, please")
         if self.white_measure not in WHITE_MEASURES:
             raise InputError(f"white_measure {self.white_measure!r}: choose "
                              f"{' or '.join(WHITE_MEASURES)}")
 
     def to_json(self) -> dict:
-        return {"alpha": self.alpha, "width": self.width,
-                "plausible_sigmas": self.plausible_sigmas,
-                "schwarz_min": self.schwarz_min, "material": self.material,
-                "white_measure": self.white_measure, "coloured": self.coloured}
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 #: The rule as the library applies it by default.
 DEFAULT_RULE = Rule()
 
+#: Keyword arguments (and command-line options: ``--alpha``, ``--max-steps``) that
+#: set one field of the rule where given, beside ``rule=``: name -> field.
+LEGACY = {"alpha": "alpha", "max_steps": "max_steps"}
 
-def rule_with(rule: Rule | None, alpha: float | None = None) -> Rule:
-    """``rule`` (default :data:`DEFAULT_RULE`) with ``alpha`` where one is given."""
-    from dataclasses import replace
+
+def rule_with(rule: Rule | None = None, **given) -> Rule:
+    """``rule`` (default :data:`DEFAULT_RULE`) with the fields :data:`LEGACY` names
+    set where a value is given.
+
+    Parameters
+    ----------
+    rule : Rule, optional
+        The settings (default :data:`DEFAULT_RULE`).
+    **given
+        ``alpha`` [-], ``max_steps`` [-]: ``None`` keeps the rule's.
+    """
+    unknown = sorted(set(given) - set(LEGACY))
+    if unknown:
+        raise TypeError(f"rule_with: no setting {', '.join(unknown)}")
     rule = rule or DEFAULT_RULE
-    return rule if alpha is None or alpha == rule.alpha else replace(rule, alpha=alpha)
+    changes = {LEGACY[k]: v for k, v in given.items()
+               if v is not None and v != getattr(rule, LEGACY[k])}
+    return replace(rule, **changes) if changes else rule
 
 
+def rule_from_json(doc: dict) -> Rule:
+    """The settings a decision's JSON records (``Decision.to_json()["rule"]``; the
+    fields a stored one lacks take their defaults)."""
+    return Rule(**doc)
+
+
+# -- the table the steps fill -----------------------------------------------------------
 @dataclass(frozen=True)
 class Scored:
     """One structure of the lattice: the base plus ``atoms``, fitted and scored.
@@ -210,7 +271,7 @@ class Scored:
     implausible: tuple = ()
     held: tuple = ()
     flat: tuple = ()
-    #: ``((atom, simpler atom that explains it), ...)``, set by :func:`decide`
+    #: ``((atom, simpler atom that explains it), ...)``, set by :func:`admissible`
     explained_by: tuple = ()
     excess_before: float | None = None
     excess_after: float | None = None
@@ -307,13 +368,8 @@ class Decision:
 
     @property
     def added(self) -> tuple:
-        """The atom the rule adds (line 5): the accepted structure's atom of largest
-        gain beside the others, as a 1-tuple; ``()`` when nothing is accepted."""
-        if not self.accepted:
-            return ()
-        c = self.chosen
-        gains = dict(c.beside_gain) or {c.atoms[0]: c.schwarz_gain}
-        return (max(c.atoms, key=lambda a: gains.get(a, -math.inf)),)
+        """The atom the rule adds (line 5, :func:`added`), as a 1-tuple; ``()``."""
+        return added(self)
 
     @property
     def added_row(self) -> Scored | None:
@@ -341,6 +397,310 @@ class Decision:
                 "structures": [r.to_json(self.rule) for r in self.rows]}
 
 
+# -- 1. Atoms ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Atom:
+    """One effect, or one physical part of one (``params`` its parameters)."""
+
+    effect: str
+    params: tuple
+
+    @property
+    def whole(self) -> bool:
+        return set(self.params) == set(CATALOGUE[self.effect].parameters)
+
+    @property
+    def label(self) -> str:
+        """``"glauert"`` whole, ``"glauert (k0p, kc, ks)"`` for one part."""
+        return self.effect if self.whole else f"{self.effect} ({', '.join(self.params)})"
+
+
+def applicable(structure: Structure, pool=None) -> list[str]:
+    """Effects not in ``structure`` that may be added to it (``pool``, default the
+    catalogue's offered effects)."""
+    out = []
+    for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
+        if name not in CATALOGUE:
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
+        if name in structure.effects:
+            continue
+        if excluded(name, structure.effects):
+            continue
+        out.append(name)
+    return out
+
+
+def excluded(name: str, effects) -> bool:
+    """``name`` may not join ``effects``: one of them names the other an alternative
+    (either way round: an effect written later, or outside the package, may name a
+    catalogue effect that does not name it back)."""
+    alts = CATALOGUE[name].alternatives
+    return any(e in alts or name in CATALOGUE[e].alternatives
+               for e in effects if e in CATALOGUE)
+
+
+def atoms(base_fit, pool=None) -> list[Atom]:
+    """**Atoms.** Each catalogue effect the structure lacks is an atom, one per physical part
+    where it has several (Glauert: ``F``, ``G``); what the record leaves flat is held, said.
+
+    The atoms of ``base_fit``'s structure: each applicable effect of ``pool``
+    (:func:`applicable`), split into its parts (``Effect.parts``); and each part of
+    an effect of the structure that the base holds whole at neutral values (added on
+    an earlier rung without it).  What the record leaves flat is held when the atom
+    is fitted (:func:`lattice`).
+
+    Parameters
+    ----------
+    base_fit : FitResult
+        The base structure's fit.
+    pool : list of str, optional
+        Candidate effects (default the catalogue's offered ones).
+    """
+    s = base_fit.structure
+    held = set(base_fit.fixed or ())
+    out = []
+    for name in pool or [n for n, e in CATALOGUE.items() if e.offered]:
+        if name not in CATALOGUE:
+            from ..model.structure import unknown_effect
+            raise InputError(unknown_effect(name))
+        eff = CATALOGUE[name]
+        parts = [tuple(p) for p in eff.parts] or [tuple(eff.parameters)]
+        if name in s.effects:
+            out += [Atom(name, p) for p in parts if len(parts) > 1 and set(p) <= held]
+        elif not excluded(name, s.effects):
+            out += [Atom(name, p) for p in parts]
+    return out
+
+
+# -- 2. Lattice -------------------------------------------------------------------------
+def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
+            rule: Rule = DEFAULT_RULE, progress=None) -> tuple:
+    """**Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
+    of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
+
+    Every atom of :func:`atoms` is fitted alone from the base estimates (every
+    structure nests the base: the start reproduces its fit), holding the directions
+    the record leaves flat (:func:`inflowsim.identify.estimator.null_directions`: no
+    information, so holding them biases nothing else), then each pair of the
+    ``rule.width`` significant atoms of largest gain, from the better of the two
+    alone.  Each structure is a :class:`Scored` row; where it is admissible (a
+    single atom: always) ``judge(fit)`` measures its residual's excess for line 4.
+
+    Parameters
+    ----------
+    records : list of Record
+        The records the fits are made on.
+    base_fit : FitResult
+        The base structure's fit.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    fit_fn : callable
+        ``fit_fn(records, structure, band_hz=, start=, fixed=)`` -> FitResult.
+    pool : list of str, optional
+        Candidate effects (default the catalogue's offered ones).
+    judge : callable, optional
+        ``judge(fit)`` -> ``{"deviance", "white_deviance", "measure"}`` (``judge(None)``:
+        the base's), :func:`inflowsim.diagnose.excess.judge`; ``None``: not measured.
+    rule : Rule
+        The settings.
+    progress : callable, optional
+        Progress (:mod:`inflowsim.progress`): a bar per lattice.
+    """
+    found = []
+    alone = atoms(base_fit, pool)
+    name = base_fit.structure.name
+    with bar(progress, len(alone), f"{name}: trying each effect", "fit") as b:
+        for atom in alone:
+            b.set_postfix_str(atom.label)
+            found.append((atom, _single(records, base_fit, atom, band_hz, fit_fn, rule)))
+            b.update()
+    lim = math.log10(rule.alpha)
+    top = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
+                 key=lambda t: -t[1].schwarz_gain)[:rule.width]
+    rows = [r for _, r in found]
+    pairs = [(a, ra, b, rb) for i, (a, ra) in enumerate(top) for b, rb in top[i + 1:]]
+    with bar(progress, len(pairs), f"{name}: trying pairs", "fit") as b:
+        for a, ra, c, rc in pairs:
+            b.set_postfix_str(f"{a.label} with {c.label}")
+            r = _pair(records, base_fit, a, c, ra, rc, band_hz, fit_fn, rule)
+            if r is not None:
+                rows.append(r)
+            b.update()
+    if judge is None:
+        return tuple(rows)
+    base = judge(None)
+    out = []
+    for r in rows:
+        if r.error is None and (len(r.atoms) == 1 or r.admissible(rule)):
+            new = judge(r.fit)
+            r = _measured(r, base, new)
+        out.append(r)
+    return tuple(out)
+
+
+def _measured(row: Scored, base: dict, new: dict) -> Scored:
+    return replace(row, excess_before=float(base["deviance"]),
+                   excess_after=float(new["deviance"]),
+                   excess_noise=float(base["white_deviance"]), measure=base["measure"])
+
+
+def nested_start(base_fit, structure: Structure, constants) -> dict:
+    """Start values for ``structure`` reproducing ``base_fit`` where it nests:
+    base estimates, the new effects' neutral values, and a superseded ``tau``
+    copied into ``tau0`` and ``tau_cs``."""
+    start = theory_parameters(structure, constants)
+    for e in structure.effects:
+        start.update({n: v for n, v in CATALOGUE[e].neutral_values(constants).items()
+                      if n in start})
+    for n, v in base_fit.parameters.items():
+        if n in start:
+            start[n] = v
+    if "tau" in base_fit.parameters and "tau0" in start and "tau0" not in base_fit.parameters:
+        start["tau0"] = start["tau_cs"] = base_fit.parameters["tau"]
+    return start
+
+
+def lr_test(j_base, j_new, dof, boundary=0):
+    """``(statistic, dof, log10 p)`` of ``2 (J_base - J_new)``: chi-square with ``dof``
+    degrees of freedom, or for ``boundary`` parameters at the edge of their range
+    the mixture ``2^-b sum_i C(b, i) chi2(dof - b + i)`` (Self and Liang)."""
+    stat = max(0.0, 2.0 * (j_base - j_new))
+    d = max(dof, 1)
+    if not boundary:
+        return stat, d, float(chi2_logsf(stat, d) / np.log(10))
+    b = min(boundary, d)
+    if stat == 0.0:
+        return stat, d, 0.0
+    from scipy import stats                   # the binomial weights only here
+    p = sum(stats.binom.pmf(i, b, 0.5) * (chi2_sf(stat, d - b + i) if d - b + i > 0
+                                         else 0.0) for i in range(b + 1))
+    return stat, d, float(np.log10(max(p, 1e-300)))
+
+
+def schwarz_gain(j_base, j_new, dof, n_freq) -> float:
+    """``2 (J_base - J_new) - dof ln(n_data)``, ``n_data = 6 n_freq`` the real numbers
+    fitted (three complex channels a bin): the criterion candidates rank by."""
+    return float(2.0 * (j_base - j_new) - dof * np.log(6 * n_freq))
+
+
+
+
+def _boundary(atom: Atom, held=()) -> int:
+    return sum(1 for n in CATALOGUE[atom.effect].boundary
+               if n in atom.params and n not in held)
+
+
+def _implausible(atom: Atom, fit, constants, held, sigmas) -> tuple:
+    """``((name, estimate, sigma, low, high, why), ...)`` of the atom's estimates
+    outside their range by more than ``sigmas`` sigma."""
+    ranges = CATALOGUE[atom.effect].plausible_ranges(constants)
+    out = []
+    for n in atom.params:
+        if n in held or n not in ranges:
+            continue
+        est, sig = float(fit.parameters[n]), fit.sigma.get(n)
+        lo, hi, why = ranges[n]
+        if sig is not None and (est + sigmas * sig < lo or est - sigmas * sig > hi):
+            out.append((n, est, float(sig), float(lo), float(hi), why))
+    return tuple(out)
+
+
+def _structure_for(base, names):
+    s = base
+    for e in names:
+        if e not in s.effects:
+            s = s.with_effect(e)
+    return s
+
+
+def _fit_with(records, base_fit, start_fit, add, band_hz, fit_fn):
+    """Fit ``base + add`` (atoms) from ``start_fit``'s estimates (the new atoms at
+    neutral), what neither frees held: ``(fit, held, flat)``, the flat directions of
+    the atoms held at neutral, or :class:`InputError` when none is determined."""
+    names = dict.fromkeys(a.effect for a in add)
+    s = _structure_for(start_fit.structure, names)
+    k = base_fit.constants[0]
+    start = nested_start(start_fit, s, k)
+    free = dict.fromkeys(n for a in add for n in a.params)
+    # what the start held stays held (the base's, and a first atom's flat directions)
+    fixed = {n: float(start_fit.parameters[n]) for n in (start_fit.fixed or ())
+             if n in s.parameters and n not in free}
+    # an effect's parts not added stay at neutral
+    other = tuple(n for e in names for n in CATALOGUE[e].parameters
+                  if n not in free and n not in start_fit.parameters)
+    fixed.update({n: start[n] for n in other})
+    fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=fixed or None)
+    flat = tuple(n for n in free if fit.sigma.get(n) is None)
+    if flat:
+        for a in add:
+            if all(n in flat for n in a.params):
+                raise InputError(f"{a.label}: not determined by the record (no "
+                                 "information in any of its directions)")
+        fixed.update({n: start[n] for n in flat})
+        fit = fit_fn(records, s, band_hz=band_hz, start=start, fixed=fixed)
+    return fit, other + flat, flat
+
+
+def _row(base_fit, add, fit, held, flat, beside, rule, beside_gain=None) -> Scored:
+    dof = sum(len(a.params) for a in add) - len(flat)
+    k = base_fit.constants[0]
+    return Scored(
+        atoms=tuple(a.label for a in add),
+        effects=tuple(dict.fromkeys(a.effect for a in add)),
+        structure=fit.structure.name, dof=dof,
+        statistic=max(0.0, 2.0 * float(base_fit.cost - fit.cost)),
+        schwarz_gain=schwarz_gain(base_fit.cost, fit.cost, dof, fit.n_freq),
+        beside=beside,
+        beside_gain=(beside_gain if beside_gain is not None else
+                     ((add[0].label, schwarz_gain(base_fit.cost, fit.cost, dof,
+                                                  fit.n_freq)),)),
+        implausible=tuple(x for a in add for x in
+                          _implausible(a, fit, k, held, rule.plausible_sigmas)),
+        held=tuple(held), flat=tuple(flat), fit=fit)
+
+
+def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
+    try:
+        fit, held, flat = _fit_with(records, base_fit, base_fit, (atom,), band_hz, fit_fn)
+    except InputError as exc:
+        s = _structure_for(base_fit.structure, (atom.effect,))
+        return Scored((atom.label,), (atom.effect,), s.name, len(atom.params),
+                      error=str(exc))
+    dof = len(atom.params) - len(flat)
+    lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held))[2]
+    return _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
+
+
+def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | None:
+    """``base + a + b`` from the better of the two alone; ``None`` where they cannot
+    go together."""
+    if excluded(a.effect, (b.effect,)):
+        return None
+    (x, rx), (y, ry) = sorted(((a, ra), (b, rb)), key=lambda t: t[1].fit.cost)
+    try:
+        fit, held, flat = _fit_with(records, base_fit, rx.fit, (y,), band_hz, fit_fn)
+    except InputError:
+        return None
+    held = tuple(dict.fromkeys(tuple(n for n in rx.held if n not in y.params) + held))
+    flat = tuple(dict.fromkeys(rx.flat + flat))
+    # each atom beside the other: the pair against the other alone
+    dy = len(y.params) - len([n for n in flat if n in y.params])
+    dx = rx.dof
+    beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held))[2]),
+              (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held))[2]))
+    ln_n = np.log(6 * fit.n_freq)
+    gains = ((x.label, float(2 * (ry.fit.cost - fit.cost) - dx * ln_n)),
+             (y.label, float(2 * (rx.fit.cost - fit.cost) - dy * ln_n)))
+    order = sorted(((x, rx), (y, ry)), key=lambda t: -dict(gains)[t[0].label])
+    add = tuple(t[0] for t in order)
+    rank = [u.label for u in add]
+    return _row(base_fit, add, fit, held, flat,
+                tuple(sorted(beside, key=lambda t: rank.index(t[0]))), rule,
+                tuple(sorted(gains, key=lambda t: rank.index(t[0]))))
+
+
+# -- 3. Admissible ----------------------------------------------------------------------
 def explained_pairs(rows, rule: Rule = DEFAULT_RULE) -> list:
     """``[(a, b), ...]``: atom ``a`` is explained by atom ``b`` where, in their pair's
     row, ``a`` is not significant beside ``b`` while ``b`` is beside ``a``."""
@@ -356,29 +716,73 @@ def explained_pairs(rows, rule: Rule = DEFAULT_RULE) -> list:
     return out
 
 
-def explain(rows, rule: Rule = DEFAULT_RULE) -> tuple:
-    """The rows with ``explained_by`` set (line 3): an atom is explained by a simpler
-    atom (fewer parameters, from their single rows) when, in their pair, it is not
-    significant beside it while the simpler one is significant beside it."""
-    from dataclasses import replace
+def admissible(rows, rule: Rule = DEFAULT_RULE) -> tuple:
+    """**Admissible.** Each atom is significant beside the others and beside any simpler atom
+    it was paired with (level ``alpha``) unless, in place of it, that atom scores
+    ``schwarz_min`` less, and plausible for the rotor (``plausible_sigmas``).
+
+    The rows with ``explained_by`` set: an atom is explained by a simpler atom (fewer
+    parameters, from their single rows) when, in their pair, it is not significant
+    beside it while the simpler one is significant beside it.  The explanation is
+    judged where the atom stands: in a structure without the simpler atom, it holds
+    unless the lattice's structure with the simpler atom in its place scores at
+    least ``schwarz_min`` less (``G``): then the atom shows physics of its own
+    beside its partner, which the simpler one does not take.  (A collective
+    doublet's Glauert rung: the separate time constants were explained by the wake
+    distortion in their pair, G 97, yet beside the azimuth bias they scored G 462
+    against the wake distortion's 281 there; held out, the ladder named a wake skew
+    and a delay that leads in their place.)  Where the lattice lacks that structure,
+    the explanation holds.  Which rows are then admissible is
+    :meth:`Scored.admissible` (the tests of :data:`TESTS` it fails,
+    :meth:`Scored.failed`).
+
+    Parameters
+    ----------
+    rows : sequence of Scored
+        The lattice's rows.
+    rule : Rule
+        The settings.
+    """
     dof = {r.atoms[0]: r.dof for r in rows if len(r.atoms) == 1}
     by = {}
     for a, b in explained_pairs(rows, rule):
-        if a in dof and b in dof and dof[b] < dof[a]:
-            by.setdefault(a, b)
-    return tuple(replace(r, explained_by=tuple((a, by[a]) for a in r.atoms if a in by))
-                 for r in rows)
+        if a in dof and b in dof and dof[b] < dof[a] and b not in by.get(a, ()):
+            by.setdefault(a, []).append(b)
+    gain = {frozenset(r.atoms): r.schwarz_gain for r in rows if r.error is None}
+
+    def explains(r, a, b):
+        """``b`` explains ``a`` in ``r``: their pair, or ``b`` in ``a``'s place
+        scoring within ``schwarz_min`` of ``r`` (or not in the lattice)."""
+        if b in r.atoms:
+            return True
+        g = gain.get(frozenset(b if x == a else x for x in r.atoms))
+        return g is None or r.schwarz_gain - g <= rule.schwarz_min
+
+    def explained(r):
+        out = []
+        for a in r.atoms:
+            b = next((b for b in by.get(a, ()) if explains(r, a, b)), None)
+            if b is not None:
+                out.append((a, b))
+        return tuple(out)
+    return tuple(replace(r, explained_by=explained(r)) for r in rows)
 
 
-def rule_from_json(doc: dict) -> Rule:
-    """The settings a decision's JSON records (``Decision.to_json()["rule"]``)."""
-    return Rule(**doc)
+# -- 4. Accepted ------------------------------------------------------------------------
+def accepted(rows, rule: Rule = DEFAULT_RULE) -> Decision:
+    """**Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
+    it takes at least ``material`` of the residual's excess over the noise (whiter).
 
+    The rows ranked (admissible first, by ``G``, then fewer parameters), the first
+    ``best`` where it is admissible, accepted where it fails none of line 4's tests.
 
-def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
-    """Lines 3-5 of the rule on scored structures (the module docstring)."""
-    rows = explain(rows, rule)
-
+    Parameters
+    ----------
+    rows : sequence of Scored
+        The rows as :func:`admissible` left them.
+    rule : Rule
+        The settings.
+    """
     def key(r):
         return (not r.admissible(rule), -r.schwarz_gain, r.dof)
     rows = tuple(sorted(rows, key=key))
@@ -388,5 +792,156 @@ def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     return Decision(rows, 0, not failed & {"parsimonious", "material", "whiter"}, rule)
 
 
-__all__ = ["STATEMENT", "WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "rule_with",
-           "Scored", "Decision", "explained_pairs", "explain", "rule_from_json", "decide"]
+# -- 5. Added ---------------------------------------------------------------------------
+def added(decision: Decision) -> tuple:
+    """**Added.** Its atom of largest gain beside the others is added; when none is, an added
+    atom no longer significant beside the others is removed; the verdict says what is left.
+
+    The accepted structure's atom of largest gain beside the others, as a 1-tuple
+    (``()`` when nothing is accepted); the ladder adds it, its partner judged again
+    on the next rung beside it.  The removal is :func:`least_significant`, the
+    verdict :mod:`inflowsim.diagnose.verdict`.
+
+    Parameters
+    ----------
+    decision : Decision
+        What :func:`accepted` decided.
+    """
+    if not decision.accepted:
+        return ()
+    c = decision.chosen
+    gains = dict(c.beside_gain) or {c.atoms[0]: c.schwarz_gain}
+    return (max(c.atoms, key=lambda a: gains.get(a, -math.inf)),)
+
+
+def offered_effects() -> list:
+    """The catalogue's effects offered as candidates."""
+    return [n for n, e in CATALOGUE.items() if e.offered]
+
+
+def atom_of(label: str) -> Atom:
+    """The :class:`Atom` of a label (``"glauert"``, ``"glauert (k0p, kc, ks)"``)."""
+    if " (" in label:
+        effect, rest = label.split(" (", 1)
+        return Atom(effect, tuple(n.strip() for n in rest.rstrip(")").split(",")))
+    return Atom(label, tuple(CATALOGUE[label].parameters))
+
+
+def least_significant(records, fit, labels, band_hz, hold=None,
+                      rule: Rule = DEFAULT_RULE):
+    """Line 5's removal: ``(atom, fit without it, log10 p)`` of the atom of ``labels``
+    (added to ``fit``'s structure on a ladder) least significant beside the others,
+    where its p-value is ``rule.alpha`` or more; ``None`` when every one is
+    significant.
+
+    Parameters
+    ----------
+    records : list of Record
+        The records.
+    fit : FitResult
+        The final structure's fit.
+    labels : sequence of str
+        The atoms the ladder added.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the records' inputs (default each record's own).
+    rule : Rule
+        The settings.
+    """
+    from ..identify import identify
+    worst = None
+    held = set(fit.fixed or ())
+    for label in dict.fromkeys(labels):
+        atom = atom_of(label)
+        if atom.effect not in fit.structure.effects:
+            continue
+        free = [n for n in atom.params if n not in held]
+        if not free:
+            continue
+        k = fit.constants[0]
+        neutral = CATALOGUE[atom.effect].neutral_values(k)
+        rest_of_effect = [n for n in CATALOGUE[atom.effect].parameters
+                          if n not in atom.params and n not in held]
+        if rest_of_effect:           # a part: hold it at neutral, keep the effect
+            s = fit.structure
+            fixed = {n: float(fit.parameters[n]) for n in held}
+            fixed.update({n: float(neutral[n]) for n in atom.params})
+        else:
+            s = fit.structure.without_effect(atom.effect)
+            fixed = {n: float(fit.parameters[n]) for n in held if n in s.parameters}
+        start = {n: float(v) for n, v in fit.parameters.items() if n in s.parameters}
+        try:
+            f = identify(records, s, band_hz=band_hz, start=start, fixed=fixed or None,
+                         hold=hold)
+        except InputError:
+            continue
+        lp = lr_test(f.cost, fit.cost, len(free), _boundary(atom, held))[2]
+        if lp >= math.log10(rule.alpha) and (worst is None or lp > worst[2]):
+            worst = (label, f, lp)
+    return worst
+
+
+# -- the steps together ---------------------------------------------------------------
+def decide(rows, rule: Rule = DEFAULT_RULE) -> Decision:
+    """Lines 3-5 on scored structures (a lattice's, or a stored table's rows,
+    :meth:`Scored.from_json`): :func:`accepted` of :func:`admissible`.
+
+    Parameters
+    ----------
+    rows : sequence of Scored
+        The rows.
+    rule : Rule
+        The settings.
+    """
+    return accepted(admissible(rows, rule), rule)
+
+
+def select(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
+           rule: Rule = DEFAULT_RULE, progress=None) -> Decision:
+    """The rule, its five steps in order, on ``base_fit``: what to add to its structure.
+
+    Parameters
+    ----------
+    records : list of Record
+        The records the fits are made on.
+    base_fit : FitResult
+        The base structure's fit.
+    band_hz : (float, float)
+        Analysis band [Hz].
+    fit_fn : callable
+        ``fit_fn(records, structure, band_hz=, start=, fixed=)`` -> FitResult.
+    pool : list of str, optional
+        Candidate effects (default the catalogue's offered ones).
+    judge : callable, optional
+        The excess measure (:func:`inflowsim.diagnose.excess.judge`).
+    rule : Rule
+        The settings.
+    progress : callable, optional
+        Progress (:mod:`inflowsim.progress`).
+    """
+    rows = lattice(records, base_fit, band_hz, fit_fn, pool, judge, rule,     # 1, 2
+                   progress)
+    return accepted(admissible(rows, rule), rule)                              # 3, 4, 5
+
+
+#: The rule's five steps, in order.
+STEPS = (atoms, lattice, admissible, accepted, added)
+
+
+def _line(step) -> str:
+    """A step's line of the rule: its docstring's first paragraph on one line."""
+    first = step.__doc__.strip().split("\n\n")[0]
+    return " ".join(first.split()).replace("**", "").replace("``", "")
+
+
+#: The rule's five lines, rendered from the steps' docstrings.
+STATEMENT = tuple(f"{i}. {_line(s)}" for i, s in enumerate(STEPS, 1))
+
+
+__all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_with",
+           "rule_from_json", "Scored", "Decision", "Atom", "applicable", "excluded",
+           "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice",
+           "explained_pairs", "admissible", "accepted", "added", "atom_of",
+           "offered_effects", "least_significant", "decide", "select", "STEPS",
+           "STATEMENT"]

@@ -2,9 +2,11 @@
 and watch the error fall (``workflow.md``).
 
 :func:`diagnose` fits the structure (or evaluates given parameters), reports the
-failures of :mod:`inflowsim.diagnose.failures`, and ranks every candidate effect with
-:mod:`inflowsim.diagnose.candidates`.  :func:`ladder` adds the best accepted effect and
-ranks again until nothing is accepted: one-shot ranking is not enough
+failures of :mod:`inflowsim.diagnose.failures`, and selects what is missing by the
+rule (:func:`inflowsim.diagnose.rule.select`, its settings one
+:class:`~inflowsim.diagnose.rule.Rule`), shown per atom by
+:mod:`inflowsim.diagnose.candidates`.  :func:`ladder` adds what the rule adds and
+selects again until nothing is accepted (line 5): one-shot ranking is not enough
 when two effects explain similar residuals.
 """
 from __future__ import annotations
@@ -12,22 +14,18 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from .candidates import atom_of, candidates_of, lattice, least_significant, offered_effects
-from .excess import expected_for_noise, input_excess, noise_levels, smooth_input_basis
-from .rule import Decision, Rule, decide, rule_with
+from .candidates import candidates_of
+from .excess import judge
+from .rule import (DEFAULT_RULE, Decision, Rule, atom_of, least_significant,
+                   offered_effects, rule_with, select)
 from .terms import missing_terms
-from .failures import (COLOURED, Failure, parameter_failures, residual_analysis, residual_tests,
-                       WHITE_DEVIANCE, floor_deviance, level_deviance, spectrum_failures,
-                       white_level_deviance,
-                       structure_statistic, unexplained)
+from .failures import (Failure, _as_list, analyses_of, parameter_failures, residual_tests,
+                       spectrum_failures, unexplained)
 from ..identify import identify
 from ..identify.identifiability import Identifiability, identifiability
 from .verdict import Verdict, verdict
 from .conditional import marked
 from ..identify.transform import DEFAULT_BAND
-from ..model.build import build_model
 from ..model.structure import Structure
 
 
@@ -172,33 +170,8 @@ def verdict_reason(verd) -> str | None:
     return None
 
 
-def _as_list(records):
-    return list(records) if isinstance(records, (list, tuple)) else [records]
-
-
-def analyses_of(records, fit, band_hz, check_colour=True):
-    """The fit's residual analysis on each record (its own residual and initial
-    state, each record's own flight condition and trim).
-
-    Parameters
-    ----------
-    records : Record, path or list of them
-        The flight-test records (each with its own flight condition and trim).
-    fit : FitResult
-        The fitted structure.
-    band_hz : (float, float)
-        Analysis band [Hz].
-    check_colour : bool
-        Also test the residual's whiteness (coloured noise) [-].
-    """
-    out = []
-    for rec, data in zip(_as_list(records), fit.data):
-        m = build_model(fit.structure, fit.parameters, rec.constants)
-        out.append(residual_analysis(rec, m, band_hz, fit=data, check_colour=check_colour))
-    return out
-
-
-def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
+def failures_of(records, fit, band_hz, analyses=None,
+                rule: Rule = DEFAULT_RULE) -> list[Failure]:
     """Failures of a fitted structure on each record (spectra, residual tests,
     estimates).
 
@@ -212,71 +185,17 @@ def failures_of(records, fit, band_hz, analyses=None) -> list[Failure]:
         Analysis band [Hz].
     analyses : list of ResidualAnalysis, optional
         The fit's residual analyses (default: computed, :func:`analyses_of`).
+    rule : Rule
+        The settings (:class:`~inflowsim.diagnose.rule.Rule`): the tests' level
+        and lags, the floor band, what is coloured noise.
     """
     out: list[Failure] = []
-    for ra in analyses or analyses_of(records, fit, band_hz):
-        out += spectrum_failures(ra) + residual_tests(ra)
+    for ra in analyses or analyses_of(records, fit, band_hz, rule=rule):
+        out += spectrum_failures(ra, rule=rule) + residual_tests(ra, rule=rule)
     out += parameter_failures(fit.parameters, fit.sigma, fit.correlation, list(fit.free),
                               omega=fit.constants[0].omega, hub=fit.constants[0].hub)
     out += [Failure("estimation", "fit", w) for w in fit.warnings]
     return out
-
-
-#: The floor-based measures: (deviance of an analysis against floors, its mean for
-#: noise at the floor, the name candidates report).
-FLOOR_MEASURES = {
-    "level": (level_deviance, lambda ra: white_level_deviance(ra.f_hz.size),
-              "level deviance"),
-    "deviance": (floor_deviance, lambda ra: WHITE_DEVIANCE * ra.ratio.size, "deviance"),
-}
-
-
-def _judge(records, band_hz, base_fit, base_analyses, white_measure="level",
-           coloured=COLOURED):
-    """``judge(fit) -> dict`` for the candidate tests (:mod:`inflowsim.diagnose.candidates`):
-    the residual's level deviance from white noise at the floor and its structure
-    across frequency, against the base fit's floors (the sensor noise does not
-    change with the model); ``judge(None)`` describes the base, with the
-    deviance expected of noise at the floor.  Where a record's noise is coloured
-    (the in-band noise :data:`~inflowsim.diagnose.failures.COLOURED` times the floor or
-    more) the floor says little, and the measure is the residual's
-    input-correlated excess (:mod:`inflowsim.diagnose.excess`) instead."""
-    if any(k >= coloured for ra in base_analyses for k in ra.in_band_over_floor):
-        # the floor is far below the noise: measure without it
-        bases = [smooth_input_basis(ra) for ra in base_analyses]
-        levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
-
-        def measure(analyses):
-            return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
-                                    in zip(analyses, bases, levels)), "structure": 0.0}
-        base = measure(base_analyses)
-        # what the fit took from the noise: its parameters (shared by the records)
-        # and each record's end-effect nuisance
-        fitted = [len(base_fit.free) / len(base_fit.data) + np.size(d.nu)
-                  for d in base_fit.data]
-        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1], n)
-                                     for ra, Q, n in zip(base_analyses, bases, fitted))
-        base["measure"] = "input-correlated excess"
-    else:
-        deviance, white, label = FLOOR_MEASURES[white_measure]
-        floors = [ra.floor for ra in base_analyses]
-
-        def measure(analyses):
-            return {"deviance": sum(deviance(ra, fl) for ra, fl in zip(analyses, floors)),
-                    "structure": sum(structure_statistic(ra, fl)
-                                     for ra, fl in zip(analyses, floors))}
-        base = measure(base_analyses)
-        base["white_deviance"] = sum(white(ra) for ra in base_analyses)
-        base["measure"] = label
-    cache = {id(base_fit): base}
-
-    def judge(fit):
-        if fit is None:
-            return base
-        if id(fit) not in cache:
-            cache[id(fit)] = measure(analyses_of(records, fit, band_hz, check_colour=False))
-        return cache[id(fit)]
-    return judge
 
 
 def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
@@ -295,12 +214,14 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     pool : list of str, optional
         Candidate effects to try (default: the whole catalogue).
     alpha : float, optional
-        Significance level per test (default the rule's, 1e-3).
+        Significance level per test [-]: ``rule.alpha`` where given
+        (:data:`~inflowsim.diagnose.rule.LEGACY`).
     hold : {"continuous", "zoh", "foh"}, optional
         Intersample behaviour of the records' inputs (default each record's own).
     rule : Rule, optional
-        The acceptance rule's settings (:class:`~inflowsim.diagnose.rule.Rule`;
-        default :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
+        The settings of the selection and the tests
+        (:class:`~inflowsim.diagnose.rule.Rule`; default
+        :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
     progress : callable, optional
         Progress (:mod:`inflowsim.progress`): the base fit's, a bar per lattice.
     base_fit : FitResult, optional
@@ -316,30 +237,29 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     """
     recs = _as_list(records)
     s = Structure.parse(structure)
+    rule = rule_with(rule, alpha=alpha)
     fit = base_fit or identify(recs, s, band_hz=band_hz, start=start, progress=progress,
                                hold=hold)
     band = fit.band_hz
-    analyses = analyses_of(recs, fit, band_hz)
-    fails = failures_of(recs, fit, band_hz, analyses)
+    analyses = analyses_of(recs, fit, band_hz, rule=rule)
+    fails = failures_of(recs, fit, band_hz, analyses, rule)
 
     def fit_fn(r, st, band_hz, start, fixed=None):
         return identify(r, st, band_hz=band_hz, start=start, fixed=fixed, hold=hold)
-    rule = rule_with(rule, alpha)
-    alpha = rule.alpha
-    judge = _judge(recs, band_hz, fit, analyses, rule.white_measure, rule.coloured)
-    dec = decide(lattice(recs, fit, band_hz, fit_fn, pool, judge, rule, progress), rule)
+    dec = select(recs, fit, band_hz, fit_fn, pool, judge(recs, band_hz, fit, analyses, rule),
+                 rule, progress)
     cands = candidates_of(dec)
     if dec.accepted:
         verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
-                                             check_colour=False), dec.effects, alpha,
-                       fit=dec.chosen.fit)
+                                             check_colour=False, rule=rule),
+                       dec.effects, fit=dec.chosen.fit, rule=rule)
     else:
-        fails += unexplained(analyses, alpha)
-        verd = verdict(analyses, analyses, (), alpha)
+        fails += unexplained(analyses, rule=rule)
+        verd = verdict(analyses, analyses, (), rule=rule)
     best = dec.effects[0] if dec.accepted else None
     ident = identifiability(recs, fit, band_hz, hold, manoeuvres) if assess else None
     # the base fit's estimates are conditional where its residual keeps excess
-    fit = marked(fit, analyses, alpha, verdict_reason(verd))
+    fit = marked(fit, analyses, reason=verdict_reason(verd), rule=rule)
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
                      missing_terms(recs, fit, band_hz, hold) if assess else None, dec)
@@ -438,8 +358,9 @@ class Ladder:
             for i, r in enumerate(self.rungs)]}
 
 
-def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alpha=None,
-           progress=None, hold=None, manoeuvres=None, rule: Rule | None = None) -> Ladder:
+def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=None, pool=None,
+           alpha=None, progress=None, hold=None, manoeuvres=None,
+           rule: Rule | None = None) -> Ladder:
     """Add what the rule accepts (:mod:`inflowsim.diagnose.rule`: one atom, or a pair)
     and diagnose again, until nothing is accepted.
 
@@ -454,12 +375,13 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         The starting structure (a preset, then ``+effect`` terms).
     band_hz : (float, float)
         Analysis band [Hz], snapped to the records' grids.
-    max_steps : int
-        Rungs added at most (and atoms removed at most) [-].
+    max_steps : int, optional
+        Rungs added at most (and atoms removed at most) [-]: ``rule.max_steps``
+        where given (:data:`~inflowsim.diagnose.rule.LEGACY`).
     pool : list of str, optional
         Candidate effects (default the catalogue's offered ones).
     alpha : float, optional
-        Significance level per test [-] (default the rule's, 1e-3).
+        Significance level per test [-]: ``rule.alpha`` where given.
     progress : callable, optional
         Progress (:mod:`inflowsim.progress`): a bar per lattice, a line per rung.
     hold : {"continuous", "zoh", "foh"}, optional
@@ -468,17 +390,17 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         The manoeuvres whose information the last rung's assessment reports
         (:func:`inflowsim.flighttest.advice.standard_manoeuvres`).
     rule : Rule, optional
-        The acceptance rule's settings (default :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
+        The settings of the selection and the tests (default
+        :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
     """
     recs = _as_list(records)
-    rule = rule_with(rule, alpha)
-    alpha = rule.alpha
+    rule = rule_with(rule, alpha=alpha, max_steps=max_steps)
     d = diagnose(recs, structure, band_hz, pool=pool, rule=rule, progress=progress,
                  hold=hold, assess=False)
     rungs = [Rung(d.structure, d.fit, None, d, d.analyses)]
     removed, steps = [], 0
     while True:
-        while steps < max_steps:
+        while steps < rule.max_steps:
             win = d.decision.added_row if d.decision is not None else None
             if win is None:
                 break
@@ -495,7 +417,7 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
         added_atoms = [a for r in rungs[1:] for a in r.atoms
                        if a not in {x for x, _ in removed}]
         worst = least_significant(recs, d.fit, added_atoms, band_hz, hold, rule)
-        if worst is None or len(removed) >= max_steps:
+        if worst is None or len(removed) >= rule.max_steps:
             break
         atom, fit, lp = worst
         removed.append((atom, lp))
@@ -512,21 +434,21 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=6, pool=None, alp
     gone = {atom_of(a).effect for a, _ in removed if atom_of(a).whole}
     added = tuple(dict.fromkeys(e for r in rungs[1:] for e in r.added.split("+")
                                 if e in d.structure.effects and e not in gone))
-    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, alpha,
-                   fit=rungs[-1].fit)
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, fit=rungs[-1].fit,
+                   rule=rule)
     # the last rung is the answer: it says what the records determine of it and,
     # where excess is left, where a term is missing
     ident = identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres)
     last = dataclasses.replace(d, identifiability=ident,
                                missing_terms=missing_terms(recs, d.fit, band_hz, hold))
-    fin = marked(rungs[-1].fit, rungs[-1].analyses, alpha, verdict_reason(verd))
+    fin = marked(rungs[-1].fit, rungs[-1].analyses, reason=verdict_reason(verd), rule=rule)
     rungs[-1] = dataclasses.replace(rungs[-1], diagnosis=dataclasses.replace(last, fit=fin),
                                     fit=fin)
     return Ladder(tuple(rungs), d.band_hz, verd, ident, tuple(removed))
 
 
 def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
-                    hold=None, manoeuvres=None) -> Ladder:
+                    hold=None, manoeuvres=None, rule: Rule = DEFAULT_RULE) -> Ladder:
     """A ladder over given structures (e.g. the paper's basic -> empirical -> glauert).
 
     Parameters
@@ -543,6 +465,9 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         Intersample behaviour of the records' inputs (default each record's own).
     manoeuvres : callable, optional
         The manoeuvres whose information the last rung's assessment reports.
+    rule : Rule
+        The settings of the tests (default
+        :data:`~inflowsim.diagnose.rule.DEFAULT_RULE`).
     """
     recs = _as_list(records)
     rungs, prev = [], None
@@ -551,17 +476,17 @@ def explicit_ladder(records, structures, band_hz=DEFAULT_BAND, progress=None,
         fit = identify(recs, st, band_hz=band_hz, progress=progress, hold=hold)
         added = None if prev is None else "+".join(
             e for e in st.effects if e not in prev.effects) or None
-        analyses = tuple(analyses_of(recs, fit, band_hz))
-        rungs.append(Rung(st, marked(fit, analyses), added, None, analyses))
+        analyses = tuple(analyses_of(recs, fit, band_hz, rule=rule))
+        rungs.append(Rung(st, marked(fit, analyses, rule=rule), added, None, analyses))
         prev = st
     added = tuple(r.added for r in rungs[1:] if r.added)
-    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, fit=rungs[-1].fit)
+    verd = verdict(rungs[0].analyses, rungs[-1].analyses, added, fit=rungs[-1].fit,
+                   rule=rule)
     last = rungs[-1]
     rungs[-1] = dataclasses.replace(last, fit=marked(last.fit, last.analyses,
-                                                     reason=verdict_reason(verd)))
+                                                     reason=verdict_reason(verd), rule=rule))
     return Ladder(tuple(rungs), tuple(rungs[-1].fit.band_hz), verd,
                   identifiability(recs, rungs[-1].fit, band_hz, hold, manoeuvres))
 
 
-__all__ = ["Diagnosis", "parameter_entries", "analyses_of", "failures_of",
-           "FLOOR_MEASURES", "diagnose", "Rung", "Ladder", "ladder", "explicit_ladder"]
+__all__ = ["Diagnosis", "parameter_entries", "analyses_of", "failures_of", "diagnose", "Rung", "Ladder", "ladder", "explicit_ladder"]

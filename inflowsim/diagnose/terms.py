@@ -8,7 +8,16 @@ the equations* the data want.  At the base fit, every single-entry addition
   ``D_tau lambda' + lambda = L c + ... + k v`` -- with ``v`` any one flap angle,
   flap rate (azimuth time), inflow or input (azimuth units), and
 * to the measurement map, ``beta_m,i = (C x)_i + k v`` with ``v`` a state
-  (``beta``, ``lambda``) or an input (feedthrough),
+  (``beta``, ``lambda``) or an input (feedthrough), and
+* to the blade pitch (block ``"pitch"``, :data:`PITCH_FEEDS`): the blade's pitch
+  gains ``k`` times the blade's own flap angle, flap rate or inflow, which in
+  multiblade coordinates is ``theta0 += k v0`` (row ``theta0``, ``v0`` the coning
+  harmonic's ``beta0``, ``beta0'`` or ``lambda0``) or ``theta1c += k v1c``,
+  ``theta1s += k v1s`` (row ``theta1``, variable ``beta1``, ``beta1_prime`` or
+  ``lambda1``): one coefficient entering every flap and inflow row the pitch
+  enters, by the pitch's columns of ``H_u`` and ``P_u`` (a pitch-flap coupling:
+  delta-3, blade torsion or a flexible control system alike; a single row's entry
+  holds only a part of it, issue #36),
 
 is tested by the score (Lagrange-multiplier) statistic of its coefficient ``k`` at
 ``k = 0`` (Rao, 1948; Silvey, 1959).  No refit: with ``J_b`` the sensitivities of
@@ -51,9 +60,22 @@ cyclic term's score lands in the coning row).  So, by default:
    likelihood-ratio statistic of that refit (``Term.refit_statistic``): the entry
    whose refit lowers the cost most wins.
 
+3. the refitted entries whose likelihood-ratio statistic lies within :data:`TIE`
+   (3.84, chi-square one degree of freedom at 95 %) of the first's are reported
+   with it as the map's first group (``Term.first_group``,
+   :attr:`MissingTerms.first_group`): the record cannot tell them apart (a
+   likelihood-ratio confidence set for which entry it is), and the text names
+   them all.
+
 A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
 plus a coning term: no single entry can place it, and step 1 absorbs it (the
 freed values report it).
+
+A pitch entry's sensitivity is the sum of its rows' entries' sensitivities
+weighted by the pitch's columns (the model is linear in the entries at ``k = 0``);
+its confirming refit perturbs every row.  Where an appended block routes a pitch
+input through its own states (servo actuators) the feedback would enter that
+block: such pitch entries are not tested (their sensitivity is zero).
 
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
@@ -69,21 +91,37 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
-from ..identify.estimator import _fit, _records, _spectra, _state
-from ..identify.freqmodel import _continuous_input, flap_response
-from ..identify.problem import Problem, _stack
+from ..defaults import ALPHA       # the map's family-wise level: the rule's alpha
+from ..identify.estimator import fit_from, as_records, spectra_of, fit_state
+from ..identify.freqmodel import continuous_input, flap_response
+from ..identify.problem import Problem, stack
 from ..errors import InputError
 from ..identify.transform import DEFAULT_BAND, record_spectra
 from ..model.build import apply_effects, model_from_equations
 from .tails import chi2_sf
 
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
-           "BLOCKS"]
+           "BLOCKS", "PITCH_ROWS", "PITCH_FEEDS", "TIE"]
 
-#: Family-wise level of the map (after the Holm correction).
-ALPHA = 1e-3
-#: The blocks of equations tested, in display order.
-BLOCKS = ("flap", "inflow", "measurement")
+#: The blocks of equations tested, in display order: the flap and inflow
+#: equations, the recorded flap, and the blade pitch (a term fed back into a pitch
+#: input, entering every row that input enters).
+BLOCKS = ("flap", "inflow", "measurement", "pitch")
+#: The rows of the ``"pitch"`` block: the collective and the cyclic blade pitch.
+PITCH_ROWS = ("theta0", "theta1")
+#: What a ``"pitch"`` entry feeds into the blade pitch, per row and variable:
+#: ``(pitch input index in INPUTS, state), ...``.  The blade's pitch gains ``k``
+#: times the blade's own flap angle, flap rate or inflow, which in multiblade
+#: coordinates is the collective from the coning-harmonic state and both cyclics
+#: each from its own component (``theta1c += k beta1c``, ``theta1s += k beta1s``).
+PITCH_FEEDS = {
+    ("theta0", "beta0"): ((0, "beta0"),),
+    ("theta0", "beta0_prime"): ((0, "beta0_prime"),),
+    ("theta0", "lambda0"): ((0, "lambda0"),),
+    ("theta1", "beta1"): ((1, "beta1c"), (2, "beta1s")),
+    ("theta1", "beta1_prime"): ((1, "beta1c_prime"), (2, "beta1s_prime")),
+    ("theta1", "lambda1"): ((1, "lambda1c"), (2, "lambda1s")),
+}
 #: Relative information left after projecting off the base's parameters below which
 #: an entry cannot be told from them.
 CONFOUNDED = 1e-8
@@ -96,9 +134,15 @@ REFIT_ITERATIONS = 30
 #: Typical size of a shared parameter's offset in one row group, relative to the
 #: parameter (finite-difference steps).
 TYPICAL_SHARED = 0.1
+#: Refitted entries whose likelihood-ratio statistic lies within this of the
+#: first's are reported with it, as one group the record cannot tell apart (the
+#: chi-square one-degree-of-freedom 95 % point: a likelihood-ratio confidence set
+#: for which entry it is).
+TIE = 3.84
 
 _KIND_OF = {**{n: "flap" for n in FLAP}, **{n: "rate" for n in FLAP_RATE},
-            **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS}}
+            **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS},
+            "beta1": "flap", "beta1_prime": "rate", "lambda1": "inflow"}
 _PITCH = set(INPUTS[:3])
 _HUB = {"muz", "q", "p", "qdot", "pdot"}
 
@@ -135,6 +179,12 @@ def physics_group(block: str, equation: str, variable: str) -> str:
         if variable in _HUB:
             return "hub-motion forcing of the inflow"
         return "in-plane velocity forcing of the inflow"
+    if block == "pitch":
+        return {"flap": "pitch-flap coupling", "rate": "pitch-flap-rate coupling",
+                "inflow": "pitch-inflow coupling"}[kind] + \
+            f" ({'collective' if equation == 'theta0' else 'cyclic'}: the blade pitch " \
+            "follows the blade's own " + {"flap": "flap angle", "rate": "flap rate",
+                                          "inflow": "inflow"}[kind] + ")"
     if kind == "flap":
         return "sensor gain" if own else "sensor cross-talk"
     if kind == "inflow":
@@ -171,6 +221,9 @@ class Term:
     gradient: float = 0.0
     refit_statistic: float | None = None
     refit_coefficient: float | None = None
+    #: in the map's first group: refitted, and its refit statistic within
+    #: :data:`TIE` of the first entry's (the record cannot tell them apart)
+    first_group: bool = False
 
     def significant(self, alpha: float = ALPHA) -> bool:
         return self.testable and self.p_adjusted <= alpha
@@ -179,6 +232,9 @@ class Term:
         """``"the beta1s equation"``, ``"the recorded beta1c"``."""
         if self.block == "measurement":
             return f"the recorded {self.equation}"
+        if self.block == "pitch":
+            return ("the collective pitch" if self.equation == "theta0" else
+                    "the cyclic pitch (each cyclic from its own component)")
         return f"the {self.equation} equation"
 
     def to_json(self, alpha: float = ALPHA) -> dict:
@@ -191,6 +247,7 @@ class Term:
                                     else float(self.refit_statistic)),
                 "refit_coefficient": (None if self.refit_coefficient is None
                                       else float(self.refit_coefficient)),
+                "first_group": bool(self.first_group),
                 "significant": bool(self.significant(alpha))}
 
 
@@ -225,6 +282,13 @@ class MissingTerms:
     def significant(self) -> tuple:
         return tuple(t for t in self.terms if t.significant(self.alpha))
 
+    @property
+    def first_group(self) -> tuple:
+        """The entries leading the map that the record cannot tell apart: the first
+        and every refitted entry whose refit statistic is within :data:`TIE` of its
+        (just the first where none is, or nothing was refitted)."""
+        return tuple(t for t in self.terms if t.first_group) or self.terms[:1]
+
     def to_json(self) -> list:
         return list(self.rows)
 
@@ -240,7 +304,7 @@ class MissingTerms:
         ri = {e: i for i, e in enumerate(self.equations)}
         ci = {v: j for j, v in enumerate(self.variables)}
         for t in self.terms:
-            if t.testable:
+            if t.testable and (t.block, t.equation) in ri and t.variable in ci:
                 out[ri[(t.block, t.equation)], ci[t.variable]] = -np.log10(
                     max(t.p_value, 1e-300))
         return out
@@ -264,6 +328,12 @@ class MissingTerms:
         if not sig:
             return out + [f"no single added term is significant (score test of "
                           f"{self.n_tested} entries, Holm-corrected at {self.alpha:g})"]
+        group = [t for t in self.first_group if t.significant(self.alpha)]
+        if len(group) > 1:
+            out.append("the record cannot tell apart the first " + str(len(group)) +
+                       " entries (their refits lower the cost to within "
+                       f"{TIE:g} of each other): a term in " + ", or in ".join(
+                           f"{t.where()} proportional to {t.variable}" for t in group))
         for t in sig[:limit]:
             refit = ("" if t.refit_statistic is None else
                      f", refit likelihood ratio {t.refit_statistic:.1f}")
@@ -277,6 +347,11 @@ class MissingTerms:
         return out
 
 
+def _rows(block):
+    """The row names of ``block``."""
+    return {"inflow": INFLOW, "pitch": PITCH_ROWS}.get(block, FLAP)
+
+
 def _entries(inputs):
     """``[(block, row, variable), ...]`` in map order."""
     states = FLAP + FLAP_RATE + INFLOW
@@ -284,7 +359,41 @@ def _entries(inputs):
     for block, rows in (("flap", FLAP), ("inflow", INFLOW)):
         out += [(block, i, v) for i in range(3) for v in states + tuple(inputs)]
     out += [("measurement", i, v) for i in range(3) for v in FLAP + INFLOW + tuple(inputs)]
+    out += [("pitch", PITCH_ROWS.index(e), v) for e, v in PITCH_FEEDS]
     return out
+
+
+def _pitch_weights(eq, j):
+    """``(flap rows, inflow rows)``: how much of a term fed back into pitch input
+    ``j`` enters each row of the flap and the inflow equation (the input's columns
+    ``h_u``, ``p_u``); zeros where an appended block routes the input through its
+    own states (a servo: the feedback would enter that block instead, not tested)."""
+    if any(np.any(np.asarray(bl.b, dtype=float)[:, j] != 0) for bl in eq.blocks):
+        return np.zeros(3), np.zeros(3)
+    return (np.asarray(eq.h_u, dtype=float)[:, j].copy(),
+            np.asarray(eq.p_u, dtype=float)[:, j].copy())
+
+
+def _perturb_entry(eq, block, i, variable, k):
+    """``eq`` with entry ``(block, i, variable)``'s term ``k * variable`` added: one
+    row's right-hand side (:func:`_perturb`), or for the ``"pitch"`` block ``k``
+    times the state(s) of :data:`PITCH_FEEDS` added to the pitch input(s) wherever
+    they enter (every flap and inflow row, weighted by their columns of ``h_u`` and
+    ``p_u``)."""
+    if block != "pitch":
+        return _perturb(eq, block, i, variable, k)
+    for j, v, wf, wi in _pitch_parts(eq, i, variable):
+        for r in range(3):
+            eq = _perturb(eq, "flap", r, v, k * wf[r])
+            eq = _perturb(eq, "inflow", r, v, k * wi[r])
+    return eq
+
+
+def _pitch_parts(eq, i, variable):
+    """``[(input, state, flap-row weights, inflow-row weights), ...]`` of pitch
+    entry ``(PITCH_ROWS[i], variable)`` (:data:`PITCH_FEEDS`) in ``eq``."""
+    return [(j, v, *_pitch_weights(eq, j))
+            for j, v in PITCH_FEEDS[(PITCH_ROWS[i], variable)]]
 
 
 def _perturb(eq, block, i, variable, k):
@@ -318,7 +427,7 @@ def _feedthrough(model, sp, i, j):
     if d == 0:
         return sp.U[:, j]
     if sp.hold == "continuous":
-        return _continuous_input(sp, d)[:, j]
+        return continuous_input(sp, d)[:, j]
     return np.exp(-2j * np.pi * sp.f_hz * d) * sp.U[:, j]
 
 
@@ -457,7 +566,7 @@ class _Augmented(Problem):
                 if self.entry is not None:
                     block, i, v = self.entry
                     if block != "measurement":
-                        eq = _perturb(eq, block, i, v, kv)
+                        eq = _perturb_entry(eq, block, i, v, kv)
                     elif _KIND_OF[v] != "input":
                         fm = np.zeros((3, 6)) if meas.flap_map is None else \
                             np.array(meas.flap_map, dtype=float)
@@ -482,8 +591,8 @@ def _fitted(prob, theta):
     """``(state, J_start, J)``: the fit of ``prob`` from ``theta`` and the cost (12)
     at the start (``S`` relaxed there); ``None`` where it fails."""
     try:
-        _, j0, _, _ = _fit(prob, theta, max_iter=0)
-        st, j, _, _ = _fit(prob, theta, max_iter=REFIT_ITERATIONS)
+        _, j0, _, _ = fit_from(prob, theta, max_iter=0)
+        st, j, _, _ = fit_from(prob, theta, max_iter=REFIT_ITERATIONS)
     except (InputError, np.linalg.LinAlgError):
         return None
     return st, j0, j
@@ -534,7 +643,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         Every entry: the refitted ones first, by their likelihood-ratio statistic,
         then the rest by score statistic; untestable ones last.
     """
-    recs = _records(records)
+    recs = as_records(records)
     s = fit.structure
     # the in-plane inputs where every record has them: the entries a structure
     # without them cannot reach are the ones a hidden in-plane term would want
@@ -542,7 +651,7 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                                     for r in recs)
     inputs = INPUTS if inplane else INPUTS[:N_BASE_INPUTS]
     n_in = len(inputs)
-    spectra = _spectra(recs, s, band_hz, None, hold)
+    spectra = spectra_of(recs, s, band_hz, None, hold)
     if len(spectra) != len(fit.data) or any(
             sp.f_hz.shape != d.f_hz.shape or not np.allclose(sp.f_hz, d.f_hz)
             for sp, d in zip(spectra, fit.data)):
@@ -551,29 +660,15 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     full = spectra if n_in == s.n_inputs else [
         record_spectra(r, inputs, band_hz, None, hold) for r in recs]
     splits = shared_parameters(fit) if free_shared else ()
-    prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed), tuple(fit.ties),
-                      splits, None, n_in)
-    theta = prob.theta0()
-    freed = None
-    if splits:
-        # the shared parameters freed per row group: the map is made at that fit
-        got = _fitted(prob, theta)
-        if got is not None:
-            st, j0, j = got
-            theta = st.theta
-            freed = _freed(prob, theta, 2.0 * (j0 - j))
-        else:
-            prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed),
-                              tuple(fit.ties), (), None, n_in)
-            theta = prob.theta0()
-    if freed is None:
-        st = _state(prob, theta, list(fit.S))
-    if prob.free or prob.n_extra:
-        jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
-    else:
-        jb = np.zeros((sum(r.size for r in st.r), 0))
+    try:
+        prob, theta, st, freed, jb = _made_at(s, full, fit, splits, n_in)
+    except (InputError, np.linalg.LinAlgError):
+        # the freed fit stopped at a range's edge (the Jacobian's central steps
+        # leave it): the map is made at the base fit itself
+        prob, theta, st, freed, jb = _made_at(s, full, fit, (), n_in)
     r = np.concatenate(st.r)
     entries = _entries(inputs)
+    index = {e: c for c, e in enumerate(entries)}
     je = np.empty((r.size, len(entries)))
     row0 = 0
     for sp, W, nu, Q, rr in zip(full, st.weights, st.nus, st.bases, st.r):
@@ -582,6 +677,14 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
         blk = je[row0:row0 + rr.size]          # rows of je: filled in place
         for col, (block, i, v) in enumerate(entries):
+            if block == "pitch":
+                # linear in the entries: the rows' columns, weighted as the input
+                # enters them
+                blk[:, col] = sum(wf[r] * blk[:, index[("flap", r, x)]]
+                                  + wi[r] * blk[:, index[("inflow", r, x)]]
+                                  for _, x, wf, wi in _pitch_parts(eq, i, v)
+                                  for r in range(3))
+                continue
             if block == "measurement":
                 if _KIND_OF[v] == "input":
                     dy = np.zeros((sp.f_hz.size, 3), dtype=complex)
@@ -596,11 +699,39 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                 mm = model_from_equations(s, p, _perturb(eq, block, i, v, -STEP), meas, k,
                                           n_inputs=n_in)
                 dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
-            blk[:, col] = -_stack(dy @ W.T)
+            blk[:, col] = -stack(dy @ W.T)
         _minus_projection(blk, Q)       # the nuisance end states, as the estimator
         row0 += rr.size
     table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
     return _confirmed(table, prob, theta, confirm)
+
+
+def _made_at(s, full, fit, splits, n_in):
+    """``(problem, theta, state, freed, J_b)``: the fit the map is made at (the
+    base's shared parameters freed per row group ``splits``, refitted; the base fit
+    itself without splits or where that refit fails), its state and the
+    sensitivities of its free parameters (central differences)."""
+    prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed), tuple(fit.ties),
+                      splits, None, n_in)
+    theta = prob.theta0()
+    freed = None
+    if splits:
+        got = _fitted(prob, theta)
+        if got is not None:
+            st, j0, j = got
+            theta = st.theta
+            freed = _freed(prob, theta, 2.0 * (j0 - j))
+        else:
+            prob = _Augmented(s, full, dict(fit.parameters), tuple(fit.fixed),
+                              tuple(fit.ties), (), None, n_in)
+            theta = prob.theta0()
+    if freed is None:
+        st = fit_state(prob, theta, list(fit.S))
+    if prob.free or prob.n_extra:
+        jb = np.vstack(prob.jacobian(theta, st.weights, st.nus, st.bases, central=True))
+    else:
+        jb = np.zeros((sum(r.size for r in st.r), 0))
+    return prob, theta, st, freed, jb
 
 
 def _freed(prob, theta, statistic):
@@ -624,12 +755,16 @@ def _confirmed(table, prob, theta, confirm):
         return table
     done = []
     for t in head:
-        row = (INFLOW if t.block == "inflow" else FLAP).index(t.equation)
+        row = _rows(t.block).index(t.equation)
         got = _refit(prob, theta, (t.block, row, t.variable))
         done.append(t if got is None else replace(
             t, refit_statistic=got[0], refit_coefficient=got[1]))
     done.sort(key=lambda t: -(t.refit_statistic if t.refit_statistic is not None
                               else -np.inf))
+    if done[0].refit_statistic is not None:
+        best = done[0].refit_statistic
+        done = [replace(t, first_group=True) if t.refit_statistic is not None
+                and t.refit_statistic >= best - TIE else t for t in done]
     rest = [t for t in table.terms if t not in head]
     return replace(table, terms=tuple(done + rest), confirmed=len(done))
 
@@ -691,13 +826,15 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
             padj[e] = running
     rows = []
     for col, (block, i, v) in enumerate(entries):
-        eq_name = (INFLOW if block == "inflow" else FLAP)[i]
+        eq_name = _rows(block)[i]
         rows.append(Term(block, eq_name, v, float(stat[col]), float(pval[col]),
                          float(padj[col]), int(np.sign(coef[col]) or 1), float(coef[col]),
                          physics_group(block, eq_name, v), bool(testable[col]),
                          float(grad[col])))
     rows.sort(key=lambda t: (not t.testable, -t.statistic))
-    eqs = tuple((b, n) for b in BLOCKS for n in (INFLOW if b == "inflow" else FLAP))
+    # the map's axes: the rows of one equation or the recorded flap (the pitch
+    # entries, several rows at once, are in the text and the JSON)
+    eqs = tuple((b, n) for b in BLOCKS if b != "pitch" for n in _rows(b))
     variables = FLAP + FLAP_RATE + INFLOW + tuple(inputs)
     return MissingTerms(structure=s.name, terms=tuple(rows), alpha=float(alpha),
                         n_tested=int(m), equations=eqs, variables=variables)

@@ -24,8 +24,8 @@ the band rather than being it.  Each named effect is a stand-in
 - an estimate lies outside its parameter's *physical* range
   (:attr:`~inflowsim.model.params.ParameterSpec.physical`: a ``time-delay`` whose
   delay is a lead) or its *plausible* range (``ParameterSpec.plausible``, for the
-  rotor's hub) by more than :data:`SIGMAS` of its bound; or
-- the effects named together remove less than :data:`STAND_IN_SHARE` of the
+  rotor's hub) by more than ``Rule.plausible_sigmas`` of its bound; or
+- the effects named together remove less than ``Rule.stand_in_share`` of the
   starting structure's excess over the floor (``excess_explained``; also where
   the verdict finds no significant structured excess left: most of the
   starting excess power is still there).
@@ -40,15 +40,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data.record import FLAP_COLUMNS
-from .failures import ALPHA, excess_channels
+from .failures import excess_channels
+from .rule import DEFAULT_RULE, Rule
 
 STATUSES = ("no-missing-effect", "explained", "partly-explained", "unexplained")
-#: Named effects that together remove less than this share of the excess over the
-#: floor are stand-ins.
-STAND_IN_SHARE = 0.5
-#: An estimate this many of its bounds outside its physical or plausible range
-#: makes its effect a stand-in (the rule's ``plausible_sigmas``).
-SIGMAS = 3.0
 
 
 @dataclass(frozen=True)
@@ -90,10 +85,14 @@ class StandIn:
                 "text": self.describe()}
 
 
-def stand_ins(effects, fit, excess_explained, sigmas: float = SIGMAS) -> tuple:
+def stand_ins(effects, fit, excess_explained, sigmas: float | None = None,
+              rule: Rule = DEFAULT_RULE) -> tuple:
     """The :class:`StandIn` among ``effects`` (named, in the fitted structure of
     ``fit``) given the share of the excess they remove together (``None``: the
-    starting structure had none)."""
+    starting structure had none): an estimate ``sigmas`` (default
+    ``rule.plausible_sigmas``) of its bounds outside its range, or a share under
+    ``rule.stand_in_share``."""
+    sigmas = rule.plausible_sigmas if sigmas is None else sigmas
     from ..model.effects import CATALOGUE
     from ..model.params import SPECS
     k = fit.constants[0] if fit is not None else None
@@ -118,9 +117,9 @@ def stand_ins(effects, fit, excess_explained, sigmas: float = SIGMAS) -> tuple:
                         reasons.append((kind, n, est, None if sig is None else float(sig),
                                         float(lo), float(hi), why))
                         break
-        if excess_explained is not None and excess_explained < STAND_IN_SHARE:
+        if excess_explained is not None and excess_explained < rule.stand_in_share:
             reasons.append(("excess", None, float(excess_explained), None,
-                            STAND_IN_SHARE, None, None))
+                            rule.stand_in_share, None, None))
         if reasons:
             out.append(StandIn(e, tuple(reasons)))
     return tuple(out)
@@ -184,13 +183,14 @@ def power_over_floor(analyses) -> tuple:
                  for c, ch in enumerate(FLAP_COLUMNS))
 
 
-def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
-            fit=None) -> Verdict:
+def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
+            fit=None, rule: Rule = DEFAULT_RULE) -> Verdict:
     """The verdict from the starting structure's and the final structure's residual
-    analyses (the same when nothing was named); ``fit`` the final structure's fit,
-    whose estimates say which named effects are stand-ins (:func:`stand_ins`)."""
+    analyses (the same when nothing was named), tested at ``alpha`` (default
+    ``rule.alpha``); ``fit`` the final structure's fit, whose estimates say which
+    named effects are stand-ins (:func:`stand_ins`)."""
     final = final_analyses if effects else initial_analyses
-    where = tuple(w[:3] for w in excess_channels(final, alpha))
+    where = tuple(w[:3] for w in excess_channels(final, alpha, rule))
     if effects:
         status = "partly-explained" if where else "explained"
     else:
@@ -200,7 +200,7 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=ALPHA,
     if not effects:
         return v
     from dataclasses import replace
-    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained))
+    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained, rule=rule))
 
 
-__all__ = ["STATUSES", "SIGMAS", "Verdict", "power_over_floor", "stand_ins", "verdict"]
+__all__ = ["STATUSES", "Verdict", "power_over_floor", "stand_ins", "verdict"]

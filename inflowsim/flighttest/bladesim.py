@@ -73,9 +73,14 @@ from ..errors import InputError
 from ..channels import FLAP, INFLOW
 from ..model.params import PUMA, Constants
 from ..progress import bar
+from ..physics.lead_lag import CD0
 from ..physics.theory import PUMA_LAMBDA_BETA2, PUMA_N_BETA, pitt_peters_time_constants
 
 SPEEDS = ("eq14", "mu")
+#: Multiblade lag [rad] (blades with lead-lag).
+LAG = ("zeta0", "zeta1c", "zeta1s")
+#: The lag frequencies the truth flies [per rev] (the ``lead-lag`` effect's range).
+LAG_RANGE = (0.05, 1.5)
 #: Largest RK4 step in azimuth [rad] (5 deg).
 MAX_STEP = math.radians(5.0)
 
@@ -108,6 +113,14 @@ class RotorSpec:
         cyclic inflow equations gain ``K_R (q_tpp, p_tpp)``, the tip-path plane's
         pitch and roll rates from the blades' flap.  0 (default): no wake bending,
         the truth of the detection studies.
+    nu_zeta : float or None
+        Each blade's lead-lag degree of freedom (``lead-lag``, ``model.md`` 9.1 and
+        "The blade truth's lead-lag"): rotating lag frequency [per rev] of the
+        lag hinge's equivalent spring.  ``None`` (default): rigid in-plane, the
+        truth of the detection studies (its states and arithmetic unchanged).
+    zeta_lag : float
+        The lag damper's damping ratio [-] (``C_zeta = 2 zeta_lag nu_zeta``); with
+        ``nu_zeta`` only.
     """
 
     constants: Constants = PUMA
@@ -121,6 +134,8 @@ class RotorSpec:
     n_disc_psi: int = 12
     n_disc_r: int = 4
     K_R: float = 0.0
+    nu_zeta: float | None = None
+    zeta_lag: float = 0.2
 
     def __post_init__(self):
         pp = pitt_peters_time_constants(self.constants.mu)
@@ -142,6 +157,14 @@ class RotorSpec:
             raise InputError(f"speed {self.speed!r}: choose {' or '.join(SPEEDS)}")
         if not np.isfinite(self.K_R):
             raise InputError(f"K_R = {self.K_R}: must be a finite number")
+        if self.nu_zeta is not None:
+            if not (np.isfinite(self.nu_zeta) and LAG_RANGE[0] <= self.nu_zeta
+                    <= LAG_RANGE[1]):
+                raise InputError(f"nu_zeta = {self.nu_zeta}: the lag frequency must be "
+                                 f"in [{LAG_RANGE[0]:g}, {LAG_RANGE[1]:g}] per rev")
+            if not (np.isfinite(self.zeta_lag) and 0 <= self.zeta_lag <= 3.0):
+                raise InputError(f"zeta_lag = {self.zeta_lag}: the lag damper's "
+                                 "damping ratio must be in [0, 3]")
         for name in ("n_span", "n_disc_psi", "n_disc_r"):
             if int(getattr(self, name)) < 3:
                 raise InputError(f"{name} = {getattr(self, name)}: need at least 3 points")
@@ -151,8 +174,13 @@ class RotorSpec:
         return replace(self, **kw)
 
     @property
+    def lag(self) -> bool:
+        """Whether the blades have their lead-lag degree of freedom."""
+        return self.nu_zeta is not None
+
+    @property
     def n_states(self) -> int:
-        return 2 * self.n_blades + 3
+        return (4 if self.lag else 2) * self.n_blades + 3
 
     @property
     def l_matrix(self) -> np.ndarray:
@@ -200,6 +228,9 @@ class BladeRotor:
             @ spec.l_matrix
         self.linv = np.linalg.inv(spec.l_matrix)
         self.gamma = 8.0 * spec.n_beta
+        #: profile drag over the lift slope, ``delta = c_d0 / a0`` (the lag's drag)
+        self.delta = CD0 / k.a0
+        self.lag = spec.lag
 
     # -- loads ------------------------------------------------------------------
     def blade_basis(self, psi: float) -> np.ndarray:
@@ -215,7 +246,7 @@ class BladeRotor:
         """
         nb = self.nb
         bb = self.blade_basis(psi) if bb is None else bb
-        beta, dbeta, lam = x[:nb], x[nb:2 * nb], x[2 * nb:]
+        beta, dbeta, lam = x[:nb], x[nb:2 * nb], x[2 * nb:2 * nb + 3]
         th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
         # per blade: pitch, radial speed, in-plane speed, r-coefficient of -U_P less beta'
         k = np.array([[th0, 0.0, 0.0, 0.0],
@@ -232,6 +263,46 @@ class BladeRotor:
         c_blade = np.array([m[0, 0], -m[1, 1], -m[2, 1]]) / (2.0 * nb)
         return 0.5 * self.gamma * gi[:, 1], c_blade
 
+    def lag_terms(self, psi, x, u, bb=None):
+        """With the blades' lead-lag: flap and lag moments of each blade and the
+        blade loads (``model.md``, "The blade truth's lead-lag").
+
+        Blade ``i`` lags by ``zeta_i`` (aft, against the rotation): its azimuth in
+        space is ``psi_i - zeta_i``, where the free stream, the radial flow, the
+        inflow and the body rates meet it and where its lift acts on the hub; the
+        swashplate sets its pitch at the hub azimuth ``psi_i`` (no kinematic
+        pitch-lag coupling); its lag rate takes airspeed, ``U_T = r (1 - zeta_i')
+        + mux sin(psi_i - zeta_i) + muy cos(psi_i - zeta_i)``.  In-plane force (aft
+        positive) per span ``-(theta U_T + U_P) U_P + delta U_T^2`` over ``rho a0 c
+        (Omega R)^2 / 2``: the lift tilted by the inflow angle and the profile drag.
+
+        Returns ``(flap moment (Nb,), lag moment (Nb,), c_blade (3,))``: ``gamma/2
+        int r g dr``, ``gamma/2 int r d dr`` and ``(C_T, C_mc, C_ms)/(a0 s)``.
+        """
+        nb = self.nb
+        bb = self.blade_basis(psi) if bb is None else bb
+        beta, dbeta, lam = x[:nb], x[nb:2 * nb], x[2 * nb:2 * nb + 3]
+        zeta, dzeta = x[2 * nb + 3:3 * nb + 3], x[3 * nb + 3:]
+        th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
+        theta = th0 + th1c * bb[:, 1] + th1s * bb[:, 2]
+        ang = psi + self.offsets - zeta
+        ca, sa = np.cos(ang), np.sin(ang)
+        radial = mux * ca - muy * sa
+        a = mux * sa + muy * ca
+        e = (muz - lam[0]) - beta * radial                     # U_P = e - h r
+        h = (lam[1] - qb) * ca + (lam[2] - pb) * sa + dbeta
+        r = self.r
+        ut = r * (1.0 - dzeta[:, None]) + a[:, None]           # U_T
+        up = e[:, None] - h[:, None] * r
+        tu = theta[:, None] * ut + up
+        g = tu * ut                                            # lift
+        d = -tu * up + self.delta * ut * ut                    # in-plane force, aft
+        gi = g @ self.w_span
+        di = d @ self.w_span[:, 1]
+        c_blade = np.array([gi[:, 0].sum(), -(ca * gi[:, 1]).sum(),
+                            -(sa * gi[:, 1]).sum()]) / (2.0 * nb)
+        return 0.5 * self.gamma * gi[:, 1], 0.5 * self.gamma * di, c_blade
+
     def momentum_loads(self, psi, x, u, speed=None, bb=None) -> np.ndarray:
         """Local-momentum loads ``c_mom`` (Eqs. 5, 14-15) over the disc quadrature [-].
 
@@ -240,7 +311,7 @@ class BladeRotor:
         """
         speed = speed or self.spec.speed
         nb = self.nb
-        lam0, lam1c, lam1s = x[2 * nb:]
+        lam0, lam1c, lam1s = x[2 * nb:2 * nb + 3]
         th0, th1c, th1s, muz, qb, pb, _, _, mux, muy = u
         basis, rr = self.disc_basis, self.disc_r   # (1, c, s, c^2, s^2, cs); (1, r)
         lam_i = basis[:, :3] @ np.array([[lam0, 0.0], [0.0, lam1c], [0.0, lam1s]]) @ rr
@@ -270,10 +341,13 @@ class BladeRotor:
         """``x'`` [per azimuth rad] for state ``x`` and held inputs ``u`` (azimuth units)."""
         nb = self.nb
         bb = self.blade_basis(psi)
-        moment, c_blade = self.blade_terms(psi, x, u, bb)
+        if self.lag:
+            moment, lag_moment, c_blade = self.lag_terms(psi, x, u, bb)
+        else:
+            moment, c_blade = self.blade_terms(psi, x, u, bb)
         qb, pb, dqb, dpb = u[4], u[5], u[6], u[7]
         if self.spec.speed == "mu":
-            c_mom = self.linv @ x[2 * nb:]
+            c_mom = self.linv @ x[2 * nb:2 * nb + 3]
         else:
             c_mom = self.momentum_loads(psi, x, u, bb=bb)
         out = np.empty_like(x)
@@ -281,7 +355,9 @@ class BladeRotor:
         # centre spring plus the gyroscopic and hub-acceleration moments
         out[nb:2 * nb] = (moment - self.spec.lambda_beta2 * x[:nb]
                           + bb @ (0.0, 2.0 * pb + dqb, dpb - 2.0 * qb))
-        out[2 * nb:] = self.minv @ (c_blade - c_mom)
+        out[2 * nb:2 * nb + 3] = self.minv @ (c_blade - c_mom)
+        if self.lag:
+            self._lag_rows(out, x, bb, lag_moment, dqb, dpb)
         if self.spec.K_R:
             # wake curvature: the tip-path plane's rates qbar - beta1c', pbar - beta1s'
             # (the blades' rate harmonics are beta1c' + beta1s, beta1s' - beta1c)
@@ -290,6 +366,25 @@ class BladeRotor:
             out[2 * nb + 1] += kr * (qb - (d1c - b1s))
             out[2 * nb + 2] += kr * (pb - (d1s + b1c))
         return out
+
+    def _lag_rows(self, out, x, bb, lag_moment, dqb, dpb):
+        """The lag's inertia (Lagrange's equations of a blade turning at ``Omega``
+        about a hinge at the shaft, flap up, lag aft: ``model.md``, "The blade
+        truth's lead-lag") into ``out``: the flap rows gain the Coriolis
+        ``-sin beta cos beta ((1 - zeta')^2 - 1)``, the lag rows are
+        ``cos^2 beta zeta'' = Z - nu^2 zeta - C zeta' - sin 2beta beta' (1 - zeta')
+        + sin beta cos beta (pbar' cos psi_i - qbar' sin psi_i)``."""
+        nb = self.nb
+        beta, dbeta = x[:nb], x[nb:2 * nb]
+        zeta, dzeta = x[2 * nb + 3:3 * nb + 3], x[3 * nb + 3:]
+        sc = np.sin(beta) * np.cos(beta)
+        out[nb:2 * nb] -= sc * (dzeta * dzeta - 2.0 * dzeta)
+        nu = self.spec.nu_zeta
+        out[2 * nb + 3:3 * nb + 3] = dzeta
+        out[3 * nb + 3:] = (lag_moment - nu * nu * zeta
+                            - 2.0 * self.spec.zeta_lag * nu * dzeta
+                            - 2.0 * sc * dbeta * (1.0 - dzeta)
+                            + sc * (dpb * bb[:, 1] - dqb * bb[:, 2])) / np.cos(beta) ** 2
 
     def step(self, psi, x, u, h, u_mid=None, u_end=None) -> np.ndarray:
         """One classical RK4 step of ``h`` [azimuth rad]: ``u`` held, or ``u`` at the
@@ -379,6 +474,13 @@ class BladeRotor:
         h = per / n_sub
         u = tuple(float(v) for v in u_trim)
         x = np.zeros(self.spec.n_states) if x_guess is None else np.array(x_guess, float)
+        if self.lag and x_guess is None:
+            # the lag's quasi-static deflection under the trim's drag moment, and
+            # time for the lightly damped lag to settle (decay ~ zeta_lag nu per rad)
+            x[2 * nb + 3:3 * nb + 3] = np.mean(self.lag_terms(0.0, x, u)[1]) \
+                / self.spec.nu_zeta ** 2
+            max_revs = max(max_revs, int(math.ceil(
+                6.0 / (self.spec.zeta_lag * self.spec.nu_zeta + 0.005))))
         for it in range(max_revs * nb):
             x_old = x
             for m in range(n_sub):
@@ -398,6 +500,9 @@ class BladeRotor:
         out = np.array(x, dtype=float)
         out[:nb] = np.roll(x[:nb], 1)
         out[nb:2 * nb] = np.roll(x[nb:2 * nb], 1)
+        if self.lag:
+            for lo in (2 * nb + 3, 3 * nb + 3):
+                out[lo:lo + nb] = np.roll(x[lo:lo + nb], 1)
         return out
 
     def _trim_summary(self, x, u, n_sub, h, periods):
@@ -412,10 +517,14 @@ class BladeRotor:
         psi = np.arange(n_sub) * h
         beta_mb = multiblade(xs[:, :nb], psi)
         for p, xv in zip(psi, xs):
-            cb.append(self.blade_terms(p, xv, u)[1])
-        return RotorTrim(x=x, beta=beta_mb.mean(axis=0), lam=xs[:, 2 * nb:].mean(axis=0),
+            cb.append((self.lag_terms if self.lag else self.blade_terms)(p, xv, u)[-1])
+        zeta = None
+        if self.lag:
+            zeta = multiblade(xs[:, 2 * nb + 3:3 * nb + 3], psi).mean(axis=0)
+        return RotorTrim(x=x, beta=beta_mb.mean(axis=0),
+                         lam=xs[:, 2 * nb:2 * nb + 3].mean(axis=0),
                          c=np.mean(cb, axis=0), beta_ripple=np.ptp(beta_mb, axis=0),
-                         inputs=np.array(u), periods=periods)
+                         inputs=np.array(u), periods=periods, zeta=zeta)
 
 
 @dataclass(frozen=True, eq=False)
@@ -425,7 +534,8 @@ class RotorTrim:
     ``beta``: mean multiblade flap [rad]; ``lam``: mean inflow [-]; ``c``: mean
     blade loads ``(C_T, C_mc, C_ms)/(a0 s)``; ``beta_ripple``: peak-to-peak of the
     multiblade flap over a period (the ``Nb``/rev content) [rad]; ``periods``:
-    blade-passage periods marched.
+    blade-passage periods marched; ``zeta``: mean multiblade lag [rad] (blades with
+    lead-lag; ``None`` without).
     """
 
     x: np.ndarray
@@ -435,6 +545,7 @@ class RotorTrim:
     beta_ripple: np.ndarray
     inputs: np.ndarray
     periods: int = 0
+    zeta: np.ndarray | None = None
 
     def as_dict(self) -> dict:
         names = FLAP
@@ -443,16 +554,20 @@ class RotorTrim:
                                               self.lam)})
         d.update({n: float(v) for n, v in zip(("cT", "cmc", "cms"), self.c)})
         d["beta_ripple"] = {n: float(v) for n, v in zip(names, self.beta_ripple)}
+        if self.zeta is not None:
+            d.update({n: float(v) for n, v in zip(LAG, self.zeta)})
         return d
 
 
 def multiblade_derivatives(rotor: BladeRotor, psi: float, z, u) -> np.ndarray:
     """Multiblade form of the blade equations at azimuth ``psi``.
 
-    ``z = (beta, beta', lambda)`` (9 multiblade values); returns
-    ``(beta'', lambda')`` (6).  The blades are set to ``beta0 + beta1c cos psi_i +
-    beta1s sin psi_i`` (no reactionless motion), their accelerations projected
-    back with the rotating-frame terms removed:
+    ``z = (beta, beta', lambda)`` (9 multiblade values), with the blades' lead-lag
+    ``z = (beta, beta', lambda, zeta, zeta')`` (15); returns ``(beta'', lambda')``
+    (6), with lag ``(beta'', lambda', zeta'')`` (9).  The blades are set to ``beta0
+    + beta1c cos psi_i + beta1s sin psi_i`` (no reactionless motion; the lag
+    likewise), their accelerations projected back with the rotating-frame terms
+    removed:
     ``beta1c'' = P_c(beta_i'') - 2 beta1s' + beta1c``,
     ``beta1s'' = P_s(beta_i'') + 2 beta1c' + beta1s``.
     With many blades (``Nb >= 8``) the projection is the azimuth average, so this
@@ -461,14 +576,27 @@ def multiblade_derivatives(rotor: BladeRotor, psi: float, z, u) -> np.ndarray:
     from ..physics.multiblade import blade_angles, multiblade
     z = np.asarray(z, dtype=float)
     nb = rotor.nb
+    if len(z) != (15 if rotor.lag else 9):
+        raise InputError(f"multiblade state of {len(z)} values: the rotor takes "
+                         f"{15 if rotor.lag else 9}")
+
+    def blades(q, dq):
+        rate_mb = np.array([dq[0], dq[1] + q[2], dq[2] - q[1]])   # blade-rate harmonics
+        return blade_angles(q, psi, nb), blade_angles(rate_mb, psi, nb)
+
+    def accelerations(f, q, dq):
+        p = multiblade(f, psi)
+        return np.array([p[0], p[1] - 2 * dq[2] + q[1], p[2] + 2 * dq[1] + q[2]])
+
     b, db, lam = z[0:3], z[3:6], z[6:9]
-    rate_mb = np.array([db[0], db[1] + b[2], db[2] - b[1]])   # blade-rate harmonics
-    x = np.concatenate([blade_angles(b, psi, nb), blade_angles(rate_mb, psi, nb), lam])
+    x = np.concatenate([*blades(b, db), lam]
+                       + (list(blades(z[9:12], z[12:15])) if rotor.lag else []))
     f = rotor.rhs(psi, x, tuple(float(v) for v in u))
-    p = multiblade(f[nb:2 * nb], psi)
-    dd = np.array([p[0], p[1] - 2 * db[2] + b[1], p[2] + 2 * db[1] + b[2]])
-    return np.concatenate([dd, f[2 * nb:]])
+    out = [accelerations(f[nb:2 * nb], b, db), f[2 * nb:2 * nb + 3]]
+    if rotor.lag:
+        out.append(accelerations(f[3 * nb + 3:], z[9:12], z[12:15]))
+    return np.concatenate(out)
 
 
-__all__ = ["SPEEDS", "MAX_STEP", "RotorSpec", "BladeRotor", "RotorTrim",
+__all__ = ["SPEEDS", "LAG", "LAG_RANGE", "MAX_STEP", "RotorSpec", "BladeRotor", "RotorTrim",
            "multiblade_derivatives"]

@@ -223,7 +223,8 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None,
     -------
     dict
         ``beta_meas`` (N, 3) as recorded (recorded azimuth, delay, no noise);
-        ``beta_true`` (N, 3) true multiblade flap; ``lam`` (N, 3) inflow;
+        ``beta_true`` (N, 3) true multiblade flap; ``lam`` (N, 3) inflow; ``zeta``
+        (N, 3) true multiblade lag (``None`` without the blades' lead-lag);
         ``beta_blades`` (N, Nb); ``trim`` (:class:`RotorTrim`); ``u`` (N, 10)
         true inputs in azimuth units; ``n_sub``.
     """
@@ -265,7 +266,10 @@ def blade_response(test: FlightTest, controls_true, hub: dict, inputs_at=None,
     else:
         blades_m, psi_m = x[:, :nb], psi
     beta_meas = multiblade(blades_m, psi_m + test.azimuth_bias)
-    return {"beta_meas": beta_meas, "beta_true": beta_true, "lam": x[:, 2 * nb:],
+    zeta = (multiblade(x[:, 2 * nb + 3:3 * nb + 3], psi) if test.rotor.lag
+            else None)
+    return {"beta_meas": beta_meas, "beta_true": beta_true,
+            "lam": x[:, 2 * nb:2 * nb + 3], "zeta": zeta,
             "beta_blades": x[:, :nb], "trim": trim, "u": u, "n_sub": n_sub}
 
 
@@ -421,7 +425,9 @@ def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> Flig
                        "speed": test.rotor.speed, "n_span": test.rotor.n_span,
                        "n_disc_psi": test.rotor.n_disc_psi,
                        "n_disc_r": test.rotor.n_disc_r}
-             | ({"K_R": test.rotor.K_R} if test.rotor.K_R else {}),
+             | ({"K_R": test.rotor.K_R} if test.rotor.K_R else {})
+             | ({"nu_zeta": test.rotor.nu_zeta, "zeta_lag": test.rotor.zeta_lag}
+                if test.rotor.lag else {}),
              "constants": k.as_dict(),
              "trim_controls": dict(tc), "trim_muz": test.trim_muz,
              "trim": trim.as_dict(),

@@ -36,8 +36,10 @@ LAYER = {2: ("inflow_fmi2.c", ("fmi2Functions.h", "fmi2FunctionTypes.h",
 #: The model description of each version among the generated files.
 DESCRIPTION = {2: "modelDescription.xml", 3: "modelDescription-fmi3.xml"}
 FMI_VERSIONS = (2, 3)
-#: -ffp-contract=off: no fused multiply-add, so every build rounds alike (and the
-#: AVX2 and baseline clones of DoStep agree bit for bit).
+#: -ffp-contract=off: no fused multiply-add the compiler chooses, so every build rounds
+#: alike (and the AVX2 and baseline clones of DoStep agree bit for bit); the mu
+#: table's Horner rule asks for fused multiply-adds itself (fma, one rounding on every
+#: path: the CPU's where it has AVX2 and FMA, else the C library's).
 CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror", "-fPIC",
           "-shared", "-fvisibility=hidden")
 
@@ -349,7 +351,9 @@ logged message naming it; the state and the stored value are untouched.</li>
 inflowsim.so {{ files }} -lm</code>.  Without <code>-ffp-contract=off</code> a compiler may fuse
 multiply-adds and the results differ from inflowsim's at the level of rounding.
 On glibc x86-64, <code>{{ fmi }}DoStep</code> is compiled twice (AVX2 and baseline) and the
-loader picks one; both give the same numbers bit for bit.
+loader picks one; both give the same numbers bit for bit.  A change of <code>mu</code>
+evaluates its table with fused multiply-adds (<code>fma</code>): the CPU's four at a
+time where it has AVX2 and FMA, else the C library's, with the same numbers.
 <code>-DIFS_NO_CLONES</code> builds the baseline only; <code>-DIFS_SCALAR_STEP</code>
 uses the plain-C step (what compilers without GNU vector types get), again with the
 same numbers.</p>

@@ -24,8 +24,10 @@ An effect whose terms are no closed expression (``momentum-speed``: a disc
 quadrature at the trim inflow of Eq. 14, found by Newton's method) asks, while
 traced, for a run-time call (``k.numeric``): its arguments are traced expressions,
 its results symbols that the descriptor's expressions use.  The called C function
-is generated too (:data:`NUMERIC_C`): the effect's physics module's integrand
-differentiated by sympy, its quadrature points and its Newton settings.
+is generated too, from what the effect declares
+(:attr:`~inflowsim.model.effects.Effect.runtime`, a
+:class:`~inflowsim.model.effects.RuntimeSolve`: its integrand differentiated by
+sympy, its quadrature points, its Newton residual and settings, its results).
 """
 from __future__ import annotations
 
@@ -64,9 +66,9 @@ class _NumericCalls:
         self.sp, self.calls, self.results = sp, [], []
 
     def __call__(self, effect: str, args, shapes):
-        if effect not in NUMERIC_C:
+        if _runtime_of(effect) is None:
             raise InputError(f"the FMU does not run effect {effect}: it asks for a "
-                             "numerical computation the code generator does not hold")
+                             "numerical computation it does not declare (Effect.runtime)")
         args = tuple(self.sp.sympify(a) for a in args)
         for (name, known, _), out in zip(self.calls, self.results):
             if name == effect and known == args:
@@ -100,7 +102,7 @@ def supported(structure) -> Structure:
             raise InputError(f"the FMU does not run effect {name}: a time shift of an "
                              "input cannot be applied by a causal step (inflowsim.simulate.replay "
                              "applies it to a whole record)")
-    from ..model.effects import USER_EFFECTS
+    from ..model.effects.user import USER_EFFECTS
     if any(name in USER_EFFECTS for name in s.effects):
         # a user effect may add an output map (Measurement.flap_map): not in the C
         if apply_effects(s, *_symbols(s))[1].flap_map is not None:
@@ -160,7 +162,7 @@ def _numeric_calls_c(calls, sp) -> list:
                                                                  for a in args))}
         vals = ", ".join(sp.ccode(a.xreplace(rename)) for a in args)
         lines += ["    {", f"        const double arg[{len(args)}] = {{{vals}}};",
-                  f"        {NUMERIC_C[effect][0]}(arg, {', '.join(outs)});", "    }"]
+                  f"        {_c_function(effect)}(arg, {', '.join(outs)});", "    }"]
     return lines
 
 
@@ -259,120 +261,145 @@ def _flow_speed_c(sp) -> list:
             f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
-def _momentum_speed_c(sp) -> list:
-    """``numeric_momentum_speed(arg, a, b, lam)``: the coupling of effect
-    ``momentum-speed`` and the trim inflow it is linearised about, at run time
-    (:func:`inflowsim.model.effects.momentum_speed.coupling`, arguments ``mu, a0 s,
-    V, theta (3), beta (3), muz`` as it passes them).  The same steps as
-    :mod:`inflowsim.physics.momentum_speed`: the base model's trim inflow, Newton's
-    method on Eq. (14)'s momentum balance (its step count and tolerance), then the
-    momentum loads' derivatives over the disc (its quadrature points; its integrand
-    differentiated by sympy where Python takes complex steps) and ``-J``.  A
-    singular solve leaves NaN, which the FMU's build refuses (non-finite matrices)."""
-    from ..physics import loads as ld
-    from ..physics import momentum_speed as ms
-    nw = 19
-    w = [sp.Symbol(f"w[{i}]") for i in range(nw)]
-    c, s, r = sp.symbols("c s r")
-    q = ms.speed_integrand(w[:9], w[9:], c, s, r, sqrt=sp.sqrt)
-    grad = [(f"g[{j}]", sp.diff(q, x)) for j, x in enumerate(w)]
-    point = (["static void ms_point(const double *w, double c, double s, double r, "
-              "double *q, double *g)", "{"]
-             + _assignments(sp, [("*q", q)] + [t for t in grad if t[1] != 0], c_name=str)
-             + [f"    g[{j}] = 0.0;" for j, (_, x) in enumerate(grad) if x == 0]
-             + ["}", ""])
-    pc, ps, pr, w0, w1 = ms.disc_points()
-    arr = lambda name, x: [f"static const double {name}[MS_N] = {{",     # noqa: E731
-                           *(f"    {', '.join(repr(float(v)) for v in x[i:i + 4])},"
-                             for i in range(0, len(x), 4)), "};"]
-    loads = ([f"#define MS_N {len(pc)}  /* disc points: {ms.N_PSI} azimuths x "
-              f"{ms.N_R} radii (Gauss-Legendre) */"] + arr("MS_C", pc) + arr("MS_S", ps)
-             + arr("MS_R", pr) + arr("MS_W0", w0) + arr("MS_W1", w1) + [
-        "",
-        "/* c_mom = 4/(a0 s) (sum w0 q, -sum c w1 q, -sum s w1 q) and its derivatives "
-        "(3 x 19) */",
-        "static void ms_loads(const double *w, double a0s, double *f, double *df)", "{",
-        f"    double q, g[{nw}];", "    int k, j;",
-        "    memset(f, 0, sizeof(double) * 3);",
-        f"    memset(df, 0, sizeof(double) * {3 * nw});",
-        "    for (k = 0; k < MS_N; k++) {",
-        "        const double a = MS_W0[k], bc = MS_C[k] * MS_W1[k], "
-        "bs = MS_S[k] * MS_W1[k];",
-        "        ms_point(w, MS_C[k], MS_S[k], MS_R[k], &q, g);",
-        "        f[0] += a * q; f[1] -= bc * q; f[2] -= bs * q;",
-        f"        for (j = 0; j < {nw}; j++) {{",
-        f"            df[j] += a * g[j]; df[{nw} + j] -= bc * g[j]; "
-        f"df[{2 * nw} + j] -= bs * g[j];", "        }", "    }",
-        "    for (j = 0; j < 3; j++) f[j] *= 4.0 / a0s;",
-        f"    for (j = 0; j < {3 * nw}; j++) df[j] *= 4.0 / a0s;", "}", ""])
-    arg = [sp.Symbol(f"arg[{i}]") for i in range(10)]
-    mu, a0s, v = arg[:3]
-    theta, beta = np.array(arg[3:6], dtype=object), np.array(arg[6:9], dtype=object)
-    blade = ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * arg[9]
-    gl, lm = ld.g_lambda(mu), ld.momentum_l(mu, a0s, v)
-    gains = ([(f"blade[{i}]", sp.sympify(blade[i])) for i in range(3)]
-             + [(f"gl[{3 * i + j}]", sp.sympify(gl[i, j])) for i in range(3)
-                for j in range(3)]
-             + [(f"lm[{3 * i + j}]", sp.sympify(lm[i, j])) for i in range(3)
-                for j in range(3)])
-    call = ["/* momentum-speed's coupling (inflowsim.physics.momentum_speed) */",
-            "static void numeric_momentum_speed(const double *arg, double *ca, "
-            "double *cb, double *cl)", "{",
-            f"    double blade[3], gl[9], lm[9], m[9], lam[3], f[3], df[{3 * nw}], "
-            "big;", f"    double w[{nw}] = {{0}};", "    int i, j, k;"]
-    call += _assignments(sp, gains, c_name=str)
-    call += [
-        "    /* the start: the base model's trim inflow, (I - L G_lambda) lam = L blade */",
-        "    for (i = 0; i < 3; i++) {",
-        "        lam[i] = 0.0;",
-        "        for (j = 0; j < 3; j++) {",
-        "            lam[i] += lm[3 * i + j] * blade[j];",
-        "            m[3 * i + j] = (i == j);",
-        "            for (k = 0; k < 3; k++) m[3 * i + j] -= lm[3 * i + k] * gl[3 * k + j];",
-        "        }", "    }",
-        "    if (ifs_lu_solve(3, m, 1, lam, 1e-14) != 0) goto fail;",
-        "    /* z = (beta, 0, lam), u = (theta, muz, 0, 0, 0, 0, mu, 0) */",
-        "    for (i = 0; i < 3; i++) {",
-        "        w[i] = arg[6 + i]; w[6 + i] = lam[i]; w[9 + i] = arg[3 + i];", "    }",
-        "    w[12] = arg[9]; w[17] = arg[0];",
-        f"    for (k = 0; k < {ms.NEWTON_STEPS}; k++) {{",
-        "        double step[3];",
-        "        ms_loads(w, arg[1], f, df);",
-        "        for (i = 0; i < 3; i++) {",
-        "            step[i] = blade[i] - f[i];",
-        "            for (j = 0; j < 3; j++) {",
-        "                step[i] += gl[3 * i + j] * lam[j];",
-        f"                m[3 * i + j] = gl[3 * i + j] - df[{nw} * i + 6 + j];",
-        "            }", "        }",
-        "        if (ifs_lu_solve(3, m, 1, step, 1e-14) != 0) goto fail;",
-        "        big = 0.0;",
-        "        for (i = 0; i < 3; i++) {",
-        "            lam[i] -= step[i]; w[6 + i] = lam[i];",
-        "            if (fabs(step[i]) > big) big = fabs(step[i]);", "        }",
-        f"        if (big < {ms.NEWTON_TOL!r}) break;", "    }",
-        "    for (i = 0; i < 3; i++) cl[i] = lam[i];",
-        "    /* J = L dc/d(z, u) - [0 0 I 0]; the coupling is -J */",
-        "    ms_loads(w, arg[1], f, df);",
-        "    for (i = 0; i < 3; i++)",
-        f"        for (j = 0; j < {nw}; j++) {{",
-        "            double x = 0.0;",
-        f"            for (k = 0; k < 3; k++) x += lm[3 * i + k] * df[{nw} * k + j];",
-        "            if (j == 6 + i) x -= 1.0;",
-        "            if (j < 9) ca[9 * i + j] = -x; else cb[10 * i + j - 9] = -x;",
-        "        }",
-        "    return;",
-        "fail:",
-        "    for (i = 0; i < 27; i++) ca[i] = NAN;",
-        "    for (i = 0; i < 30; i++) cb[i] = NAN;",
-        "    for (i = 0; i < 3; i++) cl[i] = NAN;", "}", ""]
-    return ["/* --- momentum-speed: Eq. (14)'s speed linearised over the disc, at run "
-            "time --- */"] + point + loads + call
+def _runtime_of(effect: str):
+    """The :class:`~inflowsim.model.effects.RuntimeSolve` that ``effect`` declares
+    (:attr:`~inflowsim.model.effects.Effect.runtime`), or None."""
+    from ..model.effects import CATALOGUE
+    e = CATALOGUE.get(effect)
+    return e.runtime() if e is not None and e.runtime is not None else None
 
 
-#: Run-time computations an effect may ask for while traced: ``{effect: (C function,
-#: generator of its C lines)}``; the function is ``f(const double *arg, double *out0,
-#: ...)`` with the effect's arguments and results in the order it passes them.
-NUMERIC_C = {"momentum-speed": ("numeric_momentum_speed", _momentum_speed_c)}
+def _c_function(effect: str) -> str:
+    return "numeric_" + "".join(ch if ch.isalnum() else "_" for ch in effect)
+
+
+def _c_array(name, rows) -> list:
+    """A static const double array of the rows (numbers) of ``rows``."""
+    rows = np.atleast_2d(np.asarray(rows, dtype=float))
+    out = [f"static const double {name}[{rows.shape[0]}][{rows.shape[1]}] = {{"]
+    for row in rows:
+        out.append("    {")
+        out += [f"        {', '.join(repr(float(v)) for v in row[i:i + 4])},"
+                for i in range(0, len(row), 4)]
+        out.append("    },")
+    return out + ["};"]
+
+
+def _c_body(signature: str, params, body) -> list:
+    """A C function of ``signature`` whose ``body`` lines may leave some of
+    ``params`` unused (then cast to void)."""
+    import re
+    used = set(re.findall(r"[A-Za-z_]\w*", " ".join(body)))
+    return ([signature, "{"] + [f"    (void){p};" for p in params if p not in used]
+            + body + ["}", ""])
+
+
+def _runtime_c(effect: str, rs, sp) -> list:
+    """The C function ``numeric_<effect>(arg, out0, out1, ...)`` that an effect's
+    run-time computation asks for (:class:`~inflowsim.model.effects.RuntimeSolve`):
+    every expression of it generated from the effect's declaration (sympy
+    differentiates the integrand and the residual); only the loops are the
+    generator's (the quadrature's sum, Newton's method with the LU solve of
+    ``inflow_numerics.c``).  A singular solve leaves NaN, which the FMU's build
+    refuses (non-finite matrices)."""
+    f = _c_function(effect)
+    up = f.upper()
+    nx, nw, npt = rs.n_unknowns, rs.n_w, len(rs.points)
+    weights = np.atleast_2d(np.asarray(rs.weights, dtype=float))
+    nf, n = weights.shape
+    arg = np.array([sp.Symbol(f"arg[{i}]") for i in range(rs.n_args)], dtype=object)
+    x = np.array([sp.Symbol(f"x[{i}]") for i in range(nx)], dtype=object)
+    w = np.array([sp.Symbol(f"w[{i}]") for i in range(nw)], dtype=object)
+    fs = np.array([sp.Symbol(f"f[{i}]") for i in range(nf)], dtype=object)
+    df = np.array([[sp.Symbol(f"df[{i * nw + j}]") for j in range(nw)] for i in range(nf)],
+                  dtype=object)
+    pt = [sp.Symbol(f"pt[{i}]") for i in range(npt)]
+    sym = lambda v: sp.sympify(v)                              # noqa: E731
+    # the integrand and its gradient at one point
+    q = sym(rs.integrand(w, *pt, sqrt=sp.sqrt))
+    grad = [(f"g[{j}]", sp.diff(q, w[j])) for j in range(nw)]
+    lines = [f"/* --- {effect}: its run-time computation "
+             "(inflowsim.model.effects.RuntimeSolve), generated --- */",
+             f"static void {f}_point(const double *w, const double *pt, double *q, "
+             "double *g)", "{"]
+    lines += _assignments(sp, [("*q", q)] + [t for t in grad if t[1] != 0], c_name=str)
+    lines += [f"    g[{j}] = 0.0;" for j, (_, d) in enumerate(grad) if d == 0] + ["}", ""]
+    # the quadrature: f = scale sum_k weights[:, k] q_k, df = d f / d w
+    lines += [f"#define {up}_N {n}  /* quadrature points */"]
+    lines += _c_array(f"{up}_PT", np.array([np.asarray(c, dtype=float) for c in rs.points]))
+    lines += _c_array(f"{up}_W", weights)
+    lines += ["", f"static void {f}_quad(const double *w, double scale, double *f, "
+              "double *df)", "{",
+              f"    double q, g[{nw}], pt[{npt}];", "    int k, i, j;",
+              f"    memset(f, 0, sizeof(double) * {nf});",
+              f"    memset(df, 0, sizeof(double) * {nf * nw});",
+              f"    for (k = 0; k < {up}_N; k++) {{",
+              f"        for (i = 0; i < {npt}; i++) pt[i] = {up}_PT[i][k];",
+              f"        {f}_point(w, pt, &q, g);",
+              f"        for (i = 0; i < {nf}; i++) {{",
+              f"            const double a = {up}_W[i][k];",
+              "            f[i] += a * q;",
+              f"            for (j = 0; j < {nw}; j++) df[{nw} * i + j] += a * g[j];",
+              "        }", "    }",
+              f"    for (i = 0; i < {nf}; i++) f[i] *= scale;",
+              f"    for (i = 0; i < {nf * nw}; i++) df[i] *= scale;", "}", ""]
+    # the variables, the start's system, the residual and its Jacobian (chain rule
+    # through f), the results
+    wx = [sym(v) for v in rs.w_of(arg, x)]
+    lines += _c_body(f"static void {f}_w(const double *arg, const double *x, double *w)",
+                     ("arg", "x"), _assignments(sp, [(f"w[{i}]", v) for i, v in enumerate(wx)],
+                                                c_name=str))
+    m0, r0 = rs.start(arg)
+    lines += _c_body(f"static void {f}_start(const double *arg, double *m, double *x)",
+                     ("arg",), _assignments(sp, [(f"m[{i * nx + j}]", sym(m0[i][j]))
+                                                 for i in range(nx) for j in range(nx)]
+                                            + [(f"x[{i}]", sym(r0[i])) for i in range(nx)],
+                                            c_name=str))
+    res = [sym(r) for r in rs.residual(arg, x, fs)]
+    jac = []
+    for i in range(nx):
+        for j in range(nx):
+            d = sp.diff(res[i], x[j])
+            for k in range(nf):
+                dk = sp.diff(res[i], fs[k])
+                if dk != 0:
+                    d += dk * sum(df[k, m] * sp.diff(wx[m], x[j]) for m in range(nw))
+            jac.append((f"m[{i * nx + j}]", d))
+    lines += _c_body(f"static void {f}_newton(const double *arg, const double *x, "
+                     "const double *f, const double *df, double *r, double *m)",
+                     ("arg", "x", "f", "df"),
+                     _assignments(sp, [(f"r[{i}]", v) for i, v in enumerate(res)] + jac,
+                                  c_name=str))
+    outs = [np.asarray(o, dtype=object) for o in rs.outputs(arg, x, fs, df)]
+    ocode = [(f"out{o}[{i}]", sym(v)) for o, a in enumerate(outs)
+             for i, v in enumerate(a.ravel())]
+    sig = ", ".join(f"double *out{o}" for o in range(len(outs)))
+    lines += _c_body(f"static void {f}_outputs(const double *arg, const double *x, "
+                     f"const double *f, const double *df, {sig})", ("arg", "x", "f", "df"),
+                     _assignments(sp, ocode, c_name=str))
+    size = [int(np.prod(shape)) for shape in rs.shapes]
+    lines += [f"static void {f}(const double *arg, {sig})", "{",
+              f"    double x[{nx}], w[{nw}], f[{nf}], df[{nf * nw}], r[{nx}], "
+              f"m[{nx * nx}], big;", "    int k, i;",
+              f"    {f}_start(arg, m, x);",
+              f"    if (ifs_lu_solve({nx}, m, 1, x, 1e-14) != 0) goto fail;",
+              f"    for (k = 0; k < {rs.steps}; k++) {{",
+              f"        {f}_w(arg, x, w);",
+              f"        {f}_quad(w, {sp.ccode(sym(rs.scale(arg)))}, f, df);",
+              f"        {f}_newton(arg, x, f, df, r, m);",
+              f"        if (ifs_lu_solve({nx}, m, 1, r, 1e-14) != 0) goto fail;",
+              "        big = 0.0;",
+              f"        for (i = 0; i < {nx}; i++) {{",
+              "            x[i] -= r[i];",
+              "            if (fabs(r[i]) > big) big = fabs(r[i]);", "        }",
+              f"        if (big < {rs.tol!r}) break;", "    }",
+              f"    {f}_w(arg, x, w);",
+              f"    {f}_quad(w, {sp.ccode(sym(rs.scale(arg)))}, f, df);",
+              f"    {f}_outputs(arg, x, f, df, "
+              f"{', '.join(f'out{o}' for o in range(len(outs)))});",
+              "    return;", "fail:"]
+    lines += [f"    for (i = 0; i < {n_}; i++) out{o}[i] = NAN;" for o, n_ in enumerate(size)]
+    return lines + ["}", ""]
 
 
 def equations_c(structures) -> str:
@@ -390,7 +417,7 @@ def equations_c(structures) -> str:
         body += (_descriptor_c(s, e, a, b, i, sp, calls) + _measurement_c(meas, i, sp)
                  + _loads_c(s, meas, i, sp))
     for effect in numeric:                     # before the descriptors that call them
-        body = NUMERIC_C[effect][1](sp) + body
+        body = _runtime_c(effect, _runtime_of(effect), sp) + body
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "
                          f"(these have {sorted(states)})")

@@ -13,7 +13,7 @@ from xml.sax.saxutils import quoteattr
 
 from . import codegen
 from ..simulate import mutable
-from ..channels import LIMIT
+from ..channels import BY_NAME, LIMIT
 from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
 
 #: Bump when the C model's equations change in a way importers must notice.
@@ -256,6 +256,10 @@ def vars_header(d: Description = DEFAULT) -> str:
              + ", ".join(f"{i} {n}" for i, n in enumerate(d.structures)) + '"',
              f"#define IFS_N_INPUTS {n_in}  /* the perturbation inputs, theta0 .. muy */",
              f"#define IFS_INPUT_LIMIT {_c_num(LIMIT)}  /* |input| beyond it is refused */",
+             "#define IFS_INPUT_OMEGA_POWERS {"
+             + ", ".join(str(BY_NAME[v.name].omega_power) for v in d.reals
+                         if v.causality == "input" and v.name != "mu")
+             + "}  /* the inputs in azimuth units: u / Omega^k (inflowsim.channels) */",
              "", *mutable.c_defines(), *schedule_defines(d), "",
              "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]

@@ -23,7 +23,7 @@ from typing import Mapping
 
 from ..channels import BY_NAME, INPUT_CHANNELS, LIMIT, LOAD_CHANNELS, OUTPUTS
 from ..errors import InputError
-from ..model.effects import needs_trim
+from ..model.structure import needs_trim
 from .codegen import TRIM_PARAMETERS
 from ..model.effects import CATALOGUE
 from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
@@ -286,7 +286,7 @@ def describe(structures=DEFAULT_STRUCTURES, start: Mapping[str, float] | None = 
     :class:`~inflowsim.model.schedule.Schedule` of the (single) structure, whose
     scheduled parameters become local variables computed at every step's ``mu``
     and whose held parameters are start values; its trim totals, where the
-    structure is linearised about trim (:func:`~inflowsim.model.effects.needs_trim`),
+    structure is linearised about trim (:func:`~inflowsim.model.structure.needs_trim`),
     become local variables ``trim_<column>`` computed alike.
 
     Parameters

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..model.structure import Structure
 from ..progress import bar
-from .estimator import _records, identify
+from .estimator import as_records, identify
 from .transform import DEFAULT_BAND
 
 
@@ -86,7 +86,7 @@ def band_study(records, structure, upper_hz=DEFAULT_BAND[1], lowers_hz=None,
         ``fixed``, ``ties``: as :func:`~inflowsim.identify.identify` takes them.
     """
     s = Structure.parse(structure)
-    recs = _records(records)
+    recs = as_records(records)
     lowers = np.sort(np.asarray(lowers_hz if lowers_hz is not None
                                 else default_lowers(recs[0], upper_hz), dtype=float))
     fits = {}

@@ -81,7 +81,7 @@ class _State:
         return float(sum(x @ x for x in self.r))
 
 
-def fit_state(prob, theta, S):
+def fit_state(prob, theta, S, weights=None):
     """The fit's state at ``theta``: the model's responses, the end-effect nuisance
     solved for by variable projection, the residuals and their weights.
 
@@ -93,13 +93,17 @@ def fit_state(prob, theta, S):
         Free parameters, in ``prob.free`` order.
     S : list of ndarray
         Each record's residual spectral density ``S`` (3 x 3) [rad^2].
+    weights : list of ndarray, optional
+        ``Problem.weight`` of each ``S`` when already at hand (another state's of
+        the same ``S``); computed from ``S`` otherwise.
 
     Returns
     -------
     _State
         ``theta``, ``resp``, ``nus``, ``bases``, ``r`` (residuals), ``S``, ``weights``.
     """
-    weights = [Problem.weight(s) for s in S]
+    if weights is None:
+        weights = [Problem.weight(s) for s in S]
     resp = prob.responses(theta)
     sol = prob.solve_nuisance(resp, weights)
     return _State(theta, resp, [s[0] for s in sol], [s[1] for s in sol],
@@ -117,18 +121,21 @@ def _relax_S(prob, theta, S=None, rounds=4):
     return st
 
 
-def _reweighted(prob, st):
-    """The state with ``S`` re-estimated from its own residuals (relaxation step)."""
-    S = prob.estimate_S(prob.eps(st.resp, st.nus))
+def _reweighted(prob, st, S=None):
+    """The state with ``S`` re-estimated from its own residuals (relaxation step;
+    ``S`` that estimate when already made, :func:`_concentrated`)."""
+    if S is None:
+        S = prob.estimate_S(prob.eps(st.resp, st.nus))
     return fit_state(prob, st.theta, S)
 
 
-def _concentrated(prob, st):
+def _concentrated(prob, st, with_S=False):
     """Cost (12) with ``S`` at its optimum for these residuals: ``sum n_f ln|S|``
-    (plus the constant ``3 n_f``)."""
+    (plus the constant ``3 n_f``); ``with_S``: ``(cost, S)``."""
     S = prob.estimate_S(prob.eps(st.resp, st.nus))
-    return 3 * prob.n_freq + sum(sp.f_hz.size * float(np.log(np.real(np.linalg.det(x))))
-                                 for sp, x in zip(prob.spectra, S))
+    c = 3 * prob.n_freq + sum(sp.f_hz.size * float(np.log(np.real(np.linalg.det(x))))
+                              for sp, x in zip(prob.spectra, S))
+    return (c, S) if with_S else c
 
 
 def _lm(prob, st, max_iter, report=None):
@@ -169,11 +176,12 @@ def _lm(prob, st, max_iter, report=None):
             grow = np.exp(np.clip(np.where(logm, delta, 0.0), -5, 5))
             tn = np.clip(np.where(logm, st.theta * grow, st.theta + step), lo, hi)
             try:
-                sn = fit_state(prob, tn, st.S)
+                # the trial keeps the state's S, and so its weights
+                sn = fit_state(prob, tn, st.S, st.weights)
             except InputError:            # outside a parameter's range / unstable build
                 lam *= 10
                 continue
-            cn = _concentrated(prob, sn)
+            cn, s_new = _concentrated(prob, sn, with_S=True)
             if cn < c:
                 accepted = True
                 break
@@ -182,7 +190,7 @@ def _lm(prob, st, max_iter, report=None):
             return st, c, it, True       # no descent left: at a minimum to precision
         small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
         small_drop = (c - cn) <= tol
-        st, c = _reweighted(prob, sn), cn
+        st, c = _reweighted(prob, sn, s_new), cn
         lam = max(lam / 10, 1e-9)
         if report:
             report(it, c)
@@ -191,8 +199,26 @@ def _lm(prob, st, max_iter, report=None):
     return st, c, max_iter, False
 
 
-def _fit(prob, theta, max_iter=100, report=None):
-    """Fit from ``theta``: ``S`` from the start's residuals, then :func:`_lm`."""
+def fit_from(prob, theta, max_iter=100, report=None):
+    """Fit from ``theta``: ``S`` from the start's residuals, then Levenberg-Marquardt.
+
+    Parameters
+    ----------
+    prob : Problem
+        The identification problem (:class:`inflowsim.identify.problem.Problem`).
+    theta : ndarray
+        Start of the free parameters, in ``prob.free`` order.
+    max_iter : int
+        Iterations at most [-] (0: the start's state and cost only).
+    report : callable, optional
+        ``report(iteration, cost)`` after each step.
+
+    Returns
+    -------
+    (state, cost, iterations, converged)
+        The fit's state (:func:`fit_state`), its cost (12), the iterations made and
+        whether they converged.
+    """
     st = _relax_S(prob, theta, rounds=1)
     st, j, it, ok = _lm(prob, st, max_iter, report)
     return st, prob.cost(st.r, st.S), it, ok
@@ -410,7 +436,15 @@ def _collapsed_s(spectra, S) -> list:
 
 
 # -- public API -----------------------------------------------------------------------
-def _records(records):
+def as_records(records):
+    """A list of :class:`~inflowsim.data.record.Record` from one record, a path or a
+    list of them (:class:`InputError` for none).
+
+    Parameters
+    ----------
+    records : Record, path or list of them
+        The flight-test records.
+    """
     if isinstance(records, (str, bytes)) or not hasattr(records, "__iter__"):
         records = [records]
     records = [as_record(r) for r in records]
@@ -419,7 +453,22 @@ def _records(records):
     return records
 
 
-def _spectra(records, structure, band_hz, grid_hz, hold=None):
+def spectra_of(records, structure, band_hz, grid_hz, hold=None):
+    """Each record's spectra over the band for ``structure``'s inputs.
+
+    Parameters
+    ----------
+    records : list of Record
+        The records (:func:`as_records`).
+    structure : Structure
+        The structure whose inputs are transformed.
+    band_hz : (float, float) or None
+        Analysis band [Hz] (``None``: the default band).
+    grid_hz : array_like or None
+        Frequencies of the transform [Hz] (``None``: the record's grid in the band).
+    hold : {"continuous", "zoh", "foh"}, optional
+        Intersample behaviour of the inputs (default each record's own).
+    """
     if band_hz is None:
         band_hz = DEFAULT_BAND
     return [record_spectra(r, structure.inputs, band_hz, grid_hz, hold) for r in records]
@@ -512,8 +561,8 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
     FitResult
     """
     s = Structure.parse(structure)
-    recs = _records(records)
-    spectra = _spectra(recs, s, band_hz, grid_hz, hold)
+    recs = as_records(records)
+    spectra = spectra_of(recs, s, band_hz, grid_hz, hold)
     start = dict(start or {})
     fixed = dict(fixed or {})
     ties = [tuple(t) for t in (ties or [])]
@@ -542,7 +591,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
                 raise InputError(f"start values ({label}): {exc}") from None
             b.set_postfix_str(f"{label}: {len(prob.free)} parameters, "
                               f"{prob.n_freq} frequencies")
-            st, j, iters, _ = _fit(prob, prob.theta0(), max_iter=SHORT_RUN)
+            st, j, iters, _ = fit_from(prob, prob.theta0(), max_iter=SHORT_RUN)
             b.update()
             trials.append((j, label, iters))
             if best is None or j < best[0]:   # the first of equal costs, as min() takes
@@ -556,7 +605,7 @@ def identify(records, structure, band_hz=DEFAULT_BAND, start=None, fixed=None, t
         b.update()
     with bar(progress, None, f"identify {s.name}: fitting from start {label}",
              "iteration") as b:
-        st, j, iters, conv = _fit(prob, st.theta, report=lambda i, c: step(b, i, c))
+        st, j, iters, conv = fit_from(prob, st.theta, report=lambda i, c: step(b, i, c))
     say(f"identify {s.name}: cost {j:.6f}, {'converged' if conv else 'NOT converged'}")
     return _result(prob, st, j, it0 + iters, conv, tuple((t[1], t[0]) for t in trials))
 
@@ -669,8 +718,8 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
         Intersample behaviour of the records' inputs (default each record's own).
     """
     s = Structure.parse(structure)
-    recs = _records(records)
-    spectra = _spectra(recs, s, band_hz, grid_hz, hold)
+    recs = as_records(records)
+    spectra = spectra_of(recs, s, band_hz, grid_hz, hold)
     prob = Problem(s, spectra, dict(params), fixed=tuple(s.parameters))
     st = _relax_S(prob, np.zeros(0), rounds=4)
     eps = prob.eps(st.resp, st.nus)
@@ -683,10 +732,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       nu=tuple(st.nus))
 
 
-#: The state's former name, still imported by modules of ``identify`` and
-#: ``diagnose`` and by tests.
-_state = fit_state
-
 __all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
            "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
-           "evaluate", "fit_state", "covariances"]
+           "evaluate", "fit_state", "fit_from", "as_records", "spectra_of",
+           "covariances"]

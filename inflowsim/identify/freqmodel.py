@@ -41,7 +41,7 @@ import numpy as np
 from ..simulate.sampled import BASES, expm, shift_taps
 
 __all__ = ["flap_response", "flap_responses", "shift_groups", "window_integral", "shifted_transform",
-           "zoh", "expm"]
+           "zoh", "expm", "continuous_input"]
 
 
 def zoh(a, b, dt):
@@ -138,7 +138,7 @@ def window_integral(u, dt, f_hz, alpha, beta):
     return sign * (ph @ vals) / dt
 
 
-def _continuous_input(sp, d):
+def continuous_input(sp, d):
     """``U^(d)``: transform of the recorded inputs shifted by ``d`` [s] (delayed
     for ``d > 0``), ``(nf, m)``, read-only.  A function of the record and ``d``
     only: the last few shifts of each record are remembered (a fit's Jacobian moves
@@ -160,7 +160,7 @@ def _continuous_input(sp, d):
     return out
 
 
-#: Shifted input transforms (:func:`_continuous_input`) and eigen-decompositions
+#: Shifted input transforms (:func:`continuous_input`) and eigen-decompositions
 #: (:func:`_eig`) remembered: the most recent few, each a pure function of its key.
 MEMO = 8
 _RECORDS = weakref.WeakKeyDictionary()
@@ -169,7 +169,7 @@ _EIGS: dict = {}
 
 def _record_memo(sp) -> dict:
     """What :func:`flap_response` remembers of one record (its :class:`Spectra`,
-    which is immutable): ``shifts`` (:func:`_continuous_input`) and ``terms``."""
+    which is immutable): ``shifts`` (:func:`continuous_input`) and ``terms``."""
     memo = _RECORDS.get(sp)
     if memo is None:
         memo = {"shifts": {}, "terms": None}
@@ -275,6 +275,8 @@ def flap_responses(models, sp):
     at a time, so the same numbers, without numpy's overhead per call.  Every
     other model goes through :func:`flap_response`.
     """
+    if len(models) == 1:
+        return [flap_response(models[0], sp)]
     out = [None] * len(models)
     groups = {}
     for i, m in enumerate(models):
@@ -339,8 +341,9 @@ def _batch_products(ms, decs, den, sp):
     C = np.stack([m.c[:3] for m in ms])
     P = np.stack([m.end_basis for m in ms])
     # the one group's shift against each input, as _flap_response forms it
-    ud = np.stack([_continuous_input(sp, (float(m.delays[0]) -
-                                          np.asarray(m.input_delays, float))[0])
+    # (no input delays in a batch: the shift is the output delay, minus zero as
+    # _flap_response subtracts it)
+    ud = np.stack([continuous_input(sp, float(m.delays[0]) - float(m.input_delays[0]))
                    for m in ms])
     inp = ud @ b.transpose(0, 2, 1)
     r = 1.0 / den
@@ -349,9 +352,10 @@ def _batch_products(ms, decs, den, sp):
     y_u = ((inp @ Vi.transpose(0, 2, 1)) * r) @ cv.transpose(0, 2, 1)
     e = (r @ (cv.transpose(0, 2, 1)[:, :, :, None] * vp[:, :, None, :]).reshape(
         nm, n, -1)).reshape(nm, nf, 3, k)
-    y_nu = np.zeros((nm, nf, 3, 2 * k), dtype=complex)
-    y_nu[:, :, :, :k] = zs[:, None, None] * e
-    y_nu[:, :, :, k:] = ze[:, None, None] * e
+    # the two halves written in place (the same products as assigning them)
+    y_nu = np.empty((nm, nf, 3, 2 * k), dtype=complex)
+    np.multiply(zs[:, None, None], e, out=y_nu[:, :, :, :k])
+    np.multiply(ze[:, None, None], e, out=y_nu[:, :, :, k:])
     return [(y_u[j], y_nu[j], shift_groups(m)) for j, m in enumerate(ms)]
 
 
@@ -423,7 +427,7 @@ def _eig(a):
 
 
 def _eig_new(a):
-    if not np.all(np.isfinite(a)):
+    if not np.isfinite(a).all():
         return None
     lam, V = np.linalg.eig(a)
     # np.linalg.cond(V) (2-norm), without its wrapper: the same singular values
@@ -461,12 +465,12 @@ def _flap_response(model, sp, method):
             d = tau - sigma
             if no_input_delays:
                 # one shift for every input: its transform as it is
-                ud = np.ascontiguousarray(_continuous_input(sp, d[0]))
+                ud = np.ascontiguousarray(continuous_input(sp, d[0]))
             else:
                 ud = np.empty((nf, b.shape[1]), dtype=complex)
                 for v in np.unique(d):
                     cols = np.flatnonzero(d == v)
-                    ud[:, cols] = _continuous_input(sp, v)[:, cols]
+                    ud[:, cols] = continuous_input(sp, v)[:, cols]
             inp[g] = ud @ b.T
     else:
         phi = None

@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..model.params import SPECS
-from .estimator import _state, null_directions
+from .estimator import fit_state, null_directions
 from .problem import Problem
 from .transform import DEFAULT_BAND, dft, record_spectra, transform_weights
 
@@ -183,7 +183,7 @@ def prior_sigma(name, constants) -> float | None:
 
 
 def _information(prob, S):
-    st = _state(prob, prob.theta0(), S)
+    st = fit_state(prob, prob.theta0(), S)
     blocks = prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=True)
     J = np.vstack(blocks)
     n_data = J.shape[0]

@@ -180,10 +180,13 @@ class Problem:
                 lo.append(max(np.nextafter(s.lower, np.inf) if s.lower_open else s.lower
                               for s in specs))
                 hi.append(min(s.upper for s in specs))
-            self._box = np.array(lo, dtype=float), np.array(hi, dtype=float)
+            self._box = [float(x) for x in lo], [float(x) for x in hi]
         lo, hi = self._box
-        t = np.asarray(theta, dtype=float)
-        return bool(np.isfinite(t).all() and (t >= lo).all() and (t <= hi).all())
+        # as Python floats: a dozen comparisons cost less than numpy's reductions
+        # (a NaN compares false; an infinity lies outside every finite limit and is
+        # refused by isfinite)
+        return all(math.isfinite(t) and a <= t <= b
+                   for t, a, b in zip(np.asarray(theta, dtype=float).tolist(), lo, hi))
 
     @staticmethod
     def weight(S):
@@ -195,8 +198,8 @@ class Problem:
         projected weighted residual ``r``."""
         out = []
         for sp, (y_u, y_nu), W in zip(self.spectra, resp, weights):
-            b = _stack((sp.Z - y_u) @ W.T)
-            A = _stack(W @ y_nu)
+            b = stack((sp.Z - y_u) @ W.T)
+            A = stack(W @ y_nu)
             U, s, Vt = np.linalg.svd(A, full_matrices=False)
             keep = s > s[0] * 1e-10 if s.size and s[0] > 0 else np.zeros(s.size, bool)
             Uk, sk, Vk = U[:, keep], s[keep], Vt[keep]
@@ -231,7 +234,7 @@ class Problem:
         return self._weighted(self.responses(theta, remember=False), weights, nus)
 
     def _weighted(self, resp, weights, nus):
-        return [_stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
+        return [stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
                 zip(self.spectra, resp, weights, nus)]
 
     def _direct_many(self, thetas, weights, nus):
@@ -305,7 +308,7 @@ class Problem:
         return out
 
 
-def _stack(x):
+def stack(x):
     """``(nf, 3)`` -> ``(2 nf 3,)``; ``(nf, 3, k)`` -> ``(2 nf 3, k)`` (real, imag)."""
     x = np.asarray(x)
     if x.ndim == 3:
@@ -320,4 +323,4 @@ def unstack(r, nf):
     return (r[:h] + 1j * r[h:]).reshape(nf, 3)
 
 
-__all__ = ["TYPICAL", "S_FLOOR", "MEMO", "Problem", "unstack"]
+__all__ = ["TYPICAL", "S_FLOOR", "MEMO", "Problem", "stack", "unstack"]

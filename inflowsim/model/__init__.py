@@ -6,5 +6,6 @@ the structured equations and their assembly into descriptor and state space
 public names are kept here.
 """
 from .build import FLAP, Model, base_equations, build_model, descriptor, equations
+from .effects import user as _user_effects  # noqa: F401  (plugs installed effects in)
 
 __all__ = ["Model", "build_model", "descriptor", "equations", "base_equations", "FLAP"]

@@ -16,7 +16,7 @@ from ..frozen import FrozenDict, ReadOnlyArrays
 from ..physics import flapping as fl
 from ..physics import loads as ld
 from .effects import CATALOGUE
-from .equations import (ARRAY_FIELDS, FLAP, INPUTS, OUTPUTS, Equations, Measurement,
+from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement,
                         assemble, input_scale, rotation)
 from ..errors import InputError
 from .params import Constants, check_constants, check_parameters
@@ -41,24 +41,66 @@ def base_equations(p: Mapping[str, float], k: Constants) -> Equations:
     key = (mu, a0s, v, nb, lb2, tau)
     if not all(type(x) is float for x in key):       # symbols (the FMU's generator)
         return _base_equations(mu, a0s, v, nb, lb2, tau)
-    # a pure function of six numbers, the same in most of a fit's Jacobian columns:
-    # the last few are remembered and handed out as copies (effects edit their own)
-    blocks = _BASE.pop(key, None)
-    if blocks is None:
-        blocks = _base_equations(mu, a0s, v, nb, lb2, tau)
+    # a pure function of six numbers, in parts that depend on fewer: the inflow rows
+    # on the flight condition only (the same in every model of a record), the flap
+    # rows on (mu, n_beta), D also on lambda_beta2, the time constants on tau.  A
+    # fit's Jacobian moves one parameter a column: the parts it does not touch are
+    # remembered (the last few of each) and handed out as copies (effects edit their
+    # own); each part is computed by the same code as in _base_equations
+    inflow = _part(("inflow", mu, a0s, v), lambda: _inflow_part(mu, a0s, v))
+    flap = _part(("flap", mu, nb), lambda: _flap_part(mu, nb))
+    d = _part(("d", mu, nb, lb2), lambda: (fl.flap_d(mu, nb, lb2),))
+    d_tau = _part(("tau", tau), lambda: (tau * np.eye(3),))
+    c, h_lambda, h_u = flap
+    p_dbeta, p_beta, p_lambda, p_u = inflow
+    return _new(Equations, m2=np.zeros((3, 3)), c=c.copy(), d=d[0].copy(),
+                h_lambda=h_lambda.copy(), h_u=h_u.copy(), d_tau=d_tau[0].copy(),
+                p_dbeta=p_dbeta.copy(), p_beta=p_beta.copy(), p_lambda=p_lambda.copy(),
+                p_u=p_u.copy(), blocks=())
+
+
+def _new(cls, **values):
+    """``cls(**values)`` for a frozen dataclass without ``__post_init__``, given every
+    field: its generated ``__init__`` (one ``object.__setattr__`` a field) costs more
+    than the rest of a small object made in every step of a fit."""
+    obj = object.__new__(cls)
+    obj.__dict__.update(values)
+    return obj
+
+
+#: Parts of the base equations remembered (:func:`base_equations`), most recent last.
+_BASE: dict = {}
+_BASE_MEMO = 16
+
+
+def _part(key, make):
+    """``make()`` (a tuple of arrays), remembered under ``key`` (the last
+    :data:`_BASE_MEMO` keys)."""
+    out = _BASE.pop(key, None)
+    if out is None:
+        out = make()
         if len(_BASE) >= _BASE_MEMO:
             try:
                 del _BASE[next(iter(_BASE))]
             except (KeyError, RuntimeError, StopIteration):
                 pass
-    _BASE[key] = blocks
-    return Equations(**{n: getattr(blocks, n).copy() for n in _BLOCKS})
+    _BASE[key] = out
+    return out
 
 
-#: Base equations remembered (:func:`base_equations`), most recent last.
-_BASE: dict = {}
-_BASE_MEMO = 8
-_BLOCKS = ARRAY_FIELDS
+def _inflow_part(mu, a0s, v):
+    """``(p_dbeta, p_beta, p_lambda, p_u)`` of :func:`_base_equations`."""
+    lm = ld.momentum_l(mu, a0s, v)
+    z2 = np.zeros((3, 2))
+    p_u = np.hstack([lm @ ld.g_theta(mu), lm @ ld.g_nu(mu), z2, z2])
+    return lm @ ld.g_dbeta(mu), lm @ ld.g_beta(mu), lm @ ld.g_lambda(mu), p_u
+
+
+def _flap_part(mu, nb):
+    """``(c, h_lambda, h_u)`` of :func:`_base_equations`."""
+    z2 = np.zeros((3, 2))
+    h_u = np.hstack([fl.flap_h_theta(mu, nb), fl.flap_h_nu(mu, nb), fl.flap_h_eta(), z2])
+    return fl.flap_c(mu, nb), fl.flap_h_lambda(mu, nb), h_u
 
 
 def _base_equations(mu, a0s, v, nb, lb2, tau) -> Equations:
@@ -375,7 +417,11 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                     lambda: _output_map(n, meas), type(ab) is float)
     else:
         c = _own(_output_map(n, meas))
-    delays = np.concatenate([np.asarray(meas.delays, float), np.zeros(3)])
+    md = meas.delays
+    plain = type(md) is tuple and all(type(x) is float for x in md)
+    delays = _shared(("delays", md, tuple(math.copysign(1.0, x) for x in md) if plain
+                      else None),
+                     lambda: np.concatenate([np.asarray(md, float), np.zeros(3)]), plain)
     if eq.blocks:
         end_basis, end_input = steady_manifold(e, a_az, b_az, scale)
         end_basis, end_input = _own(end_basis), _own(end_input)
@@ -391,13 +437,13 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
         in_delay = dict(ind)
         return np.array([in_delay.get(n, 0.0) for n in INPUTS[:n_inputs]], dtype=float)
 
-    return Model(structure=s, parameters=FrozenDict(dict(p)), constants=constants,
-                 E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
-                 c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
-                 delays=_own(delays), measurement=meas,
-                 input_delays=_shared(("input delays", ind, n_inputs), input_delays,
-                                      not ind),
-                 end_basis=end_basis, end_input=end_input)
+    return _new(Model, structure=s, parameters=FrozenDict(dict(p)), constants=constants,
+                E=_own(e), A=_own(a_az), B=_frozen(b_az), a=_own(a_s), b=_own(b_s),
+                c=c, d=_shared(("zeros", 6, n_inputs), lambda: np.zeros((6, n_inputs))),
+                delays=delays, measurement=meas,
+                input_delays=_shared(("input delays", ind, n_inputs), input_delays,
+                                     not ind),
+                end_basis=end_basis, end_input=end_input)
 
 
 def _output_map(n, meas):

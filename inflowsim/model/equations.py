@@ -147,12 +147,7 @@ def assemble(eq: Equations, second_order: bool):
     """
     if eq.blocks:
         return _with_blocks(eq, second_order)
-    sq = (eq.m2, eq.c, eq.d, eq.h_lambda, eq.d_tau, eq.p_dbeta, eq.p_beta, eq.p_lambda)
-    if (all(type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (3, 3)
-            for x in sq)
-            and all(type(x) is np.ndarray and x.dtype == np.float64 and x.ndim == 2
-                    and x.shape[0] == 3 for x in (eq.h_u, eq.p_u))
-            and eq.h_u.shape[1] == eq.p_u.shape[1]):
+    if _float_blocks(eq):
         return _assemble_float(eq, second_order)
     z, i3 = np.zeros((3, 3)), np.eye(3)
     zu = np.zeros_like(eq.h_u)
@@ -167,6 +162,32 @@ def assemble(eq: Equations, second_order: bool):
                   [-eq.d, eq.h_lambda, -eq.c]])
     b = np.vstack([zu, eq.p_u, eq.h_u])
     return e, a, b
+
+
+_F64 = np.dtype(np.float64)
+_SQUARE = ("m2", "c", "d", "h_lambda", "d_tau", "p_dbeta", "p_beta", "p_lambda")
+_FLOAT_FIELDS = _SQUARE + ("h_u", "p_u")
+
+
+def _float_blocks(eq: Equations) -> bool:
+    """Every block a float array of its shape (3 x 3; ``h_u``, ``p_u`` 3 rows and
+    the same columns): :func:`_assemble_float` applies.  One pass over the blocks
+    (the test runs in every model build of a fit)."""
+    d = getattr(eq, "__dict__", {})
+    if not all(n in d for n in _FLOAT_FIELDS):     # not a plain Equations: np.block
+        return False
+    for n in _SQUARE:
+        x = d[n]
+        if type(x) is not np.ndarray or not _is_f64(x) or x.shape != (3, 3):
+            return False
+    h, p = d["h_u"], d["p_u"]
+    return (type(h) is np.ndarray and type(p) is np.ndarray and _is_f64(h)
+            and _is_f64(p) and h.ndim == 2 and h.shape[0] == 3 and h.shape == p.shape)
+
+
+def _is_f64(x) -> bool:
+    # the canonical dtype object first (an unpickled array has an equal other one)
+    return x.dtype is _F64 or x.dtype == _F64
 
 
 def _with_blocks(eq: Equations, second_order: bool):

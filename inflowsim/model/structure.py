@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .effects import CATALOGUE
+from .effects import CATALOGUE, load_missing
 from .equations import FLAP, FLAP_RATE, INFLOW, INPUTS, INPUTS_AZ, N_BASE_INPUTS
 from ..errors import InputError
 
@@ -43,9 +43,7 @@ class Structure:
     effects: tuple = ()
 
     def __post_init__(self):
-        if any(name not in CATALOGUE for name in self.effects):
-            from .effects.user import load_installed
-            load_installed()           # an installed package's effects, once
+        load_missing(self.effects)     # an installed package's effects, once
         for name in self.effects:
             if name not in CATALOGUE:
                 raise InputError(unknown_effect(name))
@@ -139,4 +137,17 @@ class Structure:
         return self.name
 
 
-__all__ = ["BASE_PARAMETERS", "PRESETS", "Structure"]
+def needs_trim(structures) -> bool:
+    """Some structure of ``structures`` (names or parsed) has an effect linearised
+    about the trim state (:attr:`~inflowsim.model.effects.Effect.about_trim`).
+
+    Parameters
+    ----------
+    structures : iterable of str or Structure
+        The structures.
+    """
+    return any(CATALOGUE[e].about_trim for st in structures
+               for e in Structure.parse(st).effects if e in CATALOGUE)
+
+
+__all__ = ["BASE_PARAMETERS", "PRESETS", "Structure", "needs_trim"]

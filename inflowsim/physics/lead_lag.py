@@ -69,13 +69,20 @@ def flap_coupling(mu, nb, th, b, u):
 
 def load_coupling(mu, th, b, u):
     """``(C_T, C_mc, C_ms) / (a0 s)`` per ``x = (zeta0, zeta1c, zeta1s, zeta0',
-    zeta1c', zeta1s')`` (section 3's loads with the lag's ``U_T``) [-]."""
+    zeta1c', zeta1s')`` (section 3's loads with the lag's ``U_T``, each blade's
+    lift acting on the hub where the blade is, at ``psi - zeta``) [-].
+
+    The hub moments' displacement columns hold both the lag's change of the lift
+    and the lift's displacement with the blade; a collective lag (the whole rotor
+    turned in azimuth about an axisymmetric trim) leaves them unchanged, the
+    cyclic lag moves the centre of lift: ``C_mc`` per ``zeta1s`` is ``theta (2 -
+    mu^2) / 32`` (``model.md`` 9.1; the blade truth's ``lag_terms``)."""
     o = 0 * mu
     return _arr([
         [o, -mu * u / 4, o, -(4 * th + 3 * u) / 12, b * mu / 8, -mu * th / 4],
-        [mu * (4 * th + 3 * u) / 24, -b * mu**2 / 16,
-         (3 * mu**2 * th + 6 * th + 4 * u) / 48, -b * mu / 12, (3 * th + 2 * u) / 24, o],
-        [b * mu / 12, -(-3 * mu**2 * th + 6 * th + 4 * u) / 48, b * mu**2 / 16,
+        [o, -b * mu**2 / 32, th * (2 - mu**2) / 32, -b * mu / 12,
+         (3 * th + 2 * u) / 24, o],
+        [o, -th * (2 - 3 * mu**2) / 32, b * mu**2 / 32,
          mu * th / 6, o, (3 * th + 2 * u) / 24]])
 
 

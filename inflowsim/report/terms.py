@@ -25,7 +25,8 @@ _TEX = {"beta0": r"$\beta_0$", "beta1c": r"$\beta_{1c}$", "beta1s": r"$\beta_{1s
         "theta0": r"$\theta_0$", "theta1c": r"$\theta_{1c}$", "theta1s": r"$\theta_{1s}$",
         "muz": r"$\mu_z$", "q": "$q$", "p": "$p$", "qdot": r"$\dot q$",
         "pdot": r"$\dot p$", "mux": r"$\mu_x$", "muy": r"$\mu_y$"}
-_BLOCK = {"flap": "flap eq.", "inflow": "inflow eq.", "measurement": "recorded"}
+_BLOCK = {"flap": "flap eq.", "inflow": "inflow eq.", "measurement": "recorded",
+          "pitch": "fed into the pitch"}
 
 
 def missing_terms_plot(terms, path=None, title=None):
@@ -53,6 +54,8 @@ def missing_terms_plot(terms, path=None, title=None):
     ci = {v: j for j, v in enumerate(terms.variables)}
     from matplotlib.patches import Rectangle
     for t in terms.significant:
+        if (t.block, t.equation) not in ri or t.variable not in ci:
+            continue        # a pitch entry (several rows): named in the title
         i, j = ri[(t.block, t.equation)], ci[t.variable]
         ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2.0,
                                edgecolor="red"))
@@ -60,9 +63,10 @@ def missing_terms_plot(terms, path=None, title=None):
                 color="white", fontsize=11, fontweight="bold")
     top = next((t for t in terms.terms if t.testable), None)
     if top is not None and top.refit_statistic is not None and top.significant(terms.alpha):
-        i, j = ri[(top.block, top.equation)], ci[top.variable]
-        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=3.0,
-                               edgecolor="orange"))
+        if (top.block, top.equation) in ri and top.variable in ci:
+            i, j = ri[(top.block, top.equation)], ci[top.variable]
+            ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=3.0,
+                                   edgecolor="orange"))
     else:
         top = None
     for y in (2.5, 5.5):

@@ -14,6 +14,17 @@ stored as power coefficients.  A table is used only if it agrees with exact
 builds at every segment's midpoint to ``TOLERANCE`` of each block's largest
 entry; otherwise a flight-condition change rebuilds exactly.
 
+What a flight-condition change evaluates is a finer table made from that one
+without another exact build: each segment cut into ``SPLIT`` equal parts in
+``x``, on each the segment's polynomial interpolated again at the part's
+``FINE_DEGREE + 1`` Chebyshev-Gauss nodes, in the part's own local variable ``y``
+(:func:`part`).  Over a sixteenth of its segment the degree-7 polynomial is a
+degree-4 one to within a tenth of its own error (the worst error against the
+exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
+``bench/fmu_mu_accuracy.py``), and a change of ``mu`` costs four multiply-adds
+per entry instead of seven multiplies and seven adds (the FMU's Horner rule
+uses fused multiply-adds; issue #38, bench/fmu.md).
+
 The FMU's C (``fmu/inflow_numerics.c``) builds the same table at run time for its
 tunable parameters; its constants (``IFS_MU_LO`` ... ``IFS_TAYLOR_TOL``) are
 generated from this module into ``inflow_vars.h`` (:func:`c_defines`), so the two
@@ -39,6 +50,9 @@ MU_HI = 0.5
 #: Geometric segments and the polynomial degree on each.
 SEGMENTS = 16
 DEGREE = 7
+#: Each segment's parts in the evaluated table (a power of two), and their degree.
+SPLIT = 16
+FINE_DEGREE = 4
 #: A table is used only if its check at the segment midpoints is within this
 #: fraction of each block's largest entry.
 TOLERANCE = 1e-12
@@ -82,11 +96,12 @@ def nodes(lo: float, hi: float) -> np.ndarray:
     return 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
 
 
-def _power_coefficients(values: np.ndarray) -> np.ndarray:
-    """Power coefficients in ``x`` (rows: degree 0..DEGREE) of the polynomial through
-    ``values`` (rows: the nodes of :func:`nodes`): Chebyshev coefficients, then the
-    Chebyshev polynomials' power coefficients (as the C does)."""
-    n = DEGREE + 1
+def _power_coefficients(values: np.ndarray, degree: int = DEGREE) -> np.ndarray:
+    """Power coefficients in ``x`` (rows: degree 0..``degree``) of the polynomial
+    through ``values`` (rows: the ``degree + 1`` Chebyshev-Gauss nodes, as
+    :func:`nodes`): Chebyshev coefficients, then the Chebyshev polynomials' power
+    coefficients (as the C does)."""
+    n = degree + 1
     k = np.arange(n)
     w = np.cos(np.pi * np.outer(k, k + 0.5) / n) * np.where(k == 0, 1.0, 2.0)[:, None] / n
     cheb = w @ values
@@ -97,6 +112,23 @@ def _power_coefficients(values: np.ndarray) -> np.ndarray:
         t[j, 1:] = 2.0 * t[j - 1, :-1]
         t[j] -= t[j - 2]
     return t.T @ cheb
+
+
+def part(x: float):
+    """The part ``j`` of a segment holding its local variable ``x`` (``SPLIT`` equal
+    parts of ``[-1, 1]``) and ``x``'s local variable ``y`` in it, in ``[-1, 1]``
+    (the C's ``ifs_mu_table_part``, the same operations)."""
+    j = int((x + 1.0) * (0.5 * SPLIT))
+    j = 0 if j < 0 else (SPLIT - 1 if j >= SPLIT else j)
+    return j, (x + 1.0) * SPLIT - (2 * j + 1)
+
+
+def part_nodes(j: int) -> np.ndarray:
+    """The Chebyshev-Gauss nodes of part ``j`` (``FINE_DEGREE + 1`` of them) in its
+    segment's local variable ``x``."""
+    n = FINE_DEGREE + 1
+    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    return (2 * j + 1 + y) / SPLIT - 1.0
 
 
 def taylor_terms(norm_a: float, norm_ab: float, r: float) -> int:
@@ -112,21 +144,20 @@ def taylor_terms(norm_a: float, norm_ab: float, r: float) -> int:
     return 0
 
 
-def _powers7(x):
-    x2 = x * x
-    x4 = x2 * x2
-    return (1.0, x, x2, x2 * x, x4, x4 * x, x4 * x2, x4 * x2 * x)
+def _powers4(y):
+    y2 = y * y
+    return (1.0, y, y2, y2 * y, y2 * y2)
 
 
-def _powers_loop(x):
-    p = [1.0, x]
-    for _ in range(DEGREE - 1):
-        p.append(p[-1] * x)
+def _powers_loop(y):
+    p = [1.0, y]
+    for _ in range(FINE_DEGREE - 1):
+        p.append(p[-1] * y)
     return p
 
 
-#: ``x -> (1, x, ..., x^DEGREE)``: written out for degree 7 (a loop costs twice as much)
-_powers = _powers7 if DEGREE == 7 else _powers_loop
+#: ``y -> (1, y, ..., y^FINE_DEGREE)``: written out for degree 4 (a loop costs twice as much)
+_powers = _powers4 if FINE_DEGREE == 4 else _powers_loop
 
 
 class MuTable:
@@ -145,7 +176,9 @@ class MuTable:
         (:func:`edges`).
 
     ``ok`` says whether the check passed (``err`` the worst relative error found).
-    :meth:`into` writes the interpolant at ``mu`` into an array of the same shape.
+    :meth:`into` writes the interpolant at ``mu`` into an array of the same shape:
+    the finer table's (``SPLIT`` parts of each segment, degree ``FINE_DEGREE``),
+    which is the one checked.
     """
 
     def __init__(self, exact, blocks=(slice(None),), knots=()):
@@ -159,9 +192,16 @@ class MuTable:
             coef.append(_power_coefficients(np.array([v.ravel() for v in vals])))
         self.shape = first.shape
         self._p = np.ascontiguousarray(coef)            # [segment, degree, entry]
-        self._x = np.empty(DEGREE + 1)               # powers of x, written in place
-        self._pack = struct.Struct(f"{DEGREE + 1}d").pack_into
-        self._xbuf = memoryview(self._x).cast("B")
+        # the parts: each segment's polynomial at its parts' nodes, interpolated again
+        x = np.concatenate([part_nodes(j) for j in range(SPLIT)])
+        at = x[:, None] ** np.arange(DEGREE + 1)        # [node, degree]
+        nf = FINE_DEGREE + 1
+        self._q = np.ascontiguousarray(np.concatenate([
+            [_power_coefficients(v[j * nf:(j + 1) * nf], FINE_DEGREE) for j in range(SPLIT)]
+            for v in (at @ self._p[s] for s in range(nseg))]))   # [part, degree, entry]
+        self._y = np.empty(nf)                      # powers of y, written in place
+        self._pack = struct.Struct(f"{nf}d").pack_into
+        self._ybuf = memoryview(self._y).cast("B")
         worst = 0.0
         for s in range(nseg):
             mid = 0.5 * (self.edges[s] + self.edges[s + 1])
@@ -180,18 +220,18 @@ class MuTable:
 
     def into(self, mu: float, out: np.ndarray) -> None:
         """``out[:] = f(mu).ravel()`` (``out`` a C-contiguous float vector; ``mu``
-        within the table).  One dot product of the powers of the
-        segment's local variable with its coefficients: about a microsecond."""
+        within the table).  One dot product of the powers of the part's local
+        variable with its coefficients: about a microsecond."""
         e = self.edges
         s = bisect.bisect_right(e, mu) - 1
         if s >= len(e) - 1:
             s = len(e) - 2
         lo, hi = e[s], e[s + 1]
-        x = (2.0 * mu - lo - hi) / (hi - lo)
+        j, y = part((2.0 * mu - lo - hi) / (hi - lo))
         # the powers by Python floats packed into the array's buffer: a fifth of
-        # the cost of np.power(x, k, out=) (bench/simulator.md)
-        self._pack(self._xbuf, 0, *_powers(x))
-        self._x.dot(self._p[s], out=out)
+        # the cost of np.power(y, k, out=) (bench/simulator.md)
+        self._pack(self._ybuf, 0, *_powers(y))
+        self._y.dot(self._q[s * SPLIT + j], out=out)
 
 
 def c_defines() -> list:
@@ -200,8 +240,11 @@ def c_defines() -> list:
             "with the Simulator */",
             f"#define IFS_MU_LO {MU_LO!r}",
             f"#define IFS_MU_HI {MU_HI!r}",
+            f'#define IFS_MU_RANGE "[{MU_LO:g}, {MU_HI:g}]"  /* for messages */',
             f"#define IFS_MU_SEG {SEGMENTS}",
             f"#define IFS_MU_DEG {DEGREE}",
+            f"#define IFS_MU_SPLIT {SPLIT}",
+            f"#define IFS_MU_FDEG {FINE_DEGREE}",
             f"#define IFS_MU_TOL {TOLERANCE!r}",
             f"#define IFS_MU_KNOT_GAP {KNOT_GAP!r}",
             f"#define IFS_TAYLOR_TOL {TAYLOR_TOL!r}",
@@ -209,6 +252,6 @@ def c_defines() -> list:
             "step */"]
 
 
-__all__ = ["MuTable", "edges", "knot_edges", "nodes", "taylor_terms", "c_defines", "MU_LO", "MU_HI",
-           "SEGMENTS", "DEGREE", "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL",
-           "TAYLOR_MAX_TERMS"]
+__all__ = ["MuTable", "edges", "knot_edges", "nodes", "part", "part_nodes", "taylor_terms",
+           "c_defines", "MU_LO", "MU_HI", "SEGMENTS", "DEGREE", "SPLIT", "FINE_DEGREE",
+           "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]

@@ -6,11 +6,14 @@ model plus a set of these; they are always applied in catalogue order so a
 structure is a set, not a sequence.  To add an effect: write one module that
 defines ``EFFECT`` and append its import to ``_MODULES`` below.  Effects written
 outside the package (a file, ``--effect-file``, or an installed package's
-``inflowsim.model.effects`` entry point) are checked and registered by :mod:`.user`.
+``inflowsim.model.effects`` entry point) are checked and registered by :mod:`.user`,
+which needs the structures and equations that read this catalogue: it sits above
+them and plugs its loader of installed effects in here (:data:`LOADERS`), so this
+module imports none of them (no import circle, issue #40).
 """
 from __future__ import annotations
 
-from ._effect import Effect, ParameterSpec
+from ._effect import Effect, ParameterSpec, RuntimeSolve
 from ..params import register as register_spec
 from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
                time_delay)
@@ -53,22 +56,44 @@ for _e in [m.EFFECT for m in _MODULES] + list(time_shifts.EFFECTS) + list(peters
     register(_e)
 
 
-def needs_trim(structures) -> bool:
-    """Some structure of ``structures`` (names or parsed) has an effect linearised
-    about the trim state (:attr:`Effect.about_trim`).
+#: Callables that register effects from outside the package when a name is not in
+#: the catalogue (:func:`load_missing`); :mod:`.user` adds its loader of installed
+#: packages' effects.
+LOADERS: list = []
+
+
+def load_missing(names) -> None:
+    """Where a name of ``names`` is not in the catalogue, run the :data:`LOADERS`
+    (an installed package's effects, registered once).
 
     Parameters
     ----------
-    structures : iterable of str or Structure
-        The structures.
+    names : iterable of str
+        Effect names a structure asks for.
     """
-    from ..structure import Structure
-    return any(CATALOGUE[e].about_trim for st in structures
-               for e in Structure.parse(st).effects if e in CATALOGUE)
+    if any(n not in CATALOGUE for n in names):
+        for load in LOADERS:
+            load()
 
 
-from .user import (load_effect_file, load_effect_files, load_installed,  # noqa: E402
-                   registered, unregister, USER_EFFECTS)
+#: Names this package exported before the user effects and ``needs_trim`` moved to
+#: the modules that own them: name -> module, resolved on first use (the one table
+#: of moved names; new code imports them from their module).
+MOVED = {"load_effect_file": "inflowsim.model.effects.user",
+         "load_effect_files": "inflowsim.model.effects.user",
+         "load_installed": "inflowsim.model.effects.user",
+         "registered": "inflowsim.model.effects.user",
+         "unregister": "inflowsim.model.effects.user",
+         "USER_EFFECTS": "inflowsim.model.effects.user",
+         "needs_trim": "inflowsim.model.structure"}
 
-__all__ = ["Effect", "ParameterSpec", "CATALOGUE", "register", "needs_trim", "load_effect_file", "load_effect_files",
-           "load_installed", "registered", "unregister", "USER_EFFECTS"]
+
+def __getattr__(name):
+    if name in MOVED:
+        import importlib
+        return getattr(importlib.import_module(MOVED[name]), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "CATALOGUE", "register", "LOADERS", "load_missing",
+           "MOVED"]

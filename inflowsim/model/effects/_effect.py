@@ -6,11 +6,76 @@ from typing import Callable
 from ..equations import Equations, Measurement
 from ..params import Constants, ParameterSpec
 
-__all__ = ["Effect", "ParameterSpec"]
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve"]
 
 
 def _unchanged(x, p, k):
     return x
+
+
+@dataclass(frozen=True)
+class RuntimeSolve:
+    """A computation an effect needs at run time where its terms are no closed
+    expression (``k.numeric`` while traced, :attr:`Effect.runtime`), declared as
+    expressions and data so that code can be generated from it (the FMU's C,
+    :mod:`inflowsim.fmu.codegen`): no effect is written in C by hand.
+
+    The unknowns ``x`` start at the solution of ``M x = rhs``; Newton's method then
+    drives the residual to zero, its Jacobian by the chain rule through the
+    quadrature ``f_i = scale(arg) sum_k weights[i, k] q(w, point_k)`` of the
+    variables ``w = w_of(arg, x)``; the results are computed at the solution.
+    Every callable runs on numbers or on sympy expressions (arrays of dtype
+    object); ``arg`` holds the arguments in the order the effect passes them to
+    ``k.numeric``.
+
+    Attributes
+    ----------
+    n_args : int
+        Number of arguments.
+    shapes : tuple of (int, int)
+        Shape of each result.
+    n_unknowns : int
+        Number of unknowns ``x``.
+    n_w : int
+        Number of the integrand's variables ``w``.
+    integrand : callable
+        ``(w, *point, sqrt) -> q``: the quadrature's integrand at one point (``sqrt``
+        numpy's or sympy's).
+    points : tuple of ndarray
+        The quadrature points, one array per coordinate.
+    weights : ndarray
+        ``(len(f), len(points[0]))``: each result of the quadrature's weights.
+    scale : callable
+        ``arg -> float``: the factor of the quadrature.
+    w_of : callable
+        ``(arg, x) -> w``: the variables (affine in ``x``).
+    start : callable
+        ``arg -> (M, rhs)``: the linear system of the start.
+    residual : callable
+        ``(arg, x, f) -> r``: Newton's residual (``n_unknowns`` entries).
+    outputs : callable
+        ``(arg, x, f, df) -> results`` (``df = df/dw``, ``len(f) x n_w``): arrays of
+        ``shapes``.
+    steps : int
+        Most Newton steps.
+    tol : float
+        Newton stops after a step whose largest entry is below this.
+    """
+
+    n_args: int
+    shapes: tuple
+    n_unknowns: int
+    n_w: int
+    integrand: Callable
+    points: tuple
+    weights: object
+    scale: Callable
+    w_of: Callable
+    start: Callable
+    residual: Callable
+    outputs: Callable
+    steps: int
+    tol: float
 
 
 @dataclass(frozen=True)
@@ -79,6 +144,10 @@ class Effect:
         the aerodynamic loads ``(C_T, C_mc, C_ms) / (a0 s)`` (higher inflow states'
         thrust and moments); runs on numbers or sympy symbols
         (:func:`inflowsim.model.loads.load_rows`).
+    runtime : callable, optional
+        ``() -> RuntimeSolve``: what it computes at run time when traced on symbols
+        asks for a call (``k.numeric(name, args, shapes)``): the FMU's code
+        generator makes the called C function from it.
     """
 
     name: str
@@ -102,6 +171,7 @@ class Effect:
     states: tuple = ()
     replaces_inputs: tuple = ()
     loads: Callable | None = None
+    runtime: Callable | None = None
 
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""

@@ -25,7 +25,7 @@ fit are taken on the slow manifold (``beta'`` quasi-steady, :mod:`inflowsim.mode
 so that the limit holds for the record's end effects too.  The likelihood-ratio
 statistic of a parameter on the boundary of its range is distributed as the
 50:50 mixture of chi-square with 0 and 1 degree of freedom (Chernoff, 1954;
-Self and Liang, 1987): :mod:`inflowsim.diagnose.candidates` uses that.  The search keeps
+Self and Liang, 1987): :mod:`inflowsim.diagnose.rule` uses that.  The search keeps
 ``flap_inertia >= FLOOR`` (1e-6: the first-order model to a part in a million).
 """
 import numpy as np

@@ -19,14 +19,15 @@ diagnosis by default: ask for it by name (``--model ...+momentum-speed``).
 
 The base model's speed through the disc (``k.flow_speed``) is the one whose gain the
 coupling takes out, so with the mass-flow speed the effect reaches hover.  The FMU
-runs it: the coupling is computed in its generated C when the matrices are built
-(:mod:`inflowsim.fmu.codegen`, the same integrand, quadrature and Newton steps).
+runs it: the coupling is computed in its generated C when the matrices are built,
+generated from the effect's declaration of the computation (:func:`_runtime`, the
+same integrand, quadrature and Newton steps; :mod:`inflowsim.fmu.codegen`).
 """
 from functools import lru_cache
 
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, RuntimeSolve
 from ._trim import true_trim_state
 from ...physics import momentum_speed as ms
 from ..equations import rotation
@@ -78,6 +79,48 @@ def trim_inflow(k, azimuth_bias: float = 0.0):
     return _linearised(k, azimuth_bias)[2][:, 0]
 
 
+def _runtime():
+    """The coupling as the FMU computes it at run time (:class:`RuntimeSolve`,
+    arguments ``mu, a0 s, V, theta (3), beta (3), muz`` as :func:`_linearised` passes
+    them): the same steps as :mod:`inflowsim.physics.momentum_speed`.  The unknowns
+    are the trim inflow, from the base model's (``(I - L G_lambda) lambda = L
+    blade``); Newton's method on Eq. (14)'s momentum balance ``blade + G_lambda
+    lambda = c_mom`` (its step count and tolerance) with ``c_mom`` the disc
+    quadrature of :func:`~inflowsim.physics.momentum_speed.speed_integrand`
+    (``4/(a0 s) (sum w0 q, -sum c w1 q, -sum s w1 q)``); then ``-J`` with ``J = L
+    dc_mom/d(z, u) - [0 0 I 0]`` and the trim inflow."""
+    from ...physics import loads as ld
+    pc, ps, pr, w0, w1 = ms.disc_points()
+
+    def blade(arg):
+        mu, theta, beta = arg[0], np.asarray(arg[3:6]), np.asarray(arg[6:9])
+        return ld.g_theta(mu) @ theta + ld.g_beta(mu) @ beta + ld.g_nu(mu)[:, 0] * arg[9]
+
+    def start(arg):
+        lm = ld.momentum_l(arg[0], arg[1], arg[2])
+        return np.eye(3) - lm @ ld.g_lambda(arg[0]), lm @ blade(arg)
+
+    def w_of(arg, x):
+        # z = (beta, beta' = 0, lambda), u = (theta, muz, 0, 0, 0, 0, mux = mu, 0)
+        return [arg[6], arg[7], arg[8], 0, 0, 0, x[0], x[1], x[2], arg[3], arg[4],
+                arg[5], arg[9], 0, 0, 0, 0, arg[0], 0]
+
+    def outputs(arg, x, f, df):
+        j = ld.momentum_l(arg[0], arg[1], arg[2]) @ np.asarray(df).reshape(3, 19)
+        j[:, 6:9] -= np.eye(3)
+        return -j[:, :9], -j[:, 9:], np.asarray(x).reshape(3, 1)
+
+    return RuntimeSolve(
+        n_args=10, shapes=((3, 9), (3, 10), (3, 1)), n_unknowns=3, n_w=19,
+        integrand=lambda w, c, s, r, sqrt: ms.speed_integrand(w[:9], w[9:], c, s, r,
+                                                               sqrt=sqrt),
+        points=(pc, ps, pr), weights=np.array([w0, -(pc * w1), -(ps * w1)]),
+        scale=lambda arg: 4.0 / arg[1], w_of=w_of, start=start,
+        residual=lambda arg, x, f: blade(arg) + ld.g_lambda(arg[0]) @ np.asarray(x)
+        - np.asarray(f),
+        outputs=outputs, steps=ms.NEWTON_STEPS, tol=ms.NEWTON_TOL)
+
+
 def _equations(eq, p, k):
     dpsi = p.get("azimuth_bias", 0.0)
     a, b = coupling(k, dpsi)
@@ -103,6 +146,7 @@ EFFECT = Effect(
     equations=_equations,
     uses_inplane=True,
     about_trim=True,
+    runtime=_runtime,
     alternatives=("glauert",),
     offered=False,
     specs=(ParameterSpec("k_V", "-", "scale of Eq. (14)'s linearised speed terms "

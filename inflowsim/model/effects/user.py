@@ -31,8 +31,13 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import InputError
+from ...fileio import read_input_bytes
+from ..build import base_equations
 from ..equations import Equations, Measurement
-from ..params import SPECS, ParameterSpec
+from ..params import PUMA, SPECS, ParameterSpec
+from ..presets import theory_parameters
+from ..structure import BASE_PARAMETERS, PRESETS
+from . import CATALOGUE, LOADERS, register
 from ._effect import Effect
 
 __all__ = ["check_effect", "load_effect_file", "load_effect_files", "load_installed",
@@ -55,7 +60,6 @@ REFERENCE_TRIM = {"theta0": 0.17, "theta1c": 0.01, "theta1s": -0.05, "muz": 0.0,
 
 def _reference_constants():
     """Puma at 100 kt with :data:`REFERENCE_TRIM`: where an effect is tried."""
-    from ..params import PUMA
     return PUMA.with_trim(dict(REFERENCE_TRIM, mux=PUMA.mu, muy=0.0))
 
 
@@ -131,8 +135,6 @@ def check_effect(effect, source: str) -> Effect:
     if not isinstance(name, str) or not _NAME.match(name):
         raise InputError(f"{src}: effect name {name!r}: use lower-case words joined by "
                          "'-' (e.g. pitch-flap-coupling)")
-    from . import CATALOGUE
-    from ..structure import PRESETS, BASE_PARAMETERS
     if name in PRESETS or (name in CATALOGUE and USER_EFFECTS.get(name) != src):
         where = USER_EFFECTS.get(name, "the catalogue")
         raise InputError(f"{src}: effect name {name!r} clashes with {where}")
@@ -191,8 +193,6 @@ def check_effect(effect, source: str) -> Effect:
 
 def _try(effect, src, specs):
     """Apply the effect to the basic model at its theory and neutral values."""
-    from ..build import base_equations
-    from ..presets import theory_parameters
     name = effect.name
     k = _reference_constants()
     theory = _values(src, name, "theory", effect.theory, k, effect.parameters, specs)
@@ -227,7 +227,6 @@ def _try(effect, src, specs):
 
 def register_user(effect, source: str) -> Effect:
     """Check and register a user effect (idempotent for the same source)."""
-    from . import register
     effect = check_effect(effect, source)
     if USER_EFFECTS.get(effect.name) == source:
         return effect
@@ -244,7 +243,6 @@ def unregister(name: str) -> None:
     name : str
         The user effect's name.
     """
-    from . import CATALOGUE
     if name not in USER_EFFECTS:
         raise InputError(f"{name} is not a user effect")
     eff = CATALOGUE.pop(name)
@@ -306,7 +304,6 @@ def load_effect_file(path) -> tuple:
     """
     p = Path(path)
     src = str(path)
-    from ...fileio import read_input_bytes
     if p.suffix != ".py":
         raise InputError(f"{src}: an effect file is Python source ending in .py")
     text = read_input_bytes(p, "effect file", "effect")
@@ -374,3 +371,6 @@ def load_effect_files(paths=()) -> tuple:
         out += load_effect_file(path)
     return tuple(out)
 
+
+# an installed package's effects load when a structure first names one
+LOADERS.append(load_installed)
