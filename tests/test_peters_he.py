@@ -248,13 +248,23 @@ def test_theory_model_is_stable_and_symbol_safe():
         s = ifs.Structure.parse("glauert+flap-inertia+" + name)
         assert ifs.build_model(s, truth_parameters(s, K), K).is_stable()
         mu, v, a0s, nb, kp, x = sympy.symbols("mu v a0s nb kp x")
-        # the skew as a symbol on the six-state gain (the FMU's route for all three;
-        # tests/test_fmu_structures.py runs them), a number on the larger ones here
-        t = eff.parts(power, mu, v, a0s, nb, kp, x=x if power == 2 else 0.83)
+        # the skew a symbol, L(x)^-1 a run-time call's results (the FMU's route;
+        # tests/test_fmu_structures.py runs them): put in, the effect's numbers
+        n = len(eff.layout(power)[0])
+        linv = np.array([[sympy.Symbol(f"y{i}_{j}") for j in range(n)] for i in range(n)])
+        calls = []
+
+        def numeric(effect, args, shapes):
+            calls.append((effect, args, shapes))
+            return (linv,)
+
+        t = eff.parts(power, mu, v, a0s, nb, kp, x=x, numeric=numeric)
+        assert calls == [(name, (x,), ((n, n),))]
         num = eff.parts(power, 0.2, 0.21, 0.5, 0.9, 0.7, x=0.83)
         subs = {mu: 0.2, v: 0.21, a0s: 0.5, nb: 0.9, kp: 0.7, x: 0.83}
+        subs |= {y: val for y, val in zip(linv.ravel(), eff.gain_inverse(power, 0.83).ravel())}
         for key in ("a", "a_z", "b", "f_x", "l_x", "p_lambda", "to_output", "loads"):
-            got = np.array(sympy.Matrix(np.atleast_2d(t[key])).subs(subs).evalf(),
+            got = np.array(sympy.Matrix(np.atleast_2d(t[key])).xreplace(subs).evalf(),
                            dtype=float)
             np.testing.assert_allclose(got, num[key], rtol=1e-12, atol=1e-14)
 
@@ -427,23 +437,51 @@ def test_three_state_member_is_pitt_peters():
     assert l0 / l1c == pytest.approx(-(15 * math.pi / 64) * x / (2 * (1 - x * x)), rel=3e-4)
 
 
-@pytest.mark.parametrize("power", [2, pytest.param(4, marks=pytest.mark.slow)])
-def test_rational_inverse_is_lapacks(power):
-    """The FMU's ``L(X)^-1`` (exact adjugate over determinant, polynomials in ``X``)
-    equals LAPACK's inverse from axial to edgewise flow; on a sympy expression for
-    ``X`` it is the same numbers."""
+@pytest.mark.parametrize("name", list(EFFECTS))
+def test_the_fmus_run_time_solve_is_the_gain_inverse(name):
+    """The FMU solves ``L(X) Y = I`` at run time (the effect's
+    :class:`~inflowsim.model.effects.RuntimeLinear`, generated into C): its matrix,
+    evaluated on symbols and on numbers, is :func:`gain_matrix`, and its solution is
+    the effect's ``L(X)^-1`` (LAPACK's) from axial to edgewise flow."""
     import sympy
-    st = ph.truncation(power)
-    for x in (0.0, 0.4, 0.856, 1.0):
-        want = np.linalg.inv(ph.gain_matrix(st, x))
-        got = ph.gain_inverse_rational(st, x)
-        assert np.abs(got - want).max() <= 2e-15 * np.abs(want).max()
-    mu, w = sympy.symbols("mu w")
-    sym = eff.gain_inverse(power, ph.wake_skew_x(mu, w))
-    f = sympy.lambdify((mu, w), sympy.Matrix(sym), cse=True)
-    x = ph.wake_skew_x(0.249, 0.02)
-    np.testing.assert_allclose(np.array(f(0.249, 0.02), dtype=float),
-                               eff.gain_inverse(power, x), rtol=0, atol=1e-14)
+    rl = CATALOGUE[name].runtime()
+    st = eff.layout(EFFECTS[name])[0]
+    x = sympy.Symbol("x")
+    sym = rl.matrix((x,))
+    for xv in (0.0, 0.4, 0.856, 1.0):
+        want = eff.gain_inverse(EFFECTS[name], xv)
+        np.testing.assert_allclose(rl.solve((xv,)), want, rtol=0,
+                                   atol=1e-14 * np.abs(want).max())
+        got = np.array(sympy.Matrix(sym).xreplace({x: xv}), dtype=float)
+        np.testing.assert_allclose(got, ph.gain_matrix(st, xv), rtol=1e-15, atol=1e-16)
+    assert rl.shape((0.5,)) == (len(st), len(st))
+
+
+def test_the_traced_structure_calls_the_solve_at_the_trims_skew():
+    """Traced for the FMU's C, a Peters-He structure asks for one run-time call whose
+    argument is the wake skew of the trim (the FMU's trim parameters, the azimuth
+    bias turning it); with the call's results the effect's ``L(X)^-1``, the traced
+    E, A, B are build_model's."""
+    import sympy
+    from inflowsim.fmu.codegen import _trace
+    structure = "glauert+azimuth-bias+peters-he-6"
+    s = ifs.Structure.parse(structure)
+    k = K.with_mu(0.3)
+    p = truth_parameters(s, k) | {"azimuth_bias": 0.15, "k_ph": 1.3}
+    e, a, b = ifs.descriptor(structure, p, k)
+    _, es, as_, bs, _, calls = _trace(structure)
+    assert [c[0] for c in calls] == ["peters-he-6"]
+    values = {**p, "mu": k.mu, "a0": k.a0, "solidity": k.solidity, "V": k.flow_speed,
+              **{f"trim_{c}": v for c, v in TRIM.items()}}
+    subs = {sympy.Symbol(n): v for n, v in values.items()}
+    x = float(calls[0][1][0].xreplace(subs))
+    assert x == pytest.approx(eff.wake_skew(p, k), rel=1e-14)
+    linv = eff.gain_inverse(2, x)
+    subs |= {sympy.Symbol(f"numeric_0_0[{i}]"): v for i, v in enumerate(linv.ravel())}
+    for sym, num in ((es, e), (as_, a), (bs, b[:, : bs.shape[1]])):
+        got = np.array([[float(sympy.sympify(v).xreplace(subs)) for v in row]
+                        for row in sym])
+        np.testing.assert_allclose(got, num, rtol=1e-13, atol=1e-13)
 
 
 def test_skewed_wake_is_an_alternative():

@@ -23,7 +23,7 @@ import numpy as np
 
 __all__ = ["df", "h_factor", "phi_coefficients", "phi", "apparent_mass", "gamma",
            "gamma_rm", "skew_exponents", "skew_factor", "wake_skew_x", "gain_matrix",
-           "is_number", "gain_inverse_rational", "truncation", "state_names", "Forces", "forces",
+           "is_number", "truncation", "state_names", "Forces", "forces",
            "flap_forces", "linear_projection"]
 
 
@@ -126,15 +126,13 @@ def skew_factor(kind: str, r: int, m: int, x):
 
 def wake_skew_x(mu, upflow):
     """``X = tan(chi/2)`` [-] of the wake skew ``tan chi = mu / (lambda0 - muz)``, with
-    ``upflow = lambda0 - muz`` the trim flow down through the disc: for numbers
-    ``X = mu / (sqrt(mu^2 + upflow^2) + upflow)`` (the half-angle formula), on sympy
-    expressions ``tan(atan2(mu, upflow)/2)`` (one atom: the FMU's code generation
-    expands polynomials in ``X``, and the half-angle form's powers would expand
-    multinomially).  Hover: 0; edgewise: 1."""
+    ``upflow = lambda0 - muz`` the trim flow down through the disc: the half-angle
+    formula ``X = mu / (sqrt(mu^2 + upflow^2) + upflow)``, on numbers or on sympy
+    expressions (the FMU's C computes it so, once per build).  Hover: 0; edgewise: 1."""
     if is_number(mu) and is_number(upflow):
         return mu / ((mu * mu + upflow * upflow) ** 0.5 + upflow)
     import sympy
-    return sympy.tan(sympy.atan2(mu, upflow) / 2)
+    return mu / (sympy.sqrt(mu * mu + upflow * upflow) + upflow)
 
 
 def truncation(power: int) -> tuple:
@@ -197,86 +195,6 @@ def gain_matrix(states, x=0.0) -> np.ndarray:
 def is_number(x) -> bool:
     """A plain number (not a sympy expression)."""
     return isinstance(x, (int, float, np.floating, np.integer))
-
-
-@lru_cache(maxsize=None)
-def _rational_inverse(states: tuple):
-    """``L(X)^-1`` of ``states`` as exact rational functions of ``X``, per kind:
-    ``((indices, d, adj, det), ...)`` with ``L^-1_ab = adj_ab(X) / (det(X) d_a d_b)``,
-    ``adj`` (n, n, deg + 1) and ``det`` (deg + 1,) monomial coefficients (lowest
-    first).
-
-    ``L = D R D`` with ``D = diag(sqrt((2j+1)/H_j^r))`` and ``R`` rational in ``X``
-    and ``pi`` (``Gamma``'s square roots are the ``D``): the adjugate and determinant
-    of ``R`` are computed exactly over ``QQ[X, pi]`` (sympy), ``pi`` then put in."""
-    import sympy
-    from sympy.polys.matrices import DomainMatrix
-    x, pi = sympy.symbols("X p")
-
-    def h(n, m):
-        return sympy.Rational(df(n + m - 1) * df(n - m - 1), df(n + m) * df(n - m))
-
-    out = []
-    for kind in ("c", "s"):
-        idx = tuple(i for i, st in enumerate(states) if st[0] == kind)
-        sub = [states[i] for i in idx]
-        r_mat = sympy.zeros(len(sub))
-        for a, (_, r, j) in enumerate(sub):
-            for b, (_, m, n) in enumerate(sub):
-                if (r + m) % 2 == 0:
-                    g = (-1) ** ((n + j - 2 * r) // 2) * sympy.Rational(
-                        2, (n + j) * (n + j + 2) * ((n - j) ** 2 - 1))
-                elif abs(j - n) == 1:
-                    g = (1 if r > m else -1) * pi / (2 * (2 * n + 1) * (2 * j + 1))
-                else:
-                    continue
-                r_mat[a, b] = g * sum(sg * x ** e for e, sg in skew_exponents(kind, r, m))
-        dm = DomainMatrix.from_Matrix(r_mat).convert_to(sympy.QQ[x, pi])
-        dom = dm.domain
-
-        def coefficients(poly):
-            # exact rational coefficients of X^i pi^k, pi put in
-            terms = sympy.Poly(dom.to_sympy(poly), x, pi).terms()
-            c = np.zeros(1 + max(i for (i, _), _ in terms))
-            for (i, k), v in terms:
-                c[i] += float(v) * math.pi ** k
-            return list(c)
-
-        det = np.array(coefficients(dm.det()))
-        rows = dm.adjugate().rep.to_ddm()
-        adj = np.zeros((len(sub), len(sub), len(det)))
-        for a in range(len(sub)):
-            for b in range(len(sub)):
-                c = coefficients(rows[a][b]) if rows[a][b] else []
-                adj[a, b, :len(c)] = c
-        d = np.array([math.sqrt((2 * j + 1) / h_factor(j, r)) for _, r, j in sub])
-        out.append((idx, d, adj, det))
-    return tuple(out)
-
-
-def _horner(coefficients, x):
-    out = 0
-    for c in reversed(coefficients):
-        out = out * x + float(c)
-    return out
-
-
-def gain_inverse_rational(states, x) -> np.ndarray:
-    """``L(X)^-1`` of ``states`` as rational functions of ``X = tan(chi/2)`` (a number
-    or a sympy expression: then an object array of small expressions, Horner's
-    polynomials over one shared denominator per kind), for the FMU's C.  Equal to
-    LAPACK's inverse to a few 1e-16 (relative) for ``0 <= X <= 1``
-    (``tests/test_peters_he.py``)."""
-    states = tuple(states)
-    n_s = len(states)
-    out = np.zeros((n_s, n_s), dtype=object if not is_number(x) else float)
-    for idx, d, adj, det in _rational_inverse(states):
-        den = _horner(det, x)
-        for a, ia in enumerate(idx):
-            for b, ib in enumerate(idx):
-                if np.any(adj[a, b]):
-                    out[ia, ib] = _horner(adj[a, b], x) / (den * (d[a] * d[b]))
-    return out
 
 
 def _trig(kind, m, psi):

@@ -35,7 +35,8 @@ The wake skew: ``X = tan(chi/2) = mu / (sqrt(mu^2 + w^2) + w)``, ``w = lambda0 -
 the trim flow down through the disc (``tan chi = mu / w``), with the structure's trim
 inflow (:func:`.advance_ratio_perturbation.true_trim`, as ``lead-lag``'s): the effects
 are linearised about the trim (``about_trim``; the FMU takes the trim as parameters and
-computes ``X`` and ``L(X)^-1`` in its C).  ``skewed-wake`` is an alternative: its
+computes ``X`` and ``L(X)`` in its C, and ``L(X)^-1`` by a run-time LU solve declared
+here, :func:`_runtime`).  ``skewed-wake`` is an alternative: its
 Pitt-Peters pair is the three-state part of the skew ``L(X)`` already carries (scaled
 by ``k_ph`` with the rest), so the two are never combined (no skew counted twice).
 
@@ -48,7 +49,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, RuntimeLinear
 from .advance_ratio_perturbation import true_trim
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
@@ -57,6 +58,8 @@ from ...physics import peters_he as ph
 
 #: Effect name -> highest radial power of its truncation.
 POWERS = {"peters-he-6": 2, "peters-he-10": 3, "peters-he-15": 4}
+#: Highest radial power -> effect name.
+NAMES = {pw: n for n, pw in POWERS.items()}
 #: The base states in Peters-He's variables: lambda_b = S alpha_b.
 S_BASE = np.array([math.sqrt(3.0), math.sqrt(7.5), math.sqrt(7.5)])
 #: The present model's (three-state Pitt-Peters) L^-1 in alpha: V L^-1 alpha = tau/2
@@ -78,16 +81,30 @@ def layout(power: int):
 
 @lru_cache(maxsize=64)
 def _linv_number(power: int, x: float) -> np.ndarray:
-    return np.linalg.inv(ph.gain_matrix(layout(power)[0], x))
+    out = np.linalg.inv(ph.gain_matrix(layout(power)[0], x))
+    out.flags.writeable = False
+    return out
 
 
-def gain_inverse(power: int, x) -> np.ndarray:
+def gain_inverse(power: int, x, numeric=None) -> np.ndarray:
     """``L(X)^-1`` of the truncation by ``power`` at wake skew ``X = tan(chi/2)`` [-]:
-    LAPACK's for a number; for a sympy expression (the FMU) the exact rational
-    functions of :func:`inflowsim.physics.peters_he.gain_inverse_rational`."""
-    if ph.is_number(x):
-        return _linv_number(power, float(x))
-    return ph.gain_inverse_rational(layout(power)[0], x)
+    LAPACK's for a number.  Traced on symbols for the FMU (``numeric``, the
+    constants' ``k.numeric``), a run-time call: the generated C solves ``L(X) Y = I``
+    by LU (:func:`_runtime`), its entries symbols of the call's result, so that the
+    C holds ``L(X)``'s polynomials, not its inverse's rational functions."""
+    if numeric is not None:
+        n = len(layout(power)[0])
+        return numeric(NAMES[power], (x,), ((n, n),))[0]
+    return _linv_number(power, float(x))
+
+
+def _runtime(power: int):
+    """What the FMU computes at run time (:class:`RuntimeLinear`, one argument ``X``):
+    ``L(X)^-1`` as the solution of ``L(X) Y = I``, ``L(X)`` the polynomial of
+    :func:`inflowsim.physics.peters_he.gain_matrix`."""
+    states = layout(power)[0]
+    return RuntimeLinear(n_args=1, matrix=lambda arg: ph.gain_matrix(states, arg[0]),
+                         rhs=lambda arg: np.eye(len(states)))
 
 
 def wake_skew(p, k):
@@ -102,15 +119,17 @@ def names(power: int) -> tuple:
     return ph.state_names(layout(power)[0][3:])
 
 
-def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None, x=0.0):
+def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None, x=0.0,
+          numeric=None):
     """Every term of the effect (azimuth time), on numbers or sympy symbols, at wake
-    skew ``x = tan(chi/2)`` [-] (0: axial flow).
+    skew ``x = tan(chi/2)`` [-] (0: axial flow); ``numeric`` (traced for the FMU)
+    makes ``L(x)^-1`` a run-time call (:func:`gain_inverse`).
 
     Returns ``dict`` with ``p_lambda`` (3x3 added to the base's), ``block`` (the
     :class:`StateBlock` fields ``e, a, a_z, b, f_x, l_x, to_output``) and ``loads``
     (3 x m, over ``a0 s``)."""
     states, mass, w = layout(power)
-    linv = gain_inverse(power, x)
+    linv = gain_inverse(power, x, numeric)
     q = ph.forces(states).at(mu)                    # (n, 12 + n)
     fl = ph.flap_forces(states).at(mu)              # (3, 12 + n)
     sinv = 1.0 / S_BASE
@@ -147,7 +166,8 @@ def _effect(name: str, power: int) -> Effect:
 
     def equations(eq, p, k):
         t = parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"],
-                  eq.h_u.shape[1], p.get("azimuth_bias"), wake_skew(p, k))
+                  eq.h_u.shape[1], p.get("azimuth_bias"), wake_skew(p, k),
+                  getattr(k, "numeric", None))
         bl = StateBlock(effect=name, states=state_names, e=t["e"], a=t["a"],
                         a_z=t["a_z"], b=t["b"], f_x=t["f_x"], l_x=t["l_x"],
                         to_output=t["to_output"])
@@ -175,6 +195,7 @@ def _effect(name: str, power: int) -> Effect:
         about_trim=True,
         states=state_names,
         loads=loads,
+        runtime=lambda: _runtime(power),
     )
 
 
@@ -186,5 +207,5 @@ SPEC = ParameterSpec("k_ph", "-", "coupling of the higher Peters-He inflow state
 EFFECTS = tuple(_effect(n, pw) for n, pw in POWERS.items())
 
 
-__all__ = ["POWERS", "S_BASE", "LINV_BASE", "T_BASE", "layout", "gain_inverse", "wake_skew",
+__all__ = ["POWERS", "NAMES", "S_BASE", "LINV_BASE", "T_BASE", "layout", "gain_inverse", "wake_skew",
            "names", "parts", "SPEC", "EFFECTS"]
