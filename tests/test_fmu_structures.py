@@ -69,6 +69,9 @@ STRUCTURES = (
     "glauert+flap-inertia+azimuth-bias+peters-he-15",
     "glauert+servo-actuators+time-delay+peters-he-15",
     "glauert+lead-lag+servo-actuators+wake-distortion+peters-he-10",
+    # two run-time calls, the second's argument (the wake skew) from the first's
+    # results (Eq. 14's trim inflow)
+    "basic+azimuth-bias+momentum-speed+peters-he-6",
 )
 
 #: A trim state (totals) for the effect linearised about it.
