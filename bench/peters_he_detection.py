@@ -5,6 +5,7 @@ record on stdout.
     python bench/peters_he_detection.py hidden 21-25 > hidden.jsonl
     python bench/peters_he_detection.py null 31-35 > null.jsonl
     python bench/peters_he_detection.py higher 41-45 > higher.jsonl
+    python bench/peters_he_detection.py summary bench/results/current/ph-{hidden,higher,null-direct}.jsonl.gz
 
 Records from ``tests/test_peters_he_records.py``'s generator, which shares no code with
 the effect: the direct construction of the whole Peters-He rotor
@@ -113,7 +114,54 @@ def main(which, seeds):
             print(json.dumps(res), flush=True)
 
 
+def _span(values, fmt):
+    return f"{min(values):{fmt}} to {max(values):{fmt}}" if values else "-"
+
+
+def summary(paths):
+    """The tables of ``bench/rotor-physics.md`` from the JSON lines of ``paths``."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from detection import _read          # .jsonl or .jsonl.gz
+    rows = [json.loads(line) for p in paths for line in _read(p).splitlines()
+            if line.strip()]
+    hidden_rows = [r for r in rows if "first" in r]
+    for r in rows:
+        hidden_rows += [dict(v, case=f"{k} states, {v['case']}") for k, v in r.items()
+                        if k.startswith("power")]
+    print("| records | cases | named first | others named beside it | ladder | "
+          "residual / floor | estimates' errors [sigma] | `k_ph` |")
+    print("| --- | --- | ---: | --- | --- | --- | --- | --- |")
+    by = {}
+    for r in hidden_rows:
+        by.setdefault(r["case"].replace("power 3", "10").replace("power 4", "15"),
+                      []).append(r)
+    for case, rs in by.items():
+        truth = "peters-he-15" if case.startswith("15") else (
+            "peters-he-10" if case.startswith("10") else "peters-he-6")
+        first = sum(r["first"] == truth for r in rs)
+        beside = sorted({e for r in rs for e in r["added"] if e != truth})
+        status = sorted({r["status"] for r in rs})
+        ratio = [max(r["floor_ratio"]) for r in rs]
+        z = [v for r in rs for v in r["z"].values()]
+        k = [r["k_ph"][0] for r in rs if r["k_ph"][0] is not None]
+        print(f"| {len(rs)} | {case} | {first} | {', '.join(beside) or 'none'} | "
+              f"{', '.join(status)} | {_span(ratio, '.2f')} | {_span(z, '+.2f')} | "
+              f"{_span(k, '.3f')} |")
+    nulls = [r for r in rows if "missing" in r]
+    if nulls:
+        print(f"\nnull records: {len(nulls)}; named {sum(r['missing'] is not None for r in nulls)}"
+              f", accepted candidates {sum(bool(r['accepted']) for r in nulls)}")
+        ps = [float(r["peters_he"].split("p = ")[1].split()[0]) for r in nulls
+              if r["peters_he"] and "p = " in r["peters_he"]]
+        print(f"peters-he-6's p: {len(ps)} tests, below 0.05 {sum(p < 0.05 for p in ps)}, "
+              f"0.01 {sum(p < 0.01 for p in ps)}, 1e-3 {sum(p < 1e-3 for p in ps)}; "
+              f"smallest {min(ps):.2g}")
+
+
 if __name__ == "__main__":
+    if sys.argv[1] == "summary":
+        summary(sys.argv[2:])
+        raise SystemExit(0)
     a, _, b = sys.argv[2].partition("-")
     main(sys.argv[1], list(range(int(a), int(b) + 1)) if b
          else [int(s) for s in sys.argv[2].split(",")])
