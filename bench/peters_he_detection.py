@@ -5,6 +5,7 @@ record on stdout.
     python bench/peters_he_detection.py hidden 21-25 > hidden.jsonl
     python bench/peters_he_detection.py null 31-35 > null.jsonl
     python bench/peters_he_detection.py higher 41-45 > higher.jsonl
+    python bench/peters_he_detection.py hingeless 51-55 > hingeless.jsonl
     python bench/peters_he_detection.py summary bench/results/current/ph-{hidden,higher,null-direct}.jsonl.gz
 
 Records from ``tests/test_peters_he_records.py``'s generator, which shares no code with
@@ -25,6 +26,10 @@ inertia number, the Pitt-Peters time constants of the speed through the disc).
 ``higher``: ten and fifteen Peters-He states in the rotor (``power`` 3, 4; two-axis,
 white noise, 200 Hz), the ladder's pool with all three orders: which order the
 ladder names, and whether its residual reaches the floor.
+
+``hingeless``: ``hidden``'s two-axis white, two-axis coloured and single-axis coloured
+cases on ``bench/detection.py``'s hingeless rotor (flap frequency squared 1.25, Lock
+number 5.2, ``mu`` 0.236, its hub in the record's header).
 
 ``null``: the three-state rotor (``power`` 1: the Gram gain, the present model's,
 no skew couplings) by the same route, diagnosed from the same base with the same
@@ -59,19 +64,34 @@ NULL = (("two-axis white", 200, None, None, False, 1.0),
         ("single-axis coloured", 128, 3.0, None, True, 2.0))
 
 
-def truth(rec):
+def hingeless():
+    """``(constants, lambda_beta2, n_beta)`` of ``bench/detection.py``'s hingeless
+    rotor (a Bo 105-size rotor at 100 kt)."""
+    from dataclasses import replace
+    from inflowsim.model.params import PUMA
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from detection import ROTORS
+    c, p = ROTORS["hingeless"]
+    return replace(PUMA, **c), p["lambda_beta2"], p["n_beta"]
+
+
+def truth(rec, lb2=T.LB2, nb=T.NB):
     """The rotor's parameters in the structure's terms."""
     sep = CATALOGUE["separate-time-constants"].theory(rec.constants)
-    return {"lambda_beta2": T.LB2, "n_beta": T.NB, "k_ph": 1.0} | sep
+    return {"lambda_beta2": lb2, "n_beta": nb, "k_ph": 1.0} | sep
 
 
-def hidden(case, seed, tmp, power=2, pool=T.POOL):
+def hidden(case, seed, tmp, power=2, pool=T.POOL, rotor=None):
     name, rate, colour, mu, single, amp = case
-    rec = T.make_record(tmp / f"h_{seed}.csv", power, rate, colour, seed, mu, single, amp)
+    k, lb2, nb = rotor or (None, T.LB2, T.NB)
+    rec = T.make_record(tmp / f"h_{seed}.csv", power, rate, colour, seed, mu, single, amp,
+                        constants=k, lb2=lb2, nb=nb)
     lad = ladder(rec, T.BASE, pool=pool)
     first = lad.rungs[0].diagnosis
     fit = lad.final.fit
-    p = truth(rec)
+    p = truth(rec, lb2, nb)
+    if rotor is not None:
+        name = f"hingeless, {name}"
     return dict(case=name, seed=seed, first=first.missing_effect,
                 named=[(c.effect, c.reason) for c in first.candidates[:3]],
                 added=[r.added for r in lad.rungs[1:]], status=lad.verdict.status,
@@ -103,10 +123,15 @@ def higher(case, seed, tmp):
     return out
 
 
+def on_hingeless(case, seed, tmp):
+    return hidden(case, seed, tmp, rotor=hingeless())
+
+
 def main(which, seeds):
     tmp = Path(tempfile.mkdtemp())
-    run = {"hidden": hidden, "null": null, "higher": higher}[which]
-    for case in {"hidden": HIDDEN, "null": NULL, "higher": HIDDEN[:1]}[which]:
+    run = {"hidden": hidden, "null": null, "higher": higher, "hingeless": on_hingeless}[which]
+    for case in {"hidden": HIDDEN, "null": NULL, "higher": HIDDEN[:1],
+                 "hingeless": (HIDDEN[0], HIDDEN[1], HIDDEN[4])}[which]:
         for seed in seeds:
             t0 = time.process_time()
             res = run(case, seed, tmp)

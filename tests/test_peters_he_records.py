@@ -50,12 +50,14 @@ def _pilot(t, amp_deg, single_axis):
 
 
 def make_record(path, power, rate, colour_hz, seed, mu=None, single_axis=False,
-                amp_deg=1.0):
+                amp_deg=1.0, constants=None, lb2=LB2, nb=NB):
     """A CSV record of the Peters-He rotor with ``power`` (1: the three-state model,
     Pitt-Peters' axial gain), read back.  ``amp_deg``: the pilot's cyclic amplitude
     [deg].  The Peters-He rotor's gain is the skewed wake's at the record's trim (the
-    written trim totals, ``muz = 0``)."""
-    k = virtual_record(VirtualTest(duration=1.0)).constants       # Puma, trim totals
+    written trim totals, ``muz = 0``).  ``constants`` (default the Puma's), ``lb2``,
+    ``nb``: another rotor (its hub written in the record's header)."""
+    k = virtual_record(VirtualTest(duration=1.0, constants=constants)
+                       if constants is not None else VirtualTest(duration=1.0)).constants
     mu = k.mu if mu is None else mu
     tr = k.trim
     if power == 1:
@@ -64,7 +66,7 @@ def make_record(path, power, rate, colour_hz, seed, mu=None, single_axis=False,
         x = direct.trim_skew(mu, k.a0s, mu, [tr[c] for c in ("theta0", "theta1c", "theta1s")],
                              [tr[c] for c in ("beta0", "beta1c", "beta1s")], 0.0)
         gain = direct.gain(power, x)
-    desc = direct.model(power, mu, NB, LB2, k.a0s, mu, k.omega, gain=gain)
+    desc = direct.model(power, mu, nb, lb2, k.a0s, mu, k.omega, gain=gain)
     a, b, c = direct.state_space(desc, k.omega)
     n = a.shape[0]
     names = ("theta0", "theta1c", "theta1s", "muz", "q", "p", "qdot", "pdot")
@@ -98,7 +100,8 @@ def make_record(path, power, rate, colour_hz, seed, mu=None, single_axis=False,
             "beta0": tr["beta0"] + y[:, 0], "beta1c": tr["beta1c"] + y[:, 1],
             "beta1s": tr["beta1s"] + y[:, 2]}
     lines = [f"# omega: {k.omega}", f"# mu: {mu}", f"# a0: {k.a0}",
-             f"# solidity: {k.solidity}", ",".join(cols)]
+             f"# solidity: {k.solidity}"] + (
+        [f"# hub: {k.hub}"] if constants is not None else []) + [",".join(cols)]
     lines += [",".join(f"{cols[x][i]:.12g}" for x in cols) for i in range(len(t))]
     path.write_text("\n".join(lines) + "\n")
     return read_record(path)
