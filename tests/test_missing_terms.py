@@ -10,6 +10,7 @@ gradient matches central differences of the cost (12) and the statistic the
 likelihood-ratio statistic of an actual refit with the entry free.  The study
 over ten seeds per block is marked slow.
 """
+from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -20,7 +21,7 @@ import inflowsim as ifs
 from conftest import TWO_AXES
 from inflowsim.cli import main
 from inflowsim.diagnose import diagnose
-from inflowsim.diagnose.terms import MissingTerms, missing_terms, physics_group
+from inflowsim.diagnose.terms import MissingTerms, Term, missing_terms, physics_group
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.identify import identify
 from inflowsim.identify.estimator import as_records, spectra_of, fit_state
@@ -121,6 +122,12 @@ def test_the_map_ranks_the_hidden_entry_first(block):
     assert terms.rows[0]["equation"] == HIDDEN[block][0]
     assert set(terms.rows[0]) >= {"equation", "variable", "statistic", "p_value", "sign",
                                   "group"}
+    # the map names it: significant and alone in its first group
+    assert terms.determination == "determined" and terms.answer == terms.terms[0]
+    assert terms.answer_json()["entry"]["variable"] == HIDDEN[block][1]
+    # one entry takes up all there is: freeing the shared parameters per row group
+    # adds nothing beside it, and the map is made at the base fit
+    assert not terms.made_freed and terms.freed_gain < 7.82, terms.freed_gain
 
 
 @pytest.mark.slow
@@ -135,6 +142,10 @@ def test_nothing_is_significant_on_a_null_record():
     rec, fit, terms = mapped(None, 0)
     assert terms.significant == (), terms.rows[:3]
     assert "no single added term is significant" in terms.describe()[0]
+    # and it names none: not determined, in the text and the JSON
+    assert terms.determination == "not-significant" and terms.answer is None
+    assert "not determined" in terms.describe()[0]
+    assert terms.answer_json()["entry"] is None
     # every excited entry is tested: theta0 is silent in these records, and the
     # coning stiffness is lambda_beta2 freed in the coning row (issue #36)
     untested = [t for t in terms.terms if not t.testable]
@@ -147,6 +158,7 @@ def test_nothing_is_significant_on_a_null_record():
 @pytest.mark.slow
 def test_nothing_is_significant_on_null_records_over_ten_seeds():
     found = [len(mapped(None, seed)[2].significant) for seed in range(1, 11)]
+    assert all(mapped(None, seed)[2].answer is None for seed in range(1, 11))
     # Holm holds the family-wise error at 1e-3: one false alarm in ten is already rare
     assert sum(found) == 0, found
     # and the statistics of the null are chi-square with one degree of freedom
@@ -257,6 +269,10 @@ def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monke
     assert (top["equation"], top["variable"], top["sign"]) == ("beta1s", "beta1c", 1)
     assert top["group"] == "cross-flap stiffness" and top["significant"]
     assert top["refit_statistic"] > top["statistic"] > 0
+    assert 0 <= top["refit_p_adjusted"] < 1e-3
+    answer = doc["missing_terms_answer"]
+    assert answer["determination"] == "determined"
+    assert (answer["entry"]["equation"], answer["entry"]["variable"]) == ("beta1s", "beta1c")
     assert main(["diagnose", str(path), "--model", "basic"]) == 0
     out = capsys.readouterr().out
     assert "the data want a term in the beta1s equation proportional to beta1c" in out
@@ -266,6 +282,40 @@ def test_diagnose_carries_the_map_into_its_text_and_json(tmp_path, capsys, monke
     index = diagnosis_report(d).write(tmp_path / "rep")
     assert (tmp_path / "rep" / "diagnose-terms.png").stat().st_size > 1000
     assert 'src="diagnose-terms.png"' in Path(index).read_text()
+
+
+def _term(variable, statistic, refit=None, first=False, p=1e-9):
+    return Term("flap", "beta0", variable, statistic, p, p, 1, 0.1, "g",
+                refit_statistic=refit, first_group=first,
+                refit_p_adjusted=None if refit is None else p)
+
+
+def test_the_map_names_an_entry_only_where_it_is_determined():
+    """Issue 36: a tie (the record cannot tell the first entries apart) or no
+    significant entry leaves the entry not determined; the text says so and names
+    none; a refit's likelihood ratio counts as a test where the score falls short."""
+    def table(*terms):
+        return MissingTerms("basic", tuple(terms), 1e-3, 100, (), ())
+    one = table(_term("p", 30, 60, True), _term("q", 25, 50))
+    assert one.determination == "determined" and one.answer.variable == "p"
+    tied = table(_term("p", 30, 60, True), _term("q", 29, 58, True))
+    assert tied.determination == "tied" and tied.answer is None
+    assert tied.answer_json()["first_group"][1]["variable"] == "q"
+    # both in the beta0 equation: the equation is determined, the variable not
+    assert tied.equation == ("flap", "beta0")
+    assert tied.answer_json()["equation"] == {"block": "flap", "equation": "beta0"}
+    assert "the equation is determined, the variable not" in " ".join(tied.describe())
+    apart = table(_term("p", 30, 60, True),
+                  replace(_term("q", 29, 58, True), block="measurement"))
+    assert apart.equation is None and "which of them is not determined" in " ".join(
+        apart.describe())
+    none = table(_term("p", 3, 4, True, p=0.5), _term("q", 2, None, p=0.5))
+    assert none.determination == "not-significant" and none.answer is None
+    assert "not determined" in " ".join(none.describe())
+    # significant by its refit alone (the score's local slope falls short)
+    big = Term("flap", "beta0", "p", 5.0, 0.02, 1.0, 1, 0.1, "g", refit_statistic=80.0,
+               refit_p_adjusted=1e-15, first_group=True)
+    assert big.significant() and table(big).determination == "determined"
 
 
 def test_the_map_refuses_another_band_than_the_fit_s():

@@ -90,3 +90,22 @@ def test_stand_ins_are_data_rendered_to_text():
     assert stand_ins(("azimuth-bias",), None, 0.9) == ()
     (y,) = stand_ins(("azimuth-bias",), None, 0.2)
     assert y.reasons == (("excess", None, 0.2, None, DEFAULT_RULE.stand_in_share, None, None),)
+
+
+def test_effects_that_explain_only_together_are_stand_ins():
+    """Issue 36: two effects named in one decision that each alone remove almost
+    nothing of what they remove together compensate each other (a wake distortion
+    and a Glauert term named for a cyclic-entry truth: 3 % and 2 % alone, 53 %
+    together); true effects named together remove about their own parts."""
+    both = ("wake-distortion", "glauert")
+    xs = stand_ins(both, None, 0.53, alone={"wake-distortion": 0.03, "glauert": 0.02})
+    assert [x.effect for x in xs] == list(both)
+    assert xs[0].reasons == (("partner", None, 0.03, None, 0.05, 0.53, None),)
+    assert "explains excess only together with them" in xs[0].describe()
+    assert xs[0].to_json()["reasons"][0]["kind"] == "partner"
+    # parts that add up (a true pair), one effect, or an effect without its own row:
+    # not flagged
+    assert stand_ins(both, None, 0.9, alone={"wake-distortion": 0.5,
+                                             "glauert": 0.35}) == ()
+    assert stand_ins(("glauert",), None, 0.9, alone={"glauert": 0.0}) == ()
+    assert stand_ins(both, None, 0.9, alone={"glauert": 0.0}) == ()

@@ -115,6 +115,8 @@ class Diagnosis:
                                   if self.missing_terms is not None else None),
                 "missing_terms_freed": (self.missing_terms.freed_json()
                                         if self.missing_terms is not None else None),
+                "missing_terms_answer": (self.missing_terms.answer_json()
+                                         if self.missing_terms is not None else None),
                 "fit": self.fit.fit}
 
 
@@ -252,7 +254,8 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     if dec.accepted:
         verd = verdict(analyses, analyses_of(recs, dec.chosen.fit, band_hz,
                                              check_colour=False, rule=rule),
-                       dec.effects, fit=dec.chosen.fit, rule=rule)
+                       dec.effects, fit=dec.chosen.fit, rule=rule,
+                       alone=_alone(recs, dec, analyses, band_hz, rule))
     else:
         fails += unexplained(analyses, rule=rule)
         verd = verdict(analyses, analyses, (), rule=rule)
@@ -263,6 +266,25 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
     return Diagnosis(s, fit, tuple(fails), tuple(cands), best, tuple(band),
                      tuple(analyses), verd, ident,
                      missing_terms(recs, fit, band_hz, hold) if assess else None, dec)
+
+
+def _alone(recs, dec, analyses, band_hz, rule) -> dict | None:
+    """``{effect: share of the excess it removes alone}`` where the decision names
+    two or more effects: each effect's best single row of the lattice (largest
+    statistic), its residual analysed (:func:`~inflowsim.diagnose.verdict.excess_share`);
+    ``None`` for one effect, or where an effect has no row of its own."""
+    from .verdict import excess_share
+    if len(dec.effects) < 2:
+        return None
+    out = {}
+    for e in dec.effects:
+        rows = [r for r in dec.rows if tuple(r.effects) == (e,) and r.fit is not None]
+        if not rows:
+            return None
+        best = max(rows, key=lambda r: r.statistic)
+        out[e] = excess_share(analyses, analyses_of(recs, best.fit, band_hz,
+                                                    check_colour=False, rule=rule))
+    return out
 
 
 @dataclass(frozen=True)
@@ -344,6 +366,10 @@ class Ladder:
                                         if self.final.diagnosis is not None
                                         and self.final.diagnosis.missing_terms is not None
                                         else None),
+                "missing_terms_answer": (self.final.diagnosis.missing_terms.answer_json()
+                                         if self.final.diagnosis is not None
+                                         and self.final.diagnosis.missing_terms is not None
+                                         else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
              "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),

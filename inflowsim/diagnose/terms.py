@@ -55,21 +55,40 @@ cyclic term's score lands in the coning row).  So, by default:
    the base refitted with them, and the score test made at that fit with the
    offsets among the base's parameters (``MissingTerms.freed``: the values per
    group and the likelihood ratio of freeing them);
-2. the :data:`CONFIRM` entries of largest score are refitted, each with its
-   coefficient and every other parameter free, and ranked first by the
-   likelihood-ratio statistic of that refit (``Term.refit_statistic``): the entry
-   whose refit lowers the cost most wins.
-
-3. the refitted entries whose likelihood-ratio statistic lies within :data:`TIE`
+2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
+   of largest score are refitted, each with its coefficient and every other
+   parameter free, and ranked first by the likelihood-ratio statistic of that
+   refit (``Term.refit_statistic``): the entry whose refit lowers the cost most
+   wins;
+3. the map is the freed fit's only where freeing the shared parameters lowers the
+   cost beside the best single entry: where the freed fit's first entry with the
+   offsets (their likelihood ratio plus its refit's) beats the base fit's first
+   entry alone by more than the chi-square point of the offsets' number at
+   :data:`FREED_LEVEL` (``MissingTerms.made_freed``, ``freed_gain``).  Otherwise a
+   single entry takes up what freeing does (a term that acts in the cyclic rows
+   only, as a pitch-flap coupling on a record that moves one cyclic, is soaked up
+   by the cyclic rows' own offsets, and the freed fit's map is left with noise):
+   the map is the base fit's;
+4. the refitted entries whose likelihood-ratio statistic lies within :data:`TIE`
    (3.84, chi-square one degree of freedom at 95 %) of the first's are reported
    with it as the map's first group (``Term.first_group``,
    :attr:`MissingTerms.first_group`): the record cannot tell them apart (a
    likelihood-ratio confidence set for which entry it is), and the text names
    them all.
 
+**What the map names** (:attr:`MissingTerms.determination`, ``answer``): one
+entry only where its first entry is significant (its score, Holm-adjusted, or its
+refit's likelihood ratio, Bonferroni-adjusted over the entries tested) and alone
+in the first group (``"determined"``); where other entries tie with it
+(``"tied"``) or nothing is significant (``"not-significant"``: no excess a single
+entry takes up) the text says which entry it is is not determined, and no entry
+is named.
+
 A stiffness in the cyclic rows alone is, in the data, the shared parameter moved
 plus a coning term: no single entry can place it, and step 1 absorbs it (the
-freed values report it).
+freed values report it); where the coning row's own stiffness takes it up as well
+(step 3 keeps the base fit), that entry's text says the record hardly tells it
+from the other rows' own term moved the other way.
 
 A pitch entry's sensitivity is the sum of its rows' entries' sensitivities
 weighted by the pitch's columns (the model is linear in the entries at ``k = 0``);
@@ -89,6 +108,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy import special
 
 from ..channels import FLAP, FLAP_RATE, INFLOW, INPUTS, N_BASE_INPUTS
 from ..defaults import ALPHA       # the map's family-wise level: the rule's alpha
@@ -139,6 +159,11 @@ TYPICAL_SHARED = 0.1
 #: chi-square one-degree-of-freedom 95 % point: a likelihood-ratio confidence set
 #: for which entry it is).
 TIE = 3.84
+#: The level of the test that keeps the shared parameters freed per row group for
+#: the map: freeing them must lower the cost beside the best single entry by more
+#: than the chi-square point of their number at this level (else a single entry
+#: takes up what freeing them does, and the map is made at the base fit).
+FREED_LEVEL = 0.05
 
 _KIND_OF = {**{n: "flap" for n in FLAP}, **{n: "rate" for n in FLAP_RATE},
             **{n: "inflow" for n in INFLOW}, **{n: "input" for n in INPUTS},
@@ -224,9 +249,17 @@ class Term:
     #: in the map's first group: refitted, and its refit statistic within
     #: :data:`TIE` of the first entry's (the record cannot tell them apart)
     first_group: bool = False
+    #: the refit's likelihood ratio as a test (chi-square, one degree of freedom,
+    #: divided by the map's degrees-of-freedom factor), Bonferroni over the entries
+    #: tested (``None``: not refitted)
+    refit_p_adjusted: float | None = None
 
     def significant(self, alpha: float = ALPHA) -> bool:
-        return self.testable and self.p_adjusted <= alpha
+        """Its score test, Holm-adjusted, or its refit's likelihood ratio,
+        Bonferroni-adjusted, at most ``alpha`` (the refit is the exact test where the
+        term is large and the score's local approximation falls short)."""
+        return self.testable and (self.p_adjusted <= alpha or (
+            self.refit_p_adjusted is not None and self.refit_p_adjusted <= alpha))
 
     def where(self) -> str:
         """``"the beta1s equation"``, ``"the recorded beta1c"``."""
@@ -248,6 +281,8 @@ class Term:
                 "refit_coefficient": (None if self.refit_coefficient is None
                                       else float(self.refit_coefficient)),
                 "first_group": bool(self.first_group),
+                "refit_p_adjusted": (None if self.refit_p_adjusted is None
+                                     else float(self.refit_p_adjusted)),
                 "significant": bool(self.significant(alpha))}
 
 
@@ -270,9 +305,19 @@ class MissingTerms:
     correction: str = "holm"
     #: how many entries lead the ranking by a confirming refit
     confirmed: int = 0
-    #: the shared parameters freed per row group, the map made at that fit:
-    #: ``((parameter, where, value elsewhere, value there, statistic, p), ...)``
+    #: the shared parameters freed per row group: ``((parameter, where, value
+    #: elsewhere, value there, statistic, p), ...)`` (empty: none shared, or that
+    #: fit failed)
     freed: tuple = ()
+    #: whether the map is made at the freed fit: freeing them lowers the cost
+    #: beside the best single entry by more than the chi-square 95 % point of their
+    #: number (``freed_gain``); else at the base fit (:func:`missing_terms`)
+    made_freed: bool = False
+    #: ``2 (J(best entry) - J(best entry, shared freed))`` over the base fit: what
+    #: freeing adds beside the best single entry (``None``: not compared)
+    freed_gain: float | None = None
+    #: the degrees-of-freedom factor the statistics are divided by for their tests
+    dof: float = 1.0
 
     @property
     def rows(self) -> tuple:
@@ -288,6 +333,52 @@ class MissingTerms:
         and every refitted entry whose refit statistic is within :data:`TIE` of its
         (just the first where none is, or nothing was refitted)."""
         return tuple(t for t in self.terms if t.first_group) or self.terms[:1]
+
+    @property
+    def determination(self) -> str:
+        """Whether the map names one entry: ``"determined"`` (its first entry is
+        significant and the record tells it from every other refitted entry),
+        ``"tied"`` (significant, but other entries' refits lie within :data:`TIE`
+        of it: the record cannot tell which), ``"not-significant"`` (no entry is:
+        the record shows no excess a single entry takes up)."""
+        if not self.terms or not self.terms[0].significant(self.alpha):
+            return "not-significant"
+        return "determined" if len(self.first_group) == 1 else "tied"
+
+    @property
+    def answer(self):
+        """The entry the map names (:class:`Term`), or ``None`` where it does not
+        determine one (:attr:`determination`)."""
+        return self.terms[0] if self.determination == "determined" else None
+
+    @property
+    def equation(self):
+        """``(block, equation)`` every entry of a significant first group lies in
+        (the equation is determined where the variable may not be: a tie within one
+        equation), or ``None``."""
+        if self.determination == "not-significant":
+            return None
+        rows = {(t.block, t.equation) for t in self.first_group}
+        return next(iter(rows)) if len(rows) == 1 else None
+
+    def answer_json(self) -> dict:
+        """``{"determination", "entry", "equation", "first_group", "made_freed",
+        "freed_gain"}``: what the map names (``"missing_terms_answer"``): ``entry``
+        the determined entry's ``{"block", "equation", "variable", "group"}`` or
+        ``None``; ``equation`` the ``{"block", "equation"}`` of :attr:`equation` or
+        ``None``; ``first_group`` the entries the record cannot tell apart from the
+        first."""
+        def named(t):
+            return {"block": t.block, "equation": t.equation, "variable": t.variable,
+                    "group": t.group}
+        a = self.answer
+        eq = self.equation
+        return {"determination": self.determination,
+                "entry": None if a is None else named(a),
+                "equation": None if eq is None else {"block": eq[0], "equation": eq[1]},
+                "first_group": [named(t) for t in self.first_group],
+                "made_freed": bool(self.made_freed),
+                "freed_gain": None if self.freed_gain is None else float(self.freed_gain)}
 
     def to_json(self) -> list:
         return list(self.rows)
@@ -316,9 +407,28 @@ class MissingTerms:
             return []
         each = "; ".join(f"{n} {b:.4g} in {w} against {a:.4g} elsewhere"
                          for n, w, a, b, _, _ in self.freed)
+        how = ("the map is made with them so freed" if self.made_freed else
+               "but a single entry takes that up as well (beside the best entry, "
+               f"freeing them has a likelihood ratio of {self.freed_gain or 0.0:.1f} "
+               f"only, below the chi-square point of {len(self.freed)} at "
+               f"{FREED_LEVEL:g}): the map is made at the base fit")
         return [f"the shared parameters want other values per row group (likelihood "
                 f"ratio {self.freed[0][4]:.1f}, p = {self.freed[0][5]:.2g}): {each}; "
-                "the map is made with them so freed"]
+                + how]
+
+    def _own_note(self, t) -> str:
+        """For a row's own stiffness, damping or inflow gain on a map made at the
+        base fit where shared parameters act in every row of its block: that it is
+        hardly told from the other row group's own term moved the other way (the
+        shared parameter moved with it)."""
+        own = t.block in ("flap", "inflow") and (
+            t.variable == t.equation or t.variable == f"{t.equation}_prime")
+        if not own or self.made_freed or not any(
+                f" {t.block} " in w for _, w, *_ in self.freed):
+            return ""
+        return (" (the shared parameters act in every row of the block: the record "
+                "hardly tells it from the other rows' own term moved the other way, "
+                "see the values per row group)")
 
     def describe(self, limit: int = 3) -> list[str]:
         """Sentences for the text output: the significant terms (at most
@@ -327,21 +437,31 @@ class MissingTerms:
         out = self.describe_freed()
         if not sig:
             return out + [f"no single added term is significant (score test of "
-                          f"{self.n_tested} entries, Holm-corrected at {self.alpha:g})"]
-        group = [t for t in self.first_group if t.significant(self.alpha)]
+                          f"{self.n_tested} entries, Holm-corrected at {self.alpha:g}, "
+                          "and the refits of the first): where a term is missing is "
+                          "not determined"]
+        if self.determination == "not-significant":
+            out.append("the first entry is not significant: where a term is missing is "
+                       "not determined (the significant entries below are not told "
+                       "from it)")
+        group = list(self.first_group)
         if len(group) > 1:
             out.append("the record cannot tell apart the first " + str(len(group)) +
                        " entries (their refits lower the cost to within "
                        f"{TIE:g} of each other): a term in " + ", or in ".join(
-                           f"{t.where()} proportional to {t.variable}" for t in group))
+                           f"{t.where()} proportional to {t.variable}" for t in group)
+                       + ("; which of them is not determined" if self.equation is None
+                          else f"; all in {group[0].where()}: the equation is "
+                          "determined, the variable not"))
         for t in sig[:limit]:
             refit = ("" if t.refit_statistic is None else
-                     f", refit likelihood ratio {t.refit_statistic:.1f}")
+                     f", refit likelihood ratio {t.refit_statistic:.1f}, p = "
+                     f"{t.refit_p_adjusted:.2g} after Bonferroni")
             out.append(f"the data want a term in {t.where()} proportional to {t.variable} "
                        f"(sign {'+' if t.sign > 0 else '-'}, score {t.statistic:.1f}, "
                        f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} "
                        f"entries{refit}): {'an' if t.group[0] in 'aeiou' else 'a'} "
-                       f"{t.group}")
+                       f"{t.group}{self._own_note(t)}")
         if len(sig) > limit:
             out.append(f"... and {len(sig) - limit} more significant entries")
         return out
@@ -614,7 +734,7 @@ def _refit(prob, theta, entry):
 
 def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                   alpha: float = ALPHA, confirm: int = CONFIRM,
-                  free_shared: bool = True) -> MissingTerms:
+                  free_shared: bool | str = True) -> MissingTerms:
     """Score map of every single-entry addition at a base fit.
 
     Parameters
@@ -633,9 +753,13 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         How many entries of largest score statistic are refitted (the base with
         that entry free): those lead the ranking, by the refit's likelihood-ratio
         statistic.  0: the score order alone.
-    free_shared : bool
+    free_shared : bool or "always"
         Free the base's shared parameters per row group (:func:`shared_parameters`)
-        and make the map at that fit; False: at the base fit itself.
+        and make the map at that fit where freeing them lowers the cost beside the
+        best single entry by more than the chi-square point of their number at
+        :data:`FREED_LEVEL` (both maps made, their first entries' refits compared;
+        else at the base fit, the freed values still reported); ``"always"``: at
+        the freed fit whatever that comparison; False: at the base fit itself.
 
     Returns
     -------
@@ -660,11 +784,40 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     full = spectra if n_in == s.n_inputs else [
         record_spectra(r, inputs, band_hz, None, hold) for r in recs]
     splits = shared_parameters(fit) if free_shared else ()
+    base = _map_at(s, full, fit, (), n_in, inputs, alpha, confirm)
+    if not splits:
+        return base
     try:
-        prob, theta, st, freed, jb = _made_at(s, full, fit, splits, n_in)
+        made = _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm)
     except (InputError, np.linalg.LinAlgError):
         # the freed fit stopped at a range's edge (the Jacobian's central steps
         # leave it): the map is made at the base fit itself
+        return base
+    if not made.freed:          # the freed fit failed: made at the base fit
+        return base
+    # what freeing adds beside the best single entry, both over the base fit
+    gain = made.freed[0][4] + _likelihood_ratio(made.terms[0]) - \
+        _likelihood_ratio(base.terms[0])
+    if free_shared == "always" or gain > float(special.chdtri(len(splits), FREED_LEVEL)):
+        return replace(made, made_freed=True, freed_gain=float(gain))
+    return replace(base, freed=made.freed, freed_gain=float(gain))
+
+
+def _likelihood_ratio(t) -> float:
+    """``2 (J_base - J)`` of entry ``t`` over the fit its map is made at: its
+    refit's, or its score statistic where it was not refitted."""
+    return t.refit_statistic if t.refit_statistic is not None else t.statistic
+
+
+def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm) -> MissingTerms:
+    """The map made at the base fit with ``splits`` freed (:func:`_made_at`; at the
+    base fit itself where that refit fails, ``freed`` then empty): the score table
+    and its confirming refits."""
+    try:
+        prob, theta, st, freed, jb = _made_at(s, full, fit, splits, n_in)
+    except (InputError, np.linalg.LinAlgError):
+        if not splits:
+            raise
         prob, theta, st, freed, jb = _made_at(s, full, fit, (), n_in)
     r = np.concatenate(st.r)
     entries = _entries(inputs)
@@ -758,7 +911,9 @@ def _confirmed(table, prob, theta, confirm):
         row = _rows(t.block).index(t.equation)
         got = _refit(prob, theta, (t.block, row, t.variable))
         done.append(t if got is None else replace(
-            t, refit_statistic=got[0], refit_coefficient=got[1]))
+            t, refit_statistic=got[0], refit_coefficient=got[1],
+            refit_p_adjusted=float(min(1.0, table.n_tested * chi2_sf(
+                max(got[0], 0.0) / table.dof, 1)))))
     done.sort(key=lambda t: -(t.refit_statistic if t.refit_statistic is not None
                               else -np.inf))
     if done[0].refit_statistic is not None:
@@ -837,4 +992,5 @@ def _table(s, entries, je, jb, r, st, alpha, inputs):
     eqs = tuple((b, n) for b in BLOCKS if b != "pitch" for n in _rows(b))
     variables = FLAP + FLAP_RATE + INFLOW + tuple(inputs)
     return MissingTerms(structure=s.name, terms=tuple(rows), alpha=float(alpha),
-                        n_tested=int(m), equations=eqs, variables=variables)
+                        n_tested=int(m), equations=eqs, variables=variables,
+                        dof=float(dof))

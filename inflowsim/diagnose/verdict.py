@@ -28,7 +28,13 @@ the band rather than being it.  Each named effect is a stand-in
 - the effects named together remove less than ``Rule.stand_in_share`` of the
   starting structure's excess over the floor (``excess_explained``; also where
   the verdict finds no significant structured excess left: most of the
-  starting excess power is still there).
+  starting excess power is still there); or
+- two or more effects are named together and each alone (its own best fit from
+  the starting structure) removes so little that their shares alone, summed, are
+  under ``Rule.stand_in_share`` of what they remove together: they explain the
+  excess only together, by compensating each other, not each its own part
+  (``"partner"``; true effects named together remove about their own parts, which
+  add up).
 
 The text then reads "behaves like X in this band; the missing physics is
 probably elsewhere: see the map".
@@ -52,9 +58,12 @@ class StandIn:
 
     ``reasons``: ``((kind, parameter, estimate, sigma, low, high, why), ...)``,
     ``kind`` ``"physical"`` (outside what the effect can be: ``why`` says what),
-    ``"plausible"`` (outside what the rotor's physics expects) or ``"excess"``
+    ``"plausible"`` (outside what the rotor's physics expects), ``"excess"``
     (the effects named leave most of the excess: ``estimate`` the share they
-    remove, ``low`` the share required, the other fields ``None``).
+    remove, ``low`` the share required, the other fields ``None``) or
+    ``"partner"`` (it explains excess only together with the others named:
+    ``estimate`` the share it removes alone, ``low`` the named effects' shares
+    alone summed, ``high`` the share they remove together).
     """
 
     effect: str
@@ -66,6 +75,11 @@ class StandIn:
             if kind == "excess":
                 out.append(f"the effects named remove {100 * e:.0f} % of the excess "
                            f"over the floor, under {100 * lo:.0f} %")
+            elif kind == "partner":
+                out.append(f"alone it removes {100 * e:.0f} % of the excess over the "
+                           f"floor, the effects named {100 * hi:.0f} % together but "
+                           f"{100 * lo:.0f} % alone, summed: it explains excess only "
+                           "together with them")
             else:
                 pm = "" if sig is None else f" +- {sig:.2g}"
                 rng = f"[{lo:g}, {hi:g}]"
@@ -86,12 +100,19 @@ class StandIn:
 
 
 def stand_ins(effects, fit, excess_explained, sigmas: float | None = None,
-              rule: Rule = DEFAULT_RULE) -> tuple:
+              rule: Rule = DEFAULT_RULE, alone=None) -> tuple:
     """The :class:`StandIn` among ``effects`` (named, in the fitted structure of
     ``fit``) given the share of the excess they remove together (``None``: the
     starting structure had none): an estimate ``sigmas`` (default
-    ``rule.plausible_sigmas``) of its bounds outside its range, or a share under
-    ``rule.stand_in_share``."""
+    ``rule.plausible_sigmas``) of its bounds outside its range, a share under
+    ``rule.stand_in_share``, or, ``alone`` given (``{effect: share it removes
+    alone}``, two or more effects), shares alone summing to under
+    ``rule.stand_in_share`` of the share together."""
+    alone = {e: max(float(v), 0.0) for e, v in (alone or {}).items()
+             if v is not None and e in effects}
+    partner = (len(effects) >= 2 and len(alone) == len(effects)
+               and excess_explained is not None and excess_explained > 0
+               and sum(alone.values()) < rule.stand_in_share * excess_explained)
     sigmas = rule.plausible_sigmas if sigmas is None else sigmas
     from ..model.effects import CATALOGUE
     from ..model.params import SPECS
@@ -120,6 +141,9 @@ def stand_ins(effects, fit, excess_explained, sigmas: float | None = None,
         if excess_explained is not None and excess_explained < rule.stand_in_share:
             reasons.append(("excess", None, float(excess_explained), None,
                             rule.stand_in_share, None, None))
+        if partner:
+            reasons.append(("partner", None, alone[e], None, float(sum(alone.values())),
+                            float(excess_explained), None))
         if reasons:
             out.append(StandIn(e, tuple(reasons)))
     return tuple(out)
@@ -183,12 +207,22 @@ def power_over_floor(analyses) -> tuple:
                  for c, ch in enumerate(FLAP_COLUMNS))
 
 
+def excess_share(initial_analyses, analyses) -> float | None:
+    """The share of the starting structure's excess over the floor that a fit with
+    residual ``analyses`` removes (:attr:`Verdict.excess_explained`); ``None``
+    where there was none."""
+    before = sum(max(v - 1.0, 0.0) for _, v in power_over_floor(initial_analyses))
+    after = sum(max(v - 1.0, 0.0) for _, v in power_over_floor(analyses))
+    return None if before <= 0 else float(1.0 - after / before)
+
+
 def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
-            fit=None, rule: Rule = DEFAULT_RULE) -> Verdict:
+            fit=None, rule: Rule = DEFAULT_RULE, alone=None) -> Verdict:
     """The verdict from the starting structure's and the final structure's residual
     analyses (the same when nothing was named), tested at ``alpha`` (default
     ``rule.alpha``); ``fit`` the final structure's fit, whose estimates say which
-    named effects are stand-ins (:func:`stand_ins`)."""
+    named effects are stand-ins (:func:`stand_ins`; ``alone`` the share each
+    removes alone, where several are named in one decision)."""
     final = final_analyses if effects else initial_analyses
     where = tuple(w[:3] for w in excess_channels(final, alpha, rule))
     if effects:
@@ -200,7 +234,9 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
     if not effects:
         return v
     from dataclasses import replace
-    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained, rule=rule))
+    return replace(v, stand_ins=stand_ins(effects, fit, v.excess_explained, rule=rule,
+                                          alone=alone))
 
 
-__all__ = ["STATUSES", "Verdict", "power_over_floor", "stand_ins", "verdict"]
+__all__ = ["STATUSES", "Verdict", "excess_share", "power_over_floor", "stand_ins",
+           "verdict"]
