@@ -3,10 +3,14 @@
 (``servo-actuators``, ``lead-lag``, both with ``peters-he-6``), beside each step's
 arithmetic floor.
 
-    python bench/fmu_states.py [--base basic] [--steps N] [--rounds R]
+    python bench/fmu_states.py [--base basic] [--steps N] [--rounds R] [--keep DIR]
 
 Builds one FMU per structure (``inflowsim.fmu.build_fmu(model=...)``: ``BASE``,
-``BASE+peters-he-6``, ``BASE+peters-he-10``, ``BASE+peters-he-15``), compiles
+``BASE+peters-he-6``, ``BASE+peters-he-10``, ``BASE+peters-he-15``; a structure
+linearised about the trim, as the Peters-He effects' skewed wake, in forward flight:
+the Puma's truth values at its ``mu`` 0.249 and the virtual flight test's trim
+there (``flighttest.virtual.PUMA_TRIM``); each build's code generation and compilation timed
+in process CPU), compiles
 ``bench/fmu_driver.c`` and ``bench/fp_rate.c`` as ``bench/fmu_bench.py`` does, then runs
 the driver on the libraries in turn, ``--rounds`` times (each run the best of five runs
 of ``--steps`` steps per case), keeping each case's best: the libraries interleaved so
@@ -14,7 +18,8 @@ that a change of machine load falls on all of them alike.  ``fp_rate`` is run in
 round too (best kept).  The floor of a step is its ``NX (NX + NU)`` multiplies (the
 matrix-vector product ``x <- [Phi Gamma] [x; u]``) in whole vectors of four at the
 measured rate of 4-wide multiplies (no fused multiply-add: every build rounds alike).
-Prints a Markdown table.
+Prints a Markdown table.  ``--keep DIR`` keeps the FMUs there (for
+``bench/fmu_mu_callgrind.sh``'s instruction counts).
 """
 from __future__ import annotations
 
@@ -22,9 +27,11 @@ import argparse
 import math
 import platform
 import re
+import resource
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -38,11 +45,31 @@ EXTRA = ("peters-he-6", "peters-he-10", "peters-he-15", "servo-actuators", "lead
          "servo-actuators+lead-lag+peters-he-6")
 
 
+def forward_flight(structure):
+    """``structure`` as the FMU gets it: a name, or, linearised about the trim, a
+    model at the Puma's ``mu`` with the virtual flight test's trim there."""
+    from inflowsim.model.structure import needs_trim
+    if not needs_trim([structure]):
+        return structure
+    from inflowsim import build_model
+    from inflowsim.flighttest.virtual import PUMA_TRIM
+    from inflowsim.model.params import PUMA
+    from inflowsim.model.presets import truth_parameters
+    k = PUMA.with_trim(dict(PUMA_TRIM, mux=PUMA.mu))
+    return build_model(structure, truth_parameters(structure, k), k)
+
+
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--base", default="basic", help="structure the inflow states are added to")
     ap.add_argument("--steps", type=int, default=1_000_000)
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--keep", type=Path, help="folder to keep the FMUs in")
     args = ap.parse_args(argv)
     from fmpy import extract, read_model_description
     from inflowsim.fmu import build_fmu
@@ -56,8 +83,13 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         libs = {}
+        built = {}
         for i, st in enumerate(structures):
-            fmu = build_fmu(tmp / f"s{i}.fmu", model=st)
+            folder = args.keep if args.keep is not None else tmp
+            folder.mkdir(parents=True, exist_ok=True)
+            cpu = time.process_time(), _children_cpu()
+            fmu = build_fmu(folder / f"s{i}.fmu", model=forward_flight(st), overwrite=True)
+            built[st] = (time.process_time() - cpu[0], _children_cpu() - cpu[1])
             unz = Path(extract(str(fmu), str(tmp / f"x{i}")))
             text = (unz / "sources" / "inflow_vars.h").read_text()
             nx = int(re.search(r"#define IFS_NX (\d+)", text).group(1))
@@ -91,14 +123,16 @@ def main(argv=None):
           f"4-wide multiplies {mul_rate:.2f} per ns (best of {args.rounds} rounds)")
     print(f"steps {args.steps} per run, best of 5 runs x {args.rounds} rounds, libraries "
           "interleaved")
-    print("| structure | inflow states | NX | fmi2DoStep [ns] | set + step + get [ns] | "
-          "floor [ns] | step / floor | step / 3-state step |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| structure | inflow states | NX | generation + compiler CPU [s] | "
+          "fmi2DoStep [ns] | set + step + get [ns] | floor [ns] | step / floor | "
+          "step / 3-state step |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     first = best[(structures[0], "glauert_dostep")]
     for st, (_, _, nx, nu) in libs.items():
         step = best[(st, "glauert_dostep")]
         floor = math.ceil(nx * (nx + nu) / 4) / mul_rate
-        print(f"| {st} | {inflow[st]} | {nx} | {step:.1f} | "
+        gen, comp = built[st]
+        print(f"| {st} | {inflow[st]} | {nx} | {gen:.1f} + {comp:.1f} | {step:.1f} | "
               f"{best[(st, 'glauert_set_dostep_get')]:.1f} | {floor:.1f} | "
               f"{step / floor:.2f} | {step / first:.2f} |")
 

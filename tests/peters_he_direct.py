@@ -46,7 +46,7 @@ def shape(m, n, r):
 
 
 @lru_cache(maxsize=None)
-def gain(power):
+def _axial_gain(power):
     st = states_of(power)
     out = np.zeros((len(st), len(st)))
     for a, (ka, m, j) in enumerate(st):
@@ -56,6 +56,73 @@ def gain(power):
                     lambda r: pbar(m, j, math.sqrt(1 - r * r)) * pbar(m, n, math.sqrt(1 - r * r))
                     * r, 0.0, 1.0, epsabs=0, epsrel=1e-12, limit=200)[0]
     return out
+
+
+def _hnm(n, m):
+    num = math.prod(range(n + m - 1, 0, -2)) * math.prod(range(n - m - 1, 0, -2))
+    return num / (math.prod(range(n + m, 0, -2)) * math.prod(range(n - m, 0, -2)))
+
+
+def gain(power, x=0.0):
+    """Peters-He's inflow gain at wake skew ``x = tan(chi/2)``: between harmonics
+    ``r`` (row) and ``m`` (column) of one kind the factor ``x^m`` (``r = 0``) or
+    ``x^|m-r| +- (-1)^min(r,m) x^(m+r)`` (cosine +, sine -) times ``Gamma_jn^rm``:
+    for ``r = m`` the quadrature ``int P_j P_n r dr`` above, otherwise the published
+    closed forms (Peters & He 1995), written out here again: ``r + m`` even,
+    ``(-1)^((n+j)/2 - r) 2 sqrt((2n+1)(2j+1)) / (sqrt(H_n^m H_j^r) (n+j)(n+j+2)
+    ((n-j)^2-1))``; odd, ``j = n +- 1``: ``+-(pi/2) / (sqrt(H_n^m H_j^r) sqrt((2n+1)
+    (2j+1)))``, the sign of ``r - m``; else 0.  (The closed forms are checked against
+    the pressure potential's quadrature in ``tests/test_peters_he.py``.)"""
+    st = states_of(power)
+    out = _axial_gain(power).copy()
+    for a, (ka, r, j) in enumerate(st):
+        for b, (kb, m, n) in enumerate(st):
+            if ka != kb:
+                continue
+            if r == 0:
+                factor = x ** m
+            else:
+                second = (-1) ** min(r, m) * x ** (m + r)
+                factor = x ** abs(m - r) + (second if ka == "c" else -second)
+            if r == m:
+                out[a, b] *= factor
+                continue
+            den = math.sqrt(_hnm(n, m) * _hnm(j, r))
+            if (r + m) % 2 == 0:
+                g = ((-1) ** ((n + j) // 2 - r) * 2 * math.sqrt((2 * n + 1) * (2 * j + 1))
+                     / (den * (n + j) * (n + j + 2) * ((n - j) ** 2 - 1)))
+            elif abs(n - j) == 1:
+                g = math.copysign(math.pi / 2, r - m) / (den * math.sqrt((2 * n + 1) * (2 * j + 1)))
+            else:
+                g = 0.0
+            out[a, b] = factor * g
+    return out
+
+
+def trim_skew(mu, a0s, v, theta, beta, muz):
+    """``X = tan(chi/2)`` of the trim: the three-state momentum model's steady inflow
+    (``lambda0 = C_T/(2V)``, ``lambda1c,s = -2 C_mc,s / V``) with the blade-element
+    loads of the trim pitch ``theta``, flap ``beta`` (multiblade, steady) and ``muz``
+    by quadrature, linear in the inflow; ``tan chi = mu / (lambda0 - muz)``."""
+    r, wr, psi = _grid()
+    R, P = np.meshgrid(r, psi, indexing="ij")
+    W = np.outer(wr, np.ones_like(psi)) / len(psi)
+    c, s = np.cos(P), np.sin(P)
+    ut = R + mu * s
+
+    def loads(lam):
+        th = theta[0] + theta[1] * c + theta[2] * s
+        b = beta[0] + beta[1] * c + beta[2] * s
+        rate = beta[2] * c - beta[1] * s
+        li = lam[0] + R * (lam[1] * c + lam[2] * s)
+        f = th * ut * ut + (muz - li - R * rate - mu * b * c) * ut
+        return 0.5 * np.array([np.sum(W * f), -np.sum(W * f * R * c), -np.sum(W * f * R * s)])
+
+    gain_m = a0s * np.array([0.5, -2.0, -2.0]) / v
+    c0 = loads(np.zeros(3))
+    g = np.array([loads(e) - c0 for e in np.eye(3)]).T
+    lam = np.linalg.solve(np.eye(3) - gain_m[:, None] * g, gain_m * c0)
+    return math.tan(math.atan2(mu, lam[0] - muz) / 2)
 
 
 def mass(power):
@@ -75,7 +142,8 @@ def model(power, mu, n_beta, lambda_beta2, a0s, v, omega, gain=None):
     """``(E, A, B, C)``: azimuth-time descriptor, states ``(beta, alpha)``, inputs the
     eight azimuth-unit inputs, ``C`` the six recorded outputs (flap, and the
     least-squares linear inflow ``lambda0, lambda1c, lambda1s``).  ``gain``: the
-    inflow-gain matrix ``L`` (default Peters-He's, by quadrature)."""
+    inflow-gain matrix ``L`` (default Peters-He's in axial flow, by quadrature;
+    :func:`gain` at the trim's :func:`trim_skew` for forward flight)."""
     st = states_of(power)
     n = len(st)
     r, wr, psi = _grid()

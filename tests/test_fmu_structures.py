@@ -69,6 +69,9 @@ STRUCTURES = (
     "glauert+flap-inertia+azimuth-bias+peters-he-15",
     "glauert+servo-actuators+time-delay+peters-he-15",
     "glauert+lead-lag+servo-actuators+wake-distortion+peters-he-10",
+    # two run-time calls, the second's argument (the wake skew) from the first's
+    # results (Eq. 14's trim inflow)
+    "basic+azimuth-bias+momentum-speed+peters-he-6",
 )
 
 #: A trim state (totals) for the effect linearised about it.
@@ -382,16 +385,23 @@ def test_loads_use_the_structure_generated_load_matrices():
                                atol=1e-9)
 
 
-def test_mu_every_step_and_a_varying_step_in_a_nine_state_fmu(record, tmp_path_factory):
+@pytest.mark.parametrize("structure", [
+    "glauert+flap-inertia+skewed-wake",
+    pytest.param("glauert+peters-he-6", marks=pytest.mark.slow),
+    pytest.param("basic+separate-time-constants+peters-he-10", marks=pytest.mark.slow),
+    pytest.param("glauert+flap-inertia+azimuth-bias+peters-he-15", marks=pytest.mark.slow)])
+def test_mu_every_step_and_a_varying_step_in_a_nine_state_fmu(structure, record,
+                                                              tmp_path_factory):
     """The real-time paths (issue #10 part 3) for a generated structure with other
     state counts: mu changing every step (the tabulated matrices) and a
     communication step changing every frame (the Taylor remainder) follow the
     exact zero-order hold of the nine-state model (scipy's expm at each step's mu
-    and length)."""
+    and length).  Slow: the Peters-He structures at their trim (6, 10, 15 inflow
+    states), whose skewed wake's ``L(X)^-1`` the FMU solves at each of the table's
+    builds (``X`` moves with ``mu``)."""
     from scipy.linalg import expm
-    structure = "glauert+flap-inertia+skewed-wake"
     p = parameters(structure)
-    m = build_model(structure, p, PUMA)
+    m = build_model(structure, p, constants_for(structure))
     unzipped, d = built(tmp_path_factory, structure, model=m)
     u = inputs_of(m, record)[:400]
     full = np.zeros((len(u), len(ALL_INPUTS)))

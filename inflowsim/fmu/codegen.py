@@ -27,7 +27,10 @@ its results symbols that the descriptor's expressions use.  The called C functio
 is generated too, from what the effect declares
 (:attr:`~inflowsim.model.effects.Effect.runtime`, a
 :class:`~inflowsim.model.effects.RuntimeSolve`: its integrand differentiated by
-sympy, its quadrature points, its Newton residual and settings, its results).
+sympy, its quadrature points, its Newton residual and settings, its results; or a
+:class:`~inflowsim.model.effects.RuntimeLinear`: a matrix and right-hand side whose
+solution the C finds by LU, as the Peters-He effects' ``L(X)^-1``, whose symbolic
+inverse took minutes to generate from ten states up).
 """
 from __future__ import annotations
 
@@ -158,11 +161,12 @@ def _numeric_calls_c(calls, sp) -> list:
     for i, (effect, args, shapes) in enumerate(calls):
         outs = [f"numeric_{i}_{o}" for o in range(len(shapes))]
         lines += [f"    double {o}[{n * m}];" for o, (n, m) in zip(outs, shapes)]
-        rename = {x: sp.Symbol(_c_name(x)) for x in set().union(*(a.free_symbols
-                                                                 for a in args))}
-        vals = ", ".join(sp.ccode(a.xreplace(rename)) for a in args)
-        lines += ["    {", f"        const double arg[{len(args)}] = {{{vals}}};",
-                  f"        {_c_function(effect)}(arg, {', '.join(outs)});", "    }"]
+        # the arguments after common-subexpression elimination (the trim inflow in
+        # the wake skew's two places once)
+        lines += ["    {", f"        double arg[{len(args)}];"]
+        lines += _assignments(sp, [(f"arg[{j}]", a) for j, a in enumerate(args)],
+                              indent="        ")
+        lines += [f"        {_c_function(effect)}(arg, {', '.join(outs)});", "    }"]
     return lines
 
 
@@ -402,6 +406,32 @@ def _runtime_c(effect: str, rs, sp) -> list:
     return lines + ["}", ""]
 
 
+def _linear_c(effect: str, rl, sp) -> list:
+    """The C function ``numeric_<effect>(arg, out0)`` of a run-time linear solve
+    (:class:`~inflowsim.model.effects.RuntimeLinear`): ``M`` and ``R`` printed from
+    the effect's expressions of ``arg`` (zeros left by a memset), then the LU solve
+    of ``inflow_numerics.c`` in place: ``out0 = M^-1 R`` (row-major).  A singular
+    ``M`` leaves NaN, which the FMU's build refuses (non-finite matrices)."""
+    f = _c_function(effect)
+    arg = np.array([sp.Symbol(f"arg[{i}]") for i in range(rl.n_args)], dtype=object)
+    m, r = np.asarray(rl.matrix(arg), dtype=object), np.asarray(rl.rhs(arg), dtype=object)
+    n, nr = r.shape
+    targets = [(f"m[{i * n + j}]", sp.sympify(m[i, j])) for i in range(n)
+               for j in range(n)]
+    targets += [(f"out0[{i * nr + j}]", sp.sympify(r[i, j])) for i in range(n)
+                for j in range(nr)]
+    targets = [(t, sp.expand(x)) for t, x in targets if x.is_zero is not True]
+    body = ([f"    double m[{n * n}];", "    int i;",
+             "    memset(m, 0, sizeof m);",
+             f"    memset(out0, 0, sizeof(double) * {n * nr});"]
+            + _assignments(sp, targets, c_name=str)
+            + [f"    if (ifs_lu_solve({n}, m, {nr}, out0, 1e-14) == 0) return;",
+               f"    for (i = 0; i < {n * nr}; i++) out0[i] = NAN;"])
+    return ([f"/* --- {effect}: its run-time linear solve "
+             "(inflowsim.model.effects.RuntimeLinear), generated --- */"]
+            + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",), body))
+
+
 def equations_c(structures) -> str:
     """The text of ``inflow_equations.c`` for the FMU's ``structures`` (in the order
     of its integer ``structure``): descriptor, azimuth bias and flap time shifts of
@@ -416,8 +446,11 @@ def equations_c(structures) -> str:
         numeric += [c[0] for c in calls if c[0] not in numeric]
         body += (_descriptor_c(s, e, a, b, i, sp, calls) + _measurement_c(meas, i, sp)
                  + _loads_c(s, meas, i, sp))
+    from ..model.effects import RuntimeLinear
     for effect in numeric:                     # before the descriptors that call them
-        body = _runtime_c(effect, _runtime_of(effect), sp) + body
+        rt = _runtime_of(effect)
+        body = (_linear_c(effect, rt, sp) if isinstance(rt, RuntimeLinear)
+                else _runtime_c(effect, rt, sp)) + body
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "
                          f"(these have {sorted(states)})")

@@ -3,10 +3,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
 from ..equations import Equations, Measurement
 from ..params import Constants, ParameterSpec
 
-__all__ = ["Effect", "ParameterSpec", "RuntimeSolve"]
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "RuntimeLinear"]
 
 
 def _unchanged(x, p, k):
@@ -76,6 +78,40 @@ class RuntimeSolve:
     outputs: Callable
     steps: int
     tol: float
+
+
+@dataclass(frozen=True)
+class RuntimeLinear:
+    """A linear solve an effect needs at run time (``k.numeric`` while traced,
+    :attr:`Effect.runtime`): the result is ``Y = M(arg)^-1 R(arg)``, with ``M`` and
+    ``R`` closed expressions of the arguments, declared so that code can be generated
+    from it (the FMU's C, :mod:`inflowsim.fmu.codegen`: ``M`` and ``R`` printed from
+    sympy, an LU solve with partial pivoting).  For a matrix whose symbolic inverse is
+    large (the Peters-He gain ``L(X)``, 15 x 15 and polynomial in ``X``): the C then
+    holds the matrix, not its inverse.
+
+    Attributes
+    ----------
+    n_args : int
+        Number of arguments (in the order the effect passes them to ``k.numeric``).
+    matrix : callable
+        ``arg -> M`` (n x n; numbers or sympy expressions, an array of dtype object).
+    rhs : callable
+        ``arg -> R`` (n x m).
+    """
+
+    n_args: int
+    matrix: Callable
+    rhs: Callable
+
+    def shape(self, arg) -> tuple:
+        """``(n, m)`` of the result (``R``'s shape) at arguments ``arg``."""
+        return tuple(np.shape(self.rhs(arg)))
+
+    def solve(self, arg) -> np.ndarray:
+        """``M^-1 R`` on numbers (what the generated C computes)."""
+        m = np.asarray(self.matrix(arg), dtype=float)
+        return np.linalg.solve(m, np.asarray(self.rhs(arg), dtype=float))
 
 
 @dataclass(frozen=True)
@@ -151,9 +187,10 @@ class Effect:
         thrust and moments); runs on numbers or sympy symbols
         (:func:`inflowsim.model.loads.load_rows`).
     runtime : callable, optional
-        ``() -> RuntimeSolve``: what it computes at run time when traced on symbols
-        asks for a call (``k.numeric(name, args, shapes)``): the FMU's code
-        generator makes the called C function from it.
+        ``() -> RuntimeSolve | RuntimeLinear``: what it computes at run time when
+        traced on symbols asks for a call (``k.numeric(name, args, shapes)``): the
+        FMU's code generator makes the called C function from it (a Newton solve
+        over a quadrature, or a linear solve).
     """
 
     name: str

@@ -6,9 +6,10 @@ The present model's ``lambda0, lambda1c, lambda1s`` are the lowest Peters-He sta
 functions ``sqrt(3)`` and ``sqrt(15/2) r``).  Each effect appends the states of the
 truncation by highest radial power ``P = 2, 3, 4`` beyond these three (3, 7, 12
 states: 6, 10, 15 inflow states in all), with the Peters-He apparent mass ``K_n^m``
-and inflow gain ``L = Gamma`` (axial-flow form ``X = 0``, as the base model's local
-momentum: the wake-skew coupling is :mod:`.skewed_wake`'s), forced by the
-blade-element pressure integrals of :mod:`inflowsim.physics.peters_he`.
+and inflow gain ``L(X)`` of Peters & He's forward flight (``X = tan(chi/2)``, the wake
+skew of the record's trim: the couplings between harmonics of the skewed wake, the
+lowest three states' among them), forced by the blade-element pressure integrals of
+:mod:`inflowsim.physics.peters_he`.
 
 In ``alpha`` (all states, the first three the base)::
 
@@ -30,6 +31,15 @@ three-state Pitt-Peters gain); the effect adds, scaled by ``k_ph``:
 move, but nothing sees them); ``k_ph = 1`` is Peters-He of that order.  The higher
 states' own rows are Peters-He's unscaled.
 
+The wake skew: ``X = tan(chi/2) = mu / (sqrt(mu^2 + w^2) + w)``, ``w = lambda0 - muz``
+the trim flow down through the disc (``tan chi = mu / w``), with the structure's trim
+inflow (:func:`.advance_ratio_perturbation.true_trim`, as ``lead-lag``'s): the effects
+are linearised about the trim (``about_trim``; the FMU takes the trim as parameters and
+computes ``X`` and ``L(X)`` in its C, and ``L(X)^-1`` by a run-time LU solve declared
+here, :func:`_runtime`).  ``skewed-wake`` is an alternative: its
+Pitt-Peters pair is the three-state part of the skew ``L(X)`` already carries (scaled
+by ``k_ph`` with the rest), so the two are never combined (no skew counted twice).
+
 Parameter ``k_ph`` [-]: theory 1, neutral 0.
 """
 from __future__ import annotations
@@ -39,7 +49,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, RuntimeLinear
+from .advance_ratio_perturbation import true_trim
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ...physics import loads as ld
@@ -47,6 +58,8 @@ from ...physics import peters_he as ph
 
 #: Effect name -> highest radial power of its truncation.
 POWERS = {"peters-he-6": 2, "peters-he-10": 3, "peters-he-15": 4}
+#: Highest radial power -> effect name.
+NAMES = {pw: n for n, pw in POWERS.items()}
 #: The base states in Peters-He's variables: lambda_b = S alpha_b.
 S_BASE = np.array([math.sqrt(3.0), math.sqrt(7.5), math.sqrt(7.5)])
 #: The present model's (three-state Pitt-Peters) L^-1 in alpha: V L^-1 alpha = tau/2
@@ -58,26 +71,65 @@ T_BASE = np.array([math.sqrt(3.0), -math.sqrt(7.5), -math.sqrt(7.5)])
 
 @lru_cache(maxsize=None)
 def layout(power: int):
-    """``(states, linv, mass, w)`` of the truncation: states (``physics.peters_he``),
-    ``L^-1`` of all of them (X = 0), the apparent masses, the ``tau`` weights."""
+    """``(states, mass, w)`` of the truncation: states (``physics.peters_he``), the
+    apparent masses, the ``tau`` weights."""
     states = ph.truncation(power)
-    linv = np.linalg.inv(ph.gain_matrix(states))
     mass = np.array([ph.apparent_mass(m, n) for _, m, n in states])
     w = np.array([0.5 if m == 0 else 1.0 for _, m, _ in states])
-    return states, linv, mass, w
+    return states, mass, w
+
+
+@lru_cache(maxsize=64)
+def _linv_number(power: int, x: float) -> np.ndarray:
+    out = np.linalg.inv(ph.gain_matrix(layout(power)[0], x))
+    out.flags.writeable = False
+    return out
+
+
+def gain_inverse(power: int, x, numeric=None) -> np.ndarray:
+    """``L(X)^-1`` of the truncation by ``power`` at wake skew ``X = tan(chi/2)`` [-]:
+    LAPACK's for a number.  Traced on symbols for the FMU (``numeric``, the
+    constants' ``k.numeric``), a run-time call: the generated C solves ``L(X) Y = I``
+    by LU (:func:`_runtime`), its entries symbols of the call's result, so that the
+    C holds ``L(X)``'s polynomials, not its inverse's rational functions."""
+    if numeric is not None:
+        n = len(layout(power)[0])
+        return numeric(NAMES[power], (x,), ((n, n),))[0]
+    return _linv_number(power, float(x))
+
+
+def _runtime(power: int):
+    """What the FMU computes at run time (:class:`RuntimeLinear`, one argument ``X``):
+    ``L(X)^-1`` as the solution of ``L(X) Y = I``, ``L(X)`` the polynomial of
+    :func:`inflowsim.physics.peters_he.gain_matrix`."""
+    states = layout(power)[0]
+    return RuntimeLinear(n_args=1, matrix=lambda arg: ph.gain_matrix(states, arg[0]),
+                         rhs=lambda arg: np.eye(len(states)))
+
+
+def wake_skew(p, k):
+    """``X = tan(chi/2)`` [-] of constants ``k`` (its trim; one line naming the effect
+    without one) and the structure's parameters ``p`` (the azimuth bias rotates the
+    recorded trim, ``momentum-speed``'s ``k_V`` moves the trim inflow)."""
+    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
+    return ph.wake_skew_x(k.mu, lam[0] - muz)
 
 
 def names(power: int) -> tuple:
     return ph.state_names(layout(power)[0][3:])
 
 
-def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None):
-    """Every term of the effect (azimuth time), on numbers or sympy symbols.
+def parts(power, mu, v, a0s, n_beta, k_ph, n_inputs=10, azimuth_bias=None, x=0.0,
+          numeric=None):
+    """Every term of the effect (azimuth time), on numbers or sympy symbols, at wake
+    skew ``x = tan(chi/2)`` [-] (0: axial flow); ``numeric`` (traced for the FMU)
+    makes ``L(x)^-1`` a run-time call (:func:`gain_inverse`).
 
     Returns ``dict`` with ``p_lambda`` (3x3 added to the base's), ``block`` (the
     :class:`StateBlock` fields ``e, a, a_z, b, f_x, l_x, to_output``) and ``loads``
     (3 x m, over ``a0 s``)."""
-    states, linv, mass, w = layout(power)
+    states, mass, w = layout(power)
+    linv = gain_inverse(power, x, numeric)
     q = ph.forces(states).at(mu)                    # (n, 12 + n)
     fl = ph.flap_forces(states).at(mu)              # (3, 12 + n)
     sinv = 1.0 / S_BASE
@@ -114,7 +166,8 @@ def _effect(name: str, power: int) -> Effect:
 
     def equations(eq, p, k):
         t = parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"],
-                  eq.h_u.shape[1], p.get("azimuth_bias"))
+                  eq.h_u.shape[1], p.get("azimuth_bias"), wake_skew(p, k),
+                  getattr(k, "numeric", None))
         bl = StateBlock(effect=name, states=state_names, e=t["e"], a=t["a"],
                         a_z=t["a_z"], b=t["b"], f_x=t["f_x"], l_x=t["l_x"],
                         to_output=t["to_output"])
@@ -128,18 +181,21 @@ def _effect(name: str, power: int) -> Effect:
         name=name,
         physics=f"The induced inflow has more radial and harmonic shape than the linear "
                 f"lambda0 + r (lambda1c cos + lambda1s sin): Peters-He finite-state "
-                f"inflow with {n_total} states (highest radial power {power}), its "
-                "higher states coupled to flap and the recorded inflow by k_ph.",
+                f"inflow with {n_total} states (highest radial power {power}) and the "
+                "skewed wake's couplings between its harmonics, its higher states and "
+                "skew coupled to flap and the recorded inflow by k_ph.",
         paper="extension (Peters & He 1991, 1995 finite-state inflow)",
         parameters=("k_ph",),
         theory=lambda k: {"k_ph": 1.0},
         neutral=lambda k: {"k_ph": 0.0},
         equations=equations,
         specs=(SPEC,),
-        alternatives=tuple(n for n in POWERS if n != name),
+        alternatives=tuple(n for n in POWERS if n != name) + ("skewed-wake",),
         offered=False,
+        about_trim=True,
         states=state_names,
         loads=loads,
+        runtime=lambda: _runtime(power),
     )
 
 
@@ -151,4 +207,5 @@ SPEC = ParameterSpec("k_ph", "-", "coupling of the higher Peters-He inflow state
 EFFECTS = tuple(_effect(n, pw) for n, pw in POWERS.items())
 
 
-__all__ = ["POWERS", "S_BASE", "LINV_BASE", "T_BASE", "layout", "names", "parts", "SPEC", "EFFECTS"]
+__all__ = ["POWERS", "NAMES", "S_BASE", "LINV_BASE", "T_BASE", "layout", "gain_inverse", "wake_skew",
+           "names", "parts", "SPEC", "EFFECTS"]

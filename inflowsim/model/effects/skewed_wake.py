@@ -29,6 +29,9 @@ lambda1c r cos psi + lambda1s r sin psi``, down positive; ``C_mc`` pitch nose up
 
 Only the off-diagonal pair is added: the diagonal stays the paper's local momentum
 (``V ~ mu``) so that ``k_skew = 0`` is exactly the structure without the effect.
+The Peters-He effects (``peters-he-6/10/15``) carry this pair themselves, in their
+forward-flight gain ``L(X)`` with the higher states' skew: they are alternatives of
+this effect (``model.md`` 9.4).
 
 Parameter ``k_skew`` [-]: the coupling gain itself, neutral 0.  Theory value
 ``15 pi/64 tan(chi/2)``: with the record's trim (``Constants.trim``) ``chi`` uses
