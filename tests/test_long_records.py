@@ -179,3 +179,73 @@ def test_diagnosis_same_by_either_route(base, monkeypatch):
     for n, v in slow.fit.parameters.items():
         sig = slow.fit.sigma.get(n) or abs(v)
         assert abs(fast.fit.parameters[n] - v) < in_sigma * sig, n
+
+
+def test_thin_svd_equals_numpys():
+    # the QR route of a tall matrix's SVD (a long record's end-state columns) gives
+    # NumPy's numbers bit for bit, its U in Fortran order; a rank-deficient one too
+    from inflowsim.identify.problem import thin_svd
+    rng = np.random.default_rng(4)
+    A = rng.standard_normal((5000, 12)) * np.logspace(0, -6, 12)
+    B = A.copy()
+    B[:, 11] = B[:, 3] - 2 * B[:, 7]
+    for X in (A, B):
+        got, ref = thin_svd(X), np.linalg.svd(X, full_matrices=False)
+        assert got[0].flags.f_contiguous
+        for g, r in zip(got, ref):
+            np.testing.assert_array_equal(g, r)
+    F = np.asfortranarray(A)
+    thin_svd(F)
+    assert np.array_equal(F, A)                   # not overwritten unless asked
+
+
+def test_nuisance_by_the_qr_route_equals_the_plain_one(monkeypatch):
+    # every record's nuisance, basis and residual by thin_svd's route (a 2-hour
+    # record's) against NumPy's SVD (a normal record's), on the same problem
+    from inflowsim.identify import problem
+    rec = _record("glauert", "continuous")
+    m = _model("glauert+time-delay", rec)
+    sp = record_spectra(rec, m.inputs, (0.2256, 1.58))
+    prob = problem.Problem(m.structure, [sp], dict(m.parameters))
+    resp = prob.responses(prob.theta0())
+    W = [problem.Problem.weight(np.array([[2.0, 0.3, 0.1], [0.3, 1.0, 0.2],
+                                          [0.1, 0.2, 0.5]]))]
+    plain = prob.solve_nuisance(resp, W)
+    monkeypatch.setattr(problem, "THIN_ROWS", 0)
+    fast = prob.solve_nuisance(resp, W)
+    assert 6 * sp.f_hz.size >= 4 * plain[0][1].shape[1]         # the route was taken
+    for a, b in zip(plain[0], fast[0]):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_spectra_made_for_one_use_are_not_kept():
+    from inflowsim.identify import transform
+    rec = _record("glauert", "continuous")
+    once = record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False, keep=False)
+    assert not any(k[0] == ("theta0",) for k in transform._SPECTRA.get(rec, {}))
+    kept = record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False)
+    assert kept is not once and np.array_equal(kept.Z, once.Z)
+    assert record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False,
+                          keep=False) is kept
+
+
+def test_candidates_judged_against_the_base_floors_as_by_their_own_analyses():
+    # line 4 measures a candidate against the base's floors: taking them (not
+    # measuring the candidate's own) gives the numbers of its full analyses
+    from inflowsim.diagnose.excess import judge
+    from inflowsim.diagnose.failures import analyses_of, level_deviance, structure_statistic
+    from inflowsim.identify import identify
+    rec = _record("glauert", "continuous")
+    base = identify(rec, "basic")
+    cand = identify(rec, "glauert")
+    ras = analyses_of([rec], base, (0.2256, 1.58))
+    got = judge([rec], (0.2256, 1.58), base, ras)(cand)
+    own = analyses_of([rec], cand, (0.2256, 1.58), check_colour=False)[0]
+    assert not np.array_equal(own.floor, ras[0].floor)        # its own floor differs
+    taken = analyses_of([rec], cand, (0.2256, 1.58), check_colour=False, floors_of=ras)[0]
+    assert taken.floor is ras[0].floor
+    assert (taken.U is ras[0].U) == (taken.inputs == ras[0].inputs)   # the same inputs
+    np.testing.assert_array_equal(taken.error, own.error)
+    np.testing.assert_array_equal(taken.U, own.U)
+    assert got["deviance"] == level_deviance(own, ras[0].floor)
+    assert got["structure"] == structure_statistic(own, ras[0].floor)

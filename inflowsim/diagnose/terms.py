@@ -703,6 +703,8 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         _minus_projection(blk, Q)       # the nuisance end states, as the estimator
         row0 += rr.size
     table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
+    # the sensitivities (a 2-hour record's 76 MB) are not held through the refits
+    del je, jb, blk, r, st
     return _confirmed(table, prob, theta, confirm)
 
 
