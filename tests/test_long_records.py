@@ -249,3 +249,42 @@ def test_candidates_judged_against_the_base_floors_as_by_their_own_analyses():
     np.testing.assert_array_equal(taken.U, own.U)
     assert got["deviance"] == level_deviance(own, ras[0].floor)
     assert got["structure"] == structure_statistic(own, ras[0].floor)
+
+
+def _colored_by_index(prob, st, blocks, cov):
+    """The coloured sandwich as it was written, each lag's bins by index arrays."""
+    from inflowsim.identify.estimator import HALF_WINDOW
+    from inflowsim.identify.problem import unstack
+    V = np.zeros_like(cov)
+    for sp, blk, r in zip(prob.spectra, blocks, st.r):
+        nf = sp.f_hz.size
+        lmax = int(np.ceil(nf ** (1 / 3)))
+        h = blk.shape[0] // 2
+        G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
+        e = unstack(r, nf)
+        for j in range(-lmax, lmax + 1):
+            k = np.arange(max(j, 0), nf + min(j, 0))
+            prod = e[k][:, :, None] * e[k - j].conj()[:, None, :]
+            cs = np.concatenate([np.zeros((1, 3, 3), complex), np.cumsum(prod, axis=0)])
+            lo = np.clip(np.arange(k.size) - HALF_WINDOW, 0, k.size)
+            hi = np.clip(np.arange(k.size) + HALF_WINDOW + 1, 0, k.size)
+            R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
+            w = 1 - abs(j) / (lmax + 1)
+            RG = (R @ G[k - j]).reshape(-1, G.shape[2])
+            V += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
+    return cov @ V @ cov
+
+
+def test_coloured_sandwich_by_slices_equals_by_index():
+    from types import SimpleNamespace
+    from inflowsim.identify.estimator import _colored
+    rng = np.random.default_rng(6)
+    spectra, blocks, rs = [], [], []
+    for nf in (37, 400):
+        spectra.append(SimpleNamespace(f_hz=np.zeros(nf)))
+        blocks.append(rng.standard_normal((6 * nf, 5)))
+        rs.append(rng.standard_normal(6 * nf))
+    prob, st = SimpleNamespace(spectra=spectra), SimpleNamespace(r=rs)
+    cov = np.linalg.inv(sum(b.T @ b for b in blocks))
+    np.testing.assert_array_equal(_colored(prob, st, blocks, cov),
+                                  _colored_by_index(prob, st, blocks, cov))

@@ -249,19 +249,21 @@ def _colored(prob, st, blocks, cov):
         lmax = int(np.ceil(nf ** (1 / 3)))
         h = blk.shape[0] // 2
         G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
-        e = unstack(r, nf)
+        # conjugated once; every lag takes slices (views) of them, k = a .. b - 1
+        Gc, e = G.conj(), unstack(r, nf)
+        ec, n = e.conj(), np.arange(nf)
         for j in range(-lmax, lmax + 1):
-            k = np.arange(max(j, 0), nf + min(j, 0))
-            prod = e[k][:, :, None] * e[k - j].conj()[:, None, :]    # e_k e_{k-j}^H
+            a, b = max(j, 0), nf + min(j, 0)
+            prod = e[a:b][:, :, None] * ec[a - j:b - j][:, None, :]    # e_k e_{k-j}^H
             # local mean over a window of frequencies (cumulative sums)
             cs = np.concatenate([np.zeros((1, 3, 3), complex), np.cumsum(prod, axis=0)])
-            lo = np.clip(np.arange(k.size) - HALF_WINDOW, 0, k.size)
-            hi = np.clip(np.arange(k.size) + HALF_WINDOW + 1, 0, k.size)
+            lo = np.clip(n[:b - a] - HALF_WINDOW, 0, b - a)
+            hi = np.clip(n[:b - a] + HALF_WINDOW + 1, 0, b - a)
             R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
             w = 1 - abs(j) / (lmax + 1)
             # sum_k G_k^H R_k G_{k-j} as one product over (k, i) (BLAS, not einsum)
-            RG = (R @ G[k - j]).reshape(-1, G.shape[2])
-            V += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
+            RG = (R @ G[a - j:b - j]).reshape(-1, G.shape[2])
+            V += 2.0 * w * np.real(Gc[a:b].reshape(-1, G.shape[2]).T @ RG)
     return cov @ V @ cov
 
 
