@@ -67,16 +67,22 @@ def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray
         X = np.concatenate([np.broadcast_to(P, (ks.size,) + P.shape).astype(complex),
                             (Uw[:, :, :, None] * P[None, :, None, :]).reshape(
                                 ks.size, width, -1)], axis=2)
-        Q, sv, _ = np.linalg.svd(X, full_matrices=False)
+        # a block's arrays (tens of MB) are freed as soon as they are used, before
+        # the next block's are made
+        del Uw
+        Q, sv = np.linalg.svd(X, full_matrices=False)[:2]    # (the right vectors freed)
+        del X
         r = np.sum(sv > 1e-9 * sv[:, :1], axis=1)
         for rank in np.unique(r):
             if rank >= width:         # no degree of freedom left: no estimate
                 continue
             sel = np.flatnonzero(r == rank)
-            Qr = Q[sel][:, :, :rank]
+            Qr = (Q if sel.size == ks.size else Q[sel])[:, :, :rank]
             Zw = Z[idx[sel]]                                              # (s, width, p)
             e = Zw - Qr @ (np.conj(np.swapaxes(Qr, 1, 2)) @ Zw)
             out[ks[sel]] = np.sum(np.abs(e) ** 2, axis=1) / (width - rank)
+            del Qr, Zw, e
+        del Q
     return out
 
 
