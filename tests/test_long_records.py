@@ -288,3 +288,19 @@ def test_coloured_sandwich_by_slices_equals_by_index():
     cov = np.linalg.inv(sum(b.T @ b for b in blocks))
     np.testing.assert_array_equal(_colored(prob, st, blocks, cov),
                                   _colored_by_index(prob, st, blocks, cov))
+
+
+def test_manoeuvre_transforms_skip_only_the_quiet_inputs():
+    # a standard manoeuvre's inputs at zero are not transformed: the same U as
+    # transforming every column
+    from inflowsim.flighttest.advice import standard_manoeuvres
+    from inflowsim.identify.identifiability import _manoeuvre_spectra
+    from inflowsim.identify.transform import transform_weights
+    rec = _record("glauert", "continuous")
+    s = Structure.parse("glauert")
+    sp = record_spectra(rec, s.inputs, (0.2256, 1.58))
+    label, cols = next(iter(standard_manoeuvres(sp.n_samples, sp.dt, sp.constants)))
+    msp = _manoeuvre_spectra(sp, s, cols)
+    assert 0 < np.count_nonzero(np.any(msp.u_time != 0, axis=0)) < len(s.inputs)
+    whole = dft(msp.u_time, sp.dt, sp.f_hz, True, transform_weights(sp.n_samples, sp.hold))
+    np.testing.assert_array_equal(msp.U, whole)
