@@ -297,11 +297,12 @@ def identifiability(records, fit, band_hz=DEFAULT_BAND, hold=None,
     sp0 = spectra[0]
     for label, cols in manoeuvres(sp0.n_samples, sp0.dt, sp0.constants):
         msp = _manoeuvre_spectra(sp0, s, cols)
+        del cols               # its columns are in msp (a 2-hour record's: 47 MB)
         mp = Problem(s, [msp], fit.parameters, fixed=(), ties=ties)
         Mm, _ = _information(mp, [S[0]])
         # one manoeuvre's record-long arrays alive at a time (the next is made
         # while these names still hold this one's)
-        del cols, msp, mp
+        del msp, mp
         Mt = M + Mm
         ok_t, _ = _determined(Mt)
         inv_t = np.linalg.pinv(Mt[np.ix_(ok_t, ok_t)], hermitian=True)
