@@ -179,3 +179,128 @@ def test_diagnosis_same_by_either_route(base, monkeypatch):
     for n, v in slow.fit.parameters.items():
         sig = slow.fit.sigma.get(n) or abs(v)
         assert abs(fast.fit.parameters[n] - v) < in_sigma * sig, n
+
+
+def test_thin_svd_equals_numpys():
+    # the QR route of a tall matrix's SVD (a long record's end-state columns) gives
+    # NumPy's numbers bit for bit, its U in Fortran order; a rank-deficient one too
+    from inflowsim.identify.problem import thin_svd
+    rng = np.random.default_rng(4)
+    A = rng.standard_normal((5000, 12)) * np.logspace(0, -6, 12)
+    B = A.copy()
+    B[:, 11] = B[:, 3] - 2 * B[:, 7]
+    for X in (A, B):
+        got, ref = thin_svd(X), np.linalg.svd(X, full_matrices=False)
+        assert got[0].flags.f_contiguous
+        for g, r in zip(got, ref):
+            np.testing.assert_array_equal(g, r)
+    F = np.asfortranarray(A)
+    thin_svd(F)
+    assert np.array_equal(F, A)                   # not overwritten unless asked
+
+
+def test_nuisance_by_the_qr_route_equals_the_plain_one(monkeypatch):
+    # every record's nuisance, basis and residual by thin_svd's route (a 2-hour
+    # record's) against NumPy's SVD (a normal record's), on the same problem
+    from inflowsim.identify import problem
+    rec = _record("glauert", "continuous")
+    m = _model("glauert+time-delay", rec)
+    sp = record_spectra(rec, m.inputs, (0.2256, 1.58))
+    prob = problem.Problem(m.structure, [sp], dict(m.parameters))
+    resp = prob.responses(prob.theta0())
+    W = [problem.Problem.weight(np.array([[2.0, 0.3, 0.1], [0.3, 1.0, 0.2],
+                                          [0.1, 0.2, 0.5]]))]
+    plain = prob.solve_nuisance(resp, W)
+    monkeypatch.setattr(problem, "THIN_ROWS", 0)
+    fast = prob.solve_nuisance(resp, W)
+    assert 6 * sp.f_hz.size >= 4 * plain[0][1].shape[1]         # the route was taken
+    for a, b in zip(plain[0], fast[0]):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_spectra_made_for_one_use_are_not_kept():
+    from inflowsim.identify import transform
+    rec = _record("glauert", "continuous")
+    once = record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False, keep=False)
+    assert not any(k[0] == ("theta0",) for k in transform._SPECTRA.get(rec, {}))
+    kept = record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False)
+    assert kept is not once and np.array_equal(kept.Z, once.Z)
+    assert record_spectra(rec, ("theta0",), (5.0, 25.6), require_motion=False,
+                          keep=False) is kept
+
+
+def test_candidates_judged_against_the_base_floors_as_by_their_own_analyses():
+    # line 4 measures a candidate against the base's floors: taking them (not
+    # measuring the candidate's own) gives the numbers of its full analyses
+    from inflowsim.diagnose.excess import judge
+    from inflowsim.diagnose.failures import analyses_of, level_deviance, structure_statistic
+    from inflowsim.identify import identify
+    rec = _record("glauert", "continuous")
+    base = identify(rec, "basic")
+    cand = identify(rec, "glauert")
+    ras = analyses_of([rec], base, (0.2256, 1.58))
+    got = judge([rec], (0.2256, 1.58), base, ras)(cand)
+    own = analyses_of([rec], cand, (0.2256, 1.58), check_colour=False)[0]
+    assert not np.array_equal(own.floor, ras[0].floor)        # its own floor differs
+    taken = analyses_of([rec], cand, (0.2256, 1.58), check_colour=False, floors_of=ras)[0]
+    assert taken.floor is ras[0].floor
+    assert (taken.U is ras[0].U) == (taken.inputs == ras[0].inputs)   # the same inputs
+    np.testing.assert_array_equal(taken.error, own.error)
+    np.testing.assert_array_equal(taken.U, own.U)
+    assert got["deviance"] == level_deviance(own, ras[0].floor)
+    assert got["structure"] == structure_statistic(own, ras[0].floor)
+
+
+def _colored_by_index(prob, st, blocks, cov):
+    """The coloured sandwich as it was written, each lag's bins by index arrays."""
+    from inflowsim.identify.estimator import HALF_WINDOW
+    from inflowsim.identify.problem import unstack
+    V = np.zeros_like(cov)
+    for sp, blk, r in zip(prob.spectra, blocks, st.r):
+        nf = sp.f_hz.size
+        lmax = int(np.ceil(nf ** (1 / 3)))
+        h = blk.shape[0] // 2
+        G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
+        e = unstack(r, nf)
+        for j in range(-lmax, lmax + 1):
+            k = np.arange(max(j, 0), nf + min(j, 0))
+            prod = e[k][:, :, None] * e[k - j].conj()[:, None, :]
+            cs = np.concatenate([np.zeros((1, 3, 3), complex), np.cumsum(prod, axis=0)])
+            lo = np.clip(np.arange(k.size) - HALF_WINDOW, 0, k.size)
+            hi = np.clip(np.arange(k.size) + HALF_WINDOW + 1, 0, k.size)
+            R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
+            w = 1 - abs(j) / (lmax + 1)
+            RG = (R @ G[k - j]).reshape(-1, G.shape[2])
+            V += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
+    return cov @ V @ cov
+
+
+def test_coloured_sandwich_by_slices_equals_by_index():
+    from types import SimpleNamespace
+    from inflowsim.identify.estimator import _colored
+    rng = np.random.default_rng(6)
+    spectra, blocks, rs = [], [], []
+    for nf in (37, 400):
+        spectra.append(SimpleNamespace(f_hz=np.zeros(nf)))
+        blocks.append(rng.standard_normal((6 * nf, 5)))
+        rs.append(rng.standard_normal(6 * nf))
+    prob, st = SimpleNamespace(spectra=spectra), SimpleNamespace(r=rs)
+    cov = np.linalg.inv(sum(b.T @ b for b in blocks))
+    np.testing.assert_array_equal(_colored(prob, st, blocks, cov),
+                                  _colored_by_index(prob, st, blocks, cov))
+
+
+def test_manoeuvre_transforms_skip_only_the_quiet_inputs():
+    # a standard manoeuvre's inputs at zero are not transformed: the same U as
+    # transforming every column
+    from inflowsim.flighttest.advice import standard_manoeuvres
+    from inflowsim.identify.identifiability import _manoeuvre_spectra
+    from inflowsim.identify.transform import transform_weights
+    rec = _record("glauert", "continuous")
+    s = Structure.parse("glauert")
+    sp = record_spectra(rec, s.inputs, (0.2256, 1.58))
+    label, cols = next(iter(standard_manoeuvres(sp.n_samples, sp.dt, sp.constants)))
+    msp = _manoeuvre_spectra(sp, s, cols)
+    assert 0 < np.count_nonzero(np.any(msp.u_time != 0, axis=0)) < len(s.inputs)
+    whole = dft(msp.u_time, sp.dt, sp.f_hz, True, transform_weights(sp.n_samples, sp.hold))
+    np.testing.assert_array_equal(msp.U, whole)

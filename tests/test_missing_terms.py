@@ -323,3 +323,24 @@ def test_the_map_refuses_another_band_than_the_fit_s():
     rec, fit, _ = mapped(None, 0)
     with pytest.raises(InputError, match="band and hold the base fit was made with"):
         missing_terms(rec, fit, band_hz=(0.3, 1.2))
+
+
+def test_the_map_by_groups_of_columns_equals_the_whole(monkeypatch):
+    # a long record's sensitivities are made a few columns at a time (each pitch
+    # entry with the columns it is made of): the same map as all columns at once,
+    # to rounding (BLAS sums a column group's products in its own order)
+    import inflowsim.diagnose.terms as terms
+    rec, fit, whole = mapped("pitch", 0)
+    rows = 6 * fit.data[0].f_hz.size
+    monkeypatch.setattr(terms, "MAP_BYTES", 8 * rows * 5)
+    inputs = whole.variables[len(terms.FLAP + terms.FLAP_RATE + terms.INFLOW):]
+    chunks = terms._column_chunks(terms._entries(inputs), rows)
+    assert len(chunks) > 10 and sorted(sum(chunks, [])) == list(range(len(whole.terms)))
+    parts = {(t.block, t.equation, t.variable): t
+             for t in missing_terms(rec, fit, confirm=0).terms}    # (refits: not chunked)
+    for b in whole.terms:
+        a = parts[(b.block, b.equation, b.variable)]
+        assert a.testable == b.testable
+        assert np.allclose([a.statistic, a.p_value, a.coefficient, a.gradient],
+                           [b.statistic, b.p_value, b.coefficient, b.gradient],
+                           rtol=1e-11, atol=0), (b.block, b.equation, b.variable)

@@ -142,8 +142,9 @@ def judge(records, band_hz, base_fit, base_analyses, rule: Rule = DEFAULT_RULE):
         if fit is None:
             return base
         if id(fit) not in cache:
+            # against the base's floors: the candidate's own are not measured
             cache[id(fit)] = measure(analyses_of(records, fit, band_hz, check_colour=False,
-                                                 rule=rule))
+                                                 rule=rule, floors_of=base_analyses))
         return cache[id(fit)]
     return judged
 

@@ -164,7 +164,10 @@ def noise_floor(record, model, band_hz, hold, f_band, in_band=None, check_colour
         floor = np.quantile(p, 0.25, axis=0) / np.log(4 / 3)
         floor = np.repeat(np.maximum(floor, np.finfo(float).tiny)[:, None], nf, axis=1)
         return floor, (float(band_hz[0]), float(band_hz[1])), ()
-    sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False)
+    # made for this floor alone (a diagnosis measures one: its candidates are held
+    # against the base's, :func:`residual_analysis`)
+    sp = record_spectra(record, model.inputs, fb, hold=hold, require_motion=False,
+                        keep=False)
     if sp.f_hz.size <= STREAM_BINS:
         y_u, y_nu, _ = flap_response(model, sp)
         e = sp.Z - y_u
@@ -250,7 +253,7 @@ def _end_states(y_nu, e):
 
 def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
                       fit=None, check_colour=True,
-                      rule: Rule = DEFAULT_RULE) -> ResidualAnalysis:
+                      rule: Rule = DEFAULT_RULE, floor_of=None) -> ResidualAnalysis:
     """The residual of ``model`` on ``record`` over the band, against the floor.
 
     ``fit``: the record's :class:`~inflowsim.identify.RecordFit` of an
@@ -259,7 +262,13 @@ def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
     the same residual, end effects eliminated, for given parameters).
     ``check_colour``: estimate the noise in the band (``in_band_over_floor``); it
     does not depend on the model, so the candidate tests skip it.  ``rule``: the
-    floor band's numbers (:class:`~inflowsim.diagnose.rule.Rule`).
+    floor band's numbers (:class:`~inflowsim.diagnose.rule.Rule`).  ``floor_of``:
+    another fit's analysis of this record over the same frequencies, whose noise
+    floor, floor band and in-band noise are taken instead of measured (and its
+    input transforms, for the same inputs and hold): line 4's measure
+    (:func:`.excess.judge`) holds every candidate against the base fit's floors,
+    so a candidate's own floor, a second pass over a long record's floor band,
+    would go unused.
     """
     from ..identify import evaluate
     from ..identify.transform import dft, transform_weights
@@ -273,12 +282,21 @@ def residual_analysis(record, model, band_hz=DEFAULT_BAND, trim=None, hold=None,
     else:
         f, Z, Y, x0 = fit.f_hz, fit.Z, fit.Y, fit.x0
     e_t = TimeResidual(record, model, trim, hold, x0)
-    floor, fb, colour = noise_floor(record, model, band_hz, hold, f, Z - Y, check_colour,
-                                    rule)
+    given = floor_of is not None and np.array_equal(floor_of.f_hz, f)
+    if given:
+        floor, fb = floor_of.floor, floor_of.floor_band_hz
+        colour = floor_of.in_band_over_floor if check_colour else ()
+    else:
+        floor, fb, colour = noise_floor(record, model, band_hz, hold, f, Z - Y,
+                                        check_colour, rule)
     ratio = (np.abs(Z - Y) ** 2).T / floor
-    on_grid = np.allclose(f * len(record) * record.dt,
-                          np.rint(f * len(record) * record.dt), atol=1e-6)
-    U = dft(u, record.dt, f, on_grid, transform_weights(len(record), hold))
+    if given and floor_of.U is not None and floor_of.inputs == tuple(model.inputs) \
+            and floor_of.hold == hold:
+        U = floor_of.U
+    else:
+        on_grid = np.allclose(f * len(record) * record.dt,
+                              np.rint(f * len(record) * record.dt), atol=1e-6)
+        U = dft(u, record.dt, f, on_grid, transform_weights(len(record), hold))
     return ResidualAnalysis(f, Z.T, Y.T, floor, ratio, e_t, fb, tuple(model.inputs), U,
                             hold, colour)
 
@@ -287,7 +305,8 @@ def _as_list(records):
     return list(records) if isinstance(records, (list, tuple)) else [records]
 
 
-def analyses_of(records, fit, band_hz, check_colour=True, rule: Rule = DEFAULT_RULE):
+def analyses_of(records, fit, band_hz, check_colour=True, rule: Rule = DEFAULT_RULE,
+                floors_of=None):
     """The fit's residual analysis on each record (its own residual and initial
     state, each record's own flight condition and trim).
 
@@ -304,12 +323,18 @@ def analyses_of(records, fit, band_hz, check_colour=True, rule: Rule = DEFAULT_R
     rule : Rule
         The settings: the floor band's numbers
         (:class:`~inflowsim.diagnose.rule.Rule`).
+    floors_of : list of ResidualAnalysis, optional
+        Another fit's analyses of the same records over the same band, whose noise
+        floors are taken instead of measured (``residual_analysis``'s
+        ``floor_of``).
     """
+    recs = _as_list(records)
+    given = [None] * len(recs) if floors_of is None else list(floors_of)
     out = []
-    for rec, data in zip(_as_list(records), fit.data):
+    for rec, data, ra in zip(recs, fit.data, given):
         m = build_model(fit.structure, fit.parameters, rec.constants)
         out.append(residual_analysis(rec, m, band_hz, fit=data, check_colour=check_colour,
-                                     rule=rule))
+                                     rule=rule, floor_of=ra))
     return out
 
 

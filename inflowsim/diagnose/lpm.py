@@ -58,7 +58,8 @@ def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray
     U = U[:, scale > 0] / scale[scale > 0]
     width = 2 * half + 1
     # the windows' regressors all at once, a block of bins at a time (a 2-hour
-    # record holds tens of thousands of bins): batched SVDs instead of a loop
+    # record holds tens of thousands of bins): batched SVDs instead of a loop, one
+    # per window (its singular values give the rank, its left vectors the span)
     for start in range(half, nf - half, _BLOCK):
         ks = np.arange(start, min(start + _BLOCK, nf - half))
         idx = ks[:, None] + np.arange(-half, half + 1)[None, :]          # (b, width)
@@ -66,16 +67,22 @@ def local_polynomial_noise(Z, U, half=LPM_HALF, degree=LPM_DEGREE) -> np.ndarray
         X = np.concatenate([np.broadcast_to(P, (ks.size,) + P.shape).astype(complex),
                             (Uw[:, :, :, None] * P[None, :, None, :]).reshape(
                                 ks.size, width, -1)], axis=2)
-        sv = np.linalg.svd(X, compute_uv=False)
+        # a block's arrays (tens of MB) are freed as soon as they are used, before
+        # the next block's are made
+        del Uw
+        Q, sv = np.linalg.svd(X, full_matrices=False)[:2]    # (the right vectors freed)
+        del X
         r = np.sum(sv > 1e-9 * sv[:, :1], axis=1)
         for rank in np.unique(r):
             if rank >= width:         # no degree of freedom left: no estimate
                 continue
             sel = np.flatnonzero(r == rank)
-            Qr = np.linalg.svd(X[sel], full_matrices=False)[0][:, :, :rank]
+            Qr = (Q if sel.size == ks.size else Q[sel])[:, :, :rank]
             Zw = Z[idx[sel]]                                              # (s, width, p)
             e = Zw - Qr @ (np.conj(np.swapaxes(Qr, 1, 2)) @ Zw)
             out[ks[sel]] = np.sum(np.abs(e) ** 2, axis=1) / (width - rank)
+            del Qr, Zw, e
+        del Q
     return out
 
 
@@ -106,7 +113,8 @@ def in_band_noise(record, inputs, band_hz, hold, f_band,
     hi = min(rule.lpm_span * band_hz[1], rule.nyquist_share * 0.5 / record.dt)
     if (hi - band_hz[0]) * record.duration < 2 * LPM_HALF + 21:
         return None
-    sp = record_spectra(record, inputs, (band_hz[0], hi), hold=hold, require_motion=False)
+    sp = record_spectra(record, inputs, (band_hz[0], hi), hold=hold, require_motion=False,
+                        keep=False)
     est = local_polynomial_noise(sp.Z, sp.U)
     ok = np.all(np.isfinite(est) & (est > 0), axis=1)
     if ok.sum() < 20:

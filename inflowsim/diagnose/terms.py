@@ -821,42 +821,85 @@ def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm) -> MissingTerms:
         prob, theta, st, freed, jb = _made_at(s, full, fit, (), n_in)
     r = np.concatenate(st.r)
     entries = _entries(inputs)
-    index = {e: c for c, e in enumerate(entries)}
-    je = np.empty((r.size, len(entries)))
-    row0 = 0
-    for sp, W, nu, Q, rr in zip(full, st.weights, st.nus, st.bases, st.r):
-        k = sp.constants
-        p, eq, meas = prob.equations(theta, k)
-        m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
-        blk = je[row0:row0 + rr.size]          # rows of je: filled in place
-        for col, (block, i, v) in enumerate(entries):
-            if block == "pitch":
-                # linear in the entries: the rows' columns, weighted as the input
-                # enters them
-                blk[:, col] = sum(wf[r] * blk[:, index[("flap", r, x)]]
-                                  + wi[r] * blk[:, index[("inflow", r, x)]]
-                                  for _, x, wf, wi in _pitch_parts(eq, i, v)
-                                  for r in range(3))
-                continue
-            if block == "measurement":
-                if _KIND_OF[v] == "input":
-                    dy = np.zeros((sp.f_hz.size, 3), dtype=complex)
-                    dy[:, i] = _feedthrough(m0, sp, i, INPUTS.index(v))
-                else:
-                    c = np.zeros_like(m0.c)
-                    c[i, (FLAP + INFLOW).index(v)] = 1.0
-                    dy = _predicted(replace(m0, c=c), sp, nu)
-            else:
-                mp = model_from_equations(s, p, _perturb(eq, block, i, v, STEP), meas, k,
-                                          n_inputs=n_in)
-                mm = model_from_equations(s, p, _perturb(eq, block, i, v, -STEP), meas, k,
-                                          n_inputs=n_in)
-                dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
-            blk[:, col] = -stack(dy @ W.T)
-        _minus_projection(blk, Q)       # the nuisance end states, as the estimator
-        row0 += rr.size
-    table = replace(_table(s, entries, je, jb, r, st, alpha, inputs), freed=freed or ())
+    ub = _base_basis(jb)
+    # the sensitivities a few columns at a time (a 2-hour record's 162 columns are
+    # 76 MB), each column's statistics kept: the same products column by column
+    stats = np.empty((4, len(entries)))          # gradient, raw, numerator, denominator
+    for cols in _column_chunks(entries, r.size):
+        x = np.empty((r.size, len(cols)))
+        row0 = 0
+        for sp, W, nu, Q, rr in zip(full, st.weights, st.nus, st.bases, st.r):
+            blk = x[row0:row0 + rr.size]          # a record's rows: filled in place
+            _sensitivities(blk, [entries[c] for c in cols], s, prob, theta, sp, W, nu, n_in)
+            _minus_projection(blk, Q)       # the nuisance end states, as the estimator
+            row0 += rr.size
+        stats[:, cols] = _column_statistics(x, r, ub)
+        del x, blk
+    table = replace(_table(s, entries, stats, jb, r, st, alpha, inputs), freed=freed or ())
+    del jb, r, st
     return _confirmed(table, prob, theta, confirm)
+
+
+#: Bytes of the map's sensitivities computed at once (:func:`_column_chunks`): a
+#: normal record's every column (a 26.6 s record's 162 columns are 290 kB), a few
+#: of a 2-hour record's (0.47 MB a column).
+MAP_BYTES = 8 * 2 ** 20
+
+
+def _column_chunks(entries, rows):
+    """The map's columns (indices into ``entries``) in the groups computed together:
+    all of them in map order where :data:`MAP_BYTES` holds them; otherwise each
+    pitch entry with the flap and inflow columns it is made of (:data:`PITCH_FEEDS`,
+    each state feeds one pitch entry), then the rest in groups of at most
+    :data:`MAP_BYTES`."""
+    per = max(1, MAP_BYTES // (8 * max(rows, 1)))
+    if per >= len(entries):
+        return [list(range(len(entries)))]
+    index = {e: c for c, e in enumerate(entries)}
+    out, used = [], set()
+    for c, (block, i, v) in enumerate(entries):
+        if block == "pitch":
+            made_of = [index[(b, r, x)] for _, x in PITCH_FEEDS[(PITCH_ROWS[i], v)]
+                       for b in ("flap", "inflow") for r in range(3)]
+            out.append(made_of + [c])
+            used.update(out[-1])
+    rest = [c for c in range(len(entries)) if c not in used]
+    return out + [rest[i:i + per] for i in range(0, len(rest), per)]
+
+
+def _sensitivities(blk, entries, s, prob, theta, sp, W, nu, n_in):
+    """One record's weighted sensitivities to ``entries`` (central differences of
+    the response, the pitch entries from the flap and inflow columns among
+    ``entries``), written into the columns of ``blk``, not yet projected."""
+    where = {e: c for c, e in enumerate(entries)}
+    k = sp.constants
+    p, eq, meas = prob.equations(theta, k)
+    m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
+    for col, (block, i, v) in enumerate(entries):
+        if block == "pitch":
+            # linear in the entries: the rows' columns, weighted as the input
+            # enters them
+            blk[:, col] = sum(wf[r] * blk[:, where[("flap", r, x)]]
+                              + wi[r] * blk[:, where[("inflow", r, x)]]
+                              for _, x, wf, wi in _pitch_parts(eq, i, v)
+                              for r in range(3))
+            continue
+        if block == "measurement":
+            if _KIND_OF[v] == "input":
+                dy = np.zeros((sp.f_hz.size, 3), dtype=complex)
+                dy[:, i] = _feedthrough(m0, sp, i, INPUTS.index(v))
+            else:
+                c = np.zeros_like(m0.c)
+                c[i, (FLAP + INFLOW).index(v)] = 1.0
+                dy = _predicted(replace(m0, c=c), sp, nu)
+        else:
+            mp = model_from_equations(s, p, _perturb(eq, block, i, v, STEP), meas, k,
+                                      n_inputs=n_in)
+            mm = model_from_equations(s, p, _perturb(eq, block, i, v, -STEP), meas, k,
+                                      n_inputs=n_in)
+            dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
+        blk[:, col] = -stack(dy @ W.T)
+    return blk
 
 
 def _made_at(s, full, fit, splits, n_in):
@@ -943,28 +986,42 @@ def _minus_projection(x, Q):
     return x
 
 
-def _table(s, entries, je, jb, r, st, alpha, inputs):
-    # projection off the base's parameters (scaled SVD: undetermined directions
-    # of the base are dropped, as the estimator's bounds do)
-    if jb.shape[1]:
-        scale = np.linalg.norm(jb, axis=0)
-        scale[scale == 0] = 1.0
-        u, sv, _ = np.linalg.svd(jb / scale, full_matrices=False)
-        ub = u[:, sv > 1e-9 * max(sv.max(), 1e-300)]
+def _base_basis(jb):
+    """Orthonormal basis of the base parameters' sensitivities (a scaled SVD:
+    undetermined directions of the base are dropped, as the estimator's bounds
+    do); ``None`` without free parameters."""
+    if not jb.shape[1]:
+        return None
+    scale = np.linalg.norm(jb, axis=0)
+    scale[scale == 0] = 1.0
+    u, sv, _ = np.linalg.svd(jb / scale, full_matrices=False)
+    return u[:, sv > 1e-9 * max(sv.max(), 1e-300)]
+
+
+def _column_statistics(je, r, ub):
+    """``(gradient, raw, numerator, denominator)`` of sensitivity columns ``je``
+    (projected off the nuisance): ``2 J^T r``, ``|J|^2`` per column and, projected
+    off the base's parameters (``ub``, :func:`_base_basis`; over ``je``, which is
+    not needed after), ``P^T r`` and ``|P|^2``."""
     grad = 2.0 * (je.T @ r)
     raw = np.einsum("ij,ij->j", je, je)
-    if jb.shape[1] and je.nbytes > BLOCK_BYTES:
+    if ub is not None and je.nbytes > BLOCK_BYTES:
         pe = _minus_projection(je, ub)   # in place: je is not needed after
-    elif jb.shape[1]:
+    elif ub is not None:
         pe = je - ub @ (ub.T @ je)
     else:
         pe = je
+    return grad, raw, pe.T @ r, np.einsum("ij,ij->j", pe, pe)
+
+
+def _table(s, entries, stats, jb, r, st, alpha, inputs):
+    """The map from each entry's ``stats`` (:func:`_column_statistics`, ``(4,
+    entries)``)."""
+    grad, raw, num, den = stats
     n_data = r.size
     lost = (np.linalg.matrix_rank(jb) if jb.shape[1] else 0) + sum(Q.shape[1]
                                                                    for Q in st.bases)
     dof = n_data / max(n_data - lost, 1)
-    num = pe.T @ r
-    den = np.einsum("ij,ij->j", pe, pe)
     testable = (raw > 0) & (den > CONFOUNDED * raw)
     with np.errstate(divide="ignore", invalid="ignore"):
         stat = np.where(testable, 2.0 * num ** 2 / np.where(testable, den, 1.0) / dof, 0.0)

@@ -26,12 +26,17 @@ def standard_manoeuvres(n_samples: int, dt: float, constants, shapes=STANDARD):
     t = np.arange(n_samples) * dt
     omega_r = constants.omega * (constants.radius or 7.5)
     for shape, ch in shapes:
-        length = min(20.0, max(t[-1] - 4.0, 1.0))
-        controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape, length=length),))
-        hub = BodyModel().response(controls, dt, omega_r, constants.mu)
-        cols = {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
-        yield f"{shape} on {ch}", cols
-        del controls, hub, cols                # not alive while the next is made
+        # made and handed over unnamed: the generator holds no reference to them,
+        # so the consumer can free them while it works with what it made of them
+        yield f"{shape} on {ch}", _columns(t, dt, omega_r, constants.mu, shape, ch)
+
+
+def _columns(t, dt, omega_r, mu, shape, ch):
+    """``{column: perturbation}`` of one manoeuvre: its controls and the hub motion."""
+    length = min(20.0, max(t[-1] - 4.0, 1.0))
+    controls = pilot_controls(t, (Manoeuvre(channel=ch, shape=shape, length=length),))
+    hub = BodyModel().response(controls, dt, omega_r, mu)
+    return {c: controls[:, i] for i, c in enumerate(CONTROLS)} | hub
 
 
 __all__ = ["STANDARD", "standard_manoeuvres"]
