@@ -53,6 +53,7 @@ def main(argv=None) -> int:
     ends the command quietly with status 0, as Unix tools do; a write that fails
     (``> /dev/full``) is one line naming it and status 2, ``--help`` and
     ``--version`` included."""
+    _one_blas_thread()
     stdout, stderr = sys.stdout, sys.stderr
     if stderr is None:                    # 2>&- : nowhere to say anything; the status says
         sys.stderr = open(os.devnull, "w")
@@ -92,6 +93,23 @@ def main(argv=None) -> int:
             if getattr(named, "failed", False) or getattr(named, "broken", False):
                 _quiet(raw)               # its unwritable rest must not fail at exit
         sys.stdout, sys.stderr = stdout, stderr
+
+
+#: The thread counts a command's linear algebra runs with unless the environment sets
+#: them: its matrices are small or tall and thin, and BLAS's worker threads cost
+#: about 0.8 s of CPU a diagnosis of the default record without shortening it
+#: (bench/startup.md).
+BLAS_THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+def _one_blas_thread():
+    """One BLAS thread for a command run as a program (NumPy reads these once, at its
+    import: in a process that has already imported it nothing is changed); a
+    user's own setting is kept, and Dask's workers inherit it."""
+    if "numpy" in sys.modules:
+        return
+    for name, value in BLAS_THREADS.items():
+        os.environ.setdefault(name, value)
 
 
 def _run(args) -> int:
