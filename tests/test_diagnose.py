@@ -44,11 +44,13 @@ TRUE_VALUES = {
     "wake-distortion": {"K_R": 1.0},
     "servo-actuators": {},                  # servo_tau = 0.02 s, servo_zeta = 0.7
     "lead-lag": {},                         # k_flap_lag = 1 at the Puma's theory
+    "peters-he-6": {},                      # k_ph = 1
 }
 #: Offered after detection studies of their own records (``bench/rotor-physics.md``,
-#: ``test_servo_actuators``, ``test_lead_lag_records``): here in the slow set only (a
-#: diagnosis with twelve-state candidates is several seconds).
-SLOW_ONLY = {"servo-actuators", "lead-lag"}
+#: ``test_servo_actuators``, ``test_lead_lag_records``, ``test_peters_he_records``):
+#: here in the slow set only (a diagnosis with nine- and twelve-state candidates is
+#: several seconds).
+SLOW_ONLY = {"servo-actuators", "lead-lag", "peters-he-6"}
 KINDS = [("continuous", 64), ("continuous", 256), ("zoh", 64), ("zoh", 256)]
 
 
