@@ -115,9 +115,10 @@ def dphi_dz(kind, m, n, x, y, z):
     return -0.5 * trig * (_dpbar(m, n, nu) * q(u) * nu_z + pbar(m, n, nu) * dq(u) * eta_z)
 
 
-def gain(states, chi, nr=20, npsi=40, ns=60):
-    """``L(chi)`` of ``states`` (``(kind, m, n)``) by quadrature, wake skew ``chi``
-    [rad] (below 90 deg: the upstream path then leaves the disc's plane)."""
+def _grid(chi, nr, npsi, ns):
+    """Gauss-Legendre radii ``r`` (weights ``wr``), equally spaced azimuths ``psi``, and
+    the points ``(X, Y, Z)`` upstream along the skewed path ``s`` in ``[0, inf)``
+    (weights ``ws``: ``s = t / (1 - t)``) from every disc point."""
     xr, wr = np.polynomial.legendre.leggauss(nr)
     r, wr = (xr + 1) / 2, wr / 2
     psi = 2 * np.pi * np.arange(npsi) / npsi
@@ -125,9 +126,14 @@ def gain(states, chi, nr=20, npsi=40, ns=60):
     t, wt = (xt + 1) / 2, wt / 2
     s, ws = t / (1 - t), wt / (1 - t) ** 2
     R, PS, S = np.meshgrid(r, psi, s, indexing="ij")
-    X = R * np.cos(PS) - S * math.sin(chi)
-    Y = R * np.sin(PS)
-    Z = S * math.cos(chi)
+    return r, wr, psi, (R * np.cos(PS) - S * math.sin(chi), R * np.sin(PS),
+                        S * math.cos(chi)), ws
+
+
+def gain(states, chi, nr=20, npsi=40, ns=60):
+    """``L(chi)`` of ``states`` (``(kind, m, n)``) by quadrature, wake skew ``chi``
+    [rad] (below 90 deg: the upstream path then leaves the disc's plane)."""
+    r, wr, psi, (X, Y, Z), ws = _grid(chi, nr, npsi, ns)
     v_lam = [np.sum(dphi_dz(k, m, n, X, Y, Z) * ws, axis=2) for k, m, n in states]
     out = np.zeros((len(states), len(states)))
     for a, (ka, rr, j) in enumerate(states):
@@ -144,16 +150,9 @@ def least_squares_inflow(state, chi, nr=20, npsi=40, ns=60):
     """``(lambda0, lambda1c, lambda1s)`` times ``V``: the area-weighted least-squares
     fit of ``lambda0 + r (lambda1c cos + lambda1s sin)`` to the inflow of the pressure
     ``state`` (Pitt and Peters' Galerkin projection)."""
-    xr, wr = np.polynomial.legendre.leggauss(nr)
-    r, wr = (xr + 1) / 2, wr / 2
-    psi = 2 * np.pi * np.arange(npsi) / npsi
-    xt, wt = np.polynomial.legendre.leggauss(ns)
-    t, wt = (xt + 1) / 2, wt / 2
-    s, ws = t / (1 - t), wt / (1 - t) ** 2
-    R, PS, S = np.meshgrid(r, psi, s, indexing="ij")
+    r, wr, psi, xyz, ws = _grid(chi, nr, npsi, ns)
     k, m, n = state
-    lam = np.sum(dphi_dz(k, m, n, R * np.cos(PS) - S * math.sin(chi), R * np.sin(PS),
-                         S * math.cos(chi)) * ws, axis=2)
+    lam = np.sum(dphi_dz(k, m, n, *xyz) * ws, axis=2)
     w = wr[:, None] * r[:, None] * (2 * np.pi / npsi)
     return np.array([np.sum(w * lam) / np.pi,
                      np.sum(w * lam * r[:, None] * np.cos(psi)) / (np.pi / 4),

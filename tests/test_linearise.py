@@ -102,7 +102,8 @@ def test_the_eq14_structure_is_the_eq14_truth_at_one_trim_inflow(mu, monkeypatch
     mse._coupling.cache_clear()
     # the trims remembered were made with the effect's own trim inflow
     import inflowsim.model.effects.advance_ratio_perturbation as arp
-    monkeypatch.setattr(arp, "_TRIMS", {})
+    from inflowsim.model.recent import Recent
+    monkeypatch.setattr(arp, "_TRIMS", Recent(arp._TRIMS.size))
     monkeypatch.setattr(mse, "_coupling", lambda mu_, a0s, v, theta, beta, muz: (
         *ms.speed_coupling(mu_, a0s, theta, beta, muz, truth_lam[:, 0], v=v), truth_lam))
     assert np.max(error()) < 2e-6

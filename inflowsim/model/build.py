@@ -20,6 +20,7 @@ from .equations import (FLAP, INPUTS, OUTPUTS, Equations, Measurement,
                         assemble, input_scale, rotation)
 from ..errors import InputError
 from .params import Constants, check_constants, check_parameters
+from .recent import Recent
 from .structure import Structure
 
 
@@ -69,23 +70,12 @@ def _new(cls, **values):
 
 
 #: Parts of the base equations remembered (:func:`base_equations`), most recent last.
-_BASE: dict = {}
-_BASE_MEMO = 16
+_BASE = Recent(16)
 
 
 def _part(key, make):
-    """``make()`` (a tuple of arrays), remembered under ``key`` (the last
-    :data:`_BASE_MEMO` keys)."""
-    out = _BASE.pop(key, None)
-    if out is None:
-        out = make()
-        if len(_BASE) >= _BASE_MEMO:
-            try:
-                del _BASE[next(iter(_BASE))]
-            except (KeyError, RuntimeError, StopIteration):
-                pass
-    _BASE[key] = out
-    return out
+    """``make()`` (a tuple of arrays), remembered under ``key`` (:data:`_BASE`)."""
+    return _BASE.get(key, make)
 
 
 def _inflow_part(mu, a0s, v):

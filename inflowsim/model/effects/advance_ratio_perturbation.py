@@ -50,6 +50,7 @@ from .momentum_speed import trim_inflow
 from ...physics import bladeelement as be
 from ...physics import loads as ld
 from ..params import ParameterSpec
+from ..recent import Recent
 
 NAME = "advance-ratio-perturbation"
 MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
@@ -59,8 +60,7 @@ MUX = 8   # first in-plane input column (mux, muy) of INPUTS_AZ
 #: Trims remembered (:func:`true_trim`, a pure function of its arguments): every
 #: model a fit builds of a structure with this effect or ``lead-lag`` asks for the
 #: same one (0.1 ms of blade-element trim inflow each), most recent last.
-_TRIMS: dict = {}
-_TRIMS_MEMO = 16
+_TRIMS = Recent(16)
 
 
 def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
@@ -71,28 +71,17 @@ def true_trim(k, azimuth_bias: float = 0.0, k_v=None):
     are linear in the trim inflow, so ``k_v = 1`` is exactly Eq. (14)'s trim and
     ``k_v = 0`` the structure without ``momentum-speed``: the two stay nested.
     Read-only arrays, remembered for the last few arguments of plain numbers."""
-    key = None
     if type(azimuth_bias) is float and (k_v is None or type(k_v) is float):
-        try:
-            key = (k, azimuth_bias, k_v)
-            out = _TRIMS.pop(key, None)
-        except TypeError:                 # constants holding symbols (code generation)
-            key = out = None
-        if out is not None:
-            _TRIMS[key] = out             # most recent last
-            return out
-    out = _true_trim(k, azimuth_bias, k_v)
-    if key is not None:
-        for x in out:
-            if isinstance(x, np.ndarray):
-                x.flags.writeable = False
-        if len(_TRIMS) >= _TRIMS_MEMO:
-            try:
-                del _TRIMS[next(iter(_TRIMS))]
-            except (KeyError, RuntimeError, StopIteration):
-                pass
-        _TRIMS[key] = out
-    return out
+        return _TRIMS.get((k, azimuth_bias, k_v),
+                          lambda: _read_only(_true_trim(k, azimuth_bias, k_v)))
+    return _true_trim(k, azimuth_bias, k_v)
+
+
+def _read_only(trim):
+    for x in trim:
+        if isinstance(x, np.ndarray):
+            x.flags.writeable = False
+    return trim
 
 
 def _true_trim(k, azimuth_bias, k_v):
