@@ -38,6 +38,7 @@ peters-he-6`` gives the library-model route's null records, basic and glauert
 truths.)
 """
 import json
+import os
 import sys
 import tempfile
 import time
@@ -50,7 +51,7 @@ from inflowsim.diagnose import diagnose, ladder  # noqa: E402
 from inflowsim.model.effects import CATALOGUE  # noqa: E402
 
 #: (name, rate [Hz], colour [Hz] or None, mu or None (the Puma's), single axis,
-#: cyclic amplitude [deg])
+#: cyclic amplitude [deg]): the doublets of the first study
 HIDDEN = (("two-axis white", 200, None, None, False, 1.0),
           ("two-axis coloured", 128, 3.0, None, False, 2.0),
           ("two-axis coloured 1 deg", 128, 3.0, None, False, 1.0),
@@ -62,6 +63,30 @@ NULL = (("two-axis white", 200, None, None, False, 1.0),
         ("two-axis coloured", 128, 3.0, None, False, 1.0),
         ("single-axis white", 200, None, None, True, 1.0),
         ("single-axis coloured", 128, 3.0, None, True, 2.0))
+#: the second study's cases, each ``HIDDEN``'s six fields then (sweep, hold, rotor):
+#: log sweeps (two-axis, single-axis), held inputs (``zoh``), 64 and 256 Hz,
+#: coloured noise, the hingeless rotor
+WIDER = (("sweep two-axis white 256 Hz", 256, None, None, False, 1.0, True, "continuous", "puma"),
+         ("sweep two-axis coloured 64 Hz", 64, 3.0, None, False, 2.0, True, "continuous", "puma"),
+         ("sweep single-axis white 256 Hz", 256, None, None, True, 1.0, True, "continuous", "puma"),
+         ("sweep single-axis coloured 64 Hz", 64, 3.0, None, True, 2.0, True, "continuous", "puma"),
+         ("held two-axis white 64 Hz", 64, None, None, False, 1.0, False, "zoh", "puma"),
+         ("held two-axis coloured 256 Hz", 256, 3.0, None, False, 2.0, False, "zoh", "puma"),
+         ("held single-axis white 256 Hz", 256, None, None, True, 1.0, False, "zoh", "puma"),
+         ("held sweep two-axis coloured 64 Hz", 64, 3.0, None, False, 2.0, True, "zoh", "puma"),
+         ("two-axis white 64 Hz", 64, None, None, False, 1.0, False, "continuous", "puma"),
+         ("two-axis coloured 256 Hz", 256, 3.0, None, False, 2.0, False, "continuous", "puma"),
+         ("hingeless, sweep two-axis white 256 Hz", 256, None, None, False, 1.0, True,
+          "continuous", "hingeless"),
+         ("hingeless, sweep single-axis coloured 64 Hz", 64, 3.0, None, True, 2.0, True,
+          "continuous", "hingeless"),
+         ("hingeless, held two-axis coloured 64 Hz", 64, 3.0, None, False, 2.0, False, "zoh",
+          "hingeless"),
+         ("hingeless, held sweep single-axis white 256 Hz", 256, None, None, True, 1.0, True,
+          "zoh", "hingeless"))
+#: the null records of the second study: the same kinds on the three-state rotor
+WIDER_NULL = tuple(c for c in WIDER if not c[0].startswith(("two-axis white 64",
+                                                            "hingeless, sweep single")))
 
 
 def hingeless():
@@ -81,11 +106,21 @@ def truth(rec, lb2=T.LB2, nb=T.NB):
     return {"lambda_beta2": lb2, "n_beta": nb, "k_ph": 1.0} | sep
 
 
+def _unpack(case):
+    """``(name, rate, colour, mu, single, amp, sweep, hold, rotor)`` of a case of
+    ``HIDDEN``/``NULL`` (doublets, continuous, the Puma) or ``WIDER``."""
+    return tuple(case) + (False, "continuous", "puma")[len(case) - 6:]
+
+
+def _rotor(name):
+    return hingeless() if name == "hingeless" else (None, T.LB2, T.NB)
+
+
 def hidden(case, seed, tmp, power=2, pool=T.POOL, rotor=None):
-    name, rate, colour, mu, single, amp = case
-    k, lb2, nb = rotor or (None, T.LB2, T.NB)
+    name, rate, colour, mu, single, amp, sweep, hold, rname = _unpack(case)
+    k, lb2, nb = rotor or _rotor(rname)
     rec = T.make_record(tmp / f"h_{seed}.csv", power, rate, colour, seed, mu, single, amp,
-                        constants=k, lb2=lb2, nb=nb)
+                        constants=k, lb2=lb2, nb=nb, sweep=sweep, hold=hold)
     lad = ladder(rec, T.BASE, pool=pool)
     first = lad.rungs[0].diagnosis
     fit = lad.final.fit
@@ -103,13 +138,16 @@ def hidden(case, seed, tmp, power=2, pool=T.POOL, rotor=None):
 
 
 def null(case, seed, tmp):
-    name, rate, colour, mu, single, amp = case
-    rec = T.make_record(tmp / f"n_{seed}.csv", 1, rate, colour, seed, mu, single, amp)
+    name, rate, colour, mu, single, amp, sweep, hold, rname = _unpack(case)
+    k, lb2, nb = _rotor(rname)
+    rec = T.make_record(tmp / f"n_{seed}.csv", 1, rate, colour, seed, mu, single, amp,
+                        constants=k, lb2=lb2, nb=nb, sweep=sweep, hold=hold)
     d = diagnose(rec, T.BASE, pool=T.POOL)
     ph = [c for c in d.candidates if c.effect == "peters-he-6"]
     return dict(case=name, seed=seed, missing=d.missing_effect,
                 accepted=[c.effect for c in d.candidates if c.accepted],
-                peters_he=ph[0].reason if ph else None)
+                peters_he=ph[0].reason if ph else None,
+                floor_ratio=floor_ratio(d.fit, rec, rate, colour).tolist())
 
 
 #: the pool with every Peters-He order (``higher``)
@@ -127,11 +165,20 @@ def on_hingeless(case, seed, tmp):
     return hidden(case, seed, tmp, rotor=hingeless())
 
 
+#: case names (substrings) to run, from ``INFLOWSIM_PH_CASES`` (comma-separated); all
+#: when empty
+CASES = [c for c in os.environ.get("INFLOWSIM_PH_CASES", "").split(",") if c]
+
+
 def main(which, seeds):
     tmp = Path(tempfile.mkdtemp())
-    run = {"hidden": hidden, "null": null, "higher": higher, "hingeless": on_hingeless}[which]
+    run = {"hidden": hidden, "null": null, "higher": higher, "hingeless": on_hingeless,
+           "wider": hidden, "wider-null": null}[which]
     for case in {"hidden": HIDDEN, "null": NULL, "higher": HIDDEN[:1],
-                 "hingeless": (HIDDEN[0], HIDDEN[1], HIDDEN[4])}[which]:
+                 "hingeless": (HIDDEN[0], HIDDEN[1], HIDDEN[4]), "wider": WIDER,
+                 "wider-null": WIDER_NULL}[which]:
+        if CASES and not any(c in case[0] for c in CASES):
+            continue
         for seed in seeds:
             t0 = time.process_time()
             res = run(case, seed, tmp)
