@@ -6,6 +6,8 @@ record on stdout.
     python bench/peters_he_detection.py null 31-35 > null.jsonl
     python bench/peters_he_detection.py higher 41-45 > higher.jsonl
     python bench/peters_he_detection.py hingeless 51-55 > hingeless.jsonl
+    python bench/peters_he_detection.py wider 61-65 > wider.jsonl
+    python bench/peters_he_detection.py wider-null 71-75 > wider-null.jsonl
     python bench/peters_he_detection.py summary bench/results/current/ph-{hidden,higher,null-direct}.jsonl.gz
 
 Records from ``tests/test_peters_he_records.py``'s generator, which shares no code with
@@ -30,6 +32,14 @@ ladder names, and whether its residual reaches the floor.
 ``hingeless``: ``hidden``'s two-axis white, two-axis coloured and single-axis coloured
 cases on ``bench/detection.py``'s hingeless rotor (flap frequency squared 1.25, Lock
 number 5.2, ``mu`` 0.236, its hub in the record's header).
+
+``wider``: the cases of :data:`WIDER`: log sweeps (0.15-3 Hz) on both cyclics in
+turn or on ``theta1s`` alone, inputs held over each sample (``# hold: zoh``; the
+truth's flow over one sample by DOP853, ``tests/test_peters_he_records._held``),
+64 and 256 Hz, white or coloured noise (3 Hz, 2 deg cyclics), the Puma and the
+hingeless rotor; ``hidden``'s measures.  ``wider-null``: :data:`WIDER_NULL`, the same
+kinds on the three-state rotor, diagnosed as ``null``.  ``INFLOWSIM_PH_CASES``
+(case names separated by ``;``) runs those cases only.
 
 ``null``: the three-state rotor (``power`` 1: the Gram gain, the present model's,
 no skew couplings) by the same route, diagnosed from the same base with the same
@@ -165,9 +175,9 @@ def on_hingeless(case, seed, tmp):
     return hidden(case, seed, tmp, rotor=hingeless())
 
 
-#: case names (substrings) to run, from ``INFLOWSIM_PH_CASES`` (comma-separated); all
+#: the names of the cases to run, from ``INFLOWSIM_PH_CASES`` (separated by ``;``); all
 #: when empty
-CASES = [c for c in os.environ.get("INFLOWSIM_PH_CASES", "").split(",") if c]
+CASES = [c for c in os.environ.get("INFLOWSIM_PH_CASES", "").split(";") if c]
 
 
 def main(which, seeds):
@@ -177,7 +187,7 @@ def main(which, seeds):
     for case in {"hidden": HIDDEN, "null": NULL, "higher": HIDDEN[:1],
                  "hingeless": (HIDDEN[0], HIDDEN[1], HIDDEN[4]), "wider": WIDER,
                  "wider-null": WIDER_NULL}[which]:
-        if CASES and not any(c in case[0] for c in CASES):
+        if CASES and case[0] not in CASES:
             continue
         for seed in seeds:
             t0 = time.process_time()
@@ -220,14 +230,27 @@ def summary(paths):
               f"{', '.join(status)} | {_span(ratio, '.2f')} | {_span(z, '+.2f')} | "
               f"{_span(k, '.3f')} |")
     nulls = [r for r in rows if "missing" in r]
-    if nulls:
-        print(f"\nnull records: {len(nulls)}; named {sum(r['missing'] is not None for r in nulls)}"
-              f", accepted candidates {sum(bool(r['accepted']) for r in nulls)}")
-        ps = [float(r["peters_he"].split("p = ")[1].split()[0]) for r in nulls
-              if r["peters_he"] and "p = " in r["peters_he"]]
-        print(f"peters-he-6's p: {len(ps)} tests, below 0.05 {sum(p < 0.05 for p in ps)}, "
-              f"0.01 {sum(p < 0.01 for p in ps)}, 1e-3 {sum(p < 1e-3 for p in ps)}; "
-              f"smallest {min(ps):.2g}")
+    if not nulls:
+        return
+    print("\n| records | cases | named | accepted | `peters-he-6`'s p < 0.05 | < 0.01 | "
+          "< 1e-3 | smallest p | base's residual / floor |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- |")
+    by = {}
+    for r in nulls:
+        by.setdefault(r["case"], []).append(r)
+    for case, rs in list(by.items()) + [("all", nulls)]:
+        ps = [_p(r) for r in rs if _p(r) is not None]
+        ratio = [max(r["floor_ratio"]) for r in rs if "floor_ratio" in r]
+        print(f"| {len(rs)} | {case} | {sum(r['missing'] is not None for r in rs)} | "
+              f"{sum(bool(r['accepted']) for r in rs)} | {sum(p < 0.05 for p in ps)} | "
+              f"{sum(p < 0.01 for p in ps)} | {sum(p < 1e-3 for p in ps)} | "
+              f"{min(ps):.2g} | {_span(ratio, '.2f')} |")
+
+
+def _p(row):
+    """``peters-he-6``'s p-value in a null row's reason, or None."""
+    text = row["peters_he"] or ""
+    return float(text.split("p = ")[1].split()[0]) if "p = " in text else None
 
 
 if __name__ == "__main__":

@@ -2,14 +2,18 @@
 model: the direct construction of the whole Peters-He rotor in forward flight
 (``tests/peters_he_direct.py``: its own shape functions, gain by quadrature and the
 skewed wake's couplings at ``X = tan(chi/2)`` of its own trim inflow, pressure and flap
-integrals) integrated by scipy's DOP853 with a smooth 3-2-1-1 and a doublet,
-body rates through a first-order filter of the cyclic, sampled at 128 or 200 Hz, white
-or coloured noise drawn here, written as a CSV record and read back.
+integrals) integrated by scipy's DOP853 with a smooth 3-2-1-1 and doublets, or log
+sweeps on one or both cyclics, body rates through a first-order filter of the cyclic,
+sampled at 64 to 256 Hz, or every input held over each sample (``# hold: zoh``),
+white or coloured noise drawn here, written as a CSV record and read back; the Puma,
+or the hingeless rotor of ``bench/detection.py``.
 
 ``peters-he-6`` is offered by default (the catalogue's pool), and the
 diagnosis names it first, no ``time-delay`` (a lead) instead, the ladder ends
 ``explained`` and ``k_ph`` is within 3 sigma of 1.  On a record of the three-state
-model (the same route with the Gram gain, the present model's) nothing is named."""
+model (the same route with the Gram gain, the present model's) nothing is named.
+The study of every kind, five seeds each: ``bench/peters_he_detection.py``
+(``bench/rotor-physics.md``)."""
 import sys
 from pathlib import Path
 
