@@ -84,8 +84,6 @@ WIDER = (("sweep two-axis white 256 Hz", 256, None, None, False, 1.0, True, "con
          ("held two-axis coloured 256 Hz", 256, 3.0, None, False, 2.0, False, "zoh", "puma"),
          ("held single-axis white 256 Hz", 256, None, None, True, 1.0, False, "zoh", "puma"),
          ("held sweep two-axis coloured 64 Hz", 64, 3.0, None, False, 2.0, True, "zoh", "puma"),
-         ("two-axis white 64 Hz", 64, None, None, False, 1.0, False, "continuous", "puma"),
-         ("two-axis coloured 256 Hz", 256, 3.0, None, False, 2.0, False, "continuous", "puma"),
          ("hingeless, sweep two-axis white 256 Hz", 256, None, None, False, 1.0, True,
           "continuous", "hingeless"),
          ("hingeless, sweep single-axis coloured 64 Hz", 64, 3.0, None, True, 2.0, True,
@@ -93,7 +91,9 @@ WIDER = (("sweep two-axis white 256 Hz", 256, None, None, False, 1.0, True, "con
          ("hingeless, held two-axis coloured 64 Hz", 64, 3.0, None, False, 2.0, False, "zoh",
           "hingeless"),
          ("hingeless, held sweep single-axis white 256 Hz", 256, None, None, True, 1.0, True,
-          "zoh", "hingeless"))
+          "zoh", "hingeless"),
+         ("two-axis white 64 Hz", 64, None, None, False, 1.0, False, "continuous", "puma"),
+         ("two-axis coloured 256 Hz", 256, 3.0, None, False, 2.0, False, "continuous", "puma"))
 #: the null records of the second study: the same kinds on the three-state rotor
 WIDER_NULL = tuple(c for c in WIDER if not c[0].startswith(("two-axis white 64",
                                                             "hingeless, sweep single")))
