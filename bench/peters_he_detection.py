@@ -210,6 +210,12 @@ def summary(paths):
     for r in rows:
         hidden_rows += [dict(v, case=f"{k} states, {v['case']}") for k, v in r.items()
                         if k.startswith("power")]
+    if hidden_rows:
+        _hidden_table(hidden_rows)
+    _null_table([r for r in rows if "missing" in r])
+
+
+def _hidden_table(hidden_rows):
     print("| records | cases | named first | others named beside it | ladder | "
           "residual / floor | estimates' errors [sigma] | `k_ph` |")
     print("| --- | --- | ---: | --- | --- | --- | --- | --- |")
@@ -229,7 +235,9 @@ def summary(paths):
         print(f"| {len(rs)} | {case} | {first} | {', '.join(beside) or 'none'} | "
               f"{', '.join(status)} | {_span(ratio, '.2f')} | {_span(z, '+.2f')} | "
               f"{_span(k, '.3f')} |")
-    nulls = [r for r in rows if "missing" in r]
+
+
+def _null_table(nulls):
     if not nulls:
         return
     print("\n| records | cases | named | accepted | `peters-he-6`'s p < 0.05 | < 0.01 | "
