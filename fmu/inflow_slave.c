@@ -2,6 +2,7 @@
  * The co-simulation slave shared by the FMI 2.0 and 3.0 layers: checks, the
  * variable table, rebuilds and the general step.  See inflow_slave.h.
  */
+#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -206,6 +207,37 @@ static int real_ok(const IfsRealVar *var, double x)
            !(var->lower_open && x == var->lower);
 }
 
+/* The inputs held beside the state where the step reads them (IfsModel.x), each
+ * block of four written whole: the step loads it whole, and a load that needs more
+ * than one store waits for the stores to reach the cache (written value by value,
+ * the simulator loop's SetReal + DoStep + GetReal took half as long again).  The
+ * inputs are read back one by one from the slave's (just stored: each load from
+ * one store). */
+static IFS_HOT void hold_blocks(IfsSlave *s)
+{
+    /* (volatile: one load per value; two values in one load would need two stores) */
+    const volatile double *in = ifs_slave_inputs(s);
+    double *z = s->m.x;
+    int b;
+    IFS_UNROLL
+    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        double lane[4];
+        int l;
+        IFS_UNROLL
+        for (l = 0; l < 4; l++) {
+            const int k = 4 * b + l;
+            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
+        }
+        *(ifs_v4 *)(z + 4 * b) = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
+#else
+        int l;
+        for (l = 0; l < 4; l++)
+            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
+#endif
+    }
+}
+
 /* Why value x for value reference vr is refused. */
 static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char *fn,
                                 unsigned int vr, double x)
@@ -234,9 +266,9 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
 {
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    if (s->y_stale) ifs_slave_update_outputs(s);   /* the outputs of the state now */
     for (i = 0; i < n; i++) {
-        if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow: from the state */
-            if (s->y_stale) ifs_slave_update_outputs(s);
+        if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow */
             value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
             continue;
         }
@@ -286,10 +318,11 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             break;
     if (i == n) {
         double *in = (double *)ifs_slave_inputs(s);
+        int inputs = 0;
         for (i = 0; i < n; i++) {
             if (vr[i] < IFS_NU) {
                 in[vr[i]] = value[i];
-                s->m.x[IFS_NX + vr[i]] = value[i];    /* where the step reads it */
+                inputs = 1;
             } else {
                 if (s->v.mu != value[i]) {
                     s->dirty = 1;
@@ -298,6 +331,7 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                 s->v.mu = value[i];
             }
         }
+        if (inputs) hold_blocks(s);
         return IFS_OK;
     }
     /* check everything first: a refused call changes nothing */
@@ -492,25 +526,24 @@ static void delayed_advance(IfsSlave *s, long long n)
 
 /* --- the fast step's condition --- */
 
-/* (n + 1) h from t_base ends within the stop time: the general step's test */
-static int ends_in_time(const IfsSlave *s, double n)
+/* a step of h_comm from step n ends within the stop time: the general step's test */
+static int ends_in_time(const IfsSlave *s, long long n)
 {
-    return (s->t_base + n * s->h_comm) + s->h_comm <= s->t_stop;
+    return (s->t_base + (double)n * s->h_comm) + s->h_comm <= s->t_stop;
 }
 
 void ifs_slave_refresh(IfsSlave *s)
 {
-    s->now = s->t_base + s->n_comm * s->h_comm;
+    s->now = s->t_base + (double)s->n_comm * s->h_comm;
     s->fast_h = s->phase == IFS_PH_STEP && !s->dirty && !s->delay.active &&
                 s->h_comm == s->m.dt && s->h_comm > 0.0 ? s->h_comm : NAN;
-    s->n_stop = INFINITY;
+    s->n_stop = LLONG_MAX;
     if (s->fast_h == s->fast_h && isfinite(s->t_stop)) {
         /* the first n that does not end in time (t_base + n h grows with n) */
-        double n = floor((s->t_stop - s->t_base) / s->h_comm);
-        if (!(n >= 0.0)) n = 0.0;
-        if (n > 9e15) n = 9e15;
-        while (n > 0.0 && !ends_in_time(s, n - 1.0)) n -= 1.0;
-        while (ends_in_time(s, n)) n += 1.0;
+        const double f = floor((s->t_stop - s->t_base) / s->h_comm);
+        long long n = f > 0.0 ? (f < 4e18 ? (long long)f : (long long)4e18) : 0;
+        while (n > 0 && !ends_in_time(s, n - 1)) n--;
+        while (n < LLONG_MAX && ends_in_time(s, n)) n++;
         s->n_stop = n;
     }
 }
@@ -592,9 +625,9 @@ static int slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, d
     if (h != s->h_comm) {           /* a new communication step: restart the counter */
         s->t_base = now;
         s->h_comm = h;
-        s->n_comm = 0.0;
+        s->n_comm = 0;
     }
-    s->n_comm += 1.0;
+    s->n_comm++;
     s->y_stale = 1;
     return status;
 }
@@ -632,8 +665,8 @@ static inline int near_now(double t, double now)
 /* After the step: the counter, the time; the outputs are those of the old state */
 #define STEPPED(s)                                                                     \
     do {                                                                               \
-        (s)->n_comm += 1.0;                                                            \
-        (s)->now = (s)->t_base + (s)->n_comm * (s)->h_comm;                            \
+        (s)->n_comm++;                                                                 \
+        (s)->now = (s)->t_base + (double)(s)->n_comm * (s)->h_comm;                    \
         (s)->y_stale = 1;                                                              \
     } while (0)
 

@@ -56,7 +56,7 @@ typedef struct {
      * first n_comm from which a step of h_comm would end after the stop time */
     double now;
     double fast_h;
-    double n_stop;
+    long long n_stop;
     IfsPhase phase;
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
@@ -66,10 +66,9 @@ typedef struct {
     /* the FMI layer's mu table (never part of a saved state: restored instances keep
      * their own and rebuild it); NULL: mu changes always rebuild exactly */
     IfsMuTable *tab;
-    /* time = t_base + n_comm h_comm: a step counter (whole numbers, exact to 2^53),
-     * never a running sum */
+    /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
-    double n_comm;
+    long long n_comm;
     /* the experiment's stop time with the time tolerance added; +inf when none given */
     double t_stop;
     int warned_time;           /* the time-mismatch warning is given once (0 or 1) */
