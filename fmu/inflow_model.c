@@ -66,19 +66,14 @@ static int taylor_count(const IfsModel *m, double r)
  * (the k-th derivative times r^k / k!).  nk matrix-vector products of a, no matrix
  * exponential: the step of a communication interval that changes from frame to
  * frame.  Every term is bounded by the one before (taylor_count), so nothing
- * overflows. */
-static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
-                                const double u[NU])
+ * overflows.  x: [x; u; 0] (IfsModel.x). */
+static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[IFS_RL])
 {
     double w[2][IFS_LD], acc[IFS_LD];
-    int i, j, k;
+    int i, k;
     memset(w, 0, sizeof w);
-    for (i = 0; i < NX; i++) {                       /* (a x + b u) r */
-        double sx = 0.0, su = 0.0;
-        for (j = 0; j < NX; j++) sx += m->a[i * NX + j] * x[j];
-        for (j = 0; j < NU; j++) su += m->b[i * NU + j] * u[j];
-        w[0][i] = (su + sx) * r;
-    }
+    ifs_rows(m->abr, x, w[0]);                       /* a x + b u */
+    for (i = 0; i < NX; i++) w[0][i] *= r;
     memcpy(acc, w[0], sizeof acc);
     for (k = 2; k <= nk; k++)
         ifs_taylor_term(m->abc, w[k & 1], r / (double)k, w[(k + 1) & 1], acc);
@@ -101,9 +96,12 @@ static void set_taylor(IfsModel *n)
 {
     int i, j;
     memset(n->abc, 0, sizeof n->abc);
+    memset(n->abr, 0, sizeof n->abr);
     for (i = 0; i < NX; i++) {
-        for (j = 0; j < NX; j++) n->abc[j * IFS_LD + i] = n->a[i * NX + j];
-        for (j = 0; j < NU; j++) n->abc[(NX + j) * IFS_LD + i] = n->b[i * NU + j];
+        for (j = 0; j < NX; j++)
+            n->abc[j * IFS_LD + i] = n->abr[i * IFS_RL + j] = n->a[i * NX + j];
+        for (j = 0; j < NU; j++)
+            n->abc[(NX + j) * IFS_LD + i] = n->abr[i * IFS_RL + NX + j] = n->b[i * NU + j];
     }
     n->norm_a = n->norm_ab = 0.0;
     for (j = 0; j < NA; j++) {
@@ -179,7 +177,6 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
 /* (static: a clone's ifunc resolver of a global function would be exported) */
 static IFS_HOT int advance(IfsModel *m, double h)
 {
-    const double *u = m->x + NX;     /* the inputs held, after the state */
     long long k;
     if (h != m->h_last) {
         /* h = n dt + rem; a remainder within 1e-9 dt of zero or dt is rounding.  The
@@ -213,9 +210,9 @@ static IFS_HOT int advance(IfsModel *m, double h)
             const int nd = m->rem > 0.0 ? taylor_count(m, r - m->rem) : 0;
             if (nd > 0 && (nk == 0 || nd + 1 < nk)) {
                 ifs_step(m->pg_rem, m->x);
-                taylor_step(m, nd, r - m->rem, m->x, u);
+                taylor_step(m, nd, r - m->rem, m->x);
             } else if (nk > 0) {
-                taylor_step(m, nk, r, m->x, u);
+                taylor_step(m, nk, r, m->x);
             } else {                                /* a stiff model: the exponential */
                 if (ifs_discretize(m, r, m->pg_rem) != 0) return -1;
                 m->rem = r;

@@ -59,8 +59,10 @@ typedef struct {
      * terms (ifs_advance) */
     double rem_prev;
     /* [a b] stored by columns (IFS_LD each: the Taylor remainder's matrix-vector
-     * products, two rows at a time) */
+     * products, two rows at a time), and by rows as pg (its first product, with the
+     * inputs) */
     double abc[IFS_NA * IFS_LD];
+    double abr[IFS_NX * IFS_RL];
     /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
     double norm_a, norm_ab;
     /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
@@ -198,10 +200,9 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
                      *(const T *)(z + 4 * IFS_BLK(j_) + (off)),                        \
                  out)
 
-IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
+/* y = [phi gam] z, the new states (see ifs_step) */
+IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
 {
-    /* every sum before any store (each reads all of x) */
-    double y[IFS_NX];
     int r;
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     IFS_UNROLL
@@ -219,6 +220,13 @@ IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
         y[r] = (l[0] + l[1]) + (l[2] + l[3]);
     }
 #endif
+}
+
+IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
+{
+    /* every sum before any store (each reads all of x) */
+    double y[IFS_NX];
+    ifs_rows(pg, z, y);
     memcpy(z, y, sizeof y);
 }
 
