@@ -24,8 +24,8 @@
  * communication intervals (ifs_advance: substeps, the Taylor remainder) are
  * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
  * for AVX2 and for the baseline (IFS_HOT; with the four-wide step, IFS_WIDE_STEP in
- * inflow_model.h, the FMI layers write DoStep's two functions and their ifunc
- * themselves).  The step does the same
+ * inflow_model.h, the slave writes DoStep's two functions and their resolver
+ * itself: ifs_do_step in inflow_slave.c).  The step does the same
  * operations in the same order in both, so both give the same numbers (a test
  * checks this bit for bit; build without floating-point contraction,
  * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
