@@ -61,11 +61,12 @@ static void load(Api *a, const char *path)
     *(void **)&a->do_step = sym(lib, "fmi2DoStep");
 }
 
-/* seconds, monotonic */
+/* seconds of this process's CPU time (not wall time: other processes on the
+ * machine do not count) */
 static double now(void)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 

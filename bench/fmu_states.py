@@ -19,7 +19,10 @@ round too (best kept).  The floor of a step is its ``NX (NX + NU)`` multiplies (
 matrix-vector product ``x <- [Phi Gamma] [x; u]``) in whole vectors of four at the
 measured rate of 4-wide multiplies (no fused multiply-add: every build rounds alike).
 Prints a Markdown table.  ``--keep DIR`` keeps the FMUs there (for
-``bench/fmu_mu_callgrind.sh``'s instruction counts).
+``bench/fmu_mu_callgrind.sh``'s instruction counts); ``--beside DIR`` times the FMUs
+an earlier run kept in DIR (``s0.fmu`` ... in the same order: another checkout's,
+e.g. main's) in the same rounds, interleaved with these, and adds their step to the
+table.
 """
 from __future__ import annotations
 
@@ -70,6 +73,8 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=1_000_000)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--keep", type=Path, help="folder to keep the FMUs in")
+    ap.add_argument("--beside", type=Path,
+                    help="folder of FMUs kept by another checkout's run, timed beside")
     args = ap.parse_args(argv)
     from fmpy import extract, read_model_description
     from inflowsim.fmu import build_fmu
@@ -96,6 +101,13 @@ def main(argv=None):
             nu = int(re.search(r"#define IFS_N_INPUTS (\d+)", text).group(1))
             libs[st] = (unz / "binaries" / "linux64" / "inflowsim.so",
                         read_model_description(str(fmu)).guid, nx, nu)
+        other = {}
+        if args.beside is not None:
+            for i, st in enumerate(structures):
+                fmu = args.beside / f"s{i}.fmu"
+                unz = Path(extract(str(fmu), str(tmp / f"b{i}")))
+                other[st] = (unz / "binaries" / "linux64" / "inflowsim.so",
+                             read_model_description(str(fmu)).guid)
         cc = compiler()
         compile_drivers(cc, f"-I{source_dir()}", tmp)
         rate_exe = tmp / "fp_rate"
@@ -108,14 +120,16 @@ def main(argv=None):
                                  text=True).stdout
             rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
             mul_rate = max(mul_rate, rates["mul_per_ns"])
-            for st, (so, guid, _, _) in libs.items():
+            runs = [(st, "", so, guid) for st, (so, guid, _, _) in libs.items()]
+            runs += [(st, "beside ", so, guid) for st, (so, guid) in other.items()]
+            for st, tag, so, guid in runs:
                 out = subprocess.run([str(tmp / "driver"), str(so), guid,
                                       str(tmp / "onestate.so"), str(args.steps)],
                                      check=True, capture_output=True, text=True).stdout
                 for line in out.splitlines():
                     name, value = line.split()
                     if name in ("glauert_dostep", "glauert_set_dostep_get"):
-                        key = (st, name)
+                        key = (st, tag + name)
                         best[key] = min(best.get(key, math.inf), float(value))
     flags = Path("/proc/cpuinfo").read_text().split() if Path("/proc/cpuinfo").is_file() else []
     print(f"machine: {platform.processor() or platform.machine()}, {platform.system()} "
@@ -123,10 +137,12 @@ def main(argv=None):
           f"4-wide multiplies {mul_rate:.2f} per ns (best of {args.rounds} rounds)")
     print(f"steps {args.steps} per run, best of 5 runs x {args.rounds} rounds, libraries "
           "interleaved")
+    beside = (" beside [ns] | beside / floor |" if other else "")
     print("| structure | inflow states | NX | generation + compiler CPU [s] | "
           "fmi2DoStep [ns] | set + step + get [ns] | floor [ns] | step / floor | "
-          "step / 3-state step |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+          "step / 3-state step |" + beside)
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |" +
+          (" --- | --- |" if other else ""))
     first = best[(structures[0], "glauert_dostep")]
     for st, (_, _, nx, nu) in libs.items():
         step = best[(st, "glauert_dostep")]
@@ -134,7 +150,9 @@ def main(argv=None):
         gen, comp = built[st]
         print(f"| {st} | {inflow[st]} | {nx} | {gen:.1f} + {comp:.1f} | {step:.1f} | "
               f"{best[(st, 'glauert_set_dostep_get')]:.1f} | {floor:.1f} | "
-              f"{step / floor:.2f} | {step / first:.2f} |")
+              f"{step / floor:.2f} | {step / first:.2f} |" +
+              (f" {best[(st, 'beside glauert_dostep')]:.1f} | "
+               f"{best[(st, 'beside glauert_dostep')] / floor:.2f} |" if other else ""))
 
 
 if __name__ == "__main__":

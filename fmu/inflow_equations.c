@@ -285,13 +285,6 @@ static double bias_1(const IfsVariables *v)
     return v->azimuth_bias;
 }
 
-static void flap_delays_1(const IfsVariables *v, double d[3])
-{
-    d[0] = v->delay;
-    d[1] = v->delay;
-    d[2] = v->delay;
-}
-
 static void loads_1(const IfsVariables *v, const double *a, const double *b, double *lc, double *ld)
 {
     memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);
@@ -477,94 +470,6 @@ static void descriptor_2(const IfsVariables *v, double V, double *e, double *a, 
     b[59] = v->c3;
 }
 
-static double bias_2(const IfsVariables *v)
-{
-    return v->azimuth_bias;
-}
-
-static void flap_delays_2(const IfsVariables *v, double d[3])
-{
-    d[0] = v->delay;
-    d[1] = v->delay;
-    d[2] = v->delay;
-}
-
-static void loads_2(const IfsVariables *v, const double *a, const double *b, double *lc, double *ld)
-{
-    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);
-    memset(ld, 0, sizeof(double) * IFS_NL * IFS_NU);
-    const double t0 = 0.125*v->mu;
-    const double t1 = 1.0/v->omega;
-    const double t2 = v->a0*v->solidity;
-    const double t3 = t1*t2;
-    const double t4 = 0.16666666666666666*t1;
-    const double t5 = t0*t1;
-    const double t6 = 0.083333333333333329*v->mu;
-    const double t7 = 0.0625*t1;
-    const double t8 = t2*t7;
-    const double t9 = pow(v->mu, 2);
-    const double t10 = 0.03125*t9;
-    const double t11 = 0.0625*t2;
-    const double t12 = t1*t6;
-    const double t13 = -t11*(v->lambda_beta2 - 1.0)/v->n_beta;
-    const double t14 = sin(v->azimuth_bias);
-    const double t15 = 0.25*v->mu;
-    const double t16 = cos(v->azimuth_bias);
-    const double t17 = -t0;
-    const double t18 = 0.03125*t9 + 0.0625;
-    const double t19 = 0.09375*t9 + 0.0625;
-    lc[0] = -t3*(0.16666666666666666*a[0] + a[12]*t0);
-    lc[1] = -t3*(a[13]*t0 + 0.16666666666666666*a[1]);
-    lc[2] = -t3*(a[14]*t0 + 0.16666666666666666*a[2]);
-    lc[3] = -t2*(a[15]*t5 + a[3]*t4 + 0.25);
-    lc[4] = -t3*(a[16]*t0 + 0.16666666666666666*a[4]);
-    lc[5] = -t2*(a[17]*t5 + a[5]*t4 + t0);
-    lc[6] = t2*(a[6]*t7 + t6);
-    lc[7] = a[7]*t8;
-    lc[8] = t2*(a[8]*t7 + t10 + 0.0625);
-    lc[9] = a[9]*t8;
-    lc[10] = t11*(a[10]*t1 + 1);
-    lc[11] = a[11]*t8;
-    lc[12] = t3*(a[0]*t6 + 0.0625*a[12]);
-    lc[13] = t2*(a[13]*t7 + a[1]*t12 + t10 - 0.0625);
-    lc[14] = t3*(0.0625*a[14] + a[2]*t6);
-    lc[15] = t2*(a[15]*t7 + a[3]*t12 + t0);
-    lc[16] = t3*(0.0625*a[16] + a[4]*t6);
-    lc[17] = t2*(a[17]*t7 + a[5]*t12 + 0.0625);
-    lc[19] = t13;
-    lc[26] = t13;
-    ld[0] = -t2*(b[0]*t4 + b[20]*t5 - 0.25*t9 - 0.16666666666666666);
-    ld[1] = -t2*(b[1]*t4 + b[21]*t5 + t14*t15);
-    ld[2] = -t2*(b[22]*t5 + b[2]*t4 - t15*t16);
-    ld[3] = -t2*(b[23]*t5 + b[3]*t4 - 0.25);
-    ld[4] = -t3*(b[24]*t0 + 0.16666666666666666*b[4]);
-    ld[5] = -t3*(b[25]*t0 + 0.16666666666666666*b[5] + t17);
-    ld[6] = -t3*(b[26]*t0 + 0.16666666666666666*b[6]);
-    ld[7] = -t3*(b[27]*t0 + 0.16666666666666666*b[7]);
-    ld[8] = -t3*(b[28]*t0 + 0.16666666666666666*b[8]);
-    ld[9] = -t3*(b[29]*t0 + 0.16666666666666666*b[9]);
-    ld[10] = b[10]*t8;
-    ld[11] = t2*(b[11]*t7 - t16*t18);
-    ld[12] = t2*(b[12]*t7 - t14*t18);
-    ld[13] = b[13]*t8;
-    ld[14] = t8*(b[14] - 1);
-    ld[15] = b[15]*t8;
-    ld[16] = b[16]*t8;
-    ld[17] = b[17]*t8;
-    ld[18] = b[18]*t8;
-    ld[19] = b[19]*t8;
-    ld[20] = t2*(b[0]*t12 + b[20]*t7 - 0.16666666666666666*v->mu);
-    ld[21] = t2*(b[1]*t12 + b[21]*t7 + t14*t19);
-    ld[22] = t2*(b[22]*t7 + b[2]*t12 - t16*t19);
-    ld[23] = t2*(b[23]*t7 + b[3]*t12 + t17);
-    ld[24] = t3*(0.0625*b[24] + b[4]*t6);
-    ld[25] = t3*(0.0625*b[25] + b[5]*t6 - 0.0625);
-    ld[26] = t3*(0.0625*b[26] + b[6]*t6);
-    ld[27] = t3*(0.0625*b[27] + b[7]*t6);
-    ld[28] = t3*(0.0625*b[28] + b[8]*t6);
-    ld[29] = t3*(0.0625*b[29] + b[9]*t6);
-}
-
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b)
 {
     switch (v->structure) {
@@ -580,7 +485,7 @@ double ifs_bias_of(const IfsVariables *v)
     switch (v->structure) {
     case 0: return bias_0(v);
     case 1: return bias_1(v);
-    case 2: return bias_2(v);
+    case 2: return bias_1(v);
     default: return bias_0(v);
     }
 }
@@ -589,8 +494,8 @@ void ifs_flap_delays_of(const IfsVariables *v, double d[3])
 {
     switch (v->structure) {
     case 0: flap_delays_0(v, d); break;
-    case 1: flap_delays_1(v, d); break;
-    case 2: flap_delays_2(v, d); break;
+    case 1: flap_delays_0(v, d); break;
+    case 2: flap_delays_0(v, d); break;
     default: flap_delays_0(v, d); break;
     }
 }
@@ -600,7 +505,7 @@ void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, doubl
     switch (v->structure) {
     case 0: loads_0(v, a, b, lc, ld); break;
     case 1: loads_1(v, a, b, lc, ld); break;
-    case 2: loads_2(v, a, b, lc, ld); break;
+    case 2: loads_1(v, a, b, lc, ld); break;
     default: loads_0(v, a, b, lc, ld); break;
     }
 }

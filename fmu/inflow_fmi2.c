@@ -70,6 +70,7 @@ IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2Str
     c->cb = *cb;
     c->i.mem = &c->cb;         /* the instance's copy from now on */
     c->i.log.emit = cb->logger ? emit : NULL;
+    c->i.do_step = "fmi2DoStep";
     if (ifs_instance_start(&c->i, type != fmi2CoSimulation ? "only co-simulation is "
                            "provided" : NULL, "GUID", guid) != 0)
         return NULL;
@@ -112,6 +113,7 @@ IFS_EXPORT fmi2Status fmi2Terminate(fmi2Component comp)
     Instance *c = (Instance *)comp;
     if (!c) return fmi2Error;
     c->i.s.phase = IFS_PH_TERMINATED;
+    ifs_slave_refresh(&c->i.s);
     return fmi2OK;
 }
 
@@ -280,49 +282,25 @@ IFS_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp,
                "(maxOutputDerivativeOrder is 0)");
 }
 
-/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin), else
- * REST (ifs_slave_step_rest or its twin: a new mu from the table, the general step) */
-#define DO_STEP(FAST, REST)                                                            \
-    do {                                                                               \
-        Instance *c = (Instance *)comp;                                                \
-        (void)no_set_prior;                                                            \
-        if (!c) return fmi2Error;                                                      \
-        if (FAST(&c->i.s, t, h)) return fmi2OK;                                        \
-        return (fmi2Status)REST(&c->i.s, &c->i.log, "fmi2DoStep", t, h);               \
-    } while (0)
-
+/* the slave's DoStep (ifs_do_step): where the loader picks it at load time, the
+ * chosen function itself (its first three arguments are fmi2DoStep's) */
 #ifdef IFS_WIDE_STEP
-/* Two functions, one chosen when the library is loaded (GNU ifunc, as target_clones
- * does), so that the AVX2 one has the four-wide step inline and no baseline step
- * beside it (a clone of one function kept both and chose at each step: a call and
- * a 32-byte aligned stack frame, about 1.2 ns of the nine-state step) */
-static __attribute__((target("avx2"))) fmi2Status do_step_wide(fmi2Component comp, fmi2Real t,
-                                                               fmi2Real h,
-                                                               fmi2Boolean no_set_prior)
-{
-    DO_STEP(ifs_slave_step_fast_wide, ifs_slave_step_rest_wide);
-}
-
-static fmi2Status do_step_base(fmi2Component comp, fmi2Real t, fmi2Real h,
-                               fmi2Boolean no_set_prior)
-{
-    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
-}
-
 static fmi2DoStepTYPE *resolve_do_step(void)
 {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") ? do_step_wide : do_step_base;
+    /* (through void (*)(void): the one cast between function types C compilers
+     * accept without a warning) */
+    return (fmi2DoStepTYPE *)(void (*)(void))ifs_do_step_choose();
 }
 
 IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
                                  fmi2Boolean no_set_prior)
     __attribute__((ifunc("resolve_do_step")));
 #else
-IFS_EXPORT IFS_HOT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
-                                         fmi2Boolean no_set_prior)
+IFS_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
+                                 fmi2Boolean no_set_prior)
 {
-    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
+    (void)no_set_prior;
+    return (fmi2Status)ifs_do_step(comp, t, h);
 }
 #endif
 

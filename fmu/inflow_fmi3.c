@@ -74,6 +74,7 @@ static Instance *instantiate(fmi3String name, fmi3String token, fmi3Boolean logg
     c->log_message = log_message;
     c->env = env;
     c->i.log.emit = log_message ? emit : NULL;
+    c->i.do_step = "fmi3DoStep";
     if (ifs_instance_start(&c->i, refusal, "instantiation token", token) != 0) return NULL;
     return c;
 }
@@ -158,6 +159,7 @@ IFS_EXPORT fmi3Status fmi3Terminate(fmi3Instance inst)
     Instance *c = (Instance *)inst;
     if (!c) return fmi3Error;
     c->i.s.phase = IFS_PH_TERMINATED;
+    ifs_slave_refresh(&c->i.s);
     return fmi3OK;
 }
 
@@ -605,60 +607,21 @@ IFS_EXPORT fmi3Status fmi3GetOutputDerivatives(fmi3Instance inst, const fmi3Valu
                   "is 0)");
 }
 
-/* DoStep with the fast step FAST (ifs_slave_step_fast or its AVX2 twin), else
- * REST (ifs_slave_step_rest or its twin: a new mu from the table, the general step) */
-#define DO_STEP(FAST, REST)                                                                \
-    do {                                                                               \
-        Instance *c = (Instance *)inst;                                                \
-        int st = IFS_OK;                                                               \
-        (void)no_set_prior;                                                            \
-        if (!c) return fmi3Error;                                                      \
-        if (!event_needed || !terminate || !early_return || !last_successful_time)     \
-            return ERR(c, "fmi3DoStep: null output argument");                         \
-        if (!FAST(&c->i.s, t, h)) st = REST(&c->i.s, &c->i.log, "fmi3DoStep", t, h);   \
-        *event_needed = fmi3False;                                                     \
-        *terminate = fmi3False;                                                        \
-        *early_return = fmi3False;                                                     \
-        *last_successful_time = ifs_slave_time(&c->i.s);                               \
-        return (fmi3Status)st;                                                         \
-    } while (0)
-
-#ifdef IFS_WIDE_STEP
-/* one of two functions, chosen when the library is loaded (see fmi2DoStep in
- * inflow_fmi2.c) */
-static __attribute__((target("avx2"))) fmi3Status
-do_step_wide(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_set_prior,
-             fmi3Boolean *event_needed, fmi3Boolean *terminate, fmi3Boolean *early_return,
-             fmi3Float64 *last_successful_time)
-{
-    DO_STEP(ifs_slave_step_fast_wide, ifs_slave_step_rest_wide);
-}
-
-static fmi3Status do_step_base(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
-                               fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
-                               fmi3Boolean *terminate, fmi3Boolean *early_return,
-                               fmi3Float64 *last_successful_time)
-{
-    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
-}
-
-static fmi3DoStepTYPE *resolve_do_step(void)
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") ? do_step_wide : do_step_base;
-}
-
 IFS_EXPORT fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
                                  fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
                                  fmi3Boolean *terminate, fmi3Boolean *early_return,
                                  fmi3Float64 *last_successful_time)
-    __attribute__((ifunc("resolve_do_step")));
-#else
-IFS_EXPORT IFS_HOT fmi3Status fmi3DoStep(fmi3Instance inst, fmi3Float64 t, fmi3Float64 h,
-                                         fmi3Boolean no_set_prior, fmi3Boolean *event_needed,
-                                         fmi3Boolean *terminate, fmi3Boolean *early_return,
-                                         fmi3Float64 *last_successful_time)
 {
-    DO_STEP(ifs_slave_step_fast, ifs_slave_step_rest);
+    Instance *c = (Instance *)inst;
+    int st;
+    (void)no_set_prior;
+    if (!c) return fmi3Error;
+    if (!event_needed || !terminate || !early_return || !last_successful_time)
+        return ERR(c, "fmi3DoStep: null output argument");
+    st = ifs_do_step(&c->i, t, h);     /* the slave's, as fmi2DoStep */
+    *event_needed = fmi3False;
+    *terminate = fmi3False;
+    *early_return = fmi3False;
+    *last_successful_time = ifs_slave_time(&c->i.s);
+    return (fmi3Status)st;
 }
-#endif

@@ -38,7 +38,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     ifs_descriptor_of(v, ifs_flow_speed(v), e, a, b);
 }
 
-int ifs_discretize(const IfsModel *m, double h, double pg[NA * IFS_LD])
+int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
 {
     double M[NA * NA];
     int i, j;
@@ -50,9 +50,9 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NA * IFS_LD])
     if (ifs_expm(M) != 0) return -1;
     for (i = 0; i < NX * NA; i++)
         if (!isfinite(M[i])) return -1;
-    memset(pg, 0, sizeof(double) * NA * IFS_LD);
-    for (i = 0; i < NX; i++)                    /* top NX rows, by columns */
-        for (j = 0; j < NA; j++) pg[j * IFS_LD + i] = M[i * NA + j];
+    memset(pg, 0, sizeof(double) * NX * IFS_RL);
+    for (i = 0; i < NX; i++)                    /* top NX rows, by rows */
+        for (j = 0; j < NA; j++) pg[i * IFS_RL + j] = M[i * NA + j];
     return 0;
 }
 
@@ -66,38 +66,18 @@ static int taylor_count(const IfsModel *m, double r)
  * (the k-th derivative times r^k / k!).  nk matrix-vector products of a, no matrix
  * exponential: the step of a communication interval that changes from frame to
  * frame.  Every term is bounded by the one before (taylor_count), so nothing
- * overflows. */
-static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[NX],
-                                const double u[NU])
+ * overflows.  x: [x; u; 0] (IfsModel.x). */
+static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[IFS_RL])
 {
     double w[2][IFS_LD], acc[IFS_LD];
     int i, k;
     memset(w, 0, sizeof w);
-    memcpy(w[0], x, sizeof(double) * NX);
-    ifs_step(m->abc, w[0], u);                       /* a x + b u */
+    ifs_rows(m->abr, x, w[0]);                       /* a x + b u */
     for (i = 0; i < NX; i++) w[0][i] *= r;
     memcpy(acc, w[0], sizeof acc);
     for (k = 2; k <= nk; k++)
         ifs_taylor_term(m->abc, w[k & 1], r / (double)k, w[(k + 1) & 1], acc);
     for (i = 0; i < NX; i++) x[i] += acc[i];
-}
-
-/* The rows of m->pg after its whole groups of four, copied into m->prow
- * (IFS_ROW_STEP; else nothing): after every change of m->pg. */
-static void pack_rows(IfsModel *m)
-{
-#ifdef IFS_ROW_STEP
-    int l, j;
-    memset(m->prow, 0, sizeof m->prow);       /* the padding */
-    for (l = 0; l < IFS_NLEFT; l++) {
-        const int i = 4 * IFS_NG4 + l;
-        for (j = 0; j < NX; j++) m->prow[l * IFS_RL + j] = m->pg[j * IFS_LD + i];
-        for (j = 0; j < NU; j++)
-            m->prow[l * IFS_RL + 4 * IFS_XB + j] = m->pg[(NX + j) * IFS_LD + i];
-    }
-#else
-    (void)m;
-#endif
 }
 
 /* The azimuth bias: the outputs' rotation (recorded flap = true one rotated) and the
@@ -107,10 +87,6 @@ static void set_bias(IfsModel *m, const IfsVariables *v)
     const double bias = ifs_bias_of(v);
     m->cos_bias = cos(bias);
     m->sin_bias = sin(bias);
-    m->rot[0] = m->cos_bias;
-    m->rot[1] = m->sin_bias;
-    m->rot[2] = -m->sin_bias;
-    m->rot[3] = m->cos_bias;
     build_loads(m, v);
 }
 
@@ -120,9 +96,12 @@ static void set_taylor(IfsModel *n)
 {
     int i, j;
     memset(n->abc, 0, sizeof n->abc);
+    memset(n->abr, 0, sizeof n->abr);
     for (i = 0; i < NX; i++) {
-        for (j = 0; j < NX; j++) n->abc[j * IFS_LD + i] = n->a[i * NX + j];
-        for (j = 0; j < NU; j++) n->abc[(NX + j) * IFS_LD + i] = n->b[i * NU + j];
+        for (j = 0; j < NX; j++)
+            n->abc[j * IFS_LD + i] = n->abr[i * IFS_RL + j] = n->a[i * NX + j];
+        for (j = 0; j < NU; j++)
+            n->abc[(NX + j) * IFS_LD + i] = n->abr[i * IFS_RL + NX + j] = n->b[i * NU + j];
     }
     n->norm_a = n->norm_ab = 0.0;
     for (j = 0; j < NA; j++) {
@@ -187,7 +166,6 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  "matrices)", n.dt);
         return -1;
     }
-    pack_rows(&n);
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
     n.h_last = -1.0;
@@ -197,7 +175,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
 }
 
 /* (static: a clone's ifunc resolver of a global function would be exported) */
-static IFS_HOT int advance(IfsModel *m, const double u[NU], double h)
+static IFS_HOT int advance(IfsModel *m, double h)
 {
     long long k;
     if (h != m->h_last) {
@@ -211,7 +189,7 @@ static IFS_HOT int advance(IfsModel *m, const double u[NU], double h)
         m->rem_last = rem;
         m->h_last = h;
     }
-    for (k = 0; k < m->n_last; k++) ifs_step(m->pg, m->x, u);
+    for (k = 0; k < m->n_last; k++) ifs_step(m->pg, m->x);
     if (m->rem_last > 0.0) {
         const double r = m->rem_last;
         /* the second remainder in a row under the same matrices is cached (one
@@ -222,7 +200,7 @@ static IFS_HOT int advance(IfsModel *m, const double u[NU], double h)
         }
         m->rem_prev = r;
         if (r == m->rem) {
-            ifs_step(m->pg_rem, m->x, u);
+            ifs_step(m->pg_rem, m->x);
         } else {
             /* a remainder that changes from frame to frame: the Taylor series over
              * the whole remainder, or the cached step and the series over the
@@ -231,58 +209,33 @@ static IFS_HOT int advance(IfsModel *m, const double u[NU], double h)
             const int nk = taylor_count(m, r);
             const int nd = m->rem > 0.0 ? taylor_count(m, r - m->rem) : 0;
             if (nd > 0 && (nk == 0 || nd + 1 < nk)) {
-                ifs_step(m->pg_rem, m->x, u);
-                taylor_step(m, nd, r - m->rem, m->x, u);
+                ifs_step(m->pg_rem, m->x);
+                taylor_step(m, nd, r - m->rem, m->x);
             } else if (nk > 0) {
-                taylor_step(m, nk, r, m->x, u);
+                taylor_step(m, nk, r, m->x);
             } else {                                /* a stiff model: the exponential */
                 if (ifs_discretize(m, r, m->pg_rem) != 0) return -1;
                 m->rem = r;
-                ifs_step(m->pg_rem, m->x, u);
+                ifs_step(m->pg_rem, m->x);
             }
         }
     }
     return 0;
 }
 
-int ifs_advance(IfsModel *m, const double u[NU], double h)
+int ifs_advance(IfsModel *m, double h)
 {
-    return advance(m, u, h);
+    return advance(m, h);
 }
 
 /* --- mu table --- */
-
-/* Where entry e of the table's half 0 lives in m (IfsMuTable, inflow_numerics.h:
- * [phi gam] in the order the step reads it); NULL for padding. */
-static double *half0_slot(IfsModel *m, int e)
-{
-    const int whole = 4 * IFS_NG4 * NA;
-    if (e < whole)                       /* rows 4g .. 4g + 3 of column j */
-        return m->pg + (e / 4 % NA) * IFS_LD + 4 * (e / (4 * NA)) + e % 4;
-    e -= whole;
-#if IFS_NX == 6
-    /* rows 4, 5 of columns 2k, 2k + 1 */
-    return m->pg + (2 * (e / 4) + e % 4 / 2) * IFS_LD + 4 + e % 2;
-#elif defined(IFS_ROW_STEP)
-    {
-        const int l = e / IFS_RL, j = e % IFS_RL;
-        (void)l;
-        if (j < NX || (j >= 4 * IFS_XB && j < 4 * IFS_XB + NU)) return m->prow + e;
-        return NULL;
-    }
-#else
-    return NULL;
-#endif
-}
 
 static void mu_entries(IfsModel *m, double out[IFS_MU_NTAB])
 {
     int i, j, e;
     memset(out, 0, sizeof(double) * IFS_MU_NTAB);      /* the padding */
-    for (e = 0; e < IFS_MU_HALF0; e++) {
-        const double *slot = half0_slot(m, e);
-        if (slot) out[e] = *slot;
-    }
+    /* half 0: [phi gam] as the step reads it (its zero padding too) */
+    for (e = 0; e < IFS_MU_HALF0; e++) out[e] = m->pg[e];
     for (i = 0; i < NX; i++)
         for (j = 0; j < NA; j++)
             out[IFS_MU_HALF0 + i * NA + j] = j < NX ? m->a[i * NX + j] : m->b[i * NU + j - NX];
@@ -320,72 +273,17 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
     return ifs_mu_table_fit(t, mu_build_entries, &b);
 }
 
-/* The rows of m->prow back into m->pg (the inverse of pack_rows). */
-IFS_INLINE void unpack_rows(IfsModel *m)
-{
-#ifdef IFS_ROW_STEP
-    int l, j;
-    IFS_UNROLL
-    for (l = 0; l < IFS_NLEFT; l++) {
-        const int i = 4 * IFS_NG4 + l;
-        IFS_UNROLL
-        for (j = 0; j < NX; j++) m->pg[j * IFS_LD + i] = m->prow[l * IFS_RL + j];
-        IFS_UNROLL
-        for (j = 0; j < NU; j++)
-            m->pg[(NX + j) * IFS_LD + i] = m->prow[l * IFS_RL + 4 * IFS_XB + j];
-    }
-#else
-    (void)m;
-#endif
-}
-
 /* [phi gam] at mu from the table's parts (prt, local variable y), evaluated straight
- * into m->pg (and m->prow): half 0 is stored in their order, four entries a vector
- * of fused multiply-adds FMA4 (the CPU's four at once, or the C library's fma lane
- * by lane: one rounding each, so the same numbers) */
+ * into m->pg, whose order half 0 is stored in: four entries a vector of fused
+ * multiply-adds FMA4 (the CPU's four at once, or the C library's fma lane by lane:
+ * one rounding each, so the same numbers) */
 #define MU_APPLY_BODY(FMA4)                                                            \
     do {                                                                               \
-        int g_, j_, e_ = 0;                                                            \
+        int e_;                                                                        \
         IFS_UNROLL                                                                     \
-        for (g_ = 0; g_ < IFS_NG4; g_++) {                                             \
-            IFS_UNROLL                                                                 \
-            for (j_ = 0; j_ < NA; j_++, e_ += 4)                                       \
-                IFS_MU_FHORNER4(FMA4, t, prt, e_,                                      \
-                                *(ifs_v4 *)(m->pg + j_ * IFS_LD + 4 * g_));            \
-        }                                                                              \
-        MU_APPLY_TAIL(FMA4);                                                           \
+        for (e_ = 0; e_ < IFS_MU_HALF0; e_ += 4)                                       \
+            IFS_MU_FHORNER4(FMA4, t, prt, e_, *(ifs_v4 *)(m->pg + e_));                \
     } while (0)
-#if IFS_NX == 6
-#define MU_APPLY_TAIL(FMA4)                                                            \
-    IFS_UNROLL                                                                         \
-    for (j_ = 0; j_ < NA; j_ += 2, e_ += 4) {                                          \
-        ifs_v4 w_;                                                                     \
-        IFS_MU_FHORNER4(FMA4, t, prt, e_, w_);                                         \
-        *(ifs_v2 *)(m->pg + j_ * IFS_LD + 4) = (ifs_v2){w_[0], w_[1]};                 \
-        *(ifs_v2 *)(m->pg + (j_ + 1) * IFS_LD + 4) = (ifs_v2){w_[2], w_[3]};           \
-    }
-#elif defined(IFS_ROW_STEP)
-/* the packed rows (m->prow), and each value again in its place in m->pg (what
- * unpack_rows does, from the registers) */
-#define MU_ROW_COL(r) /* pg's column of position r of a packed row; -1 padding */      \
-    ((r) < 4 * IFS_XB ? ((r) < NX ? (r) : -1)                                          \
-                      : ((r) - 4 * IFS_XB < NU ? NX + (r) - 4 * IFS_XB : -1))
-#define MU_APPLY_TAIL(FMA4)                                                            \
-    IFS_UNROLL                                                                         \
-    for (j_ = 0; j_ < IFS_MU_TAIL; j_ += 4, e_ += 4) {                                 \
-        ifs_v4 w_;                                                                     \
-        int k_;                                                                        \
-        IFS_MU_FHORNER4(FMA4, t, prt, e_, w_);                                         \
-        *(ifs_v4 *)(m->prow + j_) = w_;                                                \
-        IFS_UNROLL                                                                     \
-        for (k_ = 0; k_ < 4; k_++)                                                     \
-            if (MU_ROW_COL((j_ + k_) % IFS_RL) >= 0)                                   \
-                m->pg[MU_ROW_COL((j_ + k_) % IFS_RL) * IFS_LD + 4 * IFS_NG4 +          \
-                      (j_ + k_) / IFS_RL] = w_[k_];                                    \
-    }
-#else
-#define MU_APPLY_TAIL(FMA4) (void)0
-#endif
 
 #ifdef IFS_MU_FMA4
 #define FMA4_CPU(acc, c)                                                               \
@@ -408,11 +306,7 @@ static void mu_apply(const IfsMuTable *t, int prt, double y, IfsModel *m)
     MU_APPLY_BODY(FMA4_LIB);
 #else
     int e;
-    for (e = 0; e < IFS_MU_HALF0; e++) {
-        double *slot = half0_slot(m, e);
-        if (slot) *slot = ifs_mu_fhorner(t, prt, y, e);
-    }
-    unpack_rows(m);
+    for (e = 0; e < IFS_MU_HALF0; e++) m->pg[e] = ifs_mu_fhorner(t, prt, y, e);
 #endif
 }
 

@@ -24,56 +24,33 @@
 /* IFS_NX (6, or 9 with flap-inertia), IFS_N_STRUCTURES and IFS_STRUCTURE_NAMES come
  * from the generated inflow_vars.h: the structures this FMU was generated for */
 #define IFS_NL 5                   /* loads: CT C_mc C_ms C_mc_hub C_ms_hub */
-
-/* Rows past the last whole group of four (nine states: row 8) are summed row by row
- * in the generic step (see ifs_step): the products of a row are taken in vectors of
- * four over [x; u] (IFS_ZB blocks, x and u each padded with zeros to whole blocks),
- * not in a quarter-used vector per column.  The six-state step keeps its own sums. */
-#define IFS_NG4 (IFS_NX / 4)               /* whole groups of four rows */
-#define IFS_NLEFT (IFS_NX % 4)             /* the rows after them */
-#define IFS_XB ((IFS_NX + 3) / 4)          /* blocks of four of x */
-#define IFS_ZB (IFS_XB + (IFS_NU + 3) / 4) /* ... of [x; u] */
-#define IFS_RL (4 * IFS_ZB)                /* a packed row's length */
-#if IFS_NX != 6 && IFS_NLEFT > 0
-#define IFS_ROW_STEP 1
-#endif
-
+#define IFS_XB ((IFS_NX + 3) / 4)          /* blocks of four holding a state */
 
 typedef struct {
     /* First what the step reads, each a whole number of 32-byte vectors from the
      * start, which the slave keeps 64-byte aligned (IfsSlave, the FMI layers'
      * instances): a four-wide load or store across a 64-byte cache line costs more
-     * (the nine-state step took about 2 ns longer at an unlucky heap address, and
-     * 0.6 ns longer with x across a line, bench/fmu.md). */
-    /* [phi gam] at the internal step dt, stored by columns (IFS_NA columns of
-     * IFS_LD, rows NX.. zero) so one step is a sum of scaled columns, four and
-     * two rows at a time (see ifs_step) */
-    double pg[IFS_NA * IFS_LD];
-    /* state (x_pad_: whole vectors, see above) */
-    double x[IFS_NX];
-    double x_pad_[IFS_LD - IFS_NX + 4];
-#ifdef IFS_ROW_STEP
-    /* the last IFS_NX % 4 rows of pg again, row by row (IFS_RL each: the x part and
-     * the u part each padded with zeros to whole vectors of four), so the four-wide
-     * step (ifs_step_wide) loads four of their coefficients at a time; refreshed
-     * with pg (pack_rows in inflow_model.c) */
-    double prow[IFS_NLEFT * IFS_RL];
-#endif
+     * (bench/fmu.md). */
+    /* [phi gam] at the internal step dt by rows: row i at pg + i IFS_RL, its IFS_NA
+     * coefficients then zeros (whole vectors of four), so that one new state is a
+     * dot product of whole vectors with [x; u] (see ifs_step) */
+    double pg[IFS_NX * IFS_RL];
+    /* [x; u; 0]: the state (IFS_NX), then the inputs held (IFS_NU, a copy of the
+     * slave's, written when they are set: the step reads them beside the state),
+     * then zeros to whole vectors of four */
+    double x[IFS_RL];
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
     /* outputs y = c x: identity but the recorded flap rotated by the azimuth bias */
     double cos_bias, sin_bias;
-    /* the same rotation by columns: cos, sin | -sin, cos (the four-wide step's
-     * outputs, two at a time) */
-    double rot[4];
     /* loads = lc x + ld u (inflowsim.model.loads: Eq. (4) times a0 s, the flap rate
      * from the dynamics, the true pitch; the flap springs' hub moments), row-major */
     double lc[IFS_NL * IFS_NX];
     double ld[IFS_NL * IFS_NU];
     double dt;
-    /* cached [phi gam] (by columns) of a remainder step (h not n dt) */
-    double pg_rem[IFS_NA * IFS_LD];
+    /* cached [phi gam] (by rows, as pg) of a remainder step (h not n dt) */
+    double pg_rem[IFS_NX * IFS_RL];
     double rem;                    /* its length [s]; 0 = no cache */
     /* the remainder asked for by the previous call under the same matrices (0: none).
      * The second remainder in a row is cached; a later one that differs from the
@@ -81,9 +58,11 @@ typedef struct {
      * over d (of either sign), or over the whole remainder when that takes fewer
      * terms (ifs_advance) */
     double rem_prev;
-    /* [a b] stored by columns like pg (the Taylor remainder's matrix-vector
-     * products, two rows at a time) */
+    /* [a b] stored by columns (IFS_LD each: the Taylor remainder's matrix-vector
+     * products, two rows at a time), and by rows as pg (its first product, with the
+     * inputs) */
     double abc[IFS_NA * IFS_LD];
+    double abr[IFS_NX * IFS_RL];
     /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
     double norm_a, norm_ab;
     /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
@@ -138,13 +117,14 @@ double ifs_flow_speed(const IfsVariables *v);
 void ifs_schedule_apply(IfsVariables *v);
 #endif
 
-/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by columns
- * (element (i, j) at pg[j * IFS_LD + i], padding rows zero). */
-int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NA * IFS_LD]);
+/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by rows
+ * (element (i, j) at pg[i * IFS_RL + j], padding zero: IfsModel.pg). */
+int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NX * IFS_RL]);
 
-/* Advance the state over h [s] with u held: whole internal steps dt and one exact
- * remainder step.  Returns 0, or -1 if the remainder discretisation failed. */
-int ifs_advance(IfsModel *m, const double u[IFS_NU], double h);
+/* Advance the state over h [s] with the inputs held (m->x after the state): whole
+ * internal steps dt and one exact remainder step.  Returns 0, or -1 if the
+ * remainder discretisation failed. */
+int ifs_advance(IfsModel *m, double h);
 
 /* y = c x: the recorded flap is the true one rotated by the azimuth bias. */
 IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
@@ -159,62 +139,25 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
 }
 
 /*
- * x <- phi x + gam u with [phi gam] = pg: one step, the simulator loop's hot path,
- * inline so that it is compiled for the caller's target (see IFS_HOT in
- * inflow_slave.h).  The sum is a fixed tree: gam u (independent of x) first, then
- * six products of x, so the chain from x to the new x is one multiply and three
- * adds.  Rows 0-3 and 4-5 go as vectors of four and two where the compiler has
- * GNU vector types; otherwise scalar, in the same order, so the rounding is the
- * same on every path, provided the compiler does not contract a * b + c into a fused
- * multiply-add (inflowsim builds with -ffp-contract=off; clang is told below).
+ * x <- phi x + gam u with [phi gam] = pg (by rows, IFS_RL each) and z = [x; u; 0]
+ * (IfsModel.x): one step, the simulator loop's hot path, inline so that it is
+ * compiled for the caller's target.  Each new state is the dot product of its row
+ * with z in blocks of four: lane l of the row is the pairwise sum over the blocks
+ * (IFS_TREE_SUM, the blocks taken last first, so the inputs' products, which do not
+ * wait for the new state, are summed first), then the lanes (l0 + l1) + (l2 + l3).
+ * Every product of [phi gam] [x; u] is taken once in whole vectors of four (the
+ * step's arithmetic floor, bench/fmu_states.md), the padding 0 * 0.  The same
+ * operations in the same order on every path: GNU vectors of two (the baseline
+ * x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
+ * (ifs_step_wide), so the same numbers, provided the compiler does not contract
+ * a * b + c into a fused multiply-add (inflowsim builds with -ffp-contract=off;
+ * clang is told in inflow_numerics.h).
  */
-/* the new rows r.. of x as one value of type T (double, or a vector of doubles) */
-#define IFS_C(T, j) (*(const T *)(pg + (r_) + (j) * IFS_LD))
-#define IFS_STEP_ROWS(T, r, s)                                                         \
-    do {                                                                               \
-        const int r_ = (r);                                                            \
-        const T g_ = ((IFS_C(T, 6) * u[0] + IFS_C(T, 7) * u[1]) +                      \
-                      (IFS_C(T, 8) * u[2] + IFS_C(T, 9) * u[3])) +                     \
-                     ((IFS_C(T, 10) * u[4] + IFS_C(T, 11) * u[5]) +                    \
-                      (IFS_C(T, 12) * u[6] + IFS_C(T, 13) * u[7])) +                   \
-                     (IFS_C(T, 14) * u[8] + IFS_C(T, 15) * u[9]);                      \
-        s = ((g_ + IFS_C(T, 0) * x[0]) + (IFS_C(T, 1) * x[1] + IFS_C(T, 2) * x[2])) +  \
-            ((IFS_C(T, 3) * x[3] + IFS_C(T, 4) * x[4]) + IFS_C(T, 5) * x[5]);          \
-    } while (0)
-
-#if IFS_NX == 6
-IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
-{
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    ifs_v4 top;
-    ifs_v2 bottom;
-    IFS_STEP_ROWS(ifs_v4, 0, top);
-    IFS_STEP_ROWS(ifs_v2, 4, bottom);
-    *(ifs_v4 *)x = top;
-    *(ifs_v2 *)(x + 4) = bottom;
-#else
-    double y[IFS_NX];
-    int i;
-    for (i = 0; i < IFS_NX; i++) IFS_STEP_ROWS(double, i, y[i]);
-    memcpy(x, y, sizeof y);
-#endif
-}
-#else
-/* other state counts (flap-inertia's nine): each new row is gam u and phi x, each
- * summed as a fixed pairwise tree ((gam u) + phi_0 x_0 first), so the chain from x
- * to the new x is one multiply and four adds for nine states and gam u's ten terms
- * no longer make a chain of ten adds.  Whole groups of four rows go two rows at a
- * time (native on every x86-64, SSE2, so the baseline code is fast too), four in the
- * AVX2 DoStep (ifs_step_wide below), one in plain C; the rows after them (nine
- * states: row 8) row by row, four products at a time (ifs_row_sum): a column-wise
- * vector would carry one useful lane of four, and every vector operation and load
- * counts in the step.  The same operations per row in the same order on every path,
- * so the same numbers. */
 /* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
  * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
- * by size, as a binary counter), so only a few values are live at once: the terms
- * all at once spilled registers.  The association is fixed by K alone, so every
- * width (double, pairs, fours) rounds alike. */
+ * by size, as a binary counter), so only a few values are live at once.  The
+ * association is fixed by K alone, so every width (double, pairs, fours) rounds
+ * alike. */
 #define IFS_TREE_SUM(T, K, first, term, out)                                           \
     do {                                                                               \
         T s_[5], c_;                                                                   \
@@ -246,248 +189,100 @@ IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_
             }                                                                          \
         out = c_;                                                                      \
     } while (0)
-/* the new rows at c (column j at c + j * IFS_LD) as one T (double or a vector):
- * (gam u) and then (gam u + phi_0 x_0) + phi_1 x_1 ... each a tree */
-#define IFS_COL(T, c, j) (*(const T *)((c) + (j) * IFS_LD))
-#define IFS_GROUP(T, c, out)                                                           \
-    do {                                                                               \
-        T g_;                                                                          \
-        IFS_TREE_SUM(T, IFS_NU, IFS_COL(T, c, IFS_NX) * u[0],                          \
-                     IFS_COL(T, c, IFS_NX + j_) * u[j_], g_);                          \
-        IFS_TREE_SUM(T, IFS_NX, g_ + IFS_COL(T, c, 0) * x[0], IFS_COL(T, c, j_) * x[j_],  \
-                     out);                                                             \
-    } while (0)
+/* the k-th block of the sum (the last block first) */
+#define IFS_BLK(k) (IFS_ZB - 1 - (k))
+/* lanes off .. off + width of row r's products with z, summed over the blocks */
+#define IFS_ROW_LANES(T, r, off, out)                                                  \
+    IFS_TREE_SUM(T, IFS_ZB,                                                            \
+                 *(const T *)(pg + (r) * IFS_RL + 4 * IFS_BLK(0) + (off)) *            \
+                     *(const T *)(z + 4 * IFS_BLK(0) + (off)),                         \
+                 *(const T *)(pg + (r) * IFS_RL + 4 * IFS_BLK(j_) + (off)) *           \
+                     *(const T *)(z + 4 * IFS_BLK(j_) + (off)),                        \
+                 out)
 
-#ifdef IFS_ROW_STEP
-/* A row after the whole groups of four (ifs_step, ifs_step_wide): lane l of block b
- * of [x; u] is coefficient * entry, or 0 * 0 in the padding, exactly as the four-wide
- * step multiplies a packed row (m->prow) by the zero-padded blocks.  Each lane
- * is a pairwise tree over the blocks, the u blocks first (gam u), then the lanes
- * (l0 + l2) + (l1 + l3) (two vector adds from four lanes): the same operations in
- * the same order on every path. */
-#define IFS_RBLOCK(k) (((k) + IFS_XB) % IFS_ZB)
-#define IFS_RTERM(b, l)                                                                \
-    ((b) < IFS_XB                                                                      \
-         ? (4 * (b) + (l) < IFS_NX ? pg[(4 * (b) + (l)) * IFS_LD + i] * x[4 * (b) + (l)] \
-                                   : 0.0 * 0.0)                                        \
-         : (4 * ((b) - IFS_XB) + (l) < IFS_NU                                          \
-                ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i] *               \
-                      u[4 * ((b) - IFS_XB) + (l)]                                      \
-                : 0.0 * 0.0))
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-/* lanes 2h, 2h + 1 of block b as a pair (the baseline code's vectors; 0 * 0 in the
- * padding as above): lanes 0, 1 and 2, 3 summed apart, then added, are
- * (l0 + l2, l1 + l3) */
-#define IFS_RCOEF(b, l)                                                                \
-    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? pg[(4 * (b) + (l)) * IFS_LD + i] : 0.0)   \
-                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU                                 \
-                         ? pg[(IFS_NX + 4 * ((b) - IFS_XB) + (l)) * IFS_LD + i]        \
-                         : 0.0))
-#define IFS_RZ(b, l)                                                                   \
-    ((b) < IFS_XB ? (4 * (b) + (l) < IFS_NX ? x[4 * (b) + (l)] : 0.0)                  \
-                  : (4 * ((b) - IFS_XB) + (l) < IFS_NU ? u[4 * ((b) - IFS_XB) + (l)] : 0.0))
-#define IFS_RPROD(b, h)                                                                \
-    ((ifs_v2){IFS_RCOEF(b, 2 * (h)), IFS_RCOEF(b, 2 * (h) + 1)} *                      \
-     (ifs_v2){IFS_RZ(b, 2 * (h)), IFS_RZ(b, 2 * (h) + 1)})
-IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
+/* y = [phi gam] z, the new states (see ifs_step) */
+IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
 {
-    ifs_v2 lo, hi, h;
-    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 0), IFS_RPROD(IFS_RBLOCK(j_), 0), lo);
-    IFS_TREE_SUM(ifs_v2, IFS_ZB, IFS_RPROD(IFS_RBLOCK(0), 1), IFS_RPROD(IFS_RBLOCK(j_), 1), hi);
-    h = lo + hi;
-    return h[0] + h[1];
-}
-#else
-IFS_INLINE double ifs_row_sum(const double *pg, int i, const double *x, const double *u)
-{
-    double p[4];
-    int l;
-    IFS_UNROLL
-    for (l = 0; l < 4; l++)
-        IFS_TREE_SUM(double, IFS_ZB, IFS_RTERM(IFS_RBLOCK(0), l),
-                     IFS_RTERM(IFS_RBLOCK(j_), l), p[l]);
-    return (p[0] + p[2]) + (p[1] + p[3]);
-}
-#endif
-#endif
-
-IFS_INLINE void ifs_step(const double *pg, double x[IFS_NX], const double u[IFS_NU])
-{
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    /* every sum before any store (each reads all of x), then straight into x: a
-     * copy through a buffer stalls store forwarding every step */
-    ifs_v2 y[IFS_NG4 > 0 ? 2 * IFS_NG4 : 1];
     int r;
-#ifdef IFS_ROW_STEP
-    double tail[IFS_NLEFT];
-#endif
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     IFS_UNROLL
-    for (r = 0; r < 2 * IFS_NG4; r++) IFS_GROUP(ifs_v2, pg + 2 * r, y[r]);
-#ifdef IFS_ROW_STEP
-    IFS_UNROLL
-    for (r = 0; r < IFS_NLEFT; r++) tail[r] = ifs_row_sum(pg, 4 * IFS_NG4 + r, x, u);
-#endif
-    IFS_UNROLL
-    for (r = 0; r < 2 * IFS_NG4; r++) *(ifs_v2 *)(x + 2 * r) = y[r];
-#ifdef IFS_ROW_STEP
-    IFS_UNROLL
-    for (r = 0; r < IFS_NLEFT; r++) x[4 * IFS_NG4 + r] = tail[r];
-#endif
+    for (r = 0; r < IFS_NX; r++) {
+        ifs_v2 lo, hi;
+        IFS_ROW_LANES(ifs_v2, r, 0, lo);
+        IFS_ROW_LANES(ifs_v2, r, 2, hi);
+        y[r] = (lo[0] + lo[1]) + (hi[0] + hi[1]);
+    }
 #else
-    double y[IFS_NX];
-    int i;
-    for (i = 0; i < 4 * IFS_NG4; i++) IFS_GROUP(double, pg + i, y[i]);
-#ifdef IFS_ROW_STEP
-    for (i = 4 * IFS_NG4; i < IFS_NX; i++) y[i] = ifs_row_sum(pg, i, x, u);
-#endif
-    memcpy(x, y, sizeof y);
+    for (r = 0; r < IFS_NX; r++) {
+        double l[4];
+        int k;
+        for (k = 0; k < 4; k++) IFS_ROW_LANES(double, r, k, l[k]);
+        y[r] = (l[0] + l[1]) + (l[2] + l[3]);
+    }
 #endif
 }
 
-/* The same step four rows at a time, for the AVX2 variant of the DoStep functions
- * (IFS_WIDE_STEP; the FMI layers pick it at load time where the CPU has AVX2:
- * 256-bit vectors on the baseline x86-64 code are split badly, so that keeps the
- * pairs), on m's [phi gam] at dt: the whole groups of four rows by columns, two
- * groups side by side (IFS_TREE_SUM2: each x_j and u_j broadcast once for both, and
- * few values live at once: one group after the other kept 19 broadcasts live and
- * spilled them), the rows after them from the packed rows (m->prow) four products
- * at a time.  It also leaves the six outputs (ifs_outputs: beta0 .. lambda1s) in
- * out, from the new rows in registers (read back from x, they waited for the
- * stores), with in-lane shuffles only.  The same operations in the same order as
- * ifs_step, so the same numbers. */
+IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
+{
+    /* every sum before any store (each reads all of x) */
+    double y[IFS_NX];
+    ifs_rows(pg, z, y);
+    memcpy(z, y, sizeof y);
+}
+
+/* The same step four lanes at a time, for the AVX2 variant of DoStep (IFS_WIDE_STEP;
+ * the slave picks it at load time where the CPU has AVX2: 256-bit vectors on the
+ * baseline x86-64 code are split badly, so that keeps the pairs), on m's [phi gam] at
+ * dt.  Four rows' lanes are added in two horizontal adds ((l0 + l1), (l2 + l3)) and
+ * one vertical one, giving the four new states as one vector; the block holding the
+ * last states and the first inputs is stored whole (the inputs as they were), so
+ * that the next step loads every block from one store.  The same operations in the
+ * same order as ifs_step, so the same numbers. */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
 #include <immintrin.h>
-/* IFS_TREE_SUM of two sums term by term: the same tree for each */
-#define IFS_TREE_SUM2(T, K, first0, first1, term0, term1, out0, out1)                  \
+/* the four rows from 4 g (k of them) reduced to one vector [x_4g ...]: in the lanes
+ * past k the block's inputs as they were */
+#define IFS_WIDE_GROUP(g, k, out)                                                      \
     do {                                                                               \
-        T a_[5], b_[5], c_, d_;                                                        \
-        int j_, l_, have_ = 0;                                                         \
-        IFS_UNROLL                                                                     \
-        for (j_ = 0; j_ < (K); j_++) {                                                 \
-            if (j_ == 0) {                                                             \
-                c_ = first0;                                                           \
-                d_ = first1;                                                           \
-            } else {                                                                   \
-                c_ = term0;                                                            \
-                d_ = term1;                                                            \
-            }                                                                          \
-            IFS_UNROLL                                                                 \
-            for (l_ = 0; l_ < 5; l_++) {                                               \
-                if ((j_ >> l_) & 1) {                                                  \
-                    c_ = a_[l_] + c_;                                                  \
-                    d_ = b_[l_] + d_;                                                  \
-                } else {                                                               \
-                    a_[l_] = c_;                                                       \
-                    b_[l_] = d_;                                                       \
-                    break;                                                             \
-                }                                                                      \
-            }                                                                          \
+        ifs_v4 r0_, r1_, r2_, r3_;                                                     \
+        __m256d t0_, v_;                                                               \
+        IFS_ROW_LANES(ifs_v4, 4 * (g), 0, r0_);                                        \
+        if ((k) > 1) IFS_ROW_LANES(ifs_v4, 4 * (g) + 1, 0, r1_);                       \
+        else r1_ = r0_;                                                                \
+        if ((k) > 2) IFS_ROW_LANES(ifs_v4, 4 * (g) + 2, 0, r2_);                       \
+        else r2_ = r0_;                                                                \
+        if ((k) > 3) IFS_ROW_LANES(ifs_v4, 4 * (g) + 3, 0, r3_);                       \
+        else r3_ = r2_;                                                                \
+        /* r0 01, r1 01, r0 23, r1 23 */                                               \
+        t0_ = _mm256_hadd_pd((__m256d)r0_, (__m256d)r1_);                              \
+        if ((k) > 2) {                                                                 \
+            const __m256d t1_ = _mm256_hadd_pd((__m256d)r2_, (__m256d)r3_);            \
+            v_ = _mm256_add_pd(_mm256_permute2f128_pd(t0_, t1_, 0x20),                 \
+                               _mm256_permute2f128_pd(t0_, t1_, 0x31));                \
+        } else {                                                                       \
+            v_ = _mm256_castpd128_pd256(_mm_add_pd(_mm256_castpd256_pd128(t0_),        \
+                                                   _mm256_extractf128_pd(t0_, 1)));    \
         }                                                                              \
-        IFS_UNROLL                                                                     \
-        for (l_ = 0; l_ < 5; l_++)                                                     \
-            if (((K) >> l_) & 1) {                                                     \
-                if (have_) {                                                           \
-                    c_ = a_[l_] + c_;                                                  \
-                    d_ = b_[l_] + d_;                                                  \
-                } else {                                                               \
-                    c_ = a_[l_];                                                       \
-                    d_ = b_[l_];                                                       \
-                }                                                                      \
-                have_ = 1;                                                             \
-            }                                                                          \
-        out0 = c_;                                                                     \
-        out1 = d_;                                                                     \
+        out = v_;                                                                      \
     } while (0)
-/* IFS_GROUP for the groups at c and c + 4 side by side */
-#define IFS_GROUP2(c, out0, out1)                                                      \
-    do {                                                                               \
-        ifs_v4 g0_, g1_;                                                               \
-        IFS_TREE_SUM2(ifs_v4, IFS_NU, IFS_COL(ifs_v4, c, IFS_NX) * u[0],               \
-                      IFS_COL(ifs_v4, (c) + 4, IFS_NX) * u[0],                         \
-                      IFS_COL(ifs_v4, c, IFS_NX + j_) * u[j_],                         \
-                      IFS_COL(ifs_v4, (c) + 4, IFS_NX + j_) * u[j_], g0_, g1_);        \
-        IFS_TREE_SUM2(ifs_v4, IFS_NX, g0_ + IFS_COL(ifs_v4, c, 0) * x[0],              \
-                      g1_ + IFS_COL(ifs_v4, (c) + 4, 0) * x[0],                        \
-                      IFS_COL(ifs_v4, c, j_) * x[j_],                                  \
-                      IFS_COL(ifs_v4, (c) + 4, j_) * x[j_], out0, out1);               \
-    } while (0)
-static inline __attribute__((target("avx2"), always_inline)) void
-ifs_step_wide(IfsModel *m, const double u[IFS_NU], double out[6])
+static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(IfsModel *m)
 {
     const double *pg = m->pg;
-    double *x = m->x;
-    ifs_v4 y[IFS_NG4 > 0 ? IFS_NG4 : 1];
+    double *z = m->x;
+    __m256d y[IFS_XB];
     int g;
-#ifdef IFS_ROW_STEP
-    double tail[IFS_NLEFT];
-    ifs_v4 z[IFS_ZB];
-    int b, l;
     IFS_UNROLL
-    for (b = 0; b < IFS_ZB; b++) {     /* [x; u] in blocks of four, zero-padded */
-        const double *src = b < IFS_XB ? x + 4 * b : u + 4 * (b - IFS_XB);
-        const int n = b < IFS_XB ? IFS_NX - 4 * b : IFS_NU - 4 * (b - IFS_XB);
-        if (n >= 4) {
-            z[b] = *(const ifs_v4 *)src;
-        } else if (n >= 2) {       /* one 16-byte load, the upper half zero */
-            const ifs_v2 h = *(const ifs_v2 *)src;
-            const ifs_v4 t = {h[0], h[1], n == 3 ? src[2] : 0.0, 0.0};
-            z[b] = t;
-        } else {
-            const ifs_v4 t = {src[0], 0.0, 0.0, 0.0};
-            z[b] = t;
-        }
-    }
+    for (g = 0; g < IFS_NX / 4; g++) IFS_WIDE_GROUP(g, 4, y[g]);
+#if IFS_NX % 4
+    IFS_WIDE_GROUP(IFS_NX / 4, IFS_NX % 4, y[IFS_NX / 4]);
+    y[IFS_NX / 4] = _mm256_blend_pd(y[IFS_NX / 4], *(const __m256d *)(z + IFS_NX / 4 * 4),
+                                    (0xF << (IFS_NX % 4)) & 0xF);
 #endif
     IFS_UNROLL
-    for (g = 0; g + 1 < IFS_NG4; g += 2) IFS_GROUP2(pg + 4 * g, y[g], y[g + 1]);
-#if IFS_NG4 % 2
-    IFS_GROUP(ifs_v4, pg + 4 * (IFS_NG4 - 1), y[IFS_NG4 - 1]);
-#endif
-#ifdef IFS_ROW_STEP
-    IFS_UNROLL
-    for (l = 0; l < IFS_NLEFT; l++) {
-        const double *c = m->prow + l * IFS_RL;
-        ifs_v4 p;
-        IFS_TREE_SUM(ifs_v4, IFS_ZB, *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(0)) * z[IFS_RBLOCK(0)],
-                     *(const ifs_v4 *)(c + 4 * IFS_RBLOCK(j_)) * z[IFS_RBLOCK(j_)], p);
-        {
-            /* (l0 + l2, l1 + l3), then their sum: the lanes as ifs_row_sum adds them */
-            const __m128d h = _mm_add_pd(_mm256_castpd256_pd128((__m256d)p),
-                                         _mm256_extractf128_pd((__m256d)p, 1));
-            tail[l] = _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
-        }
-    }
-#endif
-    IFS_UNROLL
-    for (g = 0; g < IFS_NG4; g++) *(ifs_v4 *)(x + 4 * g) = y[g];
-#ifdef IFS_ROW_STEP
-    IFS_UNROLL
-    for (l = 0; l < IFS_NLEFT; l++) x[4 * IFS_NG4 + l] = tail[l];
-#endif
-#if IFS_NG4 >= 2
-    {
-        /* [c x1 + (-s) x2, s x1 + c x2]: ifs_outputs' c x1 - s x2 and s x1 + c x2,
-         * exactly (a - b is a + (-b) in IEEE arithmetic); x1 and x2 paired in their
-         * own halves of the vector (a lane-crossing permute per value cost 0.8 ns) */
-        const __m128d lo = _mm256_castpd256_pd128((__m256d)y[0]);
-        const __m128d hi = _mm256_extractf128_pd((__m256d)y[0], 1);
-        const __m128d x1 = _mm_unpackhi_pd(lo, lo), x2 = _mm_movedup_pd(hi);
-        const __m128d r = _mm_add_pd(_mm_mul_pd(x1, _mm_loadu_pd(m->rot)),
-                                     _mm_mul_pd(x2, _mm_loadu_pd(m->rot + 2)));
-        _mm_storel_pd(out, lo);
-        _mm_storeu_pd(out + 1, r);
-        _mm_storeh_pd(out + 3, hi);
-        _mm_storeu_pd(out + 4, _mm256_castpd256_pd128((__m256d)y[1]));
-    }
-#else
-    ifs_outputs(m, out);
-#endif
+    for (g = 0; g < IFS_XB; g++) *(__m256d *)(z + 4 * g) = y[g];
 }
 #endif
-#endif
-#undef IFS_C
-#undef IFS_STEP_ROWS
 
 
 

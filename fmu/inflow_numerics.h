@@ -17,13 +17,15 @@
 #define IFS_NU IFS_N_INPUTS        /* 10: theta0 .. muy */
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
+#define IFS_ZB ((IFS_NA + 3) / 4)   /* blocks of four of [x; u] (the last zero-padded) */
+#define IFS_RL (4 * IFS_ZB)          /* a stored row of [phi gam]: [x; u]'s length, padded */
 
 /* The DoStep functions, the mu table's evaluation and the stepping of whole
  * communication intervals (ifs_advance: substeps, the Taylor remainder) are
  * compiled twice where the loader can pick one at load time (GNU ifunc, glibc):
  * for AVX2 and for the baseline (IFS_HOT; with the four-wide step, IFS_WIDE_STEP in
- * inflow_model.h, the FMI layers write DoStep's two functions and their ifunc
- * themselves).  The step does the same
+ * inflow_model.h, the slave writes DoStep's two functions and their resolver
+ * itself: ifs_do_step in inflow_slave.c).  The step does the same
  * operations in the same order in both, so both give the same numbers (a test
  * checks this bit for bit; build without floating-point contraction,
  * -ffp-contract=off, as inflowsim does).  -DIFS_NO_CLONES turns it off. */
@@ -86,10 +88,9 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
  * an exact value relative to the half's largest entry; the table is used only if
  * that is within IFS_MU_TOL.  Half 0 ([phi gam], IFS_MU_HALF0 entries) is stored in
  * the order the step reads it, so a mu change evaluates it straight into the
- * model's matrices (ifs_mu_table_apply, inflow_model.c): the whole groups of four
- * rows, column by column; then the rows after them: with six states rows 4-5 of two
- * columns at a time, else the packed rows of the row step (IFS_ROW_STEP,
- * inflow_model.h), zero-padded.  Half 1 ([a b], row-major, IFS_MU_HALF entries) is
+ * model's matrices (ifs_mu_table_apply, inflow_model.c): row by row, each row
+ * IFS_RL long (zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
+ * IFS_MU_HALF entries) is
  * read rarely (a remainder step, a load).
  *
  * What a mu change evaluates, and the check checks, of half 0 is a finer table made
@@ -101,14 +102,7 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r);
  * the same algorithm.
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
-#if IFS_NX % 4 == 0
-#define IFS_MU_TAIL 0
-#elif IFS_NX == 6
-#define IFS_MU_TAIL (2 * IFS_NA)   /* 32: rows 4-5 of columns j, j + 1 (NA even) */
-#else
-#define IFS_MU_TAIL ((IFS_NX % 4) * 4 * ((IFS_NX + 3) / 4 + (IFS_NU + 3) / 4))
-#endif
-#define IFS_MU_HALF0 (4 * (IFS_NX / 4) * IFS_NA + IFS_MU_TAIL)
+#define IFS_MU_HALF0 (IFS_NX * IFS_RL)
 #define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
 #define IFS_MU_NPART (IFS_MU_NSEG * IFS_MU_SPLIT)
 #define IFS_MU_NGUESS 64           /* cells of the segment guess, narrower than any */

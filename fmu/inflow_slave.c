@@ -2,6 +2,7 @@
  * The co-simulation slave shared by the FMI 2.0 and 3.0 layers: checks, the
  * variable table, rebuilds and the general step.  See inflow_slave.h.
  */
+#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,8 +14,10 @@
 
 #if defined(__GNUC__)
 #define IFS_COLD __attribute__((noinline, cold))
+#define IFS_NOINLINE __attribute__((noinline))
 #else
 #define IFS_COLD
+#define IFS_NOINLINE
 #endif
 
 int ifs_log(const IfsLog *lg, int status, const char *fmt, ...)
@@ -49,6 +52,8 @@ void ifs_slave_init(IfsSlave *s)
     s->dirty = 1;
     s->m.h_last = -1.0;
     s->t_stop = INFINITY;
+    ifs_slave_hold_inputs(s);
+    ifs_slave_refresh(s);
 }
 
 int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, double start,
@@ -63,6 +68,7 @@ int ifs_slave_set_start_time(IfsSlave *s, const IfsLog *lg, const char *fn, doub
     s->t_start = s->t_base = start;
     /* the same relative tolerance as the communication points */
     s->t_stop = stop_defined ? stop + 1e-9 * (1.0 + fabs(stop)) : INFINITY;
+    ifs_slave_refresh(s);
     return IFS_OK;
 }
 
@@ -71,6 +77,7 @@ int ifs_slave_enter_init(IfsSlave *s, const IfsLog *lg, const char *fn)
     if (s->phase != IFS_PH_INSTANTIATED)
         return ifs_log(lg, IFS_ERROR, "%s: only allowed after instantiation", fn);
     s->phase = IFS_PH_INIT;
+    ifs_slave_refresh(s);
     return IFS_OK;
 }
 
@@ -102,7 +109,7 @@ static int delay_tables(IfsSlave *s, const IfsLog *lg, const double d[3])
     return IFS_OK;
 }
 
-static int rebuild(IfsSlave *s, const IfsLog *lg)
+static int rebuild_model(IfsSlave *s, const IfsLog *lg)
 {
     char msg[MSG_LEN];
     double d[3];
@@ -132,16 +139,11 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
         s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI) {
         ifs_mu_table_apply(s->tab, &s->v, &s->m);
 #if IFS_SCHEDULED_BIAS
-        {   /* the outputs' rotation follows the scheduled azimuth bias: both of its
-             * copies (ifs_outputs reads cos_bias, sin_bias; the four-wide step of
-             * eight states or more reads rot, as set_bias in inflow_model.c sets them) */
+        {   /* the outputs' rotation follows the scheduled azimuth bias (ifs_outputs
+             * reads cos_bias, sin_bias, as set_bias in inflow_model.c sets them) */
             const double bias = ifs_bias_of(&s->v);
             s->m.cos_bias = cos(bias);
             s->m.sin_bias = sin(bias);
-            s->m.rot[0] = s->m.cos_bias;
-            s->m.rot[1] = s->m.sin_bias;
-            s->m.rot[2] = -s->m.sin_bias;
-            s->m.rot[3] = s->m.cos_bias;
         }
 #endif
         s->dirty = 0;
@@ -155,6 +157,16 @@ static int rebuild(IfsSlave *s, const IfsLog *lg)
     return IFS_OK;
 }
 
+/* The model for the variables (a change of mu alone from the table where it can),
+ * the delay line's tables; the outputs are then stale. */
+static int rebuild(IfsSlave *s, const IfsLog *lg)
+{
+    const int status = rebuild_model(s, lg);
+    s->y_stale = 1;
+    ifs_slave_refresh(s);
+    return status;
+}
+
 int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
 {
     if (s->phase != IFS_PH_INIT)
@@ -166,8 +178,9 @@ int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
         memcpy(s->delay.x0, s->m.x, sizeof s->delay.x0);
         for (i = 0; i < IFS_DELAY_DEPTH; i++) s->delay.hk[i] = -1;
     }
-    ifs_slave_update_outputs(s);
+    s->y_stale = 1;
     s->phase = IFS_PH_STEP;
+    ifs_slave_refresh(s);
     return IFS_OK;
 }
 
@@ -182,6 +195,7 @@ static int fresh_ab(IfsSlave *s)
         ifs_mu_table_apply_ab(s->tab, &s->v, &s->m);
     else if (ifs_build(&s->m, &s->v, msg, sizeof msg) == 0)
         s->dirty = 0;
+    ifs_slave_refresh(s);
     return 1;
 }
 
@@ -191,6 +205,37 @@ static int real_ok(const IfsRealVar *var, double x)
 {
     return isfinite(x) && x >= var->lower && x <= var->upper &&
            !(var->lower_open && x == var->lower);
+}
+
+/* The inputs held beside the state where the step reads them (IfsModel.x), each
+ * block of four written whole: the step loads it whole, and a load that needs more
+ * than one store waits for the stores to reach the cache (written value by value,
+ * the simulator loop's SetReal + DoStep + GetReal took half as long again).  The
+ * inputs are read back one by one from the slave's (just stored: each load from
+ * one store). */
+static IFS_HOT void hold_blocks(IfsSlave *s)
+{
+    /* (volatile: one load per value; two values in one load would need two stores) */
+    const volatile double *in = ifs_slave_inputs(s);
+    double *z = s->m.x;
+    int b;
+    IFS_UNROLL
+    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        double lane[4];
+        int l;
+        IFS_UNROLL
+        for (l = 0; l < 4; l++) {
+            const int k = 4 * b + l;
+            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
+        }
+        *(ifs_v4 *)(z + 4 * b) = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
+#else
+        int l;
+        for (l = 0; l < 4; l++)
+            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
+#endif
+    }
 }
 
 /* Why value x for value reference vr is refused. */
@@ -221,8 +266,9 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
 {
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    if (s->y_stale) ifs_slave_update_outputs(s);   /* the outputs of the state now */
     for (i = 0; i < n; i++) {
-        if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow: stored at each step */
+        if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow */
             value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
             continue;
         }
@@ -272,14 +318,20 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             break;
     if (i == n) {
         double *in = (double *)ifs_slave_inputs(s);
+        int inputs = 0;
         for (i = 0; i < n; i++) {
             if (vr[i] < IFS_NU) {
                 in[vr[i]] = value[i];
+                inputs = 1;
             } else {
-                if (s->v.mu != value[i]) s->dirty = 1;
+                if (s->v.mu != value[i]) {
+                    s->dirty = 1;
+                    s->fast_h = NAN;
+                }
                 s->v.mu = value[i];
             }
         }
+        if (inputs) hold_blocks(s);
         return IFS_OK;
     }
     /* check everything first: a refused call changes nothing */
@@ -312,12 +364,14 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
      * bias rotates them) and the loads (their flap rate comes from the dynamics) are
      * those of the new model, as after Simulator.set_model; a mu change alone waits
      * for the step (the tabulated path).  A set the model refuses changes nothing. */
+    ifs_slave_hold_inputs(s);
+    ifs_slave_refresh(s);
     if (s->phase == IFS_PH_STEP && s->params_changed) {
         if (rebuild(s, lg) != IFS_OK) {   /* the model was left as it was */
             if (parameters) s->v = before;
+            ifs_slave_hold_inputs(s);
             return IFS_ERROR;
         }
-        ifs_slave_update_outputs(s);
     }
     return IFS_OK;
 }
@@ -370,6 +424,7 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
         s->dirty = 1;
         s->params_changed = 1;
     }
+    ifs_slave_refresh(s);
     return IFS_OK;
 }
 
@@ -412,6 +467,17 @@ int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
 
 /* --- the time-delay line --- */
 
+/* x = [phi gam] [x0; u] (pg by rows, as IfsModel.pg) */
+static void ring_step(const double *pg, const double x0[IFS_NX], const double u[IFS_NU],
+                      double x[IFS_NX])
+{
+    double z[IFS_RL] = {0.0};
+    memcpy(z, x0, IFS_NX * sizeof(double));
+    memcpy(z + IFS_NX, u, IFS_NU * sizeof(double));
+    ifs_step(pg, z);
+    memcpy(x, z, IFS_NX * sizeof(double));
+}
+
 /* state at step j from the ring: x_j = phi x_(j-1) + gam u_(j-1), or the start state */
 static void ring_state(const IfsSlave *s, long long j, double x[IFS_NX])
 {
@@ -421,8 +487,7 @@ static void ring_state(const IfsSlave *s, long long j, double x[IFS_NX])
         memcpy(x, d->x0, sizeof d->x0);
         return;
     }
-    memcpy(x, d->hx[slot], sizeof d->hx[slot]);
-    ifs_step(s->m.pg, x, d->hu[slot]);
+    ring_step(s->m.pg, d->hx[slot], d->hu[slot], x);
 }
 
 void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX])
@@ -430,7 +495,7 @@ void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX])
     const IfsDelay *d = &s->delay;
     const long long k = d->k;
     if (d->f[i] == 0.0) {
-        if (d->mm[i] == 0) memcpy(x, s->m.x, sizeof s->m.x);
+        if (d->mm[i] == 0) memcpy(x, s->m.x, IFS_NX * sizeof(double));
         else ring_state(s, k - d->mm[i], x);
     } else {
         const long long j = k - d->mm[i] - 1;
@@ -439,8 +504,7 @@ void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX])
             memcpy(x, d->x0, sizeof d->x0);
             return;
         }
-        memcpy(x, d->hx[slot], sizeof d->hx[slot]);
-        ifs_step(d->pg_frac[i], x, d->hu[slot]);
+        ring_step(d->pg_frac[i], d->hx[slot], d->hu[slot], x);
     }
 }
 
@@ -452,18 +516,69 @@ static void delayed_advance(IfsSlave *s, long long n)
     long long i;
     for (i = 0; i < n; i++) {
         const int slot = (int)(d->k % IFS_DELAY_DEPTH);
-        memcpy(d->hx[slot], s->m.x, sizeof s->m.x);
+        memcpy(d->hx[slot], s->m.x, sizeof d->hx[slot]);
         memcpy(d->hu[slot], u, sizeof d->hu[slot]);
         d->hk[slot] = d->k;
-        ifs_step(s->m.pg, s->m.x, u);
+        ifs_step(s->m.pg, s->m.x);    /* the inputs u beside the state */
         d->k++;
     }
 }
 
+/* --- the fast step's condition --- */
+
+/* a step of h_comm from step n ends within the stop time: the general step's test */
+static int ends_in_time(const IfsSlave *s, long long n)
+{
+    return (s->t_base + (double)n * s->h_comm) + s->h_comm <= s->t_stop;
+}
+
+void ifs_slave_refresh(IfsSlave *s)
+{
+    s->now = s->t_base + (double)s->n_comm * s->h_comm;
+    s->fast_h = s->phase == IFS_PH_STEP && !s->dirty && !s->delay.active &&
+                s->h_comm == s->m.dt && s->h_comm > 0.0 ? s->h_comm : NAN;
+    s->n_stop = LLONG_MAX;
+    if (s->fast_h == s->fast_h && isfinite(s->t_stop)) {
+        /* the first n that does not end in time (t_base + n h grows with n) */
+        const double f = floor((s->t_stop - s->t_base) / s->h_comm);
+        long long n = f > 0.0 ? (f < 4e18 ? (long long)f : (long long)4e18) : 0;
+        while (n > 0 && !ends_in_time(s, n - 1)) n--;
+        while (n < LLONG_MAX && ends_in_time(s, n)) n++;
+        s->n_stop = n;
+    }
+}
+
+/* --- outputs --- */
+
+void ifs_slave_update_outputs(IfsSlave *s)
+{
+    double y[IFS_NX];
+    ifs_outputs(&s->m, y);
+    if (s->delay.active) {         /* the recorded flap, from the delayed states */
+        double xd[3][IFS_NX];
+        int i;
+        for (i = 0; i < 3; i++) {   /* once per delay (time-delay: one for all three) */
+            if (i > 0 && s->delay.d[i] == s->delay.d[i - 1])
+                memcpy(xd[i], xd[i - 1], sizeof xd[i]);
+            else
+                ifs_slave_delayed_state(s, i, xd[i]);
+        }
+        y[0] = xd[0][0];
+        y[1] = s->m.cos_bias * xd[1][1] - s->m.sin_bias * xd[1][2];
+        y[2] = s->m.sin_bias * xd[2][1] + s->m.cos_bias * xd[2][2];
+    }
+    s->v.beta0 = y[0];
+    s->v.beta1c = y[1];
+    s->v.beta1s = y[2];
+    s->v.lambda0 = y[3];
+    s->v.lambda1c = y[4];
+    s->v.lambda1s = y[5];
+    s->y_stale = 0;
+}
+
 /* --- stepping --- */
 
-IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
-                            double h)
+static int slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h)
 {
     double now;
     int status = IFS_OK;
@@ -503,7 +618,7 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         delayed_advance(s, n);
     } else {
         if (h != s->m.dt) fresh_ab(s);
-        if (ifs_advance(&s->m, ifs_slave_inputs(s), h) != 0)
+        if (ifs_advance(&s->m, h) != 0)
             return ifs_log(lg, IFS_ERROR, "%s: the discretisation of step %g s failed", fn,
                            h);
     }
@@ -513,61 +628,131 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
         s->n_comm = 0;
     }
     s->n_comm++;
-    ifs_slave_update_outputs(s);
+    s->y_stale = 1;
     return status;
 }
 
-/* After a change of mu alone (s->dirty): [phi gam] from the mu table, as rebuild
- * takes it, if the table is valid for the parameters and holds mu (then 1, and
- * s->dirty cleared); else 0 and nothing done (the general step rebuilds).  The
- * caller checked that no delay is active. */
-IFS_INLINE int ifs_slave_mu_from_table(IfsSlave *s)
+IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
+                            double h)
 {
+    const int status = slave_step(s, lg, fn, t, h);
+    ifs_slave_refresh(s);
+    return status;
+}
+
+/* On time for a step of h at t from now, within the stop time (t == now first: a
+ * loop's usual t is the FMU's time to the bit) */
+#define ON_TIME(s, t, h)                                                               \
+    (((t) == (s)->now || fabs((t) - (s)->now) <= 1e-9 * (1.0 + fabs((s)->now))) &&     \
+     (s)->now + (h) <= (s)->t_stop)
+
+/* t within 2^22 units in the last place of now (the same sign, |t - now| <= 2^-30
+ * |now|, about 9.3e-10 |now|: inside the general step's tolerance); a loop summing
+ * its steps, t += h, stays within it for millions of steps */
+static inline int near_now(double t, double now)
+{
+    uint64_t a, b;
+    memcpy(&a, &t, sizeof a);
+    memcpy(&b, &now, sizeof b);
+    return a - b + (UINT64_C(1) << 22) <= (UINT64_C(2) << 22);
+}
+
+/* The simulator loop's usual step: h the last one and the internal step with nothing
+ * to rebuild (fast_h), t the FMU's time (near_now; else the general step, with the
+ * tolerance), ending within the stop time (n_stop) */
+#define FAST_OK(s, t, h) ((h) == (s)->fast_h && near_now(t, (s)->now) && (s)->n_comm < (s)->n_stop)
+
+/* After the step: the counter, the time; the outputs are those of the old state */
+#define STEPPED(s)                                                                     \
+    do {                                                                               \
+        (s)->n_comm++;                                                                 \
+        (s)->now = (s)->t_base + (double)(s)->n_comm * (s)->h_comm;                    \
+        (s)->y_stale = 1;                                                              \
+    } while (0)
+
+/* DoStep (ifs_do_step) with the step STEP (ifs_step on the model, or its four-wide
+ * twin) and REST for the other steps */
+#define DO_STEP(instance, t, h, STEP, REST)                                            \
+    do {                                                                               \
+        IfsInstance *c_ = (IfsInstance *)(instance);                                   \
+        IfsSlave *s_;                                                                  \
+        if (!c_) return IFS_ERROR;                                                     \
+        s_ = &c_->s;                                                                   \
+        if (FAST_OK(s_, t, h)) {                                                       \
+            STEP;                                                                      \
+            STEPPED(s_);                                                               \
+            return IFS_OK;                                                             \
+        }                                                                              \
+        return REST(c_, t, h);                                                         \
+    } while (0)
+
+/* The steps other than the fast one, out of line (a call in DoStep's fast path gave
+ * it a stack frame: 25 instructions of the fixed-mu step): after a change of mu
+ * alone the fast step with [phi gam] from the mu table (as rebuild takes it) if the
+ * table is valid for the parameters and holds mu (the caller of a fast step
+ * checked that no delay is active), else the general step. */
 #if IFS_N_SCHEDULED || IFS_SCHEDULED_BIAS
-    (void)s;
-    return 0;
+#define REST_BODY(c, t, h, STEP) return ifs_slave_step(&(c)->s, &(c)->log, (c)->do_step, t, h)
 #else
-    if (s->params_changed || !s->tab || s->tab->state != 1 || s->phase != IFS_PH_STEP ||
-        !(s->v.mu >= IFS_MU_LO && s->v.mu <= IFS_MU_HI))
-        return 0;
-    ifs_mu_table_apply(s->tab, &s->v, &s->m);
-    s->dirty = 0;
-    return 1;
+#define REST_BODY(c, t, h, STEP)                                                       \
+    do {                                                                               \
+        IfsSlave *s_ = &(c)->s;                                                        \
+        if (s_->dirty && !s_->params_changed && s_->tab && s_->tab->state == 1 &&      \
+            s_->phase == IFS_PH_STEP && !s_->delay.active && (h) == s_->h_comm &&      \
+            (h) == s_->m.dt && s_->v.mu >= IFS_MU_LO && s_->v.mu <= IFS_MU_HI &&       \
+            ON_TIME(s_, t, h)) {                                                       \
+            ifs_mu_table_apply(s_->tab, &s_->v, &s_->m);                               \
+            s_->dirty = 0;                                                             \
+            STEP;                                                                      \
+            STEPPED(s_);                                                               \
+            s_->fast_h = s_->h_comm;                                                   \
+            return IFS_OK;                                                             \
+        }                                                                              \
+        return ifs_slave_step(s_, &(c)->log, (c)->do_step, t, h);                      \
+    } while (0)
 #endif
+
+static IFS_NOINLINE int rest_base(IfsInstance *c, double t, double h)
+{
+    REST_BODY(c, t, h, ifs_step(s_->m.pg, s_->m.x));
 }
 
-IFS_INLINE int ifs_slave_step_mu(IfsSlave *s, double t, double h)
+static int do_step_base(void *instance, double t, double h)
 {
-    IFS_STEP_FAST_BODY(s, t, h, ifs_slave_mu_from_table(s), IFS_STEP_NARROW(s));
-}
-
-/* (static: a global function's clones export their resolver) */
-static IFS_HOT int step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
-                             double h)
-{
-    if (s->dirty && ifs_slave_step_mu(s, t, h)) return IFS_OK;
-    return ifs_slave_step(s, lg, fn, t, h);
-}
-
-int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h)
-{
-    return step_rest(s, lg, fn, t, h);
+    DO_STEP(instance, t, h, ifs_step(s_->m.pg, s_->m.x), rest_base);
 }
 
 #ifdef IFS_WIDE_STEP
-static inline __attribute__((target("avx2"), always_inline)) int
-ifs_slave_step_mu_wide(IfsSlave *s, double t, double h)
+/* Two functions, one chosen when the library is loaded (GNU ifunc, as target_clones
+ * does), so that the AVX2 one has the four-wide step inline and no baseline step
+ * beside it (a clone of one function kept both and chose at each step: a call and
+ * a 32-byte aligned stack frame, about 1.2 ns of the nine-state step) */
+static __attribute__((target("avx2"), noinline)) int rest_wide(IfsInstance *c, double t,
+                                                                double h)
 {
-    IFS_STEP_FAST_BODY(s, t, h, ifs_slave_mu_from_table(s),
-                       ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
+    REST_BODY(c, t, h, ifs_step_wide(&s_->m));
 }
 
-__attribute__((target("avx2"))) int ifs_slave_step_rest_wide(IfsSlave *s, const IfsLog *lg,
-                                                              const char *fn, double t,
-                                                              double h)
+static __attribute__((target("avx2"))) int do_step_wide(void *instance, double t, double h)
 {
-    if (s->dirty && ifs_slave_step_mu_wide(s, t, h)) return IFS_OK;
-    return ifs_slave_step(s, lg, fn, t, h);
+    DO_STEP(instance, t, h, ifs_step_wide(&s_->m), rest_wide);
+}
+
+IfsDoStep *ifs_do_step_choose(void)
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") ? do_step_wide : do_step_base;
+}
+
+/* (the resolver's name as a string after inflow_names.h's prefix) */
+#define STR_(n) #n
+#define STR(n) STR_(n)
+int ifs_do_step(void *instance, double t, double h)
+    __attribute__((ifunc(STR(ifs_do_step_choose))));
+#else
+int ifs_do_step(void *instance, double t, double h)
+{
+    return do_step_base(instance, t, h);
 }
 #endif
 
@@ -610,6 +795,7 @@ int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *sta
     s->tab = tab;
     if (tab) tab->state = 0;       /* the saved parameters may differ */
     s->params_changed = 1;         /* the next mu change rebuilds exactly */
+    ifs_slave_refresh(s);
     return IFS_OK;
 }
 

@@ -35,7 +35,7 @@ typedef struct {
     double d[3];                   /* each flap channel's delay [s] */
     int mm[3];                     /* whole internal steps of each */
     double f[3];                   /* the fraction of a step left, 0 or in (0, 1) */
-    double pg_frac[3][IFS_NA * IFS_LD];    /* [phi gam] over (1 - f) dt */
+    double pg_frac[3][IFS_NX * IFS_RL];    /* [phi gam] over (1 - f) dt, by rows */
     long long k;                   /* internal steps taken since initialization */
     double x0[IFS_NX];             /* the state at step 0 (before the record) */
     double hx[IFS_DELAY_DEPTH][IFS_NX];
@@ -48,9 +48,21 @@ typedef struct {
     /* the model 64-byte aligned from an aligned slave (IfsModel's first fields) */
     char pad_[64 - sizeof(IfsVariables) % 64];
     IfsModel m;
+    /* what the simulator loop's step checks (ifs_do_step), kept by the calls that
+     * change what it depends on (ifs_slave_refresh): the current time now = t_base +
+     * n_comm h_comm; fast_h, the
+     * communication step h_comm while it is the internal step dt, in step mode, with
+     * nothing to rebuild and no delay line, else NaN (no h equals it); n_stop, the
+     * first n_comm from which a step of h_comm would end after the stop time */
+    double now;
+    double fast_h;
+    long long n_stop;
     IfsPhase phase;
     int dirty;                 /* parameters or mu changed since the last build */
     int params_changed;        /* ... and something other than mu did */
+    /* 1: the outputs (beta0 .. lambda1s) are not yet those of the state: computed
+     * when read (ifs_slave_get_reals), not at every step */
+    int y_stale;
     /* the FMI layer's mu table (never part of a saved state: restored instances keep
      * their own and rebuild it); NULL: mu changes always rebuild exactly */
     IfsMuTable *tab;
@@ -118,7 +130,10 @@ static inline int ifs_slave_set_mu(IfsSlave *s, const unsigned int vr[], size_t 
         value[0] >= ifs_real_vars[IFS_VR_mu].lower &&
         value[0] <= ifs_real_vars[IFS_VR_mu].upper &&
         !(ifs_real_vars[IFS_VR_mu].lower_open && value[0] == ifs_real_vars[IFS_VR_mu].lower)) {
-        if (s->v.mu != value[0]) s->dirty = 1;
+        if (s->v.mu != value[0]) {
+            s->dirty = 1;
+            s->fast_h = NAN;
+        }
         s->v.mu = value[0];
         return 1;
     }
@@ -143,11 +158,16 @@ int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
 /* Any step: checks, rebuild, internal steps and an exact remainder. */
 int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);
 
-/* The current time, from the step counter. */
+/* The current time (from the step counter). */
 static inline double ifs_slave_time(const IfsSlave *s)
 {
-    return s->t_base + (double)s->n_comm * s->h_comm;
+    return s->now;
 }
+
+/* The time and the fast step's condition (IfsSlave.fast_h) after a change of what
+ * they depend on: every call that changes the phase, the step counter, dt, the
+ * delay line or clears dirty ends with it. */
+void ifs_slave_refresh(IfsSlave *s);
 
 /* what the step reads on whole vectors from an aligned slave (IfsModel) */
 typedef char ifs_model_is_aligned[offsetof(IfsSlave, m) % 64 == 0 &&
@@ -163,93 +183,19 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
     return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
 }
 
-/* the outputs beta0 .. lambda1s in order (ifs_outputs' y), contiguous like the inputs */
-typedef char ifs_outputs_are_contiguous[offsetof(IfsVariables, lambda1s) -
-                                        offsetof(IfsVariables, beta0) ==
-                                        5 * sizeof(double) ? 1 : -1];
-
-static inline double *ifs_slave_outputs(IfsSlave *s)
+/* The inputs held (theta0 .. muy) copied beside the state, where the step reads
+ * them (IfsModel.x): after any change of the slave's inputs but one value's. */
+static inline void ifs_slave_hold_inputs(IfsSlave *s)
 {
-    return (double *)((char *)&s->v + offsetof(IfsVariables, beta0));
+    memcpy(s->m.x + IFS_NX, ifs_slave_inputs(s), IFS_NU * sizeof(double));
 }
 
 /* The state delayed by flap channel i's time shift. */
 void ifs_slave_delayed_state(const IfsSlave *s, int i, double x[IFS_NX]);
 
-IFS_INLINE void ifs_slave_update_outputs(IfsSlave *s)
-{
-    double y[IFS_NX];
-    ifs_outputs(&s->m, y);
-    if (s->delay.active) {         /* the recorded flap, from the delayed states */
-        double xd[3][IFS_NX];
-        int i;
-        for (i = 0; i < 3; i++) {   /* once per delay (time-delay: one for all three) */
-            if (i > 0 && s->delay.d[i] == s->delay.d[i - 1])
-                memcpy(xd[i], xd[i - 1], sizeof xd[i]);
-            else
-                ifs_slave_delayed_state(s, i, xd[i]);
-        }
-        y[0] = xd[0][0];
-        y[1] = s->m.cos_bias * xd[1][1] - s->m.sin_bias * xd[1][2];
-        y[2] = s->m.sin_bias * xd[2][1] + s->m.cos_bias * xd[2][2];
-    }
-    s->v.beta0 = y[0];
-    s->v.beta1c = y[1];
-    s->v.beta1s = y[2];
-    s->v.lambda0 = y[3];
-    s->v.lambda1c = y[4];
-    s->v.lambda1s = y[5];
-}
-
-/* The simulator loop's usual step, inline in the FMI layer's DoStep: the same
- * step as last time, equal to the internal step, nothing to rebuild, on time.
- * Returns 1 if it stepped, 0 if the caller must take ifs_slave_step_rest.  (t == now
- * first: a loop's usual t is the FMU's time to the bit, and the tolerance's six
- * floating-point operations cost 0.8 ns of the nine-state step.)  READY: the model
- * is ready for the step (nothing to rebuild, or a new mu taken from the table). */
-#define IFS_STEP_FAST_BODY(s, t, h, READY, STEP)                                       \
-    do {                                                                               \
-        if ((s)->phase == IFS_PH_STEP && !(s)->delay.active &&                         \
-            (h) == (s)->h_comm && (h) == (s)->m.dt) {                                  \
-            const double now_ = ifs_slave_time(s);                                     \
-            if (((t) == now_ || fabs((t) - now_) <= 1e-9 * (1.0 + fabs(now_))) &&      \
-                now_ + (h) <= (s)->t_stop && (READY)) {                                \
-                STEP;                                                                  \
-                (s)->n_comm++;                                                         \
-                return 1;                                                              \
-            }                                                                          \
-        }                                                                              \
-        return 0;                                                                      \
-    } while (0)
-
-#define IFS_STEP_NARROW(s)                                                             \
-    (ifs_step((s)->m.pg, (s)->m.x, ifs_slave_inputs(s)), ifs_slave_update_outputs(s))
-
-IFS_INLINE int ifs_slave_step_fast(IfsSlave *s, double t, double h)
-{
-    IFS_STEP_FAST_BODY(s, t, h, !s->dirty, IFS_STEP_NARROW(s));
-}
-
-/* What DoStep does when the fast step did not step, out of line (a call in DoStep's
- * fast path gave it a stack frame: 25 instructions of the fixed-mu step): the fast
- * step after a change of mu alone, taken from the table (a flight condition
- * changing every step), else the general step (ifs_slave_step).  An AVX2 and a
- * baseline version inside, like DoStep. */
-int ifs_slave_step_rest(IfsSlave *s, const IfsLog *lg, const char *fn, double t, double h);
-
-#ifdef IFS_WIDE_STEP
-/* The same, four rows at a time, for the AVX2 variant of the FMI layers' DoStep (a
- * function compiled for AVX2, so the four-wide step is inline in it) */
-static inline __attribute__((target("avx2"), always_inline)) int
-ifs_slave_step_fast_wide(IfsSlave *s, double t, double h)
-{
-    IFS_STEP_FAST_BODY(s, t, h, !s->dirty,
-                       ifs_step_wide(&s->m, ifs_slave_inputs(s), ifs_slave_outputs(s)));
-}
-/* ifs_slave_step_rest with the four-wide step */
-int ifs_slave_step_rest_wide(IfsSlave *s, const IfsLog *lg, const char *fn, double t,
-                             double h);
-#endif
+/* The outputs (beta0 .. lambda1s) from the state, the delay line and the azimuth
+ * bias (y_stale cleared): when they are read after a change. */
+void ifs_slave_update_outputs(IfsSlave *s);
 
 /* --- an FMI instance: what both layers' instances start with --- */
 
@@ -264,6 +210,7 @@ typedef struct {
     IfsCalloc alloc;
     IfsRelease release;
     void *mem;                 /* their context */
+    const char *do_step;       /* the layer's DoStep, for messages: "fmi2DoStep" */
 } IfsInstance;
 
 /* A zeroed instance of size bytes (the layer's, an IfsInstance first), 64-byte
@@ -278,6 +225,25 @@ IfsInstance *ifs_instance_alloc(size_t size, IfsCalloc alloc, IfsRelease release
 int ifs_instance_start(IfsInstance *c, const char *refusal, const char *what,
                        const char *token);
 void ifs_instance_free(IfsInstance *c);
+
+/* DoStep of both FMI layers: instance an IfsInstance (NULL refused), a step of h
+ * from the communication point t.  The simulator loop's usual step (the same h as
+ * last time, equal to the internal step, nothing to rebuild, on time: three
+ * comparisons, IfsSlave.fast_h) is the step alone, inline; the rest out of line: a
+ * new mu taken from the table (a flight condition changing every step), else the
+ * general step (ifs_slave_step).  Where the loader picks a function at load time
+ * (GNU ifunc: IFS_WIDE_STEP) it is one of two, the AVX2 one with the four-wide step
+ * inline (ifs_step_wide) and the baseline one: ifs_do_step_choose picks, and the
+ * FMI 2.0 layer's fmi2DoStep is the chosen one itself (its first three arguments
+ * are these; no_set_prior is not read). */
+typedef int IfsDoStep(void *instance, double t, double h);
+int ifs_do_step(void *instance, double t, double h);
+#ifdef IFS_WIDE_STEP
+#if defined(__GNUC__)
+__attribute__((visibility("hidden")))
+#endif
+IfsDoStep *ifs_do_step_choose(void);
+#endif
 /* n zeroed bytes from the instance's allocator (ctx: the IfsInstance): a saved state */
 void *ifs_instance_calloc(void *ctx, size_t n);
 

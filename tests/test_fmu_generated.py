@@ -110,7 +110,7 @@ int table_at(double dt, int inflow_speed, double ct, const double *mus, int nmu,
     static IfsSlave s;
     static IfsModel m;
     char msg[256];
-    int k, j;
+    int k, i, j;
     ifs_slave_init(&s);                  /* the start values: the presets, glauert */
     s.v.dt = dt;
     s.v.inflow_speed = inflow_speed;
@@ -121,9 +121,9 @@ int table_at(double dt, int inflow_speed, double ct, const double *mus, int nmu,
     for (k = 0; k < nmu; k++) {
         s.v.mu = mus[k];
         ifs_mu_table_apply(&t, &s.v, &m);
-        for (j = 0; j < IFS_NA; j++)
-            memcpy(out + (size_t)k * IFS_NX * IFS_NA + j * IFS_NX, m.pg + j * IFS_LD,
-                   sizeof(double) * IFS_NX);
+        for (j = 0; j < IFS_NA; j++)      /* m.pg holds it by rows (IFS_RL each) */
+            for (i = 0; i < IFS_NX; i++)
+                out[(size_t)k * IFS_NX * IFS_NA + j * IFS_NX + i] = m.pg[i * IFS_RL + j];
     }
     return 0;
 }
