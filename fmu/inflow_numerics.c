@@ -1,6 +1,7 @@
 /*
- * The FMU's numerics (inflow_numerics.h): dense LU, the matrix exponential, the
- * Taylor rule of a remainder step, the table in mu.  Nothing here knows the rotor;
+ * The FMU's numerics (inflow_numerics.h): dense LU and the other primitives of the
+ * generated algorithms (inflow_algorithms.c: the matrix exponential, the Taylor rule
+ * of a remainder step, the table's interpolation matrix), the table in mu.  Nothing here knows the rotor;
  * the model's equations are in inflow_equations.c (generated) and inflow_model.c.
  */
 #include <math.h>
@@ -53,65 +54,70 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol)
     return 0;
 }
 
-static void matmul(const double *A, const double *B, double *C)   /* NA x NA */
+/* --- the primitives of the generated algorithms (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms, whose class P is their NumPy form) --- */
+
+void ifs_copy(double *dst, const double *src, int size)
+{
+    memcpy(dst, src, sizeof(double) * (size_t)size);
+}
+
+void ifs_scale(double *x, double alpha, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) x[i] *= alpha;
+}
+
+void ifs_axpy(double *y, double alpha, const double *x, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) y[i] += alpha * x[i];
+}
+
+/* C = A B (n x n; C neither A nor B), each row summed in the order of k */
+void ifs_matmul(const double *A, const double *B, double *C, int n)
 {
     int i, j, k;
-    for (i = 0; i < NA; i++) {
-        double row[NA] = {0.0};
-        for (k = 0; k < NA; k++) {
-            double aik = A[i * NA + k];
+    for (i = 0; i < n; i++) {
+        double *row = C + i * n;
+        for (j = 0; j < n; j++) row[j] = 0.0;
+        for (k = 0; k < n; k++) {
+            const double aik = A[i * n + k];
             if (aik == 0.0) continue;
-            for (j = 0; j < NA; j++) row[j] += aik * B[k * NA + j];
+            for (j = 0; j < n; j++) row[j] += aik * B[k * n + j];
         }
-        memcpy(C + i * NA, row, sizeof row);
     }
 }
 
-/* exp(A) of an NA x NA matrix: scaling and squaring with the diagonal [6/6] Pade
- * approximant, scaled to 1-norm <= 0.5 (backward error below the unit roundoff,
- * Higham 2005).  A is overwritten by the result. */
-int ifs_expm(double *A)
+/* C = A B: A rows x inner, B inner x cols (rows ldb apart), C rows x cols (rows ldc
+ * apart; neither A nor B), each entry summed in the order of k */
+void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
+              int ldb, int ldc)
 {
-    static const double c[7] = {1.0, 0.5, 5.0 / 44.0, 1.0 / 66.0, 1.0 / 792.0,
-                                1.0 / 15840.0, 1.0 / 665280.0};
-    double X2[NA * NA], X4[NA * NA], X6[NA * NA], U[NA * NA], V[NA * NA], T[NA * NA];
-    double norm = 0.0, scale;
-    int i, j, s = 0;
-    for (j = 0; j < NA; j++) {
+    int i, j, k;
+    for (i = 0; i < rows; i++) {
+        double *row = C + i * ldc;
+        for (j = 0; j < cols; j++) row[j] = 0.0;
+        for (k = 0; k < inner; k++) {
+            const double aik = A[i * inner + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < cols; j++) row[j] += aik * B[k * ldb + j];
+        }
+    }
+}
+
+/* The largest column sum of |A| (rows x cols, row-major); NaN if an entry is NaN */
+double ifs_norm1(const double *A, int rows, int cols)
+{
+    double norm = 0.0;
+    int i, j;
+    for (j = 0; j < cols; j++) {
         double col = 0.0;
-        for (i = 0; i < NA; i++) col += fabs(A[i * NA + j]);
-        if (col > norm) norm = col;
+        for (i = 0; i < rows; i++) col += fabs(A[i * cols + j]);
+        if (col > norm || col != col) norm = col;
+        if (norm != norm) break;
     }
-    if (!isfinite(norm)) return -1;
-    while (norm > 0.5 && s < 64) { norm *= 0.5; s++; }
-    scale = ldexp(1.0, -s);
-    for (i = 0; i < NA * NA; i++) A[i] *= scale;
-    matmul(A, A, X2);
-    matmul(X2, X2, X4);
-    matmul(X4, X2, X6);
-    for (i = 0; i < NA * NA; i++) {
-        T[i] = c[3] * X2[i] + c[5] * X4[i];
-        V[i] = c[2] * X2[i] + c[4] * X4[i] + c[6] * X6[i];
-    }
-    for (i = 0; i < NA; i++) { T[i * NA + i] += c[1]; V[i * NA + i] += c[0]; }
-    matmul(A, T, U);                                 /* odd part */
-    for (i = 0; i < NA * NA; i++) { T[i] = V[i] - U[i]; A[i] = V[i] + U[i]; }
-    if (ifs_lu_solve(NA, T, NA, A, 1e-300) != 0) return -1;   /* (V - U)^-1 (V + U) */
-    for (; s > 0; s--) { matmul(A, A, T); memcpy(A, T, sizeof T); }
-    return 0;
-}
-
-/* --- the Taylor rule of a step of another length --- */
-
-int ifs_taylor_count(double norm_a, double norm_ab, double r)
-{
-    double bound = norm_ab * fabs(r), q = norm_a * fabs(r);
-    int k;
-    for (k = 1; k <= IFS_KMAX; k++) {
-        if (bound * q / (k + 1) <= IFS_TAYLOR_TOL) return k;
-        bound *= q / (k + 1);
-    }
-    return 0;
+    return norm;
 }
 
 /* --- the table in mu --- */
@@ -183,42 +189,18 @@ static int cpu_fma(void)
 #endif
 }
 
-/* Chebyshev interpolation at N <= IFS_MU_DEG + 1 nodes as a matrix: the power
- * coefficients c[i] = sum_j w[i][j] f_j of the polynomial through f_j at the
- * Chebyshev-Gauss nodes cos(pi (j + 1/2) / N) (Chebyshev coefficients, then the
- * Chebyshev polynomials' power coefficients; inflowsim.simulate.mutable.
- * _power_coefficients) */
-static void cheb_power_matrix(int N, double w[IFS_MU_DEG + 1][IFS_MU_DEG + 1])
-{
-    double T[IFS_MU_DEG + 1][IFS_MU_DEG + 1];        /* T_k(x) = sum_i T[k][i] x^i */
-    double ch[IFS_MU_DEG + 1][IFS_MU_DEG + 1];       /* Chebyshev coefficient k of f_j */
-    int k, i, j;
-    memset(T, 0, sizeof T);
-    T[0][0] = 1.0;
-    T[1][1] = 1.0;
-    for (k = 2; k < N; k++)
-        for (i = 0; i < N; i++)
-            T[k][i] = (i > 0 ? 2.0 * T[k - 1][i - 1] : 0.0) - T[k - 2][i];
-    for (k = 0; k < N; k++)
-        for (j = 0; j < N; j++)
-            ch[k][j] = cos(M_PI * k * (j + 0.5) / N) * (k == 0 ? 1.0 : 2.0) / N;
-    for (i = 0; i < N; i++)
-        for (j = 0; j < N; j++) {
-            double acc = 0.0;
-            for (k = i; k < N; k++) acc += T[k][i] * ch[k][j];
-            w[i][j] = acc;
-        }
-}
-
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
 {
     const int N = IFS_MU_DEG + 1, NF = IFS_MU_FDEG + 1;
     double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
-    double w[IFS_MU_DEG + 1][IFS_MU_DEG + 1], wf[IFS_MU_DEG + 1][IFS_MU_DEG + 1];
-    int seg, j, i, e, c;
+    double work[IFS_MU_DEG + 1][IFS_MU_NTAB];
+    double ch[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)], tt[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)];
+    double chf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)];
+    double ttf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)];
+    int seg, j, e, c;
     double worst = 0.0;
-    cheb_power_matrix(N, w);
-    cheb_power_matrix(NF, wf);
+    ifs_cheb_matrices(N, ch, tt);              /* (inflow_algorithms.c) */
+    ifs_cheb_matrices(NF, chf, ttf);
     t->state = -1;
     t->err = 0.0;
     t->fma = cpu_fma();
@@ -235,24 +217,16 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
             if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j]) != 0)
                 return t->state;
         }
-        for (e = 0; e < IFS_MU_NTAB; e++)
-            for (i = 0; i < N; i++) {
-                double acc = 0.0;
-                for (j = 0; j < N; j++) acc += w[i][j] * f[j][e];
-                t->p[seg][i][e] = acc;
-            }
+        ifs_power_fit(N, ch, tt, &f[0][0], IFS_MU_NTAB, IFS_MU_NTAB, &work[0][0],
+                      &t->p[seg][0][0], IFS_MU_NTAB);
         /* the parts: the segment's polynomial at each part's nodes, again */
         for (c = 0; c < IFS_MU_SPLIT; c++) {
             for (j = 0; j < NF; j++) {
                 const double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / NF)) / IFS_MU_SPLIT - 1.0;
                 for (e = 0; e < IFS_MU_HALF0; e++) f[j][e] = ifs_mu_horner(t, seg, x, e);
             }
-            for (e = 0; e < IFS_MU_HALF0; e++)
-                for (i = 0; i < NF; i++) {
-                    double acc = 0.0;
-                    for (j = 0; j < NF; j++) acc += wf[i][j] * f[j][e];
-                    t->q[seg * IFS_MU_SPLIT + c][i][e] = acc;
-                }
+            ifs_power_fit(NF, chf, ttf, &f[0][0], IFS_MU_HALF0, IFS_MU_NTAB, &work[0][0],
+                          &t->q[seg * IFS_MU_SPLIT + c][0][0], IFS_MU_HALF0);
         }
     }
     for (seg = 0; seg < IFS_MU_NSEG; seg++) {      /* check between the nodes */

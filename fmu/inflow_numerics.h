@@ -1,7 +1,8 @@
 /*
- * The FMU's numerics, apart from the model's equations: dense LU solves, the matrix
- * exponential, the Taylor rule of a remainder step and the table in mu (fit, check
- * and evaluation).  Knows nothing of rotors: the model (inflow_model.c) gives the
+ * The FMU's numerics, apart from the model's equations: dense LU solves and the
+ * other primitives, the matrix exponential, the Taylor rule of a remainder step and
+ * the table in mu (fit, check and evaluation); the exponential, the Taylor rule and
+ * the table's interpolation matrix are generated (inflow_algorithms.c).  Knows nothing of rotors: the model (inflow_model.c) gives the
  * table its exact entries through a callback.  The table's and the Taylor rule's
  * constants (IFS_MU_LO ... IFS_KMAX) are generated into inflow_vars.h from
  * inflowsim.simulate.mutable, which the Python Simulator uses too.
@@ -64,7 +65,22 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
  * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
 int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 
-/* exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
+/* The primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
+ * dst = src, x *= alpha, y += alpha x, C = A B (n x n), C = A B (rows x inner times
+ * inner x cols, the rows of B ldb and of C ldc apart), the 1-norm (NaN if an entry
+ * is).  Sizes in doubles. */
+void ifs_copy(double *dst, const double *src, int size);
+void ifs_scale(double *x, double alpha, int size);
+void ifs_axpy(double *y, double alpha, const double *x, int size);
+void ifs_matmul(const double *A, const double *B, double *C, int n);
+void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
+              int ldb, int ldc);
+double ifs_norm1(const double *A, int rows, int cols);
+
+/* Generated from inflowsim.simulate.algorithms into inflow_algorithms.c (the
+ * Simulator runs the same functions in Python):
+ *
+ * exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
  * scaling and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm
  * <= 0.5 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
  * finite or the solve fails. */
@@ -72,9 +88,18 @@ int ifs_expm(double *A);
 
 /* Terms of the Taylor series of a step of length |r| [s] for x' = a x + b u with
  * 1-norms norm_a = |a| and norm_ab = |[a b]|: the first k whose next term is
- * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed
- * (inflowsim.simulate.mutable.taylor_terms). */
+ * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed. */
 int ifs_taylor_count(double norm_a, double norm_ab, double r);
+
+/* Chebyshev interpolation at n nodes: ch (n x n) gives the Chebyshev coefficients
+ * sum_j ch[k][j] f_j of the polynomial through f_j at the Chebyshev-Gauss nodes
+ * cos(pi (j + 1/2) / n), tt (n x n) the power coefficients tt[i][k] of T_k(x). */
+void ifs_cheb_matrices(int n, double *ch, double *tt);
+/* out = tt (ch f): the power coefficients (n rows of cols, ldo apart) of the
+ * polynomials through the values f (n rows of cols, ldf apart) at the nodes; work
+ * n x cols. */
+void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, int cols,
+                   int ldf, double *work, double *out, int ldo);
 
 /*
  * A matrix-valued function of mu tabulated on [IFS_MU_LO, IFS_MU_HI] (for the FMU:

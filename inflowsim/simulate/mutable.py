@@ -33,16 +33,21 @@ cannot drift.
 A step of another length ``r`` (the FMU's communication remainder, the
 Simulator's :meth:`~inflowsim.simulate.simulator.Simulator.set_dt`) is the Taylor
 series of the solution with as many terms as make the next one at most
-``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`), at most
-``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
+``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`, which is
+:func:`inflowsim.simulate.algorithms.taylor_count`: the FMU's C is generated from
+it), at most ``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
 """
 from __future__ import annotations
 
 import bisect
+import functools
 import math
 import struct
 
 import numpy as np
+
+from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, power_fit
+from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
 MU_LO = 0.1
@@ -59,10 +64,9 @@ TOLERANCE = 1e-12
 #: A knot this close to a segment end [-] is on it (its kink is outside every
 #: segment's nodes); a segment narrower would round its local variable away.
 KNOT_GAP = 1e-9
-#: Taylor series of a step: the next term bounded by this times |[x; u]| ...
-TAYLOR_TOL = 1e-17
-#: ... within this many terms, else the matrix exponential.
-TAYLOR_MAX_TERMS = 30
+# The Taylor rule's constants TAYLOR_TOL and TAYLOR_MAX_TERMS live with its
+# algorithm (.algorithms, the one source of the Simulator's and the FMU's
+# taylor_terms); imported above.
 
 
 def knot_edges(knots) -> list:
@@ -96,22 +100,26 @@ def nodes(lo: float, hi: float) -> np.ndarray:
     return 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
 
 
+@functools.lru_cache(maxsize=None)
+def _cheb_matrices(n: int) -> tuple:
+    """:func:`~.algorithms.cheb_matrices` of ``n`` nodes (read-only vectors)."""
+    ch, tt = np.zeros(n * n), np.zeros(n * n)
+    cheb_matrices(n, ch, tt)
+    ch.flags.writeable = tt.flags.writeable = False
+    return ch, tt
+
+
 def _power_coefficients(values: np.ndarray, degree: int = DEGREE) -> np.ndarray:
     """Power coefficients in ``x`` (rows: degree 0..``degree``) of the polynomial
     through ``values`` (rows: the ``degree + 1`` Chebyshev-Gauss nodes, as
-    :func:`nodes`): Chebyshev coefficients, then the Chebyshev polynomials' power
-    coefficients (as the C does)."""
+    :func:`nodes`): :func:`~.algorithms.power_fit`, the C's fit (generated from it)."""
     n = degree + 1
-    k = np.arange(n)
-    w = np.cos(np.pi * np.outer(k, k + 0.5) / n) * np.where(k == 0, 1.0, 2.0)[:, None] / n
-    cheb = w @ values
-    t = np.zeros((n, n))                    # T_k(x) = sum_i t[k, i] x^i
-    t[0, 0] = 1.0
-    t[1, 1] = 1.0
-    for j in range(2, n):
-        t[j, 1:] = 2.0 * t[j - 1, :-1]
-        t[j] -= t[j - 2]
-    return t.T @ cheb
+    f = np.ascontiguousarray(values, dtype=float).reshape(n, -1)
+    cols = f.shape[1]
+    out = np.empty((n, cols))
+    power_fit(n, *_cheb_matrices(n), f.reshape(-1), cols, cols, np.empty(n * cols),
+              out.reshape(-1), cols)
+    return out.reshape((n,) + np.shape(values)[1:])
 
 
 def part(x: float):
@@ -129,19 +137,6 @@ def part_nodes(j: int) -> np.ndarray:
     n = FINE_DEGREE + 1
     y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
     return (2 * j + 1 + y) / SPLIT - 1.0
-
-
-def taylor_terms(norm_a: float, norm_ab: float, r: float) -> int:
-    """Terms of the Taylor series of a step of length ``|r|`` [s]: the first ``k``
-    whose next term is bounded by ``TAYLOR_TOL |[x; u]|`` (term ``k`` is at most
-    ``(|a| r)^(k-1) |[a b]| r / k!`` of it, 1-norms).  0 if more than
-    ``TAYLOR_MAX_TERMS`` would be needed (the C's ``taylor_count``)."""
-    bound, q = norm_ab * abs(r), norm_a * abs(r)
-    for k in range(1, TAYLOR_MAX_TERMS + 1):
-        if bound * q / (k + 1) <= TAYLOR_TOL:
-            return k
-        bound *= q / (k + 1)
-    return 0
 
 
 def _powers4(y):

@@ -1,0 +1,237 @@
+"""The stepping algorithms, written once: run here by the Simulator, translated
+into the FMU's C (``fmu/inflow_algorithms.c``) by :mod:`inflowsim.fmu.pyc`.
+
+Each function below is written in a small subset of Python that reads the same in
+both languages: flat float vectors (row-major matrices, their sizes passed as
+arguments), ``int`` and ``float`` scalars declared by annotation, ``for ... in
+range``, ``while``, ``if``, scalar arithmetic, the functions of :mod:`math`, module
+constants, and the primitives of :class:`P` (matrix product, ``y += alpha x``, the
+1-norm, an LU solve: NumPy here, a few lines of hand-written C in
+``fmu/inflow_numerics.c``, the only numerics written twice).  :func:`algorithm`
+names each function's C function and the size arguments that are compile-time
+constants in the FMU (``IFS_NA``: the augmented ``[x; u]``).
+
+So the Simulator and the FMU step by the same operations in the same order; they
+differ only where a primitive's NumPy sums in another order than the C loop (a
+few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
+generated C and compares it with these functions on the same inputs.
+
+Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
+matrix exponential (:func:`expm`, Pade [6/6] with scaling and squaring) and the
+``mu`` table's fit of power coefficients through values at Chebyshev nodes
+(:func:`cheb_matrices`, :func:`power_fit`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Taylor series of a step: the next term bounded by this times |[x; u]| ...
+TAYLOR_TOL = 1e-17
+#: ... within this many terms, else the matrix exponential.
+TAYLOR_MAX_TERMS = 30
+#: The diagonal [6/6] Pade approximant's coefficients ``c_k`` of ``X^k`` (Higham
+#: 2005): ``exp(X) ~ (V - U)^-1 (V + U)``, ``V`` the even and ``U`` the odd part.
+PADE6 = (1.0, 0.5, 5.0 / 44.0, 1.0 / 66.0, 1.0 / 792.0, 1.0 / 15840.0, 1.0 / 665280.0)
+#: :func:`expm` scales its argument to a 1-norm at most this (the [6/6] approximant's
+#: backward error is then below the unit roundoff, Higham 2005, Table 2.1).
+EXPM_NORM = 0.5
+
+#: The C names of the constants the functions read (``inflow_vars.h``, generated
+#: from :func:`inflowsim.simulate.mutable.c_defines`); other constants are written
+#: into the C as numbers or ``static const`` arrays.
+C_MACROS = {"TAYLOR_TOL": "IFS_TAYLOR_TOL", "TAYLOR_MAX_TERMS": "IFS_KMAX"}
+
+#: The functions the C is generated from, in order: ``(function, C name, static,
+#: {size argument: C constant})``.
+ALGORITHMS = []
+
+
+def algorithm(c_name: str, sizes=None, static: bool = False):
+    """Register a function of this module for translation into C as ``c_name``;
+    ``sizes``: arguments that are a C constant expression in the FMU (dropped from
+    the C signature)."""
+    def register(f):
+        ALGORITHMS.append((f, c_name, static, dict(sizes or {})))
+        return f
+    return register
+
+
+class Vec:
+    """Annotation: a flat float vector (``double *`` in C), written in place."""
+
+
+class CVec:
+    """Annotation: a flat float vector read only (``const double *``)."""
+
+
+class P:
+    """The primitives (``ifs_<name>`` in ``fmu/inflow_numerics.c``): whole-vector
+    operations that NumPy does at once here.  Vectors are flat float64 arrays;
+    ``n`` x ``n`` matrices are row-major."""
+
+    @staticmethod
+    def new(size: int) -> np.ndarray:
+        """A zero vector of ``size`` (a local array in C)."""
+        return np.zeros(size)
+
+    @staticmethod
+    def copy(dst: np.ndarray, src: np.ndarray, size: int) -> None:
+        dst[:size] = src[:size]
+
+    @staticmethod
+    def scale(x: np.ndarray, alpha: float, size: int) -> None:
+        """``x *= alpha``."""
+        x[:size] *= alpha
+
+    @staticmethod
+    def axpy(y: np.ndarray, alpha: float, x: np.ndarray, size: int) -> None:
+        """``y += alpha x``."""
+        y[:size] += alpha * x[:size]
+
+    @staticmethod
+    def matmul(a: np.ndarray, b: np.ndarray, c: np.ndarray, n: int) -> None:
+        """``c = a b`` (``n`` x ``n``; ``c`` not ``a`` or ``b``)."""
+        np.matmul(a[:n * n].reshape(n, n), b[:n * n].reshape(n, n),
+                  out=c[:n * n].reshape(n, n))
+
+    @staticmethod
+    def gemm(a: np.ndarray, b: np.ndarray, c: np.ndarray, rows: int, inner: int, cols: int,
+             ldb: int, ldc: int) -> None:
+        """``c = a b``: ``a`` ``rows`` x ``inner`` (rows ``inner`` apart), ``b``
+        ``inner`` x ``cols`` (rows ``ldb`` apart), ``c`` ``rows`` x ``cols`` (rows
+        ``ldc`` apart; not ``a`` or ``b``)."""
+        if min(b.size, c.size) < 1 or (inner - 1) * ldb + cols > b.size or \
+                (rows - 1) * ldc + cols > c.size:
+            raise ValueError("gemm: b or c too short")
+        sb, sc = b.strides[0], c.strides[0]
+        bm = np.lib.stride_tricks.as_strided(b, (inner, cols), (ldb * sb, sb))
+        cm = np.lib.stride_tricks.as_strided(c, (rows, cols), (ldc * sc, sc))
+        cm[:] = a[:rows * inner].reshape(rows, inner) @ bm
+
+    @staticmethod
+    def norm1(a: np.ndarray, rows: int, cols: int) -> float:
+        """The largest column sum of ``|a|`` (``rows`` x ``cols``); NaN if any
+        entry is."""
+        return float(np.abs(a[:rows * cols].reshape(rows, cols)).sum(axis=0).max(initial=0.0))
+
+    @staticmethod
+    def lu_solve(n: int, a: np.ndarray, nrhs: int, b: np.ndarray, tol: float) -> int:
+        """Solve ``A X = B`` in place (``a`` ``n`` x ``n`` destroyed, ``b`` ``n`` x
+        ``nrhs`` overwritten by ``X``), LU with partial pivoting; -1 if a pivot is
+        below ``tol`` times the largest ``|A|`` entry."""
+        # the pivots from scipy's LU (LAPACK's partial pivoting, as the C), the
+        # solution from NumPy's solve: scipy's lu_solve takes milliseconds on a
+        # loaded machine (threaded LAPACK on a small matrix)
+        from scipy.linalg import lu_factor      # (imported here: see discrete.zoh)
+        m = a[:n * n].reshape(n, n)
+        amax = float(np.max(np.abs(m), initial=0.0))
+        if not (amax > 0.0 and math.isfinite(amax)):
+            return -1
+        lu, _ = lu_factor(m, check_finite=False)
+        if not np.min(np.abs(np.diag(lu))) > tol * amax:
+            return -1
+        rhs = b[:n * nrhs].reshape(n, nrhs)
+        rhs[:] = np.linalg.solve(m, rhs)
+        return 0
+
+
+@algorithm("ifs_taylor_count")
+def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
+    """Terms of the Taylor series of a step of length ``|r|`` [s] of ``x' = a x +
+    b u``, ``norm_a = |a|``, ``norm_ab = |[a b]|`` (1-norms): the first ``k`` whose
+    next term is bounded by ``TAYLOR_TOL |[x; u]|`` (term ``k`` is at most ``(|a|
+    r)^(k-1) |[a b]| r / k!`` of it); 0 if more than ``TAYLOR_MAX_TERMS`` would be
+    needed."""
+    bound: float = norm_ab * math.fabs(r)
+    q: float = norm_a * math.fabs(r)
+    for k in range(1, TAYLOR_MAX_TERMS + 1):
+        if bound * q / (k + 1) <= TAYLOR_TOL:
+            return k
+        bound *= q / (k + 1)
+    return 0
+
+
+@algorithm("ifs_expm", sizes={"n": "IFS_NA"})
+def expm(a: Vec, n: int) -> int:
+    """``exp(A)`` of the ``n`` x ``n`` matrix ``a`` (row-major), overwritten by the
+    result: scaling and squaring with the diagonal [6/6] Pade approximant, scaled
+    to 1-norm at most ``EXPM_NORM``.  -1 (``a`` partly overwritten) if ``a`` is not
+    finite or the solve fails."""
+    nn: int = n * n
+    norm: float = P.norm1(a, n, n)
+    if not math.isfinite(norm):
+        return -1
+    s: int = 0
+    while norm > EXPM_NORM and s < 64:
+        norm *= 0.5
+        s += 1
+    P.scale(a, math.ldexp(1.0, -s), nn)
+    x2 = P.new(n * n)
+    x4 = P.new(n * n)
+    x6 = P.new(n * n)
+    u = P.new(n * n)
+    v = P.new(n * n)
+    t = P.new(n * n)
+    P.matmul(a, a, x2, n)
+    P.matmul(x2, x2, x4, n)
+    P.matmul(x4, x2, x6, n)
+    P.axpy(t, PADE6[3], x2, nn)            # odd part / X: c1 + c3 X^2 + c5 X^4
+    P.axpy(t, PADE6[5], x4, nn)
+    P.axpy(v, PADE6[2], x2, nn)            # even part: c0 + c2 X^2 + c4 X^4 + c6 X^6
+    P.axpy(v, PADE6[4], x4, nn)
+    P.axpy(v, PADE6[6], x6, nn)
+    for i in range(n):
+        t[i * n + i] += PADE6[1]
+        v[i * n + i] += PADE6[0]
+    P.matmul(a, t, u, n)
+    P.copy(t, v, nn)                       # (V - U)^-1 (V + U)
+    P.axpy(t, -1.0, u, nn)
+    P.copy(a, v, nn)
+    P.axpy(a, 1.0, u, nn)
+    if P.lu_solve(n, t, n, a, 1e-300) != 0:
+        return -1
+    while s > 0:
+        P.matmul(a, a, t, n)
+        P.copy(a, t, nn)
+        s -= 1
+    return 0
+
+
+@algorithm("ifs_cheb_matrices")
+def cheb_matrices(n: int, ch: Vec, tt: Vec) -> None:
+    """Chebyshev interpolation at ``n`` nodes as two ``n`` x ``n`` matrices
+    (row-major): ``ch`` gives the Chebyshev coefficients ``sum_j ch[k, j] f_j`` of
+    the polynomial through ``f_j`` at the Chebyshev-Gauss nodes ``cos(pi (j + 1/2) /
+    n)``, ``tt`` the power coefficients ``tt[i, k]`` of ``T_k(x)``."""
+    for i in range(n * n):
+        tt[i] = 0.0
+    tt[0] = 1.0
+    if n > 1:
+        tt[n + 1] = 1.0
+    for k in range(2, n):
+        for i in range(n):
+            tt[i * n + k] = ((2.0 * tt[(i - 1) * n + k - 1] if i > 0 else 0.0)
+                             - tt[i * n + k - 2])
+    for k in range(n):
+        for j in range(n):
+            ch[k * n + j] = (math.cos(math.pi * k * (j + 0.5) / n) * (1.0 if k == 0 else 2.0)
+                             / n)
+
+
+@algorithm("ifs_power_fit")
+def power_fit(n: int, ch: CVec, tt: CVec, f: CVec, cols: int, ldf: int, work: Vec,
+              out: Vec, ldo: int) -> None:
+    """The power coefficients (rows 0 .. ``n - 1`` of ``out``, ``cols`` entries
+    each, rows ``ldo`` apart) of the polynomials of degree ``n - 1`` through the
+    values ``f`` (row ``j``: at node ``j``, rows ``ldf`` apart) at the
+    Chebyshev-Gauss nodes: the Chebyshev coefficients (into ``work``, ``n`` x
+    ``cols``), then the power coefficients, ``tt (ch f)`` (:func:`cheb_matrices`)."""
+    P.gemm(ch, f, work, n, n, cols, ldf, cols)
+    P.gemm(tt, work, out, n, n, cols, cols, ldo)
+
+
+__all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE6", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
+           "algorithm", "Vec", "CVec", "P", "taylor_count", "expm", "cheb_matrices",
+           "power_fit"]
