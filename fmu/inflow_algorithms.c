@@ -118,3 +118,44 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
     ifs_gemm(ch, f, work, n, n, cols, ldf, cols);
     ifs_gemm(tt, work, out, n, n, cols, cols, ldo);
 }
+
+/* mu_fit: The table in mu (:mod:`inflowsim.simulate.mutable`): on each of the nseg
+ * segments [edge[s], edge[s + 1]] the power coefficients p[s, k, e] (k = 0 .. deg in
+ * the local variable x in [-1, 1]) of the polynomials through the ntab exact entries
+ * at the segment's Chebyshev-Gauss nodes; then of each of its split equal parts in x
+ * the power coefficients q[s split + c, k, e] (k = 0 .. fdeg, in the part's own local
+ * variable, the first nfine entries) of the polynomials through the segment's
+ * polynomials (Horner's rule) at the part's Chebyshev-Gauss nodes. -1 where entries
+ * has no values. */
+int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p, double *q)
+{
+    int n = IFS_MU_DEG + 1;
+    int nf = IFS_MU_FDEG + 1;
+    double ch[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)] = {0.0};
+    double tt[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)] = {0.0};
+    double chf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)] = {0.0};
+    double ttf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)] = {0.0};
+    double f[(IFS_MU_DEG + 1) * IFS_MU_NTAB] = {0.0};
+    double work[(IFS_MU_DEG + 1) * IFS_MU_NTAB] = {0.0};
+    ifs_cheb_matrices(n, ch, tt);
+    ifs_cheb_matrices(nf, chf, ttf);
+    for (int seg = 0; seg < nseg; seg++) {
+        double lo = edge[seg];
+        double hi = edge[seg + 1];
+        for (int j = 0; j < n; j++) {
+            double xj = cos(M_PI * (j + 0.5) / n);
+            if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f + j * IFS_MU_NTAB) != 0) {
+                return -1;
+            }
+        }
+        ifs_power_fit(n, ch, tt, f, IFS_MU_NTAB, IFS_MU_NTAB, work, p + seg * n * IFS_MU_NTAB, IFS_MU_NTAB);
+        for (int c = 0; c < IFS_MU_SPLIT; c++) {
+            for (int j = 0; j < nf; j++) {
+                double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / nf)) / IFS_MU_SPLIT - 1.0;
+                ifs_horner(p + seg * n * IFS_MU_NTAB, IFS_MU_DEG, x, f + j * IFS_MU_NTAB, IFS_MU_HALF0, IFS_MU_NTAB);
+            }
+            ifs_power_fit(nf, chf, ttf, f, IFS_MU_HALF0, IFS_MU_NTAB, work, q + (seg * IFS_MU_SPLIT + c) * nf * IFS_MU_HALF0, IFS_MU_HALF0);
+        }
+    }
+    return 0;
+}

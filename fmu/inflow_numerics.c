@@ -106,6 +106,18 @@ void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, 
     }
 }
 
+/* out[e] = sum_k p[k][e] x^k for e < cols (rows k = 0 .. deg of p, ldp apart) by
+ * Horner's rule (ifs_mu_horner's operations) */
+void ifs_horner(const double *p, int deg, double x, double *out, int cols, int ldp)
+{
+    int e, k;
+    for (e = 0; e < cols; e++) {
+        double acc = p[deg * ldp + e];
+        for (k = deg - 1; k >= 0; k--) acc = acc * x + p[k * ldp + e];
+        out[e] = acc;
+    }
+}
+
 /* The largest column sum of |A| (rows x cols, row-major); NaN if an entry is NaN */
 double ifs_norm1(const double *A, int rows, int cols)
 {
@@ -191,16 +203,8 @@ static int cpu_fma(void)
 
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
 {
-    const int N = IFS_MU_DEG + 1, NF = IFS_MU_FDEG + 1;
-    double f[IFS_MU_DEG + 1][IFS_MU_NTAB];   /* 12 kB of stack, during a build */
-    double work[IFS_MU_DEG + 1][IFS_MU_NTAB];
-    double ch[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)], tt[(IFS_MU_DEG + 1) * (IFS_MU_DEG + 1)];
-    double chf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)];
-    double ttf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)];
-    int seg, j, e, c;
+    int seg, e, c;
     double worst = 0.0;
-    ifs_cheb_matrices(N, ch, tt);              /* (inflow_algorithms.c) */
-    ifs_cheb_matrices(NF, chf, ttf);
     t->state = -1;
     t->err = 0.0;
     t->fma = cpu_fma();
@@ -210,25 +214,9 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
         while (seg < IFS_MU_NSEG - 1 && at >= t->edge[seg + 1]) seg++;
         t->guess[c] = (unsigned char)seg;
     }
-    for (seg = 0; seg < IFS_MU_NSEG; seg++) {
-        const double lo = t->edge[seg], hi = t->edge[seg + 1];
-        for (j = 0; j < N; j++) {
-            const double xj = cos(M_PI * (j + 0.5) / N);
-            if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j]) != 0)
-                return t->state;
-        }
-        ifs_power_fit(N, ch, tt, &f[0][0], IFS_MU_NTAB, IFS_MU_NTAB, &work[0][0],
-                      &t->p[seg][0][0], IFS_MU_NTAB);
-        /* the parts: the segment's polynomial at each part's nodes, again */
-        for (c = 0; c < IFS_MU_SPLIT; c++) {
-            for (j = 0; j < NF; j++) {
-                const double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / NF)) / IFS_MU_SPLIT - 1.0;
-                for (e = 0; e < IFS_MU_HALF0; e++) f[j][e] = ifs_mu_horner(t, seg, x, e);
-            }
-            ifs_power_fit(NF, chf, ttf, &f[0][0], IFS_MU_HALF0, IFS_MU_NTAB, &work[0][0],
-                          &t->q[seg * IFS_MU_SPLIT + c][0][0], IFS_MU_HALF0);
-        }
-    }
+    /* the segments' and their parts' coefficients (inflow_algorithms.c) */
+    if (ifs_mu_fit(t->edge, IFS_MU_NSEG, entries, ctx, &t->p[0][0][0], &t->q[0][0][0]) != 0)
+        return t->state;
     for (seg = 0; seg < IFS_MU_NSEG; seg++) {      /* check between the nodes */
         double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
         const double mu = 0.5 * (t->edge[seg] + t->edge[seg + 1]);

@@ -67,14 +67,16 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 
 /* The primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
  * dst = src, x *= alpha, y += alpha x, C = A B (n x n), C = A B (rows x inner times
- * inner x cols, the rows of B ldb and of C ldc apart), the 1-norm (NaN if an entry
- * is).  Sizes in doubles. */
+ * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
+ * polynomials of degree deg in the columns of p, the 1-norm (NaN if an entry is).
+ * Sizes in doubles. */
 void ifs_copy(double *dst, const double *src, int size);
 void ifs_scale(double *x, double alpha, int size);
 void ifs_axpy(double *y, double alpha, const double *x, int size);
 void ifs_matmul(const double *A, const double *B, double *C, int n);
 void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
               int ldb, int ldc);
+void ifs_horner(const double *p, int deg, double x, double *out, int cols, int ldp);
 double ifs_norm1(const double *A, int rows, int cols);
 
 /* Generated from inflowsim.simulate.algorithms into inflow_algorithms.c (the
@@ -153,6 +155,13 @@ typedef struct {
 /* The exact entries at mu (both halves, IFS_MU_NTAB values); 0, or -1 if there are
  * none there. */
 typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
+
+/* The segments' power coefficients p ([IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB]) and
+ * their parts' q of half 0 ([IFS_MU_NPART][IFS_MU_FDEG + 1][IFS_MU_HALF0]) from the
+ * exact entries (generated into inflow_algorithms.c from
+ * inflowsim.simulate.algorithms.mu_fit); -1 where entries has none. */
+int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p,
+               double *q);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);

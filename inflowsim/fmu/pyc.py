@@ -35,10 +35,12 @@ _BINOP = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv:
           ast.Mod: "%"}
 _CMP = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==",
         ast.NotEq: "!="}
-_TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const double *"}
+_TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const double *",
+          "Entries": "IfsMuEntries", "Ctx": "void *"}
 #: the primitives' C result types (``void`` where none)
 _PRIMITIVES = {"copy": "void", "scale": "void", "axpy": "void", "matmul": "void",
-               "norm1": "double", "lu_solve": "int", "gemm": "void"}
+               "norm1": "double", "lu_solve": "int", "gemm": "void",
+               "horner": "void"}
 
 
 class _Function:
@@ -167,6 +169,8 @@ class _Function:
             if f.id in ("int", "float") and len(args) == 1:
                 c = "int" if f.id == "int" else "double"
                 return f"(({c})({self.expr(args[0])[0]}))", c
+            if self.types.get(f.id) == "IfsMuEntries":
+                return f"{f.id}({', '.join(self.arg(a) for a in args)})", "int"
             if f.id in self.others:
                 c_name, typ, sizes = self.others[f.id]
                 params = [a.arg for a in self.others_tree(f.id).args.args]

@@ -18,8 +18,8 @@ generated C and compares it with these functions on the same inputs.
 
 Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
 matrix exponential (:func:`expm`, Pade [6/6] with scaling and squaring) and the
-``mu`` table's fit of power coefficients through values at Chebyshev nodes
-(:func:`cheb_matrices`, :func:`power_fit`).
+``mu`` table's fit: its segments and their parts (:func:`mu_fit`; the
+interpolation matrices :func:`cheb_matrices`, :func:`power_fit`).
 """
 from __future__ import annotations
 
@@ -66,6 +66,15 @@ class CVec:
     """Annotation: a flat float vector read only (``const double *``)."""
 
 
+class Entries:
+    """Annotation: ``entries(ctx, mu, out) -> int``, the exact values at ``mu``
+    written into ``out`` (0, or -1 where there are none); C's ``IfsMuEntries``."""
+
+
+class Ctx:
+    """Annotation: what :class:`Entries` is given (``void *`` in C)."""
+
+
 class P:
     """The primitives (``ifs_<name>`` in ``fmu/inflow_numerics.c``): whole-vector
     operations that NumPy does at once here.  Vectors are flat float64 arrays;
@@ -109,6 +118,17 @@ class P:
         bm = np.lib.stride_tricks.as_strided(b, (inner, cols), (ldb * sb, sb))
         cm = np.lib.stride_tricks.as_strided(c, (rows, cols), (ldc * sc, sc))
         cm[:] = a[:rows * inner].reshape(rows, inner) @ bm
+
+    @staticmethod
+    def horner(p: np.ndarray, deg: int, x: float, out: np.ndarray, cols: int,
+               ldp: int) -> None:
+        """``out[e] = sum_k p[k, e] x^k`` for ``e < cols`` (rows ``k = 0 .. deg`` of
+        ``p``, ``ldp`` apart) by Horner's rule, from ``k = deg`` down."""
+        acc = p[deg * ldp:deg * ldp + cols].copy()
+        for k in range(deg - 1, -1, -1):
+            acc *= x
+            acc += p[k * ldp:k * ldp + cols]
+        out[:cols] = acc
 
     @staticmethod
     def norm1(a: np.ndarray, rows: int, cols: int) -> float:
@@ -232,6 +252,47 @@ def power_fit(n: int, ch: CVec, tt: CVec, f: CVec, cols: int, ldf: int, work: Ve
     P.gemm(tt, work, out, n, n, cols, cols, ldo)
 
 
+@algorithm("ifs_mu_fit", sizes={"deg": "IFS_MU_DEG", "fdeg": "IFS_MU_FDEG",
+                                "split": "IFS_MU_SPLIT", "ntab": "IFS_MU_NTAB",
+                                "nfine": "IFS_MU_HALF0"})
+def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, deg: int,
+           fdeg: int, split: int, ntab: int, nfine: int) -> int:
+    """The table in ``mu`` (:mod:`inflowsim.simulate.mutable`): on each of the
+    ``nseg`` segments ``[edge[s], edge[s + 1]]`` the power coefficients ``p[s, k,
+    e]`` (``k = 0 .. deg`` in the local variable ``x in [-1, 1]``) of the
+    polynomials through the ``ntab`` exact ``entries`` at the segment's
+    Chebyshev-Gauss nodes; then of each of its ``split`` equal parts in ``x`` the
+    power coefficients ``q[s split + c, k, e]`` (``k = 0 .. fdeg``, in the part's
+    own local variable, the first ``nfine`` entries) of the polynomials through the
+    segment's polynomials (Horner's rule) at the part's Chebyshev-Gauss nodes.  -1
+    where ``entries`` has no values."""
+    n: int = deg + 1
+    nf: int = fdeg + 1
+    ch = P.new((deg + 1) * (deg + 1))
+    tt = P.new((deg + 1) * (deg + 1))
+    chf = P.new((fdeg + 1) * (fdeg + 1))
+    ttf = P.new((fdeg + 1) * (fdeg + 1))
+    f = P.new((deg + 1) * ntab)
+    work = P.new((deg + 1) * ntab)
+    cheb_matrices(n, ch, tt)
+    cheb_matrices(nf, chf, ttf)
+    for seg in range(nseg):
+        lo: float = edge[seg]
+        hi: float = edge[seg + 1]
+        for j in range(n):
+            xj: float = math.cos(math.pi * (j + 0.5) / n)
+            if entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j * ntab:]) != 0:
+                return -1
+        power_fit(n, ch, tt, f, ntab, ntab, work, p[seg * n * ntab:], ntab)
+        for c in range(split):
+            for j in range(nf):
+                x: float = (2 * c + 1 + math.cos(math.pi * (j + 0.5) / nf)) / split - 1.0
+                P.horner(p[seg * n * ntab:], deg, x, f[j * ntab:], nfine, ntab)
+            power_fit(nf, chf, ttf, f, nfine, ntab, work, q[(seg * split + c) * nf * nfine:],
+                      nfine)
+    return 0
+
+
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE6", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
-           "algorithm", "Vec", "CVec", "P", "taylor_count", "expm", "cheb_matrices",
-           "power_fit"]
+           "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
+           "power_fit", "mu_fit"]

@@ -46,7 +46,7 @@ import struct
 
 import numpy as np
 
-from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, power_fit
+from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_fit, power_fit
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -179,21 +179,26 @@ class MuTable:
     def __init__(self, exact, blocks=(slice(None),), knots=()):
         self.edges = edges(knots)
         nseg = len(self.edges) - 1
-        first = None
-        coef = []
-        for s in range(nseg):
-            vals = [np.asarray(exact(m), dtype=float) for m in nodes(*self.edges[s:s + 2])]
-            first = vals[0] if first is None else first
-            coef.append(_power_coefficients(np.array([v.ravel() for v in vals])))
-        self.shape = first.shape
-        self._p = np.ascontiguousarray(coef)            # [segment, degree, entry]
-        # the parts: each segment's polynomial at its parts' nodes, interpolated again
-        x = np.concatenate([part_nodes(j) for j in range(SPLIT)])
-        at = x[:, None] ** np.arange(DEGREE + 1)        # [node, degree]
+        # the first node's values (mu_fit's first call, the same doubles) give the size
+        lo, hi = self.edges[0], self.edges[1]
+        mu0 = 0.5 * (lo + hi) + 0.5 * (hi - lo) * math.cos(math.pi * (0 + 0.5) / (DEGREE + 1))
+        first = {mu0: np.asarray(exact(mu0), dtype=float)}
+        self.shape = first[mu0].shape
+        ntab = int(np.prod(self.shape))
+
+        def entries(ctx, mu, out):
+            v = first.pop(mu, None)
+            out[:ntab] = (np.asarray(exact(mu), dtype=float) if v is None else v).ravel()
+            return 0
+
+        # the segments' and their parts' coefficients: the C's fit (mu_fit)
+        p = np.zeros(nseg * (DEGREE + 1) * ntab)
+        q = np.zeros(nseg * SPLIT * (FINE_DEGREE + 1) * ntab)
+        mu_fit(np.asarray(self.edges, dtype=float), nseg, entries, None, p, q, DEGREE,
+               FINE_DEGREE, SPLIT, ntab, ntab)
+        self._p = p.reshape(nseg, DEGREE + 1, ntab)          # [segment, degree, entry]
+        self._q = q.reshape(nseg * SPLIT, FINE_DEGREE + 1, ntab)   # [part, degree, entry]
         nf = FINE_DEGREE + 1
-        self._q = np.ascontiguousarray(np.concatenate([
-            [_power_coefficients(v[j * nf:(j + 1) * nf], FINE_DEGREE) for j in range(SPLIT)]
-            for v in (at @ self._p[s] for s in range(nseg))]))   # [part, degree, entry]
         self._y = np.empty(nf)                      # powers of y, written in place
         self._pack = struct.Struct(f"{nf}d").pack_into
         self._ybuf = memoryview(self._y).cast("B")
