@@ -119,6 +119,24 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
     ifs_gemm(tt, work, out, n, n, cols, cols, ldo);
 }
 
+/* mu_edges: The segment ends of the table in mu (segments + nknots + 1): lo q^s, q =
+ * (hi/lo)^(1/segments), and the knots (ascending, inside (lo, hi), none on a geometric
+ * end: :func:`inflowsim.simulate.mutable.knot_edges`), merged in ascending order. */
+void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double *e)
+{
+    int g = 0;
+    int k = 0;
+    for (int i = 0; i < IFS_MU_SEG + nknots + 1; i++) {
+        if (k < nknots && (g > IFS_MU_SEG || knots[k] < lo * pow(hi / lo, (double)g / IFS_MU_SEG))) {
+            e[i] = knots[k];
+            k += 1;
+        } else {
+            e[i] = lo * pow(hi / lo, (double)g / IFS_MU_SEG);
+            g += 1;
+        }
+    }
+}
+
 /* mu_fit: The table in mu (:mod:`inflowsim.simulate.mutable`): on each of the nseg
  * segments [edge[s], edge[s + 1]] the power coefficients p[s, k, e] (k = 0 .. deg in
  * the local variable x in [-1, 1]) of the polynomials through the ntab exact entries

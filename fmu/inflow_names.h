@@ -40,6 +40,7 @@
 #define ifs_log IFS_NAME(ifs_log)
 #define ifs_lu_solve IFS_NAME(ifs_lu_solve)
 #define ifs_matmul IFS_NAME(ifs_matmul)
+#define ifs_mu_edges IFS_NAME(ifs_mu_edges)
 #define ifs_mu_fit IFS_NAME(ifs_mu_fit)
 #define ifs_mu_table_apply IFS_NAME(ifs_mu_table_apply)
 #define ifs_mu_table_apply_ab IFS_NAME(ifs_mu_table_apply_ab)

@@ -134,27 +134,17 @@ double ifs_norm1(const double *A, int rows, int cols)
 
 /* --- the table in mu --- */
 
-/* Segment s covers [lo q^s, lo q^(s+1)], q = (hi/lo)^(1/SEG). */
-static double mu_edge(int seg)
-{
-    return IFS_MU_LO * pow(IFS_MU_HI / IFS_MU_LO, (double)seg / IFS_MU_SEG);
-}
-
-/* The segment ends: mu_edge's, and the knots of a parameter schedule (its range's
- * ends, where the held values make a kink; inflowsim.simulate.mutable.knot_edges
- * chose them), merged in ascending order: inflowsim.simulate.mutable.edges, the
- * same doubles. */
+/* The segment ends: lo q^s, q = (hi/lo)^(1/SEG), and the knots of a parameter
+ * schedule (its range's ends, where the held values make a kink;
+ * inflowsim.simulate.mutable.knot_edges chose them), merged in ascending order
+ * (ifs_mu_edges, inflow_algorithms.c: inflowsim.simulate.mutable.edges). */
 static void mu_edges(double e[IFS_MU_NSEG + 1])
 {
 #if IFS_MU_N_KNOTS
     static const double knots[IFS_MU_N_KNOTS] = IFS_MU_KNOTS;
-    int g = 0, k = 0, i;
-    for (i = 0; i <= IFS_MU_NSEG; i++)
-        e[i] = (k < IFS_MU_N_KNOTS && (g > IFS_MU_SEG || knots[k] < mu_edge(g)))
-                   ? knots[k++] : mu_edge(g++);
+    ifs_mu_edges(IFS_MU_LO, IFS_MU_HI, knots, IFS_MU_N_KNOTS, e);
 #else
-    int i;
-    for (i = 0; i <= IFS_MU_SEG; i++) e[i] = mu_edge(i);
+    ifs_mu_edges(IFS_MU_LO, IFS_MU_HI, NULL, 0, e);
 #endif
 }
 

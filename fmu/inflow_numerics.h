@@ -156,6 +156,11 @@ typedef struct {
  * none there. */
 typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
 
+/* The segment ends lo (hi/lo)^(s/IFS_MU_SEG) and the nknots knots, merged
+ * ascending (IFS_MU_SEG + nknots + 1 of them; inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.mu_edges). */
+void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double *e);
+
 /* The segments' power coefficients p ([IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB]) and
  * their parts' q of half 0 ([IFS_MU_NPART][IFS_MU_FDEG + 1][IFS_MU_HALF0]) from the
  * exact entries (generated into inflow_algorithms.c from

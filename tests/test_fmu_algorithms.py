@@ -38,6 +38,7 @@ def lib(tmp_path_factory):
     lib.ifs_expm.argtypes, lib.ifs_expm.restype = (p,), i
     lib.ifs_cheb_matrices.argtypes = (i, p, p)
     lib.ifs_power_fit.argtypes = (i, p, p, p, i, i, p, p, i)
+    lib.ifs_mu_edges.argtypes = (d, d, p, i, p)
     lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
     return lib
 
@@ -88,6 +89,15 @@ def test_python_and_generated_c_agree(lib):
         coef = out.reshape(n, ldo)[:, :cols]
         vals = np.vander(x, n, increasing=True) @ coef
         np.testing.assert_allclose(vals, f.reshape(n, ldf)[:, :cols], rtol=0, atol=1e-13)
+    # the table's segment ends, with a schedule's knots: the same doubles
+    for knots in ((), (0.12, 0.3, 0.45), (0.1, 0.2 + 1e-12, 0.49)):
+        kn = np.array(mutable.knot_edges(knots))
+        e = np.zeros(mutable.SEGMENTS + len(kn) + 1)
+        lib.ifs_mu_edges(mutable.MU_LO, mutable.MU_HI, _p(kn), len(kn), _p(e))
+        geo = [mutable.MU_LO * (mutable.MU_HI / mutable.MU_LO) ** (s / mutable.SEGMENTS)
+               for s in range(mutable.SEGMENTS + 1)]
+        assert list(e) == mutable.edges(knots)
+        np.testing.assert_allclose(e, sorted(geo + list(kn)), rtol=1e-15)
     # the table's segments and parts, of entries analytic on [0.1, 0.5]
     k = np.arange(NTAB)
 

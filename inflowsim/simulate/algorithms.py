@@ -18,8 +18,9 @@ generated C and compares it with these functions on the same inputs.
 
 Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
 matrix exponential (:func:`expm`, Pade [6/6] with scaling and squaring) and the
-``mu`` table's fit: its segments and their parts (:func:`mu_fit`; the
-interpolation matrices :func:`cheb_matrices`, :func:`power_fit`).
+``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
+parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
+:func:`power_fit`).
 """
 from __future__ import annotations
 
@@ -252,6 +253,23 @@ def power_fit(n: int, ch: CVec, tt: CVec, f: CVec, cols: int, ldf: int, work: Ve
     P.gemm(tt, work, out, n, n, cols, cols, ldo)
 
 
+@algorithm("ifs_mu_edges", sizes={"segments": "IFS_MU_SEG"})
+def mu_edges(lo: float, hi: float, knots: CVec, nknots: int, e: Vec, segments: int) -> None:
+    """The segment ends of the table in ``mu`` (``segments + nknots + 1``): ``lo
+    q^s``, ``q = (hi/lo)^(1/segments)``, and the ``knots`` (ascending, inside ``(lo,
+    hi)``, none on a geometric end: :func:`inflowsim.simulate.mutable.knot_edges`),
+    merged in ascending order."""
+    g: int = 0
+    k: int = 0
+    for i in range(segments + nknots + 1):
+        if k < nknots and (g > segments or knots[k] < lo * math.pow(hi / lo, g / segments)):
+            e[i] = knots[k]
+            k += 1
+        else:
+            e[i] = lo * math.pow(hi / lo, g / segments)
+            g += 1
+
+
 @algorithm("ifs_mu_fit", sizes={"deg": "IFS_MU_DEG", "fdeg": "IFS_MU_FDEG",
                                 "split": "IFS_MU_SPLIT", "ntab": "IFS_MU_NTAB",
                                 "nfine": "IFS_MU_HALF0"})
@@ -295,4 +313,4 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE6", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
            "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
-           "power_fit", "mu_fit"]
+           "power_fit", "mu_edges", "mu_fit"]

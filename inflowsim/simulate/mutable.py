@@ -46,7 +46,7 @@ import struct
 
 import numpy as np
 
-from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_fit, power_fit
+from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_edges, mu_fit, power_fit
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -87,10 +87,12 @@ def edges(knots=()) -> list:
     """Segment ends ``MU_LO q^s``, ``q = (MU_HI/MU_LO)^(1/SEGMENTS)`` (the C's
     ``pow`` expression, so the same doubles), and the :func:`knot_edges` of
     ``knots``, ascending: a kink on a segment end keeps every segment's polynomial
-    smooth, and a segment split in two is only more accurate.  The C's
-    ``mu_edges`` merges the same."""
-    e = [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
-    return sorted(e + knot_edges(knots))
+    smooth, and a segment split in two is only more accurate:
+    :func:`~.algorithms.mu_edges`, the C's too."""
+    k = np.array(knot_edges(knots), dtype=float)
+    e = np.zeros(SEGMENTS + len(k) + 1)
+    mu_edges(MU_LO, MU_HI, k, len(k), e, SEGMENTS)
+    return [float(v) for v in e]
 
 
 def nodes(lo: float, hi: float) -> np.ndarray:
