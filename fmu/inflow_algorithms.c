@@ -177,3 +177,32 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
     }
     return 0;
 }
+
+/* mu_check: The table's check: at each segment's midpoint the largest difference
+ * between the table's values (table) and the exact entries, relative to the largest
+ * exact value of its block (entries [0, split) and [split, ntab); a block of zeros has
+ * none); NaN once a difference is; -1 where entries has no values. */
+double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx, IfsMuEntries table, void *tctx, int split)
+{
+    double worst = 0.0;
+    double want[IFS_MU_NTAB] = {0.0};
+    double got[IFS_MU_NTAB] = {0.0};
+    for (int seg = 0; seg < nseg; seg++) {
+        double mu = 0.5 * (edge[seg] + edge[seg + 1]);
+        if (entries(ctx, mu, want) != 0 || table(tctx, mu, got) != 0) {
+            return -1.0;
+        }
+        for (int b = 0; b < 2; b++) {
+            int first = b == 0 ? 0 : split;
+            int size = b == 0 ? split : IFS_MU_NTAB - split;
+            double scale = ifs_absmax(want + first, size);
+            if (scale > 0.0) {
+                double r = ifs_absdiffmax(got + first, want + first, size) / scale;
+                if (r > worst || r != r) {
+                    worst = r;
+                }
+            }
+        }
+    }
+    return worst;
+}

@@ -17,6 +17,8 @@
 #else
 #define IFS_NAME(n) IFS_PASTE(FMI3_FUNCTION_PREFIX, n)
 #endif
+#define ifs_absdiffmax IFS_NAME(ifs_absdiffmax)
+#define ifs_absmax IFS_NAME(ifs_absmax)
 #define ifs_advance IFS_NAME(ifs_advance)
 #define ifs_axpy IFS_NAME(ifs_axpy)
 #define ifs_build IFS_NAME(ifs_build)
@@ -40,6 +42,7 @@
 #define ifs_log IFS_NAME(ifs_log)
 #define ifs_lu_solve IFS_NAME(ifs_lu_solve)
 #define ifs_matmul IFS_NAME(ifs_matmul)
+#define ifs_mu_check IFS_NAME(ifs_mu_check)
 #define ifs_mu_edges IFS_NAME(ifs_mu_edges)
 #define ifs_mu_fit IFS_NAME(ifs_mu_fit)
 #define ifs_mu_table_apply IFS_NAME(ifs_mu_table_apply)

@@ -118,6 +118,28 @@ void ifs_horner(const double *p, int deg, double x, double *out, int cols, int l
     }
 }
 
+double ifs_absmax(const double *x, int size)
+{
+    double m = 0.0;
+    int i;
+    for (i = 0; i < size; i++)
+        if (fabs(x[i]) > m) m = fabs(x[i]);
+    return m;
+}
+
+/* NaN once a difference is */
+double ifs_absdiffmax(const double *x, const double *y, int size)
+{
+    double m = 0.0;
+    int i;
+    for (i = 0; i < size; i++) {
+        const double d = fabs(x[i] - y[i]);
+        if (d > m || d != d) m = d;
+        if (m != m) break;
+    }
+    return m;
+}
+
 /* The largest column sum of |A| (rows x cols, row-major); NaN if an entry is NaN */
 double ifs_norm1(const double *A, int rows, int cols)
 {
@@ -191,9 +213,18 @@ static int cpu_fma(void)
 #endif
 }
 
+/* The table's values at mu (both halves: half 0 from the parts, what a mu change
+ * reads; the callback of ifs_mu_check) */
+static int table_values(void *t, double mu, double out[IFS_MU_NTAB])
+{
+    ifs_mu_table_eval((const IfsMuTable *)t, mu, 0, out);
+    ifs_mu_table_eval((const IfsMuTable *)t, mu, 1, out + IFS_MU_HALF0);
+    return 0;
+}
+
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
 {
-    int seg, e, c;
+    int seg, c;
     double worst = 0.0;
     t->state = -1;
     t->err = 0.0;
@@ -207,21 +238,10 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
     /* the segments' and their parts' coefficients (inflow_algorithms.c) */
     if (ifs_mu_fit(t->edge, IFS_MU_NSEG, entries, ctx, &t->p[0][0][0], &t->q[0][0][0]) != 0)
         return t->state;
-    for (seg = 0; seg < IFS_MU_NSEG; seg++) {      /* check between the nodes */
-        double got[IFS_MU_NTAB], want[IFS_MU_NTAB], scale[2] = {0.0, 0.0};
-        const double mu = 0.5 * (t->edge[seg] + t->edge[seg + 1]);
-        if (entries(ctx, mu, want) != 0) return t->state;
-        ifs_mu_table_eval(t, mu, 0, got);
-        ifs_mu_table_eval(t, mu, 1, got + IFS_MU_HALF0);
-        for (e = 0; e < IFS_MU_NTAB; e++)
-            if (fabs(want[e]) > scale[e >= IFS_MU_HALF0])
-                scale[e >= IFS_MU_HALF0] = fabs(want[e]);
-        for (e = 0; e < IFS_MU_NTAB; e++) {
-            const double r = fabs(got[e] - want[e]) / scale[e >= IFS_MU_HALF0];
-            if (!(r <= worst)) worst = r;       /* NaN-safe */
-        }
-    }
+    /* the check between the nodes (inflow_algorithms.c) */
+    worst = ifs_mu_check(t->edge, IFS_MU_NSEG, entries, ctx, table_values, t, IFS_MU_HALF0);
+    if (worst < 0.0) return t->state;
     t->err = worst;
-    t->state = worst <= IFS_MU_TOL ? 1 : -1;
+    t->state = worst <= IFS_MU_TOL ? 1 : -1;     /* (NaN: -1) */
     return t->state;
 }

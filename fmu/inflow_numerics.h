@@ -68,7 +68,8 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 /* The primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
  * dst = src, x *= alpha, y += alpha x, C = A B (n x n), C = A B (rows x inner times
  * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
- * polynomials of degree deg in the columns of p, the 1-norm (NaN if an entry is).
+ * polynomials of degree deg in the columns of p, the largest |x| and |x - y| (NaN
+ * once a difference is), the 1-norm (NaN if an entry is).
  * Sizes in doubles. */
 void ifs_copy(double *dst, const double *src, int size);
 void ifs_scale(double *x, double alpha, int size);
@@ -77,6 +78,8 @@ void ifs_matmul(const double *A, const double *B, double *C, int n);
 void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
               int ldb, int ldc);
 void ifs_horner(const double *p, int deg, double x, double *out, int cols, int ldp);
+double ifs_absmax(const double *x, int size);
+double ifs_absdiffmax(const double *x, const double *y, int size);
 double ifs_norm1(const double *A, int rows, int cols);
 
 /* Generated from inflowsim.simulate.algorithms into inflow_algorithms.c (the
@@ -167,6 +170,14 @@ void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double 
  * inflowsim.simulate.algorithms.mu_fit); -1 where entries has none. */
 int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p,
                double *q);
+
+/* The largest difference between the table's values (table, tctx) and the exact
+ * entries at the segments' midpoints, relative to the largest exact value of each
+ * half (entries [0, split) and [split, IFS_MU_NTAB)); NaN once a difference is; -1
+ * where entries has none (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.mu_check). */
+double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx,
+                    IfsMuEntries table, void *tctx, int split);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);

@@ -39,6 +39,8 @@ def lib(tmp_path_factory):
     lib.ifs_cheb_matrices.argtypes = (i, p, p)
     lib.ifs_power_fit.argtypes = (i, p, p, p, i, i, p, p, i)
     lib.ifs_mu_edges.argtypes = (d, d, p, i, p)
+    lib.ifs_mu_check.argtypes = (p, i, ENTRIES, ctypes.c_void_p, ENTRIES, ctypes.c_void_p, i)
+    lib.ifs_mu_check.restype = d
     lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
     return lib
 
@@ -118,6 +120,22 @@ def test_python_and_generated_c_agree(lib):
     assert lib.ifs_mu_fit(_p(edge), nseg, ENTRIES(c_exact), None, _p(cp), _p(cq)) == 0
     for py, c in ((pp, cp), (pq, cq)):
         assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(py))
+    # the check: a table off by 1e-9 of the first half's scale at one mu, and a NaN
+
+    def table(ctx, mu, out):
+        exact(ctx, mu, out)
+        out[5] += 1e-9 * np.max(np.abs(out[:HALF0])) * (mu > 0.3)
+        out[HALF0 + 2] = np.nan if ctx and mu > 0.4 else out[HALF0 + 2]
+        return 0
+
+    for nan in (0, 1):
+        def c_table(ctx, mu, out):
+            return table(ctx, mu, np.ctypeslib.as_array(out, (NTAB,)))
+        py = alg.mu_check(edge, nseg, exact, None, table, nan, HALF0, NTAB)
+        c = lib.ifs_mu_check(_p(edge), nseg, ENTRIES(c_exact), None, ENTRIES(c_table),
+                             nan, HALF0)
+        assert (np.isnan(py) and np.isnan(c)) if nan else py == pytest.approx(c, rel=1e-12)
+        assert nan or 0.9e-9 < py < 1.1e-9
 
 
 def test_the_translator_refuses_what_it_cannot_translate():

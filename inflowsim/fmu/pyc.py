@@ -40,7 +40,7 @@ _TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const dou
 #: the primitives' C result types (``void`` where none)
 _PRIMITIVES = {"copy": "void", "scale": "void", "axpy": "void", "matmul": "void",
                "norm1": "double", "lu_solve": "int", "gemm": "void",
-               "horner": "void"}
+               "horner": "void", "absmax": "double", "absdiffmax": "double"}
 
 
 class _Function:

@@ -20,7 +20,7 @@ Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
 matrix exponential (:func:`expm`, Pade [6/6] with scaling and squaring) and the
 ``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
 parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
-:func:`power_fit`).
+:func:`power_fit`) and check (:func:`mu_check`).
 """
 from __future__ import annotations
 
@@ -130,6 +130,16 @@ class P:
             acc *= x
             acc += p[k * ldp:k * ldp + cols]
         out[:cols] = acc
+
+    @staticmethod
+    def absmax(x: np.ndarray, size: int) -> float:
+        """The largest ``|x|`` (0 for none)."""
+        return float(np.max(np.abs(x[:size]), initial=0.0))
+
+    @staticmethod
+    def absdiffmax(x: np.ndarray, y: np.ndarray, size: int) -> float:
+        """The largest ``|x - y|`` (0 for none; NaN if a difference is)."""
+        return float(np.max(np.abs(x[:size] - y[:size]), initial=0.0))
 
     @staticmethod
     def norm1(a: np.ndarray, rows: int, cols: int) -> float:
@@ -311,6 +321,32 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
     return 0
 
 
+@algorithm("ifs_mu_check", sizes={"ntab": "IFS_MU_NTAB"})
+def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, tctx: Ctx,
+             split: int, ntab: int) -> float:
+    """The table's check: at each segment's midpoint the largest difference between
+    the table's values (``table``) and the exact ``entries``, relative to the
+    largest exact value of its block (entries ``[0, split)`` and ``[split, ntab)``;
+    a block of zeros has none); NaN once a difference is; -1 where ``entries`` has
+    no values."""
+    worst: float = 0.0
+    want = P.new(ntab)
+    got = P.new(ntab)
+    for seg in range(nseg):
+        mu: float = 0.5 * (edge[seg] + edge[seg + 1])
+        if entries(ctx, mu, want) != 0 or table(tctx, mu, got) != 0:
+            return -1.0
+        for b in range(2):
+            first: int = 0 if b == 0 else split
+            size: int = split if b == 0 else ntab - split
+            scale: float = P.absmax(want[first:], size)
+            if scale > 0.0:
+                r: float = P.absdiffmax(got[first:], want[first:], size) / scale
+                if r > worst or r != r:
+                    worst = r
+    return worst
+
+
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE6", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
            "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
-           "power_fit", "mu_edges", "mu_fit"]
+           "power_fit", "mu_edges", "mu_fit", "mu_check"]

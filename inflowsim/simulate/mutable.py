@@ -46,7 +46,8 @@ import struct
 
 import numpy as np
 
-from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_edges, mu_fit, power_fit
+from .algorithms import (TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_check, mu_edges,
+                         mu_fit, power_fit)
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -167,7 +168,7 @@ class MuTable:
         ``mu -> ndarray`` (any shape; the same at every ``mu``): the exact matrices.
     blocks : sequence of slices
         Row ranges whose entries share one scale in the check (each block's error
-        relative to its largest entry).
+        relative to its largest entry): all rows, or two ranges that split them.
     knots : sequence of float
         Where ``exact`` has a kink (a parameter schedule's range ends): segment ends
         (:func:`edges`).
@@ -204,16 +205,22 @@ class MuTable:
         self._y = np.empty(nf)                      # powers of y, written in place
         self._pack = struct.Struct(f"{nf}d").pack_into
         self._ybuf = memoryview(self._y).cast("B")
-        worst = 0.0
-        for s in range(nseg):
-            mid = 0.5 * (self.edges[s] + self.edges[s + 1])
-            want = np.asarray(exact(mid), dtype=float)
-            got = np.empty(self.shape)
-            self.into(mid, got.reshape(-1))
-            for b in blocks:
-                scale = np.max(np.abs(want[b]))
-                err = np.max(np.abs(got[b] - want[b])) / scale if scale > 0 else 0.0
-                worst = err if not err <= worst else worst    # NaN-safe
+        # the check between the nodes (mu_check, the C's): blocks as entry ranges
+        rows = np.arange(self.shape[0] if self.shape else 1)
+        ranges = [(int(rows[b][0]), int(rows[b][-1]) + 1) for b in blocks if len(rows[b])]
+        if ([r for pair in ranges for r in pair][1:-1] != [r for pair in ranges[1:]
+                                                         for r in (pair[0], pair[0])]
+                or len(ranges) > 2 or ranges[0][0] != 0 or ranges[-1][1] != len(rows)):
+            raise ValueError("MuTable: blocks are the rows in one or two ranges")
+        split = ranges[1][0] * ntab // len(rows) if len(ranges) == 2 else ntab
+
+        def values(ctx, mu, out):
+            self.into(mu, out)
+            return 0
+
+        worst = mu_check(np.asarray(self.edges, dtype=float), nseg, entries, None, values,
+                         None, split, ntab)
+        worst = math.inf if worst < 0.0 else worst
         self.err = float(worst)
         self.ok = bool(self.err <= TOLERANCE)
 
