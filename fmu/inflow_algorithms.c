@@ -36,7 +36,7 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
 
 /* expm: exp(A) of the n x n matrix a (row-major), overwritten by the result: scaling
  * and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm at most
- * EXPM_NORM. -1 (a partly overwritten) if a is not finite or the solve fails. */
+ * EXPM_NORM -1 (a partly overwritten) if a is not finite or the solve fails. */
 int ifs_expm(double *a)
 {
     int nn = IFS_NA * IFS_NA;
@@ -87,7 +87,7 @@ int ifs_expm(double *a)
 /* cheb_matrices: Chebyshev interpolation at n nodes as two n x n matrices (row-major):
  * ch gives the Chebyshev coefficients sum_j ch[k, j] f_j of the polynomial through f_j
  * at the Chebyshev-Gauss nodes cos(pi (j + 1/2) / n), tt the power coefficients tt[i,
- * k] of T_k(x). */
+ * k] of T_k(x) */
 void ifs_cheb_matrices(int n, double *ch, double *tt)
 {
     for (int i = 0; i < n * n; i++) {
@@ -112,8 +112,9 @@ void ifs_cheb_matrices(int n, double *ch, double *tt)
 /* power_fit: The power coefficients (rows 0 .. n - 1 of out, cols entries each, rows
  * ldo apart) of the polynomials of degree n - 1 through the values f (row j: at node
  * j, rows ldf apart) at the Chebyshev-Gauss nodes: the Chebyshev coefficients (into
- * work, n x cols), then the power coefficients, tt (ch f) (:func:`cheb_matrices`). */
-void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, int cols, int ldf, double *work, double *out, int ldo)
+ * work, n x cols), then the power coefficients, tt (ch f) (cheb_matrices). */
+void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, int cols,
+                   int ldf, double *work, double *out, int ldo)
 {
     ifs_gemm(ch, f, work, n, n, cols, ldf, cols);
     ifs_gemm(tt, work, out, n, n, cols, cols, ldo);
@@ -121,13 +122,14 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
 
 /* mu_edges: The segment ends of the table in mu (segments + nknots + 1): lo q^s, q =
  * (hi/lo)^(1/segments), and the knots (ascending, inside (lo, hi), none on a geometric
- * end: :func:`inflowsim.simulate.mutable.knot_edges`), merged in ascending order. */
+ * end: inflowsim.simulate.mutable.knot_edges), merged in ascending order. */
 void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double *e)
 {
     int g = 0;
     int k = 0;
     for (int i = 0; i < IFS_MU_SEG + nknots + 1; i++) {
-        if (k < nknots && (g > IFS_MU_SEG || knots[k] < lo * pow(hi / lo, (double)g / IFS_MU_SEG))) {
+        if (k < nknots
+            && (g > IFS_MU_SEG || knots[k] < lo * pow(hi / lo, (double)g / IFS_MU_SEG))) {
             e[i] = knots[k];
             k += 1;
         } else {
@@ -137,15 +139,16 @@ void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double 
     }
 }
 
-/* mu_fit: The table in mu (:mod:`inflowsim.simulate.mutable`): on each of the nseg
- * segments [edge[s], edge[s + 1]] the power coefficients p[s, k, e] (k = 0 .. deg in
- * the local variable x in [-1, 1]) of the polynomials through the ntab exact entries
- * at the segment's Chebyshev-Gauss nodes; then of each of its split equal parts in x
- * the power coefficients q[s split + c, k, e] (k = 0 .. fdeg, in the part's own local
+/* mu_fit: The table in mu (inflowsim.simulate.mutable): on each of the nseg segments
+ * [edge[s], edge[s + 1]] the power coefficients p[s, k, e] (k = 0 .. deg in the local
+ * variable x in [-1, 1]) of the polynomials through the ntab exact entries at the
+ * segment's Chebyshev-Gauss nodes; then of each of its split equal parts in x the
+ * power coefficients q[s split + c, k, e] (k = 0 .. fdeg, in the part's own local
  * variable, the first nfine entries) of the polynomials through the segment's
  * polynomials (Horner's rule) at the part's Chebyshev-Gauss nodes. -1 where entries
  * has no values. */
-int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p, double *q)
+int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p,
+               double *q)
 {
     int n = IFS_MU_DEG + 1;
     int nf = IFS_MU_FDEG + 1;
@@ -162,17 +165,21 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
         double hi = edge[seg + 1];
         for (int j = 0; j < n; j++) {
             double xj = cos(M_PI * (j + 0.5) / n);
-            if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f + j * IFS_MU_NTAB) != 0) {
+            if (entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj,
+                        f + j * IFS_MU_NTAB) != 0) {
                 return -1;
             }
         }
-        ifs_power_fit(n, ch, tt, f, IFS_MU_NTAB, IFS_MU_NTAB, work, p + seg * n * IFS_MU_NTAB, IFS_MU_NTAB);
+        ifs_power_fit(n, ch, tt, f, IFS_MU_NTAB, IFS_MU_NTAB, work,
+                      p + seg * n * IFS_MU_NTAB, IFS_MU_NTAB);
         for (int c = 0; c < IFS_MU_SPLIT; c++) {
             for (int j = 0; j < nf; j++) {
                 double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / nf)) / IFS_MU_SPLIT - 1.0;
-                ifs_horner(p + seg * n * IFS_MU_NTAB, IFS_MU_DEG, x, f + j * IFS_MU_NTAB, IFS_MU_HALF0, IFS_MU_NTAB);
+                ifs_horner(p + seg * n * IFS_MU_NTAB, IFS_MU_DEG, x, f + j * IFS_MU_NTAB,
+                           IFS_MU_HALF0, IFS_MU_NTAB);
             }
-            ifs_power_fit(nf, chf, ttf, f, IFS_MU_HALF0, IFS_MU_NTAB, work, q + (seg * IFS_MU_SPLIT + c) * nf * IFS_MU_HALF0, IFS_MU_HALF0);
+            ifs_power_fit(nf, chf, ttf, f, IFS_MU_HALF0, IFS_MU_NTAB, work,
+                          q + (seg * IFS_MU_SPLIT + c) * nf * IFS_MU_HALF0, IFS_MU_HALF0);
         }
     }
     return 0;
@@ -182,7 +189,8 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
  * between the table's values (table) and the exact entries, relative to the largest
  * exact value of its block (entries [0, split) and [split, ntab); a block of zeros has
  * none); NaN once a difference is; -1 where entries has no values. */
-double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx, IfsMuEntries table, void *tctx, int split)
+double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx,
+                    IfsMuEntries table, void *tctx, int split)
 {
     double worst = 0.0;
     double want[IFS_MU_NTAB] = {0.0};

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import ast
 import inspect
+import re
 import math
 import textwrap
 
@@ -183,7 +184,7 @@ class _Function:
 
     # -- statements ----------------------------------------------------------
     def emit(self, depth: int, text: str):
-        self.out.append("    " * depth + text)
+        self.out.extend(_wrap_line("    " * depth + text))
 
     def block(self, body, depth: int):
         for s in body:
@@ -302,12 +303,43 @@ class _Function:
     def text(self) -> list:
         sig = self.signature()
         doc = ast.get_docstring(self.tree) or ""
-        first = " ".join(doc.split("\n\n")[0].replace("``", "").split())
+        first = " ".join(re.sub(r"(:\w+:)?`+~?\.?", "", doc.split("\n\n")[0]).split())
         lines = ["/* " + ln for ln in _fill(f"{self.f.__name__}: {first}")]
         lines[1:] = [" * " + ln[3:] for ln in lines[1:]]
         lines[-1] += " */"
         self.block(self.tree.body, 1)
-        return lines + [sig, "{", *self.out, "}"]
+        return lines + [*_wrap_line(sig), "{", *self.out, "}"]
+
+
+#: the generated lines' length, where a break at a comma or an operator can keep them
+WIDTH = 92
+
+
+def _wrap_line(line: str) -> list:
+    """``line`` broken after a comma or before a ``&&`` or ``||`` of the shallowest
+    parentheses that have one (a comma first), the longest head that fits,
+    continued under the parenthesis' first character; as it is if none fits."""
+    if len(line) <= WIDTH:
+        return [line]
+    depth, stack, spots = 0, [], []            # spots: (depth, kind, cut, column)
+    for i, ch in enumerate(line):
+        if ch in "([":
+            depth += 1
+            stack.append(i)
+        elif ch in ")]":
+            depth -= 1
+            stack.pop()
+        elif stack and line[stack[-1]] == "(":
+            if ch == "," and line[i + 1:i + 2] == " ":
+                spots.append((depth, 0, i + 2, stack[-1] + 1))
+            elif line.startswith(("&& ", "|| "), i) and line[i - 1] == " ":
+                spots.append((depth, 1, i, stack[-1] + 1))
+    fits = [sp for sp in spots if sp[2] <= WIDTH]
+    if not fits:
+        return [line]
+    least = min(sp[:2] for sp in fits)
+    _, _, cut, column = max(sp for sp in fits if sp[:2] == least)
+    return [line[:cut].rstrip()] + _wrap_line(" " * column + line[cut:])
 
 
 def _fill(text: str) -> list:
