@@ -25,10 +25,14 @@ exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
 per entry instead of seven multiplies and seven adds (the FMU's Horner rule
 uses fused multiply-adds; issue #38, bench/fmu.md).
 
-The FMU's C (``fmu/inflow_numerics.c``) builds the same table at run time for its
-tunable parameters; its constants (``IFS_MU_LO`` ... ``IFS_TAYLOR_TOL``) are
-generated from this module into ``inflow_vars.h`` (:func:`c_defines`), so the two
-cannot drift.
+The FMU's C builds the same table at run time for its tunable parameters: the
+segment ends, the fit and the check are :mod:`.algorithms`' ``mu_edges``,
+``mu_fit`` and ``mu_check``, which :class:`MuTable` runs and the C is generated
+from (``fmu/inflow_algorithms.c``); its constants (``IFS_MU_LO`` ...
+``IFS_TAYLOR_TOL``) are generated from this module into ``inflow_vars.h``
+(:func:`c_defines`), so the two cannot drift.  The evaluation is each side's own:
+here a dot product of the powers of the part's local variable, in the C Horner's
+rule with fused multiply-adds (``fmu/inflow_numerics.c``, the step's hot path).
 
 A step of another length ``r`` (the FMU's communication remainder, the
 Simulator's :meth:`~inflowsim.simulate.simulator.Simulator.set_dt`) is the Taylor
@@ -40,14 +44,12 @@ it), at most ``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
 from __future__ import annotations
 
 import bisect
-import functools
 import math
 import struct
 
 import numpy as np
 
-from .algorithms import (TAYLOR_MAX_TERMS, TAYLOR_TOL, cheb_matrices, mu_check, mu_edges,
-                         mu_fit, power_fit)
+from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_fit
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -96,35 +98,6 @@ def edges(knots=()) -> list:
     return [float(v) for v in e]
 
 
-def nodes(lo: float, hi: float) -> np.ndarray:
-    """The Chebyshev-Gauss nodes of segment ``[lo, hi]`` in ``mu``."""
-    n = DEGREE + 1
-    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    return 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
-
-
-@functools.lru_cache(maxsize=None)
-def _cheb_matrices(n: int) -> tuple:
-    """:func:`~.algorithms.cheb_matrices` of ``n`` nodes (read-only vectors)."""
-    ch, tt = np.zeros(n * n), np.zeros(n * n)
-    cheb_matrices(n, ch, tt)
-    ch.flags.writeable = tt.flags.writeable = False
-    return ch, tt
-
-
-def _power_coefficients(values: np.ndarray, degree: int = DEGREE) -> np.ndarray:
-    """Power coefficients in ``x`` (rows: degree 0..``degree``) of the polynomial
-    through ``values`` (rows: the ``degree + 1`` Chebyshev-Gauss nodes, as
-    :func:`nodes`): :func:`~.algorithms.power_fit`, the C's fit (generated from it)."""
-    n = degree + 1
-    f = np.ascontiguousarray(values, dtype=float).reshape(n, -1)
-    cols = f.shape[1]
-    out = np.empty((n, cols))
-    power_fit(n, *_cheb_matrices(n), f.reshape(-1), cols, cols, np.empty(n * cols),
-              out.reshape(-1), cols)
-    return out.reshape((n,) + np.shape(values)[1:])
-
-
 def part(x: float):
     """The part ``j`` of a segment holding its local variable ``x`` (``SPLIT`` equal
     parts of ``[-1, 1]``) and ``x``'s local variable ``y`` in it, in ``[-1, 1]``
@@ -132,14 +105,6 @@ def part(x: float):
     j = int((x + 1.0) * (0.5 * SPLIT))
     j = 0 if j < 0 else (SPLIT - 1 if j >= SPLIT else j)
     return j, (x + 1.0) * SPLIT - (2 * j + 1)
-
-
-def part_nodes(j: int) -> np.ndarray:
-    """The Chebyshev-Gauss nodes of part ``j`` (``FINE_DEGREE + 1`` of them) in its
-    segment's local variable ``x``."""
-    n = FINE_DEGREE + 1
-    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    return (2 * j + 1 + y) / SPLIT - 1.0
 
 
 def _powers4(y):
@@ -261,6 +226,6 @@ def c_defines() -> list:
             "step */"]
 
 
-__all__ = ["MuTable", "edges", "knot_edges", "nodes", "part", "part_nodes", "taylor_terms",
+__all__ = ["MuTable", "edges", "knot_edges", "part", "taylor_terms",
            "c_defines", "MU_LO", "MU_HI", "SEGMENTS", "DEGREE", "SPLIT", "FINE_DEGREE",
            "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]
