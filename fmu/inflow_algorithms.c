@@ -158,6 +158,7 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
     double ttf[(IFS_MU_FDEG + 1) * (IFS_MU_FDEG + 1)] = {0.0};
     double f[(IFS_MU_DEG + 1) * IFS_MU_NTAB] = {0.0};
     double work[(IFS_MU_DEG + 1) * IFS_MU_NTAB] = {0.0};
+    double xs[IFS_MU_FDEG + 1] = {0.0};
     ifs_cheb_matrices(n, ch, tt);
     ifs_cheb_matrices(nf, chf, ttf);
     for (int seg = 0; seg < nseg; seg++) {
@@ -174,10 +175,10 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
                       p + seg * n * IFS_MU_NTAB, IFS_MU_NTAB);
         for (int c = 0; c < IFS_MU_SPLIT; c++) {
             for (int j = 0; j < nf; j++) {
-                double x = (2 * c + 1 + cos(M_PI * (j + 0.5) / nf)) / IFS_MU_SPLIT - 1.0;
-                ifs_horner(p + seg * n * IFS_MU_NTAB, IFS_MU_DEG, x, f + j * IFS_MU_NTAB,
-                           IFS_MU_HALF0, IFS_MU_NTAB);
+                xs[j] = (2 * c + 1 + cos(M_PI * (j + 0.5) / nf)) / IFS_MU_SPLIT - 1.0;
             }
+            ifs_horner(p + seg * n * IFS_MU_NTAB, IFS_MU_DEG, xs, nf, f, IFS_MU_HALF0,
+                       IFS_MU_NTAB, IFS_MU_NTAB);
             ifs_power_fit(nf, chf, ttf, f, IFS_MU_HALF0, IFS_MU_NTAB, work,
                           q + (seg * IFS_MU_SPLIT + c) * nf * IFS_MU_HALF0, IFS_MU_HALF0);
         }

@@ -106,16 +106,18 @@ void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, 
     }
 }
 
-/* out[e] = sum_k p[k][e] x^k for e < cols (rows k = 0 .. deg of p, ldp apart) by
- * Horner's rule (ifs_mu_horner's operations) */
-void ifs_horner(const double *p, int deg, double x, double *out, int cols, int ldp)
+/* out[i][e] = sum_k p[k][e] x[i]^k for i < nx, e < cols (rows k = 0 .. deg of p,
+ * ldp apart; the rows of out ldo apart) by Horner's rule (ifs_mu_horner's operations) */
+void ifs_horner(const double *p, int deg, const double *x, int nx, double *out, int cols,
+                int ldp, int ldo)
 {
-    int e, k;
-    for (e = 0; e < cols; e++) {
-        double acc = p[deg * ldp + e];
-        for (k = deg - 1; k >= 0; k--) acc = acc * x + p[k * ldp + e];
-        out[e] = acc;
-    }
+    int i, e, k;
+    for (i = 0; i < nx; i++)
+        for (e = 0; e < cols; e++) {
+            double acc = p[deg * ldp + e];
+            for (k = deg - 1; k >= 0; k--) acc = acc * x[i] + p[k * ldp + e];
+            out[i * ldo + e] = acc;
+        }
 }
 
 double ifs_absmax(const double *x, int size)

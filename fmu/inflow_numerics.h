@@ -68,7 +68,7 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 /* The primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
  * dst = src, x *= alpha, y += alpha x, C = A B (n x n), C = A B (rows x inner times
  * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
- * polynomials of degree deg in the columns of p, the largest |x| and |x - y| (NaN
+ * polynomials of degree deg in the columns of p at nx points, the largest |x| and |x - y| (NaN
  * once a difference is), the 1-norm (NaN if an entry is).
  * Sizes in doubles. */
 void ifs_copy(double *dst, const double *src, int size);
@@ -77,7 +77,8 @@ void ifs_axpy(double *y, double alpha, const double *x, int size);
 void ifs_matmul(const double *A, const double *B, double *C, int n);
 void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
               int ldb, int ldc);
-void ifs_horner(const double *p, int deg, double x, double *out, int cols, int ldp);
+void ifs_horner(const double *p, int deg, const double *x, int nx, double *out, int cols,
+                int ldp, int ldo);
 double ifs_absmax(const double *x, int size);
 double ifs_absdiffmax(const double *x, const double *y, int size);
 double ifs_norm1(const double *A, int rows, int cols);

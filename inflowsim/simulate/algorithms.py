@@ -59,6 +59,17 @@ def algorithm(c_name: str, sizes=None, static: bool = False):
     return register
 
 
+def _rows(v: np.ndarray, rows: int, cols: int, ld: int) -> np.ndarray:
+    """The ``rows`` x ``cols`` view of the flat ``v`` whose rows are ``ld`` apart."""
+    if rows == 0:
+        return v[:0].reshape(0, cols)
+    if v.size >= rows * ld:
+        return v[:rows * ld].reshape(rows, ld)[:, :cols]
+    if (rows - 1) * ld + cols > v.size:
+        raise IndexError("a vector shorter than its rows")
+    return np.lib.stride_tricks.as_strided(v, (rows, cols), (ld * v.strides[0], v.strides[0]))
+
+
 class Vec:
     """Annotation: a flat float vector (``double *`` in C), written in place."""
 
@@ -112,24 +123,22 @@ class P:
         """``c = a b``: ``a`` ``rows`` x ``inner`` (rows ``inner`` apart), ``b``
         ``inner`` x ``cols`` (rows ``ldb`` apart), ``c`` ``rows`` x ``cols`` (rows
         ``ldc`` apart; not ``a`` or ``b``)."""
-        if min(b.size, c.size) < 1 or (inner - 1) * ldb + cols > b.size or \
-                (rows - 1) * ldc + cols > c.size:
-            raise ValueError("gemm: b or c too short")
-        sb, sc = b.strides[0], c.strides[0]
-        bm = np.lib.stride_tricks.as_strided(b, (inner, cols), (ldb * sb, sb))
-        cm = np.lib.stride_tricks.as_strided(c, (rows, cols), (ldc * sc, sc))
-        cm[:] = a[:rows * inner].reshape(rows, inner) @ bm
+        _rows(c, rows, cols, ldc)[:] = (a[:rows * inner].reshape(rows, inner)
+                                        @ _rows(b, inner, cols, ldb))
 
     @staticmethod
-    def horner(p: np.ndarray, deg: int, x: float, out: np.ndarray, cols: int,
-               ldp: int) -> None:
-        """``out[e] = sum_k p[k, e] x^k`` for ``e < cols`` (rows ``k = 0 .. deg`` of
-        ``p``, ``ldp`` apart) by Horner's rule, from ``k = deg`` down."""
-        acc = p[deg * ldp:deg * ldp + cols].copy()
+    def horner(p: np.ndarray, deg: int, x: np.ndarray, nx: int, out: np.ndarray, cols: int,
+               ldp: int, ldo: int) -> None:
+        """``out[i, e] = sum_k p[k, e] x[i]^k`` for ``i < nx``, ``e < cols`` (rows ``k =
+        0 .. deg`` of ``p``, ``ldp`` apart; the rows of ``out`` ``ldo`` apart) by
+        Horner's rule, from ``k = deg`` down."""
+        pk = _rows(p, deg + 1, cols, ldp)
+        xs = x[:nx, None]
+        acc = np.repeat(pk[deg][None, :], nx, axis=0)
         for k in range(deg - 1, -1, -1):
-            acc *= x
-            acc += p[k * ldp:k * ldp + cols]
-        out[:cols] = acc
+            acc *= xs
+            acc += pk[k]
+        _rows(out, nx, cols, ldo)[:] = acc
 
     @staticmethod
     def absmax(x: np.ndarray, size: int) -> float:
@@ -302,6 +311,7 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
     ttf = P.new((fdeg + 1) * (fdeg + 1))
     f = P.new((deg + 1) * ntab)
     work = P.new((deg + 1) * ntab)
+    xs = P.new(fdeg + 1)                    # a part's nodes in the segment's x
     cheb_matrices(n, ch, tt)
     cheb_matrices(nf, chf, ttf)
     for seg in range(nseg):
@@ -314,8 +324,8 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
         power_fit(n, ch, tt, f, ntab, ntab, work, p[seg * n * ntab:], ntab)
         for c in range(split):
             for j in range(nf):
-                x: float = (2 * c + 1 + math.cos(math.pi * (j + 0.5) / nf)) / split - 1.0
-                P.horner(p[seg * n * ntab:], deg, x, f[j * ntab:], nfine, ntab)
+                xs[j] = (2 * c + 1 + math.cos(math.pi * (j + 0.5) / nf)) / split - 1.0
+            P.horner(p[seg * n * ntab:], deg, xs, nf, f, nfine, ntab, ntab)
             power_fit(nf, chf, ttf, f, nfine, ntab, work, q[(seg * split + c) * nf * nfine:],
                       nfine)
     return 0
