@@ -12,9 +12,10 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static const double PADE6[7] = {
-    1.0, 0.5, 0.11363636363636363, 0.015151515151515152, 0.0012626262626262627,
-    6.313131313131313e-05, 1.503126503126503e-06
+static const double PADE13[14] = {
+    6.476475253248e+16, 3.238237626624e+16, 7771770303897600.0, 1187353796428800.0,
+    129060195264000.0, 10559470521600.0, 670442572800.0, 33522128640.0, 1323241920.0,
+    40840800.0, 960960.0, 16380.0, 182.0, 1.0
 };
 
 /* taylor_count: Terms of the Taylor series of a step of length |r| [s] of x' = a x + b
@@ -35,8 +36,9 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
 }
 
 /* expm: exp(A) of the n x n matrix a (row-major), overwritten by the result: scaling
- * and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm at most
- * EXPM_NORM -1 (a partly overwritten) if a is not finite or the solve fails. */
+ * and squaring with the diagonal [13/13] Pade approximant, scaled to 1-norm at most
+ * EXPM_NORM (Higham 2005). -1 (a partly overwritten) if a is not finite or the solve
+ * fails. */
 int ifs_expm(double *a)
 {
     int nn = IFS_NA * IFS_NA;
@@ -45,7 +47,7 @@ int ifs_expm(double *a)
         return -1;
     }
     int s = 0;
-    while (norm > 0.5 && s < 64) {
+    while (norm > 5.371920351148152 && s < 64) {
         norm *= 0.5;
         s += 1;
     }
@@ -59,16 +61,28 @@ int ifs_expm(double *a)
     ifs_matmul(a, a, x2, IFS_NA);
     ifs_matmul(x2, x2, x4, IFS_NA);
     ifs_matmul(x4, x2, x6, IFS_NA);
-    ifs_axpy(t, PADE6[3], x2, nn);
-    ifs_axpy(t, PADE6[5], x4, nn);
-    ifs_axpy(v, PADE6[2], x2, nn);
-    ifs_axpy(v, PADE6[4], x4, nn);
-    ifs_axpy(v, PADE6[6], x6, nn);
+    ifs_axpy(t, PADE13[13], x6, nn);
+    ifs_axpy(t, PADE13[11], x4, nn);
+    ifs_axpy(t, PADE13[9], x2, nn);
+    ifs_matmul(x6, t, v, IFS_NA);
+    ifs_axpy(v, PADE13[7], x6, nn);
+    ifs_axpy(v, PADE13[5], x4, nn);
+    ifs_axpy(v, PADE13[3], x2, nn);
     for (int i = 0; i < IFS_NA; i++) {
-        t[i * IFS_NA + i] += PADE6[1];
-        v[i * IFS_NA + i] += PADE6[0];
+        v[i * IFS_NA + i] += PADE13[1];
     }
-    ifs_matmul(a, t, u, IFS_NA);
+    ifs_matmul(a, v, u, IFS_NA);
+    ifs_scale(t, 0.0, nn);
+    ifs_axpy(t, PADE13[12], x6, nn);
+    ifs_axpy(t, PADE13[10], x4, nn);
+    ifs_axpy(t, PADE13[8], x2, nn);
+    ifs_matmul(x6, t, v, IFS_NA);
+    ifs_axpy(v, PADE13[6], x6, nn);
+    ifs_axpy(v, PADE13[4], x4, nn);
+    ifs_axpy(v, PADE13[2], x2, nn);
+    for (int i = 0; i < IFS_NA; i++) {
+        v[i * IFS_NA + i] += PADE13[0];
+    }
     ifs_copy(t, v, nn);
     ifs_axpy(t, -1.0, u, nn);
     ifs_copy(a, v, nn);

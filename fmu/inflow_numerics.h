@@ -87,8 +87,8 @@ double ifs_norm1(const double *A, int rows, int cols);
  * Simulator runs the same functions in Python):
  *
  * exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
- * scaling and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm
- * <= 0.5 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
+ * scaling and squaring with the diagonal [13/13] Pade approximant, scaled to 1-norm
+ * <= 5.37 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
  * finite or the solve fails. */
 int ifs_expm(double *A);
 

@@ -17,7 +17,7 @@ few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
 generated C and compares it with these functions on the same inputs.
 
 Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
-matrix exponential (:func:`expm`, Pade [6/6] with scaling and squaring) and the
+matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
 ``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
 parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
 :func:`power_fit`) and check (:func:`mu_check`).
@@ -32,12 +32,15 @@ import numpy as np
 TAYLOR_TOL = 1e-17
 #: ... within this many terms, else the matrix exponential.
 TAYLOR_MAX_TERMS = 30
-#: The diagonal [6/6] Pade approximant's coefficients ``c_k`` of ``X^k`` (Higham
+#: The diagonal [13/13] Pade approximant's coefficients ``b_k`` of ``X^k`` (Higham
 #: 2005): ``exp(X) ~ (V - U)^-1 (V + U)``, ``V`` the even and ``U`` the odd part.
-PADE6 = (1.0, 0.5, 5.0 / 44.0, 1.0 / 66.0, 1.0 / 792.0, 1.0 / 15840.0, 1.0 / 665280.0)
-#: :func:`expm` scales its argument to a 1-norm at most this (the [6/6] approximant's
-#: backward error is then below the unit roundoff, Higham 2005, Table 2.1).
-EXPM_NORM = 0.5
+PADE13 = (64764752532480000.0, 32382376266240000.0, 7771770303897600.0,
+          1187353796428800.0, 129060195264000.0, 10559470521600.0, 670442572800.0,
+          33522128640.0, 1323241920.0, 40840800.0, 960960.0, 16380.0, 182.0, 1.0)
+#: :func:`expm` scales its argument to a 1-norm at most this (``theta_13``: the
+#: [13/13] approximant's backward error is then below the unit roundoff, Higham
+#: 2005, Table 2.3).
+EXPM_NORM = 5.371920351148152
 
 #: The C names of the constants the functions read (``inflow_vars.h``, generated
 #: from :func:`inflowsim.simulate.mutable.c_defines`); other constants are written
@@ -196,9 +199,9 @@ def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
 @algorithm("ifs_expm", sizes={"n": "IFS_NA"})
 def expm(a: Vec, n: int) -> int:
     """``exp(A)`` of the ``n`` x ``n`` matrix ``a`` (row-major), overwritten by the
-    result: scaling and squaring with the diagonal [6/6] Pade approximant, scaled
-    to 1-norm at most ``EXPM_NORM``.  -1 (``a`` partly overwritten) if ``a`` is not
-    finite or the solve fails."""
+    result: scaling and squaring with the diagonal [13/13] Pade approximant, scaled
+    to 1-norm at most ``EXPM_NORM`` (Higham 2005).  -1 (``a`` partly overwritten)
+    if ``a`` is not finite or the solve fails."""
     nn: int = n * n
     norm: float = P.norm1(a, n, n)
     if not math.isfinite(norm):
@@ -217,15 +220,28 @@ def expm(a: Vec, n: int) -> int:
     P.matmul(a, a, x2, n)
     P.matmul(x2, x2, x4, n)
     P.matmul(x4, x2, x6, n)
-    P.axpy(t, PADE6[3], x2, nn)            # odd part / X: c1 + c3 X^2 + c5 X^4
-    P.axpy(t, PADE6[5], x4, nn)
-    P.axpy(v, PADE6[2], x2, nn)            # even part: c0 + c2 X^2 + c4 X^4 + c6 X^6
-    P.axpy(v, PADE6[4], x4, nn)
-    P.axpy(v, PADE6[6], x6, nn)
+    # odd part U = X [X^6 (b13 X^6 + b11 X^4 + b9 X^2) + b7 X^6 + b5 X^4 + b3 X^2 + b1]
+    P.axpy(t, PADE13[13], x6, nn)
+    P.axpy(t, PADE13[11], x4, nn)
+    P.axpy(t, PADE13[9], x2, nn)
+    P.matmul(x6, t, v, n)
+    P.axpy(v, PADE13[7], x6, nn)
+    P.axpy(v, PADE13[5], x4, nn)
+    P.axpy(v, PADE13[3], x2, nn)
     for i in range(n):
-        t[i * n + i] += PADE6[1]
-        v[i * n + i] += PADE6[0]
-    P.matmul(a, t, u, n)
+        v[i * n + i] += PADE13[1]
+    P.matmul(a, v, u, n)
+    # even part V = X^6 (b12 X^6 + b10 X^4 + b8 X^2) + b6 X^6 + b4 X^4 + b2 X^2 + b0
+    P.scale(t, 0.0, nn)
+    P.axpy(t, PADE13[12], x6, nn)
+    P.axpy(t, PADE13[10], x4, nn)
+    P.axpy(t, PADE13[8], x2, nn)
+    P.matmul(x6, t, v, n)
+    P.axpy(v, PADE13[6], x6, nn)
+    P.axpy(v, PADE13[4], x4, nn)
+    P.axpy(v, PADE13[2], x2, nn)
+    for i in range(n):
+        v[i * n + i] += PADE13[0]
     P.copy(t, v, nn)                       # (V - U)^-1 (V + U)
     P.axpy(t, -1.0, u, nn)
     P.copy(a, v, nn)
@@ -357,6 +373,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
     return worst
 
 
-__all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE6", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
+__all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
            "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
            "power_fit", "mu_edges", "mu_fit", "mu_check"]

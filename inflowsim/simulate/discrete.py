@@ -14,7 +14,7 @@ METHODS = ("zoh", "rk4")
 def zoh(a: np.ndarray, b: np.ndarray, dt: float):
     """Exact zero-order-hold discretisation: the matrix exponential of the augmented
     system ``[[a, b], [0, 0]] dt`` by :func:`inflowsim.simulate.algorithms.expm`
-    (Pade [6/6], scaling and squaring: the FMU's, generated from it).  NaN where
+    (Pade [13/13], scaling and squaring: the FMU's, generated from it).  NaN where
     that fails (a non-finite ``a`` or ``b``)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
