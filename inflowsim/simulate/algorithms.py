@@ -5,8 +5,8 @@ Each function below is written in a small subset of Python that reads the same i
 both languages: flat float vectors (row-major matrices, their sizes passed as
 arguments), ``int`` and ``float`` scalars declared by annotation, ``for ... in
 range``, ``while``, ``if``, scalar arithmetic, the functions of :mod:`math`, module
-constants, and the primitives of :class:`P` (matrix product, ``y += alpha x``, the
-1-norm, an LU solve: NumPy here, a few lines of hand-written C in
+constants, and the primitives of :class:`P` (matrix products, ``y += alpha x``,
+Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of hand-written C in
 ``fmu/inflow_numerics.c``, the only numerics written twice).  :func:`algorithm`
 names each function's C function and the size arguments that are compile-time
 constants in the FMU (``IFS_NA``: the augmented ``[x; u]``).
@@ -20,7 +20,11 @@ Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
 matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
 ``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
 parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
-:func:`power_fit`) and check (:func:`mu_check`).
+:func:`power_fit`) and check (:func:`mu_check`).  Still each side's own: the
+Taylor step itself (here the stored terms of :class:`~inflowsim.simulate.discrete.
+TaylorZoh`, in the FMU the vector series of ``taylor_step``) and the table's
+evaluation on a ``mu`` change (here one dot product, in the FMU Horner's rule with
+fused multiply-adds), both in the step's hot path.
 """
 from __future__ import annotations
 
