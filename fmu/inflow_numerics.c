@@ -1,20 +1,13 @@
 /*
  * The FMU's numerics (inflow_numerics.h): dense LU and the other primitives of the
  * generated algorithms (inflow_algorithms.c: the matrix exponential, the Taylor rule
- * of a remainder step, the table's interpolation matrix), the table in mu.  Nothing here knows the rotor;
- * the model's equations are in inflow_equations.c (generated) and inflow_model.c.
+ * of a remainder step, the table's segment ends, fit and check), the table in mu.
+ * Nothing here knows the rotor; the model's equations are in inflow_equations.c
+ * (generated) and inflow_model.c.
  */
 #include <math.h>
-#include <string.h>
 
 #include "inflow_numerics.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-
-#define NX IFS_NX
-#define NA IFS_NA
 
 /* --- small dense linear algebra (row-major, fixed sizes, no allocation) --- */
 
@@ -56,38 +49,6 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol)
 
 /* --- the primitives of the generated algorithms (inflow_algorithms.c, from
  * inflowsim.simulate.algorithms, whose class P is their NumPy form) --- */
-
-void ifs_copy(double *dst, const double *src, int size)
-{
-    memcpy(dst, src, sizeof(double) * (size_t)size);
-}
-
-void ifs_scale(double *x, double alpha, int size)
-{
-    int i;
-    for (i = 0; i < size; i++) x[i] *= alpha;
-}
-
-void ifs_axpy(double *y, double alpha, const double *x, int size)
-{
-    int i;
-    for (i = 0; i < size; i++) y[i] += alpha * x[i];
-}
-
-/* C = A B (n x n; C neither A nor B), each row summed in the order of k */
-void ifs_matmul(const double *A, const double *B, double *C, int n)
-{
-    int i, j, k;
-    for (i = 0; i < n; i++) {
-        double *row = C + i * n;
-        for (j = 0; j < n; j++) row[j] = 0.0;
-        for (k = 0; k < n; k++) {
-            const double aik = A[i * n + k];
-            if (aik == 0.0) continue;
-            for (j = 0; j < n; j++) row[j] += aik * B[k * n + j];
-        }
-    }
-}
 
 /* C = A B: A rows x inner, B inner x cols (rows ldb apart), C rows x cols (rows ldc
  * apart; neither A nor B), each entry summed in the order of k */

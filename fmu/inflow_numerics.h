@@ -1,11 +1,13 @@
 /*
  * The FMU's numerics, apart from the model's equations: dense LU solves and the
  * other primitives, the matrix exponential, the Taylor rule of a remainder step and
- * the table in mu (fit, check and evaluation); the exponential, the Taylor rule and
- * the table's interpolation matrix are generated (inflow_algorithms.c).  Knows nothing of rotors: the model (inflow_model.c) gives the
- * table its exact entries through a callback.  The table's and the Taylor rule's
- * constants (IFS_MU_LO ... IFS_KMAX) are generated into inflow_vars.h from
- * inflowsim.simulate.mutable, which the Python Simulator uses too.
+ * the table in mu (fit, check and evaluation).  The exponential, the Taylor rule's
+ * term count and the table's segment ends, fit and check are generated
+ * (inflow_algorithms.c, from inflowsim.simulate.algorithms, which the Python
+ * Simulator runs); the table's evaluation is here.  Knows nothing of rotors: the
+ * model (inflow_model.c) gives the table its exact entries through a callback.  The
+ * table's and the Taylor rule's constants (IFS_MU_LO ... IFS_KMAX) are generated
+ * into inflow_vars.h from inflowsim.simulate.mutable.
  */
 #ifndef INFLOW_NUMERICS_H
 #define INFLOW_NUMERICS_H
@@ -60,21 +62,49 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
 #define IFS_INLINE static inline
 #endif
 
+/* The primitives the generated exponential calls most (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.P): inline, so a constant size unrolls.
+ * dst = src, x *= alpha, y += alpha x (sizes in doubles), C = A B (n x n; C
+ * neither A nor B; each row summed in the order of k). */
+IFS_INLINE void ifs_copy(double *dst, const double *src, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) dst[i] = src[i];
+}
+IFS_INLINE void ifs_scale(double *x, double alpha, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) x[i] *= alpha;
+}
+IFS_INLINE void ifs_axpy(double *y, double alpha, const double *x, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) y[i] += alpha * x[i];
+}
+IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
+{
+    int i, j, k;
+    for (i = 0; i < n; i++) {
+        double *row = C + i * n;
+        for (j = 0; j < n; j++) row[j] = 0.0;
+        for (k = 0; k < n; k++) {
+            const double aik = A[i * n + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < n; j++) row[j] += aik * B[k * n + j];
+        }
+    }
+}
+
 
 /* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
  * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
 int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 
-/* The primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
- * dst = src, x *= alpha, y += alpha x, C = A B (n x n), C = A B (rows x inner times
- * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
- * polynomials of degree deg in the columns of p at nx points, the largest |x| and |x - y| (NaN
- * once a difference is), the 1-norm (NaN if an entry is).
- * Sizes in doubles. */
-void ifs_copy(double *dst, const double *src, int size);
-void ifs_scale(double *x, double alpha, int size);
-void ifs_axpy(double *y, double alpha, const double *x, int size);
-void ifs_matmul(const double *A, const double *B, double *C, int n);
+/* The other primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
+ * C = A B (rows x inner times inner x cols, the rows of B ldb and of C ldc apart),
+ * Horner's rule for the polynomials of degree deg in the columns of p at nx points,
+ * the largest |x| and |x - y| (NaN once a difference is), the 1-norm (NaN if an
+ * entry is).  Sizes in doubles. */
 void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
               int ldb, int ldc);
 void ifs_horner(const double *p, int deg, const double *x, int nx, double *out, int cols,
