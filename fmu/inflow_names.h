@@ -29,8 +29,6 @@
 #define ifs_discretize IFS_NAME(ifs_discretize)
 #define ifs_expm IFS_NAME(ifs_expm)
 #define ifs_flow_speed IFS_NAME(ifs_flow_speed)
-#define ifs_gemm IFS_NAME(ifs_gemm)
-#define ifs_horner IFS_NAME(ifs_horner)
 #define ifs_instance_alloc IFS_NAME(ifs_instance_alloc)
 #define ifs_instance_calloc IFS_NAME(ifs_instance_calloc)
 #define ifs_instance_free IFS_NAME(ifs_instance_free)

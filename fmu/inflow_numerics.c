@@ -50,37 +50,6 @@ int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol)
 /* --- the primitives of the generated algorithms (inflow_algorithms.c, from
  * inflowsim.simulate.algorithms, whose class P is their NumPy form) --- */
 
-/* C = A B: A rows x inner, B inner x cols (rows ldb apart), C rows x cols (rows ldc
- * apart; neither A nor B), each entry summed in the order of k */
-void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
-              int ldb, int ldc)
-{
-    int i, j, k;
-    for (i = 0; i < rows; i++) {
-        double *row = C + i * ldc;
-        for (j = 0; j < cols; j++) row[j] = 0.0;
-        for (k = 0; k < inner; k++) {
-            const double aik = A[i * inner + k];
-            if (aik == 0.0) continue;
-            for (j = 0; j < cols; j++) row[j] += aik * B[k * ldb + j];
-        }
-    }
-}
-
-/* out[i][e] = sum_k p[k][e] x[i]^k for i < nx, e < cols (rows k = 0 .. deg of p,
- * ldp apart; the rows of out ldo apart) by Horner's rule (ifs_mu_horner's operations) */
-void ifs_horner(const double *p, int deg, const double *x, int nx, double *out, int cols,
-                int ldp, int ldo)
-{
-    int i, e, k;
-    for (i = 0; i < nx; i++)
-        for (e = 0; e < cols; e++) {
-            double acc = p[deg * ldp + e];
-            for (k = deg - 1; k >= 0; k--) acc = acc * x[i] + p[k * ldp + e];
-            out[i * ldo + e] = acc;
-        }
-}
-
 double ifs_absmax(const double *x, int size)
 {
     double m = 0.0;

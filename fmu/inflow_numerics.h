@@ -62,10 +62,13 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
 #define IFS_INLINE static inline
 #endif
 
-/* The primitives the generated exponential calls most (inflow_algorithms.c, from
+/* The primitives the generated algorithms call most (inflow_algorithms.c, from
  * inflowsim.simulate.algorithms.P): inline, so a constant size unrolls.
  * dst = src, x *= alpha, y += alpha x (sizes in doubles), C = A B (n x n; C
- * neither A nor B; each row summed in the order of k). */
+ * neither A nor B; each row summed in the order of k), C = A B (rows x inner times
+ * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
+ * polynomials of degree deg in the columns of p at nx points (ifs_mu_horner's
+ * operations; the rows of out ldo apart). */
 IFS_INLINE void ifs_copy(double *dst, const double *src, int size)
 {
     int i;
@@ -94,6 +97,31 @@ IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
         }
     }
 }
+IFS_INLINE void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner,
+                         int cols, int ldb, int ldc)
+{
+    int i, j, k;
+    for (i = 0; i < rows; i++) {
+        double *row = C + i * ldc;
+        for (j = 0; j < cols; j++) row[j] = 0.0;
+        for (k = 0; k < inner; k++) {
+            const double aik = A[i * inner + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < cols; j++) row[j] += aik * B[k * ldb + j];
+        }
+    }
+}
+IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, double *out,
+                           int cols, int ldp, int ldo)
+{
+    int i, e, k;
+    for (i = 0; i < nx; i++)
+        for (e = 0; e < cols; e++) {
+            double acc = p[deg * ldp + e];
+            for (k = deg - 1; k >= 0; k--) acc = acc * x[i] + p[k * ldp + e];
+            out[i * ldo + e] = acc;
+        }
+}
 
 
 /* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
@@ -101,14 +129,8 @@ IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
 int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 
 /* The other primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
- * C = A B (rows x inner times inner x cols, the rows of B ldb and of C ldc apart),
- * Horner's rule for the polynomials of degree deg in the columns of p at nx points,
  * the largest |x| and |x - y| (NaN once a difference is), the 1-norm (NaN if an
  * entry is).  Sizes in doubles. */
-void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner, int cols,
-              int ldb, int ldc);
-void ifs_horner(const double *p, int deg, const double *x, int nx, double *out, int cols,
-                int ldp, int ldo);
 double ifs_absmax(const double *x, int size);
 double ifs_absdiffmax(const double *x, const double *y, int size);
 double ifs_norm1(const double *A, int rows, int cols);
