@@ -1,10 +1,13 @@
 /*
- * The FMU's numerics, apart from the model's equations: dense LU solves, the matrix
- * exponential, the Taylor rule of a remainder step and the table in mu (fit, check
- * and evaluation).  Knows nothing of rotors: the model (inflow_model.c) gives the
- * table its exact entries through a callback.  The table's and the Taylor rule's
- * constants (IFS_MU_LO ... IFS_KMAX) are generated into inflow_vars.h from
- * inflowsim.simulate.mutable, which the Python Simulator uses too.
+ * The FMU's numerics, apart from the model's equations: dense LU solves and the
+ * other primitives, the matrix exponential, the Taylor rule of a remainder step and
+ * the table in mu (fit, check and evaluation).  The exponential, the Taylor rule's
+ * term count and the table's segment ends, fit and check are generated
+ * (inflow_algorithms.c, from inflowsim.simulate.algorithms, which the Python
+ * Simulator runs); the table's evaluation is here.  Knows nothing of rotors: the
+ * model (inflow_model.c) gives the table its exact entries through a callback.  The
+ * table's and the Taylor rule's constants (IFS_MU_LO ... IFS_KMAX) are generated
+ * into inflow_vars.h from inflowsim.simulate.mutable.
  */
 #ifndef INFLOW_NUMERICS_H
 #define INFLOW_NUMERICS_H
@@ -61,22 +64,102 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
 #define IFS_INLINE static inline
 #endif
 
+/* The primitives the generated algorithms call most (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.P): inline, so a constant size unrolls.
+ * dst = src, x *= alpha, y += alpha x (sizes in doubles), C = A B (n x n; C
+ * neither A nor B; each row summed in the order of k), C = A B (rows x inner times
+ * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
+ * polynomials of degree deg in the columns of p at nx points (ifs_mu_horner's
+ * operations; the rows of out ldo apart). */
+IFS_INLINE void ifs_copy(double *dst, const double *src, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) dst[i] = src[i];
+}
+IFS_INLINE void ifs_scale(double *x, double alpha, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) x[i] *= alpha;
+}
+IFS_INLINE void ifs_axpy(double *y, double alpha, const double *x, int size)
+{
+    int i;
+    for (i = 0; i < size; i++) y[i] += alpha * x[i];
+}
+IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
+{
+    int i, j, k;
+    for (i = 0; i < n; i++) {
+        double *row = C + i * n;
+        for (j = 0; j < n; j++) row[j] = 0.0;
+        for (k = 0; k < n; k++) {
+            const double aik = A[i * n + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < n; j++) row[j] += aik * B[k * n + j];
+        }
+    }
+}
+IFS_INLINE void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner,
+                         int cols, int ldb, int ldc)
+{
+    int i, j, k;
+    for (i = 0; i < rows; i++) {
+        double *row = C + i * ldc;
+        for (j = 0; j < cols; j++) row[j] = 0.0;
+        for (k = 0; k < inner; k++) {
+            const double aik = A[i * inner + k];
+            if (aik == 0.0) continue;
+            for (j = 0; j < cols; j++) row[j] += aik * B[k * ldb + j];
+        }
+    }
+}
+IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, double *out,
+                           int cols, int ldp, int ldo)
+{
+    int i, e, k;
+    for (i = 0; i < nx; i++)
+        for (e = 0; e < cols; e++) {
+            double acc = p[deg * ldp + e];
+            for (k = deg - 1; k >= 0; k--) acc = acc * x[i] + p[k * ldp + e];
+            out[i * ldo + e] = acc;
+        }
+}
+
 
 /* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
  * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
 int ifs_lu_solve(int n, double *A, int nrhs, double *B, double tol);
 
-/* exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
- * scaling and squaring with the diagonal [6/6] Pade approximant, scaled to 1-norm
- * <= 0.5 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
+/* The other primitives of the generated algorithms (inflowsim.simulate.algorithms.P):
+ * the largest |x| and |x - y| (NaN once a difference is), the 1-norm (NaN if an
+ * entry is).  Sizes in doubles. */
+double ifs_absmax(const double *x, int size);
+double ifs_absdiffmax(const double *x, const double *y, int size);
+double ifs_norm1(const double *A, int rows, int cols);
+
+/* Generated from inflowsim.simulate.algorithms into inflow_algorithms.c (the
+ * Simulator runs the same functions in Python):
+ *
+ * exp(A) of an IFS_NA x IFS_NA matrix (row-major), overwritten by the result:
+ * scaling and squaring with the diagonal [13/13] Pade approximant, scaled to 1-norm
+ * <= 5.37 (backward error below the unit roundoff, Higham 2005).  -1 if A is not
  * finite or the solve fails. */
 int ifs_expm(double *A);
 
 /* Terms of the Taylor series of a step of length |r| [s] for x' = a x + b u with
  * 1-norms norm_a = |a| and norm_ab = |[a b]|: the first k whose next term is
- * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed
- * (inflowsim.simulate.mutable.taylor_terms). */
+ * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed. */
 int ifs_taylor_count(double norm_a, double norm_ab, double r);
+
+/* Chebyshev interpolation at n nodes: ch (n x n) gives the Chebyshev coefficients
+ * sum_j ch[k][j] f_j of the polynomial through f_j at the Chebyshev-Gauss nodes
+ * cos(pi (j + 1/2) / n), tt (n x n) the power coefficients tt[i][k] of T_k(x). */
+void ifs_cheb_matrices(int n, double *ch, double *tt);
+/* out = tt (ch f): the power coefficients (n rows of cols, ldo apart) of the
+ * polynomials through the values f (n rows of cols, ldf apart) at the nodes; work
+ * n x cols. */
+void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, int cols,
+                   int ldf, double *work, double *out, int ldo);
 
 /*
  * A matrix-valued function of mu tabulated on [IFS_MU_LO, IFS_MU_HI] (for the FMU:
@@ -122,6 +205,26 @@ typedef struct {
 /* The exact entries at mu (both halves, IFS_MU_NTAB values); 0, or -1 if there are
  * none there. */
 typedef int (*IfsMuEntries)(void *ctx, double mu, double out[IFS_MU_NTAB]);
+
+/* The segment ends lo (hi/lo)^(s/IFS_MU_SEG) and the nknots knots, merged
+ * ascending (IFS_MU_SEG + nknots + 1 of them; inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.mu_edges). */
+void ifs_mu_edges(double lo, double hi, const double *knots, int nknots, double *e);
+
+/* The segments' power coefficients p ([IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB]) and
+ * their parts' q of half 0 ([IFS_MU_NPART][IFS_MU_FDEG + 1][IFS_MU_HALF0]) from the
+ * exact entries (generated into inflow_algorithms.c from
+ * inflowsim.simulate.algorithms.mu_fit); -1 where entries has none. */
+int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, double *p,
+               double *q);
+
+/* The largest difference between the table's values (table, tctx) and the exact
+ * entries at the segments' midpoints, relative to the largest exact value of each
+ * half (entries [0, split) and [split, IFS_MU_NTAB)); NaN once a difference is; -1
+ * where entries has none (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms.mu_check). */
+double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx,
+                    IfsMuEntries table, void *tctx, int split);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);

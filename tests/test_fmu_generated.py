@@ -91,8 +91,8 @@ def test_the_c_table_constants_are_the_pythons():
     for line in mutable.c_defines():
         assert line in text
     assert f"#define IFS_MU_TOL {mutable.TOLERANCE!r}" in text
-    with open(source_dir() / "inflow_numerics.c") as f:
-        c = f.read()
+    c = "".join((source_dir() / f).read_text() for f in ("inflow_numerics.c",
+                                                        "inflow_algorithms.c"))
     for name in ("IFS_MU_LO", "IFS_MU_SEG", "IFS_MU_DEG", "IFS_MU_TOL", "IFS_TAYLOR_TOL",
                  "IFS_KMAX"):
         assert name in c
@@ -141,7 +141,7 @@ def test_the_c_table_and_the_simulators_agree(tmp_path, ct):
     h.write_text(HARNESS)
     so = tmp_path / "h.so"
     files = [src / f for f in ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c",
-                               "inflow_vars.c", "inflow_equations.c")]
+                               "inflow_vars.c", "inflow_equations.c", "inflow_algorithms.c")]
     flags = [f for f in CFLAGS if f != "-fvisibility=hidden"]
     subprocess.run([compiler(), *flags, f"-I{src}", "-o", str(so), str(h),
                     *map(str, files), "-lm"], check=True)

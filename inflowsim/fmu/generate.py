@@ -11,7 +11,7 @@ import uuid
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
-from . import codegen
+from . import codegen, pyc
 from ..simulate import mutable
 from ..channels import BY_NAME, LIMIT
 from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
@@ -19,7 +19,7 @@ from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, V
 #: Bump when the C model's equations change in a way importers must notice.
 MODEL_VERSION = "2"
 GENERATED = ("modelDescription.xml", "modelDescription-fmi3.xml", "inflow_vars.h",
-             "inflow_vars.c", "inflow_equations.c")
+             "inflow_vars.c", "inflow_equations.c", "inflow_algorithms.c")
 #: FMI 3.0 only: the independent variable, after every variable of :data:`VARIABLES`
 #: (FMI 3.0 value references are unique across types, and these already are).
 TIME_VR = len(DEFAULT.variables)
@@ -38,10 +38,10 @@ def _num(x) -> str:
 #: description list them, so an importer can build the binary itself.
 SOURCES = {2: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_fmi2.c",
                "inflow_vars.c",
-               "inflow_equations.c"),
+               "inflow_equations.c", "inflow_algorithms.c"),
            3: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_fmi3.c",
                "inflow_vars.c",
-               "inflow_equations.c")}
+               "inflow_equations.c", "inflow_algorithms.c")}
 
 
 def guid(d: Description = DEFAULT) -> str:
@@ -382,7 +382,8 @@ def generated_files(d: Description = DEFAULT) -> dict:
             "modelDescription-fmi3.xml": model_description_fmi3(d),
             "inflow_vars.h": vars_header(d), "inflow_vars.c": vars_source(d),
             "inflow_equations.c": codegen.equations_c(d.structures)
-            + "".join(line + "\n" for line in schedule_c(d))}
+            + "".join(line + "\n" for line in schedule_c(d)),
+            "inflow_algorithms.c": pyc.algorithms_c()}
 
 
 def write_generated(directory) -> list:

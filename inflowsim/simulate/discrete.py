@@ -6,21 +6,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from .algorithms import expm
+
 METHODS = ("zoh", "rk4")
 
 
 def zoh(a: np.ndarray, b: np.ndarray, dt: float):
-    """Exact zero-order-hold discretisation (matrix exponential of the augmented
-    system ``[[a, b], [0, 0]] dt``)."""
-    # imported here: reading a record imports this package, and SciPy's import
-    # alone would cost more than a whole ``frf`` (issue #25)
-    from scipy.linalg import expm
+    """Exact zero-order-hold discretisation: the matrix exponential of the augmented
+    system ``[[a, b], [0, 0]] dt`` by :func:`inflowsim.simulate.algorithms.expm`
+    (Pade [13/13], scaling and squaring: the FMU's, generated from it).  NaN where
+    that fails (a non-finite ``a`` or ``b``)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a
     aug[:n, n:] = b
-    e = expm(aug * dt)
-    return e[:n, :n], e[:n, n:]
+    aug *= dt
+    if expm(aug.reshape(-1), n + m) != 0:
+        aug[:] = np.nan
+    return aug[:n, :n].copy(), aug[:n, n:].copy()
 
 
 def rk4(a: np.ndarray, b: np.ndarray, dt: float):

@@ -25,16 +25,21 @@ exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
 per entry instead of seven multiplies and seven adds (the FMU's Horner rule
 uses fused multiply-adds; issue #38, bench/fmu.md).
 
-The FMU's C (``fmu/inflow_numerics.c``) builds the same table at run time for its
-tunable parameters; its constants (``IFS_MU_LO`` ... ``IFS_TAYLOR_TOL``) are
-generated from this module into ``inflow_vars.h`` (:func:`c_defines`), so the two
-cannot drift.
+The FMU's C builds the same table at run time for its tunable parameters: the
+segment ends, the fit and the check are :mod:`.algorithms`' ``mu_edges``,
+``mu_fit`` and ``mu_check``, which :class:`MuTable` runs and the C is generated
+from (``fmu/inflow_algorithms.c``); its constants (``IFS_MU_LO`` ...
+``IFS_TAYLOR_TOL``) are generated from this module into ``inflow_vars.h``
+(:func:`c_defines`), so the two cannot drift.  The evaluation is each side's own:
+here a dot product of the powers of the part's local variable, in the C Horner's
+rule with fused multiply-adds (``fmu/inflow_numerics.c``, the step's hot path).
 
 A step of another length ``r`` (the FMU's communication remainder, the
 Simulator's :meth:`~inflowsim.simulate.simulator.Simulator.set_dt`) is the Taylor
 series of the solution with as many terms as make the next one at most
-``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`), at most
-``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
+``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`, which is
+:func:`inflowsim.simulate.algorithms.taylor_count`: the FMU's C is generated from
+it), at most ``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
 """
 from __future__ import annotations
 
@@ -43,6 +48,9 @@ import math
 import struct
 
 import numpy as np
+
+from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_fit
+from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
 MU_LO = 0.1
@@ -59,10 +67,9 @@ TOLERANCE = 1e-12
 #: A knot this close to a segment end [-] is on it (its kink is outside every
 #: segment's nodes); a segment narrower would round its local variable away.
 KNOT_GAP = 1e-9
-#: Taylor series of a step: the next term bounded by this times |[x; u]| ...
-TAYLOR_TOL = 1e-17
-#: ... within this many terms, else the matrix exponential.
-TAYLOR_MAX_TERMS = 30
+# The Taylor rule's constants TAYLOR_TOL and TAYLOR_MAX_TERMS live with its
+# algorithm (.algorithms, the one source of the Simulator's and the FMU's
+# taylor_terms); imported above.
 
 
 def knot_edges(knots) -> list:
@@ -83,35 +90,12 @@ def edges(knots=()) -> list:
     """Segment ends ``MU_LO q^s``, ``q = (MU_HI/MU_LO)^(1/SEGMENTS)`` (the C's
     ``pow`` expression, so the same doubles), and the :func:`knot_edges` of
     ``knots``, ascending: a kink on a segment end keeps every segment's polynomial
-    smooth, and a segment split in two is only more accurate.  The C's
-    ``mu_edges`` merges the same."""
-    e = [MU_LO * math.pow(MU_HI / MU_LO, s / SEGMENTS) for s in range(SEGMENTS + 1)]
-    return sorted(e + knot_edges(knots))
-
-
-def nodes(lo: float, hi: float) -> np.ndarray:
-    """The Chebyshev-Gauss nodes of segment ``[lo, hi]`` in ``mu``."""
-    n = DEGREE + 1
-    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    return 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
-
-
-def _power_coefficients(values: np.ndarray, degree: int = DEGREE) -> np.ndarray:
-    """Power coefficients in ``x`` (rows: degree 0..``degree``) of the polynomial
-    through ``values`` (rows: the ``degree + 1`` Chebyshev-Gauss nodes, as
-    :func:`nodes`): Chebyshev coefficients, then the Chebyshev polynomials' power
-    coefficients (as the C does)."""
-    n = degree + 1
-    k = np.arange(n)
-    w = np.cos(np.pi * np.outer(k, k + 0.5) / n) * np.where(k == 0, 1.0, 2.0)[:, None] / n
-    cheb = w @ values
-    t = np.zeros((n, n))                    # T_k(x) = sum_i t[k, i] x^i
-    t[0, 0] = 1.0
-    t[1, 1] = 1.0
-    for j in range(2, n):
-        t[j, 1:] = 2.0 * t[j - 1, :-1]
-        t[j] -= t[j - 2]
-    return t.T @ cheb
+    smooth, and a segment split in two is only more accurate:
+    :func:`~.algorithms.mu_edges`, the C's too."""
+    k = np.array(knot_edges(knots), dtype=float)
+    e = np.zeros(SEGMENTS + len(k) + 1)
+    mu_edges(MU_LO, MU_HI, k, len(k), e, SEGMENTS)
+    return [float(v) for v in e]
 
 
 def part(x: float):
@@ -121,27 +105,6 @@ def part(x: float):
     j = int((x + 1.0) * (0.5 * SPLIT))
     j = 0 if j < 0 else (SPLIT - 1 if j >= SPLIT else j)
     return j, (x + 1.0) * SPLIT - (2 * j + 1)
-
-
-def part_nodes(j: int) -> np.ndarray:
-    """The Chebyshev-Gauss nodes of part ``j`` (``FINE_DEGREE + 1`` of them) in its
-    segment's local variable ``x``."""
-    n = FINE_DEGREE + 1
-    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    return (2 * j + 1 + y) / SPLIT - 1.0
-
-
-def taylor_terms(norm_a: float, norm_ab: float, r: float) -> int:
-    """Terms of the Taylor series of a step of length ``|r|`` [s]: the first ``k``
-    whose next term is bounded by ``TAYLOR_TOL |[x; u]|`` (term ``k`` is at most
-    ``(|a| r)^(k-1) |[a b]| r / k!`` of it, 1-norms).  0 if more than
-    ``TAYLOR_MAX_TERMS`` would be needed (the C's ``taylor_count``)."""
-    bound, q = norm_ab * abs(r), norm_a * abs(r)
-    for k in range(1, TAYLOR_MAX_TERMS + 1):
-        if bound * q / (k + 1) <= TAYLOR_TOL:
-            return k
-        bound *= q / (k + 1)
-    return 0
 
 
 def _powers4(y):
@@ -170,7 +133,7 @@ class MuTable:
         ``mu -> ndarray`` (any shape; the same at every ``mu``): the exact matrices.
     blocks : sequence of slices
         Row ranges whose entries share one scale in the check (each block's error
-        relative to its largest entry).
+        relative to its largest entry): all rows, or two ranges that split them.
     knots : sequence of float
         Where ``exact`` has a kink (a parameter schedule's range ends): segment ends
         (:func:`edges`).
@@ -184,34 +147,45 @@ class MuTable:
     def __init__(self, exact, blocks=(slice(None),), knots=()):
         self.edges = edges(knots)
         nseg = len(self.edges) - 1
-        first = None
-        coef = []
-        for s in range(nseg):
-            vals = [np.asarray(exact(m), dtype=float) for m in nodes(*self.edges[s:s + 2])]
-            first = vals[0] if first is None else first
-            coef.append(_power_coefficients(np.array([v.ravel() for v in vals])))
-        self.shape = first.shape
-        self._p = np.ascontiguousarray(coef)            # [segment, degree, entry]
-        # the parts: each segment's polynomial at its parts' nodes, interpolated again
-        x = np.concatenate([part_nodes(j) for j in range(SPLIT)])
-        at = x[:, None] ** np.arange(DEGREE + 1)        # [node, degree]
+        # the first node's values (mu_fit's first call, the same doubles) give the size
+        lo, hi = self.edges[0], self.edges[1]
+        mu0 = 0.5 * (lo + hi) + 0.5 * (hi - lo) * math.cos(math.pi * (0 + 0.5) / (DEGREE + 1))
+        first = {mu0: np.asarray(exact(mu0), dtype=float)}
+        self.shape = first[mu0].shape
+        ntab = int(np.prod(self.shape))
+
+        def entries(ctx, mu, out):
+            v = first.pop(mu, None)
+            out[:ntab] = (np.asarray(exact(mu), dtype=float) if v is None else v).ravel()
+            return 0
+
+        # the segments' and their parts' coefficients: the C's fit (mu_fit)
+        p = np.zeros(nseg * (DEGREE + 1) * ntab)
+        q = np.zeros(nseg * SPLIT * (FINE_DEGREE + 1) * ntab)
+        mu_fit(np.asarray(self.edges, dtype=float), nseg, entries, None, p, q, DEGREE,
+               FINE_DEGREE, SPLIT, ntab, ntab)
+        self._p = p.reshape(nseg, DEGREE + 1, ntab)          # [segment, degree, entry]
+        self._q = q.reshape(nseg * SPLIT, FINE_DEGREE + 1, ntab)   # [part, degree, entry]
         nf = FINE_DEGREE + 1
-        self._q = np.ascontiguousarray(np.concatenate([
-            [_power_coefficients(v[j * nf:(j + 1) * nf], FINE_DEGREE) for j in range(SPLIT)]
-            for v in (at @ self._p[s] for s in range(nseg))]))   # [part, degree, entry]
         self._y = np.empty(nf)                      # powers of y, written in place
         self._pack = struct.Struct(f"{nf}d").pack_into
         self._ybuf = memoryview(self._y).cast("B")
-        worst = 0.0
-        for s in range(nseg):
-            mid = 0.5 * (self.edges[s] + self.edges[s + 1])
-            want = np.asarray(exact(mid), dtype=float)
-            got = np.empty(self.shape)
-            self.into(mid, got.reshape(-1))
-            for b in blocks:
-                scale = np.max(np.abs(want[b]))
-                err = np.max(np.abs(got[b] - want[b])) / scale if scale > 0 else 0.0
-                worst = err if not err <= worst else worst    # NaN-safe
+        # the check between the nodes (mu_check, the C's): blocks as entry ranges
+        rows = np.arange(self.shape[0] if self.shape else 1)
+        ranges = [(int(rows[b][0]), int(rows[b][-1]) + 1) for b in blocks if len(rows[b])]
+        if ([r for pair in ranges for r in pair][1:-1] != [r for pair in ranges[1:]
+                                                         for r in (pair[0], pair[0])]
+                or len(ranges) > 2 or ranges[0][0] != 0 or ranges[-1][1] != len(rows)):
+            raise ValueError("MuTable: blocks are the rows in one or two ranges")
+        split = ranges[1][0] * ntab // len(rows) if len(ranges) == 2 else ntab
+
+        def values(ctx, mu, out):
+            self.into(mu, out)
+            return 0
+
+        worst = mu_check(np.asarray(self.edges, dtype=float), nseg, entries, None, values,
+                         None, split, ntab)
+        worst = math.inf if worst < 0.0 else worst
         self.err = float(worst)
         self.ok = bool(self.err <= TOLERANCE)
 
@@ -252,6 +226,6 @@ def c_defines() -> list:
             "step */"]
 
 
-__all__ = ["MuTable", "edges", "knot_edges", "nodes", "part", "part_nodes", "taylor_terms",
+__all__ = ["MuTable", "edges", "knot_edges", "part", "taylor_terms",
            "c_defines", "MU_LO", "MU_HI", "SEGMENTS", "DEGREE", "SPLIT", "FINE_DEGREE",
            "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]

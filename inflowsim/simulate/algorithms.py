@@ -1,0 +1,382 @@
+"""The stepping algorithms, written once: run here by the Simulator, translated
+into the FMU's C (``fmu/inflow_algorithms.c``) by :mod:`inflowsim.fmu.pyc`.
+
+Each function below is written in a small subset of Python that reads the same in
+both languages: flat float vectors (row-major matrices, their sizes passed as
+arguments), ``int`` and ``float`` scalars declared by annotation, ``for ... in
+range``, ``while``, ``if``, scalar arithmetic, the functions of :mod:`math`, module
+constants, and the primitives of :class:`P` (matrix products, ``y += alpha x``,
+Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of hand-written C in
+``fmu/inflow_numerics.c``, the only numerics written twice).  :func:`algorithm`
+names each function's C function and the size arguments that are compile-time
+constants in the FMU (``IFS_NA``: the augmented ``[x; u]``).
+
+So the Simulator and the FMU step by the same operations in the same order; they
+differ only where a primitive's NumPy sums in another order than the C loop (a
+few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
+generated C and compares it with these functions on the same inputs.
+
+Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
+matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
+``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
+parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
+:func:`power_fit`) and check (:func:`mu_check`).  Still each side's own: the
+Taylor step itself (here the stored terms of :class:`~inflowsim.simulate.discrete.
+TaylorZoh`, in the FMU the vector series of ``taylor_step``) and the table's
+evaluation on a ``mu`` change (here one dot product, in the FMU Horner's rule with
+fused multiply-adds), both in the step's hot path.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Taylor series of a step: the next term bounded by this times |[x; u]| ...
+TAYLOR_TOL = 1e-17
+#: ... within this many terms, else the matrix exponential.
+TAYLOR_MAX_TERMS = 30
+#: The diagonal [13/13] Pade approximant's coefficients ``b_k`` of ``X^k`` (Higham
+#: 2005): ``exp(X) ~ (V - U)^-1 (V + U)``, ``V`` the even and ``U`` the odd part.
+PADE13 = (64764752532480000.0, 32382376266240000.0, 7771770303897600.0,
+          1187353796428800.0, 129060195264000.0, 10559470521600.0, 670442572800.0,
+          33522128640.0, 1323241920.0, 40840800.0, 960960.0, 16380.0, 182.0, 1.0)
+#: :func:`expm` scales its argument to a 1-norm at most this (``theta_13``: the
+#: [13/13] approximant's backward error is then below the unit roundoff, Higham
+#: 2005, Table 2.3).
+EXPM_NORM = 5.371920351148152
+
+#: The C names of the constants the functions read (``inflow_vars.h``, generated
+#: from :func:`inflowsim.simulate.mutable.c_defines`); other constants are written
+#: into the C as numbers or ``static const`` arrays.
+C_MACROS = {"TAYLOR_TOL": "IFS_TAYLOR_TOL", "TAYLOR_MAX_TERMS": "IFS_KMAX"}
+
+#: The functions the C is generated from, in order: ``(function, C name, static,
+#: {size argument: C constant})``.
+ALGORITHMS = []
+
+
+def algorithm(c_name: str, sizes=None, static: bool = False):
+    """Register a function of this module for translation into C as ``c_name``;
+    ``sizes``: arguments that are a C constant expression in the FMU (dropped from
+    the C signature)."""
+    def register(f):
+        ALGORITHMS.append((f, c_name, static, dict(sizes or {})))
+        return f
+    return register
+
+
+def _rows(v: np.ndarray, rows: int, cols: int, ld: int) -> np.ndarray:
+    """The ``rows`` x ``cols`` view of the flat ``v`` whose rows are ``ld`` apart."""
+    if rows == 0:
+        return v[:0].reshape(0, cols)
+    if v.size >= rows * ld:
+        return v[:rows * ld].reshape(rows, ld)[:, :cols]
+    if (rows - 1) * ld + cols > v.size:
+        raise IndexError("a vector shorter than its rows")
+    return np.lib.stride_tricks.as_strided(v, (rows, cols), (ld * v.strides[0], v.strides[0]))
+
+
+class Vec:
+    """Annotation: a flat float vector (``double *`` in C), written in place."""
+
+
+class CVec:
+    """Annotation: a flat float vector read only (``const double *``)."""
+
+
+class Entries:
+    """Annotation: ``entries(ctx, mu, out) -> int``, the exact values at ``mu``
+    written into ``out`` (0, or -1 where there are none); C's ``IfsMuEntries``."""
+
+
+class Ctx:
+    """Annotation: what :class:`Entries` is given (``void *`` in C)."""
+
+
+class P:
+    """The primitives (``ifs_<name>`` in ``fmu/inflow_numerics.c``): whole-vector
+    operations that NumPy does at once here.  Vectors are flat float64 arrays;
+    ``n`` x ``n`` matrices are row-major."""
+
+    @staticmethod
+    def new(size: int) -> np.ndarray:
+        """A zero vector of ``size`` (a local array in C)."""
+        return np.zeros(size)
+
+    @staticmethod
+    def copy(dst: np.ndarray, src: np.ndarray, size: int) -> None:
+        dst[:size] = src[:size]
+
+    @staticmethod
+    def scale(x: np.ndarray, alpha: float, size: int) -> None:
+        """``x *= alpha``."""
+        x[:size] *= alpha
+
+    @staticmethod
+    def axpy(y: np.ndarray, alpha: float, x: np.ndarray, size: int) -> None:
+        """``y += alpha x``."""
+        y[:size] += alpha * x[:size]
+
+    @staticmethod
+    def matmul(a: np.ndarray, b: np.ndarray, c: np.ndarray, n: int) -> None:
+        """``c = a b`` (``n`` x ``n``; ``c`` not ``a`` or ``b``)."""
+        np.matmul(a[:n * n].reshape(n, n), b[:n * n].reshape(n, n),
+                  out=c[:n * n].reshape(n, n))
+
+    @staticmethod
+    def gemm(a: np.ndarray, b: np.ndarray, c: np.ndarray, rows: int, inner: int, cols: int,
+             ldb: int, ldc: int) -> None:
+        """``c = a b``: ``a`` ``rows`` x ``inner`` (rows ``inner`` apart), ``b``
+        ``inner`` x ``cols`` (rows ``ldb`` apart), ``c`` ``rows`` x ``cols`` (rows
+        ``ldc`` apart; not ``a`` or ``b``)."""
+        _rows(c, rows, cols, ldc)[:] = (a[:rows * inner].reshape(rows, inner)
+                                        @ _rows(b, inner, cols, ldb))
+
+    @staticmethod
+    def horner(p: np.ndarray, deg: int, x: np.ndarray, nx: int, out: np.ndarray, cols: int,
+               ldp: int, ldo: int) -> None:
+        """``out[i, e] = sum_k p[k, e] x[i]^k`` for ``i < nx``, ``e < cols`` (rows ``k =
+        0 .. deg`` of ``p``, ``ldp`` apart; the rows of ``out`` ``ldo`` apart) by
+        Horner's rule, from ``k = deg`` down."""
+        pk = _rows(p, deg + 1, cols, ldp)
+        xs = x[:nx, None]
+        acc = np.repeat(pk[deg][None, :], nx, axis=0)
+        for k in range(deg - 1, -1, -1):
+            acc *= xs
+            acc += pk[k]
+        _rows(out, nx, cols, ldo)[:] = acc
+
+    @staticmethod
+    def absmax(x: np.ndarray, size: int) -> float:
+        """The largest ``|x|`` (0 for none)."""
+        return float(np.max(np.abs(x[:size]), initial=0.0))
+
+    @staticmethod
+    def absdiffmax(x: np.ndarray, y: np.ndarray, size: int) -> float:
+        """The largest ``|x - y|`` (0 for none; NaN if a difference is)."""
+        return float(np.max(np.abs(x[:size] - y[:size]), initial=0.0))
+
+    @staticmethod
+    def norm1(a: np.ndarray, rows: int, cols: int) -> float:
+        """The largest column sum of ``|a|`` (``rows`` x ``cols``); NaN if any
+        entry is."""
+        return float(np.abs(a[:rows * cols].reshape(rows, cols)).sum(axis=0).max(initial=0.0))
+
+    @staticmethod
+    def lu_solve(n: int, a: np.ndarray, nrhs: int, b: np.ndarray, tol: float) -> int:
+        """Solve ``A X = B`` in place (``a`` ``n`` x ``n`` destroyed, ``b`` ``n`` x
+        ``nrhs`` overwritten by ``X``), LU with partial pivoting; -1 if a pivot is
+        below ``tol`` times the largest ``|A|`` entry."""
+        # the pivots from scipy's LU (LAPACK's partial pivoting, as the C), the
+        # solution from NumPy's solve: scipy's lu_solve takes milliseconds on a
+        # loaded machine (threaded LAPACK on a small matrix)
+        from scipy.linalg import lu_factor      # (imported here: see discrete.zoh)
+        m = a[:n * n].reshape(n, n)
+        amax = float(np.max(np.abs(m), initial=0.0))
+        if not (amax > 0.0 and math.isfinite(amax)):
+            return -1
+        lu, _ = lu_factor(m, check_finite=False)
+        if not np.min(np.abs(np.diag(lu))) > tol * amax:
+            return -1
+        rhs = b[:n * nrhs].reshape(n, nrhs)
+        rhs[:] = np.linalg.solve(m, rhs)
+        return 0
+
+
+@algorithm("ifs_taylor_count")
+def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
+    """Terms of the Taylor series of a step of length ``|r|`` [s] of ``x' = a x +
+    b u``, ``norm_a = |a|``, ``norm_ab = |[a b]|`` (1-norms): the first ``k`` whose
+    next term is bounded by ``TAYLOR_TOL |[x; u]|`` (term ``k`` is at most ``(|a|
+    r)^(k-1) |[a b]| r / k!`` of it); 0 if more than ``TAYLOR_MAX_TERMS`` would be
+    needed."""
+    bound: float = norm_ab * math.fabs(r)
+    q: float = norm_a * math.fabs(r)
+    for k in range(1, TAYLOR_MAX_TERMS + 1):
+        if bound * q / (k + 1) <= TAYLOR_TOL:
+            return k
+        bound *= q / (k + 1)
+    return 0
+
+
+@algorithm("ifs_expm", sizes={"n": "IFS_NA"})
+def expm(a: Vec, n: int) -> int:
+    """``exp(A)`` of the ``n`` x ``n`` matrix ``a`` (row-major), overwritten by the
+    result: scaling and squaring with the diagonal [13/13] Pade approximant, scaled
+    to 1-norm at most ``EXPM_NORM`` (Higham 2005).  -1 (``a`` partly overwritten)
+    if ``a`` is not finite or the solve fails."""
+    nn: int = n * n
+    norm: float = P.norm1(a, n, n)
+    if not math.isfinite(norm):
+        return -1
+    s: int = 0
+    while norm > EXPM_NORM and s < 64:
+        norm *= 0.5
+        s += 1
+    P.scale(a, math.ldexp(1.0, -s), nn)
+    x2 = P.new(n * n)
+    x4 = P.new(n * n)
+    x6 = P.new(n * n)
+    u = P.new(n * n)
+    v = P.new(n * n)
+    t = P.new(n * n)
+    P.matmul(a, a, x2, n)
+    P.matmul(x2, x2, x4, n)
+    P.matmul(x4, x2, x6, n)
+    # odd part U = X [X^6 (b13 X^6 + b11 X^4 + b9 X^2) + b7 X^6 + b5 X^4 + b3 X^2 + b1]
+    P.axpy(t, PADE13[13], x6, nn)
+    P.axpy(t, PADE13[11], x4, nn)
+    P.axpy(t, PADE13[9], x2, nn)
+    P.matmul(x6, t, v, n)
+    P.axpy(v, PADE13[7], x6, nn)
+    P.axpy(v, PADE13[5], x4, nn)
+    P.axpy(v, PADE13[3], x2, nn)
+    for i in range(n):
+        v[i * n + i] += PADE13[1]
+    P.matmul(a, v, u, n)
+    # even part V = X^6 (b12 X^6 + b10 X^4 + b8 X^2) + b6 X^6 + b4 X^4 + b2 X^2 + b0
+    P.scale(t, 0.0, nn)
+    P.axpy(t, PADE13[12], x6, nn)
+    P.axpy(t, PADE13[10], x4, nn)
+    P.axpy(t, PADE13[8], x2, nn)
+    P.matmul(x6, t, v, n)
+    P.axpy(v, PADE13[6], x6, nn)
+    P.axpy(v, PADE13[4], x4, nn)
+    P.axpy(v, PADE13[2], x2, nn)
+    for i in range(n):
+        v[i * n + i] += PADE13[0]
+    P.copy(t, v, nn)                       # (V - U)^-1 (V + U)
+    P.axpy(t, -1.0, u, nn)
+    P.copy(a, v, nn)
+    P.axpy(a, 1.0, u, nn)
+    if P.lu_solve(n, t, n, a, 1e-300) != 0:
+        return -1
+    while s > 0:
+        P.matmul(a, a, t, n)
+        P.copy(a, t, nn)
+        s -= 1
+    return 0
+
+
+@algorithm("ifs_cheb_matrices")
+def cheb_matrices(n: int, ch: Vec, tt: Vec) -> None:
+    """Chebyshev interpolation at ``n`` nodes as two ``n`` x ``n`` matrices
+    (row-major): ``ch`` gives the Chebyshev coefficients ``sum_j ch[k, j] f_j`` of
+    the polynomial through ``f_j`` at the Chebyshev-Gauss nodes ``cos(pi (j + 1/2) /
+    n)``, ``tt`` the power coefficients ``tt[i, k]`` of ``T_k(x)``."""
+    for i in range(n * n):
+        tt[i] = 0.0
+    tt[0] = 1.0
+    if n > 1:
+        tt[n + 1] = 1.0
+    for k in range(2, n):
+        for i in range(n):
+            tt[i * n + k] = ((2.0 * tt[(i - 1) * n + k - 1] if i > 0 else 0.0)
+                             - tt[i * n + k - 2])
+    for k in range(n):
+        for j in range(n):
+            ch[k * n + j] = (math.cos(math.pi * k * (j + 0.5) / n) * (1.0 if k == 0 else 2.0)
+                             / n)
+
+
+@algorithm("ifs_power_fit")
+def power_fit(n: int, ch: CVec, tt: CVec, f: CVec, cols: int, ldf: int, work: Vec,
+              out: Vec, ldo: int) -> None:
+    """The power coefficients (rows 0 .. ``n - 1`` of ``out``, ``cols`` entries
+    each, rows ``ldo`` apart) of the polynomials of degree ``n - 1`` through the
+    values ``f`` (row ``j``: at node ``j``, rows ``ldf`` apart) at the
+    Chebyshev-Gauss nodes: the Chebyshev coefficients (into ``work``, ``n`` x
+    ``cols``), then the power coefficients, ``tt (ch f)`` (:func:`cheb_matrices`)."""
+    P.gemm(ch, f, work, n, n, cols, ldf, cols)
+    P.gemm(tt, work, out, n, n, cols, cols, ldo)
+
+
+@algorithm("ifs_mu_edges", sizes={"segments": "IFS_MU_SEG"})
+def mu_edges(lo: float, hi: float, knots: CVec, nknots: int, e: Vec, segments: int) -> None:
+    """The segment ends of the table in ``mu`` (``segments + nknots + 1``): ``lo
+    q^s``, ``q = (hi/lo)^(1/segments)``, and the ``knots`` (ascending, inside ``(lo,
+    hi)``, none on a geometric end: :func:`inflowsim.simulate.mutable.knot_edges`),
+    merged in ascending order."""
+    g: int = 0
+    k: int = 0
+    for i in range(segments + nknots + 1):
+        if k < nknots and (g > segments or knots[k] < lo * math.pow(hi / lo, g / segments)):
+            e[i] = knots[k]
+            k += 1
+        else:
+            e[i] = lo * math.pow(hi / lo, g / segments)
+            g += 1
+
+
+@algorithm("ifs_mu_fit", sizes={"deg": "IFS_MU_DEG", "fdeg": "IFS_MU_FDEG",
+                                "split": "IFS_MU_SPLIT", "ntab": "IFS_MU_NTAB",
+                                "nfine": "IFS_MU_HALF0"})
+def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, deg: int,
+           fdeg: int, split: int, ntab: int, nfine: int) -> int:
+    """The table in ``mu`` (:mod:`inflowsim.simulate.mutable`): on each of the
+    ``nseg`` segments ``[edge[s], edge[s + 1]]`` the power coefficients ``p[s, k,
+    e]`` (``k = 0 .. deg`` in the local variable ``x in [-1, 1]``) of the
+    polynomials through the ``ntab`` exact ``entries`` at the segment's
+    Chebyshev-Gauss nodes; then of each of its ``split`` equal parts in ``x`` the
+    power coefficients ``q[s split + c, k, e]`` (``k = 0 .. fdeg``, in the part's
+    own local variable, the first ``nfine`` entries) of the polynomials through the
+    segment's polynomials (Horner's rule) at the part's Chebyshev-Gauss nodes.  -1
+    where ``entries`` has no values."""
+    n: int = deg + 1
+    nf: int = fdeg + 1
+    ch = P.new((deg + 1) * (deg + 1))
+    tt = P.new((deg + 1) * (deg + 1))
+    chf = P.new((fdeg + 1) * (fdeg + 1))
+    ttf = P.new((fdeg + 1) * (fdeg + 1))
+    f = P.new((deg + 1) * ntab)
+    work = P.new((deg + 1) * ntab)
+    xs = P.new(fdeg + 1)                    # a part's nodes in the segment's x
+    cheb_matrices(n, ch, tt)
+    cheb_matrices(nf, chf, ttf)
+    for seg in range(nseg):
+        lo: float = edge[seg]
+        hi: float = edge[seg + 1]
+        for j in range(n):
+            xj: float = math.cos(math.pi * (j + 0.5) / n)
+            if entries(ctx, 0.5 * (lo + hi) + 0.5 * (hi - lo) * xj, f[j * ntab:]) != 0:
+                return -1
+        power_fit(n, ch, tt, f, ntab, ntab, work, p[seg * n * ntab:], ntab)
+        for c in range(split):
+            for j in range(nf):
+                xs[j] = (2 * c + 1 + math.cos(math.pi * (j + 0.5) / nf)) / split - 1.0
+            P.horner(p[seg * n * ntab:], deg, xs, nf, f, nfine, ntab, ntab)
+            power_fit(nf, chf, ttf, f, nfine, ntab, work, q[(seg * split + c) * nf * nfine:],
+                      nfine)
+    return 0
+
+
+@algorithm("ifs_mu_check", sizes={"ntab": "IFS_MU_NTAB"})
+def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, tctx: Ctx,
+             split: int, ntab: int) -> float:
+    """The table's check: at each segment's midpoint the largest difference between
+    the table's values (``table``) and the exact ``entries``, relative to the
+    largest exact value of its block (entries ``[0, split)`` and ``[split, ntab)``;
+    a block of zeros has none); NaN once a difference is; -1 where ``entries`` has
+    no values."""
+    worst: float = 0.0
+    want = P.new(ntab)
+    got = P.new(ntab)
+    for seg in range(nseg):
+        mu: float = 0.5 * (edge[seg] + edge[seg + 1])
+        if entries(ctx, mu, want) != 0 or table(tctx, mu, got) != 0:
+            return -1.0
+        for b in range(2):
+            first: int = 0 if b == 0 else split
+            size: int = split if b == 0 else ntab - split
+            scale: float = P.absmax(want[first:], size)
+            if scale > 0.0:
+                r: float = P.absdiffmax(got[first:], want[first:], size) / scale
+                if r > worst or r != r:
+                    worst = r
+    return worst
+
+
+__all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
+           "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
+           "power_fit", "mu_edges", "mu_fit", "mu_check"]

@@ -1,0 +1,152 @@
+"""The stepping algorithms written once (inflowsim.simulate.algorithms): the C the
+FMU compiles is generated from them (inflowsim.fmu.pyc, fmu/inflow_algorithms.c),
+and the Python the Simulator runs and the generated C give the same numbers on the
+same inputs."""
+import ctypes
+import subprocess
+
+import numpy as np
+import pytest
+from scipy.linalg import expm as scipy_expm
+
+from inflowsim.errors import InputError
+from inflowsim.fmu import pyc
+from inflowsim.fmu.build import CFLAGS, compiler, source_dir
+from inflowsim.simulate import algorithms as alg
+from inflowsim.simulate import mutable
+
+NA = 16          # the presets' FMU (fmu/inflow_vars.h): 6 states and 10 inputs
+NTAB, HALF0 = 192, 96   # its mu table's entries, and those of [phi gam] (inflow_numerics.h)
+ENTRIES = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
+                           ctypes.POINTER(ctypes.c_double))
+
+
+@pytest.fixture(scope="module")
+def lib(tmp_path_factory):
+    src = source_dir()
+    head = (src / "inflow_vars.h").read_text()
+    assert "#define IFS_NX 6 " in head and "#define IFS_N_INPUTS 10 " in head   # NA ...
+    so = tmp_path_factory.mktemp("alg") / "alg.so"
+    # -O0: a third of the compile time; without contraction the same numbers
+    flags = [("-O0" if f == "-O2" else f) for f in CFLAGS if f != "-fvisibility=hidden"]
+    subprocess.run([compiler(), *flags, f"-I{src}", "-o", str(so),
+                    str(src / "inflow_numerics.c"), str(src / "inflow_algorithms.c"), "-lm"],
+                   check=True)
+    lib = ctypes.CDLL(str(so))
+    d, i, p = ctypes.c_double, ctypes.c_int, ctypes.POINTER(ctypes.c_double)
+    lib.ifs_taylor_count.argtypes, lib.ifs_taylor_count.restype = (d, d, d), i
+    lib.ifs_expm.argtypes, lib.ifs_expm.restype = (p,), i
+    lib.ifs_cheb_matrices.argtypes = (i, p, p)
+    lib.ifs_power_fit.argtypes = (i, p, p, p, i, i, p, p, i)
+    lib.ifs_mu_edges.argtypes = (d, d, p, i, p)
+    lib.ifs_mu_check.argtypes = (p, i, ENTRIES, ctypes.c_void_p, ENTRIES, ctypes.c_void_p, i)
+    lib.ifs_mu_check.restype = d
+    lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
+    return lib
+
+
+def _p(x):
+    return x.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+
+def test_python_and_generated_c_agree(lib):
+    """One body for every algorithm: the Python function and its generated C on the
+    same inputs, within 1e-12 (the same operations; NumPy's primitives may sum in
+    another order), the term counts equal."""
+    rng = np.random.default_rng(40)
+    # the Taylor rule's term count: integers, equal
+    for na, nab, r in [(5.0, 9.0, 1e-3), (80.0, 300.0, 0.01), (1e3, 2e3, 1.0), (0.0, 0.0, 0.1),
+                       *rng.uniform(0, 200, (40, 3)) * [1, 2, 0.002]]:
+        assert lib.ifs_taylor_count(na, nab, r) == alg.taylor_count(na, nab, r)
+    # the exponential of an augmented [[a b] dt; 0 0] and of a large-norm matrix
+    # (squarings), both against scipy too
+    for scale in (0.01, 0.3, 4.0):
+        m = np.zeros((NA, NA))
+        m[:6] = rng.standard_normal((6, NA)) * scale
+        m[:6, :6] -= 2 * scale * np.eye(6)
+        py, c = m.reshape(-1).copy(), m.reshape(-1).copy()
+        assert alg.expm(py, NA) == 0 and lib.ifs_expm(_p(c)) == 0
+        want = scipy_expm(m).reshape(-1)
+        top = np.max(np.abs(want))
+        assert np.max(np.abs(py - c)) <= 1e-12 * top
+        assert np.max(np.abs(py - want)) <= 1e-12 * top
+    bad = np.full(NA * NA, np.nan)
+    assert alg.expm(bad.copy(), NA) == -1 and lib.ifs_expm(_p(bad.copy())) == -1
+    # the table's fit: the interpolation matrices, then a fit of values with rows
+    # apart (the C fits the parts from rows of a wider array)
+    for n in (5, 8):
+        ch, tt, cch, ctt = (np.zeros(n * n) for _ in range(4))
+        alg.cheb_matrices(n, ch, tt)
+        lib.ifs_cheb_matrices(n, _p(cch), _p(ctt))
+        assert np.max(np.abs(ch - cch)) <= 1e-15 and np.array_equal(tt, ctt)
+        cols, ldf, ldo = 7, 11, 9
+        f = rng.standard_normal(n * ldf)
+        out, cout = np.zeros(n * ldo), np.zeros(n * ldo)
+        alg.power_fit(n, ch, tt, f, cols, ldf, np.zeros(n * cols), out, ldo)
+        lib.ifs_power_fit(n, _p(ch), _p(tt), _p(f), cols, ldf, _p(np.zeros(n * cols)),
+                          _p(cout), ldo)
+        assert np.max(np.abs(out - cout)) <= 1e-12 * np.max(np.abs(out))
+        # ... and the fit interpolates: the polynomial at the nodes is the values
+        x = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+        coef = out.reshape(n, ldo)[:, :cols]
+        vals = np.vander(x, n, increasing=True) @ coef
+        np.testing.assert_allclose(vals, f.reshape(n, ldf)[:, :cols], rtol=0, atol=1e-13)
+    # the table's segment ends, with a schedule's knots: the same doubles
+    for knots in ((), (0.12, 0.3, 0.45), (0.1, 0.2 + 1e-12, 0.49)):
+        kn = np.array(mutable.knot_edges(knots))
+        e = np.zeros(mutable.SEGMENTS + len(kn) + 1)
+        lib.ifs_mu_edges(mutable.MU_LO, mutable.MU_HI, _p(kn), len(kn), _p(e))
+        geo = [mutable.MU_LO * (mutable.MU_HI / mutable.MU_LO) ** (s / mutable.SEGMENTS)
+               for s in range(mutable.SEGMENTS + 1)]
+        assert list(e) == mutable.edges(knots)
+        np.testing.assert_allclose(e, sorted(geo + list(kn)), rtol=1e-15)
+    # the table's segments and parts, of entries analytic on [0.1, 0.5]
+    k = np.arange(NTAB)
+
+    def exact(ctx, mu, out):
+        out[:NTAB] = np.sin((1 + k % 7) * mu) / mu + np.exp(-mu * (k % 5))
+        return 0
+
+    def c_exact(ctx, mu, out):
+        return exact(ctx, mu, np.ctypeslib.as_array(out, (NTAB,)))
+
+    edge = np.array(mutable.edges())
+    nseg = len(edge) - 1
+    shapes = (nseg * (mutable.DEGREE + 1) * NTAB,
+              nseg * mutable.SPLIT * (mutable.FINE_DEGREE + 1) * HALF0)
+    (pp, pq), (cp, cq) = [tuple(np.zeros(s) for s in shapes) for _ in range(2)]
+    assert alg.mu_fit(edge, nseg, exact, None, pp, pq, mutable.DEGREE, mutable.FINE_DEGREE,
+                      mutable.SPLIT, NTAB, HALF0) == 0
+    assert lib.ifs_mu_fit(_p(edge), nseg, ENTRIES(c_exact), None, _p(cp), _p(cq)) == 0
+    for py, c in ((pp, cp), (pq, cq)):
+        assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(py))
+    # the check: a table off by 1e-9 of the first half's scale at one mu, and a NaN
+
+    def table(ctx, mu, out):
+        exact(ctx, mu, out)
+        out[5] += 1e-9 * np.max(np.abs(out[:HALF0])) * (mu > 0.3)
+        out[HALF0 + 2] = np.nan if ctx and mu > 0.4 else out[HALF0 + 2]
+        return 0
+
+    for nan in (0, 1):
+        def c_table(ctx, mu, out):
+            return table(ctx, mu, np.ctypeslib.as_array(out, (NTAB,)))
+        py = alg.mu_check(edge, nseg, exact, None, table, nan, HALF0, NTAB)
+        c = lib.ifs_mu_check(_p(edge), nseg, ENTRIES(c_exact), None, ENTRIES(c_table),
+                             nan, HALF0)
+        assert (np.isnan(py) and np.isnan(c)) if nan else py == pytest.approx(c, rel=1e-12)
+        assert nan or 0.9e-9 < py < 1.1e-9
+
+
+def test_the_translator_refuses_what_it_cannot_translate():
+    """Outside the subset: one line naming the statement and where it is."""
+    def f(a: alg.Vec, n: int) -> None:
+        for i, v in enumerate(a):
+            a[i] = v
+
+    alg.ALGORITHMS.append((f, "ifs_bad", False, {}))
+    try:
+        with pytest.raises(InputError, match="outside the subset"):
+            pyc.algorithms_c()
+    finally:
+        alg.ALGORITHMS.pop()
