@@ -54,6 +54,7 @@ def main(argv=None) -> int:
     (``> /dev/full``) is one line naming it and status 2, ``--help`` and
     ``--version`` included."""
     _one_blas_thread()
+    _tune_allocator()
     stdout, stderr = sys.stdout, sys.stderr
     if stderr is None:                    # 2>&- : nowhere to say anything; the status says
         sys.stderr = open(os.devnull, "w")
@@ -110,6 +111,35 @@ def _one_blas_thread():
         return
     for name, value in BLAS_THREADS.items():
         os.environ.setdefault(name, value)
+
+
+#: glibc's allocator for a command run as a program: blocks up to ``M_MMAP_THRESHOLD``
+#: from the heap, and up to ``M_TRIM_THRESHOLD`` of freed heap kept for the next,
+#: rather than each record-long array mapped from and returned to the system (its
+#: pages faulted in again at every evaluation of a long record's fit: 2.1 of a
+#: 2-hour diagnosis's 39 s CPU were system time).  The numbers are not touched.
+ALLOCATOR = {"M_MMAP_THRESHOLD": (-3, 256 * 2 ** 20), "M_TRIM_THRESHOLD": (-1, 128 * 2 ** 20)}
+#: What :func:`_tune_allocator` set in this process (``None``: nothing).
+_ALLOCATOR_SET = None
+
+
+def _tune_allocator():
+    """:data:`ALLOCATOR` through glibc's ``mallopt`` for a command run as a program
+    (NumPy not yet imported, as :func:`_one_blas_thread`), unless the environment
+    sets glibc's own ``MALLOC_*_`` tunables or the C library has no ``mallopt``."""
+    global _ALLOCATOR_SET
+    if "numpy" in sys.modules or any(n.startswith("MALLOC_") for n in os.environ) \
+            or not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
+    done = {name: value for name, (param, value) in ALLOCATOR.items()
+            if mallopt(param, value) == 1}
+    _ALLOCATOR_SET = done or None
 
 
 def _run(args) -> int:

@@ -29,7 +29,8 @@ try:
 except SystemExit as exc:
     code = exc.code
 sys.stderr.write("\\n" + json.dumps({"code": code, "modules": sorted(
-    m for m in sys.modules if m.split(".")[0] == "matplotlib" or m == "scipy.special")}))
+    m for m in sys.modules if m.split(".")[0] == "matplotlib"
+    or m in ("scipy.special", "scipy.stats"))}))
 """
 
 
@@ -65,6 +66,8 @@ QUIET = [("model", "--model", "glauert", "--json"),
 def test_a_command_that_draws_nothing_imports_no_plotting(folder, argv):
     mods = _modules(folder, *argv)
     assert not [m for m in mods if m.startswith("matplotlib")]
+    # nor scipy.stats (0.6 s of a command's start; :mod:`inflowsim.diagnose.tails`)
+    assert "scipy.stats" not in mods
     # (identify now marks a fit conditional through the diagnosis's residual
     # analyses, which use scipy.special's digamma: the transform alone must not)
     if argv[0] in ("simulate", "frf", "model"):

@@ -151,3 +151,52 @@ def test_a_later_part_that_acts_through_an_earlier_one_waits_for_it():
     lag = SimpleNamespace(structure=Structure.parse("basic+lead-lag"),
                           fixed=("nu_zeta", "zeta_lag"))
     assert [a.label for a in atoms(lag, ["lead-lag"])] == ["lead-lag (nu_zeta, zeta_lag)"]
+
+
+def _plain_eig_products(m, sp):
+    """The eigen path's products as first written: each formed, then assigned."""
+    groups = fm.shift_groups(m)
+    inp = np.empty((len(groups), sp.f_hz.size, m.a.shape[0]), dtype=complex)
+    for g, (_, tau) in enumerate(groups):
+        inp[g] = fm.continuous_input(sp, tau - float(m.input_delays[0])) @ m.b.T
+    s, zs, ze = fm._terms(sp)
+    q, u0, u1 = m.end_input, sp.u_time[0], sp.u_time[-1]
+    if np.count_nonzero(q):
+        inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
+    lam, V, Vi = fm._eig(m.a)
+    P, C, n, k = m.end_basis, m.c[:3], m.a.shape[0], m.end_basis.shape[1]
+    r = 1.0 / (s[:, None] - lam)
+    vp = Vi @ P
+    y_u = np.empty((sp.f_hz.size, 3), dtype=complex)
+    y_nu = np.zeros((sp.f_hz.size, 3, 2 * k * len(groups)), dtype=complex)
+    for g, (rows, _) in enumerate(groups):
+        cv = C[rows] @ V
+        y_u[:, rows] = ((inp[g] @ Vi.T) * r) @ cv.T
+        e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(-1, len(rows), k)
+        y_nu[:, rows, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
+        y_nu[:, rows, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
+    return y_u, y_nu
+
+
+@pytest.mark.parametrize("structure", ["glauert", "glauert+lead-lag",
+                                       "basic+flap-inertia+servo-actuators",
+                                       "glauert+delay-beta1c"])
+def test_the_eigen_products_written_in_place_are_the_plain_ones_bit_for_bit(structure):
+    from inflowsim.identify.problem import Problem, stack
+    s, sp = _spectra(structure, "continuous")
+    p = theory_parameters(s, sp.constants)
+    p.update({n: 0.02 * (i + 1) for i, n in enumerate(("delay_beta0", "delay_beta1c",
+                                                       "delay_beta1s")) if n in p})
+    m = fm.leading(build_model(s, p, sp.constants))
+    got = fm._flap_response(m, sp, "auto")
+    assert len(fm.shift_groups(m)) > 1 or structure != "glauert+delay-beta1c"
+    for x, y in zip(got[:2], _plain_eig_products(m, sp)):
+        x, y = (np.ascontiguousarray(v).view(float) for v in (x, y))
+        assert np.array_equal(x, y) and np.array_equal(np.signbit(x), np.signbit(y))
+    # the weighted residual stacked without temporaries: stack() of the plain one
+    prob = Problem(s, [sp], p)
+    W = np.linalg.inv(np.linalg.cholesky(np.array([[2.0, 0.3, 0.1], [0.3, 1.0, 0.2],
+                                                   [0.1, 0.2, 0.5]])))
+    nu = np.linspace(-1.0, 1.0, got[1].shape[2])
+    want = stack((sp.Z - got[0] - got[1] @ nu) @ W.T)
+    assert np.array_equal(prob._weighted([got[:2]], [W], [nu])[0], want)

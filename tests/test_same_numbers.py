@@ -22,6 +22,15 @@ def test_the_tails_are_scipy_stats_bit_for_bit():
     assert np.ndim(tails.chi2_sf(3.0, 2)) == 0
 
 
+def test_the_binomial_weights_are_scipy_stats_bit_for_bit():
+    for n in range(1, 40):
+        for k in range(n + 1):
+            got, want = tails.binom_pmf(k, n, 0.5), stats.binom.pmf(k, n, 0.5)
+            assert got == want and type(got) is type(want), (k, n)
+    k = np.arange(7)
+    assert np.array_equal(tails.binom_pmf(k, 6, 0.3), stats.binom.pmf(k, 6, 0.3))
+
+
 def test_a_long_free_response_in_blocks(monkeypatch):
     from inflowsim.flighttest import body
     from inflowsim.flighttest.advice import standard_manoeuvres

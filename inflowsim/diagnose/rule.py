@@ -75,7 +75,7 @@ from ..model.effects import CATALOGUE
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
 from ..progress import bar
-from .tails import chi2_logsf, chi2_sf
+from .tails import binom_pmf, chi2_logsf, chi2_sf
 
 
 # -- the settings ---------------------------------------------------------------------
@@ -574,9 +574,8 @@ def lr_test(j_base, j_new, dof, boundary=0):
     b = min(boundary, d)
     if stat == 0.0:
         return stat, d, 0.0
-    from scipy import stats                   # the binomial weights only here
-    p = sum(stats.binom.pmf(i, b, 0.5) * (chi2_sf(stat, d - b + i) if d - b + i > 0
-                                         else 0.0) for i in range(b + 1))
+    p = sum(binom_pmf(i, b, 0.5) * (chi2_sf(stat, d - b + i) if d - b + i > 0
+                                    else 0.0) for i in range(b + 1))
     return stat, d, float(np.log10(max(p, 1e-300)))
 
 

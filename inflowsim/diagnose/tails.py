@@ -1,8 +1,11 @@
-"""Upper tails of the chi-square and F distributions, as ``scipy.stats`` gives them
-(``chi2.sf``, ``chi2.logsf``, ``f.sf``) through the same special functions
-(``chdtrc``, ``fdtrc``), without importing ``scipy.stats``: that import was a third
-of a diagnosis command's start (its docstring machinery and every distribution).
-The same numbers, bit for bit (``tests/test_command_imports.py``).
+"""Upper tails of the chi-square and F distributions and the binomial
+probabilities, as ``scipy.stats`` gives them (``chi2.sf``, ``chi2.logsf``, ``f.sf``,
+``binom.pmf``) through the same special functions (``chdtrc``, ``fdtrc``,
+``_binom_pmf``), without importing ``scipy.stats``: that import was a third of a
+diagnosis command's start (its docstring machinery and every distribution; 0.6 s
+of the 4 s ``diagnose --model basic`` on the README's record, where a boundary
+likelihood-ratio test asks for the binomial weights).
+The same numbers, bit for bit (``tests/test_same_numbers.py``).
 """
 from __future__ import annotations
 
@@ -49,4 +52,18 @@ def f_sf(x, dfn, dfd):
     return _out(np.where((dfn > 0) & (dfd > 0), out, np.nan))
 
 
-__all__ = ["chi2_sf", "chi2_logsf", "f_sf"]
+def binom_pmf(k, n, p):
+    """``P(K = k)``, ``K`` binomial with ``n`` trials of probability ``p`` (integer
+    ``0 <= k <= n``, ``0 <= p <= 1``: the mixture weights of a boundary test), as
+    ``scipy.stats.binom.pmf`` takes it from SciPy's ``_binom_pmf`` (Boost's), or
+    from ``scipy.stats`` itself where this SciPy has no such function."""
+    try:
+        from scipy.special._ufuncs import _binom_pmf
+    except ImportError:                   # another SciPy: its own route
+        from scipy import stats
+        return stats.binom.pmf(k, n, p)
+    return _out(_binom_pmf(np.asarray(k, dtype=float), np.asarray(n, dtype=float),
+                           np.asarray(p, dtype=float)))
+
+
+__all__ = ["chi2_sf", "chi2_logsf", "f_sf", "binom_pmf"]

@@ -502,14 +502,61 @@ def _eig_new(a):
     return out
 
 
-def _flap_response(model, sp, method):
-    a, b, C = model.a, model.b, model.c[:3]
-    n = a.shape[0]
-    P, q = model.end_basis, model.end_input
+def _eig_products(dec, den, inp, C, P, zs, ze, groups):
+    """:func:`_flap_response`'s eigen path: ``y_u`` and ``y_nu`` from the
+    eigen-decomposition ``dec`` of the state matrix, the denominators ``den = s -
+    lam`` ``(nf, n)`` (overwritten by the resolvent ``1 / den``) and each group's
+    input term ``inp[g]`` ``(nf, n)``.
+
+    The products are written into their results where whole (every flap channel in
+    one group: the end-state responses' two halves, the resolvent, the weighted
+    input): the same operations on the same operands as forming each and then
+    assigning it, without a long record's temporaries (a 2-hour record's
+    end-state responses are 5.6 MB a model, evaluated some 200 times a fit).
+    """
+    _, V, Vi = dec
+    nf, n = den.shape
     k = P.shape[1]
+    G = len(groups)
+    r = np.divide(1.0, den, out=den)                         # (nf, n) resolvent
+    vp = Vi @ P
+    # every flap channel in one group (no per-channel delays): slices, not index
+    # arrays (the same numbers, a third of the cost), every entry written
+    whole = G == 1 and tuple(groups[0][0]) == (0, 1, 2)
+    if whole:
+        y_nu = np.empty((nf, 3, 2 * k), dtype=complex)
+        cv = C @ V
+        x = inp[0] @ Vi.T
+        x *= r
+        y_u = x @ cv.T
+        del x
+        e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(nf, 3, k)
+        np.multiply(zs[:, None, None], e, out=y_nu[:, :, :k])
+        np.multiply(ze[:, None, None], e, out=y_nu[:, :, k:])
+        return y_u, y_nu, groups
+    y_u = np.empty((nf, 3), dtype=complex)
+    y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
+    for g, (rows, _) in enumerate(groups):
+        cv = C[rows] @ V
+        y_u[:, rows] = ((inp[g] @ Vi.T) * r) @ cv.T
+        # C V diag(r) V^-1 P at every frequency as one product (nf, n) x (n, rows k)
+        e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(
+            nf, len(rows), k)
+        y_nu[:, rows, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
+        y_nu[:, rows, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
+    return y_u, y_nu, groups
+
+
+def _input_terms(model, sp, groups):
+    """``(inp, A, s, zs, ze)``: each shift group's input term ``inp[g]`` ``(nf, n)``
+    of ``(s I - A) x = input + zs x_0 + ze x_end`` (the end states' input part ``q
+    u`` included), the state matrix ``A`` of the record's hold (``a``, or ``exp(a
+    dt)`` of a held record) and :func:`_terms`."""
+    a, b = model.a, model.b
+    n = a.shape[0]
+    q = model.end_input
     f = sp.f_hz
     nf = f.size
-    groups = shift_groups(model)
     sigma = np.asarray(model.input_delays, float)
     G = len(groups)
     u0, u1 = sp.u_time[0], sp.u_time[-1]
@@ -542,33 +589,35 @@ def _flap_response(model, sp, method):
     # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping,
     # where adding its zeros would change no number)
     if np.count_nonzero(q):
-        inp += (np.outer(zs, q @ u0) + np.outer(ze, q @ u1))[None]
+        # outer(zs, q u0) + outer(ze, q u1) added to every group's term with one
+        # temporary (the same numbers, the sum taken the other way round: ``zs`` of
+        # a continuous record is real, ``ze`` complex)
+        t = np.multiply(ze[:, None], (q @ u1)[None, :])
+        t += np.multiply(zs[:, None], (q @ u0)[None, :])
+        inp += t[None]
+    return inp, A, s, zs, ze
+
+
+def _flap_response(model, sp, method):
+    C = model.c[:3]
+    n = model.a.shape[0]
+    P = model.end_basis
+    k = P.shape[1]
+    nf = sp.f_hz.size
+    groups = shift_groups(model)
+    G = len(groups)
+    inp, A, s, zs, ze = _input_terms(model, sp, groups)
     dec = None if method == "solve" else _eig(A)
     if dec is None and method == "eig":
         raise ValueError("flap_response: the eigenvectors are ill conditioned")
-    y_u = np.empty((nf, 3), dtype=complex)
-    y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
     if dec is not None:
         den = s[:, None] - dec[0]
         if not (den != 0).all():           # a pole exactly on a bin: as the solve does
             dec = None
     if dec is not None:
-        _, V, Vi = dec
-        r = 1.0 / den                                        # (nf, n) resolvent
-        vp = Vi @ P
-        # every flap channel in one group (no per-channel delays): slices, not index
-        # arrays (the same numbers, a third of the cost)
-        whole = G == 1 and tuple(groups[0][0]) == (0, 1, 2)
-        for g, (rows, _) in enumerate(groups):
-            sel = slice(None) if whole else rows
-            cv = (C if whole else C[rows]) @ V
-            y_u[:, sel] = ((inp[g] @ Vi.T) * r) @ cv.T
-            # C V diag(r) V^-1 P at every frequency as one product (nf, n) x (n, rows k)
-            e = (r @ (cv.T[:, :, None] * vp[:, None, :]).reshape(n, -1)).reshape(
-                nf, len(rows), k)
-            y_nu[:, sel, 2 * k * g:2 * k * g + k] = zs[:, None, None] * e
-            y_nu[:, sel, 2 * k * g + k:2 * k * (g + 1)] = ze[:, None, None] * e
-        return y_u, y_nu, groups
+        return _eig_products(dec, den, inp, C, P, zs, ze, groups)
+    y_u = np.empty((nf, 3), dtype=complex)
+    y_nu = np.zeros((nf, 3, 2 * k * G), dtype=complex)
     # one solve for every group's input term and the shared end-state basis
     rhs = np.empty((nf, n, G + 2 * k), dtype=complex)
     rhs[:, :, :G] = np.moveaxis(inp, 0, 2)

@@ -237,8 +237,14 @@ class Problem:
         return self._weighted(self.responses(theta, remember=False), weights, nus)
 
     def _weighted(self, resp, weights, nus):
-        return [stack((sp.Z - y_u - y_nu @ nu) @ W.T) for sp, (y_u, y_nu), W, nu in
-                zip(self.spectra, resp, weights, nus)]
+        out = []
+        for sp, (y_u, y_nu), W, nu in zip(self.spectra, resp, weights, nus):
+            # sp.Z - y_u - y_nu @ nu, weighted and stacked, without its temporaries
+            # (the same operations; a 2-hour record's Jacobian point: 0.5 of 2 ms)
+            e = np.subtract(sp.Z, y_u)
+            e -= y_nu @ nu
+            out.append(_stack2(e @ W.T))
+        return out
 
     def _direct_many(self, thetas, weights, nus):
         """:meth:`direct` of each parameter vector, the ones not remembered evaluated
@@ -318,6 +324,15 @@ def stack(x):
         x = x.reshape(-1, x.shape[2])
         return np.vstack([x.real, x.imag])
     return np.concatenate([x.real.ravel(), x.imag.ravel()])
+
+
+def _stack2(x):
+    """:func:`stack` of ``(nf, 3)``: the real parts then the imaginary, each copied
+    once into the result."""
+    out = np.empty(2 * x.size)
+    np.copyto(out[:x.size].reshape(x.shape), x.real)
+    np.copyto(out[x.size:].reshape(x.shape), x.imag)
+    return out
 
 
 def stack_columns(x):
