@@ -33,6 +33,15 @@ What the terms mean, and why:
   least ``schwarz_min`` less (``G``): beside another atom the flexible one then
   shows what the simpler one cannot take (the pair test is made at the base, where
   a partner's part of the residual can hide it).
+- *Paired*: the pairs are those of the significant atoms of largest gain down to the
+  ``width``-th plausible one.  An implausible atom takes no place: alone it is never
+  admissible and only a pair can make it plausible, so it is paired where its gain
+  ranks it, on top of the ``width`` plausible atoms, never in place of one (a
+  collective-only record's lag coupling, significant at -0.03 outside its range, took
+  a place and the truth's azimuth bias and separate time constants were never fitted
+  together; the ladder named a wake skew and a delay instead).  Pairing plausible
+  atoms first instead would drop the implausible one a pair makes plausible (the
+  separate time constants beside Glauert's ``F`` on a hidden-Glauert record).
 - *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
   range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
 - *Material*: the structure removes at least ``material`` of the base residual's excess
@@ -97,7 +106,8 @@ class Rule:
         Level of each likelihood-ratio test [-] (line 3), and of the residual tests
         the failures, the verdict and the conditional marking make.
     width : int
-        Significant atoms of largest gain paired with each other (line 2).
+        Plausible significant atoms of largest gain paired with each other and
+        with every implausible one of larger gain (line 2).
     plausible_sigmas : float
         An estimate within this many sigma of its range is plausible [-] (line 3);
         the verdict's stand-ins use the same.
@@ -478,15 +488,16 @@ def atoms(base_fit, pool=None) -> list[Atom]:
 # -- 2. Lattice -------------------------------------------------------------------------
 def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             rule: Rule = DEFAULT_RULE, progress=None) -> tuple:
-    """**Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
-    of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
+    """**Lattice.** Base + one atom, and base + each pair of the significant atoms of largest
+    gain, ``width`` plausible ones and every implausible one above them (only a pair can
+    make it plausible), each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
 
     Every atom of :func:`atoms` is fitted alone from the base estimates (every
     structure nests the base: the start reproduces its fit), holding the directions
     the record leaves flat (:func:`inflowsim.identify.estimator.null_directions`: no
     information, so holding them biases nothing else), then each pair of the
-    ``rule.width`` significant atoms of largest gain, from the better of the two
-    alone.  Each structure is a :class:`Scored` row; where it is admissible (a
+    significant atoms of largest gain down to the ``rule.width``-th plausible one
+    (:func:`paired`), from the better of the two alone.  Each structure is a :class:`Scored` row; where it is admissible (a
     single atom: always) ``judge(fit)`` measures its residual's excess for line 4.
 
     Parameters
@@ -517,9 +528,7 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             b.set_postfix_str(atom.label)
             found.append((atom, _single(records, base_fit, atom, band_hz, fit_fn, rule)))
             b.update()
-    lim = math.log10(rule.alpha)
-    top = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
-                 key=lambda t: -t[1].schwarz_gain)[:rule.width]
+    top = paired(found, rule)
     rows = [r for _, r in found]
     pairs = [(a, ra, b, rb) for i, (a, ra) in enumerate(top) for b, rb in top[i + 1:]]
     with bar(progress, len(pairs), f"{name}: trying pairs", "fit") as b:
@@ -539,6 +548,38 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             r = _measured(r, base, new)
         out.append(r)
     return tuple(out)
+
+
+def paired(found, rule: Rule = DEFAULT_RULE) -> list:
+    """Line 2's atoms to pair: ``[(atom, row), ...]`` of the significant single rows
+    (``found``, ``(atom, Scored)`` pairs), by gain, down to the ``rule.width``-th
+    plausible one.
+
+    An implausible atom takes no place: alone it is never admissible, only a pair can
+    make it plausible, so it is paired where its gain ranks it, on top of the
+    ``width`` plausible atoms, and never in place of one.  (A collective-only record's
+    ``glauert`` rung: the lag's coupling, significant at -0.03 outside its range, took
+    the fourth place and the truth's ``azimuth-bias + separate-time-constants`` was
+    never fitted; the ladder named a wake skew and a delay instead.)  Where fewer than
+    ``width`` atoms are plausible, every significant atom is paired.
+
+    Parameters
+    ----------
+    found : sequence of (Atom, Scored)
+        Each atom and its single row.
+    rule : Rule
+        The settings.
+    """
+    lim = math.log10(rule.alpha)
+    ranked = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
+                    key=lambda t: -t[1].schwarz_gain)
+    out, places = [], 0
+    for a, r in ranked:
+        if places == rule.width:
+            break
+        out.append((a, r))
+        places += not r.implausible
+    return out
 
 
 def _measured(row: Scored, base: dict, new: dict) -> Scored:
@@ -943,7 +984,7 @@ STATEMENT = tuple(f"{i}. {_line(s)}" for i, s in enumerate(STEPS, 1))
 
 __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_with",
            "rule_from_json", "Scored", "Decision", "Atom", "applicable", "excluded",
-           "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice",
+           "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
            "offered_effects", "least_significant", "decide", "select", "STEPS",
            "STATEMENT"]
