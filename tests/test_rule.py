@@ -18,7 +18,7 @@ import inflowsim as ifs
 from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.candidates import candidates_of, describe
 from inflowsim.diagnose.rule import (DEFAULT_RULE, STATEMENT, TESTS, Decision, Rule,
-                                     Scored, atoms, decide, lattice)
+                                     Scored, atoms, decide, lattice, paired)
 from inflowsim.errors import InputError
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import theory_parameters, truth_parameters
@@ -331,6 +331,51 @@ def test_the_width_is_how_many_significant_atoms_are_paired(width, pairs):
         lp = dict(d.chosen.beside)
         # 2 (J_az - J_pair) = (60 + 2 ln n) - (50 + ln n)
         assert lp["time-delay"] == pytest.approx(stats.chi2.logsf(10 + LN_N, 1) / np.log(10))
+
+
+@pytest.mark.parametrize("fi_gain, pairs", [(45.0, 6), (20.0, 3)])
+def test_an_implausible_atom_takes_no_plausible_ones_pairing_place(fi_gain, pairs):
+    """Line 2: the flap inertia at neutral (0, outside its range 0.5-1.5) is
+    significant but implausible: alone it is never admissible, so among the
+    ``width`` atoms of largest gain it is paired and the next plausible atom is
+    paired too.  In the third place it held, the truth's azimuth-bias + skewed-wake
+    (the fourth atom) was never fitted.  Below the ``width`` it is not paired."""
+    gains = {("azimuth_bias",): 50.0, ("flap_inertia",): fi_gain, ("delay",): 40.0,
+             ("k_skew",): 30.0, ("azimuth_bias", "k_skew"): 90.0,
+             ("azimuth_bias", "delay"): 60.0, ("delay", "k_skew"): 45.0,
+             ("azimuth_bias", "flap_inertia"): 55.0, ("flap_inertia", "delay"): 50.0,
+             ("flap_inertia", "k_skew"): 47.0}
+    pool = ["azimuth-bias", "flap-inertia", "time-delay", "skewed-wake"]
+    d, calls = _lat(gains, pool, Rule(width=3))
+    fi = next(r for r in d.rows if r.atoms == ("flap-inertia",))
+    assert fi.failed() == ("plausible",)
+    two = [r.atoms for r in d.rows if len(r.atoms) == 2]
+    assert len(two) == pairs and len(calls) == 4 + pairs
+    assert any("flap-inertia" in a for a in two) is (fi_gain > 30.0)
+    assert d.chosen.atoms == ("azimuth-bias", "skewed-wake") and d.accepted
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_paired_atoms_are_the_width_best_and_a_plausible_one_per_implausible(seed):
+    """Over random single rows: the paired atoms are, by gain, the ``width``
+    significant atoms of largest gain (every pair of the rule before is still made)
+    and, for each implausible one among them, the next plausible one: ``width``
+    plausible ones where there are as many."""
+    rng = np.random.default_rng(seed)
+    lim = math.log10(DEFAULT_RULE.alpha)
+    for _ in range(50):
+        rows = [_random_row(rng, i) for i in range(int(rng.integers(0, 12)))]
+        rows = [replace(r, atoms=r.atoms[:1], beside=r.beside[:1]) for r in rows]
+        found = [(r.atoms[0], r) for r in rows]
+        width = int(rng.integers(0, 5))
+        got = [a for a, _ in paired(found, Rule(width=width))]
+        ranked = [a for a, r in sorted(found, key=lambda t: -t[1].schwarz_gain)
+                  if r.error is None and r.beside[0][1] < lim]
+        plausible = [a for a in ranked if not dict(found)[a].implausible]
+        assert got == [a for a in ranked if a in got]
+        assert [a for a in got if a not in plausible] == [
+            a for a in ranked[:width] if a not in plausible]
+        assert [a for a in got if a in plausible] == plausible[:width]
 
 
 def test_a_direction_the_record_leaves_flat_is_held_and_said():

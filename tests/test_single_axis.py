@@ -37,20 +37,9 @@ def single_axis_ladder(tmp_path, capsys, channel, seed=0):
     return _LADDERS[channel, seed]
 
 
-#: With the servos and the lag offered (2026-11-27), the collective-only seed-0
-#: record's ladder adds skewed-wake and time-delay (verdict partly-explained): the
-#: lag's significant but implausible coupling (-0.03) takes one of the rule's `width`
-#: pairing places, so azimuth-bias + separate-time-constants is never tried.  Pairing
-#: plausible atoms first fixes it but moves the hidden-glauert ladder's rungs
-#: (bench/check_same_fits.py); left for the rule's next change.
-_LAG_TAKES_A_PLACE = pytest.mark.xfail(strict=True, reason="an implausible atom takes a "
-                                       "pairing place (rule line 2)")
-
-
 @pytest.mark.parametrize("channel, seed", [
     ("theta1s", 0),
-    *(pytest.param(c, s, marks=(pytest.mark.slow,) + (
-        (_LAG_TAKES_A_PLACE,) if (c, s) == ("theta0", 0) else ())) for c, s in [
+    *(pytest.param(c, s, marks=pytest.mark.slow) for c, s in [
         ("theta1c", 0), ("theta0", 0), ("theta1s", 1), ("theta1c", 2), ("theta0", 3)])])
 def test_single_axis_ladder_adds_nothing_false_and_says_what_it_cannot_see(
         tmp_path, capsys, channel, seed):

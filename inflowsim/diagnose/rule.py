@@ -33,6 +33,16 @@ What the terms mean, and why:
   least ``schwarz_min`` less (``G``): beside another atom the flexible one then
   shows what the simpler one cannot take (the pair test is made at the base, where
   a partner's part of the residual can hide it).
+- *Paired*: the pairs are those of the ``width`` significant atoms of largest gain
+  and, for each implausible one among them, the next plausible one.  An implausible
+  atom takes no plausible one's place: alone it is never admissible and only a pair
+  can make it plausible, so it is paired, and its place is given to the next
+  plausible atom too (a collective-only record's lag coupling, significant at -0.03
+  outside its range, held a place and the truth's azimuth bias and separate time
+  constants were never fitted together; the ladder named a wake skew and a delay
+  instead).  Pairing plausible atoms first instead would drop the implausible one a
+  pair makes plausible (the separate time constants beside Glauert's ``F`` on a
+  hidden-Glauert record).
 - *Plausible*: every estimate reaches its physical range within ``sigmas`` sigma, the
   range for the record's rotor (``# hub:``, :mod:`inflowsim.model.params`).
 - *Material*: the structure removes at least ``material`` of the base residual's excess
@@ -97,7 +107,8 @@ class Rule:
         Level of each likelihood-ratio test [-] (line 3), and of the residual tests
         the failures, the verdict and the conditional marking make.
     width : int
-        Significant atoms of largest gain paired with each other (line 2).
+        Significant atoms of largest gain paired with each other, and one more
+        plausible atom for each implausible one among them (line 2).
     plausible_sigmas : float
         An estimate within this many sigma of its range is plausible [-] (line 3);
         the verdict's stand-ins use the same.
@@ -479,13 +490,16 @@ def atoms(base_fit, pool=None) -> list[Atom]:
 def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             rule: Rule = DEFAULT_RULE, progress=None) -> tuple:
     """**Lattice.** Base + one atom, and base + each pair of the ``width`` significant atoms
-    of largest gain, each scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
+    of largest gain and, for each implausible one among them (only a pair can make it
+    plausible), the next plausible one, each scored by one criterion:
+    ``G = 2 (J_base - J) - k ln n``.
 
     Every atom of :func:`atoms` is fitted alone from the base estimates (every
     structure nests the base: the start reproduces its fit), holding the directions
     the record leaves flat (:func:`inflowsim.identify.estimator.null_directions`: no
     information, so holding them biases nothing else), then each pair of the
-    ``rule.width`` significant atoms of largest gain, from the better of the two
+    ``rule.width`` significant atoms of largest gain and, for each implausible one
+    among them, the next plausible one (:func:`paired`), from the better of the two
     alone.  Each structure is a :class:`Scored` row; where it is admissible (a
     single atom: always) ``judge(fit)`` measures its residual's excess for line 4.
 
@@ -517,9 +531,7 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             b.set_postfix_str(atom.label)
             found.append((atom, _single(records, base_fit, atom, band_hz, fit_fn, rule)))
             b.update()
-    lim = math.log10(rule.alpha)
-    top = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
-                 key=lambda t: -t[1].schwarz_gain)[:rule.width]
+    top = paired(found, rule)
     rows = [r for _, r in found]
     pairs = [(a, ra, b, rb) for i, (a, ra) in enumerate(top) for b, rb in top[i + 1:]]
     with bar(progress, len(pairs), f"{name}: trying pairs", "fit") as b:
@@ -539,6 +551,38 @@ def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             r = _measured(r, base, new)
         out.append(r)
     return tuple(out)
+
+
+def paired(found, rule: Rule = DEFAULT_RULE) -> list:
+    """Line 2's atoms to pair: ``[(atom, row), ...]`` of the significant single rows
+    (``found``, ``(atom, Scored)`` pairs) by gain, the ``rule.width`` of largest gain
+    and, for each implausible one among them, the next plausible one.
+
+    An implausible atom takes no plausible one's place: alone it is never admissible
+    and only a pair can make it plausible, so it is paired, and the place it holds is
+    given to the next plausible atom too.  (A collective-only record's ``glauert``
+    rung: the lag's coupling, significant at -0.03 outside its range, held the
+    fourth place and the truth's ``azimuth-bias + separate-time-constants`` was never
+    fitted; the ladder named a wake skew and a delay instead.)  Every pair of the
+    ``width`` atoms of largest gain is still made: pairing plausible atoms first
+    would drop the implausible one a pair makes plausible (the separate time
+    constants, ``tau_cs`` far out alone, beside Glauert's ``F`` on a hidden-Glauert
+    record's ``azimuth-bias`` rung).
+
+    Parameters
+    ----------
+    found : sequence of (Atom, Scored)
+        Each atom and its single row.
+    rule : Rule
+        The settings.
+    """
+    lim = math.log10(rule.alpha)
+    ranked = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
+                    key=lambda t: -t[1].schwarz_gain)
+    out = ranked[:rule.width]
+    more = sum(1 for _, r in out if r.implausible)
+    out += [(a, r) for a, r in ranked[rule.width:] if not r.implausible][:more]
+    return sorted(out, key=lambda t: -t[1].schwarz_gain)
 
 
 def _measured(row: Scored, base: dict, new: dict) -> Scored:
@@ -942,7 +986,7 @@ STATEMENT = tuple(f"{i}. {_line(s)}" for i, s in enumerate(STEPS, 1))
 
 __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_with",
            "rule_from_json", "Scored", "Decision", "Atom", "applicable", "excluded",
-           "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice",
+           "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
            "offered_effects", "least_significant", "decide", "select", "STEPS",
            "STATEMENT"]
