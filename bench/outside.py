@@ -100,14 +100,14 @@ def study_row(kind, seed, axes, rate, colour, folder) -> dict:
                  and v.excess_explained < 0.5 and not v.is_stand_in(e)]
     freed = mt.freed
     return {"kind": kind, "seed": seed, "axes": axes, "rate": rate, "colour_hz": colour,
-            "top": [top.block, top.equation, top.variable],
+            "top": [top.block, top.equation, top.variable, top.lag],
             "top_group": top.group,
             "top_significant": bool(top.significant(mt.alpha)),
             "top_refit_statistic": top.refit_statistic,
             "determination": mt.determination,
             "made_freed": bool(mt.made_freed), "freed_gain": mt.freed_gain,
-            "group": [[t.block, t.equation, t.variable] for t in mt.first_group],
-            "hit": truth.places([(t.block, t.equation, t.variable)
+            "group": [[t.block, t.equation, t.variable, t.lag] for t in mt.first_group],
+            "hit": truth.places([(t.block, t.equation, t.variable, t.lag)
                                  for t in mt.first_group]),
             "entry_hit": bool(truth.acts_at(top.block, top.equation, top.variable)),
             "freed_p": freed[0][5] if freed else None,
@@ -119,6 +119,13 @@ def study_row(kind, seed, axes, rate, colour, folder) -> dict:
             "delay": fit.parameters.get("delay"),
             "lead_unflagged": bool(lead), "unflagged_excess": unflagged,
             "cpu_s": cpu}
+
+
+def entry_text(e) -> str:
+    """``"flap beta0 x lambda0"``, a lagged entry ``"flap beta0 x lambda0 lagged
+    0.705 s"`` (rows stored before the lagged entries: three fields)."""
+    lag = e[3] if len(e) > 3 else None
+    return f"{e[0]} {e[1]} x {e[2]}" + (f" lagged {lag:.3g} s" if lag else "")
 
 
 def _determination(r) -> str:
@@ -154,7 +161,7 @@ def table(rows) -> list[str]:
            "freed (p) | verdict | named (share) | stand-ins | CPU s |",
            "|" + " --- |" * 12]
     for r in rows:
-        where = "; ".join(f"{e[0]} {e[1]} x {e[2]}" for e in r["group"]) + {
+        where = "; ".join(entry_text(e) for e in r["group"]) + {
             "determined": "", "tied": " (tied)", "not-significant": " (n.s.)"}[
             _determination(r)]
         fp = "-" if r["freed_p"] is None else f"{r['freed_p']:.1g}"
@@ -213,7 +220,7 @@ def verdict_lines(rows) -> list[str]:
     wrong = [r for r in det if not r["entry_hit"]]
     if wrong:
         out += ["", "Named but not in place: " + "; ".join(
-            f"{r['kind']} seed {r['seed']} {r['axes']} ({' '.join(r['top'])})"
+            f"{r['kind']} seed {r['seed']} {r['axes']} ({entry_text(r['top'])})"
             for r in wrong) + "."]
     open_ = [r for r in placed if _determination(r) != "determined"]
     if open_:
@@ -224,7 +231,7 @@ def verdict_lines(rows) -> list[str]:
     if miss:
         out += ["", "Not in place: " + "; ".join(
             f"{r['kind']} seed {r['seed']} {r['axes']} (first "
-            + " or ".join(f"{e[0]} {e[1]} x {e[2]}" for e in r["group"])
+            + " or ".join(entry_text(e) for e in r["group"])
             + ("" if r["top_significant"] else ", not significant") + ")"
             for r in miss) + "."]
     return out
@@ -384,7 +391,7 @@ def ablation(kinds=KINDS, say=print) -> list:
             row = {"kind": kind, "seed": seed, "axes": axes}
             for name, kw in VARIANTS:
                 t = missing_terms(rec, fit, **kw).terms[0]
-                row[name] = [t.block, t.equation, t.variable]
+                row[name] = [t.block, t.equation, t.variable, t.lag]
                 row[name + "_hit"] = bool(info["truth"].acts_at(t.block, t.equation,
                                                                 t.variable))
             say(f"{kind} {seed} {axes}: " + " ".join(
