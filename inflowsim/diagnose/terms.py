@@ -19,6 +19,13 @@ the equations* the data want.  At the base fit, every single-entry addition
   delta-3, blade torsion or a flexible control system alike; a single row's entry
   holds only a part of it, issue #36),
 
+and each flap, flap-rate and inflow variable ``v`` *lagged* (:data:`LAGGED`, in the
+flap and inflow rows and the recorded flap: ``Term.lag``): a slow state ``w`` with
+``T w' + w = v`` and ``k w`` in the row, one ``T`` for all, the corner at the band's
+lowest frequency (:func:`lag_time`: across the band the term acts as an integral of
+``v``; rotor speed through the governor, a slow elastic or engine state -- no
+constant entry is one),
+
 is tested by the score (Lagrange-multiplier) statistic of its coefficient ``k`` at
 ``k = 0`` (Rao, 1948; Silvey, 1959).  No refit: with ``J_b`` the sensitivities of
 the weighted residual ``r`` (cost Eq. (12): ``J = |r|^2 + sum n_f ln|S|``) to the
@@ -58,8 +65,11 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``): the entry whose refit lowers the cost most
-   wins;
+   refit (``Term.refit_statistic``), and then the lagged siblings of the inflow
+   entries among the first :data:`SIBLINGS` by their refits (a base whose inflow
+   time constant slowed to a slow state it absorbs leaves the constant entry's
+   score standing in for the lagged one's, whose own score is then near zero); the
+   entry whose refit lowers the cost most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
@@ -95,6 +105,21 @@ weighted by the pitch's columns (the model is linear in the entries at ``k = 0``
 its confirming refit perturbs every row.  Where an appended block routes a pitch
 input through its own states (servo actuators) the feedback would enter that
 block: such pitch entries are not tested (their sensitivity is zero).
+
+A lagged entry's model is the base's with one appended state (a
+:class:`~inflowsim.model.equations.StateBlock`: ``e = T``, ``a = -1``, ``a_z``
+picking ``v``, ``k`` into the row, or into the recorded flap through ``to_output``),
+the confirming refit's model too; its state is at rest at the record's ends (``w =
+0``: the record starts in trim and the slow state has come back by its end;
+:func:`_lag_model`).  Its transform is then ``W = V / (1 + j omega T)`` exactly, ``V``
+the variable's with its end effects, so with continuous inputs and first-order
+flapping (whose end-state basis no entry moves) the entry's column at ``k = 0`` is
+the constant entry's times that factor per bin, before the weighting and the
+nuisance projection; otherwise (held inputs: the sampled model; flap inertia: the
+quasi-steady flap rates at the ends move with a constant entry) it is differentiated
+like the others.  At rest, not steady (``w = v`` at the ends, as a catalogue block's
+states): the base's fitted end states hold inflow parts the flap hardly sees (the fast
+inflow forgets them), which through a slow state would swamp the column.
 
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
@@ -162,11 +187,11 @@ CONFOUNDED = 1e-8
 STEP = 1e-6
 #: The entries of largest score statistic refitted to confirm the map's order.
 CONFIRM = 6
-#: The entries first by their refits whose siblings (a constant entry's lagged one,
-#: a lagged entry's constant one) are refitted too: a base fit whose own
-#: parameters absorbed a slow state (the inflow's time constant slowed to it) leaves
-#: the constant entry's score standing in for the lagged one's, which only a refit
-#: shows.
+#: The entries first by their refits whose lagged siblings are refitted too where
+#: they are constant entries on an inflow variable (:func:`_sibling`): a base fit
+#: whose inflow time constant slowed to absorb a slow state driven by the inflow
+#: leaves the constant entry's score standing in for the lagged one's (near zero at
+#: that fit), which only a refit shows.
 SIBLINGS = 3
 #: Levenberg-Marquardt iterations of a confirming refit.
 REFIT_ITERATIONS = 30
@@ -274,7 +299,8 @@ class Term:
     at the fit the map is made at; ``refit_statistic`` ``2 (J - J_refit)`` of the
     confirming refit with the entry free (``None``: not refitted) and
     ``refit_coefficient`` its estimate; ``group`` what kind of entry it is
-    (:func:`physics_group`).
+    (:func:`physics_group`); ``lag`` a lagged entry's time constant (a slow state
+    driven by ``variable``, :func:`lag_time`) or ``None``.
     """
 
     block: str
@@ -306,6 +332,13 @@ class Term:
     def label(self) -> str:
         """The variable, or for a lagged entry ``"lambda0 lagged 0.706 s"``."""
         return self.variable if not self.lag else f"{self.variable} lagged {self.lag:.3g} s"
+
+    @property
+    def direction(self) -> int:
+        """The sign of the term: its refit's estimate where refitted, else the
+        one-step estimate's (:attr:`sign`, which may differ where the score is small:
+        a term a base parameter absorbed)."""
+        return int(np.sign(self.refit_coefficient)) if self.refit_coefficient else self.sign
 
     @property
     def key(self) -> tuple:
@@ -529,11 +562,8 @@ class MissingTerms:
             refit = ("" if t.refit_statistic is None else
                      f", refit likelihood ratio {t.refit_statistic:.1f}, p = "
                      f"{t.refit_p_adjusted:.2g} after Bonferroni")
-            # the sign of the refit's estimate where refitted (the one-step
-            # estimate's may differ where the score is small)
-            sign = t.sign if not t.refit_coefficient else np.sign(t.refit_coefficient)
             out.append(f"the data want a term in {t.where()} proportional to {t.label} "
-                       f"(sign {'+' if sign > 0 else '-'}, score {t.statistic:.1f}, "
+                       f"(sign {'+' if t.direction > 0 else '-'}, score {t.statistic:.1f}, "
                        f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} "
                        f"entries{refit}): {'an' if t.group[0] in 'aeiou' else 'a'} "
                        f"{t.group}{self._own_note(t)}")
@@ -1124,10 +1154,9 @@ def _freed(prob, theta, statistic):
 
 def _confirmed(table, prob, theta, confirm, siblings=None):
     """``table`` with its ``confirm`` testable entries of largest score refitted
-    (:func:`_refit`), then the siblings (:func:`_sibling`: the lagged entry of a
-    constant one, the constant of a lagged one) of the first ``siblings``
-    (:data:`SIBLINGS`) by the refits' statistic, and all ranked first by the
-    refit's statistic."""
+    (:func:`_refit`), then the lagged siblings (:func:`_sibling`) of the inflow
+    entries among the first ``siblings`` (:data:`SIBLINGS`) by the refits'
+    statistic, and all ranked first by the refit's statistic."""
     siblings = SIBLINGS if siblings is None else siblings
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
@@ -1164,12 +1193,12 @@ def _confirmed(table, prob, theta, confirm, siblings=None):
 
 
 def _sibling(t, lag):
-    """The key (:attr:`Term.key`) of ``t``'s sibling: its lagged entry (time constant
-    ``lag``) where ``t`` is a constant entry with one, its constant entry where
-    ``t`` is lagged; ``None`` otherwise."""
-    if t.lag:
-        return (t.block, t.equation, t.variable, None)
-    if lag and t.block in LAGGED_BLOCKS and t.variable in LAGGED:
+    """The key (:attr:`Term.key`) of ``t``'s lagged sibling (time constant ``lag``)
+    where ``t`` is a constant entry on an inflow variable, ``None`` otherwise: the
+    base's one parameter that lags a variable is the inflow's time constant, so only
+    an inflow entry's score can stand in for its lagged sibling's (a constant
+    entry's own score shows where its lagged sibling leads)."""
+    if lag and not t.lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
         return (t.block, t.equation, t.variable, lag)
     return None
 
