@@ -8,7 +8,8 @@ noise, or Butterworth-coloured at 3 Hz on seeds 3 and 5), ``diagnose(record,
 
 - the map's first group (:mod:`inflowsim.diagnose.terms`: shared parameters freed
   per row group, the top entries confirmed by refits, the entries whose refits
-  lie within 3.84 of the first's) and whether one of them lies in the equations
+  lie within 3.84 of the first's; lagged entries, a slow state driven by a
+  variable, among them) and whether one of them lies in the equations
   and variables where the truth's term acts (``Truth.places``); and whether the
   top entry alone does (``Truth.acts_at``);
 - whether the map names an entry at all (``MissingTerms.determination``: its
@@ -333,7 +334,10 @@ def write(rows, wall, complete=True):
              "entries lies in an equation and on a variable where the truth's term "
              "acts (`Truth.places`). A `pitch` entry (`theta1 x beta1`: both cyclics "
              "of the blade pitch fed from their own cyclic flap) lies where the "
-             "`pitch-lag` truth acts.",
+             "`pitch-lag` truth acts; a lagged entry (`flap beta0 x lambda0 lagged "
+             "0.705 s`: a slow state driven by `lambda0` forcing the coning row, its "
+             "one time constant the band's lowest corner, not the truth's) where a "
+             "truth driven by that variable acts (`rotor-speed`).",
              "",
              "`cyclic-stiffness` is not counted in the share in place: a "
              "stiffness in the cyclic flap rows alone fits, in the data, exactly as "
@@ -353,9 +357,12 @@ def write(rows, wall, complete=True):
              "here beside the share, and as misses in the top entry's share where "
              "the top of the list is not in place. The ties are single-axis records "
              "(one cyclic moved: the flap, inflow and body-rate responses all follow "
-             "that one input, and entries on different variables fit alike) and the "
-             "two-axis rotor-speed records, whose truth (a lagged state driven by the "
-             "uniform inflow, loop gain 8) is not a single constant entry; the map is "
+             "that one input, and entries on different variables fit alike). The "
+             "rotor-speed truth (a slow state driven by the uniform inflow, 0.8 s, "
+             "loop gain 8) is no constant entry: the map's lagged entry `flap beta0 x "
+             "lambda0` is it, found by the refit of the lagged sibling of a leading "
+             "inflow entry (the base's inflow time constant slows to absorb it, and "
+             "the lagged entry's own score is near zero at that fit); the map is "
              "made at the freed fit only where freeing the shared parameters adds "
              "beside the best single entry (`made_freed`, `freed_gain` in the rows).",
              "",
