@@ -65,11 +65,13 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``), and then the lagged siblings of the inflow
-   entries among the first :data:`SIBLINGS` by their refits (a base whose inflow
-   time constant slowed to a slow state it absorbs leaves the constant entry's
-   score standing in for the lagged one's, whose own score is then near zero); the
-   entry whose refit lowers the cost most wins;
+   refit (``Term.refit_statistic``), and then, for the first constant inflow entry
+   among the first :data:`SIBLINGS` by their refits, the lagged entries of every
+   inflow variable in its row, started at its estimate (a base whose inflow time
+   constant slowed to a slow state it absorbs leaves the constant entry's score
+   standing in for the lagged one's, whose own score is then near zero, and the
+   cost flat in its coefficient at zero); the entry whose refit lowers the cost
+   most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
@@ -187,11 +189,11 @@ CONFOUNDED = 1e-8
 STEP = 1e-6
 #: The entries of largest score statistic refitted to confirm the map's order.
 CONFIRM = 6
-#: The entries first by their refits whose lagged siblings are refitted too where
-#: they are constant entries on an inflow variable (:func:`_sibling`): a base fit
-#: whose inflow time constant slowed to absorb a slow state driven by the inflow
-#: leaves the constant entry's score standing in for the lagged one's (near zero at
-#: that fit), which only a refit shows.
+#: The entries first by their refits among which the first constant inflow entry
+#: has the lagged entries of every inflow variable in its row refitted too
+#: (:func:`_siblings`): a base fit whose inflow time constant slowed to absorb a
+#: slow state driven by the inflow leaves the constant entry's score standing in for
+#: the lagged one's (near zero at that fit), which only a refit shows.
 SIBLINGS = 3
 #: Levenberg-Marquardt iterations of a confirming refit.
 REFIT_ITERATIONS = 30
@@ -881,25 +883,30 @@ class _Augmented(Problem):
         return out
 
 
-def _fitted(prob, theta):
-    """``(state, J_start, J)``: the fit of ``prob`` from ``theta`` and the cost (12)
-    at the start (``S`` relaxed there); ``None`` where it fails."""
+def _fitted(prob, theta, start=None):
+    """``(state, J_0, J)``: the fit of ``prob`` from ``start`` (default ``theta``)
+    and the cost (12) at ``theta`` (``S`` relaxed there); ``None`` where it fails
+    (or, from another start, ends above ``J_0``)."""
     try:
         _, j0, _, _ = fit_from(prob, theta, max_iter=0)
-        st, j, _, _ = fit_from(prob, theta, max_iter=REFIT_ITERATIONS)
+        st, j, _, _ = fit_from(prob, theta if start is None else start,
+                               max_iter=REFIT_ITERATIONS)
     except (InputError, np.linalg.LinAlgError):
+        return None
+    if start is not None and not j <= j0:
         return None
     return st, j0, j
 
 
-def _refit(prob, theta, entry):
-    """``(2 (J_start - J), k)``: the likelihood-ratio statistic of ``prob``'s
-    problem refitted with ``entry``'s coefficient free (every parameter free
-    again, ``S`` relaxed, from ``theta`` and ``k = 0``), and the refitted
-    coefficient; ``None`` where the refit fails (an unstable model on the way)."""
+def _refit(prob, theta, entry, k0=0.0):
+    """``(2 (J_0 - J), k)``: the likelihood-ratio statistic of ``prob``'s problem
+    refitted with ``entry``'s coefficient free (every parameter free again, ``S``
+    relaxed, from ``theta`` and ``k = k0``) against it at ``theta`` and ``k = 0``,
+    and the refitted coefficient; ``None`` where the refit fails (an unstable model
+    on the way)."""
     aug = _Augmented(prob.structure, prob.spectra, prob.params(theta), prob.fixed,
                      prob.ties_given, prob.splits, entry, prob.n_inputs)
-    got = _fitted(aug, np.append(theta, 0.0))
+    got = _fitted(aug, np.append(theta, 0.0), None if not k0 else np.append(theta, k0))
     if got is None:
         return None
     st, j0, j = got
@@ -1154,17 +1161,17 @@ def _freed(prob, theta, statistic):
 
 def _confirmed(table, prob, theta, confirm, siblings=None):
     """``table`` with its ``confirm`` testable entries of largest score refitted
-    (:func:`_refit`), then the lagged siblings (:func:`_sibling`) of the inflow
-    entries among the first ``siblings`` (:data:`SIBLINGS`) by the refits'
-    statistic, and all ranked first by the refit's statistic."""
+    (:func:`_refit`), then the lagged siblings (:func:`_siblings`) of the first
+    constant inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
+    refits' statistic, and all ranked first by the refit's statistic."""
     siblings = SIBLINGS if siblings is None else siblings
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
         return table
 
-    def refitted(t):
+    def refitted(t, k0=0.0):
         row = _rows(t.block).index(t.equation)
-        got = _refit(prob, theta, (t.block, row, t.variable, t.lag))
+        got = _refit(prob, theta, (t.block, row, t.variable, t.lag), k0)
         return t if got is None else replace(
             t, refit_statistic=got[0], refit_coefficient=got[1],
             refit_p_adjusted=float(min(1.0, table.n_tested * chi2_sf(
@@ -1176,14 +1183,20 @@ def _confirmed(table, prob, theta, confirm, siblings=None):
     done = ranked([refitted(t) for t in head])
     keys = {t.key for t in done}
     by_key = {t.key: t for t in table.terms}
+    lead = next((t for t in done[:max(int(siblings), 0)] if _siblings(t, table.lag)
+                 and t.refit_coefficient), None)
     more = []
-    for t in done[:max(int(siblings), 0)]:
-        sib = by_key.get(_sibling(t, table.lag))
-        if sib is not None and sib.testable and sib.key not in keys:
-            more.append(sib)
-            keys.add(sib.key)
+    if lead is not None:
+        for key in _siblings(lead, table.lag):
+            sib = by_key.get(key)
+            if sib is not None and sib.testable and sib.key not in keys:
+                more.append(sib)
+                keys.add(sib.key)
     head = head + more
-    done = ranked(done + [refitted(t) for t in more])
+    # started off k = 0, where an absorbed slow state leaves the cost flat in k (a
+    # saddle the refit from zero stays on), at the leading entry's estimate: the
+    # lag's gain is one at low frequency
+    done = ranked(done + [refitted(t, lead.refit_coefficient) for t in more])
     if done[0].refit_statistic is not None:
         best = done[0].refit_statistic
         done = [replace(t, first_group=True) if t.refit_statistic is not None
@@ -1192,15 +1205,16 @@ def _confirmed(table, prob, theta, confirm, siblings=None):
     return replace(table, terms=tuple(done + rest), confirmed=len(done))
 
 
-def _sibling(t, lag):
-    """The key (:attr:`Term.key`) of ``t``'s lagged sibling (time constant ``lag``)
-    where ``t`` is a constant entry on an inflow variable, ``None`` otherwise: the
-    base's one parameter that lags a variable is the inflow's time constant, so only
-    an inflow entry's score can stand in for its lagged sibling's (a constant
-    entry's own score shows where its lagged sibling leads)."""
+def _siblings(t, lag):
+    """The keys (:attr:`Term.key`) of the lagged entries of every inflow variable in
+    ``t``'s row (time constant ``lag``) where ``t`` is a constant entry on an inflow
+    variable; ``()`` otherwise.  The base's one parameter that lags a variable is the
+    inflow's time constant: slowed to absorb a slow state driven by the inflow, it
+    leaves a constant inflow entry's score standing in for the lagged entry's (the
+    inflow harmonics slowed alike: any of them)."""
     if lag and not t.lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
-        return (t.block, t.equation, t.variable, lag)
-    return None
+        return tuple((t.block, t.equation, v, lag) for v in INFLOW)
+    return ()
 
 
 #: Largest temporary of the projections [bytes]: a 2-hour record's 162 columns of
