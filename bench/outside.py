@@ -361,7 +361,7 @@ def write(rows, wall, complete=True):
              "rotor-speed truth (a slow state driven by the uniform inflow, 0.8 s, "
              "loop gain 8) is no constant entry: the map's lagged entry `flap beta0 x "
              "lambda0` is it, found by the refits of the lagged inflow entries in "
-             "the row of a leading constant inflow entry (the base's inflow time "
+             "the row of a leading inflow entry (the base's inflow time "
              "constant slows to absorb it, and the lagged entry's own score is near "
              "zero at that fit); the map is "
              "made at the freed fit only where freeing the shared parameters adds "

@@ -65,11 +65,11 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``), and then, for the first constant inflow entry
-   among the first :data:`SIBLINGS` by their refits, the lagged entries of every
-   inflow variable in its row, started at its estimate (a base whose inflow time
-   constant slowed to a slow state it absorbs leaves the constant entry's score
-   standing in for the lagged one's, whose own score is then near zero, and the
+   refit (``Term.refit_statistic``), and then, for the first inflow entry (constant
+   or lagged) among the first :data:`SIBLINGS` by their refits, the lagged entries
+   of every inflow variable in its row, started at its estimate (a base whose
+   inflow time constant slowed to a slow state it absorbs leaves another inflow
+   entry standing in for the lagged one, whose own score is then near zero, and the
    cost flat in its coefficient at zero); the entry whose refit lowers the cost
    most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
@@ -189,11 +189,11 @@ CONFOUNDED = 1e-8
 STEP = 1e-6
 #: The entries of largest score statistic refitted to confirm the map's order.
 CONFIRM = 6
-#: The entries first by their refits among which the first constant inflow entry
-#: has the lagged entries of every inflow variable in its row refitted too
-#: (:func:`_siblings`): a base fit whose inflow time constant slowed to absorb a
-#: slow state driven by the inflow leaves the constant entry's score standing in for
-#: the lagged one's (near zero at that fit), which only a refit shows.
+#: The entries first by their refits among which the first inflow entry (constant
+#: or lagged) has the lagged entries of every inflow variable in its row refitted
+#: too (:func:`_siblings`): a base fit whose inflow time constant slowed to absorb a
+#: slow state driven by the inflow leaves another inflow entry of the row standing
+#: in for the lagged one (its score near zero at that fit), which only a refit shows.
 SIBLINGS = 3
 #: Levenberg-Marquardt iterations of a confirming refit.
 REFIT_ITERATIONS = 30
@@ -1161,9 +1161,9 @@ def _freed(prob, theta, statistic):
 
 def _confirmed(table, prob, theta, confirm, siblings=None):
     """``table`` with its ``confirm`` testable entries of largest score refitted
-    (:func:`_refit`), then the lagged siblings (:func:`_siblings`) of the first
-    constant inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
-    refits' statistic, and all ranked first by the refit's statistic."""
+    (:func:`_refit`), then the lagged inflow entries of the row (:func:`_siblings`)
+    of the first inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
+    refits' statistic, and all ranked first by the refit's statistic.""" 
     siblings = SIBLINGS if siblings is None else siblings
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
@@ -1207,12 +1207,13 @@ def _confirmed(table, prob, theta, confirm, siblings=None):
 
 def _siblings(t, lag):
     """The keys (:attr:`Term.key`) of the lagged entries of every inflow variable in
-    ``t``'s row (time constant ``lag``) where ``t`` is a constant entry on an inflow
-    variable; ``()`` otherwise.  The base's one parameter that lags a variable is the
-    inflow's time constant: slowed to absorb a slow state driven by the inflow, it
-    leaves a constant inflow entry's score standing in for the lagged entry's (the
-    inflow harmonics slowed alike: any of them)."""
-    if lag and not t.lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
+    ``t``'s row (time constant ``lag``) where ``t`` is an entry on an inflow variable
+    (constant or lagged); ``()`` otherwise.  The base's one parameter that lags a
+    variable is the inflow's time constant: slowed to absorb a slow state driven by
+    the inflow, it leaves another inflow entry of the row standing in for the lagged
+    one (the inflow harmonics slowed alike: any of them), whose own score is near
+    zero at that fit."""
+    if lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
         return tuple((t.block, t.equation, v, lag) for v in INFLOW)
     return ()
 
