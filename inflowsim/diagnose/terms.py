@@ -1163,7 +1163,7 @@ def _confirmed(table, prob, theta, confirm, siblings=None):
     """``table`` with its ``confirm`` testable entries of largest score refitted
     (:func:`_refit`), then the lagged inflow entries of the row (:func:`_siblings`)
     of the first inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
-    refits' statistic, and all ranked first by the refit's statistic.""" 
+    refits' statistic, and all ranked first by the refit's statistic."""
     siblings = SIBLINGS if siblings is None else siblings
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
