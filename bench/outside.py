@@ -8,7 +8,8 @@ noise, or Butterworth-coloured at 3 Hz on seeds 3 and 5), ``diagnose(record,
 
 - the map's first group (:mod:`inflowsim.diagnose.terms`: shared parameters freed
   per row group, the top entries confirmed by refits, the entries whose refits
-  lie within 3.84 of the first's) and whether one of them lies in the equations
+  lie within 3.84 of the first's; lagged entries, a slow state driven by a
+  variable, among them) and whether one of them lies in the equations
   and variables where the truth's term acts (``Truth.places``); and whether the
   top entry alone does (``Truth.acts_at``);
 - whether the map names an entry at all (``MissingTerms.determination``: its
@@ -100,14 +101,14 @@ def study_row(kind, seed, axes, rate, colour, folder) -> dict:
                  and v.excess_explained < 0.5 and not v.is_stand_in(e)]
     freed = mt.freed
     return {"kind": kind, "seed": seed, "axes": axes, "rate": rate, "colour_hz": colour,
-            "top": [top.block, top.equation, top.variable],
+            "top": [top.block, top.equation, top.variable, top.lag],
             "top_group": top.group,
             "top_significant": bool(top.significant(mt.alpha)),
             "top_refit_statistic": top.refit_statistic,
             "determination": mt.determination,
             "made_freed": bool(mt.made_freed), "freed_gain": mt.freed_gain,
-            "group": [[t.block, t.equation, t.variable] for t in mt.first_group],
-            "hit": truth.places([(t.block, t.equation, t.variable)
+            "group": [[t.block, t.equation, t.variable, t.lag] for t in mt.first_group],
+            "hit": truth.places([(t.block, t.equation, t.variable, t.lag)
                                  for t in mt.first_group]),
             "entry_hit": bool(truth.acts_at(top.block, top.equation, top.variable)),
             "freed_p": freed[0][5] if freed else None,
@@ -119,6 +120,13 @@ def study_row(kind, seed, axes, rate, colour, folder) -> dict:
             "delay": fit.parameters.get("delay"),
             "lead_unflagged": bool(lead), "unflagged_excess": unflagged,
             "cpu_s": cpu}
+
+
+def entry_text(e) -> str:
+    """``"flap beta0 x lambda0"``, a lagged entry ``"flap beta0 x lambda0 lagged
+    0.705 s"`` (rows stored before the lagged entries: three fields)."""
+    lag = e[3] if len(e) > 3 else None
+    return f"{e[0]} {e[1]} x {e[2]}" + (f" lagged {lag:.3g} s" if lag else "")
 
 
 def _determination(r) -> str:
@@ -154,7 +162,7 @@ def table(rows) -> list[str]:
            "freed (p) | verdict | named (share) | stand-ins | CPU s |",
            "|" + " --- |" * 12]
     for r in rows:
-        where = "; ".join(f"{e[0]} {e[1]} x {e[2]}" for e in r["group"]) + {
+        where = "; ".join(entry_text(e) for e in r["group"]) + {
             "determined": "", "tied": " (tied)", "not-significant": " (n.s.)"}[
             _determination(r)]
         fp = "-" if r["freed_p"] is None else f"{r['freed_p']:.1g}"
@@ -213,7 +221,7 @@ def verdict_lines(rows) -> list[str]:
     wrong = [r for r in det if not r["entry_hit"]]
     if wrong:
         out += ["", "Named but not in place: " + "; ".join(
-            f"{r['kind']} seed {r['seed']} {r['axes']} ({' '.join(r['top'])})"
+            f"{r['kind']} seed {r['seed']} {r['axes']} ({entry_text(r['top'])})"
             for r in wrong) + "."]
     open_ = [r for r in placed if _determination(r) != "determined"]
     if open_:
@@ -224,7 +232,7 @@ def verdict_lines(rows) -> list[str]:
     if miss:
         out += ["", "Not in place: " + "; ".join(
             f"{r['kind']} seed {r['seed']} {r['axes']} (first "
-            + " or ".join(f"{e[0]} {e[1]} x {e[2]}" for e in r["group"])
+            + " or ".join(entry_text(e) for e in r["group"])
             + ("" if r["top_significant"] else ", not significant") + ")"
             for r in miss) + "."]
     return out
@@ -326,7 +334,10 @@ def write(rows, wall, complete=True):
              "entries lies in an equation and on a variable where the truth's term "
              "acts (`Truth.places`). A `pitch` entry (`theta1 x beta1`: both cyclics "
              "of the blade pitch fed from their own cyclic flap) lies where the "
-             "`pitch-lag` truth acts.",
+             "`pitch-lag` truth acts; a lagged entry (`flap beta0 x lambda0 lagged "
+             "0.705 s`: a slow state driven by `lambda0` forcing the coning row, its "
+             "one time constant the band's lowest corner, not the truth's) where a "
+             "truth driven by that variable acts (`rotor-speed`).",
              "",
              "`cyclic-stiffness` is not counted in the share in place: a "
              "stiffness in the cyclic flap rows alone fits, in the data, exactly as "
@@ -346,9 +357,13 @@ def write(rows, wall, complete=True):
              "here beside the share, and as misses in the top entry's share where "
              "the top of the list is not in place. The ties are single-axis records "
              "(one cyclic moved: the flap, inflow and body-rate responses all follow "
-             "that one input, and entries on different variables fit alike) and the "
-             "two-axis rotor-speed records, whose truth (a lagged state driven by the "
-             "uniform inflow, loop gain 8) is not a single constant entry; the map is "
+             "that one input, and entries on different variables fit alike). The "
+             "rotor-speed truth (a slow state driven by the uniform inflow, 0.8 s, "
+             "loop gain 8) is no constant entry: the map's lagged entry `flap beta0 x "
+             "lambda0` is it, found by the refits of the lagged inflow entries in "
+             "the row of a leading inflow entry (the base's inflow time "
+             "constant slows to absorb it, and the lagged entry's own score is near "
+             "zero at that fit); the map is "
              "made at the freed fit only where freeing the shared parameters adds "
              "beside the best single entry (`made_freed`, `freed_gain` in the rows).",
              "",
@@ -384,7 +399,7 @@ def ablation(kinds=KINDS, say=print) -> list:
             row = {"kind": kind, "seed": seed, "axes": axes}
             for name, kw in VARIANTS:
                 t = missing_terms(rec, fit, **kw).terms[0]
-                row[name] = [t.block, t.equation, t.variable]
+                row[name] = [t.block, t.equation, t.variable, t.lag]
                 row[name + "_hit"] = bool(info["truth"].acts_at(t.block, t.equation,
                                                                 t.variable))
             say(f"{kind} {seed} {axes}: " + " ".join(

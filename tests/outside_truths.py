@@ -90,15 +90,17 @@ class Truth:
     lag: float | None = None
     gain: float = 0.0
 
-    def acts_at(self, block: str, equation: str, variable: str) -> bool:
+    def acts_at(self, block: str, equation: str, variable: str, lag=None) -> bool:
         """Whether a map entry (``block``, ``equation``, ``variable``) lies in the
-        equations and variables where this truth's term acts."""
+        equations and variables where this truth's term acts.  A lagged entry
+        (``lag`` [s]: a slow state driven by ``variable``) is driven by its
+        variable: it lies there alike."""
         return (block, equation) in self.equations and variable in self.variables
 
     def places(self, entries) -> bool:
-        """Whether the map's first group ``entries`` (``((block, equation, variable),
-        ...)``: the entries the record cannot tell apart, most often one) places
-        this truth's term: one of them lies where it acts (:meth:`acts_at`)."""
+        """Whether the map's first group ``entries`` (``((block, equation, variable[,
+        lag]), ...)``: the entries the record cannot tell apart, most often one)
+        places this truth's term: one of them lies where it acts (:meth:`acts_at`)."""
         return any(self.acts_at(*e) for e in entries)
 
     def to_json(self) -> dict:

@@ -243,10 +243,12 @@ def test_the_map_is_a_frozen_picklable_table_and_draws(tmp_path):
     with pytest.raises(AttributeError):
         terms.alpha = 0.5
     grid = terms.grid()
-    assert grid.shape == (9, len(terms.variables))
+    # the variables, then the lagged entries' (a slow state each drives)
+    assert terms.lagged and grid.shape == (9, len(terms.variables) + len(terms.lagged))
     i = terms.equations.index(("flap", "beta1s"))
-    j = terms.variables.index("beta1c")
+    j = terms.columns.index(("beta1c", None))
     assert grid[i, j] == np.nanmax(grid)
+    assert np.isfinite(grid[i, terms.columns.index(("beta1c", terms.lag))])
     fig = missing_terms_plot(terms, tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 1000
     assert fig.axes
@@ -337,13 +339,68 @@ def test_the_map_by_groups_of_columns_equals_the_whole(monkeypatch):
     rows = 6 * fit.data[0].f_hz.size
     monkeypatch.setattr(terms, "MAP_BYTES", 8 * rows * 5)
     inputs = whole.variables[len(terms.FLAP + terms.FLAP_RATE + terms.INFLOW):]
-    chunks = terms._column_chunks(terms._entries(inputs), rows)
+    entries = terms._entries(inputs, whole.lag)
+    chunks = terms._column_chunks(entries, rows)
     assert len(chunks) > 10 and sorted(sum(chunks, [])) == list(range(len(whole.terms)))
-    parts = {(t.block, t.equation, t.variable): t
-             for t in missing_terms(rec, fit, confirm=0).terms}    # (refits: not chunked)
+    # a lagged entry with its constant one (its column is made from it)
+    for c in chunks:
+        assert all(entries.index(entries[e][:3] + (None,)) in c for e in c
+                   if entries[e][3]), [entries[e] for e in c]
+    parts = {t.key: t for t in missing_terms(rec, fit, confirm=0).terms}  # (refits: not chunked)
     for b in whole.terms:
-        a = parts[(b.block, b.equation, b.variable)]
+        a = parts[b.key]
         assert a.testable == b.testable
         assert np.allclose([a.statistic, a.p_value, a.coefficient, a.gradient],
                            [b.statistic, b.p_value, b.coefficient, b.gradient],
-                           rtol=1e-11, atol=0), (b.block, b.equation, b.variable)
+                           rtol=1e-11, atol=0), b.key
+
+
+@pytest.mark.parametrize("hold", ["zoh", "continuous"])
+def test_a_lagged_entry_s_column_is_the_refit_model_s_derivative(hold):
+    """A lagged entry (a slow state ``T w' + w = v`` with ``k w`` in the row): its
+    column in the map is the derivative at ``k = 0`` of the very model its
+    confirming refit fits (``_Augmented``: an appended state block at rest at the
+    record's ends), weighted as the map weights; with continuous inputs and
+    first-order flapping it is made as the constant entry's column times ``1 / (1 +
+    j 2 pi f T)`` per bin, exactly (the held record's spectra taken as continuous:
+    the same identity, another model of the same data)."""
+    import inflowsim.diagnose.terms as terms
+    from inflowsim.identify.problem import stack
+    rec, fit, _ = mapped("flap", 0)
+    s = fit.structure
+    full = spectra_of(as_records(rec), s, fit.band_hz, None, None)
+    if hold == "continuous":
+        full = [replace(sp, hold="continuous") for sp in full]
+    prob, theta, st, _, _ = terms._made_at(s, full, fit, (), s.n_inputs)
+    if hold == "continuous":
+        st = fit_state(prob, theta, list(fit.S))
+    sp, W, nu = full[0], st.weights[0], st.nus[0]
+    lag = terms.lag_time(fit.band_hz)
+    assert lag == pytest.approx(1 / (2 * np.pi * fit.band_hz[0]))
+    lagged = [("flap", 0, "lambda0", lag), ("inflow", 1, "beta1s", lag),
+              ("measurement", 2, "beta0", lag), ("flap", 2, "beta1c_prime", lag)]
+    entries = [e[:3] + (None,) for e in lagged] + lagged
+    blk = np.empty((6 * sp.f_hz.size, len(entries)))
+    terms._sensitivities(blk, entries, s, prob, theta, sp, W, nu, s.n_inputs)
+    h = 1e-6
+    for c, e in enumerate(lagged, start=len(lagged)):
+        aug = terms._Augmented(s, [sp], prob.params(theta), prob.fixed, prob.ties_given,
+                               (), e, s.n_inputs)
+        (yp,), (ym,), (y0,) = aug._responses_many(
+            [np.append(theta, x) for x in (h, -h, 0.0)])
+        dy = ((yp[0] + yp[1] @ nu) - (ym[0] + ym[1] @ nu)) / (2 * h)
+        ref = -stack(dy @ W.T)
+        assert np.abs(blk[:, c] - ref).max() <= 1e-6 * np.abs(ref).max(), (hold, e)
+        # at k = 0 the refit's model is the base's
+        base = terms.model_from_equations(s, *prob.equations(theta, sp.constants),
+                                          sp.constants, n_inputs=s.n_inputs)
+        y_u, y_nu, _ = terms.flap_response(base, sp)
+        np.testing.assert_allclose(y0[0], y_u, rtol=0, atol=1e-12 * np.abs(y_u).max())
+        if hold == "continuous":
+            # the constant entry's column over the lag, bin by bin
+            const = blk[:, c - len(lagged)]
+            n = const.size // 2
+            z = (const[:n] + 1j * const[n:]).reshape(-1, 3)
+            lz = z / (1 + 2j * np.pi * sp.f_hz * lag)[:, None]
+            np.testing.assert_allclose(blk[:, c], np.concatenate([lz.real.ravel(),
+                                                                  lz.imag.ravel()]))

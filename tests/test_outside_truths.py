@@ -119,6 +119,26 @@ def test_the_map_places_a_pitch_lag_in_the_cyclic_pitch(tmp_path):
 
 
 @pytest.mark.slow
+def test_the_map_determines_a_slow_state_as_a_lagged_entry(tmp_path):
+    """Issue 36: rotor-speed variation is a slow state driven by the uniform inflow
+    (``tau_w w' + w = -g lambda0``, 0.8 s) forcing the coning row: no constant entry
+    is it, and entries on other variables tied with ``beta0 x lambda0``.  The lagged
+    entry (the map's one ``T``, the band's lowest corner, not the truth's) is named
+    alone, in place, its coefficient near the truth's ``-k g`` (the lag differs)."""
+    rec, info = outside_record(tmp_path / "r.csv", "rotor-speed", 2, rate=100.0,
+                               axes="both")
+    terms = missing_terms(rec, identify(rec, "basic"))
+    top = terms.answer
+    assert top is not None, terms.rows[:3]
+    assert (top.block, top.equation, top.variable) == ("flap", "beta0", "lambda0")
+    assert top.lag == pytest.approx(1 / (2 * np.pi * 0.2256), rel=0.02)
+    assert info["truth"].acts_at(*top.key)
+    truth = info["truth"]
+    assert top.refit_coefficient == pytest.approx(-truth.strength * truth.gain, rel=0.2)
+    assert "lambda0 lagged" in " ".join(terms.describe())
+
+
+@pytest.mark.slow
 def test_the_done_when_study_places_the_map_s_first_group():
     """The map's first group (the entries the record cannot tell apart) lies where
     the truth's term acts on >= 90 % of the records of the kinds a single entry can

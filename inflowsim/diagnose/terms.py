@@ -19,6 +19,13 @@ the equations* the data want.  At the base fit, every single-entry addition
   delta-3, blade torsion or a flexible control system alike; a single row's entry
   holds only a part of it, issue #36),
 
+and each flap, flap-rate and inflow variable ``v`` *lagged* (:data:`LAGGED`, in the
+flap and inflow rows and the recorded flap: ``Term.lag``): a slow state ``w`` with
+``T w' + w = v`` and ``k w`` in the row, one ``T`` for all, the corner at the band's
+lowest frequency (:func:`lag_time`: across the band the term acts as an integral of
+``v``; rotor speed through the governor, a slow elastic or engine state -- no
+constant entry is one),
+
 is tested by the score (Lagrange-multiplier) statistic of its coefficient ``k`` at
 ``k = 0`` (Rao, 1948; Silvey, 1959).  No refit: with ``J_b`` the sensitivities of
 the weighted residual ``r`` (cost Eq. (12): ``J = |r|^2 + sum n_f ln|S|``) to the
@@ -58,8 +65,13 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``): the entry whose refit lowers the cost most
-   wins;
+   refit (``Term.refit_statistic``), and then, for the first inflow entry (constant
+   or lagged) among the first :data:`SIBLINGS` by their refits, the lagged entries
+   of every inflow variable in its row, started at its estimate (a base whose
+   inflow time constant slowed to a slow state it absorbs leaves another inflow
+   entry standing in for the lagged one, whose own score is then near zero, and the
+   cost flat in its coefficient at zero); the entry whose refit lowers the cost
+   most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
@@ -96,6 +108,21 @@ its confirming refit perturbs every row.  Where an appended block routes a pitch
 input through its own states (servo actuators) the feedback would enter that
 block: such pitch entries are not tested (their sensitivity is zero).
 
+A lagged entry's model is the base's with one appended state (a
+:class:`~inflowsim.model.equations.StateBlock`: ``e = T``, ``a = -1``, ``a_z``
+picking ``v``, ``k`` into the row, or into the recorded flap through ``to_output``),
+the confirming refit's model too; its state is at rest at the record's ends (``w =
+0``: the record starts in trim and the slow state has come back by its end;
+:func:`_lag_model`).  Its transform is then ``W = V / (1 + j omega T)`` exactly, ``V``
+the variable's with its end effects, so with continuous inputs and first-order
+flapping (whose end-state basis no entry moves) the entry's column at ``k = 0`` is
+the constant entry's times that factor per bin, before the weighting and the
+nuisance projection; otherwise (held inputs: the sampled model; flap inertia: the
+quasi-steady flap rates at the ends move with a constant entry) it is differentiated
+like the others.  At rest, not steady (``w = v`` at the ends, as a catalogue block's
+states): the base's fitted end states hold inflow parts the flap hardly sees (the fast
+inflow forgets them), which through a slow state would swamp the column.
+
 The sensitivities ``j`` are central differences of the same frequency model the
 estimator fits (:func:`inflowsim.identify.freqmodel.flap_response`: holds, delays
 and end effects included) with the one entry perturbed in the structured equations
@@ -117,11 +144,14 @@ from ..identify.freqmodel import continuous_input, flap_response
 from ..identify.problem import Problem, stack
 from ..errors import InputError
 from ..identify.transform import DEFAULT_BAND, record_spectra
-from ..model.build import apply_effects, model_from_equations
+from ..channels import input_scale
+from ..model.build import apply_effects, model_from_equations, steady_manifold
+from ..model.equations import StateBlock, rotation
 from .tails import chi2_sf
 
 __all__ = ["ALPHA", "Term", "MissingTerms", "missing_terms", "physics_group",
-           "BLOCKS", "PITCH_ROWS", "PITCH_FEEDS", "TIE"]
+           "BLOCKS", "PITCH_ROWS", "PITCH_FEEDS", "TIE", "LAGGED", "LAGGED_BLOCKS",
+           "lag_time"]
 
 #: The blocks of equations tested, in display order: the flap and inflow
 #: equations, the recorded flap, and the blade pitch (a term fed back into a pitch
@@ -142,6 +172,16 @@ PITCH_FEEDS = {
     ("theta1", "beta1_prime"): ((1, "beta1c_prime"), (2, "beta1s_prime")),
     ("theta1", "lambda1"): ((1, "lambda1c"), (2, "lambda1s")),
 }
+#: The variables of the lagged entries (:func:`lag_time`): the flap angles, flap
+#: rates and inflow, each driving a slow state of its own.  Not the inputs: a
+#: lagged input is a servo or a filter of the input, which the catalogue's own
+#: state blocks model where it matters (servo actuators).
+LAGGED = FLAP + FLAP_RATE + INFLOW
+#: The blocks with lagged entries: the rows of the flap and inflow equations and the
+#: recorded flap.
+LAGGED_BLOCKS = ("flap", "inflow", "measurement")
+#: The effect name of a lagged entry's appended state (:class:`StateBlock`).
+LAG_BLOCK = "lagged-entry"
 #: Relative information left after projecting off the base's parameters below which
 #: an entry cannot be told from them.
 CONFOUNDED = 1e-8
@@ -149,6 +189,12 @@ CONFOUNDED = 1e-8
 STEP = 1e-6
 #: The entries of largest score statistic refitted to confirm the map's order.
 CONFIRM = 6
+#: The entries first by their refits among which the first inflow entry (constant
+#: or lagged) has the lagged entries of every inflow variable in its row refitted
+#: too (:func:`_siblings`): a base fit whose inflow time constant slowed to absorb a
+#: slow state driven by the inflow leaves another inflow entry of the row standing
+#: in for the lagged one (its score near zero at that fit), which only a refit shows.
+SIBLINGS = 3
 #: Levenberg-Marquardt iterations of a confirming refit.
 REFIT_ITERATIONS = 30
 #: Typical size of a shared parameter's offset in one row group, relative to the
@@ -172,13 +218,38 @@ _PITCH = set(INPUTS[:3])
 _HUB = {"muz", "q", "p", "qdot", "pdot"}
 
 
-def physics_group(block: str, equation: str, variable: str) -> str:
+def lag_time(band_hz=DEFAULT_BAND) -> float:
+    """The lagged entries' one time constant ``T = 1 / (2 pi f_lo)`` [s]: the corner
+    of the lag at the analysis band's lowest frequency ``f_lo`` (0.706 s for the
+    default band, 0.2256-1.58 Hz).
+
+    Across the band the lag ``1 / (1 + j 2 pi f T)`` turns from -45 degrees at its
+    bottom to -82 at its top (the default band) and its gain falls as ``1 / f``: the
+    term acts as an integral of its variable, what a state slower than the band
+    driven by it does (rotor speed through the governor, a slow elastic or engine
+    state), and what neither a constant entry (phase 0) nor a rate entry (+90
+    degrees) can.  A slower state looks the same in the band up to its gain (which
+    the coefficient takes up); a state faster than the band acts as the constant
+    entry there.  One ``T``, fixed by the band alone: two a decade apart would tie
+    with each other in the band's factor of seven.
+    """
+    return 1.0 / (2.0 * np.pi * float(band_hz[0]))
+
+
+def physics_group(block: str, equation: str, variable: str, lag: float | None = None) -> str:
     """What a term in ``equation`` (of ``block``) proportional to ``variable`` *is*:
     the kind of entry (a stiffness, a damping, a forcing, a sensor's gain ...),
     never a guess at its cause where several causes give the same entry (a
     cross flap-rate term comes from servo lags, blade lag or gyroscopic coupling
-    alike; issue #36)."""
+    alike; issue #36).  ``lag`` [s]: a lagged entry, a slow state ``w`` with
+    ``T w' + w = variable`` in the equation (:func:`lag_time`)."""
     kind = _KIND_OF[variable]
+    if lag:
+        what = {"flap": "flap angle", "rate": "flap rate", "inflow": "inflow"}[kind]
+        into = {"flap": "the flap", "inflow": "the inflow",
+                "measurement": "the recorded flap"}[block]
+        return (f"slow state driven by the {what}, forcing {into} (a first-order "
+                f"lag of {lag:.3g} s)")
     own = equation == variable or (kind == "rate" and variable == f"{equation}_prime")
     if block == "flap":
         if kind == "flap":
@@ -230,7 +301,8 @@ class Term:
     at the fit the map is made at; ``refit_statistic`` ``2 (J - J_refit)`` of the
     confirming refit with the entry free (``None``: not refitted) and
     ``refit_coefficient`` its estimate; ``group`` what kind of entry it is
-    (:func:`physics_group`).
+    (:func:`physics_group`); ``lag`` a lagged entry's time constant (a slow state
+    driven by ``variable``, :func:`lag_time`) or ``None``.
     """
 
     block: str
@@ -253,6 +325,28 @@ class Term:
     #: divided by the map's degrees-of-freedom factor), Bonferroni over the entries
     #: tested (``None``: not refitted)
     refit_p_adjusted: float | None = None
+    #: a lagged entry: the time constant ``T`` [s] of the slow state ``w``, ``T w' +
+    #: w = variable``, the equation gaining ``coefficient * w`` (:func:`lag_time`);
+    #: ``None``: the variable itself
+    lag: float | None = None
+
+    @property
+    def label(self) -> str:
+        """The variable, or for a lagged entry ``"lambda0 lagged 0.706 s"``."""
+        return self.variable if not self.lag else f"{self.variable} lagged {self.lag:.3g} s"
+
+    @property
+    def direction(self) -> int:
+        """The sign of the term: its refit's estimate where refitted, else the
+        one-step estimate's (:attr:`sign`, which may differ where the score is small:
+        a term a base parameter absorbed)."""
+        return int(np.sign(self.refit_coefficient)) if self.refit_coefficient else self.sign
+
+    @property
+    def key(self) -> tuple:
+        """``(block, equation, variable, lag)``: the entry (a lagged one beside the
+        constant one of its variable)."""
+        return (self.block, self.equation, self.variable, self.lag)
 
     def significant(self, alpha: float = ALPHA) -> bool:
         """Its score test, Holm-adjusted, or its refit's likelihood ratio,
@@ -283,7 +377,8 @@ class Term:
                 "first_group": bool(self.first_group),
                 "refit_p_adjusted": (None if self.refit_p_adjusted is None
                                      else float(self.refit_p_adjusted)),
-                "significant": bool(self.significant(alpha))}
+                "significant": bool(self.significant(alpha)),
+                "lag": None if not self.lag else float(self.lag)}
 
 
 @dataclass(frozen=True)
@@ -318,6 +413,17 @@ class MissingTerms:
     freed_gain: float | None = None
     #: the degrees-of-freedom factor the statistics are divided by for their tests
     dof: float = 1.0
+    #: the lagged entries' time constant ``T`` [s] (:func:`lag_time`; ``None``: none
+    #: tested) and their variables (the map's further columns, :attr:`columns`)
+    lag: float | None = None
+    lagged: tuple = ()
+
+    @property
+    def columns(self) -> tuple:
+        """The map's columns ``((variable, lag), ...)``: every variable (``lag``
+        ``None``), then the lagged ones (:attr:`lagged`, ``lag`` :attr:`lag`)."""
+        return tuple((v, None) for v in self.variables) + tuple(
+            (v, self.lag) for v in self.lagged)
 
     @property
     def rows(self) -> tuple:
@@ -370,7 +476,7 @@ class MissingTerms:
         first."""
         def named(t):
             return {"block": t.block, "equation": t.equation, "variable": t.variable,
-                    "group": t.group}
+                    "group": t.group, "lag": None if not t.lag else float(t.lag)}
         a = self.answer
         eq = self.equation
         return {"determination": self.determination,
@@ -389,15 +495,16 @@ class MissingTerms:
                  "statistic": st, "p_value": pv} for n, w, a, b, st, pv in self.freed]
 
     def grid(self) -> np.ndarray:
-        """``-log10 p`` (unadjusted) per ``(equation, variable)``; NaN where the
-        entry was not tested or not testable."""
-        out = np.full((len(self.equations), len(self.variables)), np.nan)
+        """``-log10 p`` (unadjusted) per ``(equation, column)`` (:attr:`columns`: the
+        variables, then the lagged ones); NaN where the entry was not tested or not
+        testable."""
+        out = np.full((len(self.equations), len(self.columns)), np.nan)
         ri = {e: i for i, e in enumerate(self.equations)}
-        ci = {v: j for j, v in enumerate(self.variables)}
+        ci = {c: j for j, c in enumerate(self.columns)}
         for t in self.terms:
-            if t.testable and (t.block, t.equation) in ri and t.variable in ci:
-                out[ri[(t.block, t.equation)], ci[t.variable]] = -np.log10(
-                    max(t.p_value, 1e-300))
+            c = (t.variable, t.lag or None)
+            if t.testable and (t.block, t.equation) in ri and c in ci:
+                out[ri[(t.block, t.equation)], ci[c]] = -np.log10(max(t.p_value, 1e-300))
         return out
 
     def describe_freed(self) -> list[str]:
@@ -421,7 +528,7 @@ class MissingTerms:
         base fit where shared parameters act in every row of its block: that it is
         hardly told from the other row group's own term moved the other way (the
         shared parameter moved with it)."""
-        own = t.block in ("flap", "inflow") and (
+        own = t.block in ("flap", "inflow") and not t.lag and (
             t.variable == t.equation or t.variable == f"{t.equation}_prime")
         if not own or self.made_freed or not any(
                 f" {t.block} " in w for _, w, *_ in self.freed):
@@ -449,7 +556,7 @@ class MissingTerms:
             out.append("the record cannot tell apart the first " + str(len(group)) +
                        " entries (their refits lower the cost to within "
                        f"{TIE:g} of each other): a term in " + ", or in ".join(
-                           f"{t.where()} proportional to {t.variable}" for t in group)
+                           f"{t.where()} proportional to {t.label}" for t in group)
                        + ("; which of them is not determined" if self.equation is None
                           else f"; all in {group[0].where()}: the equation is "
                           "determined, the variable not"))
@@ -457,8 +564,8 @@ class MissingTerms:
             refit = ("" if t.refit_statistic is None else
                      f", refit likelihood ratio {t.refit_statistic:.1f}, p = "
                      f"{t.refit_p_adjusted:.2g} after Bonferroni")
-            out.append(f"the data want a term in {t.where()} proportional to {t.variable} "
-                       f"(sign {'+' if t.sign > 0 else '-'}, score {t.statistic:.1f}, "
+            out.append(f"the data want a term in {t.where()} proportional to {t.label} "
+                       f"(sign {'+' if t.direction > 0 else '-'}, score {t.statistic:.1f}, "
                        f"p = {t.p_adjusted:.2g} after Holm over {self.n_tested} "
                        f"entries{refit}): {'an' if t.group[0] in 'aeiou' else 'a'} "
                        f"{t.group}{self._own_note(t)}")
@@ -472,15 +579,53 @@ def _rows(block):
     return {"inflow": INFLOW, "pitch": PITCH_ROWS}.get(block, FLAP)
 
 
-def _entries(inputs):
-    """``[(block, row, variable), ...]`` in map order."""
+def _entries(inputs, lag=None):
+    """``[(block, row, variable, lag), ...]`` in map order: the constant entries
+    (``lag`` ``None``), then, where ``lag`` [s] is given, the lagged ones
+    (:data:`LAGGED` in :data:`LAGGED_BLOCKS`; the recorded flap's of the flap and
+    inflow, as its constant entries)."""
     states = FLAP + FLAP_RATE + INFLOW
     out = []
     for block, rows in (("flap", FLAP), ("inflow", INFLOW)):
-        out += [(block, i, v) for i in range(3) for v in states + tuple(inputs)]
-    out += [("measurement", i, v) for i in range(3) for v in FLAP + INFLOW + tuple(inputs)]
-    out += [("pitch", PITCH_ROWS.index(e), v) for e, v in PITCH_FEEDS]
+        out += [(block, i, v, None) for i in range(3) for v in states + tuple(inputs)]
+    out += [("measurement", i, v, None) for i in range(3)
+            for v in FLAP + INFLOW + tuple(inputs)]
+    out += [("pitch", PITCH_ROWS.index(e), v, None) for e, v in PITCH_FEEDS]
+    if lag:
+        out += [(block, i, v, float(lag)) for block in LAGGED_BLOCKS for i in range(3)
+                for v in (LAGGED if block != "measurement" else FLAP + INFLOW)]
     return out
+
+
+def _lagged(eq, meas, block, i, variable, k, t_az):
+    """``eq`` with lagged entry ``(block, i, variable)`` appended at coefficient
+    ``k``: a state ``w`` with ``t_az w' + w = variable`` (azimuth time: ``t_az = T
+    Omega``) and ``k w`` on the right-hand side of row ``i`` of the flap or inflow
+    equation, or in the recorded flap ``i`` (``meas``: the output map's flap block,
+    azimuth bias and an effect's own terms, which the recorded flap sees ``w``
+    through).  A :class:`StateBlock`: at its ends the state is steady, ``w =
+    variable`` (:func:`inflowsim.model.build.steady_manifold`)."""
+    a_z = np.zeros((1, 9))                          # z = (beta, lambda, beta')
+    a_z[0, (FLAP + INFLOW + FLAP_RATE).index(variable)] = 1.0
+    f_x, l_x, to_output = np.zeros((3, 1)), np.zeros((3, 1)), None
+    if block == "flap":
+        f_x[i, 0] = k
+    elif block == "inflow":
+        l_x[i, 0] = k
+    else:
+        # what the block adds to the model's flap, which the output map turns into
+        # k w in recorded channel i alone
+        c = np.eye(3)
+        c[1:3, 1:3] = rotation(meas.azimuth_bias)
+        if meas.flap_map is not None:
+            c = c + np.asarray(meas.flap_map, dtype=float)[:, :3]
+        to_output = np.zeros((6, 1))
+        to_output[:3, 0] = np.linalg.solve(c, k * np.eye(3)[i])
+    bl = StateBlock(effect=LAG_BLOCK, states=("w",), e=np.array([[float(t_az)]]),
+                    a=np.array([[-1.0]]), a_z=a_z,
+                    b=np.zeros((1, np.asarray(eq.h_u).shape[1])), f_x=f_x, l_x=l_x,
+                    to_output=to_output)
+    return eq.with_(blocks=tuple(eq.blocks) + (bl,))
 
 
 def _pitch_weights(eq, j):
@@ -534,6 +679,32 @@ def _perturb(eq, block, i, variable, k):
     m = np.array(getattr(eq, name), dtype=float)
     m[i, j] += sign * k
     return eq.with_(**{name: m})
+
+
+def _lag_model(s, p, eq, meas, k, n_in):
+    """The model of ``eq`` whose last appended state is a lagged entry's
+    (:func:`_lagged`), that state at rest at the record's ends (``w = 0``; every
+    other state after the first six steady with it, as without it): the record
+    starts in trim, and the slow state has come back by its end.
+
+    The steady state of the lag itself (``w = variable``, as
+    :func:`~inflowsim.model.build.steady_manifold` would give) would tie ``w``'s
+    ends to the base's end states, whose inflow parts the flap hardly sees (fitted
+    values of thousands where the fast inflow forgets them): through a slow state
+    they would swamp the term's column.  At rest, the lag's transform is exactly
+    ``V / (1 + j omega T)`` (continuous inputs), ``V`` its variable's with its end
+    effects: at ``k = 0`` the entry's column is the constant entry's times that
+    factor per bin for first-order flapping (:func:`_sensitivities` differentiates
+    this model, which holds for held inputs and flap inertia too)."""
+    m = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
+    n = m.A.shape[0]
+    if n - 1 > 6:
+        P, q = steady_manifold(m.E[:-1, :-1], m.A[:-1, :-1], np.asarray(m.B)[:-1],
+                               input_scale(k.omega)[:n_in])
+    else:
+        P, q = np.eye(6), np.zeros((6, n_in))
+    return replace(m, end_basis=np.vstack([P, np.zeros((1, P.shape[1]))]),
+                   end_input=np.vstack([q, np.zeros((1, n_in))]))
 
 
 def _predicted(model, sp, nu):
@@ -684,19 +855,24 @@ class _Augmented(Problem):
                 k = sp.constants
                 p, eq, meas = self.equations(theta, k)
                 if self.entry is not None:
-                    block, i, v = self.entry
-                    if block != "measurement":
+                    block, i, v, lag = self.entry
+                    if lag:
+                        eq = _lagged(eq, meas, block, i, v, kv, lag * k.omega)
+                    elif block != "measurement":
                         eq = _perturb_entry(eq, block, i, v, kv)
                     elif _KIND_OF[v] != "input":
                         fm = np.zeros((3, 6)) if meas.flap_map is None else \
                             np.array(meas.flap_map, dtype=float)
                         fm[i, (FLAP + INFLOW).index(v)] += kv
                         meas = meas.with_(flap_map=fm)
-                m = model_from_equations(self.structure, p, eq, meas, k,
-                                         n_inputs=self.n_inputs)
+                if self.entry is not None and self.entry[3]:
+                    m = _lag_model(self.structure, p, eq, meas, k, self.n_inputs)
+                else:
+                    m = model_from_equations(self.structure, p, eq, meas, k,
+                                             n_inputs=self.n_inputs)
                 y_u, y_nu, _ = flap_response(m, sp)
                 if self.entry is not None and self.entry[0] == "measurement" and \
-                        _KIND_OF[self.entry[2]] == "input":
+                        not self.entry[3] and _KIND_OF[self.entry[2]] == "input":
                     y_u = y_u.copy()
                     y_u[:, self.entry[1]] += kv * _feedthrough(
                         m, sp, self.entry[1], INPUTS.index(self.entry[2]))
@@ -707,25 +883,30 @@ class _Augmented(Problem):
         return out
 
 
-def _fitted(prob, theta):
-    """``(state, J_start, J)``: the fit of ``prob`` from ``theta`` and the cost (12)
-    at the start (``S`` relaxed there); ``None`` where it fails."""
+def _fitted(prob, theta, start=None):
+    """``(state, J_0, J)``: the fit of ``prob`` from ``start`` (default ``theta``)
+    and the cost (12) at ``theta`` (``S`` relaxed there); ``None`` where it fails
+    (or, from another start, ends above ``J_0``)."""
     try:
         _, j0, _, _ = fit_from(prob, theta, max_iter=0)
-        st, j, _, _ = fit_from(prob, theta, max_iter=REFIT_ITERATIONS)
+        st, j, _, _ = fit_from(prob, theta if start is None else start,
+                               max_iter=REFIT_ITERATIONS)
     except (InputError, np.linalg.LinAlgError):
+        return None
+    if start is not None and not j <= j0:
         return None
     return st, j0, j
 
 
-def _refit(prob, theta, entry):
-    """``(2 (J_start - J), k)``: the likelihood-ratio statistic of ``prob``'s
-    problem refitted with ``entry``'s coefficient free (every parameter free
-    again, ``S`` relaxed, from ``theta`` and ``k = 0``), and the refitted
-    coefficient; ``None`` where the refit fails (an unstable model on the way)."""
+def _refit(prob, theta, entry, k0=0.0):
+    """``(2 (J_0 - J), k)``: the likelihood-ratio statistic of ``prob``'s problem
+    refitted with ``entry``'s coefficient free (every parameter free again, ``S``
+    relaxed, from ``theta`` and ``k = k0``) against it at ``theta`` and ``k = 0``,
+    and the refitted coefficient; ``None`` where the refit fails (an unstable model
+    on the way)."""
     aug = _Augmented(prob.structure, prob.spectra, prob.params(theta), prob.fixed,
                      prob.ties_given, prob.splits, entry, prob.n_inputs)
-    got = _fitted(aug, np.append(theta, 0.0))
+    got = _fitted(aug, np.append(theta, 0.0), None if not k0 else np.append(theta, k0))
     if got is None:
         return None
     st, j0, j = got
@@ -734,7 +915,7 @@ def _refit(prob, theta, entry):
 
 def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
                   alpha: float = ALPHA, confirm: int = CONFIRM,
-                  free_shared: bool | str = True) -> MissingTerms:
+                  free_shared: bool | str = True, lag="band") -> MissingTerms:
     """Score map of every single-entry addition at a base fit.
 
     Parameters
@@ -760,6 +941,10 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
         :data:`FREED_LEVEL` (both maps made, their first entries' refits compared;
         else at the base fit, the freed values still reported); ``"always"``: at
         the freed fit whatever that comparison; False: at the base fit itself.
+    lag : "band", float or None
+        The lagged entries' time constant [s]: ``"band"`` the corner at the band's
+        lowest frequency (:func:`lag_time`), a number that, ``None`` no lagged
+        entries.
 
     Returns
     -------
@@ -784,11 +969,17 @@ def missing_terms(records, fit, band_hz=DEFAULT_BAND, hold=None,
     full = spectra if n_in == s.n_inputs else [
         record_spectra(r, inputs, band_hz, None, hold) for r in recs]
     splits = shared_parameters(fit) if free_shared else ()
-    base = _map_at(s, full, fit, (), n_in, inputs, alpha, confirm)
+    if isinstance(lag, str):
+        if lag != "band":
+            raise InputError(f"missing terms: lag {lag!r}: give 'band', seconds or None")
+        lag = lag_time(band_hz)
+    elif lag is not None and not float(lag) > 0:
+        raise InputError(f"missing terms: lag {lag!r}: a time constant is positive [s]")
+    base = _map_at(s, full, fit, (), n_in, inputs, alpha, confirm, lag)
     if not splits:
         return base
     try:
-        made = _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm)
+        made = _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm, lag)
     except (InputError, np.linalg.LinAlgError):
         # the freed fit stopped at a range's edge (the Jacobian's central steps
         # leave it): the map is made at the base fit itself
@@ -809,7 +1000,7 @@ def _likelihood_ratio(t) -> float:
     return t.refit_statistic if t.refit_statistic is not None else t.statistic
 
 
-def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm) -> MissingTerms:
+def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm, lag=None) -> MissingTerms:
     """The map made at the base fit with ``splits`` freed (:func:`_made_at`; at the
     base fit itself where that refit fails, ``freed`` then empty): the score table
     and its confirming refits."""
@@ -820,7 +1011,7 @@ def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm) -> MissingTerms:
             raise
         prob, theta, st, freed, jb = _made_at(s, full, fit, (), n_in)
     r = np.concatenate(st.r)
-    entries = _entries(inputs)
+    entries = _entries(inputs, lag)
     ub = _base_basis(jb)
     # the sensitivities a few columns at a time (a 2-hour record's 162 columns are
     # 76 MB), each column's statistics kept: the same products column by column
@@ -856,15 +1047,25 @@ def _column_chunks(entries, rows):
     if per >= len(entries):
         return [list(range(len(entries)))]
     index = {e: c for c, e in enumerate(entries)}
+    # each constant entry with its lagged one, which may be made from it
+    lagged = {(b, i, v, None): c for c, (b, i, v, lag) in enumerate(entries) if lag}
     out, used = [], set()
-    for c, (block, i, v) in enumerate(entries):
+    for c, (block, i, v, _) in enumerate(entries):
         if block == "pitch":
-            made_of = [index[(b, r, x)] for _, x in PITCH_FEEDS[(PITCH_ROWS[i], v)]
+            made_of = [index[(b, r, x, None)] for _, x in PITCH_FEEDS[(PITCH_ROWS[i], v)]
                        for b in ("flap", "inflow") for r in range(3)]
-            out.append(made_of + [c])
+            out.append(made_of + [c] + [lagged[entries[m]] for m in made_of
+                                        if entries[m] in lagged])
             used.update(out[-1])
-    rest = [c for c in range(len(entries)) if c not in used]
-    return out + [rest[i:i + per] for i in range(0, len(rest), per)]
+    units = [[c] + ([lagged[e]] if e in lagged else [])
+             for c, e in enumerate(entries) if c not in used and not e[3]]
+    chunk = []
+    for u in units:
+        if chunk and len(chunk) + len(u) > per:
+            out.append(chunk)
+            chunk = []
+        chunk = chunk + u
+    return out + ([chunk] if chunk else [])
 
 
 def _sensitivities(blk, entries, s, prob, theta, sp, W, nu, n_in):
@@ -875,16 +1076,29 @@ def _sensitivities(blk, entries, s, prob, theta, sp, W, nu, n_in):
     k = sp.constants
     p, eq, meas = prob.equations(theta, k)
     m0 = model_from_equations(s, p, eq, meas, k, n_inputs=n_in)
-    for col, (block, i, v) in enumerate(entries):
+    # a lagged entry's column is its constant entry's times the lag per bin where
+    # that is exact (:func:`_lag_model`: continuous inputs, first-order flapping,
+    # whose end-state basis no entry moves); else differentiated
+    by_lag = sp.hold == "continuous" and not s.second_order
+    wanted = {(b, i, v, None) for b, i, v, lag in entries if lag} if by_lag else set()
+    const = {}
+    for col, (block, i, v, lag) in enumerate(entries):
         if block == "pitch":
             # linear in the entries: the rows' columns, weighted as the input
             # enters them
-            blk[:, col] = sum(wf[r] * blk[:, where[("flap", r, x)]]
-                              + wi[r] * blk[:, where[("inflow", r, x)]]
+            blk[:, col] = sum(wf[r] * blk[:, where[("flap", r, x, None)]]
+                              + wi[r] * blk[:, where[("inflow", r, x, None)]]
                               for _, x, wf, wi in _pitch_parts(eq, i, v)
                               for r in range(3))
             continue
-        if block == "measurement":
+        if lag and (block, i, v, None) in const:
+            dy = const[(block, i, v, None)] / (1.0 + 2j * np.pi * sp.f_hz * lag)[:, None]
+        elif lag:
+            # the refit's own model (:func:`_lag_model`)
+            mp, mm = (_lag_model(s, p, _lagged(eq, meas, block, i, v, h, lag * k.omega),
+                                 meas, k, n_in) for h in (STEP, -STEP))
+            dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
+        elif block == "measurement":
             if _KIND_OF[v] == "input":
                 dy = np.zeros((sp.f_hz.size, 3), dtype=complex)
                 dy[:, i] = _feedthrough(m0, sp, i, INPUTS.index(v))
@@ -898,6 +1112,8 @@ def _sensitivities(blk, entries, s, prob, theta, sp, W, nu, n_in):
             mm = model_from_equations(s, p, _perturb(eq, block, i, v, -STEP), meas, k,
                                       n_inputs=n_in)
             dy = (_predicted(mp, sp, nu) - _predicted(mm, sp, nu)) / (2 * STEP)
+        if (block, i, v, lag) in wanted:
+            const[(block, i, v, lag)] = dy
         blk[:, col] = -stack(dy @ W.T)
     return blk
 
@@ -943,28 +1159,63 @@ def _freed(prob, theta, statistic):
                  for i, (n, g) in enumerate(prob.splits))
 
 
-def _confirmed(table, prob, theta, confirm):
+def _confirmed(table, prob, theta, confirm, siblings=None):
     """``table`` with its ``confirm`` testable entries of largest score refitted
-    (:func:`_refit`) and ranked first by the refit's statistic."""
+    (:func:`_refit`), then the lagged inflow entries of the row (:func:`_siblings`)
+    of the first inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
+    refits' statistic, and all ranked first by the refit's statistic."""
+    siblings = SIBLINGS if siblings is None else siblings
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
         return table
-    done = []
-    for t in head:
+
+    def refitted(t, k0=0.0):
         row = _rows(t.block).index(t.equation)
-        got = _refit(prob, theta, (t.block, row, t.variable))
-        done.append(t if got is None else replace(
+        got = _refit(prob, theta, (t.block, row, t.variable, t.lag), k0)
+        return t if got is None else replace(
             t, refit_statistic=got[0], refit_coefficient=got[1],
             refit_p_adjusted=float(min(1.0, table.n_tested * chi2_sf(
-                max(got[0], 0.0) / table.dof, 1)))))
-    done.sort(key=lambda t: -(t.refit_statistic if t.refit_statistic is not None
-                              else -np.inf))
+                max(got[0], 0.0) / table.dof, 1))))
+
+    def ranked(done):
+        return sorted(done, key=lambda t: -(t.refit_statistic if t.refit_statistic
+                                            is not None else -np.inf))
+    done = ranked([refitted(t) for t in head])
+    keys = {t.key for t in done}
+    by_key = {t.key: t for t in table.terms}
+    lead = next((t for t in done[:max(int(siblings), 0)] if _siblings(t, table.lag)
+                 and t.refit_coefficient), None)
+    more = []
+    if lead is not None:
+        for key in _siblings(lead, table.lag):
+            sib = by_key.get(key)
+            if sib is not None and sib.testable and sib.key not in keys:
+                more.append(sib)
+                keys.add(sib.key)
+    head = head + more
+    # started off k = 0, where an absorbed slow state leaves the cost flat in k (a
+    # saddle the refit from zero stays on), at the leading entry's estimate: the
+    # lag's gain is one at low frequency
+    done = ranked(done + [refitted(t, lead.refit_coefficient) for t in more])
     if done[0].refit_statistic is not None:
         best = done[0].refit_statistic
         done = [replace(t, first_group=True) if t.refit_statistic is not None
                 and t.refit_statistic >= best - TIE else t for t in done]
     rest = [t for t in table.terms if t not in head]
     return replace(table, terms=tuple(done + rest), confirmed=len(done))
+
+
+def _siblings(t, lag):
+    """The keys (:attr:`Term.key`) of the lagged entries of every inflow variable in
+    ``t``'s row (time constant ``lag``) where ``t`` is an entry on an inflow variable
+    (constant or lagged); ``()`` otherwise.  The base's one parameter that lags a
+    variable is the inflow's time constant: slowed to absorb a slow state driven by
+    the inflow, it leaves another inflow entry of the row standing in for the lagged
+    one (the inflow harmonics slowed alike: any of them), whose own score is near
+    zero at that fit."""
+    if lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
+        return tuple((t.block, t.equation, v, lag) for v in INFLOW)
+    return ()
 
 
 #: Largest temporary of the projections [bytes]: a 2-hour record's 162 columns of
@@ -1037,12 +1288,14 @@ def _table(s, entries, stats, jb, r, st, alpha, inputs):
             running = max(running, min(1.0, (m - rank) * pval[e]))
             padj[e] = running
     rows = []
-    for col, (block, i, v) in enumerate(entries):
+    lag = None
+    for col, (block, i, v, lg) in enumerate(entries):
         eq_name = _rows(block)[i]
+        lag = lag or lg
         rows.append(Term(block, eq_name, v, float(stat[col]), float(pval[col]),
                          float(padj[col]), int(np.sign(coef[col]) or 1), float(coef[col]),
-                         physics_group(block, eq_name, v), bool(testable[col]),
-                         float(grad[col])))
+                         physics_group(block, eq_name, v, lg), bool(testable[col]),
+                         float(grad[col]), lag=lg))
     rows.sort(key=lambda t: (not t.testable, -t.statistic))
     # the map's axes: the rows of one equation or the recorded flap (the pitch
     # entries, several rows at once, are in the text and the JSON)
@@ -1050,4 +1303,4 @@ def _table(s, entries, stats, jb, r, st, alpha, inputs):
     variables = FLAP + FLAP_RATE + INFLOW + tuple(inputs)
     return MissingTerms(structure=s.name, terms=tuple(rows), alpha=float(alpha),
                         n_tested=int(m), equations=eqs, variables=variables,
-                        dof=float(dof))
+                        dof=float(dof), lag=lag, lagged=LAGGED if lag else ())

@@ -2,8 +2,10 @@
 
 Draws a :class:`~inflowsim.diagnose.terms.MissingTerms` (computing stays in
 :mod:`inflowsim.diagnose.terms`): one row per equation (flap, inflow, the recorded
-flap of the measurement map), one column per variable; the colour is the score
-test's unadjusted ``-log10 p``, the significant entries (Holm-corrected) are
+flap of the measurement map), one column per variable, then one per variable of
+the lagged entries (a slow state driven by it, ``T w' + w = v``: right of the
+thick line, marked ``lag``); the colour is the score test's unadjusted
+``-log10 p``, the significant entries (Holm-corrected) are
 framed and carry the sign of the term the data want; the top entry of the
 ranking (confirmed by a refit with it free, ``Term.refit_statistic``) is framed in
 orange and named in the title.  Grey: not tested (a flap rate in the measurement
@@ -40,31 +42,33 @@ def missing_terms_plot(terms, path=None, title=None):
     title : str, optional
     """
     grid = terms.grid()
-    fig, axes = new_figure(1, 1, size=(10.0, 4.8), sharex=False)
+    columns = terms.columns
+    fig, axes = new_figure(1, 1, size=(10.0 + 0.3 * len(terms.lagged), 4.8), sharex=False)
     ax = axes[0, 0]
     cmap = _cmap()
     vmax = max(3.0, float(np.nanmax(grid)) if np.isfinite(grid).any() else 3.0)
     im = ax.imshow(np.ma.masked_invalid(grid), cmap=cmap, vmin=0.0, vmax=vmax,
                    aspect="auto", interpolation="nearest")
-    ax.set_xticks(range(len(terms.variables)))
-    ax.set_xticklabels([_TEX.get(v, v) for v in terms.variables])
+    ax.set_xticks(range(len(columns)))
+    ax.set_xticklabels([_TEX.get(v, v) + ("\nlag" if lag else "") for v, lag in columns],
+                       fontsize=8 if terms.lagged else None)
     ax.set_yticks(range(len(terms.equations)))
     ax.set_yticklabels([f"{_BLOCK[b]} {_TEX.get(e, e)}" for b, e in terms.equations])
     ri = {e: i for i, e in enumerate(terms.equations)}
-    ci = {v: j for j, v in enumerate(terms.variables)}
+    ci = {c: j for j, c in enumerate(columns)}
     from matplotlib.patches import Rectangle
     for t in terms.significant:
-        if (t.block, t.equation) not in ri or t.variable not in ci:
+        if (t.block, t.equation) not in ri or (t.variable, t.lag or None) not in ci:
             continue        # a pitch entry (several rows): named in the title
-        i, j = ri[(t.block, t.equation)], ci[t.variable]
+        i, j = ri[(t.block, t.equation)], ci[(t.variable, t.lag or None)]
         ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2.0,
                                edgecolor="red"))
-        ax.text(j, i, "+" if t.sign > 0 else "\u2212", ha="center", va="center",
+        ax.text(j, i, "+" if t.direction > 0 else "\u2212", ha="center", va="center",
                 color="white", fontsize=11, fontweight="bold")
     top = next((t for t in terms.terms if t.testable), None)
     if top is not None and top.refit_statistic is not None and top.significant(terms.alpha):
-        if (top.block, top.equation) in ri and top.variable in ci:
-            i, j = ri[(top.block, top.equation)], ci[top.variable]
+        if (top.block, top.equation) in ri and (top.variable, top.lag or None) in ci:
+            i, j = ri[(top.block, top.equation)], ci[(top.variable, top.lag or None)]
             ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=3.0,
                                    edgecolor="orange"))
     else:
@@ -73,11 +77,18 @@ def missing_terms_plot(terms, path=None, title=None):
         ax.axhline(y, color="black", lw=1.0)
     for x in (2.5, 5.5, 8.5):
         ax.axvline(x, color="black", lw=0.6)
-    ax.set_xlabel("variable the term is proportional to")
+    if terms.lagged:
+        n = len(terms.variables)
+        ax.axvline(n - 0.5, color="black", lw=2.0)
+        for x in (2.5, 5.5):
+            ax.axvline(n + x, color="black", lw=0.6)
+    ax.set_xlabel("variable the term is proportional to" + (
+        "" if not terms.lagged else f"; lag: a slow state it drives (first-order lag of "
+        f"{terms.lag:.3g} s)"))
     cb = fig.colorbar(im, ax=ax)
     cb.set_label(r"$-\log_{10} p$ (score test, 1 dof)")
     first = ("" if top is None else
-             f"; first by refit: {top.equation} x {top.variable} ({_BLOCK[top.block]})")
+             f"; first by refit: {top.equation} x {top.label} ({_BLOCK[top.block]})")
     ax.set_title(title or f"Where a term is missing in {terms.structure}: "
                  f"{len(terms.significant)} of {terms.n_tested} entries significant "
                  f"(Holm, {terms.alpha:g}){first}", fontsize=9)
