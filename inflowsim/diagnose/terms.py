@@ -65,13 +65,13 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``), and then, for the first inflow entry (constant
-   or lagged) among the first :data:`SIBLINGS` by their refits, the lagged entries
-   of every inflow variable in its row, started at its estimate (a base whose
-   inflow time constant slowed to a slow state it absorbs leaves another inflow
-   entry standing in for the lagged one, whose own score is then near zero, and the
-   cost flat in its coefficient at zero); the entry whose refit lowers the cost
-   most wins;
+   refit (``Term.refit_statistic``); where an inflow entry (constant or lagged) is
+   in the first group (step 4), the lagged entries of every inflow variable in its
+   row are refitted too, started at its estimate (a base whose inflow time
+   constant slowed to a slow state it absorbs leaves another inflow entry standing
+   in for the lagged one, whose own score is then near zero, and the cost flat in
+   its coefficient at zero), and all ranked again; the entry whose refit lowers
+   the cost most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
@@ -189,12 +189,6 @@ CONFOUNDED = 1e-8
 STEP = 1e-6
 #: The entries of largest score statistic refitted to confirm the map's order.
 CONFIRM = 6
-#: The entries first by their refits among which the first inflow entry (constant
-#: or lagged) has the lagged entries of every inflow variable in its row refitted
-#: too (:func:`_siblings`): a base fit whose inflow time constant slowed to absorb a
-#: slow state driven by the inflow leaves another inflow entry of the row standing
-#: in for the lagged one (its score near zero at that fit), which only a refit shows.
-SIBLINGS = 3
 #: Levenberg-Marquardt iterations of a confirming refit.
 REFIT_ITERATIONS = 30
 #: Typical size of a shared parameter's offset in one row group, relative to the
@@ -1003,7 +997,7 @@ def _likelihood_ratio(t) -> float:
 def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm, lag=None) -> MissingTerms:
     """The map made at the base fit with ``splits`` freed (:func:`_made_at`; at the
     base fit itself where that refit fails, ``freed`` then empty): the score table
-    and its confirming refits."""
+    and its confirming refits (:func:`_confirmed`, :func:`_with_siblings`)."""
     try:
         prob, theta, st, freed, jb = _made_at(s, full, fit, splits, n_in)
     except (InputError, np.linalg.LinAlgError):
@@ -1028,7 +1022,7 @@ def _map_at(s, full, fit, splits, n_in, inputs, alpha, confirm, lag=None) -> Mis
         del x, blk
     table = replace(_table(s, entries, stats, jb, r, st, alpha, inputs), freed=freed or ())
     del jb, r, st
-    return _confirmed(table, prob, theta, confirm)
+    return _with_siblings(_confirmed(table, prob, theta, confirm), prob, theta)
 
 
 #: Bytes of the map's sensitivities computed at once (:func:`_column_chunks`): a
@@ -1159,50 +1153,74 @@ def _freed(prob, theta, statistic):
                  for i, (n, g) in enumerate(prob.splits))
 
 
-def _confirmed(table, prob, theta, confirm, siblings=None):
+def _confirmed(table, prob, theta, confirm):
     """``table`` with its ``confirm`` testable entries of largest score refitted
-    (:func:`_refit`), then the lagged inflow entries of the row (:func:`_siblings`)
-    of the first inflow entry among the first ``siblings`` (:data:`SIBLINGS`) by the
-    refits' statistic, and all ranked first by the refit's statistic."""
-    siblings = SIBLINGS if siblings is None else siblings
+    (:func:`_refit`) and ranked first by the refit's statistic (the first group
+    marked, :func:`_grouped`)."""
     head = [t for t in table.terms if t.testable][:max(int(confirm), 0)]
     if not head:
         return table
+    done = _ranked([_refitted(table, prob, theta, t) for t in head])
+    rest = [t for t in table.terms if t not in head]
+    return replace(table, terms=tuple(_grouped(done) + rest), confirmed=len(done))
 
-    def refitted(t, k0=0.0):
-        row = _rows(t.block).index(t.equation)
-        got = _refit(prob, theta, (t.block, row, t.variable, t.lag), k0)
-        return t if got is None else replace(
-            t, refit_statistic=got[0], refit_coefficient=got[1],
-            refit_p_adjusted=float(min(1.0, table.n_tested * chi2_sf(
-                max(got[0], 0.0) / table.dof, 1))))
 
-    def ranked(done):
-        return sorted(done, key=lambda t: -(t.refit_statistic if t.refit_statistic
-                                            is not None else -np.inf))
-    done = ranked([refitted(t) for t in head])
+def _with_siblings(table, prob, theta):
+    """``table`` (confirmed, :func:`_confirmed`) with the lagged inflow entries of
+    the row (:func:`_siblings`) of the first inflow entry in its first group
+    refitted too, started at that entry's estimate, and all ranked again: only
+    where an inflow entry is among those the record cannot tell from the first (a
+    slow state the base absorbed leaves such an entry standing in for the lagged
+    one)."""
+    done = list(table.terms[:table.confirmed])
+    lead = next((t for t in done if t.first_group and _siblings(t, table.lag)
+                 and t.refit_coefficient), None)
+    if lead is None:
+        return table
+    done = [replace(t, first_group=False) for t in done]
     keys = {t.key for t in done}
     by_key = {t.key: t for t in table.terms}
-    lead = next((t for t in done[:max(int(siblings), 0)] if _siblings(t, table.lag)
-                 and t.refit_coefficient), None)
     more = []
-    if lead is not None:
-        for key in _siblings(lead, table.lag):
-            sib = by_key.get(key)
-            if sib is not None and sib.testable and sib.key not in keys:
-                more.append(sib)
-                keys.add(sib.key)
-    head = head + more
+    for key in _siblings(lead, table.lag):
+        sib = by_key.get(key)
+        if sib is not None and sib.testable and sib.key not in keys:
+            more.append(sib)
+            keys.add(sib.key)
+    if not more:
+        return table
     # started off k = 0, where an absorbed slow state leaves the cost flat in k (a
     # saddle the refit from zero stays on), at the leading entry's estimate: the
     # lag's gain is one at low frequency
-    done = ranked(done + [refitted(t, lead.refit_coefficient) for t in more])
-    if done[0].refit_statistic is not None:
-        best = done[0].refit_statistic
-        done = [replace(t, first_group=True) if t.refit_statistic is not None
-                and t.refit_statistic >= best - TIE else t for t in done]
-    rest = [t for t in table.terms if t not in head]
-    return replace(table, terms=tuple(done + rest), confirmed=len(done))
+    done = _ranked(done + [_refitted(table, prob, theta, t, lead.refit_coefficient)
+                           for t in more])
+    rest = [t for t in table.terms[table.confirmed:] if t not in more]
+    return replace(table, terms=tuple(_grouped(done) + rest), confirmed=len(done))
+
+
+def _refitted(table, prob, theta, t, k0=0.0):
+    """Entry ``t`` of ``table`` with its refit's statistic, coefficient and
+    Bonferroni-adjusted p-value (unchanged where the refit fails)."""
+    row = _rows(t.block).index(t.equation)
+    got = _refit(prob, theta, (t.block, row, t.variable, t.lag), k0)
+    return t if got is None else replace(
+        t, refit_statistic=got[0], refit_coefficient=got[1],
+        refit_p_adjusted=float(min(1.0, table.n_tested * chi2_sf(
+            max(got[0], 0.0) / table.dof, 1))))
+
+
+def _ranked(done):
+    return sorted(done, key=lambda t: -(t.refit_statistic if t.refit_statistic
+                                        is not None else -np.inf))
+
+
+def _grouped(done):
+    """``done`` (ranked refits) with those within :data:`TIE` of the first marked as
+    its first group."""
+    if not done or done[0].refit_statistic is None:
+        return list(done)
+    best = done[0].refit_statistic
+    return [replace(t, first_group=True) if t.refit_statistic is not None
+            and t.refit_statistic >= best - TIE else t for t in done]
 
 
 def _siblings(t, lag):
