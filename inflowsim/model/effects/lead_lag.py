@@ -44,6 +44,7 @@ from ._effect import Effect
 from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
+from ..recent import Recent
 from ...physics import lead_lag as ll
 from ...physics import loads as ld
 
@@ -55,44 +56,101 @@ NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
 
 def _trim(p, k):
-    """``(theta_t, beta_t, u)``: collective, coning and trim up-flow ``muz - lambda0``."""
+    """``(theta, beta, u, l1c, l1s)``: the true trim pitch and flap (3 each), the
+    up-flow ``muz - lambda0`` and the cyclic inflow of the structure's trim."""
     true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
     theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
-    return theta[0], beta[0], muz - lam[0]
+    return theta, beta, muz - lam[0], lam[1], lam[2]
+
+
+def coefficients(p, k):
+    """``(zeta_t, flap, lag, loads)`` of :func:`inflowsim.physics.lead_lag.coefficients`
+    at the structure's trim, for parameters ``p`` (``n_beta``, ``nu_zeta``,
+    ``zeta_lag``) and constants ``k``."""
+    th, b, u, l1c, l1s = _trim(p, k)
+    args = (k.mu, p["n_beta"], ll.CD0 / k.a0, tuple(th), tuple(b), u, l1c, l1s,
+            p["nu_zeta"], p["zeta_lag"])
+    if all(isinstance(x, float) for x in args[:3] + args[3] + args[4] + args[5:]):
+        args = (*(float(x) for x in args[:3]), tuple(float(x) for x in args[3]),
+                tuple(float(x) for x in args[4]), *(float(x) for x in args[5:]))
+        return _COEFFICIENTS.get(args, lambda: _read_only(ll.coefficients(*args)))
+    return ll.coefficients(*args)
+
+
+def _read_only(out):
+    for x in out:
+        x.flags.writeable = False
+    return out
+
+
+#: Coefficients remembered (:func:`coefficients`, a pure function of its
+#: arguments), most recent last.
+_COEFFICIENTS = Recent(16)
+
+
+def steady_lag(p, k):
+    """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] the effect is linearised
+    about (:func:`inflowsim.physics.lead_lag.steady_lag`)."""
+    return coefficients(p, k)[0]
 
 
 def in_loads(p, k):
-    """``(C_T, C_mc, C_ms) / (a0 s)`` per the lag states ``STATES`` (the lag rate's
-    and the lag's change of the blades' airspeed, scaled by ``k_flap_lag``) [-]."""
-    th, b, u = _trim(p, k)
-    return p["k_flap_lag"] * ll.load_coupling(k.mu, th, b, u)
+    """``(C_T, C_mc, C_ms) / (a0 s)`` per the columns of
+    :data:`inflowsim.physics.lead_lag_terms.COLS`: the lag's (its rate and
+    displacement change the blades' airspeed and move their lift) and the steady
+    lag's share of the base states' and inputs', scaled by ``k_flap_lag`` [-]."""
+    return p["k_flap_lag"] * coefficients(p, k)[3]
+
+
+def _bias(m, p):
+    """The pitch columns (9:12 of ``COLS``) of ``m`` taken from the recorded cyclic
+    pitch: true = ``R(-dpsi)`` recorded."""
+    if "azimuth_bias" not in p:
+        return m[:, 9:15]
+    return np.hstack([m[:, 9:10], m[:, 10:12] @ rotation(-p["azimuth_bias"]), m[:, 12:15]])
 
 
 def block(p, k, n_inputs: int = 10) -> StateBlock:
     """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
-    th, b, u = _trim(p, k)
-    mu, nb = k.mu, p["n_beta"]
+    _, flap, lag, loads = coefficients(p, k)
     kf = p["k_flap_lag"]
-    s_z, s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"], b)
-    a_z, a_x, a_u = ll.lag_aero(mu, nb, th, b, u, ll.CD0 / k.a0)
-    if "azimuth_bias" in p:
-        # the model takes the recorded cyclic pitch: true = R(-dpsi) recorded
-        a_u = np.hstack([a_u[:, :1], a_u[:, 1:3] @ rotation(-p["azimuth_bias"]),
-                         a_u[:, 3:]])
+    s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"])
+    a_z, a_x, a_u = lag[:, ll.Z_COLS], lag[:, ll.X_COLS], _bias(lag, p)
     z3, i3 = np.zeros((3, 3)), np.eye(3)
     a = np.vstack([np.hstack([z3, i3]), s_x + a_x])
-    az = np.vstack([np.zeros((3, 9)), s_z + a_z])
+    az = np.vstack([np.zeros((3, 9)), a_z])
     b_u = np.vstack([np.zeros((3, n_inputs)),
                      np.hstack([a_u, np.zeros((3, n_inputs - 6))])])
-    f_x = kf * ll.flap_coupling(mu, nb, th, b, u)
-    l_x = kf * (ld.momentum_l(mu, k.a0s, k.flow_speed) @ ll.load_coupling(mu, th, b, u))
+    f_x = kf * flap[:, ll.X_COLS]
+    l_x = kf * (ld.momentum_l(k.mu, k.a0s, k.flow_speed) @ loads[:, ll.X_COLS])
     return StateBlock(effect=NAME, states=STATES, e=np.eye(6), a=a, a_z=az, b=b_u,
                       f_x=f_x, l_x=l_x)
 
 
+def _base_terms(eq, p, k):
+    """The steady lag's share of the base equations' state and input columns (the
+    blades meet the free stream, the inflow and the body rates at ``psi - zeta_t``,
+    and the lag rate of the trim's cyclic lag acts in the Coriolis moment), scaled
+    by ``k_flap_lag`` (neutral 0: the base equations unchanged)."""
+    _, flap, _, loads = coefficients(p, k)
+    kf = p["k_flap_lag"]
+    lm = kf * ld.momentum_l(k.mu, k.a0s, k.flow_speed)
+    fl = kf * flap
+    zu = np.zeros((3, eq.h_u.shape[1] - 6))
+    return eq.with_(
+        d=eq.d - fl[:, ll.BETA], c=eq.c - fl[:, ll.DBETA],
+        h_lambda=eq.h_lambda + fl[:, ll.LAMBDA],
+        h_u=eq.h_u + np.hstack([_bias(fl, p), zu]),
+        p_beta=eq.p_beta + lm @ loads[:, ll.BETA],
+        p_dbeta=eq.p_dbeta + lm @ loads[:, ll.DBETA],
+        p_lambda=eq.p_lambda + lm @ loads[:, ll.LAMBDA],
+        p_u=eq.p_u + np.hstack([lm @ _bias(loads, p), zu]))
+
+
 def _equations(eq, p, k):
+    eq = _base_terms(eq, p, k)
     return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1]),))
 
 
@@ -140,4 +198,5 @@ EFFECT = Effect(
 )
 
 
-__all__ = ["NAME", "STATES", "NU_THEORY", "in_loads", "block", "EFFECT"]
+__all__ = ["NAME", "STATES", "NU_THEORY", "coefficients", "steady_lag", "in_loads", "block",
+           "EFFECT"]
