@@ -140,6 +140,9 @@ def derive():
         lag_free[name] = free
         if name == "lag":
             out["lag_trim"] = [sp.expand(z.subs(no_lag)) for z in zero]
+        if name == "loads":
+            # the steady lag's share of the trim's loads (it moves the trim inflow)
+            out["load_trim"] = [sp.expand(z - z.subs(no_lag)) for z in zero]
     _check_base(lag_free, syms)
     return out
 
@@ -180,7 +183,7 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
-rows, 3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
+rows, 3); :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
 inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
 exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
 functions of numbers or of sympy symbols (the FMU's C is generated from them).
@@ -236,7 +239,13 @@ def render(out) -> str:
     lines += unpack + [f"    o = {o}"]
     lines.append("    return _arr([" + ",\n                 ".join(
         (_code(e) if e != 0 else "o") for e in out["lag_trim"]) + "])\n")
-    lines.append('\n__all__ = ["COLS", "terms", "lag_trim"]\n')
+    lines.append(f"\ndef load_trim({args}, zt):")
+    lines.append('    """The steady lag\'s share of the trim\'s ``(C_T, C_mc, C_ms) / (a0 s)`` '
+                 '(3) [-]."""')
+    lines += unpack + ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)", f"    o = {o}"]
+    lines.append("    return _arr([" + ",\n                 ".join(
+        (_code(e) if e != 0 else "o") for e in out["load_trim"]) + "])\n")
+    lines.append('\n__all__ = ["COLS", "terms", "lag_trim", "load_trim"]\n')
     return "\n".join(lines)
 
 

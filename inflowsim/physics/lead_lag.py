@@ -99,7 +99,8 @@ def steady_lag(structure, lag0, moment):
     return _solve3(k, -moment)
 
 
-def coefficients(mu, nb, dl, theta, beta, u, l1c, l1s, nu_zeta, zeta_lag):
+def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
+                 g_lambda=None):
     """The lag's multiblade coefficients about a forward-flight trim.
 
     Parameters
@@ -108,10 +109,18 @@ def coefficients(mu, nb, dl, theta, beta, u, l1c, l1s, nu_zeta, zeta_lag):
         Advance ratio, ``n_beta`` and ``c_d0 / a0`` [-].
     theta, beta : sequence of 3
         Trim pitch and flap ``(0, 1c, 1s)`` (true, not recorded) [rad].
-    u, l1c, l1s : float
-        Trim up-flow ``muz - lambda0`` and cyclic inflow [-].
+    muz : float
+        Trim hub velocity normal to the disc [-].
+    lam : sequence of 3
+        Trim inflow of the rigid blades (the basic model's steady state) [-].
     nu_zeta, zeta_lag : float
         Lag frequency [per rev] and damper [-] (the steady lag's).
+    lm, g_lambda : ndarray (3, 3), optional
+        The inflow model's gain ``L`` and the loads per inflow ``G_lambda``: the
+        trim inflow then moves by the steady lag's share of the trim's loads,
+        ``(I - L G_lambda)^-1 L dc`` (two fixed-point steps: the share is a few
+        per cent of the cyclic loads; the steady lag and the inflow are found
+        together to the square of that).  Without them the inflow is ``lam``.
 
     Returns
     -------
@@ -122,12 +131,25 @@ def coefficients(mu, nb, dl, theta, beta, u, l1c, l1s, nu_zeta, zeta_lag):
         :func:`lag_structure`) and ``(C_T, C_mc, C_ms) / (a0 s)``, columns
         :data:`lead_lag_terms.COLS`; in the flap and load rows the base columns
         hold only the steady lag's share (the rest is the base model's) [-].
+    lam_t : ndarray (3,)
+        The trim inflow they are linearised about [-].
     """
-    args = (mu, nb, dl, theta, beta, u, l1c, l1s)
     o = 0 * mu
-    _, lag0, _ = lt.terms(*args, (o, o, o))
-    zt = steady_lag(lag_structure(nu_zeta, zeta_lag), lag0, lt.lag_trim(*args))
-    return (zt, *lt.terms(*args, tuple(zt)))
+    s_x = lag_structure(nu_zeta, zeta_lag)
+    lam_t = np.asarray(lam)
+
+    def at(lam_t):
+        args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
+        _, lag0, _ = lt.terms(*args, (o, o, o))
+        return args, steady_lag(s_x, lag0, lt.lag_trim(*args))
+
+    args, zt = at(lam_t)
+    if lm is not None:
+        a = np.eye(3) - lm @ g_lambda
+        for _ in range(2):
+            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt)))
+            args, zt = at(lam_t)
+    return (zt, *lt.terms(*args, tuple(zt)), lam_t)
 
 
 __all__ = ["CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",

@@ -6,7 +6,7 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
-rows, 3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
+rows, 3); :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
 inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
 exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
 functions of numbers or of sympy symbols (the FMU's C is generated from them).
@@ -252,4 +252,16 @@ def lag_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t):
                  2*b0t*b1ct + nb*(-b0t*b1st*mu**2 + (1/2)*b0t*mu**2*th1c + (2/3)*b1ct**2*mu - 2/3*b1ct*l1s_t*mu + (1/2)*b1ct*mu**2*th0 - 2/3*b1ct*mu*th1s - b1ct*th0 - 8/3*b1ct*u - 2/3*b1st**2*mu - 2/3*b1st*l1c_t*mu + (2/3)*b1st*mu*th1c + (8/3)*dl*mu + (1/3)*l1c_t*mu*th1c + l1s_t*mu*th1s + l1s_t*th0 + (8/3)*l1s_t*u - 2*mu*th0*u - 4/3*th1s*u)])
 
 
-__all__ = ["COLS", "terms", "lag_trim"]
+def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt):
+    """The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` (3) [-]."""
+    th0, th1c, th1s = th
+    b0t, b1ct, b1st = b
+    z0t, z1ct, z1st = zt
+    cz0, sz0 = _cos_sin(z0t)
+    o = 0 * mu
+    return _arr([(1/4)*b1ct*cz0*mu**2*sz0*z1st - 1/4*b1ct*mu**2*sz0**2*z1ct + (1/8)*b1ct*mu**2*z1ct + (1/12)*b1ct*z1ct + (1/4)*b1st*cz0*mu**2*sz0*z1ct + (1/4)*b1st*mu**2*sz0**2*z1st - 1/8*b1st*mu**2*z1st + (1/12)*b1st*z1st + (1/4)*cz0*mu**2*sz0*th1c*z1ct - 1/4*cz0*mu**2*sz0*th1s*z1st + (1/4)*cz0*mu*th1s - 1/4*cz0*mu*u*z1ct + (1/4)*mu**2*sz0**2*th1c*z1st + (1/4)*mu**2*sz0**2*th1s*z1ct - 1/8*mu**2*th1c*z1st - 1/8*mu**2*th1s*z1ct - 1/4*mu*sz0*th1c - 1/4*mu*sz0*u*z1st - 1/4*mu*th1s - 1/6*th1c*z1st + (1/6)*th1s*z1ct,
+                 -1/32*b0t*cz0**3*mu**2*z1ct - 1/32*b0t*cz0*mu**2*sz0**2*z1ct - 1/32*b0t*mu**2*sz0*z1st + (1/24)*b1ct*cz0*mu*sz0*z1ct - 1/32*b1ct*mu**2*sz0 + (1/24)*b1ct*mu*sz0**2*z1st - 1/16*b1ct*mu*z1st - 1/16*b1ct*sz0 + (1/32)*b1st*cz0**3*mu**2 + (1/32)*b1st*cz0*mu**2*sz0**2 - 1/24*b1st*cz0*mu*sz0*z1st + (1/16)*b1st*cz0 - 1/32*b1st*mu**2 + (1/24)*b1st*mu*sz0**2*z1ct + (1/48)*b1st*mu*z1ct - 1/16*b1st - 1/48*cz0**3*l1c_t*mu*z1ct + (1/48)*cz0**3*l1s_t*mu*z1st - 1/32*cz0**3*mu**2*th0*z1st - 1/32*cz0**3*mu**2*th1c - 1/48*cz0*l1c_t*mu*sz0**2*z1ct + (1/48)*cz0*l1s_t*mu*sz0**2*z1st - 1/32*cz0*mu**2*sz0**2*th0*z1st - 1/32*cz0*mu**2*sz0**2*th1c + (1/12)*cz0*mu*sz0*th1c*z1st + (1/12)*cz0*mu*sz0*th1s*z1ct + (1/16)*cz0*th0*z1st - 1/16*cz0*th1c - 1/48*l1c_t*mu*sz0*z1st - 1/48*l1s_t*mu*sz0*z1ct + (1/32)*mu**2*sz0*th0*z1ct - 1/32*mu**2*sz0*th1s + (1/32)*mu**2*th1c - 1/12*mu*sz0**2*th1c*z1ct + (1/12)*mu*sz0**2*th1s*z1st + (1/24)*mu*th1c*z1ct - 1/24*mu*th1s*z1st - 1/16*sz0*th0*z1ct - 1/16*sz0*th1s + (1/16)*th1c,
+                 (1/32)*b0t*cz0**3*mu**2*z1st + (1/32)*b0t*cz0*mu**2*sz0**2*z1st - 1/32*b0t*mu**2*sz0*z1ct + (1/32)*b1ct*cz0**3*mu**2 + (1/32)*b1ct*cz0*mu**2*sz0**2 + (1/24)*b1ct*cz0*mu*sz0*z1st - 1/16*b1ct*cz0 - 1/32*b1ct*mu**2 - 1/24*b1ct*mu*sz0**2*z1ct + (1/48)*b1ct*mu*z1ct + (1/16)*b1ct + (1/24)*b1st*cz0*mu*sz0*z1ct + (1/32)*b1st*mu**2*sz0 + (1/24)*b1st*mu*sz0**2*z1st - 1/48*b1st*mu*z1st - 1/16*b1st*sz0 + (1/48)*cz0**3*l1c_t*mu*z1st - 1/16*cz0**3*l1s_t*mu*z1ct + (3/32)*cz0**3*mu**2*th0*z1ct - 3/32*cz0**3*mu**2*th1s + (1/48)*cz0*l1c_t*mu*sz0**2*z1st - 1/16*cz0*l1s_t*mu*sz0**2*z1ct + (3/32)*cz0*mu**2*sz0**2*th0*z1ct - 3/32*cz0*mu**2*sz0**2*th1s - 1/12*cz0*mu*sz0*th1c*z1ct + (1/12)*cz0*mu*sz0*th1s*z1st - 1/16*cz0*th0*z1ct - 1/16*cz0*th1s - 1/48*l1c_t*mu*sz0*z1ct - 1/16*l1s_t*mu*sz0*z1st + (3/32)*mu**2*sz0*th0*z1st + (3/32)*mu**2*sz0*th1c + (3/32)*mu**2*th1s - 1/12*mu*sz0**2*th1c*z1st - 1/12*mu*sz0**2*th1s*z1ct + (1/8)*mu*th1c*z1st - 1/24*mu*th1s*z1ct - 1/16*sz0*th0*z1st + (1/16)*sz0*th1c + (1/16)*th1s])
+
+
+__all__ = ["COLS", "terms", "lag_trim", "load_trim"]

@@ -56,27 +56,35 @@ NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
 
 def _trim(p, k):
-    """``(theta, beta, u, l1c, l1s)``: the true trim pitch and flap (3 each), the
-    up-flow ``muz - lambda0`` and the cyclic inflow of the structure's trim."""
+    """``(theta, beta, muz, lam)``: the true trim pitch and flap (3 each), ``muz``
+    and the rigid blades' trim inflow of the structure (3)."""
     true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
-    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
-    return theta, beta, muz - lam[0], lam[1], lam[2]
+    return true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
 
 
 def coefficients(p, k):
-    """``(zeta_t, flap, lag, loads)`` of :func:`inflowsim.physics.lead_lag.coefficients`
-    at the structure's trim, for parameters ``p`` (``n_beta``, ``nu_zeta``,
-    ``zeta_lag``) and constants ``k``."""
-    th, b, u, l1c, l1s = _trim(p, k)
-    args = (k.mu, p["n_beta"], ll.CD0 / k.a0, tuple(th), tuple(b), u, l1c, l1s,
+    """``(zeta_t, flap, lag, loads, lam_t)`` of
+    :func:`inflowsim.physics.lead_lag.coefficients` at the structure's trim (its
+    inflow moved by the steady lag's share of the trim's loads), for parameters
+    ``p`` (``n_beta``, ``nu_zeta``, ``zeta_lag``) and constants ``k``."""
+    th, b, muz, lam = _trim(p, k)
+    args = (k.mu, p["n_beta"], ll.CD0 / k.a0, tuple(th), tuple(b), muz, tuple(lam),
             p["nu_zeta"], p["zeta_lag"])
-    if all(isinstance(x, float) for x in args[:3] + args[3] + args[4] + args[5:]):
-        args = (*(float(x) for x in args[:3]), tuple(float(x) for x in args[3]),
-                tuple(float(x) for x in args[4]), *(float(x) for x in args[5:]))
-        return _COEFFICIENTS.get(args, lambda: _read_only(ll.coefficients(*args)))
-    return ll.coefficients(*args)
+    if all(isinstance(x, float) for x in args[:3] + args[3] + args[4] + args[5:6]
+           + args[6] + args[7:]) and isinstance(k.a0s, float) \
+            and isinstance(k.flow_speed, float):
+        key = (*(float(x) for x in args[:3]), tuple(float(x) for x in args[3]),
+               tuple(float(x) for x in args[4]), float(muz), tuple(float(x) for x in lam),
+               *(float(x) for x in args[7:]), float(k.a0s), float(k.flow_speed))
+        return _COEFFICIENTS.get(key, lambda: _read_only(_coefficients(args, k)))
+    return _coefficients(args, k)
+
+
+def _coefficients(args, k):
+    return ll.coefficients(*args, ld.momentum_l(k.mu, k.a0s, k.flow_speed),
+                           ld.g_lambda(k.mu))
 
 
 def _read_only(out):
@@ -114,7 +122,7 @@ def _bias(m, p):
 
 def block(p, k, n_inputs: int = 10) -> StateBlock:
     """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
-    _, flap, lag, loads = coefficients(p, k)
+    _, flap, lag, loads, _ = coefficients(p, k)
     kf = p["k_flap_lag"]
     s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"])
     a_z, a_x, a_u = lag[:, ll.Z_COLS], lag[:, ll.X_COLS], _bias(lag, p)
@@ -134,7 +142,7 @@ def _base_terms(eq, p, k):
     blades meet the free stream, the inflow and the body rates at ``psi - zeta_t``,
     and the lag rate of the trim's cyclic lag acts in the Coriolis moment), scaled
     by ``k_flap_lag`` (neutral 0: the base equations unchanged)."""
-    _, flap, _, loads = coefficients(p, k)
+    _, flap, _, loads, _ = coefficients(p, k)
     kf = p["k_flap_lag"]
     lm = kf * ld.momentum_l(k.mu, k.a0s, k.flow_speed)
     fl = kf * flap
