@@ -140,6 +140,9 @@ def derive():
         lag_free[name] = free
         if name == "lag":
             out["lag_trim"] = [sp.expand(z.subs(no_lag)) for z in zero]
+            # the lag rows' displacement columns without steady lag (its stiffness)
+            out["lag_stiffness"] = [[sp.expand(r[j].subs(no_lag)) for j in range(15, 18)]
+                                    for r in rows]
         if name == "loads":
             # the steady lag's share of the trim's loads (it moves the trim inflow)
             out["load_trim"] = [sp.expand(z - z.subs(no_lag)) for z in zero]
@@ -183,7 +186,8 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
-rows, 3); :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
+rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
+3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
 inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
 exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
 functions of numbers or of sympy symbols (the FMU's C is generated from them).
@@ -219,33 +223,51 @@ def _code(e):
     return sp.pycode(sp.collect(e, [sp.Symbol("nb")]), fully_qualified_modules=False)
 
 
+def _function(name, args, doc, setup, arrays):
+    """Python source of one function: common subexpressions (``x0, x1, ...``), then
+    each array of ``arrays`` (``{variable: rows (or a vector) of expressions}``),
+    returned as a tuple (one array: itself)."""
+    flat = [e for rows in arrays.values() for row in rows
+            for e in (row if isinstance(row, list) else [row])]
+    subs, reduced = sp.cse([sp.sympify(e) for e in flat], symbols=sp.numbered_symbols("x"),
+                           order="none")
+    lines = [f"\ndef {name}({args}):", f'    """{doc}"""'] + setup + ["    o = 0 * mu"]
+    lines += [f"    {v} = {_code(e)}" for v, e in subs]
+    it = iter(reduced)
+    for var, rows in arrays.items():
+        if rows and isinstance(rows[0], list):
+            lines.append(f"    {var} = _arr([")
+            for row in rows:
+                vals = [next(it) for _ in row]
+                lines.append("        [" + ", ".join(_code(e) if e != 0 else "o"
+                                                    for e in vals) + "],")
+            lines.append("    ])")
+        else:
+            vals = [next(it) for _ in rows]
+            lines.append(f"    {var} = _arr([" + ", ".join(_code(e) if e != 0 else "o"
+                                                          for e in vals) + "])")
+    lines.append(f"    return {', '.join(arrays)}\n")
+    return lines
+
+
 def render(out) -> str:
-    o = "0 * mu"
     lines = [HEADER.format(cols=tuple(COLS))]
     args = "mu, nb, dl, th, b, u, l1c_t, l1s_t"
     unpack = ["    th0, th1c, th1s = th", "    b0t, b1ct, b1st = b"]
-    lines.append(f"\ndef terms({args}, zt):")
-    lines.append('    """``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-]."""')
-    lines += unpack + ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)", f"    o = {o}"]
-    for name in ("flap", "lag", "loads"):
-        lines.append(f"    {name} = _arr([")
-        for row in out[name]:
-            lines.append("        [" + ",\n         ".join(
-                (_code(e) if e != 0 else "o") for e in row) + "],")
-        lines.append("    ])")
-    lines.append("    return flap, lag, loads\n")
-    lines.append(f"\ndef lag_trim({args}):")
-    lines.append('    """The lag rows\' right-hand side at the trim without lag (3) [-]."""')
-    lines += unpack + [f"    o = {o}"]
-    lines.append("    return _arr([" + ",\n                 ".join(
-        (_code(e) if e != 0 else "o") for e in out["lag_trim"]) + "])\n")
-    lines.append(f"\ndef load_trim({args}, zt):")
-    lines.append('    """The steady lag\'s share of the trim\'s ``(C_T, C_mc, C_ms) / (a0 s)`` '
-                 '(3) [-]."""')
-    lines += unpack + ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)", f"    o = {o}"]
-    lines.append("    return _arr([" + ",\n                 ".join(
-        (_code(e) if e != 0 else "o") for e in out["load_trim"]) + "])\n")
-    lines.append('\n__all__ = ["COLS", "terms", "lag_trim", "load_trim"]\n')
+    lag = ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)"]
+    lines += _function("terms", args + ", zt",
+                       "``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-].",
+                       unpack + lag, {n: out[n] for n in ("flap", "lag", "loads")})
+    lines += _function("lag_trim", args,
+                       "The lag rows' right-hand side at the trim without lag (3) [-].",
+                       unpack, {"moment": out["lag_trim"]})
+    lines += _function("lag_stiffness", args,
+                       "The lag rows' displacement columns (``COLS[15:18]``) without "
+                       "steady lag (3 x 3) [-].", unpack, {"stiffness": out["lag_stiffness"]})
+    lines += _function("load_trim", args + ", zt",
+                       "The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` "
+                       "(3) [-].", unpack + lag, {"loads": out["load_trim"]})
+    lines.append('\n__all__ = ["COLS", "terms", "lag_trim", "lag_stiffness", "load_trim"]\n')
     return "\n".join(lines)
 
 

@@ -88,15 +88,15 @@ def _solve3(a, b):
     return np.array(out, dtype=object)
 
 
-def steady_lag(structure, lag0, moment):
+def steady_lag(structure, stiffness, moment):
     """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] of the trim: the averaged lag
     rows at rest, ``(S + A) zeta_t + Z_t = 0``, with ``S`` the spring, damper and
     rotating-frame displacement terms (:func:`lag_structure`), ``A`` the lag rows'
-    displacement columns about the trim without lag and ``Z_t`` the lag's trim
+    displacement columns about the trim without lag (``stiffness``,
+    :func:`lead_lag_terms.lag_stiffness`) and ``Z_t`` the lag's trim
     moment (:func:`lead_lag_terms.lag_trim`: the drag and the Coriolis moment of
     the cyclic flap)."""
-    k = structure[:, :3] + lag0[:, 15:18]
-    return _solve3(k, -moment)
+    return _solve3(structure[:, :3] + stiffness, -moment)
 
 
 def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
@@ -134,14 +134,12 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     lam_t : ndarray (3,)
         The trim inflow they are linearised about [-].
     """
-    o = 0 * mu
     s_x = lag_structure(nu_zeta, zeta_lag)
     lam_t = np.asarray(lam)
 
     def at(lam_t):
         args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
-        _, lag0, _ = lt.terms(*args, (o, o, o))
-        return args, steady_lag(s_x, lag0, lt.lag_trim(*args))
+        return args, steady_lag(s_x, lt.lag_stiffness(*args), lt.lag_trim(*args))
 
     args, zt = at(lam_t)
     if lm is not None:

@@ -6,7 +6,8 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
-rows, 3); :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
+rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
+3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
 inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
 exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
 functions of numbers or of sympy symbols (the FMU's C is generated from them).
@@ -44,200 +45,1036 @@ def terms(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt):
     z0t, z1ct, z1st = zt
     cz0, sz0 = _cos_sin(z0t)
     o = 0 * mu
+    x0 = nb*z1ct
+    x1 = (1/2)*x0
+    x2 = mu**2
+    x3 = x1*x2
+    x4 = sz0**2
+    x5 = x0*x2
+    x6 = x4*x5
+    x7 = nb*z1st
+    x8 = x2*x7
+    x9 = cz0*sz0
+    x10 = x8*x9
+    x11 = x10 + x3 - x6
+    x12 = (1/2)*x7
+    x13 = x12*x2
+    x14 = x4*x8
+    x15 = x5*x9
+    x16 = (2/3)*mu
+    x17 = cz0*x0
+    x18 = x16*x17
+    x19 = x16*x7
+    x20 = sz0*x19
+    x21 = nb*sz0
+    x22 = x16*x21
+    x23 = cz0*nb
+    x24 = x16*x23
+    x25 = mu*x17
+    x26 = mu*sz0
+    x27 = x26*x7
+    x28 = x25 + x27
+    x29 = (4/3)*mu
+    x30 = x21*x29
+    x31 = x30 + x7
+    x32 = mu*nb
+    x33 = (4/3)*x32
+    x34 = x23*x29
+    x35 = x33 - x34
+    x36 = th1c*x5
+    x37 = mu*u
+    x38 = cz0*x7
+    x39 = x37*x38
+    x40 = 2*x6
+    x41 = th1c*x40
+    x42 = 2*b1st
+    x43 = x10*x42
+    x44 = 2*b1ct
+    x45 = x15*x44
+    x46 = th1s*x8
+    x47 = b1ct*x8
+    x48 = -x47
+    x49 = b1st*x5
+    x50 = -x49
+    x51 = x0*x26
+    x52 = u*x51
+    x53 = 2*x7
+    x54 = x2*x4
+    x55 = x53*x54
+    x56 = x14*x44
+    x57 = x42*x6
+    x58 = -th1s*x55 + x46 + x48 + x50 - x52 + x56 + x57
+    x59 = nb*th1c
+    x60 = (4/3)*x59
+    x61 = cz0*mu
+    x62 = x60*x61
+    x63 = nb*th1s
+    x64 = (4/3)*x63
+    x65 = x26*x64
+    x66 = nb*(-2*cz0*sz0*th1c*x2*z1st - 2*cz0*sz0*th1s*x2*z1ct) + x62 + x65
+    x67 = b1ct*nb
+    x68 = (1/2)*x67
+    x69 = -x68
+    x70 = x2*x63
+    x71 = (1/2)*x70
+    x72 = x23*x37
+    x73 = th0*x0
+    x74 = x2*x73
+    x75 = x4*x70
+    x76 = th1s*x0
+    x77 = x2*x59
+    x78 = x77*x9
+    x79 = 2*x74
+    x80 = x4*x79
+    x81 = th1c*x7
+    x82 = (1/3)*mu
+    x83 = x81*x82
+    x84 = cz0*x83
+    x85 = (1/3)*x51
+    x86 = th1c*x85
+    x87 = th1s*x27
+    x88 = (1/3)*x87
+    x89 = th0*x7
+    x90 = x2*x89
+    x91 = 2*x90
+    x92 = x9*x91
+    x93 = -x63
+    x94 = -x73
+    x95 = b0t*z1ct
+    x96 = b1st + x95
+    x97 = x93 + x94 + x96
+    x98 = x2*x67
+    x99 = x4*x98
+    x100 = b0t*x8
+    x101 = l1c_t*x7
+    x102 = x101*x16
+    x103 = l1s_t*x0
+    x104 = x103*x16
+    x105 = b1st*x23
+    x106 = sz0*x2
+    x107 = x105*x106
+    x108 = 2*b0t
+    x109 = x108*x14
+    x110 = (4/3)*x0
+    x111 = mu*x4
+    x112 = x110*x111
+    x113 = l1s_t*x112
+    x114 = (4/3)*x7
+    x115 = x111*x114
+    x116 = l1c_t*x115
+    x117 = x108*x15
+    x118 = cz0*l1c_t
+    x119 = x110*x26
+    x120 = x118*x119
+    x121 = cz0*l1s_t
+    x122 = x114*x26
+    x123 = x121*x122
+    x124 = -x100 - x102 + x104 - x107 + x109 - x113 + x116 + x117 + x120 + x123 + x99
+    x125 = x21*x37
+    x126 = -x125
+    x127 = (1/2)*x77
+    x128 = x4*x77
+    x129 = x26*x81
+    x130 = x70*x9
+    x131 = x4*x91
+    x132 = x38*x82
+    x133 = th1s*x132
+    x134 = x26*x76
+    x135 = (1/3)*x134
+    x136 = th1c*x25
+    x137 = (1/3)*x136
+    x138 = x79*x9
+    x139 = b1st*nb
+    x140 = (1/2)*x139
+    x141 = -x59
+    x142 = b0t*z1st
+    x143 = -x142
+    x144 = b1ct + x143
+    x145 = x140 + x141 + x144 + x89
+    x146 = x140*x2
+    x147 = b0t*x5
+    x148 = x139*x2
+    x149 = x148*x4
+    x150 = l1c_t*x0
+    x151 = x150*x16
+    x152 = l1s_t*x7
+    x153 = x152*x16
+    x154 = b1ct*x23
+    x155 = x106*x154
+    x156 = -x108*x6
+    x157 = l1c_t*x112
+    x158 = -x157
+    x159 = l1s_t*x115
+    x160 = -x159
+    x161 = x10*x108
+    x162 = -x119*x121
+    x163 = x118*x122
+    x164 = -x146 + x147 + x149 + x151 + x153 + x155 + x156 + x158 + x160 + x161 + x162 + x163
+    x165 = cz0*x29
+    x166 = (4/3)*x89
+    x167 = x166*x26
+    x168 = b1st*z1ct
+    x169 = b1ct*z1st
+    x170 = x168 - x169
+    x171 = x118*x12
+    x172 = l1s_t*sz0
+    x173 = -x12*x172
+    x174 = b1st*x21
+    x175 = cz0*x19
+    x176 = b0t*x175
+    x177 = x16*x174 + x171 + x173 + x176
+    x178 = x1*x121
+    x179 = l1c_t*sz0
+    x180 = x1*x179
+    x181 = x154*x16
+    x182 = x0*x16
+    x183 = sz0*x182
+    x184 = b0t*x183
+    x185 = -x178 - x180 + x181 - x184
+    x186 = x61*x64
+    x187 = x26*x60
+    x188 = nb*th0
+    x189 = 2*x188
+    x190 = nb*u
+    x191 = (4/3)*x190
+    x192 = -x191
+    x193 = x108 - x189 + x192
+    x194 = -x186 + x187 + x193
+    x195 = l1c_t*x23
+    x196 = (1/2)*x195
+    x197 = l1s_t*x21
+    x198 = (1/2)*x197
+    x199 = b1ct*mu
+    x200 = x1*x199
+    x201 = b1st*x27
+    x202 = x199*x38
+    x203 = b1st*x25
+    x204 = (1/6)*x202 + (1/6)*x203
+    x205 = th0*x21
+    x206 = x205*x29
+    x207 = (1/3)*x129 + x133 + x135 + x136 + x206
+    x208 = b1st*x12
+    x209 = x199*x7
+    x210 = sz0*x209
+    x211 = (1/6)*x210
+    x212 = b1st*x51
+    x213 = (1/6)*x212
+    x214 = x17*x199
+    x215 = l1s_t*x23
+    x216 = (1/2)*x215
+    x217 = l1c_t*x21
+    x218 = (1/2)*x217
+    x219 = b0t*x22 + x216 + x218 + x69
+    x220 = th0*x23
+    x221 = x220*x29
+    x222 = -x221
+    x223 = x76*x82
+    x224 = cz0*x223
+    x225 = x222 + x224 + x84 + x86 + x87
+    x226 = x2*x53
+    x227 = x226*x9 - x40 + x5
+    x228 = sz0*x23
+    x229 = x2*x228
+    x230 = x132 + x85
+    x231 = x229 + x230
+    x232 = nb*x2
+    x233 = x232*x4
+    x234 = (1/3)*x25
+    x235 = x234 + x27
+    x236 = (1/3)*x27
+    x237 = x236 + x25
+    x238 = mu*x21
+    x239 = x114 + 2*x238
+    x240 = cz0*x122
+    x241 = nb - x112 + x182 - x23 + x240
+    x242 = cz0*x119
+    x243 = nb*(-2/3*mu*z1st - sz0) + x115 + x242
+    x244 = -x243
+    x245 = (8/3)*x238
+    x246 = nb*(-2*cz0*sz0*x2*z1ct - 2*x2*x4*z1st) + x8
+    x247 = x110*x61
+    x248 = x122 + x233 - x247
+    x249 = x114*x61
+    x250 = -x119 - x229 - x249
+    x251 = -x241
+    x252 = (8/3)*mu
+    x253 = -x220*x252
+    x254 = b0t*x30
+    x255 = x61*x7
+    x256 = b1st*x255
+    x257 = (1/3)*x210
+    x258 = -x257
+    x259 = b1st*x85
+    x260 = -x259
+    x261 = (1/3)*x214
+    x262 = 2*x72
+    x263 = -x262
+    x264 = x4*x74
+    x265 = 2*x59
+    x266 = x2*x9
+    x267 = th1c*x119
+    x268 = th1s*x122
+    x269 = x9*x90
+    x270 = l1s_t*mu
+    x271 = x110*x270
+    x272 = l1c_t*mu
+    x273 = x114*x272
+    x274 = b0t*x14
+    x275 = (8/3)*x111
+    x276 = x101*x275
+    x277 = x103*x275
+    x278 = x147*x9
+    x279 = cz0*x150
+    x280 = (8/3)*x26
+    x281 = x279*x280
+    x282 = cz0*x152
+    x283 = x108*x8 + x229*x42 - x233*x44 - x271 + x273 - 4*x274 - x276 + x277 - 4*x278 - x280*x282 - x281
+    x284 = 2*x36
+    x285 = th1c*x6
+    x286 = cz0*x37
+    x287 = x12*x286
+    x288 = (3/2)*x52
+    x289 = x266*x81
+    x290 = x266*x76
+    x291 = x47 + x49 - x56 - x57
+    x292 = b1ct*x5
+    x293 = x292*x9
+    x294 = l1c_t*nb
+    x295 = x29*x294
+    x296 = (4/3)*x26
+    x297 = -x108*x233 - x215*x296 - x295*x4
+    x298 = -4*x293 + x297
+    x299 = b1st*z1st
+    x300 = (1/2)*x299
+    x301 = b1ct*z1ct
+    x302 = (1/2)*x301
+    x303 = b0t*x232
+    x304 = th1c*x1
+    x305 = th1s*x12
+    x306 = x16*x294
+    x307 = x106*x220
+    x308 = (1/4)*cz0
+    x309 = x152*x308
+    x310 = (1/4)*sz0
+    x311 = x101*x310
+    x312 = b1ct*x21
+    x313 = x150*x308
+    x314 = x16*x89
+    x315 = cz0*x314
+    x316 = x16*x73
+    x317 = b0t*x234 - b0t*x236 + sz0*x316 - x103*x310 + x105*x82 - x309 - x311 + x312*x82 + x313 + x315
+    x318 = x300 - x302 + x303 + x304 - x305 + x306 + 2*x307 + x317
+    x319 = th1s*x1
+    x320 = -x319
+    x321 = cz0*x316
+    x322 = (1/2)*x168
+    x323 = -3/2*x169 + x322
+    x324 = x323 + (3/2)*x81
+    x325 = mu*x174
+    x326 = sz0*x152
+    x327 = cz0*x103
+    x328 = sz0*x150
+    x329 = mu*x154
+    x330 = cz0*x101
+    x331 = (3/4)*x330
+    x332 = b0t*x255
+    x333 = 2*x89
+    x334 = -b0t*x85 + x26*x333 + x325 - 3/4*x326 - 1/4*x327 - 1/4*x328 + (1/3)*x329 + x331 + x332
+    x335 = x188*x2
+    x336 = u*x26
+    x337 = x1*x286
+    x338 = th1s*x226
+    x339 = x292 - x44*x6
+    x340 = l1s_t*nb
+    x341 = mu*x340
+    x342 = (2/3)*x341
+    x343 = (4/3)*x341
+    x344 = x195*x296
+    x345 = b1st*x8
+    x346 = -x14*x42 + x345
+    x347 = x108*x229 + x342 - x343*x4 + x344 + x346
+    x348 = x339 + x347
+    x349 = x12*x336 + x189*x54 + x284*x9 - x335 - x337 + x338*x9 + x348
+    x350 = x205*x252
+    x351 = 2*x0
+    x352 = mu*th1c
+    x353 = cz0*x352
+    x354 = sz0*x16
+    x355 = x354*x81
+    x356 = -2*x142 + x44
+    x357 = x354*x76
+    x358 = th1s*x175 + x357
+    x359 = x0*x199
+    x360 = sz0*x359
+    x361 = -x360
+    x362 = -b1st*x236
+    x363 = b1st*x234 + (1/3)*x202
+    x364 = -x197
+    x365 = b0t*x34
+    x366 = x139 + x195 + x364 + x365
+    x367 = x361 + x362 + x363 + x366
+    x368 = (3/4)*x327
+    x369 = (3/4)*x328
+    x370 = (1/4)*x326
+    x371 = (1/3)*x325
+    x372 = (1/4)*x330
+    x373 = b0t*x51
+    x374 = 2*x73
+    x375 = x374*x61
+    x376 = b0t*x132
+    x377 = mu*x63
+    x378 = cz0*x377
+    x379 = (2/3)*x378
+    x380 = -x379
+    x381 = sz0*x314
+    x382 = x320 + x380 + x381
+    x383 = x16*x59
+    x384 = cz0*x383
+    x385 = -x384
+    x386 = (2/3)*x377
+    x387 = sz0*x386
+    x388 = -x300 + x302
+    x389 = -x304 + x305 + x317 + x385 + x387 + x388
+    x390 = mu*x23
+    x391 = -2*mu*nb + x110 + 2*x390
+    x392 = 2*x125
+    x393 = mu*th1s
+    x394 = x114*x393
+    x395 = (4/3)*x134
+    x396 = 2*x149
+    x397 = x110*x272
+    x398 = x114*x270
+    x399 = x150*x275
+    x400 = x152*x275
+    x401 = x100*x9
+    x402 = 4*b0t*x6 - x108*x5 - x229*x44 + x280*x327 - x280*x330 - x396 - x397 - x398 + x399 + x400 - 4*x401
+    x403 = -x108
+    x404 = (1/2)*x169
+    x405 = (3/2)*x168
+    x406 = th1c*x12
+    x407 = (3/2)*x76
+    x408 = x345*x9
+    x409 = x297 - 4*x408
+    x410 = 2*x63
+    x411 = th1s*x26
+    x412 = cz0*x16
+    x413 = x42 + 2*x95
+    x414 = x412*x81
+    x415 = th1c*x183 + x414
+    x416 = x215 + x217 + x254 - x67
+    x417 = x256 + x258 + x260 + x261 + x416
+    x418 = -x404 + x405
+    x419 = sz0*x383
+    x420 = x321 + x406 + x419
+    x421 = th1c*x3
+    x422 = th1s*x14
+    x423 = x105*x29
+    x424 = -b1ct*z1ct - b1st*z1st + nb*(-4/3*b1ct*mu*sz0 - 2/3*mu*sz0*th1s) + x289 + x290 + x291 + x385 + x423
+    x425 = x319*x61
+    x426 = b1st*x19
+    x427 = cz0*x426
+    x428 = (1/6)*th1c
+    x429 = x255*x428
+    x430 = x428*x51
+    x431 = (1/6)*th1s
+    x432 = x27*x431
+    x433 = b1st*x182
+    x434 = (1/2)*x63
+    x435 = th0*x1
+    x436 = -x434 - x435
+    x437 = (2/3)*x209
+    x438 = sz0*x437
+    x439 = (2/3)*x214
+    x440 = -x438 + x439
+    x441 = x26*x406
+    x442 = -x392
+    x443 = (2/3)*x360
+    x444 = -x443
+    x445 = x4*x90
+    x446 = (2/3)*x202
+    x447 = x255*x431
+    x448 = x431*x51
+    x449 = x25*x428
+    x450 = x74*x9
+    x451 = th0*x12
+    x452 = -1/2*nb*th1c + x451
+    x453 = b1st*x18
+    x454 = -2/3*b1st*mu*nb*sz0*z1st + x453
+    x455 = x154*x29
+    x456 = x174*x29
+    x457 = (8/3)*x190
+    x458 = x108 - x188 - x457
+    x459 = x170 + x455 + x456 + x458
+    x460 = x16*x205
+    x461 = x27*x428
+    x462 = x25*x431
+    x463 = x26*x89
+    x464 = -2*b0t*mu*nb*sz0*z1ct
+    x465 = x463 + x464
+    x466 = x26*x59
+    x467 = x61*x73
+    x468 = x390*x44 + x466 + x467
+    x469 = x108*x255
+    x470 = -cz0*mu*nb*th1s + x238*x42 + x469
+    x471 = nb*(-4/3*cz0*l1s_t*z1ct - 4/3*l1c_t*sz0*z1ct - 4/3*l1s_t*sz0*z1st - 4/3*th0 - 2/3*th1s*z1ct - 4*u) + x114*x118 + x465 + x468 + x470 + (2/3)*x81
+    x472 = u*x110
+    x473 = th1s*x19
+    x474 = x16*x9
+    x475 = b0t*x33 + b1st*x240 + nb*(-4/3*b1ct*cz0*mu*sz0*z1ct - 4/3*b1ct*mu*x4*z1st - b1ct*sz0 - 4/3*b1st*mu*x4*z1ct - 1/2*cz0*th1c - 4/3*cz0*u*z1st - 2/3*mu*th1c*x4*z1ct - 1/3*mu*th1s*z1st - 1/2*sz0*th1s) + sz0*x472 + th1c*x0*x82 + x105 + x294 + x4*x473 + x433 + x437 + x474*x76 + x474*x81
+    x476 = cz0*x434
+    x477 = (1/2)*x59
+    x478 = sz0*x477
+    x479 = x16*x188
+    x480 = u*x114
+    x481 = x199*x4
+    x482 = x16*x4
+    x483 = th1c*x18
+    x484 = x114*x199
+    x485 = b1st*x115 + b1st*x242 - cz0*x472 - sz0*x480 + sz0*x483 - x110*x481 + x154 + x174 - x223 - x340 + (2/3)*x359 - x426 - x473*x9 + x476 - x478 + x479 + x482*x76 + x482*x81 + x484*x9 - x83
+    x486 = b1ct*x1
+    x487 = b1ct*x3
+    x488 = -cz0*mu*nb*u*z1ct
+    x489 = u*x27
+    x490 = x47*x9
+    x491 = x49*x9
+    x492 = x191 + x490 + x491
+    x493 = (2/3)*u
+    x494 = x2*x68
+    x495 = b1st*x215
+    x496 = b1st*x217
+    x497 = b1ct*x197
+    x498 = cz0*x59
+    x499 = x37*x498
+    x500 = b1ct**2
+    x501 = x229*x500
+    x502 = sz0*u
+    x503 = b1st**2
+    x504 = x229*x503
+    x505 = b1st*x108
+    x506 = b1ct*x108
+    x507 = b0t*b1ct
+    x508 = b0t*b1st
+    x509 = x110*x199
+    x510 = x336*x73
+    x511 = 4*x6
+    x512 = u*x25
+    x513 = (8/3)*x150
+    x514 = b1ct*b1st
+    x515 = sz0*x319
+    x516 = x406*x61
+    x517 = x214*x428
+    x518 = x46*x9
+    x519 = x36*x9
+    x520 = sz0*x199
+    x521 = (8/3)*x520
+    x522 = b1st*x26
+    x523 = (8/3)*x522
+    x524 = -x201*x431 + x202*x431 + x203*x431
+    x525 = b1ct*x148
+    x526 = cz0*x477
+    x527 = l1s_t*x526
+    x528 = l1c_t*x478
+    x529 = sz0*x434
+    x530 = l1s_t*x529
+    x531 = b0t*x2
+    x532 = x531*x81
+    x533 = x531*x76
+    x534 = b1ct*x90
+    x535 = b1st*x74
+    x536 = b0t*x419
+    x537 = l1c_t*x16
+    x538 = x537*x81
+    x539 = x537*x76
+    x540 = x132*x500
+    x541 = x500*x85
+    x542 = b1ct*x130
+    x543 = b1st*x78
+    x544 = x108*x54
+    x545 = (8/3)*x481
+    x546 = x152*x545
+    x547 = b1st*x277
+    x548 = x29*x4
+    x549 = l1c_t*x76
+    x550 = 4*x507
+    x551 = 4*x508
+    x552 = b0t*x379 + b1st*x271 + l1c_t*x476 + l1c_t*x548*x81 + l1s_t*x484 + x10*x550 + (4/3)*x121*x129 + x121*x395 + x132*x503 + x149*x44 + x15*x551 + x264*x42 + x279*x523 + x330*x521 + x44*x445 + x503*x85 - x525 - x527 - x528 - x530 - x532 - x533 - x534 - x535 - x536 - x538 - x539 - x540 - x541 - x542 - x543 + x544*x76 + x544*x81 - x546 - x547 + x548*x549
+    x553 = l1c_t**2
+    x554 = l1s_t**2
+    x555 = l1s_t*x101
+    x556 = b0t**2
+    x557 = x5*x556
+    x558 = x5*x500
+    x559 = x0*x554
+    x560 = x0*x553
+    x561 = (4/3)*u
+    x562 = x139*x16
+    x563 = (1/3)*x390
+    x564 = x59*x82
+    x565 = (1/3)*x377
+    x566 = x16*x67
+    x567 = x553*x7
+    x568 = b0t*x90
+    x569 = x554*x7
+    x570 = 2*dl
+    x571 = x4*x53
+    x572 = l1c_t*x571
+    x573 = x548*x67
+    x574 = (3/4)*b1st
+    x575 = sz0*x103
+    x576 = (3/8)*x76
+    x577 = th1s*x13
+    x578 = (1/4)*b1ct
+    x579 = x520*x59
+    x580 = (1/6)*x579
+    x581 = x59*x61
+    x582 = (1/6)*b1st
+    x583 = x581*x582
+    x584 = (1/8)*cz0
+    x585 = th1c*x584
+    x586 = x150*x585
+    x587 = (1/8)*sz0
+    x588 = th1s*x587
+    x589 = (1/4)*b1st
+    x590 = sz0*x101
+    x591 = sz0*x377
+    x592 = b1st*x591
+    x593 = th1s*x584
+    x594 = x584*x81
+    x595 = x587*x81
+    x596 = th1c*x587
+    x597 = x383*x4
+    x598 = x386*x4
+    x599 = x139*x548
+    x600 = b1ct*x54
+    x601 = x503*x8
+    x602 = x121*x179
+    x603 = dl*x53
+    x604 = x2*x603
+    x605 = x226*x556
+    x606 = x548*x73
+    x607 = u*x214
+    x608 = x26*x319
+    x609 = x12*x199
+    x610 = cz0*x208
+    x611 = b1st*x1
+    x612 = (1/4)*mu
+    x613 = sz0*x612
+    x614 = th1s*x613
+    x615 = b0t*x449
+    x616 = cz0*x612
+    x617 = u*x616
+    x618 = (4/3)*x520
+    x619 = x548*x89
+    x620 = (8/3)*b0t
+    x621 = x26*x620
+    x622 = (4/3)*x73
+    x623 = x26*x622
+    x624 = dl*x0
+    x625 = -th0*x68 - x493*x63 + x507 + x624
+    x626 = l1c_t*x103
+    x627 = (1/3)*x238
+    x628 = x351*x4
+    x629 = l1s_t*x628
+    x630 = (3/4)*b1ct
+    x631 = (3/8)*x81
+    x632 = b1st*x477
+    x633 = x199*x498
+    x634 = x152*x593
+    x635 = x101*x588
+    x636 = l1s_t*x587*x76
+    x637 = (1/6)*b1ct
+    x638 = x591*x637
+    x639 = x378*x582
+    x640 = x549*x584
+    x641 = b1st*x54
+    x642 = b0t*x77
+    x643 = (3/2)*b1st
+    x644 = cz0*u
+    x645 = cz0*x611
+    x646 = u*x613
+    x647 = b0t*x432
+    x648 = th1c*x616
+    x649 = b0t*x462
+    x650 = dl*x7
+    x651 = -th0*x140 + x493*x59 + x508 + x650
+    x652 = mu*th0
+    x653 = x154*x652
+    x654 = x174*x652
+    x655 = x305*x61
+    x656 = nb*x570
+    x657 = (4/3)*x188
+    x658 = -u*x657
+    x659 = nb*(-1/6*b1ct*mu*sz0*th1s*z1st - 1/6*b1st*mu*sz0*th1c*z1st - 1/6*b1st*mu*sz0*th1s*z1ct) + x202*x428 + x203*x428 + x214*x431 + x656 + x658
+    x660 = b0t*x384 + b0t*x387 + l1c_t*x526 + l1c_t*x529 + l1s_t*x476 - l1s_t*x478
+    x661 = (3/8)*th1c
+    x662 = b0t*x26
+    x663 = cz0*x199
+    x664 = th1s*x20
+    x665 = mu*x294
+    x666 = (1/4)*x7
+    x667 = th1s*x666
+    x668 = (1/4)*x0
+    x669 = th1c*x668
+    x670 = x12*x121
+    x671 = x12*x179
+    x672 = x1*x172
+    x673 = x1*x118
+    x674 = b0t*x18
+    x675 = b0t*x20
+    x676 = (1/3)*th0
+    x677 = x255*x676 + x51*x676
+    x678 = x307 - x667 + x669 + x670 + x671 + x672 - x673 - x674 + x675 + x677
+    x679 = x25*x676
+    x680 = nb*(-3/2*cz0*l1s_t*z1ct - 3/2*l1c_t*sz0*z1ct - 1/4*th1s*z1ct) + (3/4)*x81
+    x681 = x335*x4
+    x682 = -1/2*nb*th0*x2 + x488 + x489 + x518 + x519 + x681
+    x683 = (8/3)*x390
+    x684 = x27*x676
+    x685 = sz0*x565
+    x686 = x105*x16 + x16*x312 - x670 - x671 - x672 + x673 + x674 - x675
+    x687 = (1/3)*cz0*mu*nb*th1c - x388 - x667 + x669 - x677 - x685 - x686
+    x688 = (8/3)*x195
+    x689 = 4*b0t
+    x690 = 2*mu*x205 + nb*(-3*b1ct*mu*sz0*z1ct - 8/3*l1s_t*sz0 - 4/3*th1c) + (3/2)*x136 + (8/3)*x139 + x166 - x201 + x202 + x203 + x390*x689 + x441 + x608 + x655 + x688
+    x691 = cz0*x486
+    x692 = b1ct*x12
+    x693 = sz0*x643
+    x694 = (8/3)*u
+    x695 = b0t*mu
+    x696 = cz0*x351
+    x697 = cz0*x53
+    x698 = b0t*x275
+    x699 = -cz0*x167 + cz0*x319 - cz0*x406 + sz0*x25*x620 - sz0*x304 - sz0*x305 - x101 + x103 - x105*x296 - x114*x695 + x172*x697 + x179*x696 + x220 + x23*x694 - x316 - x383*x9 + x572 + x573 - x598 + x606 - x629 + x698*x7
+    x700 = -sz0*x692 + x0*x693 - x32*x44 + x565 - x610 + x691 + x699
+    x701 = sz0*x208
+    x702 = sz0*x486
+    x703 = cz0*x26
+    x704 = cz0*x27*x620 - cz0*x304 - cz0*x305 - l1c_t*x628 - l1s_t*x571 - sz0*x379 + sz0*x406 - x0*x698 + x110*x695 + x150 + x152 + x154*x296 - x172*x696 + x179*x697 - x205 - x21*x694 - x314 - x515 + x597 + x599 + x619 + x622*x703
+    x705 = -cz0*x692 + x17*x643 - x562 + x564 + x701 - x702 + x704
+    x706 = x178 + x180 + x184 + x339
+    x707 = b0t*x229 + x177 - x181 + x195*x354 - x342*x4
+    x708 = -b0t*x233 + b1ct*x666 + b1st*x668 + x1*x336 - x215*x354 + x287 - x293 + (1/2)*x303 - x306*x4 - x408 + (1/3)*x665 + x686
+    x709 = l1c_t*x29
+    x710 = b1ct*x2
+    x711 = b1st*x46
+    x712 = 4*x4
+    x713 = l1s_t*x111
+    x714 = (16/3)*x150
+    x715 = b0t*x111
+    x716 = (16/3)*x715
+    x717 = x61*x89
+    x718 = b0t*x206 + b1st*x717 + dl*x683 + nb*(-1/3*b1ct*mu*sz0*th0*z1st - 1/3*b1st*mu*sz0*th0*z1ct) + th0*x215 + th0*x217 + x214*x676
+    x719 = b1ct*x77
+    x720 = x312*x37
+    x721 = u*x351
+    x722 = x644*x652
+    x723 = b0t*x489
+    x724 = b0t*x512
+    x725 = (1/3)*x81
+    x726 = b1ct*x74
+    x727 = 4*x9
+    x728 = l1s_t*x294
+    x729 = 2*x556
+    x730 = x4*x620
+    x731 = mu*x676
+    x732 = x312*x731
+    x733 = x105*x731
+    x734 = (1/4)*x73
+    x735 = x118*x734
+    x736 = (1/4)*x89
+    x737 = x121*x736
+    x738 = x179*x736
+    x739 = x172*x734
+    x740 = x412*x650
+    x741 = x354*x624
+    x742 = l1c_t*x111
+    x743 = b0t*x679
+    x744 = b0t*x684
+    x745 = (4/3)*sz0*x652
+    x746 = (1/2)*x500
+    x747 = (1/2)*x503
+    x748 = -x578*x59 + x589*x63 + x746 - x747
+    x749 = -b0t*x335 + b0t*x343 - l1c_t*x479 + x108*x681 + x215*x745 + x228*x553 - x228*x554 + x229*x570 + x229*x729 - x341*x730 - 2*x4*x728 + x657*x742 + x662*x688 + x728 - x732 - x733 - x735 + x737 + x738 + x739 + x740 + x741 - x743 + x744 + x748
+    x750 = (1/2)*nb
+    x751 = x553*x750
+    x752 = dl*x232
+    x753 = x232*x556
+    x754 = nb*x4
+    x755 = x554*x754
+    x756 = x232*x746
+    x757 = x232*x747
+    x758 = b1ct*x216
+    x759 = b1ct*x218
+    x760 = b1st*x196
+    x761 = l1s_t*x479
+    x762 = b0t*x295
+    x763 = b0t*x36
+    x764 = b0t*x46
+    x765 = x174*x37
+    x766 = b1st*x90
+    x767 = x234*x500
+    x768 = x236*x500
+    x769 = x22*x507
+    x770 = x24*x508
+    x771 = x330*x493
+    x772 = x327*x493
+    x773 = th1c*x151
+    x774 = th1s*x102
+    x775 = x328*x493
+    x776 = b0t*x39
+    x777 = b0t*x52
+    x778 = x719*x9
+    x779 = b1st*x70*x9
+    x780 = x502*x652
+    x781 = x12*x780
+    x782 = x108*x307
+    x783 = x195*x745
+    x784 = x103*x545
+    x785 = b1st*x400
+    x786 = -1/4*b1ct*nb*th1s - x514 + x574*x59
+    x787 = b0t*x717 + nb*(-1/3*b0t*mu*sz0*th0*z1ct - 2/3*cz0*dl*mu*z1ct - 1/4*cz0*l1s_t*th0*z1ct - 2*dl*mu*sz0*z1st - 1/4*l1c_t*sz0*th0*z1ct - 3/4*l1s_t*sz0*th0*z1st) + (3/4)*x118*x89 + x329*x676 + x654
+    x788 = x656 + x658 + x660
+    x789 = (1/3)*x378
+    x790 = (1/3)*x466
+    x791 = (1/4)*x81
+    x792 = (1/4)*x76
+    x793 = -b0t*x221 + dl*x245 - th0*x195 + th0*x197 + x201*x676 - x202*x676 - x203*x676 + x520*x73
+    x794 = (1/4)*x63
+    x795 = dl*x351
+    x796 = (3/4)*x73
+    x797 = x118*x736 - x121*x796 - x172*x736 - x179*x796 + x325*x676 + x332*x676 - x354*x650 - x61*x795 + x653 - x662*x73
+    x798 = (1/4)*x59
+    x799 = -b0t*x789 - b0t*x790 + nb*((1/6)*b1ct*mu*sz0*th1c*z1st + (1/6)*b1ct*mu*sz0*th1s*z1ct + (1/6)*b1st*mu*sz0*th1c*z1ct + (1/4)*l1s_t*sz0*th1s) - x118*x794 - x121*x798 - x179*x798 - x256*x428 - x517 - x524 - x732 - x733 - x735 + x737 + x738 + x739 + x740 + x741 - x743 + x744 - x748
+    x800 = (3/4)*x76
+    x801 = (3/2)*x330
+    x802 = (3/2)*x326
+    x803 = 2*x215
+    x804 = (8/3)*x215
+    x805 = nb*(-b1ct*mu*sz0*z1st - 8/3*b1ct - b1st*mu*sz0*z1ct - 2*cz0*mu*th0 - 4/3*th0*z1ct - 4/3*th1s) + x214 + (8/3)*x217 + x238*x689 + 3*x256 + x26*x304 + x425 + x516 + x804 + (3/2)*x87
+    x806 = -3/2*b1ct*cz0*nb*z1st + x562 - x564 + x645 - x701 + x702 + x704
+    x807 = (3/2)*b1ct
+    x808 = sz0*x807
+    x809 = sz0*x611 + x377 - x566 + x610 - x691 + x699 - x7*x808
+    x810 = l1s_t*x29
+    x811 = b1st*x2
+    x812 = (1/3)*x76
+    x813 = x514 + x589*x59 - x63*x630
+    x814 = u*x53
+    x815 = cz0*x564
+    x816 = x38*x393
+    x817 = (3/4)*x63
+    x818 = (1/12)*z1ct
+    x819 = (1/8)*x2
+    x820 = (1/4)*x2
+    x821 = x4*z1ct
+    x822 = x820*z1st
+    x823 = x819*z1ct - x820*x821 + x822*x9
+    x824 = (1/12)*z1st
+    x825 = x819*z1st
+    x826 = x820*z1ct
+    x827 = (1/8)*mu
+    x828 = cz0*x827
+    x829 = sz0*x827
+    x830 = x616*z1ct
+    x831 = x613*z1st
+    x832 = x830 + x831
+    x833 = (1/6)*z1st
+    x834 = (1/2)*x2
+    x835 = x821*x834
+    x836 = (1/12)*b1ct
+    x837 = (1/6)*z1ct
+    x838 = th0*x837
+    x839 = x827*z1ct
+    x840 = x4*x820
+    x841 = x827*z1st
+    x842 = (3/16)*th1s
+    x843 = mu*z1ct
+    x844 = cz0*x843
+    x845 = (1/2)*x54
+    x846 = x4*z1st
+    x847 = l1c_t*x612
+    x848 = mu*z1st
+    x849 = (1/16)*sz0
+    x850 = th1s*x849
+    x851 = x820*x9
+    x852 = l1s_t*x612
+    x853 = th0*z1st
+    x854 = x834*x9
+    x855 = x613*z1ct
+    x856 = (1/16)*cz0
+    x857 = th1c*x856
+    x858 = th1c*x849
+    x859 = x843*x858 + x848*x857
+    x860 = th1s*x856
+    x861 = x848*x860
+    x862 = x843*x850
+    x863 = (3/16)*th1c
+    x864 = sz0*x848
+    x865 = th0*x833
+    x866 = (1/12)*b1st - x428 + x865
+    x867 = th1s*x837
+    x868 = th1c*x833
+    x869 = cz0*x818
+    x870 = cz0*x824
+    x871 = (1/12)*l1s_t
+    x872 = (1/12)*l1c_t
+    x873 = (1/32)*x26
+    x874 = (1/32)*x61
+    x875 = (1/32)*x2
+    x876 = sz0*x875
+    x877 = cz0**3
+    x878 = x875*x877
+    x879 = cz0*x821
+    x880 = x849 + x876
+    x881 = (1/24)*x843
+    x882 = x4*x881
+    x883 = (1/24)*x848
+    x884 = x883*x9
+    x885 = x856 - 1/16
+    x886 = -x875
+    x887 = (1/48)*x843
+    x888 = cz0*x4
+    x889 = x875*x888
+    x890 = x878 + x886 + x887 + x889
+    x891 = x111*x818
+    x892 = x26*x870
+    x893 = 1/16 - x856
+    x894 = -x881 + x891 - x892 - x893
+    x895 = -x849
+    x896 = x111*x824
+    x897 = x26*x869
+    x898 = -x883 + x895 + x896 + x897
+    x899 = (1/48)*x848
+    x900 = x877*x887
+    x901 = x887*x888
+    x902 = sz0*x899 + x900 + x901
+    x903 = x877*x899
+    x904 = x888*x899
+    x905 = -sz0*x887 + x903 + x904
+    x906 = x849*z1ct
+    x907 = -x876*z1ct + x878*z1st + x889*z1st
+    x908 = x885 + x891 - x892
+    x909 = -x896 - x897
+    x910 = -x905
+    x911 = th0*x856
+    x912 = th0*x849
+    x913 = (1/24)*mu
+    x914 = x299*x913
+    x915 = (1/12)*mu
+    x916 = x4*x915
+    x917 = x301*x916
+    x918 = th1s*x833
+    x919 = b1ct*x856 + b1st*x849 + th1c*x703*x837 + x111*x867 + x111*x868 - x352*x824 - x393*x818 - x703*x918
+    x920 = (1/64)*cz0
+    x921 = x168*x920
+    x922 = x4*x913
+    x923 = b1st*x922
+    x924 = (1/48)*mu
+    x925 = th1s*z1st
+    x926 = (3/64)*cz0
+    x927 = th1c*z1ct
+    x928 = sz0**3
+    x929 = x9*x913
+    x930 = b1ct*x929
+    x931 = u*x612
+    x932 = x846*x931
+    x933 = x2*x877
+    x934 = (3/64)*x933
+    x935 = x927*x934
+    x936 = (5/64)*x933
+    x937 = x169*x936
+    x938 = x168*x936
+    x939 = x2*x301
+    x940 = (9/32)*x928
+    x941 = x939*x940
+    x942 = (13/64)*x106
+    x943 = th1c*z1st
+    x944 = th1s*z1ct
+    x945 = cz0*x646*z1ct
+    x946 = cz0*x54
+    x947 = (13/64)*x946
+    x948 = th1c*x916
+    x949 = x9*x915
+    x950 = th1s*x949
+    x951 = -x950
+    x952 = -1/64*b1st*sz0*z1st - 1/24*mu*th1c + x948 + x951
+    x953 = b1st*x924
+    x954 = -x953
+    x955 = x169*x920
+    x956 = (1/64)*sz0
+    x957 = b0t*x878 + b0t*x889 + l1c_t*x877*x924 + l1c_t*x888*x924 + x943*x956 + x944*x956 + x954 + x955
+    x958 = (1/16)*x199
+    x959 = u*x839
+    x960 = b1ct*x922
+    x961 = (3/64)*sz0
+    x962 = (15/64)*x106
+    x963 = x925*x962
+    x964 = x2*x940
+    x965 = x169*x964
+    x966 = x168*x964
+    x967 = x927*x964
+    x968 = x821*x931
+    x969 = b1st*x929
+    x970 = x925*x964
+    x971 = x169*x942
+    x972 = x168*x942
+    x973 = x644*x831
+    x974 = x2*x879
+    x975 = (15/64)*x946
+    x976 = th1s*x913
+    x977 = th1s*x916
+    x978 = -x977
+    x979 = -x169*x956
+    x980 = x301*x920
+    x981 = th1c*x949
+    x982 = -x981
+    x983 = x976 + x978 + x979 + x980 + x982
+    x984 = b0t*x876 - 1/64*b1st*sz0*z1ct + x179*x924 + x920*x943 + x920*x944
+    x985 = (1/16)*l1c_t
+    x986 = x169*x913
+    x987 = x168*x913
+    x988 = x169*x916
+    x989 = x168*x916
+    x990 = x301*x949
+    x991 = x299*x949
+    x992 = -1/16*b1ct*sz0 + b1st*x856 - 1/6*mu*th1c*x4*z1ct - 1/12*mu*th1s*z1st + x111*x918 + x352*x818 + x703*x867 + x703*x868
+    x993 = x299*x920
+    x994 = -x969
+    x995 = x960 - x993 + x994
+    x996 = (1/32)*l1c_t
+    x997 = (1/12)*u
+    x998 = (1/32)*l1s_t
+    x999 = x856*z1st
+    x1000 = (1/16)*l1s_t
+    x1001 = x849*z1st
+    x1002 = cz0*x997 + th0*x584 - th1c*x906 - th1c*x999 - th1s*x1001 - x1000*x821 + x1001*x121 + x111*x838 + x118*x906 - x142*x913 + x142*x916 - x652*x818 - x703*x865 + x846*x985 + x860*z1ct + x949*x95 - x996*z1st + x998*z1ct
+    x1003 = x301*x956
+    x1004 = x1003 + x921 + x923 + x930
+    x1005 = x856*z1ct
+    x1006 = -sz0*x997 - th0*x587 - th1c*x1005 - th1s*x906 - th1s*x999 - x1000*x846 + x1001*x118 + x111*x865 - x121*x906 + x142*x949 - x652*x824 + x703*x838 - x821*x985 + x858*z1st + x913*x95 - x916*x95 + x996*z1ct + x998*z1st
+    x1007 = x4*x856
+    x1008 = x1007*x843 + (1/16)*x843*x877 + x848*x849
+    x1009 = (3/32)*x2
+    x1010 = sz0*x1009
+    x1011 = x1009*x877
+    x1012 = x1000*x877
+    x1013 = th0*x1010
+    x1014 = -b1ct*x924
+    x1015 = (9/64)*x925
     flap = _arr([
-        [o,
-         nb*(cz0*mu**2*sz0*z1st - mu**2*sz0**2*z1ct + (1/2)*mu**2*z1ct + (1/2)*z1ct) + z1st,
-         nb*(cz0*mu**2*sz0*z1ct + mu**2*sz0**2*z1st - 1/2*mu**2*z1st + (1/2)*z1st) - z1ct,
-         nb*((2/3)*cz0*mu*z1ct + (2/3)*mu*sz0*z1st),
-         nb*((2/3)*mu*sz0 + (1/2)*z1st),
-         nb*(-2/3*cz0*mu + (2/3)*mu - 1/2*z1ct),
-         nb*(cz0*mu*z1ct + mu*sz0*z1st),
-         o,
-         o,
-         o,
-         nb*(cz0*mu**2*sz0*z1ct + mu**2*sz0**2*z1st - 1/2*mu**2*z1st - 4/3*mu*sz0 - z1st),
-         nb*(-cz0*mu**2*sz0*z1st + (4/3)*cz0*mu + mu**2*sz0**2*z1ct - 1/2*mu**2*z1ct - 4/3*mu + z1ct),
-         nb*(-cz0*mu*z1ct - mu*sz0*z1st),
-         o,
-         o,
-         nb*(-2*b1ct*cz0*mu**2*sz0*z1ct - 2*b1ct*mu**2*sz0**2*z1st + b1ct*mu**2*z1st + 2*b1st*cz0*mu**2*sz0*z1st - 2*b1st*mu**2*sz0**2*z1ct + b1st*mu**2*z1ct + 2*cz0*mu**2*sz0*th1c*z1st + 2*cz0*mu**2*sz0*th1s*z1ct - 4/3*cz0*mu*th1c - cz0*mu*u*z1st - 2*mu**2*sz0**2*th1c*z1ct + 2*mu**2*sz0**2*th1s*z1st + mu**2*th1c*z1ct - mu**2*th1s*z1st - 4/3*mu*sz0*th1s + mu*sz0*u*z1ct),
-         -b0t*z1ct - b1st + nb*(-2*b0t*cz0*mu**2*sz0*z1ct - 2*b0t*mu**2*sz0**2*z1st + b0t*mu**2*z1st - b1ct*mu**2*sz0**2 + (1/2)*b1ct*mu**2 + (1/2)*b1ct + b1st*cz0*mu**2*sz0 - 4/3*cz0*l1c_t*mu*sz0*z1ct - 4/3*cz0*l1s_t*mu*sz0*z1st + 2*cz0*mu**2*sz0*th0*z1st + cz0*mu**2*sz0*th1c + (1/3)*cz0*mu*th1c*z1st - cz0*mu*th1s*z1ct - cz0*mu*u - 4/3*l1c_t*mu*sz0**2*z1st + (2/3)*l1c_t*mu*z1st + (4/3)*l1s_t*mu*sz0**2*z1ct - 2/3*l1s_t*mu*z1ct - 2*mu**2*sz0**2*th0*z1ct + mu**2*sz0**2*th1s + mu**2*th0*z1ct - 1/2*mu**2*th1s + (1/3)*mu*sz0*th1c*z1ct - 1/3*mu*sz0*th1s*z1st + th0*z1ct + th1s),
-         -b0t*z1st + b1ct + nb*(2*b0t*cz0*mu**2*sz0*z1st - 2*b0t*mu**2*sz0**2*z1ct + b0t*mu**2*z1ct + b1ct*cz0*mu**2*sz0 + b1st*mu**2*sz0**2 - 1/2*b1st*mu**2 + (1/2)*b1st + (4/3)*cz0*l1c_t*mu*sz0*z1st - 4/3*cz0*l1s_t*mu*sz0*z1ct + 2*cz0*mu**2*sz0*th0*z1ct - cz0*mu**2*sz0*th1s + (1/3)*cz0*mu*th1c*z1ct - 1/3*cz0*mu*th1s*z1st - 4/3*l1c_t*mu*sz0**2*z1ct + (2/3)*l1c_t*mu*z1ct - 4/3*l1s_t*mu*sz0**2*z1st + (2/3)*l1s_t*mu*z1st + 2*mu**2*sz0**2*th0*z1st + mu**2*sz0**2*th1c - mu**2*th0*z1st - 1/2*mu**2*th1c + mu*sz0*th1c*z1st - 1/3*mu*sz0*th1s*z1ct - mu*sz0*u + th0*z1st - th1c),
-         2*b0t - b1ct*z1st + b1st*z1ct + nb*((2/3)*b0t*cz0*mu*z1st - 2/3*b0t*mu*sz0*z1ct + (2/3)*b1ct*cz0*mu + (2/3)*b1st*mu*sz0 + (1/2)*cz0*l1c_t*z1st - 1/2*cz0*l1s_t*z1ct + (4/3)*cz0*mu*th0*z1ct - 4/3*cz0*mu*th1s - 1/2*l1c_t*sz0*z1ct - 1/2*l1s_t*sz0*z1st + (4/3)*mu*sz0*th0*z1st + (4/3)*mu*sz0*th1c - 2*th0 + th1c*z1st - th1s*z1ct - 4/3*u),
-         -b0t*z1st + b1ct + nb*((2/3)*b0t*cz0*mu + (1/6)*b1ct*cz0*mu*z1st - 1/2*b1ct*mu*sz0*z1ct + (1/6)*b1st*cz0*mu*z1ct - 1/6*b1st*mu*sz0*z1st + (1/2)*b1st + (1/2)*cz0*l1c_t + cz0*mu*th1c*z1ct + (1/3)*cz0*mu*th1s*z1st - 1/2*l1s_t*sz0 + (4/3)*mu*sz0*th0 + (1/3)*mu*sz0*th1c*z1st + (1/3)*mu*sz0*th1s*z1ct + th0*z1st - th1c),
-         b0t*z1ct + b1st + nb*((2/3)*b0t*mu*sz0 + (1/6)*b1ct*cz0*mu*z1ct - 1/6*b1ct*mu*sz0*z1st - 1/2*b1ct + (1/2)*b1st*cz0*mu*z1st - 1/6*b1st*mu*sz0*z1ct + (1/2)*cz0*l1s_t - 4/3*cz0*mu*th0 + (1/3)*cz0*mu*th1c*z1st + (1/3)*cz0*mu*th1s*z1ct + (1/2)*l1c_t*sz0 + (1/3)*mu*sz0*th1c*z1ct + mu*sz0*th1s*z1st - th0*z1ct - th1s)],
-        [nb*(2*cz0*mu**2*sz0*z1st - 4/3*cz0*mu - 2*mu**2*sz0**2*z1ct + mu**2*z1ct + (4/3)*mu) + 2*z1st,
-         nb*(cz0*mu**2*sz0 + (1/3)*cz0*mu*z1st + (1/3)*mu*sz0*z1ct),
-         nb*((1/3)*cz0*mu*z1ct + mu**2*sz0**2 + mu*sz0*z1st),
-         nb*((4/3)*mu*sz0 + z1st),
-         nb*(cz0*mu*z1ct + (1/3)*mu*sz0*z1st),
-         nb*((1/3)*cz0*mu*z1st + (1/3)*mu*sz0*z1ct),
-         nb*(2*mu*sz0 + (4/3)*z1st),
-         nb*((4/3)*cz0*mu*sz0*z1st - cz0 - 4/3*mu*sz0**2*z1ct + (2/3)*mu*z1ct + 1),
-         nb*(-4/3*cz0*mu*sz0*z1ct - 4/3*mu*sz0**2*z1st + (2/3)*mu*z1st + sz0),
-         nb*(2*cz0*mu**2*sz0*z1ct + 2*mu**2*sz0**2*z1st - mu**2*z1st - 8/3*mu*sz0 - 2*z1st),
-         nb*(-4/3*cz0*mu*z1ct + mu**2*sz0**2 + (4/3)*mu*sz0*z1st),
-         nb*(-cz0*mu**2*sz0 - 4/3*cz0*mu*z1st - 4/3*mu*sz0*z1ct),
-         nb*(-2*mu*sz0 - 4/3*z1st),
-         nb*(-4/3*cz0*mu*sz0*z1st + cz0 + (4/3)*mu*sz0**2*z1ct - 2/3*mu*z1ct - 1),
-         nb*((4/3)*cz0*mu*sz0*z1ct + (4/3)*mu*sz0**2*z1st - 2/3*mu*z1st - sz0),
-         nb*(-4*b0t*cz0*mu**2*sz0*z1ct - 4*b0t*mu**2*sz0**2*z1st + 2*b0t*mu**2*z1st + (4/3)*b0t*mu*sz0 + (1/3)*b1ct*cz0*mu*z1ct - 2*b1ct*mu**2*sz0**2 + b1ct*mu**2 - 1/3*b1ct*mu*sz0*z1st + 2*b1st*cz0*mu**2*sz0 + b1st*cz0*mu*z1st - 1/3*b1st*mu*sz0*z1ct - 8/3*cz0*l1c_t*mu*sz0*z1ct - 8/3*cz0*l1s_t*mu*sz0*z1st + cz0*l1s_t + 4*cz0*mu**2*sz0*th0*z1st + 2*cz0*mu**2*sz0*th1c - 8/3*cz0*mu*th0 + (4/3)*cz0*mu*th1c*z1st - 4/3*cz0*mu*th1s*z1ct - 2*cz0*mu*u - 8/3*l1c_t*mu*sz0**2*z1st + (4/3)*l1c_t*mu*z1st + l1c_t*sz0 + (8/3)*l1s_t*mu*sz0**2*z1ct - 4/3*l1s_t*mu*z1ct - 4*mu**2*sz0**2*th0*z1ct + 2*mu**2*sz0**2*th1s + 2*mu**2*th0*z1ct - mu**2*th1s + (4/3)*mu*sz0*th1c*z1ct + (4/3)*mu*sz0*th1s*z1st),
-         -1/2*b1ct*z1ct + (1/2)*b1st*z1st + nb*((1/3)*b0t*cz0*mu*z1ct - 2*b0t*mu**2*sz0**2 + b0t*mu**2 - 1/3*b0t*mu*sz0*z1st - 4*b1ct*cz0*mu**2*sz0*z1ct - 2*b1ct*mu**2*sz0**2*z1st + b1ct*mu**2*z1st + (1/3)*b1ct*mu*sz0 + (1/3)*b1st*cz0*mu - 2*b1st*mu**2*sz0**2*z1ct + b1st*mu**2*z1ct + (1/4)*cz0*l1c_t*z1ct - 4/3*cz0*l1s_t*mu*sz0 - 1/4*cz0*l1s_t*z1st + 2*cz0*mu**2*sz0*th0 + 2*cz0*mu**2*sz0*th1c*z1st + 2*cz0*mu**2*sz0*th1s*z1ct + (2/3)*cz0*mu*th0*z1st - 4/3*cz0*mu*th1c - 1/2*cz0*mu*u*z1st - 4/3*l1c_t*mu*sz0**2 + (2/3)*l1c_t*mu - 1/4*l1c_t*sz0*z1st - 1/4*l1s_t*sz0*z1ct - 4*mu**2*sz0**2*th1c*z1ct + 2*mu**2*th1c*z1ct + (2/3)*mu*sz0*th0*z1ct - 4/3*mu*sz0*th1s + (3/2)*mu*sz0*u*z1ct + (1/2)*th1c*z1ct - 1/2*th1s*z1st),
-         2*b0t - 3/2*b1ct*z1st + (1/2)*b1st*z1ct + nb*(2*b0t*cz0*mu**2*sz0 + b0t*cz0*mu*z1st - 1/3*b0t*mu*sz0*z1ct + (1/3)*b1ct*cz0*mu - 2*b1ct*mu**2*sz0**2*z1ct + b1ct*mu**2*z1ct - 2*b1st*mu**2*sz0**2*z1st + b1st*mu**2*z1st + b1st*mu*sz0 + (4/3)*cz0*l1c_t*mu*sz0 + (3/4)*cz0*l1c_t*z1st - 1/4*cz0*l1s_t*z1ct + 2*cz0*mu**2*sz0*th1c*z1ct + 2*cz0*mu**2*sz0*th1s*z1st + (2/3)*cz0*mu*th0*z1ct - 4/3*cz0*mu*th1s - 1/2*cz0*mu*u*z1ct - 1/4*l1c_t*sz0*z1ct - 4/3*l1s_t*mu*sz0**2 + (2/3)*l1s_t*mu - 3/4*l1s_t*sz0*z1st + 2*mu**2*sz0**2*th0 - mu**2*th0 + 2*mu*sz0*th0*z1st + (4/3)*mu*sz0*th1c + (1/2)*mu*sz0*u*z1st - 2*th0 + (3/2)*th1c*z1st - 1/2*th1s*z1ct - 4/3*u),
-         -2*b0t*z1st + 2*b1ct + nb*((4/3)*b0t*cz0*mu + (1/3)*b1ct*cz0*mu*z1st - b1ct*mu*sz0*z1ct + (1/3)*b1st*cz0*mu*z1ct - 1/3*b1st*mu*sz0*z1st + b1st + cz0*l1c_t + 2*cz0*mu*th1c*z1ct + (2/3)*cz0*mu*th1s*z1st - l1s_t*sz0 + (8/3)*mu*sz0*th0 + (2/3)*mu*sz0*th1c*z1st + (2/3)*mu*sz0*th1s*z1ct + 2*th0*z1st - 2*th1c),
-         2*b0t - 3/2*b1ct*z1st + (1/2)*b1st*z1ct + nb*((1/3)*b0t*cz0*mu*z1st - b0t*mu*sz0*z1ct + b1ct*cz0*mu + (1/3)*b1st*mu*sz0 + (1/4)*cz0*l1c_t*z1st - 3/4*cz0*l1s_t*z1ct + 2*cz0*mu*th0*z1ct - 2/3*cz0*mu*th1s - 3/4*l1c_t*sz0*z1ct - 1/4*l1s_t*sz0*z1st + (2/3)*mu*sz0*th0*z1st + 2*mu*sz0*th1c - 2*th0 + (3/2)*th1c*z1st - 1/2*th1s*z1ct - 4/3*u),
-         (1/2)*b1ct*z1ct - 1/2*b1st*z1st + nb*((1/3)*b0t*cz0*mu*z1ct - 1/3*b0t*mu*sz0*z1st + (1/3)*b1ct*mu*sz0 + (1/3)*b1st*cz0*mu + (1/4)*cz0*l1c_t*z1ct - 1/4*cz0*l1s_t*z1st + (2/3)*cz0*mu*th0*z1st - 2/3*cz0*mu*th1c - 1/4*l1c_t*sz0*z1st - 1/4*l1s_t*sz0*z1ct + (2/3)*mu*sz0*th0*z1ct + (2/3)*mu*sz0*th1s - 1/2*th1c*z1ct + (1/2)*th1s*z1st)],
-        [nb*(2*cz0*mu**2*sz0*z1ct + 2*mu**2*sz0**2*z1st - mu**2*z1st - 4/3*mu*sz0) - 2*z1ct,
-         nb*(-cz0*mu*z1ct + mu**2*sz0**2 - 1/3*mu*sz0*z1st),
-         nb*(-cz0*mu**2*sz0 - 1/3*cz0*mu*z1st - 1/3*mu*sz0*z1ct),
-         nb*(-4/3*cz0*mu + (4/3)*mu - z1ct),
-         nb*((1/3)*cz0*mu*z1st + (1/3)*mu*sz0*z1ct),
-         nb*((1/3)*cz0*mu*z1ct + mu*sz0*z1st),
-         nb*(-2*cz0*mu + 2*mu - 4/3*z1ct),
-         nb*((4/3)*cz0*mu*sz0*z1ct + (4/3)*mu*sz0**2*z1st - 2/3*mu*z1st - sz0),
-         nb*((4/3)*cz0*mu*sz0*z1st - cz0 - 4/3*mu*sz0**2*z1ct + (2/3)*mu*z1ct + 1),
-         nb*(-2*cz0*mu**2*sz0*z1st + (8/3)*cz0*mu + 2*mu**2*sz0**2*z1ct - mu**2*z1ct - 8/3*mu + 2*z1ct),
-         nb*(-cz0*mu**2*sz0 - 4/3*cz0*mu*z1st - 4/3*mu*sz0*z1ct),
-         nb*((4/3)*cz0*mu*z1ct - mu**2*sz0**2 - 4/3*mu*sz0*z1st),
-         nb*(2*cz0*mu - 2*mu + (4/3)*z1ct),
-         nb*(-4/3*cz0*mu*sz0*z1ct - 4/3*mu*sz0**2*z1st + (2/3)*mu*z1st + sz0),
-         nb*(-4/3*cz0*mu*sz0*z1st + cz0 + (4/3)*mu*sz0**2*z1ct - 2/3*mu*z1ct - 1),
-         nb*(4*b0t*cz0*mu**2*sz0*z1st - 4/3*b0t*cz0*mu - 4*b0t*mu**2*sz0**2*z1ct + 2*b0t*mu**2*z1ct + 2*b1ct*cz0*mu**2*sz0 - 1/3*b1ct*cz0*mu*z1st + b1ct*mu*sz0*z1ct - 1/3*b1st*cz0*mu*z1ct + 2*b1st*mu**2*sz0**2 - b1st*mu**2 + (1/3)*b1st*mu*sz0*z1st + (8/3)*cz0*l1c_t*mu*sz0*z1st - cz0*l1c_t - 8/3*cz0*l1s_t*mu*sz0*z1ct + 4*cz0*mu**2*sz0*th0*z1ct - 2*cz0*mu**2*sz0*th1s - 4/3*cz0*mu*th1c*z1ct - 4/3*cz0*mu*th1s*z1st - 8/3*l1c_t*mu*sz0**2*z1ct + (4/3)*l1c_t*mu*z1ct - 8/3*l1s_t*mu*sz0**2*z1st + (4/3)*l1s_t*mu*z1st + l1s_t*sz0 + 4*mu**2*sz0**2*th0*z1st + 2*mu**2*sz0**2*th1c - 2*mu**2*th0*z1st - mu**2*th1c - 8/3*mu*sz0*th0 + (4/3)*mu*sz0*th1c*z1st - 4/3*mu*sz0*th1s*z1ct - 2*mu*sz0*u),
-         -2*b0t + (1/2)*b1ct*z1st - 3/2*b1st*z1ct + nb*(2*b0t*cz0*mu**2*sz0 - 1/3*b0t*cz0*mu*z1st + b0t*mu*sz0*z1ct - b1ct*cz0*mu - 2*b1ct*mu**2*sz0**2*z1ct + b1ct*mu**2*z1ct - 2*b1st*mu**2*sz0**2*z1st + b1st*mu**2*z1st - 1/3*b1st*mu*sz0 + (4/3)*cz0*l1c_t*mu*sz0 - 1/4*cz0*l1c_t*z1st + (3/4)*cz0*l1s_t*z1ct + 2*cz0*mu**2*sz0*th1c*z1ct + 2*cz0*mu**2*sz0*th1s*z1st - 2*cz0*mu*th0*z1ct + (4/3)*cz0*mu*th1s - 1/2*cz0*mu*u*z1ct + (3/4)*l1c_t*sz0*z1ct - 4/3*l1s_t*mu*sz0**2 + (2/3)*l1s_t*mu + (1/4)*l1s_t*sz0*z1st + 2*mu**2*sz0**2*th0 - mu**2*th0 - 2/3*mu*sz0*th0*z1st - 4/3*mu*sz0*th1c + (1/2)*mu*sz0*u*z1st + 2*th0 - 1/2*th1c*z1st + (3/2)*th1s*z1ct + (4/3)*u),
-         (1/2)*b1ct*z1ct - 1/2*b1st*z1st + nb*(-1/3*b0t*cz0*mu*z1ct + 2*b0t*mu**2*sz0**2 - b0t*mu**2 + (1/3)*b0t*mu*sz0*z1st - 2*b1ct*mu**2*sz0**2*z1st + b1ct*mu**2*z1st - 1/3*b1ct*mu*sz0 + 4*b1st*cz0*mu**2*sz0*z1st - 1/3*b1st*cz0*mu - 2*b1st*mu**2*sz0**2*z1ct + b1st*mu**2*z1ct - 1/4*cz0*l1c_t*z1ct + (4/3)*cz0*l1s_t*mu*sz0 + (1/4)*cz0*l1s_t*z1st - 2*cz0*mu**2*sz0*th0 + 2*cz0*mu**2*sz0*th1c*z1st + 2*cz0*mu**2*sz0*th1s*z1ct - 2/3*cz0*mu*th0*z1st - 4/3*cz0*mu*th1c - 3/2*cz0*mu*u*z1st + (4/3)*l1c_t*mu*sz0**2 - 2/3*l1c_t*mu + (1/4)*l1c_t*sz0*z1st + (1/4)*l1s_t*sz0*z1ct + 4*mu**2*sz0**2*th1s*z1st - 2*mu**2*th1s*z1st - 2/3*mu*sz0*th0*z1ct - 4/3*mu*sz0*th1s + (1/2)*mu*sz0*u*z1ct - 1/2*th1c*z1ct + (1/2)*th1s*z1st),
-         2*b0t*z1ct + 2*b1st + nb*((4/3)*b0t*mu*sz0 + (1/3)*b1ct*cz0*mu*z1ct - 1/3*b1ct*mu*sz0*z1st - b1ct + b1st*cz0*mu*z1st - 1/3*b1st*mu*sz0*z1ct + cz0*l1s_t - 8/3*cz0*mu*th0 + (2/3)*cz0*mu*th1c*z1st + (2/3)*cz0*mu*th1s*z1ct + l1c_t*sz0 + (2/3)*mu*sz0*th1c*z1ct + 2*mu*sz0*th1s*z1st - 2*th0*z1ct - 2*th1s),
-         (1/2)*b1ct*z1ct - 1/2*b1st*z1st + nb*((1/3)*b0t*cz0*mu*z1ct - 1/3*b0t*mu*sz0*z1st + (1/3)*b1ct*mu*sz0 + (1/3)*b1st*cz0*mu + (1/4)*cz0*l1c_t*z1ct - 1/4*cz0*l1s_t*z1st + (2/3)*cz0*mu*th0*z1st - 2/3*cz0*mu*th1c - 1/4*l1c_t*sz0*z1st - 1/4*l1s_t*sz0*z1ct + (2/3)*mu*sz0*th0*z1ct + (2/3)*mu*sz0*th1s - 1/2*th1c*z1ct + (1/2)*th1s*z1st),
-         2*b0t - 1/2*b1ct*z1st + (3/2)*b1st*z1ct + nb*(b0t*cz0*mu*z1st - 1/3*b0t*mu*sz0*z1ct + (1/3)*b1ct*cz0*mu + b1st*mu*sz0 + (3/4)*cz0*l1c_t*z1st - 1/4*cz0*l1s_t*z1ct + (2/3)*cz0*mu*th0*z1ct - 2*cz0*mu*th1s - 1/4*l1c_t*sz0*z1ct - 3/4*l1s_t*sz0*z1st + 2*mu*sz0*th0*z1st + (2/3)*mu*sz0*th1c - 2*th0 + (1/2)*th1c*z1st - 3/2*th1s*z1ct - 4/3*u)],
+        [o, x1 + x11 + z1st, x12 - x13 + x14 + x15 - z1ct, x18 + x20, x12 + x22, (2/3)*mu*nb - x1 - x24, x28, o, o, o, nb*(cz0*sz0*x2*z1ct + x2*x4*z1st) - x13 - x31, x0 - x11 - x35, -x28, o, o, x36 - x39 - x41 + x43 - x45 - x58 - x66, (1/2)*b1ct*nb*x2 - x124 - x61*x76 - x69 - x71 - x72 + x74 + x75 + x78 - x80 + x84 + x86 - x88 + x92 - x97, x126 - x127 + x128 + x129 - x130 + x131 - x133 - x135 + x137 + x138 + x145 + x164 - x90, x165*x73 + x167 + x170 + x177 + x185 + x194 - x76 + x81, b0t*x24 - sz0*x200 + x145 + x196 - x198 - 1/6*x201 + x204 + x207, x208*x61 - x211 - x213 + (1/6)*x214 + x219 + x225 + x97],
+        [x227 + x35 + 2*z1st, x231, x233 + x235, x31, x237, x230, x239, x241, x244, -x245 - x246 - x53, x248, x250, -x239, x251, x243, -x165*x76 + x165*x81 + x215 + x217 + x253 + x254 + x256 + x258 + x260 + x261 + x263 - 4*x264 + x265*x266 + x267 + x268 + 4*x269 + x283 - x70 + 2*x75 + x79 + x98, x284 - 4*x285 - x287 + x288 + 2*x289 + 2*x290 + x291 + x298 + x318 - x62 - x65, x194 + x320 + x321 + x324 + x334 + x349, -x265 + x333 + x350 + x351*x353 + x355 + x356 + x358 + x367, x193 + x26*x265 + x324 + x329 - x368 - x369 - x370 + x371 + x372 - x373 + x375 + x376 + x382, x389],
+        [-x246 - x30 - 2*z1ct, x233 - x237, -x231, -x0 + x33 - x34, x230, x235, -x391, x243, x241, nb*((8/3)*cz0*mu + 2*z1ct) - x227 - 8/3*x32, x250, -x248, x391, x244, x251, -cz0*x394 + nb*(4*cz0*sz0*th0*x2*z1ct + (4/3)*mu*sz0*th1c*z1st + 4*th0*x2*x4*z1st + 2*th1c*x2*x4) - x110*x353 - 2*x130 - x148 - x195 - x350 - x361 - x362 - x363 - x364 - x365 - x392 - x395 - x402 - x77 - x91, x186 - x187 + x189 + x191 - x329 + x349 + x368 + x369 + x370 - x371 - x372 + x373 - x375 - x376 - x381 + x403 + x404 - x405 - x406 + x407, nb*((1/2)*mu*sz0*u*z1ct + 4*th1s*x2*x4*z1st) - x318 - x338 - 3/2*x39 - x409 - x48 - x50 - x56 - x57 - x66, x253 - x374 - x410 + x411*x53 + x412*x76 + x413 + x415 + x417, x389, x193 + x334 - x407 - x410*x61 + x418 + x420],
     ])
     lag = _arr([
-        [b1ct*z1ct + b1st*z1st + nb*(-2*b0t*mu**2 + 2*b1ct*cz0*mu**2*sz0*z1ct + 2*b1ct*mu**2*sz0**2*z1st - b1ct*mu**2*z1st + (4/3)*b1ct*mu*sz0 - 2*b1st*cz0*mu**2*sz0*z1st - 4/3*b1st*cz0*mu + 2*b1st*mu**2*sz0**2*z1ct - b1st*mu**2*z1ct - cz0*mu**2*sz0*th1c*z1st - cz0*mu**2*sz0*th1s*z1ct + (2/3)*cz0*mu*th1c + 2*cz0*mu*u*z1st - 4/3*l1c_t*mu + mu**2*sz0**2*th1c*z1ct - mu**2*sz0**2*th1s*z1st - 1/2*mu**2*th1c*z1ct + (1/2)*mu**2*th1s*z1st + (2/3)*mu*sz0*th1s - 2*mu*sz0*u*z1ct),
-         b0t*z1ct + nb*(2*b0t*cz0*mu**2*sz0*z1ct + 2*b0t*mu**2*sz0**2*z1st - b0t*mu**2*z1st + (4/3)*b0t*mu*sz0 + (2/3)*b1ct*cz0*mu*z1ct + b1ct*mu**2*sz0**2 - 3/2*b1ct*mu**2 - 2/3*b1ct*mu*sz0*z1st - b1ct - b1st*cz0*mu**2*sz0 + (2/3)*b1st*cz0*mu*z1st + (2/3)*b1st*mu*sz0*z1ct + (4/3)*cz0*l1c_t*mu*sz0*z1ct + (4/3)*cz0*l1s_t*mu*sz0*z1st + cz0*l1s_t - cz0*mu**2*sz0*th0*z1st - 1/2*cz0*mu**2*sz0*th1c - 1/6*cz0*mu*th1c*z1st + (1/2)*cz0*mu*th1s*z1ct + 2*cz0*mu*u + (4/3)*l1c_t*mu*sz0**2*z1st - 2/3*l1c_t*mu*z1st + l1c_t*sz0 - 4/3*l1s_t*mu*sz0**2*z1ct + (2/3)*l1s_t*mu*z1ct + mu**2*sz0**2*th0*z1ct - 1/2*mu**2*sz0**2*th1s - 1/2*mu**2*th0*z1ct + (1/4)*mu**2*th1s - 1/6*mu*sz0*th1c*z1ct + (1/6)*mu*sz0*th1s*z1st - 1/2*th0*z1ct - 1/2*th1s),
-         b0t*z1st + nb*(-2*b0t*cz0*mu**2*sz0*z1st - 4/3*b0t*cz0*mu + 2*b0t*mu**2*sz0**2*z1ct - b0t*mu**2*z1ct - b1ct*cz0*mu**2*sz0 + (2/3)*b1ct*cz0*mu*z1st + (2/3)*b1ct*mu*sz0*z1ct - 2/3*b1st*cz0*mu*z1ct - b1st*mu**2*sz0**2 - 1/2*b1st*mu**2 + (2/3)*b1st*mu*sz0*z1st - b1st - 4/3*cz0*l1c_t*mu*sz0*z1st - cz0*l1c_t + (4/3)*cz0*l1s_t*mu*sz0*z1ct - cz0*mu**2*sz0*th0*z1ct + (1/2)*cz0*mu**2*sz0*th1s - 1/6*cz0*mu*th1c*z1ct + (1/6)*cz0*mu*th1s*z1st + (4/3)*l1c_t*mu*sz0**2*z1ct - 2/3*l1c_t*mu*z1ct + (4/3)*l1s_t*mu*sz0**2*z1st - 2/3*l1s_t*mu*z1st + l1s_t*sz0 - mu**2*sz0**2*th0*z1st - 1/2*mu**2*sz0**2*th1c + (1/2)*mu**2*th0*z1st + (1/4)*mu**2*th1c - 1/2*mu*sz0*th1c*z1st + (1/6)*mu*sz0*th1s*z1ct + 2*mu*sz0*u - 1/2*th0*z1st + (1/2)*th1c),
-         -2*b0t + b1ct*z1st - b1st*z1ct + nb*(-4/3*b0t*cz0*mu*z1st + (4/3)*b0t*mu*sz0*z1ct - 4/3*b1ct*cz0*mu - 4/3*b1st*mu*sz0 - cz0*l1c_t*z1st + cz0*l1s_t*z1ct - 2/3*cz0*mu*th0*z1ct + (2/3)*cz0*mu*th1s + l1c_t*sz0*z1ct + l1s_t*sz0*z1st - 2/3*mu*sz0*th0*z1st - 2/3*mu*sz0*th1c + th0 - 1/2*th1c*z1st + (1/2)*th1s*z1ct + (8/3)*u),
-         b0t*z1st - b1ct + nb*(-4/3*b0t*cz0*mu - 1/3*b1ct*cz0*mu*z1st + b1ct*mu*sz0*z1ct - 1/3*b1st*cz0*mu*z1ct + (1/3)*b1st*mu*sz0*z1st - b1st - cz0*l1c_t - 1/2*cz0*mu*th1c*z1ct - 1/6*cz0*mu*th1s*z1st + l1s_t*sz0 - 2/3*mu*sz0*th0 - 1/6*mu*sz0*th1c*z1st - 1/6*mu*sz0*th1s*z1ct - 1/2*th0*z1st + (1/2)*th1c),
-         -b0t*z1ct - b1st + nb*(-4/3*b0t*mu*sz0 - 1/3*b1ct*cz0*mu*z1ct + (1/3)*b1ct*mu*sz0*z1st + b1ct - b1st*cz0*mu*z1st + (1/3)*b1st*mu*sz0*z1ct - cz0*l1s_t + (2/3)*cz0*mu*th0 - 1/6*cz0*mu*th1c*z1st - 1/6*cz0*mu*th1s*z1ct - l1c_t*sz0 - 1/6*mu*sz0*th1c*z1ct - 1/2*mu*sz0*th1s*z1st + (1/2)*th0*z1ct + (1/2)*th1s),
-         nb*(-2*b0t*cz0*mu*z1st + 2*b0t*mu*sz0*z1ct - 2*b1ct*cz0*mu - 2*b1st*mu*sz0 - 4/3*cz0*l1c_t*z1st + (4/3)*cz0*l1s_t*z1ct - cz0*mu*th0*z1ct + cz0*mu*th1s + (4/3)*l1c_t*sz0*z1ct + (4/3)*l1s_t*sz0*z1st - mu*sz0*th0*z1st - mu*sz0*th1c + (4/3)*th0 - 2/3*th1c*z1st + (2/3)*th1s*z1ct + 4*u),
-         nb*(-4/3*b0t*mu + (4/3)*b1ct*cz0*mu*sz0*z1ct + (4/3)*b1ct*mu*sz0**2*z1st - 2/3*b1ct*mu*z1st + b1ct*sz0 - 4/3*b1st*cz0*mu*sz0*z1st - b1st*cz0 + (4/3)*b1st*mu*sz0**2*z1ct - 2/3*b1st*mu*z1ct - 2/3*cz0*mu*sz0*th1c*z1st - 2/3*cz0*mu*sz0*th1s*z1ct + (1/2)*cz0*th1c + (4/3)*cz0*u*z1st - l1c_t + (2/3)*mu*sz0**2*th1c*z1ct - 2/3*mu*sz0**2*th1s*z1st - 1/3*mu*th1c*z1ct + (1/3)*mu*th1s*z1st + (1/2)*sz0*th1s - 4/3*sz0*u*z1ct),
-         nb*((4/3)*b1ct*cz0*mu*sz0*z1st + b1ct*cz0 - 4/3*b1ct*mu*sz0**2*z1ct + (2/3)*b1ct*mu*z1ct + (4/3)*b1st*cz0*mu*sz0*z1ct + (4/3)*b1st*mu*sz0**2*z1st - 2/3*b1st*mu*z1st + b1st*sz0 + (2/3)*cz0*mu*sz0*th1c*z1ct - 2/3*cz0*mu*sz0*th1s*z1st + (1/2)*cz0*th1s - 4/3*cz0*u*z1ct - l1s_t + (2/3)*mu*sz0**2*th1c*z1st + (2/3)*mu*sz0**2*th1s*z1ct + (2/3)*mu*th0 - 1/3*mu*th1c*z1st - 1/3*mu*th1s*z1ct - 1/2*sz0*th1c - 4/3*sz0*u*z1st),
-         nb*(-b1ct*cz0*mu**2*sz0*z1st + b1ct*mu**2*sz0**2*z1ct - 1/2*b1ct*mu**2*z1ct - 1/2*b1ct*z1ct - b1st*cz0*mu**2*sz0*z1ct - b1st*mu**2*sz0**2*z1st + (1/2)*b1st*mu**2*z1st - 1/2*b1st*z1st + cz0*mu*u*z1ct + (2/3)*l1s_t*mu + mu*sz0*u*z1st - 4/3*u),
-         nb*(-b0t*cz0*mu**2*sz0*z1st + (2/3)*b0t*cz0*mu + b0t*mu**2*sz0**2*z1ct - 1/2*b0t*mu**2*z1ct - 1/2*b1ct*cz0*mu**2*sz0 - 1/6*b1ct*cz0*mu*z1st - 1/6*b1ct*mu*sz0*z1ct - 1/6*b1st*cz0*mu*z1ct - 1/2*b1st*mu**2*sz0**2 + (1/4)*b1st*mu**2 - 1/2*b1st*mu*sz0*z1st + (1/2)*b1st - 2/3*cz0*l1c_t*mu*sz0*z1st + (1/2)*cz0*l1c_t + (2/3)*cz0*l1s_t*mu*sz0*z1ct + (2/3)*l1c_t*mu*sz0**2*z1ct - 1/3*l1c_t*mu*z1ct + (2/3)*l1s_t*mu*sz0**2*z1st - 1/3*l1s_t*mu*z1st - 1/2*l1s_t*sz0 + mu*sz0*u + (2/3)*u*z1st),
-         nb*(-b0t*cz0*mu**2*sz0*z1ct - b0t*mu**2*sz0**2*z1st + (1/2)*b0t*mu**2*z1st + (2/3)*b0t*mu*sz0 + (1/2)*b1ct*cz0*mu*z1ct - 1/2*b1ct*mu**2*sz0**2 + (1/4)*b1ct*mu**2 + (1/6)*b1ct*mu*sz0*z1st - 1/2*b1ct + (1/2)*b1st*cz0*mu**2*sz0 + (1/6)*b1st*cz0*mu*z1st + (1/6)*b1st*mu*sz0*z1ct - 2/3*cz0*l1c_t*mu*sz0*z1ct - 2/3*cz0*l1s_t*mu*sz0*z1st + (1/2)*cz0*l1s_t - cz0*mu*u - 2/3*l1c_t*mu*sz0**2*z1st + (1/3)*l1c_t*mu*z1st + (1/2)*l1c_t*sz0 + (2/3)*l1s_t*mu*sz0**2*z1ct - 1/3*l1s_t*mu*z1ct - 2/3*u*z1ct),
-         nb*(2*b0t*cz0*mu*z1st - 2*b0t*mu*sz0*z1ct + 2*b1ct*cz0*mu + 2*b1st*mu*sz0 + (4/3)*cz0*l1c_t*z1st - 4/3*cz0*l1s_t*z1ct + cz0*mu*th0*z1ct - cz0*mu*th1s - 4/3*l1c_t*sz0*z1ct - 4/3*l1s_t*sz0*z1st + mu*sz0*th0*z1st + mu*sz0*th1c - 4/3*th0 + (2/3)*th1c*z1st - 2/3*th1s*z1ct - 4*u),
-         nb*((4/3)*b0t*mu - 4/3*b1ct*cz0*mu*sz0*z1ct - 4/3*b1ct*mu*sz0**2*z1st + (2/3)*b1ct*mu*z1st - b1ct*sz0 + (4/3)*b1st*cz0*mu*sz0*z1st + b1st*cz0 - 4/3*b1st*mu*sz0**2*z1ct + (2/3)*b1st*mu*z1ct + (2/3)*cz0*mu*sz0*th1c*z1st + (2/3)*cz0*mu*sz0*th1s*z1ct - 1/2*cz0*th1c - 4/3*cz0*u*z1st + l1c_t - 2/3*mu*sz0**2*th1c*z1ct + (2/3)*mu*sz0**2*th1s*z1st + (1/3)*mu*th1c*z1ct - 1/3*mu*th1s*z1st - 1/2*sz0*th1s + (4/3)*sz0*u*z1ct),
-         nb*(-4/3*b1ct*cz0*mu*sz0*z1st - b1ct*cz0 + (4/3)*b1ct*mu*sz0**2*z1ct - 2/3*b1ct*mu*z1ct - 4/3*b1st*cz0*mu*sz0*z1ct - 4/3*b1st*mu*sz0**2*z1st + (2/3)*b1st*mu*z1st - b1st*sz0 - 2/3*cz0*mu*sz0*th1c*z1ct + (2/3)*cz0*mu*sz0*th1s*z1st - 1/2*cz0*th1s + (4/3)*cz0*u*z1ct + l1s_t - 2/3*mu*sz0**2*th1c*z1st - 2/3*mu*sz0**2*th1s*z1ct - 2/3*mu*th0 + (1/3)*mu*th1c*z1st + (1/3)*mu*th1s*z1ct + (1/2)*sz0*th1c + (4/3)*sz0*u*z1st),
-         nb*(4*b0t*b1ct*cz0*mu**2*sz0*z1st + (4/3)*b0t*b1ct*cz0*mu - 4*b0t*b1ct*mu**2*sz0**2*z1ct + 2*b0t*b1ct*mu**2*z1ct + 4*b0t*b1st*cz0*mu**2*sz0*z1ct + 4*b0t*b1st*mu**2*sz0**2*z1st - 2*b0t*b1st*mu**2*z1st + (4/3)*b0t*b1st*mu*sz0 + 2*b0t*cz0*mu**2*sz0*th1c*z1ct - 2*b0t*cz0*mu**2*sz0*th1s*z1st + (2/3)*b0t*cz0*mu*th1s - 2*b0t*cz0*mu*u*z1ct + 2*b0t*mu**2*sz0**2*th1c*z1st + 2*b0t*mu**2*sz0**2*th1s*z1ct - b0t*mu**2*th1c*z1st - b0t*mu**2*th1s*z1ct - 2/3*b0t*mu*sz0*th1c - 2*b0t*mu*sz0*u*z1st + b1ct**2*cz0*mu**2*sz0 - 1/3*b1ct**2*cz0*mu*z1st - 1/3*b1ct**2*mu*sz0*z1ct + (2/3)*b1ct*b1st*cz0*mu*z1ct + 2*b1ct*b1st*mu**2*sz0**2 - b1ct*b1st*mu**2 - 2/3*b1ct*b1st*mu*sz0*z1st + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1st + b1ct*cz0*l1c_t - 8/3*b1ct*cz0*l1s_t*mu*sz0*z1ct + 2*b1ct*cz0*mu**2*sz0*th0*z1ct - b1ct*cz0*mu**2*sz0*th1s - 1/6*b1ct*cz0*mu*th1c*z1ct + (1/6)*b1ct*cz0*mu*th1s*z1st - 8/3*b1ct*l1c_t*mu*sz0**2*z1ct + (4/3)*b1ct*l1c_t*mu*z1ct - 8/3*b1ct*l1s_t*mu*sz0**2*z1st + (4/3)*b1ct*l1s_t*mu*z1st - b1ct*l1s_t*sz0 + 2*b1ct*mu**2*sz0**2*th0*z1st + b1ct*mu**2*sz0**2*th1c - b1ct*mu**2*th0*z1st - 1/2*b1ct*mu**2*th1c + (1/6)*b1ct*mu*sz0*th1c*z1st - 1/2*b1ct*mu*sz0*th1s*z1ct - 2*b1ct*mu*sz0*u - b1st**2*cz0*mu**2*sz0 + (1/3)*b1st**2*cz0*mu*z1st + (1/3)*b1st**2*mu*sz0*z1ct + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1ct + (8/3)*b1st*cz0*l1s_t*mu*sz0*z1st + b1st*cz0*l1s_t - 2*b1st*cz0*mu**2*sz0*th0*z1st - b1st*cz0*mu**2*sz0*th1c - 1/2*b1st*cz0*mu*th1c*z1st + (1/6)*b1st*cz0*mu*th1s*z1ct + 2*b1st*cz0*mu*u + (8/3)*b1st*l1c_t*mu*sz0**2*z1st - 4/3*b1st*l1c_t*mu*z1st + b1st*l1c_t*sz0 - 8/3*b1st*l1s_t*mu*sz0**2*z1ct + (4/3)*b1st*l1s_t*mu*z1ct + 2*b1st*mu**2*sz0**2*th0*z1ct - b1st*mu**2*sz0**2*th1s - b1st*mu**2*th0*z1ct + (1/2)*b1st*mu**2*th1s + (1/6)*b1st*mu*sz0*th1c*z1ct - 1/6*b1st*mu*sz0*th1s*z1st + (4/3)*cz0*l1c_t*mu*sz0*th1c*z1ct - 4/3*cz0*l1c_t*mu*sz0*th1s*z1st + (1/2)*cz0*l1c_t*th1s - 4/3*cz0*l1c_t*u*z1ct + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1ct - 1/2*cz0*l1s_t*th1c - 4/3*cz0*l1s_t*u*z1st + cz0*mu*th0*u*z1st + cz0*mu*th1c*u + (4/3)*l1c_t*mu*sz0**2*th1c*z1st + (4/3)*l1c_t*mu*sz0**2*th1s*z1ct - 2/3*l1c_t*mu*th1c*z1st - 2/3*l1c_t*mu*th1s*z1ct - 1/2*l1c_t*sz0*th1c - 4/3*l1c_t*sz0*u*z1st - 4/3*l1s_t*mu*sz0**2*th1c*z1ct + (4/3)*l1s_t*mu*sz0**2*th1s*z1st + (2/3)*l1s_t*mu*th1c*z1ct - 2/3*l1s_t*mu*th1s*z1st - 1/2*l1s_t*sz0*th1s + (4/3)*l1s_t*sz0*u*z1ct - mu*sz0*th0*u*z1ct + mu*sz0*th1s*u),
-         b0t*b1ct + nb*(2*b0t**2*cz0*mu**2*sz0*z1st - 2*b0t**2*mu**2*sz0**2*z1ct + b0t**2*mu**2*z1ct + 2*b0t*b1ct*cz0*mu**2*sz0 - 1/3*b0t*b1ct*cz0*mu*z1st - 1/3*b0t*b1ct*mu*sz0*z1ct + b0t*b1st*cz0*mu*z1ct + 2*b0t*b1st*mu**2*sz0**2 - b0t*b1st*mu**2 + (1/3)*b0t*b1st*mu*sz0*z1st + (8/3)*b0t*cz0*l1c_t*mu*sz0*z1st - 8/3*b0t*cz0*l1s_t*mu*sz0*z1ct + 2*b0t*cz0*mu**2*sz0*th0*z1ct - b0t*cz0*mu**2*sz0*th1s - 1/6*b0t*cz0*mu*th1c*z1ct + (1/6)*b0t*cz0*mu*th1s*z1st - 8/3*b0t*l1c_t*mu*sz0**2*z1ct + (4/3)*b0t*l1c_t*mu*z1ct - 8/3*b0t*l1s_t*mu*sz0**2*z1st + (4/3)*b0t*l1s_t*mu*z1st + 2*b0t*mu**2*sz0**2*th0*z1st + b0t*mu**2*sz0**2*th1c - b0t*mu**2*th0*z1st - 1/2*b0t*mu**2*th1c + (1/6)*b0t*mu*sz0*th1c*z1st - 1/2*b0t*mu*sz0*th1s*z1ct - 2*b0t*mu*sz0*u + b1ct**2*cz0*mu**2*sz0*z1st + (1/3)*b1ct**2*cz0*mu - 2*b1ct**2*mu**2*sz0**2*z1ct + b1ct**2*mu**2*z1ct + 2*b1ct*b1st*cz0*mu**2*sz0*z1ct + (2/3)*b1ct*b1st*mu*sz0 + (4/3)*b1ct*cz0*l1c_t*mu*sz0 - 1/4*b1ct*cz0*l1c_t*z1st - 1/4*b1ct*cz0*l1s_t*z1ct + 2*b1ct*cz0*mu**2*sz0*th1c*z1ct + (1/2)*b1ct*cz0*mu*th1s - 3/2*b1ct*cz0*mu*u*z1ct - 1/4*b1ct*l1c_t*sz0*z1ct - 4/3*b1ct*l1s_t*mu*sz0**2 + (2/3)*b1ct*l1s_t*mu + (1/4)*b1ct*l1s_t*sz0*z1st + b1ct*mu**2*sz0**2*th0 + b1ct*mu**2*sz0**2*th1c*z1st + b1ct*mu**2*sz0**2*th1s*z1ct - 1/2*b1ct*mu**2*th0 - 1/2*b1ct*mu**2*th1c*z1st - 1/2*b1ct*mu**2*th1s*z1ct - 1/6*b1ct*mu*sz0*th1c - 1/2*b1ct*mu*sz0*u*z1st - 1/2*b1ct*th0 + b1st**2*cz0*mu**2*sz0*z1st - 1/3*b1st**2*cz0*mu + (3/4)*b1st*cz0*l1c_t*z1ct + (4/3)*b1st*cz0*l1s_t*mu*sz0 + (1/4)*b1st*cz0*l1s_t*z1st - b1st*cz0*mu**2*sz0*th0 - 1/6*b1st*cz0*mu*th1c - 1/2*b1st*cz0*mu*u*z1st + (4/3)*b1st*l1c_t*mu*sz0**2 - 2/3*b1st*l1c_t*mu + (1/4)*b1st*l1c_t*sz0*z1st - 3/4*b1st*l1s_t*sz0*z1ct + b1st*mu**2*sz0**2*th1c*z1ct + b1st*mu**2*sz0**2*th1s*z1st - 1/2*b1st*mu**2*th1c*z1ct - 1/2*b1st*mu**2*th1s*z1st + (1/6)*b1st*mu*sz0*th1s - 1/2*b1st*mu*sz0*u*z1ct + 2*cz0*dl*mu**2*sz0*z1st + cz0*l1c_t**2*sz0*z1st - 2*cz0*l1c_t*l1s_t*sz0*z1ct + (4/3)*cz0*l1c_t*mu*sz0*th0*z1ct - 2/3*cz0*l1c_t*mu*sz0*th1s - 1/8*cz0*l1c_t*th1c*z1ct + (1/8)*cz0*l1c_t*th1s*z1st - cz0*l1s_t**2*sz0*z1st + (4/3)*cz0*l1s_t*mu*sz0*th0*z1st + (2/3)*cz0*l1s_t*mu*sz0*th1c + (1/8)*cz0*l1s_t*th1c*z1st - 3/8*cz0*l1s_t*th1s*z1ct - 4/3*cz0*l1s_t*u + cz0*mu*th0*u + (1/4)*cz0*mu*th1c*u*z1st + (1/4)*cz0*mu*th1s*u*z1ct - 2*dl*mu**2*sz0**2*z1ct + dl*mu**2*z1ct + dl*z1ct - l1c_t**2*sz0**2*z1ct + (1/2)*l1c_t**2*z1ct - 2*l1c_t*l1s_t*sz0**2*z1st + l1c_t*l1s_t*z1st + (4/3)*l1c_t*mu*sz0**2*th0*z1st + (2/3)*l1c_t*mu*sz0**2*th1c - 2/3*l1c_t*mu*th0*z1st - 1/3*l1c_t*mu*th1c + (1/8)*l1c_t*sz0*th1c*z1st - 3/8*l1c_t*sz0*th1s*z1ct - 4/3*l1c_t*sz0*u + l1s_t**2*sz0**2*z1ct - 1/2*l1s_t**2*z1ct - 4/3*l1s_t*mu*sz0**2*th0*z1ct + (2/3)*l1s_t*mu*sz0**2*th1s + (2/3)*l1s_t*mu*th0*z1ct - 1/3*l1s_t*mu*th1s + (1/8)*l1s_t*sz0*th1c*z1ct - 1/8*l1s_t*sz0*th1s*z1st - 3/4*mu*sz0*th1c*u*z1ct - 1/4*mu*sz0*th1s*u*z1st - 2/3*th1s*u),
-         b0t*b1st + nb*(2*b0t**2*cz0*mu**2*sz0*z1ct + 2*b0t**2*mu**2*sz0**2*z1st - b0t**2*mu**2*z1st - 1/3*b0t*b1ct*cz0*mu*z1ct + 2*b0t*b1ct*mu**2*sz0**2 - b0t*b1ct*mu**2 - b0t*b1ct*mu*sz0*z1st - 2*b0t*b1st*cz0*mu**2*sz0 + (1/3)*b0t*b1st*cz0*mu*z1st + (1/3)*b0t*b1st*mu*sz0*z1ct + (8/3)*b0t*cz0*l1c_t*mu*sz0*z1ct + (8/3)*b0t*cz0*l1s_t*mu*sz0*z1st - 2*b0t*cz0*mu**2*sz0*th0*z1st - b0t*cz0*mu**2*sz0*th1c - 1/2*b0t*cz0*mu*th1c*z1st + (1/6)*b0t*cz0*mu*th1s*z1ct + 2*b0t*cz0*mu*u + (8/3)*b0t*l1c_t*mu*sz0**2*z1st - 4/3*b0t*l1c_t*mu*z1st - 8/3*b0t*l1s_t*mu*sz0**2*z1ct + (4/3)*b0t*l1s_t*mu*z1ct + 2*b0t*mu**2*sz0**2*th0*z1ct - b0t*mu**2*sz0**2*th1s - b0t*mu**2*th0*z1ct + (1/2)*b0t*mu**2*th1s + (1/6)*b0t*mu*sz0*th1c*z1ct - 1/6*b0t*mu*sz0*th1s*z1st + b1ct**2*cz0*mu**2*sz0*z1ct - 1/3*b1ct**2*mu*sz0 + 2*b1ct*b1st*cz0*mu**2*sz0*z1st + (2/3)*b1ct*b1st*cz0*mu - 1/4*b1ct*cz0*l1c_t*z1ct + (4/3)*b1ct*cz0*l1s_t*mu*sz0 - 3/4*b1ct*cz0*l1s_t*z1st - b1ct*cz0*mu**2*sz0*th0 - 1/6*b1ct*cz0*mu*th1c - 1/2*b1ct*cz0*mu*u*z1st + (4/3)*b1ct*l1c_t*mu*sz0**2 - 2/3*b1ct*l1c_t*mu - 3/4*b1ct*l1c_t*sz0*z1st + (1/4)*b1ct*l1s_t*sz0*z1ct + b1ct*mu**2*sz0**2*th1c*z1ct + b1ct*mu**2*sz0**2*th1s*z1st - 1/2*b1ct*mu**2*th1c*z1ct - 1/2*b1ct*mu**2*th1s*z1st + (1/6)*b1ct*mu*sz0*th1s - 1/2*b1ct*mu*sz0*u*z1ct + b1st**2*cz0*mu**2*sz0*z1ct + 2*b1st**2*mu**2*sz0**2*z1st - b1st**2*mu**2*z1st + (1/3)*b1st**2*mu*sz0 - 4/3*b1st*cz0*l1c_t*mu*sz0 + (1/4)*b1st*cz0*l1c_t*z1st + (1/4)*b1st*cz0*l1s_t*z1ct - 2*b1st*cz0*mu**2*sz0*th1s*z1st + (1/6)*b1st*cz0*mu*th1s - 1/2*b1st*cz0*mu*u*z1ct + (1/4)*b1st*l1c_t*sz0*z1ct + (4/3)*b1st*l1s_t*mu*sz0**2 - 2/3*b1st*l1s_t*mu - 1/4*b1st*l1s_t*sz0*z1st - b1st*mu**2*sz0**2*th0 + b1st*mu**2*sz0**2*th1c*z1st + b1st*mu**2*sz0**2*th1s*z1ct + (1/2)*b1st*mu**2*th0 - 1/2*b1st*mu**2*th1c*z1st - 1/2*b1st*mu**2*th1s*z1ct - 1/2*b1st*mu*sz0*th1c - 3/2*b1st*mu*sz0*u*z1st - 1/2*b1st*th0 + 2*cz0*dl*mu**2*sz0*z1ct + cz0*l1c_t**2*sz0*z1ct + 2*cz0*l1c_t*l1s_t*sz0*z1st - 4/3*cz0*l1c_t*mu*sz0*th0*z1st - 2/3*cz0*l1c_t*mu*sz0*th1c - 3/8*cz0*l1c_t*th1c*z1st + (1/8)*cz0*l1c_t*th1s*z1ct + (4/3)*cz0*l1c_t*u - cz0*l1s_t**2*sz0*z1ct + (4/3)*cz0*l1s_t*mu*sz0*th0*z1ct - 2/3*cz0*l1s_t*mu*sz0*th1s + (1/8)*cz0*l1s_t*th1c*z1ct - 1/8*cz0*l1s_t*th1s*z1st + (1/4)*cz0*mu*th1c*u*z1ct + (3/4)*cz0*mu*th1s*u*z1st + 2*dl*mu**2*sz0**2*z1st - dl*mu**2*z1st + dl*z1st + l1c_t**2*sz0**2*z1st - 1/2*l1c_t**2*z1st - 2*l1c_t*l1s_t*sz0**2*z1ct + l1c_t*l1s_t*z1ct + (4/3)*l1c_t*mu*sz0**2*th0*z1ct - 2/3*l1c_t*mu*sz0**2*th1s - 2/3*l1c_t*mu*th0*z1ct + (1/3)*l1c_t*mu*th1s + (1/8)*l1c_t*sz0*th1c*z1ct - 1/8*l1c_t*sz0*th1s*z1st - l1s_t**2*sz0**2*z1st + (1/2)*l1s_t**2*z1st + (4/3)*l1s_t*mu*sz0**2*th0*z1st + (2/3)*l1s_t*mu*sz0**2*th1c - 2/3*l1s_t*mu*th0*z1st - 1/3*l1s_t*mu*th1c + (3/8)*l1s_t*sz0*th1c*z1st - 1/8*l1s_t*sz0*th1s*z1ct - 4/3*l1s_t*sz0*u + mu*sz0*th0*u - 1/4*mu*sz0*th1c*u*z1st - 1/4*mu*sz0*th1s*u*z1ct + (2/3)*th1c*u),
-         nb*(-2/3*b0t*cz0*mu*th0*z1st - 2/3*b0t*cz0*mu*th1c + (2/3)*b0t*mu*sz0*th0*z1ct - 2/3*b0t*mu*sz0*th1s - 2/3*b1ct*cz0*mu*th0 - 1/6*b1ct*cz0*mu*th1c*z1st - 1/6*b1ct*cz0*mu*th1s*z1ct + (1/2)*b1ct*mu*sz0*th1c*z1ct + (1/6)*b1ct*mu*sz0*th1s*z1st + (1/2)*b1ct*th1s - 1/6*b1st*cz0*mu*th1c*z1ct - 1/2*b1st*cz0*mu*th1s*z1st - 2/3*b1st*mu*sz0*th0 + (1/6)*b1st*mu*sz0*th1c*z1st + (1/6)*b1st*mu*sz0*th1s*z1ct - 1/2*b1st*th1c + (4/3)*cz0*dl*mu*z1ct - 1/2*cz0*l1c_t*th0*z1st - 1/2*cz0*l1c_t*th1c + (1/2)*cz0*l1s_t*th0*z1ct - 1/2*cz0*l1s_t*th1s + (4/3)*dl*mu*sz0*z1st - 2*dl + (1/2)*l1c_t*sz0*th0*z1ct - 1/2*l1c_t*sz0*th1s + (1/2)*l1s_t*sz0*th0*z1st + (1/2)*l1s_t*sz0*th1c + (4/3)*th0*u),
-         b0t*b1st + nb*(-2/3*b0t*cz0*mu*th0 - 1/6*b0t*cz0*mu*th1c*z1st - 1/6*b0t*cz0*mu*th1s*z1ct + (1/2)*b0t*mu*sz0*th1c*z1ct + (1/6)*b0t*mu*sz0*th1s*z1st - 1/6*b1ct*cz0*mu*th0*z1st - 1/2*b1ct*cz0*mu*th1c + (1/2)*b1ct*mu*sz0*th0*z1ct - 1/6*b1ct*mu*sz0*th1s - 1/6*b1st*cz0*mu*th0*z1ct - 1/6*b1st*cz0*mu*th1s + (1/6)*b1st*mu*sz0*th0*z1st - 1/6*b1st*mu*sz0*th1c - 1/2*b1st*th0 - 1/2*cz0*l1c_t*th0 - 1/8*cz0*l1c_t*th1c*z1st - 1/8*cz0*l1c_t*th1s*z1ct + (3/8)*cz0*l1s_t*th1c*z1ct + (1/8)*cz0*l1s_t*th1s*z1st + (4/3)*dl*mu*sz0 + dl*z1st + (3/8)*l1c_t*sz0*th1c*z1ct + (1/8)*l1c_t*sz0*th1s*z1st + (1/2)*l1s_t*sz0*th0 + (1/8)*l1s_t*sz0*th1c*z1st + (1/8)*l1s_t*sz0*th1s*z1ct + (2/3)*th1c*u),
-         -b0t*b1ct + nb*(-1/6*b0t*cz0*mu*th1c*z1ct - 1/2*b0t*cz0*mu*th1s*z1st - 2/3*b0t*mu*sz0*th0 + (1/6)*b0t*mu*sz0*th1c*z1st + (1/6)*b0t*mu*sz0*th1s*z1ct - 1/6*b1ct*cz0*mu*th0*z1ct - 1/6*b1ct*cz0*mu*th1s + (1/6)*b1ct*mu*sz0*th0*z1st - 1/6*b1ct*mu*sz0*th1c + (1/2)*b1ct*th0 - 1/2*b1st*cz0*mu*th0*z1st - 1/6*b1st*cz0*mu*th1c + (1/6)*b1st*mu*sz0*th0*z1ct - 1/2*b1st*mu*sz0*th1s - 4/3*cz0*dl*mu - 1/8*cz0*l1c_t*th1c*z1ct - 3/8*cz0*l1c_t*th1s*z1st - 1/2*cz0*l1s_t*th0 + (1/8)*cz0*l1s_t*th1c*z1st + (1/8)*cz0*l1s_t*th1s*z1ct - dl*z1ct - 1/2*l1c_t*sz0*th0 + (1/8)*l1c_t*sz0*th1c*z1st + (1/8)*l1c_t*sz0*th1s*z1ct + (1/8)*l1s_t*sz0*th1c*z1ct + (3/8)*l1s_t*sz0*th1s*z1st + (2/3)*th1s*u)],
-        [-2*b1st + nb*(4*b0t*cz0*mu**2*sz0*z1ct + 4*b0t*mu**2*sz0**2*z1st - 2*b0t*mu**2*z1st + (2/3)*b1ct*cz0*mu*z1ct + 2*b1ct*mu**2*sz0**2 - 3*b1ct*mu**2 - 2/3*b1ct*mu*sz0*z1st - 2*b1st*cz0*mu**2*sz0 - 2/3*b1st*cz0*mu*z1st + 2*b1st*mu*sz0*z1ct + (8/3)*cz0*l1c_t*mu*sz0*z1ct + (8/3)*cz0*l1s_t*mu*sz0*z1st - 2*cz0*mu**2*sz0*th0*z1st - cz0*mu**2*sz0*th1c + (4/3)*cz0*mu*th0 - 2/3*cz0*mu*th1c*z1st + (2/3)*cz0*mu*th1s*z1ct + 4*cz0*mu*u + (8/3)*l1c_t*mu*sz0**2*z1st - 4/3*l1c_t*mu*z1st - 8/3*l1s_t*mu*sz0**2*z1ct + (4/3)*l1s_t*mu*z1ct + 2*mu**2*sz0**2*th0*z1ct - mu**2*sz0**2*th1s - mu**2*th0*z1ct + (1/2)*mu**2*th1s - 2/3*mu*sz0*th1c*z1ct - 2/3*mu*sz0*th1s*z1st),
-         b1ct*z1ct + b1st*z1st + nb*((2/3)*b0t*cz0*mu*z1ct + 2*b0t*mu**2*sz0**2 - 3*b0t*mu**2 - 2/3*b0t*mu*sz0*z1st + 4*b1ct*cz0*mu**2*sz0*z1ct + 2*b1ct*mu**2*sz0**2*z1st - b1ct*mu**2*z1st + (4/3)*b1ct*mu*sz0 - 4/3*b1st*cz0*mu + 2*b1st*mu**2*sz0**2*z1ct - b1st*mu**2*z1ct + (1/2)*cz0*l1c_t*z1ct + (4/3)*cz0*l1s_t*mu*sz0 - 1/2*cz0*l1s_t*z1st - cz0*mu**2*sz0*th0 - cz0*mu**2*sz0*th1c*z1st - cz0*mu**2*sz0*th1s*z1ct - 1/3*cz0*mu*th0*z1st + (2/3)*cz0*mu*th1c + cz0*mu*u*z1st + (4/3)*l1c_t*mu*sz0**2 - 2*l1c_t*mu - 1/2*l1c_t*sz0*z1st - 1/2*l1s_t*sz0*z1ct + 2*mu**2*sz0**2*th1c*z1ct - mu**2*th1c*z1ct - 1/3*mu*sz0*th0*z1ct + (2/3)*mu*sz0*th1s - 3*mu*sz0*u*z1ct - 1/4*th1c*z1ct + (1/4)*th1s*z1st),
-         -2*b0t + b1ct*z1st - b1st*z1ct + nb*(-2*b0t*cz0*mu**2*sz0 - 2/3*b0t*cz0*mu*z1st + 2*b0t*mu*sz0*z1ct - 4/3*b1ct*cz0*mu + 2*b1ct*mu**2*sz0**2*z1ct - b1ct*mu**2*z1ct + 2*b1st*mu**2*sz0**2*z1st - b1st*mu**2*z1st - 4/3*b1st*mu*sz0 - 4/3*cz0*l1c_t*mu*sz0 - 1/2*cz0*l1c_t*z1st + (3/2)*cz0*l1s_t*z1ct - cz0*mu**2*sz0*th1c*z1ct - cz0*mu**2*sz0*th1s*z1st - 1/3*cz0*mu*th0*z1ct + (2/3)*cz0*mu*th1s + cz0*mu*u*z1ct + (3/2)*l1c_t*sz0*z1ct + (4/3)*l1s_t*mu*sz0**2 - 2/3*l1s_t*mu + (1/2)*l1s_t*sz0*z1st - mu**2*sz0**2*th0 + (1/2)*mu**2*th0 - mu*sz0*th0*z1st - 2/3*mu*sz0*th1c - mu*sz0*u*z1st + th0 - 3/4*th1c*z1st + (1/4)*th1s*z1ct + (8/3)*u),
-         2*b0t*z1st - 2*b1ct + nb*(-8/3*b0t*cz0*mu - 2/3*b1ct*cz0*mu*z1st + 2*b1ct*mu*sz0*z1ct - 2/3*b1st*cz0*mu*z1ct + (2/3)*b1st*mu*sz0*z1st - 2*b1st - 2*cz0*l1c_t - cz0*mu*th1c*z1ct - 1/3*cz0*mu*th1s*z1st + 2*l1s_t*sz0 - 4/3*mu*sz0*th0 - 1/3*mu*sz0*th1c*z1st - 1/3*mu*sz0*th1s*z1ct - th0*z1st + th1c),
-         -2*b0t + (3/2)*b1ct*z1st - 1/2*b1st*z1ct + nb*(-2/3*b0t*cz0*mu*z1st + 2*b0t*mu*sz0*z1ct - 2*b1ct*cz0*mu - 2/3*b1st*mu*sz0 - 1/2*cz0*l1c_t*z1st + (3/2)*cz0*l1s_t*z1ct - cz0*mu*th0*z1ct + (1/3)*cz0*mu*th1s + (3/2)*l1c_t*sz0*z1ct + (1/2)*l1s_t*sz0*z1st - 1/3*mu*sz0*th0*z1st - mu*sz0*th1c + th0 - 3/4*th1c*z1st + (1/4)*th1s*z1ct + (8/3)*u),
-         -1/2*b1ct*z1ct + (1/2)*b1st*z1st + nb*(-2/3*b0t*cz0*mu*z1ct + (2/3)*b0t*mu*sz0*z1st - 2/3*b1ct*mu*sz0 - 2/3*b1st*cz0*mu - 1/2*cz0*l1c_t*z1ct + (1/2)*cz0*l1s_t*z1st - 1/3*cz0*mu*th0*z1st + (1/3)*cz0*mu*th1c + (1/2)*l1c_t*sz0*z1st + (1/2)*l1s_t*sz0*z1ct - 1/3*mu*sz0*th0*z1ct - 1/3*mu*sz0*th1s + (1/4)*th1c*z1ct - 1/4*th1s*z1st),
-         nb*(-4*b0t*cz0*mu - b1ct*cz0*mu*z1st + 3*b1ct*mu*sz0*z1ct - b1st*cz0*mu*z1ct + b1st*mu*sz0*z1st - 8/3*b1st - 8/3*cz0*l1c_t - 3/2*cz0*mu*th1c*z1ct - 1/2*cz0*mu*th1s*z1st + (8/3)*l1s_t*sz0 - 2*mu*sz0*th0 - 1/2*mu*sz0*th1c*z1st - 1/2*mu*sz0*th1s*z1ct - 4/3*th0*z1st + (4/3)*th1c),
-         nb*((8/3)*b0t*cz0*mu*sz0*z1ct + (8/3)*b0t*mu*sz0**2*z1st - 4/3*b0t*mu*z1st + (1/2)*b1ct*cz0*z1ct + (4/3)*b1ct*mu*sz0**2 - 2*b1ct*mu - 1/2*b1ct*sz0*z1st - 4/3*b1st*cz0*mu*sz0 - 1/2*b1st*cz0*z1st + (3/2)*b1st*sz0*z1ct + 2*cz0*l1c_t*sz0*z1ct + 2*cz0*l1s_t*sz0*z1st - 4/3*cz0*mu*sz0*th0*z1st - 2/3*cz0*mu*sz0*th1c + cz0*th0 - 1/2*cz0*th1c*z1st + (1/2)*cz0*th1s*z1ct + (8/3)*cz0*u + 2*l1c_t*sz0**2*z1st - l1c_t*z1st - 2*l1s_t*sz0**2*z1ct + l1s_t*z1ct + (4/3)*mu*sz0**2*th0*z1ct - 2/3*mu*sz0**2*th1s - 2/3*mu*th0*z1ct + (1/3)*mu*th1s - 1/2*sz0*th1c*z1ct - 1/2*sz0*th1s*z1st),
-         nb*((8/3)*b0t*cz0*mu*sz0*z1st - 8/3*b0t*mu*sz0**2*z1ct + (4/3)*b0t*mu*z1ct + (4/3)*b1ct*cz0*mu*sz0 - 1/2*b1ct*cz0*z1st - 1/2*b1ct*sz0*z1ct + (3/2)*b1st*cz0*z1ct + (4/3)*b1st*mu*sz0**2 - 2/3*b1st*mu + (1/2)*b1st*sz0*z1st + 2*cz0*l1c_t*sz0*z1st - 2*cz0*l1s_t*sz0*z1ct + (4/3)*cz0*mu*sz0*th0*z1ct - 2/3*cz0*mu*sz0*th1s - 1/2*cz0*th1c*z1ct - 1/2*cz0*th1s*z1st - 2*l1c_t*sz0**2*z1ct + l1c_t*z1ct - 2*l1s_t*sz0**2*z1st + l1s_t*z1st + (4/3)*mu*sz0**2*th0*z1st + (2/3)*mu*sz0**2*th1c - 2/3*mu*th0*z1st + (1/3)*mu*th1c - sz0*th0 + (1/2)*sz0*th1c*z1st - 1/2*sz0*th1s*z1ct - 8/3*sz0*u),
-         nb*(-2*b0t*cz0*mu**2*sz0*z1st + (4/3)*b0t*cz0*mu + 2*b0t*mu**2*sz0**2*z1ct - b0t*mu**2*z1ct - b1ct*cz0*mu**2*sz0 - 1/3*b1ct*cz0*mu*z1st - 1/3*b1ct*mu*sz0*z1ct - 1/3*b1st*cz0*mu*z1ct - b1st*mu**2*sz0**2 + (1/2)*b1st*mu**2 - b1st*mu*sz0*z1st + b1st - 4/3*cz0*l1c_t*mu*sz0*z1st + cz0*l1c_t + (4/3)*cz0*l1s_t*mu*sz0*z1ct + (4/3)*l1c_t*mu*sz0**2*z1ct - 2/3*l1c_t*mu*z1ct + (4/3)*l1s_t*mu*sz0**2*z1st - 2/3*l1s_t*mu*z1st - l1s_t*sz0 + 2*mu*sz0*u + (4/3)*u*z1st),
-         nb*(-b0t*cz0*mu**2*sz0 - 2/3*b0t*cz0*mu*z1st - 2/3*b0t*mu*sz0*z1ct - b1ct*cz0*mu**2*sz0*z1st + (2/3)*b1ct*cz0*mu + 2*b1ct*mu**2*sz0**2*z1ct - b1ct*mu**2*z1ct - 1/4*b1ct*z1ct - b1st*cz0*mu**2*sz0*z1ct - 2/3*b1st*mu*sz0 - 3/4*b1st*z1st - 2/3*cz0*l1c_t*mu*sz0 - 1/2*cz0*l1c_t*z1st - 1/2*cz0*l1s_t*z1ct + (3/2)*cz0*mu*u*z1ct - 1/2*l1c_t*sz0*z1ct + (2/3)*l1s_t*mu*sz0**2 + (1/3)*l1s_t*mu + (1/2)*l1s_t*sz0*z1st + (1/2)*mu*sz0*u*z1st - 4/3*u),
-         nb*((2/3)*b0t*cz0*mu*z1ct - b0t*mu**2*sz0**2 + (1/2)*b0t*mu**2 - 2/3*b0t*mu*sz0*z1st - b1ct*cz0*mu**2*sz0*z1ct + (2/3)*b1ct*mu*sz0 + (1/4)*b1ct*z1st - b1st*cz0*mu**2*sz0*z1st + (2/3)*b1st*cz0*mu + (1/4)*b1st*z1ct + (1/2)*cz0*l1c_t*z1ct - 2/3*cz0*l1s_t*mu*sz0 - 1/2*cz0*l1s_t*z1st + (1/2)*cz0*mu*u*z1st - 2/3*l1c_t*mu*sz0**2 + (1/3)*l1c_t*mu - 1/2*l1c_t*sz0*z1st - 1/2*l1s_t*sz0*z1ct + (1/2)*mu*sz0*u*z1ct),
-         nb*(4*b0t*cz0*mu + b1ct*cz0*mu*z1st - 3*b1ct*mu*sz0*z1ct + b1st*cz0*mu*z1ct - b1st*mu*sz0*z1st + (8/3)*b1st + (8/3)*cz0*l1c_t + (3/2)*cz0*mu*th1c*z1ct + (1/2)*cz0*mu*th1s*z1st - 8/3*l1s_t*sz0 + 2*mu*sz0*th0 + (1/2)*mu*sz0*th1c*z1st + (1/2)*mu*sz0*th1s*z1ct + (4/3)*th0*z1st - 4/3*th1c),
-         nb*(-8/3*b0t*cz0*mu*sz0*z1ct - 8/3*b0t*mu*sz0**2*z1st + (4/3)*b0t*mu*z1st - 1/2*b1ct*cz0*z1ct - 4/3*b1ct*mu*sz0**2 + 2*b1ct*mu + (1/2)*b1ct*sz0*z1st + (4/3)*b1st*cz0*mu*sz0 + (1/2)*b1st*cz0*z1st - 3/2*b1st*sz0*z1ct - 2*cz0*l1c_t*sz0*z1ct - 2*cz0*l1s_t*sz0*z1st + (4/3)*cz0*mu*sz0*th0*z1st + (2/3)*cz0*mu*sz0*th1c - cz0*th0 + (1/2)*cz0*th1c*z1st - 1/2*cz0*th1s*z1ct - 8/3*cz0*u - 2*l1c_t*sz0**2*z1st + l1c_t*z1st + 2*l1s_t*sz0**2*z1ct - l1s_t*z1ct - 4/3*mu*sz0**2*th0*z1ct + (2/3)*mu*sz0**2*th1s + (2/3)*mu*th0*z1ct - 1/3*mu*th1s + (1/2)*sz0*th1c*z1ct + (1/2)*sz0*th1s*z1st),
-         nb*(-8/3*b0t*cz0*mu*sz0*z1st + (8/3)*b0t*mu*sz0**2*z1ct - 4/3*b0t*mu*z1ct - 4/3*b1ct*cz0*mu*sz0 + (1/2)*b1ct*cz0*z1st + (1/2)*b1ct*sz0*z1ct - 3/2*b1st*cz0*z1ct - 4/3*b1st*mu*sz0**2 + (2/3)*b1st*mu - 1/2*b1st*sz0*z1st - 2*cz0*l1c_t*sz0*z1st + 2*cz0*l1s_t*sz0*z1ct - 4/3*cz0*mu*sz0*th0*z1ct + (2/3)*cz0*mu*sz0*th1s + (1/2)*cz0*th1c*z1ct + (1/2)*cz0*th1s*z1st + 2*l1c_t*sz0**2*z1ct - l1c_t*z1ct + 2*l1s_t*sz0**2*z1st - l1s_t*z1st - 4/3*mu*sz0**2*th0*z1st - 2/3*mu*sz0**2*th1c + (2/3)*mu*th0*z1st - 1/3*mu*th1c + sz0*th0 - 1/2*sz0*th1c*z1st + (1/2)*sz0*th1s*z1ct + (8/3)*sz0*u),
-         nb*(4*b0t**2*cz0*mu**2*sz0*z1st - 4*b0t**2*mu**2*sz0**2*z1ct + 2*b0t**2*mu**2*z1ct + 4*b0t*b1ct*cz0*mu**2*sz0 - 2/3*b0t*b1ct*cz0*mu*z1st - 2/3*b0t*b1ct*mu*sz0*z1ct + 2*b0t*b1st*cz0*mu*z1ct + 4*b0t*b1st*mu**2*sz0**2 - 2*b0t*b1st*mu**2 + (2/3)*b0t*b1st*mu*sz0*z1st + (16/3)*b0t*cz0*l1c_t*mu*sz0*z1st - 16/3*b0t*cz0*l1s_t*mu*sz0*z1ct + 4*b0t*cz0*mu**2*sz0*th0*z1ct - 2*b0t*cz0*mu**2*sz0*th1s - 2/3*b0t*cz0*mu*th1c*z1ct - 2/3*b0t*cz0*mu*th1s*z1st - 16/3*b0t*l1c_t*mu*sz0**2*z1ct + (8/3)*b0t*l1c_t*mu*z1ct - 16/3*b0t*l1s_t*mu*sz0**2*z1st + (8/3)*b0t*l1s_t*mu*z1st + 4*b0t*mu**2*sz0**2*th0*z1st + 2*b0t*mu**2*sz0**2*th1c - 2*b0t*mu**2*th0*z1st - b0t*mu**2*th1c - 4/3*b0t*mu*sz0*th0 + (2/3)*b0t*mu*sz0*th1c*z1st - 2/3*b0t*mu*sz0*th1s*z1ct - 4*b0t*mu*sz0*u + 2*b1ct**2*cz0*mu**2*sz0*z1st + (2/3)*b1ct**2*cz0*mu - 4*b1ct**2*mu**2*sz0**2*z1ct + 2*b1ct**2*mu**2*z1ct + 4*b1ct*b1st*cz0*mu**2*sz0*z1ct + (4/3)*b1ct*b1st*mu*sz0 + (8/3)*b1ct*cz0*l1c_t*mu*sz0 - 1/2*b1ct*cz0*l1c_t*z1st - 1/2*b1ct*cz0*l1s_t*z1ct + 4*b1ct*cz0*mu**2*sz0*th1c*z1ct - 1/3*b1ct*cz0*mu*th0*z1ct + (2/3)*b1ct*cz0*mu*th1s - 3*b1ct*cz0*mu*u*z1ct - 1/2*b1ct*l1c_t*sz0*z1ct - 8/3*b1ct*l1s_t*mu*sz0**2 + (4/3)*b1ct*l1s_t*mu + (1/2)*b1ct*l1s_t*sz0*z1st + 2*b1ct*mu**2*sz0**2*th0 + 2*b1ct*mu**2*sz0**2*th1c*z1st + 2*b1ct*mu**2*sz0**2*th1s*z1ct - b1ct*mu**2*th0 - b1ct*mu**2*th1c*z1st - b1ct*mu**2*th1s*z1ct + (1/3)*b1ct*mu*sz0*th0*z1st - 2/3*b1ct*mu*sz0*th1c - b1ct*mu*sz0*u*z1st + 2*b1st**2*cz0*mu**2*sz0*z1st - 2/3*b1st**2*cz0*mu + (3/2)*b1st*cz0*l1c_t*z1ct + (8/3)*b1st*cz0*l1s_t*mu*sz0 + (1/2)*b1st*cz0*l1s_t*z1st - 2*b1st*cz0*mu**2*sz0*th0 - b1st*cz0*mu*th0*z1st - 2/3*b1st*cz0*mu*th1c - b1st*cz0*mu*u*z1st + (8/3)*b1st*l1c_t*mu*sz0**2 - 4/3*b1st*l1c_t*mu + (1/2)*b1st*l1c_t*sz0*z1st - 3/2*b1st*l1s_t*sz0*z1ct + 2*b1st*mu**2*sz0**2*th1c*z1ct + 2*b1st*mu**2*sz0**2*th1s*z1st - b1st*mu**2*th1c*z1ct - b1st*mu**2*th1s*z1st + (1/3)*b1st*mu*sz0*th0*z1ct - 2/3*b1st*mu*sz0*th1s - b1st*mu*sz0*u*z1ct + 4*cz0*dl*mu**2*sz0*z1st - 8/3*cz0*dl*mu + 2*cz0*l1c_t**2*sz0*z1st - 4*cz0*l1c_t*l1s_t*sz0*z1ct + (8/3)*cz0*l1c_t*mu*sz0*th0*z1ct - 4/3*cz0*l1c_t*mu*sz0*th1s - 1/2*cz0*l1c_t*th1c*z1ct - 1/2*cz0*l1c_t*th1s*z1st - 2*cz0*l1s_t**2*sz0*z1st + (8/3)*cz0*l1s_t*mu*sz0*th0*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1c - cz0*l1s_t*th0 + (1/2)*cz0*l1s_t*th1c*z1st - 1/2*cz0*l1s_t*th1s*z1ct - 8/3*cz0*l1s_t*u + 2*cz0*mu*th0*u + (1/2)*cz0*mu*th1c*u*z1st + (1/2)*cz0*mu*th1s*u*z1ct - 4*dl*mu**2*sz0**2*z1ct + 2*dl*mu**2*z1ct - 2*l1c_t**2*sz0**2*z1ct + l1c_t**2*z1ct - 4*l1c_t*l1s_t*sz0**2*z1st + 2*l1c_t*l1s_t*z1st + (8/3)*l1c_t*mu*sz0**2*th0*z1st + (4/3)*l1c_t*mu*sz0**2*th1c - 4/3*l1c_t*mu*th0*z1st - 2/3*l1c_t*mu*th1c - l1c_t*sz0*th0 + (1/2)*l1c_t*sz0*th1c*z1st - 1/2*l1c_t*sz0*th1s*z1ct - 8/3*l1c_t*sz0*u + 2*l1s_t**2*sz0**2*z1ct - l1s_t**2*z1ct - 8/3*l1s_t*mu*sz0**2*th0*z1ct + (4/3)*l1s_t*mu*sz0**2*th1s + (4/3)*l1s_t*mu*th0*z1ct - 2/3*l1s_t*mu*th1s + (1/2)*l1s_t*sz0*th1c*z1ct + (1/2)*l1s_t*sz0*th1s*z1st - 3/2*mu*sz0*th1c*u*z1ct - 1/2*mu*sz0*th1s*u*z1st),
-         (1/2)*b1ct**2 - 1/2*b1st**2 + nb*(2*b0t**2*cz0*mu**2*sz0 + 4*b0t*b1ct*cz0*mu**2*sz0*z1st + (2/3)*b0t*b1ct*cz0*mu - 8*b0t*b1ct*mu**2*sz0**2*z1ct + 4*b0t*b1ct*mu**2*z1ct + 4*b0t*b1st*cz0*mu**2*sz0*z1ct + 2*b0t*b1st*mu*sz0 + (8/3)*b0t*cz0*l1c_t*mu*sz0 + 4*b0t*cz0*mu**2*sz0*th1c*z1ct - 1/3*b0t*cz0*mu*th0*z1ct + (2/3)*b0t*cz0*mu*th1s - 3*b0t*cz0*mu*u*z1ct - 8/3*b0t*l1s_t*mu*sz0**2 + (4/3)*b0t*l1s_t*mu + 2*b0t*mu**2*sz0**2*th0 + 2*b0t*mu**2*sz0**2*th1c*z1st + 2*b0t*mu**2*sz0**2*th1s*z1ct - b0t*mu**2*th0 - b0t*mu**2*th1c*z1st - b0t*mu**2*th1s*z1ct + (1/3)*b0t*mu*sz0*th0*z1st - 2/3*b0t*mu*sz0*th1c - b0t*mu*sz0*u*z1st + 2*b1ct**2*cz0*mu**2*sz0 - 1/3*b1ct**2*cz0*mu*z1st - 1/3*b1ct**2*mu*sz0*z1ct + (4/3)*b1ct*b1st*cz0*mu*z1ct + 2*b1ct*b1st*mu**2*sz0**2 - b1ct*b1st*mu**2 + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1st + (1/2)*b1ct*cz0*l1c_t - 16/3*b1ct*cz0*l1s_t*mu*sz0*z1ct + 4*b1ct*cz0*mu**2*sz0*th0*z1ct - b1ct*cz0*mu**2*sz0*th1s - 1/3*b1ct*cz0*mu*th1c*z1ct - 16/3*b1ct*l1c_t*mu*sz0**2*z1ct + (8/3)*b1ct*l1c_t*mu*z1ct - 8/3*b1ct*l1s_t*mu*sz0**2*z1st + (4/3)*b1ct*l1s_t*mu*z1st - 1/2*b1ct*l1s_t*sz0 + 2*b1ct*mu**2*sz0**2*th0*z1st + 2*b1ct*mu**2*sz0**2*th1c - b1ct*mu**2*th0*z1st - b1ct*mu**2*th1c - 1/3*b1ct*mu*sz0*th0 + (1/3)*b1ct*mu*sz0*th1c*z1st - 2/3*b1ct*mu*sz0*th1s*z1ct - 3*b1ct*mu*sz0*u - 1/4*b1ct*th1c + (1/3)*b1st**2*cz0*mu*z1st + (1/3)*b1st**2*mu*sz0*z1ct + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1ct + (3/2)*b1st*cz0*l1s_t - b1st*cz0*mu**2*sz0*th1c - 1/3*b1st*cz0*mu*th0 - 1/3*b1st*cz0*mu*th1c*z1st + b1st*cz0*mu*u + (3/2)*b1st*l1c_t*sz0 - 8/3*b1st*l1s_t*mu*sz0**2*z1ct + (4/3)*b1st*l1s_t*mu*z1ct + 2*b1st*mu**2*sz0**2*th0*z1ct - b1st*mu**2*th0*z1ct + (1/3)*b1st*mu*sz0*th1c*z1ct + (1/4)*b1st*th1s + 2*cz0*dl*mu**2*sz0 + (2/3)*cz0*dl*mu*z1st + cz0*l1c_t**2*sz0 + (8/3)*cz0*l1c_t*mu*sz0*th1c*z1ct - 1/4*cz0*l1c_t*th0*z1ct + (1/2)*cz0*l1c_t*th1s - 2*cz0*l1c_t*u*z1ct - cz0*l1s_t**2*sz0 + (4/3)*cz0*l1s_t*mu*sz0*th0 + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1ct + (1/4)*cz0*l1s_t*th0*z1st - 1/2*cz0*l1s_t*th1c - 2/3*cz0*l1s_t*u*z1st + (1/2)*cz0*mu*th0*u*z1st + (3/2)*cz0*mu*th1c*u + (2/3)*dl*mu*sz0*z1ct - 2*l1c_t*l1s_t*sz0**2 + l1c_t*l1s_t + (4/3)*l1c_t*mu*sz0**2*th0 + (4/3)*l1c_t*mu*sz0**2*th1c*z1st + (4/3)*l1c_t*mu*sz0**2*th1s*z1ct - 2/3*l1c_t*mu*th0 - 2/3*l1c_t*mu*th1c*z1st - 2/3*l1c_t*mu*th1s*z1ct + (1/4)*l1c_t*sz0*th0*z1st - 1/2*l1c_t*sz0*th1c - 2/3*l1c_t*sz0*u*z1st - 8/3*l1s_t*mu*sz0**2*th1c*z1ct + (4/3)*l1s_t*mu*th1c*z1ct + (1/4)*l1s_t*sz0*th0*z1ct - 1/2*l1s_t*sz0*th1s + 2*l1s_t*sz0*u*z1ct - 3/2*mu*sz0*th0*u*z1ct + (1/2)*mu*sz0*th1s*u),
-         b1ct*b1st + nb*(2*b0t**2*mu**2*sz0**2 - b0t**2*mu**2 + 4*b0t*b1ct*cz0*mu**2*sz0*z1ct - 2/3*b0t*b1ct*mu*sz0 + 4*b0t*b1st*cz0*mu**2*sz0*z1st - 2/3*b0t*b1st*cz0*mu + (8/3)*b0t*cz0*l1s_t*mu*sz0 - 2*b0t*cz0*mu**2*sz0*th0 - b0t*cz0*mu*th0*z1st - 2/3*b0t*cz0*mu*th1c - b0t*cz0*mu*u*z1st + (8/3)*b0t*l1c_t*mu*sz0**2 - 4/3*b0t*l1c_t*mu + 2*b0t*mu**2*sz0**2*th1c*z1ct + 2*b0t*mu**2*sz0**2*th1s*z1st - b0t*mu**2*th1c*z1ct - b0t*mu**2*th1s*z1st + (1/3)*b0t*mu*sz0*th0*z1ct - 2/3*b0t*mu*sz0*th1s - b0t*mu*sz0*u*z1ct - 1/3*b1ct**2*cz0*mu*z1ct + b1ct**2*mu**2*sz0**2 - 1/2*b1ct**2*mu**2 - 1/3*b1ct**2*mu*sz0*z1st + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1ct - 1/2*b1ct*cz0*l1s_t - b1ct*cz0*mu**2*sz0*th1c - 1/3*b1ct*cz0*mu*th0 - 1/3*b1ct*cz0*mu*th1c*z1st + b1ct*cz0*mu*u - 1/2*b1ct*l1c_t*sz0 - 8/3*b1ct*l1s_t*mu*sz0**2*z1ct + (4/3)*b1ct*l1s_t*mu*z1ct + 2*b1ct*mu**2*sz0**2*th0*z1ct - b1ct*mu**2*th0*z1ct + (1/3)*b1ct*mu*sz0*th1c*z1ct + (1/4)*b1ct*th1s + (1/3)*b1st**2*cz0*mu*z1ct + b1st**2*mu**2*sz0**2 - 1/2*b1st**2*mu**2 + (1/3)*b1st**2*mu*sz0*z1st + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1st - 1/2*b1st*cz0*l1c_t - b1st*cz0*mu**2*sz0*th1s - 1/3*b1st*cz0*mu*th1c*z1ct - 2/3*b1st*cz0*mu*th1s*z1st - 8/3*b1st*l1s_t*mu*sz0**2*z1st + (4/3)*b1st*l1s_t*mu*z1st + (1/2)*b1st*l1s_t*sz0 + 2*b1st*mu**2*sz0**2*th0*z1st - b1st*mu**2*th0*z1st - b1st*mu*sz0*th0 + (1/3)*b1st*mu*sz0*th1c*z1st - b1st*mu*sz0*u - 3/4*b1st*th1c + (2/3)*cz0*dl*mu*z1ct + 2*cz0*l1c_t*l1s_t*sz0 - 4/3*cz0*l1c_t*mu*sz0*th0 - 3/4*cz0*l1c_t*th0*z1st - 1/2*cz0*l1c_t*th1c - 2/3*cz0*l1c_t*u*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1ct + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1st + (1/4)*cz0*l1s_t*th0*z1ct - 1/2*cz0*l1s_t*th1s - 2/3*cz0*l1s_t*u*z1ct + (1/2)*cz0*mu*th0*u*z1ct + (1/2)*cz0*mu*th1s*u + 2*dl*mu**2*sz0**2 - dl*mu**2 + 2*dl*mu*sz0*z1st - 2*dl + l1c_t**2*sz0**2 - 1/2*l1c_t**2 + (4/3)*l1c_t*mu*sz0**2*th1c*z1ct + (4/3)*l1c_t*mu*sz0**2*th1s*z1st - 2/3*l1c_t*mu*th1c*z1ct - 2/3*l1c_t*mu*th1s*z1st + (1/4)*l1c_t*sz0*th0*z1ct - 1/2*l1c_t*sz0*th1s - 2/3*l1c_t*sz0*u*z1ct - l1s_t**2*sz0**2 + (1/2)*l1s_t**2 + (4/3)*l1s_t*mu*sz0**2*th0 - 2/3*l1s_t*mu*th0 + (3/4)*l1s_t*sz0*th0*z1st + (1/2)*l1s_t*sz0*th1c + (2/3)*l1s_t*sz0*u*z1st - 1/2*mu*sz0*th0*u*z1st + (1/2)*mu*sz0*th1c*u + (4/3)*th0*u),
-         2*b0t*b1st + nb*(-4/3*b0t*cz0*mu*th0 - 1/3*b0t*cz0*mu*th1c*z1st - 1/3*b0t*cz0*mu*th1s*z1ct + b0t*mu*sz0*th1c*z1ct + (1/3)*b0t*mu*sz0*th1s*z1st - 1/3*b1ct*cz0*mu*th0*z1st - b1ct*cz0*mu*th1c + b1ct*mu*sz0*th0*z1ct - 1/3*b1ct*mu*sz0*th1s - 1/3*b1st*cz0*mu*th0*z1ct - 1/3*b1st*cz0*mu*th1s + (1/3)*b1st*mu*sz0*th0*z1st - 1/3*b1st*mu*sz0*th1c - b1st*th0 - cz0*l1c_t*th0 - 1/4*cz0*l1c_t*th1c*z1st - 1/4*cz0*l1c_t*th1s*z1ct + (3/4)*cz0*l1s_t*th1c*z1ct + (1/4)*cz0*l1s_t*th1s*z1st + (8/3)*dl*mu*sz0 + 2*dl*z1st + (3/4)*l1c_t*sz0*th1c*z1ct + (1/4)*l1c_t*sz0*th1s*z1st + l1s_t*sz0*th0 + (1/4)*l1s_t*sz0*th1c*z1st + (1/4)*l1s_t*sz0*th1s*z1ct + (4/3)*th1c*u),
-         b1ct*b1st + nb*(-1/3*b0t*cz0*mu*th0*z1st - b0t*cz0*mu*th1c + b0t*mu*sz0*th0*z1ct - 1/3*b0t*mu*sz0*th1s - b1ct*cz0*mu*th0 - 1/6*b1ct*cz0*mu*th1c*z1st - 1/6*b1ct*cz0*mu*th1s*z1ct + (5/6)*b1ct*mu*sz0*th1c*z1ct + (1/6)*b1ct*mu*sz0*th1s*z1st + (1/4)*b1ct*th1s - 1/6*b1st*cz0*mu*th1c*z1ct - 1/6*b1st*cz0*mu*th1s*z1st - 1/3*b1st*mu*sz0*th0 + (1/6)*b1st*mu*sz0*th1c*z1st + (1/6)*b1st*mu*sz0*th1s*z1ct - 3/4*b1st*th1c + 2*cz0*dl*mu*z1ct - 1/4*cz0*l1c_t*th0*z1st - 3/4*cz0*l1c_t*th1c + (3/4)*cz0*l1s_t*th0*z1ct - 1/4*cz0*l1s_t*th1s + (2/3)*dl*mu*sz0*z1st - 2*dl + (3/4)*l1c_t*sz0*th0*z1ct - 1/4*l1c_t*sz0*th1s + (1/4)*l1s_t*sz0*th0*z1st + (3/4)*l1s_t*sz0*th1c + (4/3)*th0*u),
-         -1/2*b1ct**2 + (1/2)*b1st**2 + nb*(-1/3*b0t*cz0*mu*th0*z1ct - 1/3*b0t*cz0*mu*th1s + (1/3)*b0t*mu*sz0*th0*z1st - 1/3*b0t*mu*sz0*th1c - 1/6*b1ct*cz0*mu*th1c*z1ct - 1/6*b1ct*cz0*mu*th1s*z1st - 1/3*b1ct*mu*sz0*th0 + (1/6)*b1ct*mu*sz0*th1c*z1st + (1/6)*b1ct*mu*sz0*th1s*z1ct + (1/4)*b1ct*th1c - 1/3*b1st*cz0*mu*th0 - 1/6*b1st*cz0*mu*th1c*z1st - 1/6*b1st*cz0*mu*th1s*z1ct + (1/6)*b1st*mu*sz0*th1c*z1ct + (1/6)*b1st*mu*sz0*th1s*z1st - 1/4*b1st*th1s + (2/3)*cz0*dl*mu*z1st - 1/4*cz0*l1c_t*th0*z1ct - 1/4*cz0*l1c_t*th1s + (1/4)*cz0*l1s_t*th0*z1st - 1/4*cz0*l1s_t*th1c + (2/3)*dl*mu*sz0*z1ct + (1/4)*l1c_t*sz0*th0*z1st - 1/4*l1c_t*sz0*th1c + (1/4)*l1s_t*sz0*th0*z1ct + (1/4)*l1s_t*sz0*th1s)],
-        [2*b1ct + nb*(-4*b0t*cz0*mu**2*sz0*z1st + 4*b0t*mu**2*sz0**2*z1ct - 2*b0t*mu**2*z1ct - 2*b1ct*cz0*mu**2*sz0 + 2*b1ct*cz0*mu*z1st - 2/3*b1ct*mu*sz0*z1ct - 2/3*b1st*cz0*mu*z1ct - 2*b1st*mu**2*sz0**2 - b1st*mu**2 + (2/3)*b1st*mu*sz0*z1st - 8/3*cz0*l1c_t*mu*sz0*z1st + (8/3)*cz0*l1s_t*mu*sz0*z1ct - 2*cz0*mu**2*sz0*th0*z1ct + cz0*mu**2*sz0*th1s + (2/3)*cz0*mu*th1c*z1ct + (2/3)*cz0*mu*th1s*z1st + (8/3)*l1c_t*mu*sz0**2*z1ct - 4/3*l1c_t*mu*z1ct + (8/3)*l1s_t*mu*sz0**2*z1st - 4/3*l1s_t*mu*z1st - 2*mu**2*sz0**2*th0*z1st - mu**2*sz0**2*th1c + mu**2*th0*z1st + (1/2)*mu**2*th1c + (4/3)*mu*sz0*th0 - 2/3*mu*sz0*th1c*z1st + (2/3)*mu*sz0*th1s*z1ct + 4*mu*sz0*u),
-         2*b0t - b1ct*z1st + b1st*z1ct + nb*(-2*b0t*cz0*mu**2*sz0 + 2*b0t*cz0*mu*z1st - 2/3*b0t*mu*sz0*z1ct + (4/3)*b1ct*cz0*mu + 2*b1ct*mu**2*sz0**2*z1ct - b1ct*mu**2*z1ct + 2*b1st*mu**2*sz0**2*z1st - b1st*mu**2*z1st + (4/3)*b1st*mu*sz0 - 4/3*cz0*l1c_t*mu*sz0 + (3/2)*cz0*l1c_t*z1st - 1/2*cz0*l1s_t*z1ct - cz0*mu**2*sz0*th1c*z1ct - cz0*mu**2*sz0*th1s*z1st + cz0*mu*th0*z1ct - 2/3*cz0*mu*th1s + cz0*mu*u*z1ct - 1/2*l1c_t*sz0*z1ct + (4/3)*l1s_t*mu*sz0**2 - 2/3*l1s_t*mu - 3/2*l1s_t*sz0*z1st - mu**2*sz0**2*th0 + (1/2)*mu**2*th0 + (1/3)*mu*sz0*th0*z1st + (2/3)*mu*sz0*th1c - mu*sz0*u*z1st - th0 + (1/4)*th1c*z1st - 3/4*th1s*z1ct - 8/3*u),
-         b1ct*z1ct + b1st*z1st + nb*(-2/3*b0t*cz0*mu*z1ct - 2*b0t*mu**2*sz0**2 - b0t*mu**2 + (2/3)*b0t*mu*sz0*z1st + 2*b1ct*mu**2*sz0**2*z1st - b1ct*mu**2*z1st + (4/3)*b1ct*mu*sz0 - 4*b1st*cz0*mu**2*sz0*z1st - 4/3*b1st*cz0*mu + 2*b1st*mu**2*sz0**2*z1ct - b1st*mu**2*z1ct - 1/2*cz0*l1c_t*z1ct - 4/3*cz0*l1s_t*mu*sz0 + (1/2)*cz0*l1s_t*z1st + cz0*mu**2*sz0*th0 - cz0*mu**2*sz0*th1c*z1st - cz0*mu**2*sz0*th1s*z1ct + (1/3)*cz0*mu*th0*z1st + (2/3)*cz0*mu*th1c + 3*cz0*mu*u*z1st - 4/3*l1c_t*mu*sz0**2 - 2/3*l1c_t*mu + (1/2)*l1c_t*sz0*z1st + (1/2)*l1s_t*sz0*z1ct - 2*mu**2*sz0**2*th1s*z1st + mu**2*th1s*z1st + (1/3)*mu*sz0*th0*z1ct + (2/3)*mu*sz0*th1s - mu*sz0*u*z1ct + (1/4)*th1c*z1ct - 1/4*th1s*z1st),
-         -2*b0t*z1ct - 2*b1st + nb*(-8/3*b0t*mu*sz0 - 2/3*b1ct*cz0*mu*z1ct + (2/3)*b1ct*mu*sz0*z1st + 2*b1ct - 2*b1st*cz0*mu*z1st + (2/3)*b1st*mu*sz0*z1ct - 2*cz0*l1s_t + (4/3)*cz0*mu*th0 - 1/3*cz0*mu*th1c*z1st - 1/3*cz0*mu*th1s*z1ct - 2*l1c_t*sz0 - 1/3*mu*sz0*th1c*z1ct - mu*sz0*th1s*z1st + th0*z1ct + th1s),
-         -1/2*b1ct*z1ct + (1/2)*b1st*z1st + nb*(-2/3*b0t*cz0*mu*z1ct + (2/3)*b0t*mu*sz0*z1st - 2/3*b1ct*mu*sz0 - 2/3*b1st*cz0*mu - 1/2*cz0*l1c_t*z1ct + (1/2)*cz0*l1s_t*z1st - 1/3*cz0*mu*th0*z1st + (1/3)*cz0*mu*th1c + (1/2)*l1c_t*sz0*z1st + (1/2)*l1s_t*sz0*z1ct - 1/3*mu*sz0*th0*z1ct - 1/3*mu*sz0*th1s + (1/4)*th1c*z1ct - 1/4*th1s*z1st),
-         -2*b0t + (1/2)*b1ct*z1st - 3/2*b1st*z1ct + nb*(-2*b0t*cz0*mu*z1st + (2/3)*b0t*mu*sz0*z1ct - 2/3*b1ct*cz0*mu - 2*b1st*mu*sz0 - 3/2*cz0*l1c_t*z1st + (1/2)*cz0*l1s_t*z1ct - 1/3*cz0*mu*th0*z1ct + cz0*mu*th1s + (1/2)*l1c_t*sz0*z1ct + (3/2)*l1s_t*sz0*z1st - mu*sz0*th0*z1st - 1/3*mu*sz0*th1c + th0 - 1/4*th1c*z1st + (3/4)*th1s*z1ct + (8/3)*u),
-         nb*(-4*b0t*mu*sz0 - b1ct*cz0*mu*z1ct + b1ct*mu*sz0*z1st + (8/3)*b1ct - 3*b1st*cz0*mu*z1st + b1st*mu*sz0*z1ct - 8/3*cz0*l1s_t + 2*cz0*mu*th0 - 1/2*cz0*mu*th1c*z1st - 1/2*cz0*mu*th1s*z1ct - 8/3*l1c_t*sz0 - 1/2*mu*sz0*th1c*z1ct - 3/2*mu*sz0*th1s*z1st + (4/3)*th0*z1ct + (4/3)*th1s),
-         nb*(-8/3*b0t*cz0*mu*sz0*z1st + (8/3)*b0t*mu*sz0**2*z1ct - 4/3*b0t*mu*z1ct - 4/3*b1ct*cz0*mu*sz0 + (3/2)*b1ct*cz0*z1st - 1/2*b1ct*sz0*z1ct - 1/2*b1st*cz0*z1ct - 4/3*b1st*mu*sz0**2 - 2/3*b1st*mu + (1/2)*b1st*sz0*z1st - 2*cz0*l1c_t*sz0*z1st + 2*cz0*l1s_t*sz0*z1ct - 4/3*cz0*mu*sz0*th0*z1ct + (2/3)*cz0*mu*sz0*th1s + (1/2)*cz0*th1c*z1ct + (1/2)*cz0*th1s*z1st + 2*l1c_t*sz0**2*z1ct - l1c_t*z1ct + 2*l1s_t*sz0**2*z1st - l1s_t*z1st - 4/3*mu*sz0**2*th0*z1st - 2/3*mu*sz0**2*th1c + (2/3)*mu*th0*z1st + (1/3)*mu*th1c + sz0*th0 - 1/2*sz0*th1c*z1st + (1/2)*sz0*th1s*z1ct + (8/3)*sz0*u),
-         nb*((8/3)*b0t*cz0*mu*sz0*z1ct + (8/3)*b0t*mu*sz0**2*z1st - 4/3*b0t*mu*z1st - 1/2*b1ct*cz0*z1ct + (4/3)*b1ct*mu*sz0**2 - 2/3*b1ct*mu - 3/2*b1ct*sz0*z1st - 4/3*b1st*cz0*mu*sz0 + (1/2)*b1st*cz0*z1st + (1/2)*b1st*sz0*z1ct + 2*cz0*l1c_t*sz0*z1ct + 2*cz0*l1s_t*sz0*z1st - 4/3*cz0*mu*sz0*th0*z1st - 2/3*cz0*mu*sz0*th1c + cz0*th0 - 1/2*cz0*th1c*z1st + (1/2)*cz0*th1s*z1ct + (8/3)*cz0*u + 2*l1c_t*sz0**2*z1st - l1c_t*z1st - 2*l1s_t*sz0**2*z1ct + l1s_t*z1ct + (4/3)*mu*sz0**2*th0*z1ct - 2/3*mu*sz0**2*th1s - 2/3*mu*th0*z1ct + mu*th1s - 1/2*sz0*th1c*z1ct - 1/2*sz0*th1s*z1st),
-         nb*(-2*b0t*cz0*mu**2*sz0*z1ct - 2*b0t*mu**2*sz0**2*z1st + b0t*mu**2*z1st + (4/3)*b0t*mu*sz0 + b1ct*cz0*mu*z1ct - b1ct*mu**2*sz0**2 + (1/2)*b1ct*mu**2 + (1/3)*b1ct*mu*sz0*z1st - b1ct + b1st*cz0*mu**2*sz0 + (1/3)*b1st*cz0*mu*z1st + (1/3)*b1st*mu*sz0*z1ct - 4/3*cz0*l1c_t*mu*sz0*z1ct - 4/3*cz0*l1s_t*mu*sz0*z1st + cz0*l1s_t - 2*cz0*mu*u - 4/3*l1c_t*mu*sz0**2*z1st + (2/3)*l1c_t*mu*z1st + l1c_t*sz0 + (4/3)*l1s_t*mu*sz0**2*z1ct - 2/3*l1s_t*mu*z1ct - 4/3*u*z1ct),
-         nb*((2/3)*b0t*cz0*mu*z1ct - b0t*mu**2*sz0**2 + (1/2)*b0t*mu**2 - 2/3*b0t*mu*sz0*z1st - b1ct*cz0*mu**2*sz0*z1ct + (2/3)*b1ct*mu*sz0 + (1/4)*b1ct*z1st - b1st*cz0*mu**2*sz0*z1st + (2/3)*b1st*cz0*mu + (1/4)*b1st*z1ct + (1/2)*cz0*l1c_t*z1ct - 2/3*cz0*l1s_t*mu*sz0 - 1/2*cz0*l1s_t*z1st + (1/2)*cz0*mu*u*z1st - 2/3*l1c_t*mu*sz0**2 + (1/3)*l1c_t*mu - 1/2*l1c_t*sz0*z1st - 1/2*l1s_t*sz0*z1ct + (1/2)*mu*sz0*u*z1ct),
-         nb*(b0t*cz0*mu**2*sz0 + (2/3)*b0t*cz0*mu*z1st + (2/3)*b0t*mu*sz0*z1ct - b1ct*cz0*mu**2*sz0*z1st - 2/3*b1ct*cz0*mu - 3/4*b1ct*z1ct - b1st*cz0*mu**2*sz0*z1ct - 2*b1st*mu**2*sz0**2*z1st + b1st*mu**2*z1st + (2/3)*b1st*mu*sz0 - 1/4*b1st*z1st + (2/3)*cz0*l1c_t*mu*sz0 + (1/2)*cz0*l1c_t*z1st + (1/2)*cz0*l1s_t*z1ct + (1/2)*cz0*mu*u*z1ct + (1/2)*l1c_t*sz0*z1ct - 2/3*l1s_t*mu*sz0**2 + l1s_t*mu - 1/2*l1s_t*sz0*z1st + (3/2)*mu*sz0*u*z1st - 4/3*u),
-         nb*(4*b0t*mu*sz0 + b1ct*cz0*mu*z1ct - b1ct*mu*sz0*z1st - 8/3*b1ct + 3*b1st*cz0*mu*z1st - b1st*mu*sz0*z1ct + (8/3)*cz0*l1s_t - 2*cz0*mu*th0 + (1/2)*cz0*mu*th1c*z1st + (1/2)*cz0*mu*th1s*z1ct + (8/3)*l1c_t*sz0 + (1/2)*mu*sz0*th1c*z1ct + (3/2)*mu*sz0*th1s*z1st - 4/3*th0*z1ct - 4/3*th1s),
-         nb*((8/3)*b0t*cz0*mu*sz0*z1st - 8/3*b0t*mu*sz0**2*z1ct + (4/3)*b0t*mu*z1ct + (4/3)*b1ct*cz0*mu*sz0 - 3/2*b1ct*cz0*z1st + (1/2)*b1ct*sz0*z1ct + (1/2)*b1st*cz0*z1ct + (4/3)*b1st*mu*sz0**2 + (2/3)*b1st*mu - 1/2*b1st*sz0*z1st + 2*cz0*l1c_t*sz0*z1st - 2*cz0*l1s_t*sz0*z1ct + (4/3)*cz0*mu*sz0*th0*z1ct - 2/3*cz0*mu*sz0*th1s - 1/2*cz0*th1c*z1ct - 1/2*cz0*th1s*z1st - 2*l1c_t*sz0**2*z1ct + l1c_t*z1ct - 2*l1s_t*sz0**2*z1st + l1s_t*z1st + (4/3)*mu*sz0**2*th0*z1st + (2/3)*mu*sz0**2*th1c - 2/3*mu*th0*z1st - 1/3*mu*th1c - sz0*th0 + (1/2)*sz0*th1c*z1st - 1/2*sz0*th1s*z1ct - 8/3*sz0*u),
-         nb*(-8/3*b0t*cz0*mu*sz0*z1ct - 8/3*b0t*mu*sz0**2*z1st + (4/3)*b0t*mu*z1st + (1/2)*b1ct*cz0*z1ct - 4/3*b1ct*mu*sz0**2 + (2/3)*b1ct*mu + (3/2)*b1ct*sz0*z1st + (4/3)*b1st*cz0*mu*sz0 - 1/2*b1st*cz0*z1st - 1/2*b1st*sz0*z1ct - 2*cz0*l1c_t*sz0*z1ct - 2*cz0*l1s_t*sz0*z1st + (4/3)*cz0*mu*sz0*th0*z1st + (2/3)*cz0*mu*sz0*th1c - cz0*th0 + (1/2)*cz0*th1c*z1st - 1/2*cz0*th1s*z1ct - 8/3*cz0*u - 2*l1c_t*sz0**2*z1st + l1c_t*z1st + 2*l1s_t*sz0**2*z1ct - l1s_t*z1ct - 4/3*mu*sz0**2*th0*z1ct + (2/3)*mu*sz0**2*th1s + (2/3)*mu*th0*z1ct - mu*th1s + (1/2)*sz0*th1c*z1ct + (1/2)*sz0*th1s*z1st),
-         nb*(4*b0t**2*cz0*mu**2*sz0*z1ct + 4*b0t**2*mu**2*sz0**2*z1st - 2*b0t**2*mu**2*z1st - 2/3*b0t*b1ct*cz0*mu*z1ct + 4*b0t*b1ct*mu**2*sz0**2 - 2*b0t*b1ct*mu**2 - 2*b0t*b1ct*mu*sz0*z1st - 4*b0t*b1st*cz0*mu**2*sz0 + (2/3)*b0t*b1st*cz0*mu*z1st + (2/3)*b0t*b1st*mu*sz0*z1ct + (16/3)*b0t*cz0*l1c_t*mu*sz0*z1ct + (16/3)*b0t*cz0*l1s_t*mu*sz0*z1st - 4*b0t*cz0*mu**2*sz0*th0*z1st - 2*b0t*cz0*mu**2*sz0*th1c + (4/3)*b0t*cz0*mu*th0 - 2/3*b0t*cz0*mu*th1c*z1st + (2/3)*b0t*cz0*mu*th1s*z1ct + 4*b0t*cz0*mu*u + (16/3)*b0t*l1c_t*mu*sz0**2*z1st - 8/3*b0t*l1c_t*mu*z1st - 16/3*b0t*l1s_t*mu*sz0**2*z1ct + (8/3)*b0t*l1s_t*mu*z1ct + 4*b0t*mu**2*sz0**2*th0*z1ct - 2*b0t*mu**2*sz0**2*th1s - 2*b0t*mu**2*th0*z1ct + b0t*mu**2*th1s - 2/3*b0t*mu*sz0*th1c*z1ct - 2/3*b0t*mu*sz0*th1s*z1st + 2*b1ct**2*cz0*mu**2*sz0*z1ct - 2/3*b1ct**2*mu*sz0 + 4*b1ct*b1st*cz0*mu**2*sz0*z1st + (4/3)*b1ct*b1st*cz0*mu - 1/2*b1ct*cz0*l1c_t*z1ct + (8/3)*b1ct*cz0*l1s_t*mu*sz0 - 3/2*b1ct*cz0*l1s_t*z1st - 2*b1ct*cz0*mu**2*sz0*th0 + (1/3)*b1ct*cz0*mu*th0*z1st + (2/3)*b1ct*cz0*mu*th1c - b1ct*cz0*mu*u*z1st + (8/3)*b1ct*l1c_t*mu*sz0**2 - 4/3*b1ct*l1c_t*mu - 3/2*b1ct*l1c_t*sz0*z1st + (1/2)*b1ct*l1s_t*sz0*z1ct + 2*b1ct*mu**2*sz0**2*th1c*z1ct + 2*b1ct*mu**2*sz0**2*th1s*z1st - b1ct*mu**2*th1c*z1ct - b1ct*mu**2*th1s*z1st - b1ct*mu*sz0*th0*z1ct + (2/3)*b1ct*mu*sz0*th1s - b1ct*mu*sz0*u*z1ct + 2*b1st**2*cz0*mu**2*sz0*z1ct + 4*b1st**2*mu**2*sz0**2*z1st - 2*b1st**2*mu**2*z1st + (2/3)*b1st**2*mu*sz0 - 8/3*b1st*cz0*l1c_t*mu*sz0 + (1/2)*b1st*cz0*l1c_t*z1st + (1/2)*b1st*cz0*l1s_t*z1ct - 4*b1st*cz0*mu**2*sz0*th1s*z1st + (1/3)*b1st*cz0*mu*th0*z1ct + (2/3)*b1st*cz0*mu*th1s - b1st*cz0*mu*u*z1ct + (1/2)*b1st*l1c_t*sz0*z1ct + (8/3)*b1st*l1s_t*mu*sz0**2 - 4/3*b1st*l1s_t*mu - 1/2*b1st*l1s_t*sz0*z1st - 2*b1st*mu**2*sz0**2*th0 + 2*b1st*mu**2*sz0**2*th1c*z1st + 2*b1st*mu**2*sz0**2*th1s*z1ct + b1st*mu**2*th0 - b1st*mu**2*th1c*z1st - b1st*mu**2*th1s*z1ct - 1/3*b1st*mu*sz0*th0*z1st - 2/3*b1st*mu*sz0*th1c - 3*b1st*mu*sz0*u*z1st + 4*cz0*dl*mu**2*sz0*z1ct + 2*cz0*l1c_t**2*sz0*z1ct + 4*cz0*l1c_t*l1s_t*sz0*z1st - 8/3*cz0*l1c_t*mu*sz0*th0*z1st - 4/3*cz0*l1c_t*mu*sz0*th1c + cz0*l1c_t*th0 - 1/2*cz0*l1c_t*th1c*z1st + (1/2)*cz0*l1c_t*th1s*z1ct + (8/3)*cz0*l1c_t*u - 2*cz0*l1s_t**2*sz0*z1ct + (8/3)*cz0*l1s_t*mu*sz0*th0*z1ct - 4/3*cz0*l1s_t*mu*sz0*th1s - 1/2*cz0*l1s_t*th1c*z1ct - 1/2*cz0*l1s_t*th1s*z1st + (1/2)*cz0*mu*th1c*u*z1ct + (3/2)*cz0*mu*th1s*u*z1st + 4*dl*mu**2*sz0**2*z1st - 2*dl*mu**2*z1st - 8/3*dl*mu*sz0 + 2*l1c_t**2*sz0**2*z1st - l1c_t**2*z1st - 4*l1c_t*l1s_t*sz0**2*z1ct + 2*l1c_t*l1s_t*z1ct + (8/3)*l1c_t*mu*sz0**2*th0*z1ct - 4/3*l1c_t*mu*sz0**2*th1s - 4/3*l1c_t*mu*th0*z1ct + (2/3)*l1c_t*mu*th1s - 1/2*l1c_t*sz0*th1c*z1ct - 1/2*l1c_t*sz0*th1s*z1st - 2*l1s_t**2*sz0**2*z1st + l1s_t**2*z1st + (8/3)*l1s_t*mu*sz0**2*th0*z1st + (4/3)*l1s_t*mu*sz0**2*th1c - 4/3*l1s_t*mu*th0*z1st - 2/3*l1s_t*mu*th1c - l1s_t*sz0*th0 + (1/2)*l1s_t*sz0*th1c*z1st - 1/2*l1s_t*sz0*th1s*z1ct - 8/3*l1s_t*sz0*u + 2*mu*sz0*th0*u - 1/2*mu*sz0*th1c*u*z1st - 1/2*mu*sz0*th1s*u*z1ct),
-         b1ct*b1st + nb*(2*b0t**2*mu**2*sz0**2 - b0t**2*mu**2 + 4*b0t*b1ct*cz0*mu**2*sz0*z1ct - 2/3*b0t*b1ct*mu*sz0 + 4*b0t*b1st*cz0*mu**2*sz0*z1st - 2/3*b0t*b1st*cz0*mu + (8/3)*b0t*cz0*l1s_t*mu*sz0 - 2*b0t*cz0*mu**2*sz0*th0 + (1/3)*b0t*cz0*mu*th0*z1st + (2/3)*b0t*cz0*mu*th1c - b0t*cz0*mu*u*z1st + (8/3)*b0t*l1c_t*mu*sz0**2 - 4/3*b0t*l1c_t*mu + 2*b0t*mu**2*sz0**2*th1c*z1ct + 2*b0t*mu**2*sz0**2*th1s*z1st - b0t*mu**2*th1c*z1ct - b0t*mu**2*th1s*z1st - b0t*mu*sz0*th0*z1ct + (2/3)*b0t*mu*sz0*th1s - b0t*mu*sz0*u*z1ct - 1/3*b1ct**2*cz0*mu*z1ct + b1ct**2*mu**2*sz0**2 - 1/2*b1ct**2*mu**2 - 1/3*b1ct**2*mu*sz0*z1st + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1ct - 1/2*b1ct*cz0*l1s_t - b1ct*cz0*mu**2*sz0*th1c + b1ct*cz0*mu*th0 + (1/3)*b1ct*cz0*mu*th1s*z1ct + b1ct*cz0*mu*u - 1/2*b1ct*l1c_t*sz0 - 8/3*b1ct*l1s_t*mu*sz0**2*z1ct + (4/3)*b1ct*l1s_t*mu*z1ct + 2*b1ct*mu**2*sz0**2*th0*z1ct - b1ct*mu**2*th0*z1ct - 2/3*b1ct*mu*sz0*th1c*z1ct - 1/3*b1ct*mu*sz0*th1s*z1st - 3/4*b1ct*th1s + (1/3)*b1st**2*cz0*mu*z1ct + b1st**2*mu**2*sz0**2 - 1/2*b1st**2*mu**2 + (1/3)*b1st**2*mu*sz0*z1st + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1st - 1/2*b1st*cz0*l1c_t - b1st*cz0*mu**2*sz0*th1s + (1/3)*b1st*cz0*mu*th1s*z1st - 8/3*b1st*l1s_t*mu*sz0**2*z1st + (4/3)*b1st*l1s_t*mu*z1st + (1/2)*b1st*l1s_t*sz0 + 2*b1st*mu**2*sz0**2*th0*z1st - b1st*mu**2*th0*z1st + (1/3)*b1st*mu*sz0*th0 - 1/3*b1st*mu*sz0*th1s*z1ct - b1st*mu*sz0*u + (1/4)*b1st*th1c - 2*cz0*dl*mu*z1ct + 2*cz0*l1c_t*l1s_t*sz0 - 4/3*cz0*l1c_t*mu*sz0*th0 + (1/4)*cz0*l1c_t*th0*z1st + (1/2)*cz0*l1c_t*th1c - 2/3*cz0*l1c_t*u*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1ct + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1st - 3/4*cz0*l1s_t*th0*z1ct + (1/2)*cz0*l1s_t*th1s - 2/3*cz0*l1s_t*u*z1ct + (1/2)*cz0*mu*th0*u*z1ct + (1/2)*cz0*mu*th1s*u + 2*dl*mu**2*sz0**2 - dl*mu**2 - 2/3*dl*mu*sz0*z1st + 2*dl + l1c_t**2*sz0**2 - 1/2*l1c_t**2 + (4/3)*l1c_t*mu*sz0**2*th1c*z1ct + (4/3)*l1c_t*mu*sz0**2*th1s*z1st - 2/3*l1c_t*mu*th1c*z1ct - 2/3*l1c_t*mu*th1s*z1st - 3/4*l1c_t*sz0*th0*z1ct + (1/2)*l1c_t*sz0*th1s - 2/3*l1c_t*sz0*u*z1ct - l1s_t**2*sz0**2 + (1/2)*l1s_t**2 + (4/3)*l1s_t*mu*sz0**2*th0 - 2/3*l1s_t*mu*th0 - 1/4*l1s_t*sz0*th0*z1st - 1/2*l1s_t*sz0*th1c + (2/3)*l1s_t*sz0*u*z1st - 1/2*mu*sz0*th0*u*z1st + (1/2)*mu*sz0*th1c*u - 4/3*th0*u),
-         -1/2*b1ct**2 + (1/2)*b1st**2 + nb*(-2*b0t**2*cz0*mu**2*sz0 + 4*b0t*b1ct*cz0*mu**2*sz0*z1st + 2*b0t*b1ct*cz0*mu + 4*b0t*b1st*cz0*mu**2*sz0*z1ct + 8*b0t*b1st*mu**2*sz0**2*z1st - 4*b0t*b1st*mu**2*z1st + (2/3)*b0t*b1st*mu*sz0 - 8/3*b0t*cz0*l1c_t*mu*sz0 - 4*b0t*cz0*mu**2*sz0*th1s*z1st + (1/3)*b0t*cz0*mu*th0*z1ct + (2/3)*b0t*cz0*mu*th1s - b0t*cz0*mu*u*z1ct + (8/3)*b0t*l1s_t*mu*sz0**2 - 4/3*b0t*l1s_t*mu - 2*b0t*mu**2*sz0**2*th0 + 2*b0t*mu**2*sz0**2*th1c*z1st + 2*b0t*mu**2*sz0**2*th1s*z1ct + b0t*mu**2*th0 - b0t*mu**2*th1c*z1st - b0t*mu**2*th1s*z1ct - 1/3*b0t*mu*sz0*th0*z1st - 2/3*b0t*mu*sz0*th1c - 3*b0t*mu*sz0*u*z1st - 1/3*b1ct**2*cz0*mu*z1st - 1/3*b1ct**2*mu*sz0*z1ct + 2*b1ct*b1st*mu**2*sz0**2 - b1ct*b1st*mu**2 - 4/3*b1ct*b1st*mu*sz0*z1st + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1st + (3/2)*b1ct*cz0*l1c_t - b1ct*cz0*mu**2*sz0*th1s + (1/3)*b1ct*cz0*mu*th1s*z1st - 8/3*b1ct*l1s_t*mu*sz0**2*z1st + (4/3)*b1ct*l1s_t*mu*z1st - 3/2*b1ct*l1s_t*sz0 + 2*b1ct*mu**2*sz0**2*th0*z1st - b1ct*mu**2*th0*z1st + (1/3)*b1ct*mu*sz0*th0 - 1/3*b1ct*mu*sz0*th1s*z1ct - b1ct*mu*sz0*u + (1/4)*b1ct*th1c - 2*b1st**2*cz0*mu**2*sz0 + (1/3)*b1st**2*cz0*mu*z1st + (1/3)*b1st**2*mu*sz0*z1ct + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1ct + (16/3)*b1st*cz0*l1s_t*mu*sz0*z1st + (1/2)*b1st*cz0*l1s_t - 4*b1st*cz0*mu**2*sz0*th0*z1st - b1st*cz0*mu**2*sz0*th1c + (1/3)*b1st*cz0*mu*th0 - 2/3*b1st*cz0*mu*th1c*z1st + (1/3)*b1st*cz0*mu*th1s*z1ct + 3*b1st*cz0*mu*u + (16/3)*b1st*l1c_t*mu*sz0**2*z1st - 8/3*b1st*l1c_t*mu*z1st + (1/2)*b1st*l1c_t*sz0 - 8/3*b1st*l1s_t*mu*sz0**2*z1ct + (4/3)*b1st*l1s_t*mu*z1ct + 2*b1st*mu**2*sz0**2*th0*z1ct - 2*b1st*mu**2*sz0**2*th1s - b1st*mu**2*th0*z1ct + b1st*mu**2*th1s - 1/3*b1st*mu*sz0*th1s*z1st - 1/4*b1st*th1s - 2*cz0*dl*mu**2*sz0 - 2/3*cz0*dl*mu*z1st - cz0*l1c_t**2*sz0 - 8/3*cz0*l1c_t*mu*sz0*th1s*z1st + (1/4)*cz0*l1c_t*th0*z1ct + (1/2)*cz0*l1c_t*th1s - 2/3*cz0*l1c_t*u*z1ct + cz0*l1s_t**2*sz0 - 4/3*cz0*l1s_t*mu*sz0*th0 + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1ct - 1/4*cz0*l1s_t*th0*z1st - 1/2*cz0*l1s_t*th1c - 2*cz0*l1s_t*u*z1st + (3/2)*cz0*mu*th0*u*z1st + (1/2)*cz0*mu*th1c*u - 2/3*dl*mu*sz0*z1ct + 2*l1c_t*l1s_t*sz0**2 - l1c_t*l1s_t - 4/3*l1c_t*mu*sz0**2*th0 + (4/3)*l1c_t*mu*sz0**2*th1c*z1st + (4/3)*l1c_t*mu*sz0**2*th1s*z1ct + (2/3)*l1c_t*mu*th0 - 2/3*l1c_t*mu*th1c*z1st - 2/3*l1c_t*mu*th1s*z1ct - 1/4*l1c_t*sz0*th0*z1st - 1/2*l1c_t*sz0*th1c - 2*l1c_t*sz0*u*z1st + (8/3)*l1s_t*mu*sz0**2*th1s*z1st - 4/3*l1s_t*mu*th1s*z1st - 1/4*l1s_t*sz0*th0*z1ct - 1/2*l1s_t*sz0*th1s + (2/3)*l1s_t*sz0*u*z1ct - 1/2*mu*sz0*th0*u*z1ct + (3/2)*mu*sz0*th1s*u),
-         -2*b0t*b1ct + nb*(-1/3*b0t*cz0*mu*th1c*z1ct - b0t*cz0*mu*th1s*z1st - 4/3*b0t*mu*sz0*th0 + (1/3)*b0t*mu*sz0*th1c*z1st + (1/3)*b0t*mu*sz0*th1s*z1ct - 1/3*b1ct*cz0*mu*th0*z1ct - 1/3*b1ct*cz0*mu*th1s + (1/3)*b1ct*mu*sz0*th0*z1st - 1/3*b1ct*mu*sz0*th1c + b1ct*th0 - b1st*cz0*mu*th0*z1st - 1/3*b1st*cz0*mu*th1c + (1/3)*b1st*mu*sz0*th0*z1ct - b1st*mu*sz0*th1s - 8/3*cz0*dl*mu - 1/4*cz0*l1c_t*th1c*z1ct - 3/4*cz0*l1c_t*th1s*z1st - cz0*l1s_t*th0 + (1/4)*cz0*l1s_t*th1c*z1st + (1/4)*cz0*l1s_t*th1s*z1ct - 2*dl*z1ct - l1c_t*sz0*th0 + (1/4)*l1c_t*sz0*th1c*z1st + (1/4)*l1c_t*sz0*th1s*z1ct + (1/4)*l1s_t*sz0*th1c*z1ct + (3/4)*l1s_t*sz0*th1s*z1st + (4/3)*th1s*u),
-         -1/2*b1ct**2 + (1/2)*b1st**2 + nb*(-1/3*b0t*cz0*mu*th0*z1ct - 1/3*b0t*cz0*mu*th1s + (1/3)*b0t*mu*sz0*th0*z1st - 1/3*b0t*mu*sz0*th1c - 1/6*b1ct*cz0*mu*th1c*z1ct - 1/6*b1ct*cz0*mu*th1s*z1st - 1/3*b1ct*mu*sz0*th0 + (1/6)*b1ct*mu*sz0*th1c*z1st + (1/6)*b1ct*mu*sz0*th1s*z1ct + (1/4)*b1ct*th1c - 1/3*b1st*cz0*mu*th0 - 1/6*b1st*cz0*mu*th1c*z1st - 1/6*b1st*cz0*mu*th1s*z1ct + (1/6)*b1st*mu*sz0*th1c*z1ct + (1/6)*b1st*mu*sz0*th1s*z1st - 1/4*b1st*th1s + (2/3)*cz0*dl*mu*z1st - 1/4*cz0*l1c_t*th0*z1ct - 1/4*cz0*l1c_t*th1s + (1/4)*cz0*l1s_t*th0*z1st - 1/4*cz0*l1s_t*th1c + (2/3)*dl*mu*sz0*z1ct + (1/4)*l1c_t*sz0*th0*z1st - 1/4*l1c_t*sz0*th1c + (1/4)*l1s_t*sz0*th0*z1ct + (1/4)*l1s_t*sz0*th1s),
-         -b1ct*b1st + nb*(-b0t*cz0*mu*th0*z1st - 1/3*b0t*cz0*mu*th1c + (1/3)*b0t*mu*sz0*th0*z1ct - b0t*mu*sz0*th1s - 1/3*b1ct*cz0*mu*th0 - 1/6*b1ct*cz0*mu*th1c*z1st - 1/6*b1ct*cz0*mu*th1s*z1ct + (1/6)*b1ct*mu*sz0*th1c*z1ct + (1/6)*b1ct*mu*sz0*th1s*z1st + (3/4)*b1ct*th1s - 1/6*b1st*cz0*mu*th1c*z1ct - 5/6*b1st*cz0*mu*th1s*z1st - b1st*mu*sz0*th0 + (1/6)*b1st*mu*sz0*th1c*z1st + (1/6)*b1st*mu*sz0*th1s*z1ct - 1/4*b1st*th1c + (2/3)*cz0*dl*mu*z1ct - 3/4*cz0*l1c_t*th0*z1st - 1/4*cz0*l1c_t*th1c + (1/4)*cz0*l1s_t*th0*z1ct - 3/4*cz0*l1s_t*th1s + 2*dl*mu*sz0*z1st - 2*dl + (1/4)*l1c_t*sz0*th0*z1ct - 3/4*l1c_t*sz0*th1s + (3/4)*l1s_t*sz0*th0*z1st + (1/4)*l1s_t*sz0*th1c + (4/3)*th0*u)],
+        [nb*(2*cz0*mu*u*z1st + th1c*x2*x4*z1ct + (1/2)*th1s*x2*z1st) - x108*x232 - x295 - x336*x351 - x421 - x422 - x424 - x43 + x45, sz0*x433 - th0*x3 + x124 - x127*x9 + x262 + x264 - x269 - x4*x71 + x416 + x425 + x427 - x429 - x430 + x432 + x436 + x440 + (1/4)*x70 + x95 - 3/2*x98, nb*((1/2)*cz0*sz0*th1s*x2 + (1/2)*th0*x2*z1st + (1/4)*th1c*x2) - x127*x4 - x143 - x146 - x147 - x149 - x151 - x153 - x155 - x156 - x158 - x160 - x161 - x162 - x163 - x366 - x441 - x442 - x444 - x445 + x446 + x447 + x448 - x449 - x450 - x452 - x454, -b0t*x249 + nb*((4/3)*b0t*mu*sz0*z1ct + cz0*l1s_t*z1ct + l1c_t*sz0*z1ct + l1s_t*sz0*z1st) - x330 - x382 - x420 - x459, -x144 - x304*x61 - x367 - x447 - x448 - x452 - x460 - x461, (2/3)*cz0*mu*nb*th0 - x26*x305 - x417 - x429 - x430 - x436 - x462 - x96, -x471, -x475, x485, -b1st*x14 + nb*(b1ct*x2*x4*z1ct + (1/2)*b1st*x2*z1st) - x208 + x342 - x486 - x487 - x488 + x489 - x492, -b0t*x3 + nb*((2/3)*b0t*cz0*mu + b0t*x2*x4*z1ct + (1/4)*b1st*x2 + (1/2)*b1st + (1/2)*cz0*l1c_t + (2/3)*cz0*l1s_t*mu*sz0*z1ct + (2/3)*l1c_t*mu*x4*z1ct + (2/3)*l1s_t*mu*x4*z1st + (2/3)*u*z1st) - x126 - x146*x4 - x150*x82 - x152*x82 - 1/2*x155 - x198 - x204 - x208*x26 - x330*x354 - 1/6*x360 - x401, b0t*x13 + cz0*x200 - x0*x493 + x101*x82 - x102*x4 - x103*x82 + x104*x4 + (1/2)*x107 + x211 + x213 + x219 + (1/6)*x256 - x274 - x278 - x326*x412 - x328*x412 - x4*x494 - x72 + (1/4)*x98, x471, x475, -x485, -b1ct*x127 + b1ct*x128 + b1ct*x195 - b1st*x273 + b1st*x276 - b1st*x516 + b1st*x71 - b1st*x75 + l1c_t*x509 + th1c*x104 - th1c*x113 - th1s*x153 + th1s*x159 - x108*x489 - x108*x512 - x108*x518 + x108*x519 + x118*x267 - x118*x268 - x118*x472 - x121*x480 - x125*x44 + 4*x14*x508 + x172*x472 - x179*x480 + x18*x514 - x199*x515 - x20*x514 + x210*x428 + x212*x428 - x269*x42 + x282*x523 + x286*x89 + x30*x508 - x327*x521 + x34*x507 + x377*x502 + x42*x72 + x44*x450 - x481*x513 + x495 + x496 - x497 + x499 + x5*x506 + x501 - x504 - x505*x8 - x507*x511 - x510 - x517 + x524 + x552, -b0t*x127 + b0t*x128 - b0t*x148 + b0t*x397 + b0t*x398 - b0t*x399 - b0t*x400 + b0t*x461 - b0t*x608 - b0t*x70*x9 - b1ct*th1c*x13 + b1st*x285 - b1st*x421 + b1st*x422 - b1st*x577 + dl*x5 - l1c_t*x314 - l1c_t*x562 - l1c_t*x564 + l1c_t*x595 + l1c_t*x597 + l1c_t*x599 + l1c_t*x619 + l1s_t*x316 - l1s_t*x565 + l1s_t*x566 - l1s_t*x572 - l1s_t*x573 + l1s_t*x594 + l1s_t*x598 - l1s_t*x606 - th0*x107 - th0*x494 + th0*x99 - 3/4*th1c*x52 - th1s*x487 - u*x614*x7 + x1*x553 - x1*x554 + x10*x500 + x101*x593 + x103*x596 - x108*x125 + x108*x149 + x108*x155 + x108*x445 + x108*x450 + x118*x623 + x121*x167 - x121*x576 - x132*x507 - x152*x588 + x172*x384 - x179*x379 - x179*x576 + x195*x618 + x199*x476 - x215*x561 - x217*x561 + x22*x514 + x220*x37 + x236*x508 + x25*x508 + x279*x574 + x282*x589 + x296*x495 + x326*x578 - x327*x578 - x327*x621 - x328*x578 - x330*x578 + x330*x621 + x332*x431 - x336*x611 - x351*x602 - x37*x610 + x4*x559 - x4*x560 - x40*x500 - x40*x556 + x44*x491 + x44*x519 + x500*x563 - x502*x609 - x503*x563 - x507*x85 + x555 + x557 + x558 + x567*x9 - x568 - x569*x9 - x570*x6 - x574*x575 - x580 - x583 - x586 + x589*x590 + (1/6)*x592 + x600*x76 + x600*x81 + x601*x9 + x604*x9 + x605*x9 - 3/2*x607 - x615 + x617*x76 + x617*x81 + x625, b0t*x271 - b0t*x273 + b0t*x276 - b0t*x277 - b0t*x516 + b0t*x71 - b0t*x74 - b0t*x75 - b0t*x98 + b1ct*x285 - b1ct*x421 + b1ct*x422 - b1ct*x577 - b1st*th1c*x13 - b1st*th1s*x3 - b1st*x344 - dl*x8 - l1c_t*x316 + l1c_t*x565 - l1c_t*x566 + l1c_t*x573 - l1c_t*x598 + l1c_t*x606 - l1c_t*x629 - l1s_t*x314 - l1s_t*x562 - l1s_t*x564 + l1s_t*x597 + l1s_t*x599 + l1s_t*x619 + th0*x146 - th0*x149 - th0*x155 + (3/4)*th1s*x39 + u*x0*x648 + x103*x585 - x107*x108 + x108*x264 - x108*x269 + x108*x72 + x108*x99 - x118*x167 - x118*x631 - x12*x553 + x12*x554 + x121*x623 + x132*x508 + x15*x503 + x15*x570 + x150*x596 - x172*x379 + x172*x631 - x179*x384 + x195*x561 - x197*x561 - x200*x502 + x205*x37 + x215*x618 - x234*x507 + x24*x514 - x26*x632 - x27*x507 - x279*x578 + x279*x621 + x282*x621 - x282*x630 - x326*x589 + x327*x589 + x328*x589 + x330*x589 - x37*x645 + x373*x428 + x4*x567 - x4*x569 + x408*x44 - x42*x518 - x489*x643 - x500*x627 + x503*x55 + x503*x627 + x508*x85 + x53*x602 + x54*x603 + x55*x556 - x556*x8 + 2*x557*x9 + x558*x9 - x559*x9 + x560*x9 + x575*x578 - x590*x630 - x601 - x609*x644 + x626 - 1/6*x633 - x634 - x635 - x636 + x638 + x639 + x640 + x641*x76 + x641*x81 - x642*x9 - x646*x76 - x646*x81 - x647 + x649 + x651, -b0t*x315 - b1st*x655 + nb*((2/3)*b0t*mu*sz0*th0*z1ct + (1/2)*b1ct*mu*sz0*th1c*z1ct + (1/2)*b1ct*th1s + (4/3)*cz0*dl*mu*z1ct + (1/2)*cz0*l1s_t*th0*z1ct + (4/3)*dl*mu*sz0*z1st + (1/2)*l1c_t*sz0*th0*z1ct + (1/2)*l1s_t*sz0*th0*z1st) - x118*x451 - x632 - 2/3*x653 - 2/3*x654 - x659 - x660, -b0t*x16*x220 + dl*x30 - l1c_t*x594 + l1s_t*x595 - th0*x196 + th0*x198 - x199*x526 + x304*x662 + x327*x661 + x328*x661 - x332*x428 + x435*x520 + x463*x582 - x466*x582 - x467*x582 + x634 + x635 + x636 - x638 - x639 - x640 + x647 - x649 + x651 - 1/6*x663*x89, -b0t*x460 - b0t*x655 - dl*x34 + nb*((1/6)*b0t*mu*sz0*th1c*z1st + (1/6)*b0t*mu*sz0*th1s*z1ct + (1/6)*b1ct*mu*sz0*th0*z1st + (1/6)*b1st*mu*sz0*th0*z1ct + (1/8)*cz0*l1s_t*th1c*z1st + (1/8)*cz0*l1s_t*th1s*z1ct + (1/8)*l1c_t*sz0*th1c*z1st + (1/8)*l1c_t*sz0*th1s*z1ct + (1/8)*l1s_t*sz0*th1c*z1ct + (3/8)*l1s_t*sz0*th1s*z1st) - th0*x216 - th0*x218 - 3/8*th1s*x330 - x378*x637 - x434*x522 - x580 - x583 - x586 - x610*x652 - x615 - x625 - 1/6*x663*x73],
+        [nb*(2*b1st*mu*sz0*z1ct + (2/3)*cz0*mu*th1s*z1ct + 4*cz0*mu*u) - x222 - x283 - x415 - x42 - x427 - x438 + x439 - x664 + x71 - x74 - x75 - x78 + x80 - x92 - 3*x98, -x298 - 3*x303 - x36 + x39 + x41 - x424 - 3*x52 - 2*x665 - x678, -x171 - x173 - x176 - x348 - x380 - x419 - x459 - x465 - x679 - x680 - x682, -b0t*x683 + nb*(2*b1ct*mu*sz0*z1ct + 2*l1s_t*sz0) - 2*x139 - x141 - 2*x195 - x207 - x356 - x446 - x454 - x89, (1/3)*cz0*mu*nb*th1s - x177 - x323 - x458 - x464 - x468 - x680 - x684, x687, -x690, x700, x705, (4/3)*nb*u*z1st + x139 - x164 + x195 - x197 - x201 - 1/3*x360 - x363 + x365 - x442, -b1ct*x668 + nb*((3/2)*cz0*mu*u*z1ct + (1/3)*l1s_t*mu + (1/2)*mu*sz0*u*z1st) - x492 - x574*x7 - x706 - x707, x708, x690, -x700, -x705, -b0t*x357 - b1ct*x171 - b1st*x384 - b1st*x387 - b1st*x39 - b1st*x52 - dl*x511 - l1c_t*x383 - l1s_t*x386 + nb*(4*b0t*b1ct*cz0*sz0*x2 + 2*b0t*b1st*cz0*mu*z1ct + (2/3)*b0t*b1st*mu*sz0*z1st + 4*b0t*b1st*x2*x4 + (16/3)*b0t*cz0*l1c_t*mu*sz0*z1st + 4*b0t*cz0*sz0*th0*x2*z1ct + (8/3)*b0t*l1c_t*mu*z1ct + (8/3)*b0t*l1s_t*mu*z1st + (2/3)*b0t*mu*sz0*th1c*z1st + 4*b0t*th0*x2*x4*z1st + 2*b0t*th1c*x2*x4 + 4*b1ct*b1st*cz0*sz0*x2*z1ct + (4/3)*b1ct*b1st*mu*sz0 + (8/3)*b1ct*cz0*l1c_t*mu*sz0 + (2/3)*b1ct*cz0*mu*th1s + 4*b1ct*cz0*sz0*th1c*x2*z1ct + (4/3)*b1ct*l1s_t*mu + (1/2)*b1ct*l1s_t*sz0*z1st + 2*b1ct*th0*x2*x4 + 2*b1ct*th1c*x2*x4*z1st + 2*b1ct*th1s*x2*x4*z1ct + (3/2)*b1st*cz0*l1c_t*z1ct + (8/3)*b1st*cz0*l1s_t*mu*sz0 + (1/2)*b1st*cz0*l1s_t*z1st + (8/3)*b1st*l1c_t*mu*x4 + (1/2)*b1st*l1c_t*sz0*z1st + 2*b1st*th1c*x2*x4*z1ct + 2*b1st*th1s*x2*x4*z1st + 4*cz0*dl*sz0*x2*z1st + (8/3)*cz0*l1c_t*mu*sz0*th0*z1ct + (8/3)*cz0*l1s_t*mu*sz0*th0*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1c + (1/2)*cz0*l1s_t*th1c*z1st + 2*cz0*mu*th0*u + (1/2)*cz0*mu*th1c*u*z1st + (1/2)*cz0*mu*th1s*u*z1ct + (2/3)*cz0*mu*x500 + 2*cz0*sz0*x2*x500*z1st + 2*cz0*sz0*x2*x503*z1st + 4*cz0*sz0*x2*x556*z1st + 2*cz0*sz0*x553*z1st + 2*dl*x2*z1ct + 2*l1c_t*l1s_t*z1st + (8/3)*l1c_t*mu*th0*x4*z1st + (4/3)*l1c_t*mu*th1c*x4 + (1/2)*l1c_t*sz0*th1c*z1st + (4/3)*l1s_t*mu*th0*z1ct + (4/3)*l1s_t*mu*th1s*x4 + (1/2)*l1s_t*sz0*th1c*z1ct + (1/2)*l1s_t*sz0*th1s*z1st + 2*x2*x500*z1ct + 2*x2*x556*z1ct + 2*x4*x554*z1ct + x553*z1ct) - th0*x98 - th1c*x288 - th1c*x49 - th1c*x674 - th1s*x176 - x103*x693 - x108*x130 - x108*x148 - x108*x90 - x118*x304 - x118*x305 - x118*x65 - x121*x319 - x121*x486 - x125*x689 - x139*x709 - x152*x716 - x175*x507 - x179*x319 - 4*x179*x327 - x179*x486 - x183*x507 - x209*x502 - x215*x694 - x217*x694 - x24*x503 - x305*x336 - x307*x42 - 16/3*x327*x662 - x500*x511 - x511*x556 - x53*x554*x9 - x553*x628 - x555*x712 - x559 - 2/3*x579 - 3*x607 - x642 - 8/3*x67*x713 - x709*x89 - x710*x76 - x710*x81 - x711 - 8/3*x713*x73 - x714*x715 - x718, b1ct*x196 - b1ct*x198 - b1st*x84 + b1st*x86 + l1s_t*x110*x352 - th1c*x261 - th1c*x277 + th1c*x281 + x105*x37 + x108*x325 - x118*x721 + x12*x722 + x128*x44 + x172*x721 + x199*x513 + x24*x507 + x247*x514 - x282*x493 - 16/3*x327*x520 + x336*x434 - x481*x714 - x493*x590 + (3/2)*x495 + (3/2)*x496 + (3/2)*x499 + x5*x550 + 2*x501 - 8*x507*x6 - 3/2*x510 + x519*x689 + x520*x725 - 2/3*x520*x76 + x552 - x719 - 3*x720 - x723 - 3*x724 + x726*x727 + x749, -b1st*x137 + nb*(4*b0t*b1ct*cz0*sz0*x2*z1ct + 4*b0t*b1st*cz0*sz0*x2*z1st + (8/3)*b0t*cz0*l1s_t*mu*sz0 + (8/3)*b0t*l1c_t*mu*x4 + 2*b0t*th1c*x2*x4*z1ct + 2*b0t*th1s*x2*x4*z1st + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1ct + b1ct*cz0*mu*u + (4/3)*b1ct*l1s_t*mu*z1ct + (1/3)*b1ct*mu*sz0*th1c*z1ct + 2*b1ct*th0*x2*x4*z1ct + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1st + (4/3)*b1st*l1s_t*mu*z1st + (1/2)*b1st*l1s_t*sz0 + (1/3)*b1st*mu*sz0*th1c*z1st + 2*b1st*th0*x2*x4*z1st + 2*cz0*l1c_t*l1s_t*sz0 + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1ct + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1st + (1/2)*cz0*mu*th0*u*z1ct + (1/2)*cz0*mu*th1s*u + (1/3)*cz0*mu*x503*z1ct + 2*dl*x2*x4 + (4/3)*l1c_t*mu*th1c*x4*z1ct + (4/3)*l1c_t*mu*th1s*x4*z1st + (4/3)*l1s_t*mu*th0*x4 + (2/3)*l1s_t*sz0*u*z1st + (1/2)*mu*sz0*th1c*u + (1/3)*mu*sz0*x503*z1st + x2*x4*x500 + x2*x4*x503 + 2*x2*x4*x556 + x4*x553 + (1/2)*x554) - th1s*x427 - x663*x725 - x726 - x751 - x752 - x753 - x755 - x756 - x757 - x758 - x759 - x760 - x761 - x762 - x763 - x764 - x765 - x766 - x767 - x768 - x769 - x770 - x771 - x772 - x773 - x774 - x775 - x776 - x777 - x778 - x779 - x781 - x782 - x783 - x784 - x785 - x786 - x787 - x788, -b0t*x224 - b0t*x84 + b0t*x88 - b1ct*x685 - b1st*x789 - b1st*x790 - th0*x139 + th1c*x368 + th1c*x369 + th1c*x373 + th1s*x309 + th1s*x311 + u*x60 - x118*x791 - x118*x792 + x172*x791 + x172*x792 + x505 + x603 - x633 + x793, -b0t*x581 - b0t*x685 + nb*((5/6)*b1ct*mu*sz0*th1c*z1ct + (3/4)*l1s_t*sz0*th1c) - 3/4*x118*x59 - x121*x794 - x179*x794 - x256*x431 - x659 - x786 - x797, x799],
+        [b1st*x20 + 4*x125 + x127 - x128 + x130 - x131 - x138 - x148 + x206 + x255*x44 - x355 + x358 + x402 + x44 + x444 - x453 + x483 + x90, x168 - x169 - x188 - x347 - x379 - x403 + x419 + x455 + x456 - x457 + x467 + x469 - x682 + x684 - x706 + x791 - x800 + x801 - x802, -x289 + x29*x312 - x290 + x299 + x301 - x303 - x306 + x384 + x387 + 3*x39 + x409 - x423 + x58 + x678, -b0t*x245 + nb*(2*b1ct + (2/3)*b1st*mu*sz0*z1ct) - 2*x217 - x225 - x255*x42 - x413 - x440 - x803 - x93 - x94, x687, -x185 - x418 - x458 - x463 - x470 - x679 - x790 - x791 + x800 - x801 + x802, -x805, -x806, x809, b1st*x132 + x100 + x102 - x104 + x107 - x109 + x113 - x116 - x117 - x120 - x123 + x214 + x257 + x259 + x263 + x416 - x472 + x494 - x99, x708, -b1st*x666 - x0*x630 + x178 + x180 + x184 + x192 + x337 + x341 + x346 + (3/2)*x489 - x490 - x491 + x707, x805, x806, -x809, -b0t*x101*x252 - b0t*x414 - b0t*x664 - b1ct*x36 - b1st*x419 - 3*b1st*x489 - b1st*x512 - l1s_t*x383 + nb*(4*b0t*b1ct*x2*x4 + (2/3)*b0t*b1st*cz0*mu*z1st + (2/3)*b0t*b1st*mu*sz0*z1ct + (16/3)*b0t*cz0*l1c_t*mu*sz0*z1ct + (16/3)*b0t*cz0*l1s_t*mu*sz0*z1st + (2/3)*b0t*cz0*mu*th1s*z1ct + 4*b0t*cz0*mu*u + (16/3)*b0t*l1c_t*mu*x4*z1st + (8/3)*b0t*l1s_t*mu*z1ct + 4*b0t*th0*x2*x4*z1ct + b0t*th1s*x2 + (4/3)*b1ct*b1st*cz0*mu + 4*b1ct*b1st*cz0*sz0*x2*z1st + (8/3)*b1ct*cz0*l1s_t*mu*sz0 + (2/3)*b1ct*cz0*mu*th1c + (8/3)*b1ct*l1c_t*mu*x4 + (1/2)*b1ct*l1s_t*sz0*z1ct + (2/3)*b1ct*mu*sz0*th1s + 2*b1ct*th1c*x2*x4*z1ct + 2*b1ct*th1s*x2*x4*z1st + (1/2)*b1st*cz0*l1c_t*z1st + (1/2)*b1st*cz0*l1s_t*z1ct + (2/3)*b1st*cz0*mu*th1s + (1/2)*b1st*l1c_t*sz0*z1ct + (8/3)*b1st*l1s_t*mu*x4 + b1st*th0*x2 + 2*b1st*th1c*x2*x4*z1st + 2*b1st*th1s*x2*x4*z1ct + 4*cz0*dl*sz0*x2*z1ct + 4*cz0*l1c_t*l1s_t*sz0*z1st + (1/2)*cz0*l1c_t*th1s*z1ct + (8/3)*cz0*l1c_t*u + (8/3)*cz0*l1s_t*mu*sz0*th0*z1ct + (1/2)*cz0*mu*th1c*u*z1ct + (3/2)*cz0*mu*th1s*u*z1st + 2*cz0*sz0*x2*x500*z1ct + 2*cz0*sz0*x2*x503*z1ct + 4*cz0*sz0*x2*x556*z1ct + 2*cz0*sz0*x553*z1ct + 4*dl*x2*x4*z1st + 2*l1c_t*l1s_t*z1ct + (8/3)*l1c_t*mu*th0*x4*z1ct + (2/3)*l1c_t*mu*th1s + (8/3)*l1s_t*mu*th0*x4*z1st + (4/3)*l1s_t*mu*th1c*x4 + (1/2)*l1s_t*sz0*th1c*z1st + 2*mu*sz0*th0*u + (2/3)*mu*sz0*x503 + 4*x2*x4*x503*z1st + 4*x2*x4*x556*z1st + 2*x4*x553*z1st + x554*z1st) - th0*x396 - th1c*x184 - th1s*x47 - 8/3*u*x197 - u*x202 - x101*x808 - x103*x716 - x108*x74 - x108*x75 - x108*x78 - x108*x98 - x118*x187 - x118*x406 - 8/3*x118*x463 - x118*x486 - x121*x304 - x121*x305 - x121*x65 - x139*x810 - x172*x208 - x172*x319 - x179*x304 - x179*x305 - x18*x507 - x22*x500 - x226*x503 - x229*x551 - x27*x506 - x282*x807 - x307*x44 - x319*x336 - x336*x406 - x351*x554*x9 - x359*x502 - x522*x688 - x554*x571 - x567 - x568*x727 - x604 - x605 - x626*x712 - x64*x742 - x67*x709 - x709*x73 - x711*x727 - x76*x811 - x793 - x81*x811 - x810*x89, b1st*x133 - b1st*x135 + b1st*x198 + b1st*x398 + l1s_t*x509 + th1c*x157 - th1c*x443 + th1s*x116 - th1s*x257 + x1*x722 + x10*x551 + x108*x285 + x108*x422 + x121*x267 + x121*x268 + x15*x550 + x154*x37 + x179*x803 + x233*x500 + x233*x503 + x233*x570 + x233*x729 + x234*x503 + x236*x503 + x264*x44 + x326*x493 + (8/3)*x328*x663 + x330*x523 + x336*x477 + x37*x476 + x42*x445 + x553*x754 + x554*x750 + x657*x713 + x662*x804 + x663*x812 + x665*x730 - x726 - x751 - x752 - x753 - x755 - x756 - x757 - x758 - x759 - x760 - x761 - x762 - x763 - x764 - x765 - x766 - x767 - x768 - x769 - x770 - x771 - x772 - x773 - x774 - x775 - x776 - x777 - x778 - x779 - x781 - x782 - x783 - x784 - x785 + x788 + x797 + x813, -b1st*x101*x252 - b1st*x414 - b1st*x88 - l1s_t*x394 + nb*(2*b0t*b1ct*cz0*mu + 4*b0t*b1ct*cz0*sz0*x2*z1st + 4*b0t*b1st*cz0*sz0*x2*z1ct + (2/3)*b0t*b1st*mu*sz0 + 8*b0t*b1st*x2*x4*z1st + (2/3)*b0t*cz0*mu*th1s + 2*b0t*th1c*x2*x4*z1st + 2*b0t*th1s*x2*x4*z1ct + 2*b1ct*b1st*x2*x4 + (8/3)*b1ct*cz0*l1c_t*mu*sz0*z1st + (3/2)*b1ct*cz0*l1c_t + (1/3)*b1ct*cz0*mu*th1s*z1st + (4/3)*b1ct*l1s_t*mu*z1st + 2*b1ct*th0*x2*x4*z1st + (8/3)*b1st*cz0*l1c_t*mu*sz0*z1ct + (16/3)*b1st*cz0*l1s_t*mu*sz0*z1st + (1/2)*b1st*cz0*l1s_t + (1/3)*b1st*cz0*mu*th1s*z1ct + 3*b1st*cz0*mu*u + (16/3)*b1st*l1c_t*mu*x4*z1st + (1/2)*b1st*l1c_t*sz0 + (4/3)*b1st*l1s_t*mu*z1ct + 2*b1st*th0*x2*x4*z1ct + b1st*th1s*x2 + (1/2)*cz0*l1c_t*th1s + (4/3)*cz0*l1s_t*mu*sz0*th1c*z1st + (4/3)*cz0*l1s_t*mu*sz0*th1s*z1ct + (3/2)*cz0*mu*th0*u*z1st + (1/2)*cz0*mu*th1c*u + (1/3)*cz0*mu*x503*z1st + (4/3)*l1c_t*mu*th1c*x4*z1st + (4/3)*l1c_t*mu*th1s*x4*z1ct + (8/3)*l1s_t*mu*th1s*x4*z1st + (2/3)*l1s_t*sz0*u*z1ct + (3/2)*mu*sz0*th1s*u + (1/3)*mu*sz0*x503*z1ct) - x1*x780 - x121*x814 - x122*x514 - x179*x814 - x279*x493 - 8/3*x330*x411 - x42*x75 - 3/2*x497 - 2*x504 - x518*x689 - x520*x812 - x525 - x527 - x528 - x530 - x532 - x533 - x534 - x535 - x536 - x538 - x539 - x540 - x541 - x542 - x543 - x546 - x547 - x551*x8 - x720 - 3*x723 - x724 - x727*x766 - x749, -b0t*x137 - b0t*x816 - b1ct*x789 - b1st*x815 + nb*((1/3)*b0t*mu*sz0*th1c*z1st + (1/3)*b0t*mu*sz0*th1s*z1ct + b1ct*th0 + (1/4)*cz0*l1s_t*th1c*z1st + (1/4)*cz0*l1s_t*th1s*z1ct + (1/4)*l1c_t*sz0*th1c*z1st + (1/4)*l1c_t*sz0*th1s*z1ct + (1/4)*l1s_t*sz0*th1c*z1ct + (3/4)*l1s_t*sz0*th1s*z1st + (4/3)*th1s*u) - th1c*x313 - th1s*x331 - x506 - 1/3*x579 - x592 - x718 - x795, x799, -b0t*x591 - b0t*x815 - 5/6*b1st*x816 + nb*((1/6)*b1ct*mu*sz0*th1c*z1ct + (1/4)*l1s_t*sz0*th1c) - x118*x798 - x121*x817 - x179*x817 - x659 - x787 - x813],
     ])
     loads = _arr([
-        [o,
-         (1/4)*cz0*mu**2*sz0*z1st - 1/4*mu**2*sz0**2*z1ct + (1/8)*mu**2*z1ct + (1/12)*z1ct,
-         (1/4)*cz0*mu**2*sz0*z1ct + (1/4)*mu**2*sz0**2*z1st - 1/8*mu**2*z1st + (1/12)*z1st,
-         (1/8)*cz0*mu*z1ct + (1/8)*mu*sz0*z1st,
-         (1/8)*mu*sz0 + (1/12)*z1st,
-         -1/8*cz0*mu + (1/8)*mu - 1/12*z1ct,
-         (1/4)*cz0*mu*z1ct + (1/4)*mu*sz0*z1st,
-         o,
-         o,
-         o,
-         (1/4)*cz0*mu**2*sz0*z1ct + (1/4)*mu**2*sz0**2*z1st - 1/8*mu**2*z1st - 1/4*mu*sz0 - 1/6*z1st,
-         -1/4*cz0*mu**2*sz0*z1st + (1/4)*cz0*mu + (1/4)*mu**2*sz0**2*z1ct - 1/8*mu**2*z1ct - 1/4*mu + (1/6)*z1ct,
-         -1/4*cz0*mu*z1ct - 1/4*mu*sz0*z1st,
-         o,
-         o,
-         -1/2*b1ct*cz0*mu**2*sz0*z1ct - 1/2*b1ct*mu**2*sz0**2*z1st + (1/4)*b1ct*mu**2*z1st + (1/2)*b1st*cz0*mu**2*sz0*z1st - 1/2*b1st*mu**2*sz0**2*z1ct + (1/4)*b1st*mu**2*z1ct + (1/2)*cz0*mu**2*sz0*th1c*z1st + (1/2)*cz0*mu**2*sz0*th1s*z1ct - 1/4*cz0*mu*th1c - 1/4*cz0*mu*u*z1st - 1/2*mu**2*sz0**2*th1c*z1ct + (1/2)*mu**2*sz0**2*th1s*z1st + (1/4)*mu**2*th1c*z1ct - 1/4*mu**2*th1s*z1st - 1/4*mu*sz0*th1s + (1/4)*mu*sz0*u*z1ct,
-         -1/2*b0t*cz0*mu**2*sz0*z1ct - 1/2*b0t*mu**2*sz0**2*z1st + (1/4)*b0t*mu**2*z1st - 1/4*b1ct*mu**2*sz0**2 + (1/8)*b1ct*mu**2 + (1/12)*b1ct + (1/4)*b1st*cz0*mu**2*sz0 - 1/4*cz0*l1c_t*mu*sz0*z1ct - 1/4*cz0*l1s_t*mu*sz0*z1st + (1/2)*cz0*mu**2*sz0*th0*z1st + (1/4)*cz0*mu**2*sz0*th1c + (1/16)*cz0*mu*th1c*z1st - 3/16*cz0*mu*th1s*z1ct - 1/4*cz0*mu*u - 1/4*l1c_t*mu*sz0**2*z1st + (1/8)*l1c_t*mu*z1st + (1/4)*l1s_t*mu*sz0**2*z1ct - 1/8*l1s_t*mu*z1ct - 1/2*mu**2*sz0**2*th0*z1ct + (1/4)*mu**2*sz0**2*th1s + (1/4)*mu**2*th0*z1ct - 1/8*mu**2*th1s + (1/16)*mu*sz0*th1c*z1ct - 1/16*mu*sz0*th1s*z1st + (1/6)*th0*z1ct + (1/6)*th1s,
-         (1/2)*b0t*cz0*mu**2*sz0*z1st - 1/2*b0t*mu**2*sz0**2*z1ct + (1/4)*b0t*mu**2*z1ct + (1/4)*b1ct*cz0*mu**2*sz0 + (1/4)*b1st*mu**2*sz0**2 - 1/8*b1st*mu**2 + (1/12)*b1st + (1/4)*cz0*l1c_t*mu*sz0*z1st - 1/4*cz0*l1s_t*mu*sz0*z1ct + (1/2)*cz0*mu**2*sz0*th0*z1ct - 1/4*cz0*mu**2*sz0*th1s + (1/16)*cz0*mu*th1c*z1ct - 1/16*cz0*mu*th1s*z1st - 1/4*l1c_t*mu*sz0**2*z1ct + (1/8)*l1c_t*mu*z1ct - 1/4*l1s_t*mu*sz0**2*z1st + (1/8)*l1s_t*mu*z1st + (1/2)*mu**2*sz0**2*th0*z1st + (1/4)*mu**2*sz0**2*th1c - 1/4*mu**2*th0*z1st - 1/8*mu**2*th1c + (3/16)*mu*sz0*th1c*z1st - 1/16*mu*sz0*th1s*z1ct - 1/4*mu*sz0*u + (1/6)*th0*z1st - 1/6*th1c,
-         (1/8)*b0t*cz0*mu*z1st - 1/8*b0t*mu*sz0*z1ct + (1/8)*b1ct*cz0*mu + (1/8)*b1st*mu*sz0 + (1/12)*cz0*l1c_t*z1st - 1/12*cz0*l1s_t*z1ct + (1/4)*cz0*mu*th0*z1ct - 1/4*cz0*mu*th1s - 1/12*l1c_t*sz0*z1ct - 1/12*l1s_t*sz0*z1st + (1/4)*mu*sz0*th0*z1st + (1/4)*mu*sz0*th1c - 1/3*th0 + (1/6)*th1c*z1st - 1/6*th1s*z1ct - 1/4*u,
-         (1/8)*b0t*cz0*mu + (1/32)*b1ct*cz0*mu*z1st - 3/32*b1ct*mu*sz0*z1ct + (1/32)*b1st*cz0*mu*z1ct - 1/32*b1st*mu*sz0*z1st + (1/12)*b1st + (1/12)*cz0*l1c_t + (3/16)*cz0*mu*th1c*z1ct + (1/16)*cz0*mu*th1s*z1st - 1/12*l1s_t*sz0 + (1/4)*mu*sz0*th0 + (1/16)*mu*sz0*th1c*z1st + (1/16)*mu*sz0*th1s*z1ct + (1/6)*th0*z1st - 1/6*th1c,
-         (1/8)*b0t*mu*sz0 + (1/32)*b1ct*cz0*mu*z1ct - 1/32*b1ct*mu*sz0*z1st - 1/12*b1ct + (3/32)*b1st*cz0*mu*z1st - 1/32*b1st*mu*sz0*z1ct + (1/12)*cz0*l1s_t - 1/4*cz0*mu*th0 + (1/16)*cz0*mu*th1c*z1st + (1/16)*cz0*mu*th1s*z1ct + (1/12)*l1c_t*sz0 + (1/16)*mu*sz0*th1c*z1ct + (3/16)*mu*sz0*th1s*z1st - 1/6*th0*z1ct - 1/6*th1s],
-        [-1/32*cz0**3*mu**2*z1ct - 1/32*cz0*mu**2*sz0**2*z1ct - 1/32*mu**2*sz0*z1st,
-         (1/24)*cz0*mu*sz0*z1ct - 1/32*mu**2*sz0 + (1/24)*mu*sz0**2*z1st - 1/16*mu*z1st - 1/16*sz0,
-         (1/32)*cz0**3*mu**2 + (1/32)*cz0*mu**2*sz0**2 - 1/24*cz0*mu*sz0*z1st + (1/16)*cz0 - 1/32*mu**2 + (1/24)*mu*sz0**2*z1ct + (1/48)*mu*z1ct - 1/16,
-         o,
-         -1/12*cz0*mu*sz0*z1st + (1/16)*cz0 + (1/12)*mu*sz0**2*z1ct - 1/24*mu*z1ct - 1/16,
-         -1/12*cz0*mu*sz0*z1ct - 1/12*mu*sz0**2*z1st + (1/24)*mu*z1st + (1/16)*sz0,
-         o,
-         -1/48*cz0**3*mu*z1ct - 1/48*cz0*mu*sz0**2*z1ct - 1/48*mu*sz0*z1st,
-         (1/48)*cz0**3*mu*z1st + (1/48)*cz0*mu*sz0**2*z1st - 1/48*mu*sz0*z1ct,
-         -1/32*cz0**3*mu**2*z1st - 1/32*cz0*mu**2*sz0**2*z1st + (1/16)*cz0*z1st + (1/32)*mu**2*sz0*z1ct - 1/16*sz0*z1ct,
-         -1/32*cz0**3*mu**2 - 1/32*cz0*mu**2*sz0**2 + (1/12)*cz0*mu*sz0*z1st - 1/16*cz0 + (1/32)*mu**2 - 1/12*mu*sz0**2*z1ct + (1/24)*mu*z1ct + 1/16,
-         (1/12)*cz0*mu*sz0*z1ct - 1/32*mu**2*sz0 + (1/12)*mu*sz0**2*z1st - 1/24*mu*z1st - 1/16*sz0,
-         o,
-         (1/48)*cz0**3*mu*z1ct + (1/48)*cz0*mu*sz0**2*z1ct + (1/48)*mu*sz0*z1st,
-         -1/48*cz0**3*mu*z1st - 1/48*cz0*mu*sz0**2*z1st + (1/48)*mu*sz0*z1ct,
-         -1/32*b0t*cz0**3*mu**2*z1st - 1/32*b0t*cz0*mu**2*sz0**2*z1st + (1/32)*b0t*mu**2*sz0*z1ct - 1/32*b1ct*cz0**3*mu**2 - 1/32*b1ct*cz0*mu**2*sz0**2 + (1/12)*b1ct*cz0*mu*sz0*z1st - 1/16*b1ct*cz0 - 1/12*b1ct*mu*sz0**2*z1ct + (1/24)*b1ct*mu*z1ct + (1/12)*b1st*cz0*mu*sz0*z1ct - 1/32*b1st*mu**2*sz0 + (1/12)*b1st*mu*sz0**2*z1st - 1/24*b1st*mu*z1st - 1/16*b1st*sz0 - 1/48*cz0**3*l1c_t*mu*z1st - 1/48*cz0**3*l1s_t*mu*z1ct + (1/32)*cz0**3*mu**2*th0*z1ct - 1/32*cz0**3*mu**2*th1s - 1/48*cz0*l1c_t*mu*sz0**2*z1st - 1/48*cz0*l1s_t*mu*sz0**2*z1ct + (1/32)*cz0*mu**2*sz0**2*th0*z1ct - 1/32*cz0*mu**2*sz0**2*th1s - 1/6*cz0*mu*sz0*th1c*z1ct + (1/6)*cz0*mu*sz0*th1s*z1st - 1/16*cz0*th0*z1ct - 1/16*cz0*th1s + (1/48)*l1c_t*mu*sz0*z1ct - 1/48*l1s_t*mu*sz0*z1st + (1/32)*mu**2*sz0*th0*z1st + (1/32)*mu**2*sz0*th1c - 1/6*mu*sz0**2*th1c*z1st - 1/6*mu*sz0**2*th1s*z1ct + (1/12)*mu*th1c*z1st + (1/12)*mu*th1s*z1ct - 1/16*sz0*th0*z1st + (1/16)*sz0*th1c,
-         -1/32*b0t*cz0**3*mu**2 - 1/32*b0t*cz0*mu**2*sz0**2 - 5/64*b1ct*cz0**3*mu**2*z1st + (13/64)*b1ct*cz0*mu**2*sz0**2*z1st + (1/24)*b1ct*cz0*mu*sz0 - 1/64*b1ct*cz0*z1st - 9/32*b1ct*mu**2*sz0**3*z1ct + (15/64)*b1ct*mu**2*sz0*z1ct + (3/64)*b1ct*sz0*z1ct - 5/64*b1st*cz0**3*mu**2*z1ct + (13/64)*b1st*cz0*mu**2*sz0**2*z1ct - 1/64*b1st*cz0*z1ct + (9/32)*b1st*mu**2*sz0**3*z1st - 13/64*b1st*mu**2*sz0*z1st + (1/24)*b1st*mu*sz0**2 + (1/48)*b1st*mu + (1/64)*b1st*sz0*z1st - 1/48*cz0**3*l1c_t*mu - 3/64*cz0**3*mu**2*th1c*z1ct + (5/64)*cz0**3*mu**2*th1s*z1st - 1/48*cz0*l1c_t*mu*sz0**2 + (15/64)*cz0*mu**2*sz0**2*th1c*z1ct - 13/64*cz0*mu**2*sz0**2*th1s*z1st + (1/12)*cz0*mu*sz0*th1s - 1/4*cz0*mu*sz0*u*z1ct - 3/64*cz0*th1c*z1ct - 1/64*cz0*th1s*z1st - 1/48*l1s_t*mu*sz0 + (9/32)*mu**2*sz0**3*th1c*z1st + (9/32)*mu**2*sz0**3*th1s*z1ct + (1/32)*mu**2*sz0*th0 - 13/64*mu**2*sz0*th1c*z1st - 13/64*mu**2*sz0*th1s*z1ct - 1/12*mu*sz0**2*th1c - 1/4*mu*sz0**2*u*z1st + (1/24)*mu*th1c + (1/8)*mu*u*z1st - 1/16*sz0*th0 - 1/64*sz0*th1c*z1st - 1/64*sz0*th1s*z1ct,
-         -1/32*b0t*mu**2*sz0 - 5/64*b1ct*cz0**3*mu**2*z1ct + (13/64)*b1ct*cz0*mu**2*sz0**2*z1ct - 1/64*b1ct*cz0*z1ct + (9/32)*b1ct*mu**2*sz0**3*z1st - 13/64*b1ct*mu**2*sz0*z1st + (1/24)*b1ct*mu*sz0**2 - 1/16*b1ct*mu + (1/64)*b1ct*sz0*z1st + (3/64)*b1st*cz0**3*mu**2*z1st - 15/64*b1st*cz0*mu**2*sz0**2*z1st - 1/24*b1st*cz0*mu*sz0 - 3/64*b1st*cz0*z1st + (9/32)*b1st*mu**2*sz0**3*z1ct - 13/64*b1st*mu**2*sz0*z1ct + (1/64)*b1st*sz0*z1ct + (1/48)*cz0**3*l1s_t*mu - 1/32*cz0**3*mu**2*th0 + (5/64)*cz0**3*mu**2*th1c*z1st + (5/64)*cz0**3*mu**2*th1s*z1ct + (1/48)*cz0*l1s_t*mu*sz0**2 - 1/32*cz0*mu**2*sz0**2*th0 - 13/64*cz0*mu**2*sz0**2*th1c*z1st - 13/64*cz0*mu**2*sz0**2*th1s*z1ct + (1/12)*cz0*mu*sz0*th1c + (1/4)*cz0*mu*sz0*u*z1st + (1/16)*cz0*th0 - 1/64*cz0*th1c*z1st - 1/64*cz0*th1s*z1ct - 1/48*l1c_t*mu*sz0 + (9/32)*mu**2*sz0**3*th1c*z1ct - 9/32*mu**2*sz0**3*th1s*z1st - 13/64*mu**2*sz0*th1c*z1ct + (15/64)*mu**2*sz0*th1s*z1st + (1/12)*mu*sz0**2*th1s - 1/4*mu*sz0**2*u*z1ct - 1/24*mu*th1s + (1/8)*mu*u*z1ct - 1/64*sz0*th1c*z1ct - 3/64*sz0*th1s*z1st,
-         -1/12*b0t*mu + (1/12)*b1ct*cz0*mu*sz0*z1ct + (1/12)*b1ct*mu*sz0**2*z1st - 1/24*b1ct*mu*z1st + (1/16)*b1ct*sz0 - 1/12*b1st*cz0*mu*sz0*z1st - 1/16*b1st*cz0 + (1/12)*b1st*mu*sz0**2*z1ct - 1/24*b1st*mu*z1ct - 1/6*cz0*mu*sz0*th1c*z1st - 1/6*cz0*mu*sz0*th1s*z1ct + (1/8)*cz0*th1c + (1/12)*cz0*u*z1st - 1/16*l1c_t + (1/6)*mu*sz0**2*th1c*z1ct - 1/6*mu*sz0**2*th1s*z1st - 1/12*mu*th1c*z1ct + (1/12)*mu*th1s*z1st + (1/8)*sz0*th1s - 1/12*sz0*u*z1ct,
-         (1/12)*b0t*cz0*mu*sz0*z1ct + (1/12)*b0t*mu*sz0**2*z1st - 1/24*b0t*mu*z1st + (1/64)*b1ct*cz0*z1ct + (1/24)*b1ct*mu*sz0**2 - 1/16*b1ct*mu - 1/64*b1ct*sz0*z1st - 1/24*b1st*cz0*mu*sz0 - 1/64*b1st*cz0*z1st + (3/64)*b1st*sz0*z1ct + (1/16)*cz0*l1c_t*sz0*z1ct + (1/16)*cz0*l1s_t*sz0*z1st - 1/6*cz0*mu*sz0*th0*z1st - 1/12*cz0*mu*sz0*th1c + (1/8)*cz0*th0 - 1/16*cz0*th1c*z1st + (1/16)*cz0*th1s*z1ct + (1/12)*cz0*u + (1/16)*l1c_t*sz0**2*z1st - 1/32*l1c_t*z1st - 1/16*l1s_t*sz0**2*z1ct + (1/32)*l1s_t*z1ct + (1/6)*mu*sz0**2*th0*z1ct - 1/12*mu*sz0**2*th1s - 1/12*mu*th0*z1ct + (1/24)*mu*th1s - 1/16*sz0*th1c*z1ct - 1/16*sz0*th1s*z1st,
-         -1/12*b0t*cz0*mu*sz0*z1st + (1/12)*b0t*mu*sz0**2*z1ct - 1/24*b0t*mu*z1ct - 1/24*b1ct*cz0*mu*sz0 + (3/64)*b1ct*cz0*z1st - 1/64*b1ct*sz0*z1ct - 1/64*b1st*cz0*z1ct - 1/24*b1st*mu*sz0**2 - 1/48*b1st*mu + (1/64)*b1st*sz0*z1st - 1/16*cz0*l1c_t*sz0*z1st + (1/16)*cz0*l1s_t*sz0*z1ct - 1/6*cz0*mu*sz0*th0*z1ct + (1/12)*cz0*mu*sz0*th1s + (1/16)*cz0*th1c*z1ct + (1/16)*cz0*th1s*z1st + (1/16)*l1c_t*sz0**2*z1ct - 1/32*l1c_t*z1ct + (1/16)*l1s_t*sz0**2*z1st - 1/32*l1s_t*z1st - 1/6*mu*sz0**2*th0*z1st - 1/12*mu*sz0**2*th1c + (1/12)*mu*th0*z1st + (1/24)*mu*th1c + (1/8)*sz0*th0 - 1/16*sz0*th1c*z1st + (1/16)*sz0*th1s*z1ct + (1/12)*sz0*u],
-        [(1/32)*cz0**3*mu**2*z1st + (1/32)*cz0*mu**2*sz0**2*z1st - 1/32*mu**2*sz0*z1ct,
-         (1/32)*cz0**3*mu**2 + (1/32)*cz0*mu**2*sz0**2 + (1/24)*cz0*mu*sz0*z1st - 1/16*cz0 - 1/32*mu**2 - 1/24*mu*sz0**2*z1ct + (1/48)*mu*z1ct + 1/16,
-         (1/24)*cz0*mu*sz0*z1ct + (1/32)*mu**2*sz0 + (1/24)*mu*sz0**2*z1st - 1/48*mu*z1st - 1/16*sz0,
-         o,
-         (1/12)*cz0*mu*sz0*z1ct + (1/12)*mu*sz0**2*z1st - 1/24*mu*z1st - 1/16*sz0,
-         -1/12*cz0*mu*sz0*z1st + (1/16)*cz0 + (1/12)*mu*sz0**2*z1ct - 1/24*mu*z1ct - 1/16,
-         o,
-         (1/48)*cz0**3*mu*z1st + (1/48)*cz0*mu*sz0**2*z1st - 1/48*mu*sz0*z1ct,
-         -1/16*cz0**3*mu*z1ct - 1/16*cz0*mu*sz0**2*z1ct - 1/16*mu*sz0*z1st,
-         (3/32)*cz0**3*mu**2*z1ct + (3/32)*cz0*mu**2*sz0**2*z1ct - 1/16*cz0*z1ct + (3/32)*mu**2*sz0*z1st - 1/16*sz0*z1st,
-         -1/12*cz0*mu*sz0*z1ct + (3/32)*mu**2*sz0 - 1/12*mu*sz0**2*z1st + (1/8)*mu*z1st + (1/16)*sz0,
-         -3/32*cz0**3*mu**2 - 3/32*cz0*mu**2*sz0**2 + (1/12)*cz0*mu*sz0*z1st - 1/16*cz0 + (3/32)*mu**2 - 1/12*mu*sz0**2*z1ct - 1/24*mu*z1ct + 1/16,
-         o,
-         -1/48*cz0**3*mu*z1st - 1/48*cz0*mu*sz0**2*z1st + (1/48)*mu*sz0*z1ct,
-         (1/16)*cz0**3*mu*z1ct + (1/16)*cz0*mu*sz0**2*z1ct + (1/16)*mu*sz0*z1st,
-         -1/32*b0t*cz0**3*mu**2*z1ct - 1/32*b0t*cz0*mu**2*sz0**2*z1ct - 1/32*b0t*mu**2*sz0*z1st - 1/12*b1ct*cz0*mu*sz0*z1ct - 1/32*b1ct*mu**2*sz0 - 1/12*b1ct*mu*sz0**2*z1st + (1/24)*b1ct*mu*z1st + (1/16)*b1ct*sz0 + (1/32)*b1st*cz0**3*mu**2 + (1/32)*b1st*cz0*mu**2*sz0**2 + (1/12)*b1st*cz0*mu*sz0*z1st - 1/16*b1st*cz0 - 1/12*b1st*mu*sz0**2*z1ct + (1/24)*b1st*mu*z1ct - 1/48*cz0**3*l1c_t*mu*z1ct - 1/16*cz0**3*l1s_t*mu*z1st + (3/32)*cz0**3*mu**2*th0*z1st + (3/32)*cz0**3*mu**2*th1c - 1/48*cz0*l1c_t*mu*sz0**2*z1ct - 1/16*cz0*l1s_t*mu*sz0**2*z1st + (3/32)*cz0*mu**2*sz0**2*th0*z1st + (3/32)*cz0*mu**2*sz0**2*th1c - 1/6*cz0*mu*sz0*th1c*z1st - 1/6*cz0*mu*sz0*th1s*z1ct - 1/16*cz0*th0*z1st + (1/16)*cz0*th1c - 1/48*l1c_t*mu*sz0*z1st + (1/16)*l1s_t*mu*sz0*z1ct - 3/32*mu**2*sz0*th0*z1ct + (3/32)*mu**2*sz0*th1s + (1/6)*mu*sz0**2*th1c*z1ct - 1/6*mu*sz0**2*th1s*z1st - 1/12*mu*th1c*z1ct + (1/12)*mu*th1s*z1st + (1/16)*sz0*th0*z1ct + (1/16)*sz0*th1s,
-         -1/32*b0t*mu**2*sz0 + (3/64)*b1ct*cz0**3*mu**2*z1ct - 15/64*b1ct*cz0*mu**2*sz0**2*z1ct + (3/64)*b1ct*cz0*z1ct - 9/32*b1ct*mu**2*sz0**3*z1st + (13/64)*b1ct*mu**2*sz0*z1st - 1/24*b1ct*mu*sz0**2 + (1/48)*b1ct*mu + (1/64)*b1ct*sz0*z1st - 5/64*b1st*cz0**3*mu**2*z1st + (13/64)*b1st*cz0*mu**2*sz0**2*z1st + (1/24)*b1st*cz0*mu*sz0 + (1/64)*b1st*cz0*z1st - 9/32*b1st*mu**2*sz0**3*z1ct + (13/64)*b1st*mu**2*sz0*z1ct + (1/64)*b1st*sz0*z1ct - 1/16*cz0**3*l1s_t*mu + (3/32)*cz0**3*mu**2*th0 - 3/64*cz0**3*mu**2*th1c*z1st - 3/64*cz0**3*mu**2*th1s*z1ct - 1/16*cz0*l1s_t*mu*sz0**2 + (3/32)*cz0*mu**2*sz0**2*th0 + (15/64)*cz0*mu**2*sz0**2*th1c*z1st + (15/64)*cz0*mu**2*sz0**2*th1s*z1ct - 1/12*cz0*mu*sz0*th1c - 1/4*cz0*mu*sz0*u*z1st - 1/16*cz0*th0 - 1/64*cz0*th1c*z1st - 1/64*cz0*th1s*z1ct - 1/48*l1c_t*mu*sz0 - 9/32*mu**2*sz0**3*th1c*z1ct + (9/32)*mu**2*sz0**3*th1s*z1st + (9/64)*mu**2*sz0*th1c*z1ct - 15/64*mu**2*sz0*th1s*z1st - 1/12*mu*sz0**2*th1s + (1/4)*mu*sz0**2*u*z1ct - 1/24*mu*th1s - 1/8*mu*u*z1ct + (3/64)*sz0*th1c*z1ct + (1/64)*sz0*th1s*z1st,
-         (1/32)*b0t*cz0**3*mu**2 + (1/32)*b0t*cz0*mu**2*sz0**2 - 5/64*b1ct*cz0**3*mu**2*z1st + (13/64)*b1ct*cz0*mu**2*sz0**2*z1st + (1/24)*b1ct*cz0*mu*sz0 + (1/64)*b1ct*cz0*z1st - 9/32*b1ct*mu**2*sz0**3*z1ct + (13/64)*b1ct*mu**2*sz0*z1ct + (1/64)*b1ct*sz0*z1ct - 5/64*b1st*cz0**3*mu**2*z1ct + (13/64)*b1st*cz0*mu**2*sz0**2*z1ct + (1/64)*b1st*cz0*z1ct + (9/32)*b1st*mu**2*sz0**3*z1st - 15/64*b1st*mu**2*sz0*z1st + (1/24)*b1st*mu*sz0**2 - 1/48*b1st*mu + (3/64)*b1st*sz0*z1st + (1/48)*cz0**3*l1c_t*mu - 3/64*cz0**3*mu**2*th1c*z1ct + (9/64)*cz0**3*mu**2*th1s*z1st + (1/48)*cz0*l1c_t*mu*sz0**2 + (15/64)*cz0*mu**2*sz0**2*th1c*z1ct - 9/64*cz0*mu**2*sz0**2*th1s*z1st + (1/12)*cz0*mu*sz0*th1s - 1/4*cz0*mu*sz0*u*z1ct - 1/64*cz0*th1c*z1ct - 3/64*cz0*th1s*z1st - 1/16*l1s_t*mu*sz0 + (9/32)*mu**2*sz0**3*th1c*z1st + (9/32)*mu**2*sz0**3*th1s*z1ct + (3/32)*mu**2*sz0*th0 - 15/64*mu**2*sz0*th1c*z1st - 15/64*mu**2*sz0*th1s*z1ct - 1/12*mu*sz0**2*th1c - 1/4*mu*sz0**2*u*z1st + (1/8)*mu*th1c + (1/8)*mu*u*z1st - 1/16*sz0*th0 + (1/64)*sz0*th1c*z1st + (1/64)*sz0*th1s*z1ct,
-         (1/12)*b1ct*cz0*mu*sz0*z1st + (1/16)*b1ct*cz0 - 1/12*b1ct*mu*sz0**2*z1ct + (1/24)*b1ct*mu*z1ct + (1/12)*b1st*cz0*mu*sz0*z1ct + (1/12)*b1st*mu*sz0**2*z1st - 1/24*b1st*mu*z1st + (1/16)*b1st*sz0 + (1/6)*cz0*mu*sz0*th1c*z1ct - 1/6*cz0*mu*sz0*th1s*z1st + (1/8)*cz0*th1s - 1/12*cz0*u*z1ct - 1/16*l1s_t + (1/6)*mu*sz0**2*th1c*z1st + (1/6)*mu*sz0**2*th1s*z1ct + (1/6)*mu*th0 - 1/12*mu*th1c*z1st - 1/12*mu*th1s*z1ct - 1/8*sz0*th1c - 1/12*sz0*u*z1st,
-         (1/12)*b0t*cz0*mu*sz0*z1st - 1/12*b0t*mu*sz0**2*z1ct + (1/24)*b0t*mu*z1ct + (1/24)*b1ct*cz0*mu*sz0 - 1/64*b1ct*cz0*z1st - 1/64*b1ct*sz0*z1ct + (3/64)*b1st*cz0*z1ct + (1/24)*b1st*mu*sz0**2 - 1/48*b1st*mu + (1/64)*b1st*sz0*z1st + (1/16)*cz0*l1c_t*sz0*z1st - 1/16*cz0*l1s_t*sz0*z1ct + (1/6)*cz0*mu*sz0*th0*z1ct - 1/12*cz0*mu*sz0*th1s - 1/16*cz0*th1c*z1ct - 1/16*cz0*th1s*z1st - 1/16*l1c_t*sz0**2*z1ct + (1/32)*l1c_t*z1ct - 1/16*l1s_t*sz0**2*z1st + (1/32)*l1s_t*z1st + (1/6)*mu*sz0**2*th0*z1st + (1/12)*mu*sz0**2*th1c - 1/12*mu*th0*z1st + (1/24)*mu*th1c - 1/8*sz0*th0 + (1/16)*sz0*th1c*z1st - 1/16*sz0*th1s*z1ct - 1/12*sz0*u,
-         (1/12)*b0t*cz0*mu*sz0*z1ct + (1/12)*b0t*mu*sz0**2*z1st - 1/24*b0t*mu*z1st - 1/64*b1ct*cz0*z1ct + (1/24)*b1ct*mu*sz0**2 - 1/48*b1ct*mu - 3/64*b1ct*sz0*z1st - 1/24*b1st*cz0*mu*sz0 + (1/64)*b1st*cz0*z1st + (1/64)*b1st*sz0*z1ct + (1/16)*cz0*l1c_t*sz0*z1ct + (1/16)*cz0*l1s_t*sz0*z1st - 1/6*cz0*mu*sz0*th0*z1st - 1/12*cz0*mu*sz0*th1c + (1/8)*cz0*th0 - 1/16*cz0*th1c*z1st + (1/16)*cz0*th1s*z1ct + (1/12)*cz0*u + (1/16)*l1c_t*sz0**2*z1st - 1/32*l1c_t*z1st - 1/16*l1s_t*sz0**2*z1ct + (1/32)*l1s_t*z1ct + (1/6)*mu*sz0**2*th0*z1ct - 1/12*mu*sz0**2*th1s - 1/12*mu*th0*z1ct + (1/8)*mu*th1s - 1/16*sz0*th1c*z1ct - 1/16*sz0*th1s*z1st],
+        [o, x818 + x823, x4*x822 + x824 - x825 + x826*x9, x828*z1ct + x829*z1st, x824 + x829, (1/8)*mu - x818 - x828, x832, o, o, o, (1/4)*cz0*sz0*x2*z1ct + (1/4)*x2*x4*z1st - x613 - x825 - x833, (1/4)*cz0*mu - x612 - x823 + (1/6)*z1ct, -x832, o, o, (1/4)*b1ct*x2*z1st + (1/2)*b1st*cz0*sz0*x2*z1st + (1/4)*b1st*x2*z1ct + (1/2)*cz0*sz0*th1c*x2*z1st + (1/2)*cz0*sz0*th1s*x2*z1ct + (1/4)*mu*sz0*u*z1ct + (1/4)*th1c*x2*z1ct - th1c*x835 + (1/2)*th1s*x2*x4*z1st - th1s*x822 - x266*x302 - x322*x54 - x404*x54 - x614 - x617*z1st - x648, b1ct*x819 + l1c_t*x841 - l1s_t*x839 + th0*x826 - th0*x835 + th1c*x851 - th1s*x819 + th1s*x840 - x118*x855 - x121*x831 + x142*x820 - x142*x845 + x266*x589 + x431 - x54*x578 - x617 + x821*x852 + x836 + x838 - x842*x844 - x846*x847 - x848*x850 + x853*x854 - x854*x95 + x859, -b1st*x819 + l1c_t*x839 + l1s_t*x841 - th0*x822 + th0*x854*z1ct - th1c*x819 + th1c*x840 - th1s*x851 + x118*x831 - x121*x855 + x142*x854 + x266*x578 + x54*x589 - x646 + x820*x95 - x821*x847 + x843*x857 + x845*x853 - x845*x95 - x846*x852 - x861 - x862 + x863*x864 + x866, b1ct*x828 + b1st*x829 + l1c_t*x870 - l1s_t*x869 + th0*x830 + th0*x831 + th1c*x613 - th1s*x616 - 1/4*u + x142*x828 - x172*x824 - x179*x818 - x676 - x829*x95 - x867 + x868, b0t*x828 + cz0*x872 - sz0*x871 + th0*x613 + x168*x874 + x169*x874 - 3/32*x26*x301 - x299*x873 + x844*x863 + x848*x858 + x861 + x862 + x866, b0t*x829 + cz0*x871 + sz0*x872 - th0*x616 - x168*x873 - x169*x873 + (3/32)*x299*x61 + x301*x874 - x431 - x836 - x838 + x842*x864 + x843*x860 + x859],
+        [-x875*x879 - x876*z1st - x878*z1ct, (1/24)*cz0*mu*sz0*z1ct + (1/24)*mu*x4*z1st - 1/16*x848 - x880, x882 - x884 + x885 + x890, o, x894, -x898, o, -x902, x905, (1/16)*cz0*z1st - x906 - x907, -x878 + x881 - x886 - x889 - x908, -x880 - x883 - x909, o, x902, x910, (1/32)*b0t*sz0*x2*z1ct + (1/12)*b1ct*cz0*mu*sz0*z1st + (1/24)*b1ct*mu*z1ct - b1ct*x878 - b1ct*x889 + (1/12)*b1st*cz0*mu*sz0*z1ct + (1/12)*b1st*mu*x4*z1st - b1st*x876 + (1/32)*cz0*th0*x2*x4*z1ct + (1/48)*l1c_t*mu*sz0*z1ct - l1c_t*x903 - l1c_t*x904 - l1s_t*x900 - l1s_t*x901 + (1/32)*sz0*th0*x2*z1st + (1/32)*sz0*th1c*x2 + (1/16)*sz0*th1c + (1/32)*th0*x2*x877*z1ct - th1s*x878 - th1s*x889 - x142*x878 - x142*x889 - x172*x899 - x860 - x911*z1ct - x912*z1st - x914 - x917 - x919, (13/64)*b1ct*cz0*x2*x4*z1st + (15/64)*b1ct*sz0*x2*z1ct + (3/64)*b1ct*sz0*z1ct + (13/64)*b1st*cz0*x2*x4*z1ct + (9/32)*b1st*x2*x928*z1st + (15/64)*cz0*th1c*x2*x4*z1ct + (1/8)*mu*u*z1st + (1/32)*sz0*th0*x2 + (9/32)*th1c*x2*x928*z1st + (5/64)*th1s*x2*x877*z1st + (9/32)*th1s*x2*x928*z1ct - x172*x924 - x299*x942 - x912 - x920*x925 - x921 + x923 - x925*x947 - x926*x927 + x930 - x932 - x935 - x937 - x938 - x941 - x942*x943 - x942*x944 - x945 - x952 - x957, (13/64)*b1ct*cz0*x2*x4*z1ct + (3/64)*b1st*x2*x877*z1st + (1/48)*cz0*l1s_t*mu*x4 + (1/48)*l1s_t*mu*x877 - th0*x878 - th0*x889 + (5/64)*th1c*x2*x877*z1st + (5/64)*th1s*x2*x877*z1ct - 13/64*th1s*x974 - x299*x926 - x299*x975 - 5/64*x877*x939 + x911 - x925*x961 - x927*x942 - x927*x956 - x943*x947 - x958 + x959 + x960 + x963 + x965 + x966 + x967 - x968 - x969 - x970 - x971 - x972 + x973 - x983 - x984, -b0t*x915 + (1/8)*cz0*th1c + (1/12)*cz0*u*z1st + (1/8)*sz0*th1s - x502*x818 - x985 - x986 - x987 + x988 + x989 + x990 - x991 - x992, x1002 + x168*x961 - x958 + x983 + x995, (3/64)*b1ct*cz0*z1st - x1004 - x1006 - x952 - x953],
+        [x907, -x882 + x884 + x890 + x893, x4*x883 + x876 + x881*x9 + x895 - x899, o, x898, x894, o, x905, -x1008, -x1001 - x1005 + x1009*x879 + x1010*z1st + x1011*z1ct, x1010 + x841 + x849 + x909, -x1009*x888 - x1011 + (3/32)*x2 - x881 - x908, o, x910, x1008, -b1ct*x876 + (1/32)*b1st*cz0*x2*x4 + (1/32)*b1st*x2*x877 + (3/32)*cz0*th0*x2*x4*z1st + (3/32)*cz0*th1c*x2*x4 + (1/16)*cz0*th1c - l1c_t*x900 - l1c_t*x901 + (1/16)*l1s_t*mu*sz0*z1ct - l1s_t*x1007*x848 + (1/16)*sz0*th0*z1ct + (3/32)*sz0*th1s*x2 + (1/16)*sz0*th1s + (3/32)*th0*x2*x877*z1st - th0*x999 + (3/32)*th1c*x2*x877 - x1012*x848 - x1013*z1ct - x142*x876 - x179*x899 - x878*x95 - x889*x95 + x986 + x987 - x988 - x989 - x990 + x991 - x992, (3/64)*b1ct*cz0*z1ct + (3/64)*b1ct*x2*x877*z1ct + (13/64)*b1st*cz0*x2*x4*z1st + (3/32)*cz0*th0*x2*x4 + (15/64)*cz0*th1c*x2*x4*z1st + (15/64)*cz0*th1s*x2*x4*z1ct - mu*x1012 + (9/64)*sz0*th1c*x2*z1ct + (3/64)*sz0*th1c*z1ct + (1/64)*sz0*th1s*z1st + (3/32)*th0*x2*x877 - x1014 - x299*x936 - x301*x975 - x713*x856 - x911 - x934*x943 - x934*x944 - x959 - x963 - x965 - x966 - x967 + x968 + x970 + x971 + x972 - x973 - x976 - x977 - x979 - x981 - x984 - x995, th1c*x827 + (15/64)*th1c*x974 + u*x841 + x1004 + x1013 + x1015*x933 - x1015*x946 + x168*x947 + x169*x947 - x270*x849 + x299*x961 - x299*x962 + x299*x964 + x301*x942 - x912 - x920*x927 - x925*x926 - x932 - x935 - x937 - x938 - x941 - x943*x962 + x943*x964 - x944*x962 + x944*x964 - x945 - x948 + x950 + x957, -u*x869 - x1000 + x168*x949 + x169*x949 + x299*x916 + x301*x913 - x502*x824 + x593 - x596 + (1/6)*x652 - x914 - x917 + x919, th1c*x913 - x1003 + x1006 + x168*x926 + x299*x956 + x923 + x930 + x948 + x951 + x954 - x955, th1s*x827 + x1002 + x1014 + x168*x956 - x169*x961 + x960 + x978 - x980 + x982 + x993 + x994],
     ])
     return flap, lag, loads
 
@@ -247,9 +1084,123 @@ def lag_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t):
     th0, th1c, th1s = th
     b0t, b1ct, b1st = b
     o = 0 * mu
-    return _arr([nb*(-b0t**2*mu**2 - 4/3*b0t*b1st*mu - 4/3*b0t*l1c_t*mu + (2/3)*b0t*mu*th1c - 3/4*b1ct**2*mu**2 - 1/2*b1ct**2 + b1ct*l1s_t + (1/4)*b1ct*mu**2*th1s + 2*b1ct*mu*u - 1/2*b1ct*th1s - 1/4*b1st**2*mu**2 - 1/2*b1st**2 - b1st*l1c_t + (1/4)*b1st*mu**2*th1c + (1/2)*b1st*th1c + dl*mu**2 + dl - 1/2*l1c_t**2 + (1/2)*l1c_t*th1c - 1/2*l1s_t**2 + (2/3)*l1s_t*mu*th0 + (1/2)*l1s_t*th1s - mu*th1s*u - 4/3*th0*u - 2*u**2),
-                 -2*b0t*b1st + nb*(-3*b0t*b1ct*mu**2 + (1/2)*b0t*mu**2*th1s + (4/3)*b0t*mu*th0 + 4*b0t*mu*u - 4/3*b1ct*b1st*mu - 2*b1ct*l1c_t*mu + (2/3)*b1ct*mu*th1c - 2/3*b1st*l1s_t*mu + (1/2)*b1st*mu**2*th0 + (2/3)*b1st*mu*th1s + b1st*th0 + (8/3)*b1st*u + (1/3)*l1c_t*mu*th1s + l1c_t*th0 + (8/3)*l1c_t*u + (1/3)*l1s_t*mu*th1c - 4/3*th1c*u),
-                 2*b0t*b1ct + nb*(-b0t*b1st*mu**2 + (1/2)*b0t*mu**2*th1c + (2/3)*b1ct**2*mu - 2/3*b1ct*l1s_t*mu + (1/2)*b1ct*mu**2*th0 - 2/3*b1ct*mu*th1s - b1ct*th0 - 8/3*b1ct*u - 2/3*b1st**2*mu - 2/3*b1st*l1c_t*mu + (2/3)*b1st*mu*th1c + (8/3)*dl*mu + (1/3)*l1c_t*mu*th1c + l1s_t*mu*th1s + l1s_t*th0 + (8/3)*l1s_t*u - 2*mu*th0*u - 4/3*th1s*u)])
+    x0 = b1ct**2
+    x1 = (1/2)*nb
+    x2 = b1st**2
+    x3 = 2*nb
+    x4 = b1st*nb
+    x5 = l1c_t*x4
+    x6 = mu**2
+    x7 = nb*x6
+    x8 = th1s*x1
+    x9 = nb*th0
+    x10 = (4/3)*u
+    x11 = nb*u
+    x12 = mu*th1s
+    x13 = b0t*x4
+    x14 = (4/3)*mu
+    x15 = mu*nb
+    x16 = l1c_t*x15
+    x17 = 2*b0t
+    x18 = nb*x10
+    x19 = (8/3)*u
+    x20 = (8/3)*x11
+    x21 = b0t*x6
+    x22 = th0*x1*x6
+    x23 = b1ct*mu
+    x24 = l1s_t*nb
+    x25 = (2/3)*mu
+    x26 = nb*x12
+    x27 = (1/3)*th1c
+    x28 = (2/3)*x15
+    moment = _arr([-b0t**2*x7 - 4/3*b0t*x16 - b1ct*x8 - l1c_t**2*x1 - l1s_t**2*x1 + nb*((2/3)*b0t*mu*th1c + b1ct*l1s_t + 2*b1ct*mu*u + (1/4)*b1ct*th1s*x6 + (1/4)*b1st*th1c*x6 + (1/2)*b1st*th1c + dl*x6 + dl + (1/2)*l1c_t*th1c + (2/3)*l1s_t*mu*th0 + (1/2)*l1s_t*th1s) - u**2*x3 - x0*x1 - 3/4*x0*x7 - x1*x2 - x10*x9 - x11*x12 - x13*x14 - 1/4*x2*x7 - x5, -3*b0t*b1ct*x7 + 4*b0t*mu*x11 + b0t*x14*x9 + b1ct*th1c*x28 - b1st*x17 + b1st*x22 - b1st*x24*x25 + l1c_t*x20 - l1c_t*x23*x3 + (1/3)*l1c_t*x26 + l1c_t*x9 + mu*x24*x27 + th0*x4 - th1c*x18 + (2/3)*x12*x4 + x19*x4 + x21*x8 - 4/3*x23*x4, b1ct*x17 - b1ct*x20 + b1ct*x22 - b1ct*x24*x25 - 2/3*b1ct*x26 - b1ct*x9 + (8/3)*dl*mu*nb - mu*th0*u*x3 + th0*x24 + th1c*x1*x21 + th1c*x25*x4 - th1s*x18 + x0*x28 + x12*x24 - x13*x6 + x16*x27 + x19*x24 - x2*x28 - x25*x5])
+    return moment
+
+
+def lag_stiffness(mu, nb, dl, th, b, u, l1c_t, l1s_t):
+    """The lag rows' displacement columns (``COLS[15:18]``) without steady lag (3 x 3) [-]."""
+    th0, th1c, th1s = th
+    b0t, b1ct, b1st = b
+    o = 0 * mu
+    x0 = l1c_t*nb
+    x1 = b1ct*x0
+    x2 = l1s_t*nb
+    x3 = b1st*x2
+    x4 = nb*u
+    x5 = mu*th1c
+    x6 = x4*x5
+    x7 = mu**2
+    x8 = (1/2)*nb
+    x9 = x7*x8
+    x10 = b1st*th1s
+    x11 = mu*x4
+    x12 = b1st*x11
+    x13 = b1ct*th1c
+    x14 = b0t*b1ct
+    x15 = mu*nb
+    x16 = (4/3)*x15
+    x17 = (1/2)*x0
+    x18 = (1/2)*x2
+    x19 = b1ct*b1st
+    x20 = nb*x7
+    x21 = (2/3)*x15
+    x22 = b0t*th1s
+    x23 = -th1c*x18 + th1s*x17 - x19*x20 + x21*x22
+    x24 = th0*x8
+    x25 = b1ct*x24
+    x26 = b1ct**2
+    x27 = b1st**2
+    x28 = (1/3)*x15
+    x29 = (2/3)*x4
+    x30 = (4/3)*u
+    x31 = b0t*b1st
+    x32 = x20*x31
+    x33 = (1/3)*x5
+    x34 = th1s*x2
+    x35 = (1/3)*mu
+    x36 = nb*x5
+    x37 = (1/6)*x36
+    x38 = (2/3)*mu
+    x39 = b1st*x0
+    x40 = b1st*x24
+    x41 = x14*x20
+    x42 = b0t*x11
+    x43 = th1s*x0
+    x44 = th0*x2
+    x45 = dl*nb
+    x46 = (8/3)*u
+    x47 = b0t*x20
+    x48 = b1ct*x20
+    x49 = (2/3)*x36
+    x50 = (2/3)*x5
+    x51 = (4/3)*mu
+    x52 = (1/2)*x26
+    x53 = (1/2)*x27
+    x54 = l1s_t*x0
+    x55 = (1/4)*nb
+    x56 = x13*x55
+    x57 = b1st*th1s*x55
+    x58 = th0*x47
+    x59 = th0*x0
+    x60 = x38*x59
+    x61 = b1st*th0*x28
+    x62 = b0t*x51
+    x63 = x2*x62
+    x64 = 2*x45
+    x65 = th1c*x17
+    x66 = th1s*x18
+    x67 = (4/3)*th0
+    x68 = x4*x67
+    x69 = (3/4)*nb
+    x70 = b0t*x49
+    x71 = b0t**2*x20 - b1ct*b1st + b1ct*x18 + b1st*x17 + l1c_t**2*x8 + nb*(-b1ct*mu*u - 1/2*l1s_t**2 - 1/2*mu*th1s*u) + x0*x62 + x20*x52 + x20*x53 + x21*x31 + x38*x44 + x45*x7
+    x72 = b1st*x20
+    stiffness = _arr([
+        [x1 + x10*x9 + 2*x12 - x13*x9 + x14*x16 + x23 + x3 + x6, b0t*b1ct - b0t*th1c*x9 - b1st*x37 + nb*((2/3)*b1ct*l1s_t*mu + (1/2)*b1ct*mu*th1s + mu*th0*u + (1/3)*mu*x26) - th1s*x29 - x0*x33 - x2*x30 - x25*x7 - x25 - x27*x28 - x32 - x34*x35 - x38*x39, -b1ct*x37 + th1c*x29 + x0*x30 - x1*x38 + (1/6)*x10*x15 + x19*x21 - x2*x33 + x22*x9 - x3*x38 + x31 + x35*x43 + x40*x7 - x40 - x41 + 2*x42],
+        [-b1st*x49 - 8/3*mu*x45 + nb*((4/3)*b1ct*l1s_t*mu + (2/3)*b1ct*mu*th1s + 2*mu*th0*u + (2/3)*mu*x26) - th0*x48 - th1c*x47 - x0*x50 - x2*x46 - x21*x27 - 2*x32 - x34*x38 - x39*x51 - x44, -th1c*x48 + (1/2)*x1 + x12 + x14*x21 + x23 + (3/2)*x3 + x52 - x53 + x54 - x56 + x57 - x58 + (3/2)*x6 - x60 - x61 + x63, (1/4)*b1ct*nb*th1s - b1ct*th0*x28 - b1st*th1c*x69 - x64 - x65 - x66 + x68 - x70 - x71],
+        [b0t*x15*x67 + b1ct*x49 + th0*x72 + th1s*x47 + x0*x46 - x1*x51 + x10*x21 + x16*x19 - x2*x50 - x3*x51 + x38*x43 - 2*x41 + 4*x42 + x59, -b1ct*th1s*x69 + nb*(b1ct*mu*th0 + (1/4)*b1st*th1c) + x64 + x65 + x66 - x68 + x70 - x71, th1s*x72 + u*x5*x8 + (3/2)*x1 + 3*x12 + 2*x14*x15 + x23 + (1/2)*x3 - x52 + x53 - x54 + x56 - x57 + x58 + x60 + x61 - x63],
+    ])
+    return stiffness
 
 
 def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt):
@@ -259,9 +1210,61 @@ def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt):
     z0t, z1ct, z1st = zt
     cz0, sz0 = _cos_sin(z0t)
     o = 0 * mu
-    return _arr([(1/4)*b1ct*cz0*mu**2*sz0*z1st - 1/4*b1ct*mu**2*sz0**2*z1ct + (1/8)*b1ct*mu**2*z1ct + (1/12)*b1ct*z1ct + (1/4)*b1st*cz0*mu**2*sz0*z1ct + (1/4)*b1st*mu**2*sz0**2*z1st - 1/8*b1st*mu**2*z1st + (1/12)*b1st*z1st + (1/4)*cz0*mu**2*sz0*th1c*z1ct - 1/4*cz0*mu**2*sz0*th1s*z1st + (1/4)*cz0*mu*th1s - 1/4*cz0*mu*u*z1ct + (1/4)*mu**2*sz0**2*th1c*z1st + (1/4)*mu**2*sz0**2*th1s*z1ct - 1/8*mu**2*th1c*z1st - 1/8*mu**2*th1s*z1ct - 1/4*mu*sz0*th1c - 1/4*mu*sz0*u*z1st - 1/4*mu*th1s - 1/6*th1c*z1st + (1/6)*th1s*z1ct,
-                 -1/32*b0t*cz0**3*mu**2*z1ct - 1/32*b0t*cz0*mu**2*sz0**2*z1ct - 1/32*b0t*mu**2*sz0*z1st + (1/24)*b1ct*cz0*mu*sz0*z1ct - 1/32*b1ct*mu**2*sz0 + (1/24)*b1ct*mu*sz0**2*z1st - 1/16*b1ct*mu*z1st - 1/16*b1ct*sz0 + (1/32)*b1st*cz0**3*mu**2 + (1/32)*b1st*cz0*mu**2*sz0**2 - 1/24*b1st*cz0*mu*sz0*z1st + (1/16)*b1st*cz0 - 1/32*b1st*mu**2 + (1/24)*b1st*mu*sz0**2*z1ct + (1/48)*b1st*mu*z1ct - 1/16*b1st - 1/48*cz0**3*l1c_t*mu*z1ct + (1/48)*cz0**3*l1s_t*mu*z1st - 1/32*cz0**3*mu**2*th0*z1st - 1/32*cz0**3*mu**2*th1c - 1/48*cz0*l1c_t*mu*sz0**2*z1ct + (1/48)*cz0*l1s_t*mu*sz0**2*z1st - 1/32*cz0*mu**2*sz0**2*th0*z1st - 1/32*cz0*mu**2*sz0**2*th1c + (1/12)*cz0*mu*sz0*th1c*z1st + (1/12)*cz0*mu*sz0*th1s*z1ct + (1/16)*cz0*th0*z1st - 1/16*cz0*th1c - 1/48*l1c_t*mu*sz0*z1st - 1/48*l1s_t*mu*sz0*z1ct + (1/32)*mu**2*sz0*th0*z1ct - 1/32*mu**2*sz0*th1s + (1/32)*mu**2*th1c - 1/12*mu*sz0**2*th1c*z1ct + (1/12)*mu*sz0**2*th1s*z1st + (1/24)*mu*th1c*z1ct - 1/24*mu*th1s*z1st - 1/16*sz0*th0*z1ct - 1/16*sz0*th1s + (1/16)*th1c,
-                 (1/32)*b0t*cz0**3*mu**2*z1st + (1/32)*b0t*cz0*mu**2*sz0**2*z1st - 1/32*b0t*mu**2*sz0*z1ct + (1/32)*b1ct*cz0**3*mu**2 + (1/32)*b1ct*cz0*mu**2*sz0**2 + (1/24)*b1ct*cz0*mu*sz0*z1st - 1/16*b1ct*cz0 - 1/32*b1ct*mu**2 - 1/24*b1ct*mu*sz0**2*z1ct + (1/48)*b1ct*mu*z1ct + (1/16)*b1ct + (1/24)*b1st*cz0*mu*sz0*z1ct + (1/32)*b1st*mu**2*sz0 + (1/24)*b1st*mu*sz0**2*z1st - 1/48*b1st*mu*z1st - 1/16*b1st*sz0 + (1/48)*cz0**3*l1c_t*mu*z1st - 1/16*cz0**3*l1s_t*mu*z1ct + (3/32)*cz0**3*mu**2*th0*z1ct - 3/32*cz0**3*mu**2*th1s + (1/48)*cz0*l1c_t*mu*sz0**2*z1st - 1/16*cz0*l1s_t*mu*sz0**2*z1ct + (3/32)*cz0*mu**2*sz0**2*th0*z1ct - 3/32*cz0*mu**2*sz0**2*th1s - 1/12*cz0*mu*sz0*th1c*z1ct + (1/12)*cz0*mu*sz0*th1s*z1st - 1/16*cz0*th0*z1ct - 1/16*cz0*th1s - 1/48*l1c_t*mu*sz0*z1ct - 1/16*l1s_t*mu*sz0*z1st + (3/32)*mu**2*sz0*th0*z1st + (3/32)*mu**2*sz0*th1c + (3/32)*mu**2*th1s - 1/12*mu*sz0**2*th1c*z1st - 1/12*mu*sz0**2*th1s*z1ct + (1/8)*mu*th1c*z1st - 1/24*mu*th1s*z1ct - 1/16*sz0*th0*z1st + (1/16)*sz0*th1c + (1/16)*th1s])
+    x0 = (1/4)*mu
+    x1 = th1s*x0
+    x2 = th1c*z1st
+    x3 = th1s*z1ct
+    x4 = b1ct*z1ct
+    x5 = b1st*z1st
+    x6 = sz0*th1c
+    x7 = mu**2
+    x8 = (1/8)*x7
+    x9 = sz0**2
+    x10 = x4*x9
+    x11 = (1/4)*x7
+    x12 = u*x0
+    x13 = cz0*z1ct
+    x14 = sz0*z1st
+    x15 = x11*x9
+    x16 = cz0*x11
+    x17 = x14*x16
+    x18 = sz0*z1ct
+    x19 = b1st*x18
+    x20 = (1/16)*b1st
+    x21 = (1/16)*b1ct
+    x22 = (1/16)*th1c
+    x23 = (1/16)*th1s
+    x24 = (1/32)*x7
+    x25 = b1st*x24
+    x26 = cz0**3
+    x27 = mu*z1st
+    x28 = (1/16)*th0
+    x29 = th1s*x27
+    x30 = b1ct*x24
+    x31 = sz0*x24
+    x32 = th1c*x24
+    x33 = mu*z1ct
+    x34 = (1/12)*x9
+    x35 = b0t*z1st
+    x36 = x24*x26
+    x37 = cz0*x9
+    x38 = th0*z1st
+    x39 = (1/48)*l1c_t*x27
+    x40 = (1/48)*l1c_t*x33
+    x41 = (1/48)*mu
+    x42 = x18*x41
+    x43 = (1/24)*mu
+    x44 = cz0*sz0
+    x45 = x13*x9
+    x46 = x24*x37
+    x47 = (3/32)*x7
+    x48 = th1s*x47
+    x49 = mu*x3
+    x50 = mu*x2
+    x51 = (1/16)*l1s_t
+    x52 = th0*x47
+    loads = _arr([b1ct*x17 + cz0*x1 - th1s*x17 - x0*x6 - x1 - x10*x11 + x11*x13*x6 - x12*x13 - x12*x14 + x15*x2 + x15*x3 + x15*x5 + x16*x19 - x2*x8 - 1/6*x2 - x3*x8 + (1/6)*x3 + x4*x8 + (1/12)*x4 - x5*x8 + (1/12)*x5, -b0t*x24*x45 - b0t*x36*z1ct + (1/24)*b1ct*cz0*mu*sz0*z1ct + (1/24)*b1ct*mu*x9*z1st + (1/32)*b1st*cz0*x7*x9 + (1/16)*b1st*cz0 + (1/24)*b1st*mu*x9*z1ct + (1/48)*b1st*mu*z1ct + (1/32)*b1st*x26*x7 + (1/48)*cz0*l1s_t*mu*x9*z1st + (1/12)*cz0*mu*sz0*th1c*z1st + (1/12)*cz0*mu*sz0*th1s*z1ct + (1/16)*cz0*th0*z1st - cz0*x22 + (1/48)*l1s_t*mu*x26*z1st - l1s_t*x42 + (1/24)*mu*th1c*z1ct + (1/12)*mu*th1s*x9*z1st + (1/32)*sz0*th0*x7*z1ct - sz0*x21 - sz0*x23 - sz0*x30 - sz0*x39 - th1c*x33*x34 + (1/32)*th1c*x7 + (1/16)*th1c - th1s*x31 - x18*x28 - x20 - x21*x27 - x25 - x26*x32 - x26*x40 - 1/24*x29 - x31*x35 - x32*x37 - x36*x38 - x37*x40 - x38*x46 - x43*x44*x5, -b0t*x18*x24 + (1/24)*b1ct*x27*x44 + cz0*x19*x43 - cz0*x21 - cz0*x23 - cz0*x28*z1ct - 1/12*cz0*x33*x6 - l1c_t*x42 - 1/16*l1s_t*x26*x33 + (1/24)*mu*x5*x9 - sz0*x20 + sz0*x22 + sz0*x25 - sz0*x27*x51 - x10*x43 - x14*x28 + x14*x52 + x21 + x23 + x26*x30 + x26*x39 - x26*x48 + x26*x52*z1ct + (1/12)*x29*x44 + x30*x37 - x30 - x33*x37*x51 - x34*x49 - x34*x50 + x35*x36 + x35*x46 + x37*x39 - x37*x48 + x4*x41 - x41*x5 + x45*x52 + x47*x6 + x48 - 1/24*x49 + (1/8)*x50])
+    return loads
 
 
-__all__ = ["COLS", "terms", "lag_trim", "load_trim"]
+__all__ = ["COLS", "terms", "lag_trim", "lag_stiffness", "load_trim"]
