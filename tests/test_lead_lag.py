@@ -73,30 +73,70 @@ def _trim_inflow(mu, a0s, v, th, b, muz):
     return a0s / (2 * v) * c0 / (1 - a0s / (2 * v) * c1)
 
 
-def _steady_lag(k, p, th_t, b_t, muz_t, lam_t, psi0):
-    """The blades' periodic lag at the trim, integrated: one blade's nonlinear lag
-    equation with the trim's drag (the blade at ``psi - zeta``, its lag rate in
-    ``U_T``), from rest until it repeats; ``(zeta, zeta')`` of each of the four
-    blades at ``psi0`` (the trim the blade route is linearised about)."""
-    mu, nb = k.mu, p["n_beta"]
-    nu, zl = p["nu_zeta"], p["zeta_lag"]
-    dl = 0.01 / k.a0
-
-    def rhs(psi, y):
-        ut = RG * (1 - y[1]) + mu * np.sin(psi - y[0])
-        up = muz_t - lam_t - mu * b_t * np.cos(psi - y[0])
-        drag = -(th_t * ut * up + up**2) + dl * ut**2
-        return [y[1], -nu**2 * y[0] - 2 * zl * nu * y[1] + 4 * nb * (drag * RG) @ WG]
+def _route_trim(k, p, th_t, b_t, muz_t, lam_guess, psi0):
+    """The blades' trim: their periodic lag under the trim's drag (one blade's
+    nonlinear lag equation, the blade at ``psi - zeta``, its lag rate in ``U_T``;
+    the one-revolution map's fixed point) and the trim inflow ``lambda = L c`` with
+    the blades' mean loads at that lag (their lift acting at ``psi - zeta``, the
+    lag's action scaled by ``k_flap_lag``; Newton's method from ``lam_guess``).
+    Returns the trim inflow (3) and ``(zeta, zeta')`` of each of the four blades at
+    ``psi0``."""
     from scipy.optimize import fsolve
+    mu, nb = k.mu, p["n_beta"]
+    nu, zl, kz = p["nu_zeta"], p["zeta_lag"], p["k_flap_lag"]
+    dl = 0.01 / k.a0
+    v = k.flow_speed
+    lmat = np.diag([k.a0s / (2 * v), -2 * k.a0s / v, -2 * k.a0s / v])
 
-    def period(y0):
-        return solve_ivp(rhs, (0, 2 * np.pi), y0, method="DOP853", rtol=1e-12,
-                         atol=1e-15, dense_output=True)
-    # the periodic lag: the one-revolution map's fixed point (shooting)
-    y0 = fsolve(lambda y: period(y).y[:, -1] - y, [0.0, 0.0], xtol=1e-13)
-    sol = period(y0)
-    assert np.abs(sol.y[:, -1] - y0).max() < 1e-11
-    return sol.sol(np.mod(psi0 + 2 * np.pi * np.arange(N_BLADES) / N_BLADES, 2 * np.pi))
+    def velocities(psi, z, dz, lam, kz):
+        at = psi - kz * z
+        ut = RG * (1 - kz * dz) + mu * np.sin(at)
+        up = (muz_t - lam[0] - RG * (lam[1] * np.cos(at) + lam[2] * np.sin(at))
+              - mu * b_t * np.cos(at))
+        return ut, up, at
+
+    def periodic(lam):
+        def rhs(psi, y):
+            ut, up, _ = velocities(psi, y[0], y[1], lam, 1.0)
+            drag = -(th_t * ut * up + up**2) + dl * ut**2
+            return [y[1], -nu**2 * y[0] - 2 * zl * nu * y[1] + 4 * nb * (drag * RG) @ WG]
+
+        def period(y0):
+            return solve_ivp(rhs, (0, 2 * np.pi), y0, method="DOP853", rtol=1e-12,
+                             atol=1e-15, dense_output=True)
+        y0 = fsolve(lambda y: period(y).y[:, -1] - y, [0.0, 0.0], xtol=1e-13)
+        sol = period(y0)
+        assert np.abs(sol.y[:, -1] - y0).max() < 1e-11
+        return sol
+
+    def residual(lam):
+        sol = periodic(lam)
+        psi = np.linspace(0, 2 * np.pi, 128, endpoint=False)
+        z, dz = sol.sol(psi)
+        c = np.zeros(3)
+        for ps, zz, dd in zip(psi, z, dz):
+            ut, up, at = velocities(ps, zz, dd, lam, kz)
+            lift = th_t * ut**2 + up * ut
+            c += 0.5 * np.array([lift @ WG, -(RG * np.cos(at) * lift) @ WG,
+                                 -(RG * np.sin(at) * lift) @ WG]) / len(psi)
+        return lmat @ c - lam, sol
+
+    lam = np.array([lam_guess, 0.0, 0.0])
+    # Newton's method with the first Jacobian: the loads are nearly linear in lam
+    # (at hover the guess, the rigid blades' momentum inflow, is the trim: the steady
+    # lag turns an axisymmetric rotor and leaves its thrust)
+    f0, sol = residual(lam)
+    if np.abs(f0).max() > 1e-12:
+        jac = np.column_stack([(residual(lam + 1e-6 * e)[0] - f0) / 1e-6
+                               for e in np.eye(3)])
+    for _ in range(4 if np.abs(f0).max() > 1e-12 else 0):
+        lam = lam - np.linalg.solve(jac, f0)
+        f0, sol = residual(lam)
+        if np.abs(f0).max() < 1e-12:
+            break
+    assert np.abs(f0).max() < 1e-11
+    at = np.mod(psi0 + 2 * np.pi * np.arange(N_BLADES) / N_BLADES, 2 * np.pi)
+    return lam, sol.sol(at)
 
 
 def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
@@ -105,11 +145,12 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
     of the perturbations about the trim.
 
     The trim holds the blades at a steady lag (the drag; periodic in forward
-    flight): each blade's trim lag is integrated with the perturbations (two more
-    states a blade, started periodic, :func:`_steady_lag`); the blades meet the
-    free stream and the inflow and their lift acts on the hub at ``psi - zeta``, the
-    trim's lag included, and its lag rate acts in ``U_T`` and in the Coriolis
-    moments."""
+    flight) and the inflow at the blades' mean loads (``lam_t``: a first guess of
+    its collective part): each blade's trim lag is integrated with the
+    perturbations (two more states a blade, started periodic, :func:`_route_trim`);
+    the blades meet the free stream and the inflow and their lift acts on the hub
+    at ``psi - zeta``, the trim's lag included, and its lag rate acts in ``U_T``
+    and in the Coriolis moments."""
     om, mu, nb = k.omega, k.mu, p["n_beta"]
     lb2, tau = p["lambda_beta2"], p["tau"]
     nu, zl, kf = p["nu_zeta"], p["zeta_lag"], p["k_flap_lag"]
@@ -141,8 +182,8 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
             at = ps - zc
             d_lam = 1j * H * (lam[0] + RG * (lam[1] * np.cos(at) + lam[2] * np.sin(at)))
             ut = RG * (1 - kz * (dzt[:, None] + 1j * H * dze)) + mu * np.sin(at)
-            up = muz_t - lam_t - d_lam - RG * 1j * H * dbe - mu * (
-                b_t + 1j * H * be) * np.cos(at)
+            up = (muz_t - lam_t[0] - RG * (lam_t[1] * np.cos(at) + lam_t[2] * np.sin(at))
+                  - d_lam - RG * 1j * H * dbe - mu * (b_t + 1j * H * be) * np.cos(at))
             return ut, up, at
 
         ut, up, _ = velocities(1.0)
@@ -174,8 +215,9 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
         dy[n_pert:] = dtr.ravel()
         return dy
 
+    lam_t, lag_t = _route_trim(k, p, th_t, b_t, muz_t, lam_t, psi0)
     y0 = np.zeros(n_pert + 2 * N_BLADES)
-    y0[n_pert:] = _steady_lag(k, p, th_t, b_t, muz_t, lam_t, psi0).T.ravel()
+    y0[n_pert:] = lag_t.T.ravel()
     psi_end = t_end * om
     ps = np.linspace(0, psi_end, int(t_end * 100) + 1)
     sol = solve_ivp(rhs, (0, psi_end), y0, method="DOP853", t_eval=ps,
