@@ -24,10 +24,16 @@ Parameters: ``nu_zeta`` [per rev] the rotating lag frequency, ``zeta_lag`` [-] t
 lag damper's damping ratio (``C_zeta = 2 zeta_lag nu_zeta``), ``k_flap_lag`` [-]
 a scale on the lag's action on flap and inflow (theory 1; neutral 0: the lag
 states are then driven but drive nothing, so the structure without the effect is
-exactly nested, not on a boundary).  Linearised about the trim (``Constants.trim``,
-``about_trim``): collective, coning and the trim up-flow ``muz - lambda0`` (the
-basic model's trim inflow, as ``advance-ratio-perturbation``'s); the cyclic trim and
-the in-plane velocity inputs are not carried in the lag's terms.
+exactly nested, not on a boundary).  Linearised about the forward-flight trim
+(``Constants.trim``, ``about_trim``; ``model.md`` 9.1, "The forward-flight trim"):
+the trim's pitch and flap with their cyclics, the structure's trim inflow (the basic
+model's, or Eq. (14)'s with ``momentum-speed``, as ``advance-ratio-perturbation``'s)
+moved by the steady lag's share of the trim's loads, and the steady lag the trim's
+drag and Coriolis moment hold (:func:`steady_lag`, from ``nu_zeta``, ``zeta_lag``,
+``n_beta``: no parameter of its own).  The steady lag also has a share of the base
+flap and inflow rows' own columns (the blades meet the free stream and the inflow,
+and their lift acts, at ``psi - zeta``), scaled by ``k_flap_lag`` with the rest of
+the lag's action.  The in-plane velocity inputs are not carried.
 
 Two parts (``Effect.parts``): the coupling ``k_flap_lag``, then the frequency and the
 damper.  Where ``k_flap_lag = 0`` the lag's frequency and damper act on nothing (they
