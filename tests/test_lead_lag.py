@@ -400,3 +400,42 @@ def test_the_lag_sees_the_servos_pitch():
     g = 1.0 / ((0.03 * sv) ** 2 + 2 * 0.6 * 0.03 * sv + 1.0)
     np.testing.assert_allclose(h[:, :3], h0[:, :3] * g, rtol=0,
                                atol=1e-12 * np.abs(h0).max())
+
+
+def test_the_forward_flight_trims_coriolis_terms():
+    """The inertial part of the trim's couplings (``model.md`` 9.1, "The forward-flight
+    trim"), projected by hand: with ``n_beta = 0`` and no steady lag the generated
+    coefficients are exactly ``2 beta zeta'`` in the flap rows and ``-2 beta beta'``
+    in the lag rows about the cyclic flap ``(b0, b1c, b1s)``, and the lag's trim
+    moment is the cyclic flap's Coriolis moment."""
+    from inflowsim.physics import lead_lag_terms as lt
+    b0, b1c, b1s = 0.1, -0.05, 0.03
+    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
+    flap, lag, _ = lt.terms(*args, (0.0, 0.0, 0.0))
+    # columns zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s'
+    np.testing.assert_allclose(flap[:, 15:], [[0, -b1s, b1c, 2 * b0, b1c, b1s],
+                                              [0, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
+                                              [0, -2 * b0, 0, 2 * b1s, 0, 2 * b0]],
+                               atol=1e-15)
+    # columns beta0, beta1c, beta1s, beta0', beta1c', beta1s'
+    np.testing.assert_allclose(lag[:, :6], -np.array([[0, 0, 0, 2 * b0, b1c, b1s],
+                                                      [2 * b1s, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
+                                                      [-2 * b1c, -2 * b0, 0, 2 * b1s, 0, 2 * b0]]),
+                               atol=1e-15)
+    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c],
+                               atol=1e-15)
+    # no aerodynamics: nothing on the inflow and the inputs; no steady lag: nothing
+    # on the base columns of the flap rows
+    assert np.all(lag[:, 6:15] == 0) and np.all(flap[:, :15] == 0)
+
+
+@pytest.mark.slow
+def test_the_generated_coefficients_are_the_derivations_output():
+    """``inflowsim/physics/lead_lag_terms.py`` is what ``bench/lead_lag_derivation.py``
+    writes (the derivation also checks that the lag-free blades' columns are the
+    base model's matrices); about a minute of sympy."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    script = Path(__file__).resolve().parents[1] / "bench" / "lead_lag_derivation.py"
+    assert subprocess.run([sys.executable, str(script), "--check"]).returncode == 0
