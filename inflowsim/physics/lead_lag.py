@@ -33,6 +33,9 @@ import numpy as np
 
 from . import lead_lag_terms as lt
 
+#: The effect's name (its run-time solves in the FMU, :func:`runtime`).
+NAME = "lead-lag"
+
 #: Blade section profile drag coefficient ``c_d0`` [-] (NACA 0012 at the small
 #: angles of a trimmed rotor; Johnson, *Helicopter Theory*, uses 0.01).
 CD0 = 0.01
@@ -70,10 +73,16 @@ def lag_structure(nu_zeta, zeta_lag):
                  [o, c, -k, o, 2 + o, -c]])
 
 
-def _solve3(a, b):
-    """``a^-1 b`` for a 3 x 3 ``a``: LAPACK for numbers, Cramer's rule for symbols."""
+def _solve3(a, b, numeric=None):
+    """``a^-1 b`` for a 3 x 3 ``a``: LAPACK for numbers; traced on symbols for the
+    FMU (``numeric``, the constants' ``k.numeric``) a run-time call, the generated C
+    solving the system (:func:`runtime`: a symbolic solve's nested quotients grow
+    past what the code generator expands); Cramer's rule for symbols otherwise."""
     if a.dtype != object and np.asarray(b).dtype != object:
         return np.linalg.solve(a, b)
+    if numeric is not None:
+        args = tuple(a.ravel()) + tuple(np.asarray(b).ravel())
+        return numeric(NAME, args, ((3, 1),))[0][:, 0]
     m = [[a[i, j] for j in range(3)] for i in range(3)]
 
     def d3(x):
@@ -88,7 +97,17 @@ def _solve3(a, b):
     return np.array(out, dtype=object)
 
 
-def steady_lag(structure, stiffness, moment):
+def runtime():
+    """What the FMU solves at run time for :func:`_solve3` (a
+    :class:`~inflowsim.model.effects.RuntimeLinear` of twelve arguments: the 3 x 3
+    matrix row by row, then the right-hand side)."""
+    from ..model.effects._effect import RuntimeLinear
+    return RuntimeLinear(
+        n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
+        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
+
+
+def steady_lag(structure, stiffness, moment, numeric=None):
     """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] of the trim: the averaged lag
     rows at rest, ``(S + A) zeta_t + Z_t = 0``, with ``S`` the spring, damper and
     rotating-frame displacement terms (:func:`lag_structure`), ``A`` the lag rows'
@@ -96,11 +115,11 @@ def steady_lag(structure, stiffness, moment):
     :func:`lead_lag_terms.lag_stiffness`) and ``Z_t`` the lag's trim
     moment (:func:`lead_lag_terms.lag_trim`: the drag and the Coriolis moment of
     the cyclic flap)."""
-    return _solve3(structure[:, :3] + stiffness, -moment)
+    return _solve3(structure[:, :3] + stiffness, -moment, numeric)
 
 
 def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
-                 g_lambda=None):
+                 g_lambda=None, numeric=None):
     """The lag's multiblade coefficients about a forward-flight trim.
 
     Parameters
@@ -121,6 +140,9 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
         ``(I - L G_lambda)^-1 L dc`` (two fixed-point steps: the share is a few
         per cent of the cyclic loads; the steady lag and the inflow are found
         together to the square of that).  Without them the inflow is ``lam``.
+    numeric : callable, optional
+        Traced for the FMU: the constants' ``k.numeric`` (the 3 x 3 solves run in
+        the generated C, :func:`runtime`).
 
     Returns
     -------
@@ -135,20 +157,25 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
         The trim inflow they are linearised about [-].
     """
     s_x = lag_structure(nu_zeta, zeta_lag)
+    if numeric is not None:
+        # traced: the trim inflow once at run time (its closed form is a quotient
+        # that every coefficient would otherwise carry into the generator's expansion)
+        lam = _solve3(np.eye(3).astype(object), np.asarray(lam, dtype=object), numeric)
     lam_t = np.asarray(lam)
 
     def at(lam_t):
         args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
-        return args, steady_lag(s_x, lt.lag_stiffness(*args), lt.lag_trim(*args))
+        return args, steady_lag(s_x, lt.lag_stiffness(*args), lt.lag_trim(*args), numeric)
 
     args, zt = at(lam_t)
     if lm is not None:
         a = np.eye(3) - lm @ g_lambda
         for _ in range(2):
-            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt)))
+            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt)),
+                                              numeric)
             args, zt = at(lam_t)
     return (zt, *lt.terms(*args, tuple(zt)), lam_t)
 
 
-__all__ = ["CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
+__all__ = ["NAME", "CD0", "runtime", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
            "coefficients"]

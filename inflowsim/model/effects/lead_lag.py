@@ -90,7 +90,7 @@ def coefficients(p, k):
 
 def _coefficients(args, k):
     return ll.coefficients(*args, ld.momentum_l(k.mu, k.a0s, k.flow_speed),
-                           ld.g_lambda(k.mu))
+                           ld.g_lambda(k.mu), getattr(k, "numeric", None))
 
 
 def _read_only(out):
@@ -209,6 +209,7 @@ EFFECT = Effect(
     parts=(("k_flap_lag",), ("nu_zeta", "zeta_lag")),
     parts_in_order=True,
     states=STATES,
+    runtime=ll.runtime,
 )
 
 
