@@ -448,7 +448,9 @@ def equations_c(structures) -> str:
     for i, st in enumerate(structures):
         s, e, a, b, meas, calls = _trace(st)
         states.add(e.shape[0])
-        numeric += [c[0] for c in calls if c[0] not in numeric]
+        for c in calls:                       # each effect's function once (lead-lag
+            if c[0] not in numeric:           # calls its solve several times)
+                numeric.append(c[0])
         body += (_descriptor_c(s, e, a, b, i, sp, calls) + _measurement_c(meas, i, sp)
                  + _loads_c(s, meas, i, sp))
     from ..model.effects import RuntimeLinear
