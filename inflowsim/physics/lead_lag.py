@@ -33,7 +33,7 @@ import numpy as np
 
 from . import lead_lag_terms as lt
 
-#: The effect's name (its run-time solves in the FMU, :func:`runtime`).
+#: The effect's name (its run-time solves in the FMU: the effect's ``runtime``).
 NAME = "lead-lag"
 
 #: Blade section profile drag coefficient ``c_d0`` [-] (NACA 0012 at the small
@@ -76,7 +76,7 @@ def lag_structure(nu_zeta, zeta_lag):
 def _solve3(a, b, numeric=None):
     """``a^-1 b`` for a 3 x 3 ``a``: LAPACK for numbers; traced on symbols for the
     FMU (``numeric``, the constants' ``k.numeric``) a run-time call, the generated C
-    solving the system (:func:`runtime`: a symbolic solve's nested quotients grow
+    solving the system (the effect's ``runtime``: a symbolic solve's nested quotients grow
     past what the code generator expands); Cramer's rule for symbols otherwise."""
     if a.dtype != object and np.asarray(b).dtype != object:
         return np.linalg.solve(a, b)
@@ -95,16 +95,6 @@ def _solve3(a, b, numeric=None):
         mj = [[b[i] if c == j else m[i][c] for c in range(3)] for i in range(3)]
         out.append(d3(mj) / dm)
     return np.array(out, dtype=object)
-
-
-def runtime():
-    """What the FMU solves at run time for :func:`_solve3` (a
-    :class:`~inflowsim.model.effects.RuntimeLinear` of twelve arguments: the 3 x 3
-    matrix row by row, then the right-hand side)."""
-    from ..model.effects._effect import RuntimeLinear
-    return RuntimeLinear(
-        n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
-        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
 
 
 def steady_lag(structure, stiffness, moment, numeric=None):
@@ -142,7 +132,7 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
         together to the square of that).  Without them the inflow is ``lam``.
     numeric : callable, optional
         Traced for the FMU: the constants' ``k.numeric`` (the 3 x 3 solves run in
-        the generated C, :func:`runtime`).
+        the generated C, the effect's ``runtime``).
 
     Returns
     -------
@@ -177,5 +167,5 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     return (zt, *lt.terms(*args, tuple(zt)), lam_t)
 
 
-__all__ = ["NAME", "CD0", "runtime", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
+__all__ = ["NAME", "CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
            "coefficients"]

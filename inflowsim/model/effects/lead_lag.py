@@ -46,7 +46,7 @@ second part once the coupling is in, where they are identified.
 """
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, RuntimeLinear
 from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
@@ -163,6 +163,16 @@ def _base_terms(eq, p, k):
         p_u=eq.p_u + np.hstack([lm @ _bias(loads, p), zu]))
 
 
+def _runtime():
+    """What the FMU solves at run time for the lag's 3 x 3 systems (the steady lag,
+    the trim inflow: :func:`inflowsim.physics.lead_lag.coefficients` traced): a
+    :class:`RuntimeLinear` of twelve arguments, the matrix row by row, then the
+    right-hand side."""
+    return RuntimeLinear(
+        n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
+        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
+
+
 def _equations(eq, p, k):
     eq = _base_terms(eq, p, k)
     return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1]),))
@@ -209,7 +219,7 @@ EFFECT = Effect(
     parts=(("k_flap_lag",), ("nu_zeta", "zeta_lag")),
     parts_in_order=True,
     states=STATES,
-    runtime=ll.runtime,
+    runtime=lambda: _runtime(),
 )
 
 
