@@ -1,59 +1,279 @@
-"""Derivation of the lead-lag effect's multiblade coefficients (``model.md`` 9.1).
+"""Derivation of the lead-lag effect's multiblade coefficients about a forward-flight
+trim (``model.md`` 9.1); writes :mod:`inflowsim.physics.lead_lag_terms`.
 
-Single blade, rigid, central hinge with equivalent springs, lag ``zeta`` positive
-aft; blade-element lift ``theta U_T^2 + U_P U_T`` and in-plane (aft) force
-``-(theta U_T U_P + U_P^2) + delta U_T^2`` with ``U_T = r (1 - zeta') + mu sin(psi -
-zeta)``, ``U_P = muz - lambda_i - r beta' - mu beta cos(psi - zeta) + r (p sin psi + q
-cos psi)``, linearised about the axisymmetric trim (``theta_t``, ``beta_t``, up-flow
-``u = muz_t - lambda0_t``), projected on ``(1, 2 cos psi, 2 sin psi)`` (flap, lag) and
-``(1, -r cos(psi - zeta), -r sin(psi - zeta)) / 2`` (loads: the lagged blade's lift
-acts where the blade is) and averaged over the azimuth.  Prints the
-coefficients that :mod:`inflowsim.physics.lead_lag` holds (about a minute of sympy).
+Single blade, rigid, central hinge with equivalent springs, flap ``beta`` up, lag
+``zeta`` positive aft (against the rotation), azimuth time, moments over ``I_b
+Omega^2`` (Johnson, *Helicopter Theory* ch. 9 and 12; *Rotorcraft Aeromechanics*
+ch. 16-17).  Right-hand sides (the lag spring ``nu^2 zeta`` and damper ``C zeta'``
+and the multiblade transformation's rotating-frame terms are the effect's own,
+:func:`inflowsim.physics.lead_lag.lag_structure`)::
 
-    python bench/lead_lag_derivation.py
+    flap:  4 n_beta int_0^1 r (theta U_T^2 + U_P U_T) dr          + 2 beta zeta' - beta zeta'^2
+    lag:   4 n_beta int_0^1 r (-(theta U_T + U_P) U_P + delta U_T^2) dr - 2 beta beta' (1 - zeta')
+    loads: (C_T, C_mc, C_ms) / (a0 s) = 1/2 int_0^1 (1, -r cos(psi - zeta), -r sin(psi - zeta)) (theta U_T^2 + U_P U_T) dr
+
+(the Lagrangian inertia of a point-mass blade, ``sin beta cos beta -> beta``,
+``cos^2 beta -> 1``), ``U_T = r (1 - zeta') + mu sin(psi - zeta)``, ``U_P = muz -
+lambda0 - r ((lambda1c - qbar) cos(psi - zeta) + (lambda1s - pbar) sin(psi - zeta)) -
+r beta' - mu beta cos(psi - zeta)``: the blade meets the free stream, the inflow and
+the body rates where it is, at ``psi - zeta``; the swashplate sets its pitch
+``theta = theta0 + theta1c cos psi + theta1s sin psi`` at the hub azimuth.
+
+Linearised about a forward-flight trim in multiblade coordinates: pitch
+``(th0, th1c, th1s)``, flap ``(b0, b1c, b1s)`` (the blade at ``b0 + b1c cos psi + b1s
+sin psi``, its rate ``-b1c sin psi + b1s cos psi``), up-flow ``u = muz - lambda0``,
+cyclic inflow ``(l1c, l1s)`` and the steady lag ``(z0, z1c, z1s)``.  Every product
+of the trim is kept; the collective steady lag exactly (it turns the blades'
+azimuth: ``cos z0``, ``sin z0``), the cyclic steady lag to first order
+(``sin(psi - zeta)`` to second order in ``zeta``, so that its product with a lag
+perturbation is kept).  Each
+right-hand side is projected on ``(1, 2 cos psi, 2 sin psi)`` (loads: 1) and
+averaged over the azimuth (the constant-coefficient approximation of the base
+model, section 2).  Polynomial arithmetic in sympy's sparse rings (a few seconds).
+
+    python bench/lead_lag_derivation.py            # writes the module
+    python bench/lead_lag_derivation.py --check    # exit 1 if it differs
 """
+import sys
+from math import prod
+from pathlib import Path
+
 import sympy as sp
+from sympy import QQ
+from sympy.polys.rings import ring
 
-r, psi, mu, nb, dl = sp.symbols("r psi mu nb dl", real=True)
-th, b, u = sp.symbols("th b u", real=True)
-NAMES = ["b0", "b1c", "b1s", "db0", "db1c", "db1s", "l0", "l1c", "l1s", "t0", "t1c", "t1s",
-         "muz", "q", "p", "z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
-V = dict(zip(NAMES, sp.symbols(NAMES, real=True)))
-c, s = sp.cos(psi), sp.sin(psi)
-zeta = V["z0"] + V["z1c"] * c + V["z1s"] * s
-dzeta = V["dz0"] + (V["dz1c"] + V["z1s"]) * c + (V["dz1s"] - V["z1c"]) * s
-beta = V["b0"] + V["b1c"] * c + V["b1s"] * s
-dbeta = V["db0"] + (V["db1c"] + V["b1s"]) * c + (V["db1s"] - V["b1c"]) * s
-UT = r * (1 - dzeta) + mu * sp.sin(psi - zeta)
-UP = (u + V["muz"] - (V["l0"] + r * (V["l1c"] * c + V["l1s"] * s)) - r * dbeta
-      - mu * (b + beta) * sp.cos(psi - zeta) + r * (V["p"] * s + V["q"] * c))
-TH = th + V["t0"] + V["t1c"] * c + V["t1s"] * s
-LIFT = TH * UT**2 + UP * UT
-DRAG = -(TH * UT * UP + UP**2) + dl * UT**2
+OUT = Path(__file__).resolve().parents[1] / "inflowsim" / "physics" / "lead_lag_terms.py"
+#: perturbations, the columns of the generated matrices
+COLS = ["b0", "b1c", "b1s", "db0", "db1c", "db1s", "l0", "l1c", "l1s", "t0", "t1c", "t1s",
+        "muz", "q", "p", "z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
+#: the trim: pitch, flap, up-flow, cyclic inflow, steady lag
+TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "u", "l1c_t", "l1s_t"]
+LAG_TRIM = ["cz0", "sz0", "z1ct", "z1st"]
+GENS = ["h", "eps", "C", "S", "r", "mu", "nb", "dl"] + TRIM + LAG_TRIM + ["d_" + c for c in COLS]
 
 
-def linear(f):
-    zero = {x: 0 for x in V.values()}
-    return {n: sp.expand(sp.expand_trig(sp.diff(f, x).subs(zero))) for n, x in V.items()}
+def derive():
+    """``{name: (3 x 21 matrix, or 3 vector) of sympy expressions}``."""
+    R, *G = ring(GENS, QQ)
+    g = dict(zip(GENS, G))
+    h, eps, C, S, r, mu, nb, dl = (g[k] for k in GENS[:8])
+
+    def tr(p):          # first order in the perturbation (h) and in the steady lag (eps)
+        return R({m: c for m, c in p.items() if m[0] <= 1 and m[1] <= 1})
+
+    def mul(*a):
+        out = a[0]
+        for x in a[1:]:
+            out = tr(out * x)
+        return out
+
+    v = {c: h * g["d_" + c] for c in COLS}
+    t = g
+    # the steady lag: its collective part exactly (a turn of the blade's azimuth,
+    # cz0 = cos zeta0_t, sz0 = sin zeta0_t), its cyclic part to first order
+    zeta = (eps * (t["z1ct"] * C + t["z1st"] * S)
+            + v["z0"] + v["z1c"] * C + v["z1s"] * S)
+    dzeta = (eps * (-t["z1ct"] * S + t["z1st"] * C)
+             + v["dz0"] + (v["dz1c"] + v["z1s"]) * C + (v["dz1s"] - v["z1c"]) * S)
+    beta = t["b0t"] + t["b1ct"] * C + t["b1st"] * S + v["b0"] + v["b1c"] * C + v["b1s"] * S
+    dbeta = (-t["b1ct"] * S + t["b1st"] * C + v["db0"] + (v["db1c"] + v["b1s"]) * C
+             + (v["db1s"] - v["b1c"]) * S)
+    z2 = mul(zeta, zeta)
+    s0 = S * t["cz0"] - C * t["sz0"]                # sin(psi - zeta0_t)
+    c0 = C * t["cz0"] + S * t["sz0"]                # cos(psi - zeta0_t)
+    sa = s0 - mul(s0, z2) / 2 - mul(c0, zeta)       # sin(psi - zeta)
+    ca = c0 - mul(c0, z2) / 2 + mul(s0, zeta)       # cos(psi - zeta)
+    ut = r * (1 - dzeta) + mu * sa
+    up = tr(t["u"] + v["muz"] - v["l0"] - mul(r, t["l1c_t"] + v["l1c"] - v["q"], ca)
+            - mul(r, t["l1s_t"] + v["l1s"] - v["p"], sa) - r * dbeta - mul(mu, beta, ca))
+    th = t["th0"] + v["t0"] + (t["th1c"] + v["t1c"]) * C + (t["th1s"] + v["t1s"]) * S
+    lift = tr(mul(th, ut, ut) + mul(up, ut))
+    drag = tr(-mul(mul(th, ut) + up, up) + dl * mul(ut, ut))
+    flap = tr(4 * nb * r * lift + 2 * mul(beta, dzeta) - mul(beta, dzeta, dzeta))
+    lag = tr(4 * nb * r * drag - 2 * mul(beta, dbeta, 1 - dzeta))
+    loads = [lift / 2, -mul(r, ca, lift) / 2, -mul(r, sa, lift) / 2]
+
+    def dfact(n):
+        return prod(range(n, 0, -2)) if n > 0 else 1
+
+    def average(p):     # (1/2 pi) int d psi int_0^1 dr of a polynomial in C, S, r
+        out = {}
+        for m, c in p.items():
+            a, b, k = m[2], m[3], m[4]
+            if a % 2 or b % 2:
+                continue
+            key = m[:2] + (0, 0, 0) + m[5:]
+            out[key] = out.get(key, 0) + c * QQ(dfact(a - 1) * dfact(b - 1), dfact(a + b)) \
+                / (k + 1)
+        return R({m: c for m, c in out.items() if c})
+
+    syms = {n: sp.Symbol(n) for n in GENS}
+
+    def split(p):
+        """``(zero-order value, {column: coefficient})`` of an averaged polynomial,
+        as sympy expressions in the trim (eps set to 1: first order kept)."""
+        e = p.as_expr(*[syms[n] for n in GENS]).subs({syms["eps"]: 1})
+        # cos^2 + sin^2 = 1 of the collective steady lag
+        e = sp.expand(sp.expand(e).subs(syms["cz0"] ** 2, 1 - syms["sz0"] ** 2))
+        hh = syms["h"]
+        lin = sp.expand(e.coeff(hh, 1))
+        return e.coeff(hh, 0), {c: lin.coeff(syms["d_" + c]) for c in COLS}
+
+    out, lag_free = {}, {}
+    no_lag = {syms["cz0"]: 1, syms["sz0"]: 0, syms["z1ct"]: 0, syms["z1st"]: 0}
+    for name, f, weights in (("flap", flap, (1, 2 * C, 2 * S)), ("lag", lag, (1, 2 * C, 2 * S)),
+                             ("loads", None, None)):
+        rows, zero, free = [], [], []
+        for i in range(3):
+            p = average(tr(f * weights[i]) if f is not None else loads[i])
+            z, lin = split(p)
+            if name != "lag":
+                # the flap and load columns of the base states and inputs: the
+                # lag-free blades' are the base model's own (checked below); the
+                # effect adds the steady lag's share
+                free.append([lin[c].subs(no_lag) for c in COLS[:15]])
+                lin = {c: sp.expand(lin[c] - (free[-1][j] if j < 15 else 0))
+                       for j, c in enumerate(COLS)}
+            rows.append([lin[c] for c in COLS])
+            zero.append(z)
+        out[name] = rows
+        lag_free[name] = free
+        if name == "lag":
+            out["lag_trim"] = [sp.expand(z.subs(no_lag)) for z in zero]
+            # the lag rows' displacement columns without steady lag (its stiffness)
+            out["lag_stiffness"] = [[sp.expand(r[j].subs(no_lag)) for j in range(15, 18)]
+                                    for r in rows]
+        if name == "loads":
+            # the steady lag's share of the trim's loads (it moves the trim inflow)
+            out["load_trim"] = [sp.expand(z - z.subs(no_lag)) for z in zero]
+    _check_base(lag_free, syms)
+    return out
 
 
-def project(f, w):
-    e = sp.integrate(sp.expand(w * f), (r, 0, 1))
-    return sp.factor(sp.expand(sp.integrate(sp.expand(e), (psi, 0, 2 * sp.pi)) / (2 * sp.pi)))
+#: What the base flap rows hold besides the blade-element moments: the
+#: multiblade transformation's rotating-frame terms with the flap inertia
+#: (``beta1c'' = ... + beta1c - 2 beta1s'``, the first-order model's ``C``, ``D``
+#: with ``lambda_beta2 = 0``) and the hub's gyroscopic moments (``2 pbar``, ``-2 qbar``).
+INERTIAL = {("flap", 1, "b1c"): -1, ("flap", 2, "b1s"): -1, ("flap", 1, "db1s"): 2,
+            ("flap", 2, "db1c"): -2, ("flap", 1, "p"): -2, ("flap", 2, "q"): 2}
+
+
+def _check_base(free, syms):
+    """The lag-free blades' flap and load columns (states and the first six inputs)
+    are the base model's matrices (``model.md`` sections 2-3), exactly: whatever the
+    trim (they do not depend on it)."""
+    import numpy as np
+    from inflowsim.physics import flapping as fl
+    from inflowsim.physics import loads as ld
+    mu, nb = syms["mu"], syms["nb"]
+    flap = np.hstack([-fl.flap_d(mu, nb, 0), -fl.flap_c(mu, nb), fl.flap_h_lambda(mu, nb),
+                      fl.flap_h_theta(mu, nb), fl.flap_h_nu(mu, nb)])
+    loads = np.hstack([ld.g_beta(mu), ld.g_dbeta(mu), ld.g_lambda(mu), ld.g_theta(mu),
+                       ld.g_nu(mu)])
+    for name, base in (("flap", flap), ("loads", loads)):
+        for i in range(3):
+            for j in range(15):
+                d = sp.nsimplify(sp.expand(sp.sympify(free[name][i][j]) - sp.sympify(base[i, j])
+                                           - INERTIAL.get((name, i, COLS[j]), 0)))
+                assert d == 0, (name, i, COLS[j], d)
+
+
+HEADER = '''"""Generated by ``bench/lead_lag_derivation.py`` (do not edit): the lead-lag
+effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
+
+:func:`terms` returns the averaged linear coefficients ``(flap, lag, loads)``, each
+3 x 21, rows ``(0, 1c, 1s)`` (flap and lag: the right-hand sides projected on ``(1,
+2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
+(flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
+:func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
+rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
+3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
+inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
+exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
+functions of numbers or of sympy symbols (the FMU's C is generated from them).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Columns of the matrices of :func:`terms`.
+COLS = {cols!r}
+
+
+def _arr(rows):
+    try:
+        return np.array(rows, dtype=float)
+    except TypeError:                # symbols: the FMU's generator
+        return np.array(rows, dtype=object)
+
+
+def _cos_sin(x):
+    try:
+        return math.cos(x), math.sin(x)
+    except TypeError:                # a symbol
+        import sympy
+        return sympy.cos(x), sympy.sin(x)
+
+'''
+
+
+def _code(e):
+    return sp.pycode(sp.collect(e, [sp.Symbol("nb")]), fully_qualified_modules=False)
+
+
+def _function(name, args, doc, setup, arrays):
+    """Python source of one function: common subexpressions (``x0, x1, ...``), then
+    each array of ``arrays`` (``{variable: rows (or a vector) of expressions}``),
+    returned as a tuple (one array: itself)."""
+    flat = [e for rows in arrays.values() for row in rows
+            for e in (row if isinstance(row, list) else [row])]
+    subs, reduced = sp.cse([sp.sympify(e) for e in flat], symbols=sp.numbered_symbols("x"),
+                           order="none")
+    lines = [f"\ndef {name}({args}):", f'    """{doc}"""'] + setup + ["    o = 0 * mu"]
+    lines += [f"    {v} = {_code(e)}" for v, e in subs]
+    it = iter(reduced)
+    for var, rows in arrays.items():
+        if rows and isinstance(rows[0], list):
+            lines.append(f"    {var} = _arr([")
+            for row in rows:
+                vals = [next(it) for _ in row]
+                lines.append("        [" + ", ".join(_code(e) if e != 0 else "o"
+                                                    for e in vals) + "],")
+            lines.append("    ])")
+        else:
+            vals = [next(it) for _ in rows]
+            lines.append(f"    {var} = _arr([" + ", ".join(_code(e) if e != 0 else "o"
+                                                          for e in vals) + "])")
+    lines.append(f"    return {', '.join(arrays)}\n")
+    return lines
+
+
+def render(out) -> str:
+    lines = [HEADER.format(cols=tuple(COLS))]
+    args = "mu, nb, dl, th, b, u, l1c_t, l1s_t"
+    unpack = ["    th0, th1c, th1s = th", "    b0t, b1ct, b1st = b"]
+    lag = ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)"]
+    lines += _function("terms", args + ", zt",
+                       "``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-].",
+                       unpack + lag, {n: out[n] for n in ("flap", "lag", "loads")})
+    lines += _function("lag_trim", args,
+                       "The lag rows' right-hand side at the trim without lag (3) [-].",
+                       unpack, {"moment": out["lag_trim"]})
+    lines += _function("lag_stiffness", args,
+                       "The lag rows' displacement columns (``COLS[15:18]``) without "
+                       "steady lag (3 x 3) [-].", unpack, {"stiffness": out["lag_stiffness"]})
+    lines += _function("load_trim", args + ", zt",
+                       "The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` "
+                       "(3) [-].", unpack + lag, {"loads": out["load_trim"]})
+    lines.append('\n__all__ = ["COLS", "terms", "lag_trim", "lag_stiffness", "load_trim"]\n')
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":
-    lag = ["z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
-    for title, f, weights, cols in (
-            ("flap rows (beta0, beta1c, beta1s) per lag", 4 * nb * r * LIFT, (1, 2 * c, 2 * s), lag),
-            ("lag rows (zeta0, zeta1c, zeta1s)", 4 * nb * r * DRAG, (1, 2 * c, 2 * s), NAMES)):
-        lin = linear(f)
-        print("#", title, cols)
-        for w in weights:
-            print([project(lin[n], w) for n in cols])
-    # the loads: a lagged blade's lift acts on the hub where the blade is, at
-    # psi - zeta (the weights linearised with the lift)
-    print("# loads (C_T, C_mc, C_ms)/(a0 s) per lag", lag)
-    for w in (1, -r * sp.cos(psi - zeta), -r * sp.sin(psi - zeta)):
-        lin = linear(LIFT / 2 * w)
-        print([project(lin[n], 1) for n in lag])
+    text = render(derive())
+    if "--check" in sys.argv:
+        sys.exit(0 if OUT.read_text() == text else 1)
+    OUT.write_text(text)
+    print(f"wrote {OUT} ({len(text)} characters)")

@@ -73,9 +73,84 @@ def _trim_inflow(mu, a0s, v, th, b, muz):
     return a0s / (2 * v) * c0 / (1 - a0s / (2 * v) * c1)
 
 
+def _route_trim(k, p, th_t, b_t, muz_t, lam_guess, psi0):
+    """The blades' trim: their periodic lag under the trim's drag (one blade's
+    nonlinear lag equation, the blade at ``psi - zeta``, its lag rate in ``U_T``;
+    the one-revolution map's fixed point) and the trim inflow ``lambda = L c`` with
+    the blades' mean loads at that lag (their lift acting at ``psi - zeta``, the
+    lag's action scaled by ``k_flap_lag``; Newton's method from ``lam_guess``).
+    Returns the trim inflow (3) and ``(zeta, zeta')`` of each of the four blades at
+    ``psi0``."""
+    from scipy.optimize import fsolve
+    mu, nb = k.mu, p["n_beta"]
+    nu, zl, kz = p["nu_zeta"], p["zeta_lag"], p["k_flap_lag"]
+    dl = 0.01 / k.a0
+    v = k.flow_speed
+    lmat = np.diag([k.a0s / (2 * v), -2 * k.a0s / v, -2 * k.a0s / v])
+
+    def velocities(psi, z, dz, lam, kz):
+        at = psi - kz * z
+        ut = RG * (1 - kz * dz) + mu * np.sin(at)
+        up = (muz_t - lam[0] - RG * (lam[1] * np.cos(at) + lam[2] * np.sin(at))
+              - mu * b_t * np.cos(at))
+        return ut, up, at
+
+    def periodic(lam):
+        def rhs(psi, y):
+            ut, up, _ = velocities(psi, y[0], y[1], lam, 1.0)
+            drag = -(th_t * ut * up + up**2) + dl * ut**2
+            return [y[1], -nu**2 * y[0] - 2 * zl * nu * y[1] + 4 * nb * (drag * RG) @ WG]
+
+        def period(y0):
+            return solve_ivp(rhs, (0, 2 * np.pi), y0, method="DOP853", rtol=1e-12,
+                             atol=1e-15, dense_output=True)
+        y0 = fsolve(lambda y: period(y).y[:, -1] - y, [0.0, 0.0], xtol=1e-13)
+        sol = period(y0)
+        assert np.abs(sol.y[:, -1] - y0).max() < 1e-11
+        return sol
+
+    def residual(lam):
+        sol = periodic(lam)
+        psi = np.linspace(0, 2 * np.pi, 128, endpoint=False)
+        z, dz = sol.sol(psi)
+        c = np.zeros(3)
+        for ps, zz, dd in zip(psi, z, dz):
+            ut, up, at = velocities(ps, zz, dd, lam, kz)
+            lift = th_t * ut**2 + up * ut
+            c += 0.5 * np.array([lift @ WG, -(RG * np.cos(at) * lift) @ WG,
+                                 -(RG * np.sin(at) * lift) @ WG]) / len(psi)
+        return lmat @ c - lam, sol
+
+    lam = np.array([lam_guess, 0.0, 0.0])
+    # Newton's method with the first Jacobian: the loads are nearly linear in lam
+    # (at hover the guess, the rigid blades' momentum inflow, is the trim: the steady
+    # lag turns an axisymmetric rotor and leaves its thrust)
+    f0, sol = residual(lam)
+    if np.abs(f0).max() > 1e-12:
+        jac = np.column_stack([(residual(lam + 1e-6 * e)[0] - f0) / 1e-6
+                               for e in np.eye(3)])
+    for _ in range(4 if np.abs(f0).max() > 1e-12 else 0):
+        lam = lam - np.linalg.solve(jac, f0)
+        f0, sol = residual(lam)
+        if np.abs(f0).max() < 1e-12:
+            break
+    assert np.abs(f0).max() < 1e-11
+    at = np.mod(psi0 + 2 * np.pi * np.arange(N_BLADES) / N_BLADES, 2 * np.pi)
+    return lam, sol.sol(at)
+
+
 def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
     """Four blades, rotating frame, integrated; returns ``t`` and the multiblade
-    ``(beta0, beta1c, beta1s, lambda0, lambda1c, lambda1s, zeta0, zeta1c, zeta1s)``."""
+    ``(beta0, beta1c, beta1s, lambda0, lambda1c, lambda1s, zeta0, zeta1c, zeta1s)``
+    of the perturbations about the trim.
+
+    The trim holds the blades at a steady lag (the drag; periodic in forward
+    flight) and the inflow at the blades' mean loads (``lam_t``: a first guess of
+    its collective part): each blade's trim lag is integrated with the
+    perturbations (two more states a blade, started periodic, :func:`_route_trim`);
+    the blades meet the free stream and the inflow and their lift acts on the hub
+    at ``psi - zeta``, the trim's lag included, and its lag rate acts in ``U_T``
+    and in the Coriolis moments."""
     om, mu, nb = k.omega, k.mu, p["n_beta"]
     lb2, tau = p["lambda_beta2"], p["tau"]
     nu, zl, kf = p["nu_zeta"], p["zeta_lag"], p["k_flap_lag"]
@@ -84,54 +159,68 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
     v = k.flow_speed
     lmat = np.diag([k.a0s / (2 * v), -2 * k.a0s / v, -2 * k.a0s / v])
     off = 2 * np.pi * np.arange(N_BLADES) / N_BLADES
+    n_pert = 4 * N_BLADES + 3
 
     def rhs(psi, y):
         t = psi / om
         th0, th1c, th1s = inputs(t)
         bl = y[:4 * N_BLADES].reshape(N_BLADES, 4)          # beta, beta', zeta, zeta'
-        lam = y[4 * N_BLADES:]
+        lam = y[4 * N_BLADES:n_pert]
+        zt, dzt = y[n_pert:].reshape(N_BLADES, 2).T         # the trim's lag
         dy = np.empty_like(y)
         # all blades at once: rows are blades, columns the Gauss radii
         ps = (psi + psi0 + off)[:, None]
         be, dbe, ze, dze = (bl[:, j, None] for j in range(4))
         # perturbation in the imaginary part: the exact linear part of the moments
         d_the = 1j * H * (th0 + th1c * np.cos(ps) + th1s * np.sin(ps))
-        d_lam = 1j * H * (lam[0] + RG * (lam[1] * np.cos(ps) + lam[2] * np.sin(ps)))
         the = th_t + d_the
 
         def velocities(kz):
-            # the lag's action on flap and loads scaled by kz (k_flap_lag)
-            zc = 1j * H * ze * kz
-            ut = RG * (1 - 1j * H * dze * kz) + mu * np.sin(ps - zc)
-            up = muz_t - lam_t - d_lam - RG * 1j * H * dbe - mu * (
-                b_t + 1j * H * be) * np.cos(ps - zc)
-            return ut, up
+            # the lag's action on flap and loads scaled by kz (k_flap_lag): the
+            # perturbation's and the trim's
+            zc = kz * (zt[:, None] + 1j * H * ze)
+            at = ps - zc
+            d_lam = 1j * H * (lam[0] + RG * (lam[1] * np.cos(at) + lam[2] * np.sin(at)))
+            ut = RG * (1 - kz * (dzt[:, None] + 1j * H * dze)) + mu * np.sin(at)
+            up = (muz_t - lam_t[0] - RG * (lam_t[1] * np.cos(at) + lam_t[2] * np.sin(at))
+                  - d_lam - RG * 1j * H * dbe - mu * (b_t + 1j * H * be) * np.cos(at))
+            return ut, up, at
 
-        ut, up = velocities(1.0)
+        ut, up, _ = velocities(1.0)
         drag = -(the * ut * up + up**2) + dl * ut**2
-        ut, up = velocities(kf)
+        ut, up, where = velocities(kf)
         lift = the * ut**2 + up * ut
         f_aero = (4 * nb * (lift * RG) @ WG).imag / H
-        z_aero = (4 * nb * (drag * RG) @ WG).imag / H
+        z_all = 4 * nb * (drag * RG) @ WG
+        z_aero = z_all.imag / H
         be, dbe, ze, dze = bl.T
-        # inertia: Coriolis pair from the Lagrangian (test above), springs, damper
+        # inertia: Coriolis pair from the Lagrangian (test above), 2 beta zeta' -
+        # beta zeta'^2 in the flap and 2 beta beta' (1 - zeta') in the lag,
+        # linearised about the trim's coning and lag rate; springs, damper
         d = np.empty((N_BLADES, 4))
         d[:, 0] = dbe
-        d[:, 1] = -lb2 * be + 2 * b_t * kf * dze + f_aero
+        d[:, 1] = -lb2 * be + kf * (2 * b_t * dze * (1 - dzt) + be * (2 * dzt - dzt**2)) \
+            + f_aero
         d[:, 2] = dze
-        d[:, 3] = -nu**2 * ze - c_z * dze - 2 * b_t * dbe + z_aero
+        d[:, 3] = -nu**2 * ze - c_z * dze - 2 * b_t * dbe * (1 - dzt) + z_aero
         dy[:4 * N_BLADES] = d.ravel()
         # each blade's lift acts on the hub where the blade is, at psi - zeta
-        where = ps - 1j * H * ze[:, None] * kf
         c = np.array([(lift @ WG).imag, -((RG * np.cos(where) * lift) @ WG).imag,
                       -((RG * np.sin(where) * lift) @ WG).imag]).sum(axis=1) * 0.5 / H / N_BLADES
-        dy[4 * N_BLADES:] = (lmat @ c - lam) / tau
+        dy[4 * N_BLADES:n_pert] = (lmat @ c - lam) / tau
+        # the trim's own lag (real: the moments at the trim)
+        dtr = np.empty((N_BLADES, 2))
+        dtr[:, 0] = dzt
+        dtr[:, 1] = -nu**2 * zt - c_z * dzt + z_all.real
+        dy[n_pert:] = dtr.ravel()
         return dy
 
-    n = 4 * N_BLADES + 3
+    lam_t, lag_t = _route_trim(k, p, th_t, b_t, muz_t, lam_t, psi0)
+    y0 = np.zeros(n_pert + 2 * N_BLADES)
+    y0[n_pert:] = lag_t.T.ravel()
     psi_end = t_end * om
     ps = np.linspace(0, psi_end, int(t_end * 100) + 1)
-    sol = solve_ivp(rhs, (0, psi_end), np.zeros(n), method="DOP853", t_eval=ps,
+    sol = solve_ivp(rhs, (0, psi_end), y0, method="DOP853", t_eval=ps,
                     rtol=1e-10, atol=1e-13)
     y = sol.y.T
     bl = y[:, :4 * N_BLADES].reshape(len(ps), N_BLADES, 4)
@@ -141,7 +230,7 @@ def _blade_route(k, p, th_t, b_t, muz_t, lam_t, inputs, t_end, psi0=0.0):
         q = bl[:, :, j]
         mb.append([q.mean(axis=1), 2 * (q * np.cos(ang)).mean(axis=1),
                    2 * (q * np.sin(ang)).mean(axis=1)])
-    out = np.column_stack([*mb[0], y[:, 4 * N_BLADES:], *mb[1]])
+    out = np.column_stack([*mb[0], y[:, 4 * N_BLADES:n_pert], *mb[1]])
     return ps / om, out
 
 
@@ -311,3 +400,42 @@ def test_the_lag_sees_the_servos_pitch():
     g = 1.0 / ((0.03 * sv) ** 2 + 2 * 0.6 * 0.03 * sv + 1.0)
     np.testing.assert_allclose(h[:, :3], h0[:, :3] * g, rtol=0,
                                atol=1e-12 * np.abs(h0).max())
+
+
+def test_the_forward_flight_trims_coriolis_terms():
+    """The inertial part of the trim's couplings (``model.md`` 9.1, "The forward-flight
+    trim"), projected by hand: with ``n_beta = 0`` and no steady lag the generated
+    coefficients are exactly ``2 beta zeta'`` in the flap rows and ``-2 beta beta'``
+    in the lag rows about the cyclic flap ``(b0, b1c, b1s)``, and the lag's trim
+    moment is the cyclic flap's Coriolis moment."""
+    from inflowsim.physics import lead_lag_terms as lt
+    b0, b1c, b1s = 0.1, -0.05, 0.03
+    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
+    flap, lag, _ = lt.terms(*args, (0.0, 0.0, 0.0))
+    # columns zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s'
+    np.testing.assert_allclose(flap[:, 15:], [[0, -b1s, b1c, 2 * b0, b1c, b1s],
+                                              [0, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
+                                              [0, -2 * b0, 0, 2 * b1s, 0, 2 * b0]],
+                               atol=1e-15)
+    # columns beta0, beta1c, beta1s, beta0', beta1c', beta1s'
+    np.testing.assert_allclose(lag[:, :6], -np.array([[0, 0, 0, 2 * b0, b1c, b1s],
+                                                      [2 * b1s, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
+                                                      [-2 * b1c, -2 * b0, 0, 2 * b1s, 0, 2 * b0]]),
+                               atol=1e-15)
+    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c],
+                               atol=1e-15)
+    # no aerodynamics: nothing on the inflow and the inputs; no steady lag: nothing
+    # on the base columns of the flap rows
+    assert np.all(lag[:, 6:15] == 0) and np.all(flap[:, :15] == 0)
+
+
+@pytest.mark.slow
+def test_the_generated_coefficients_are_the_derivations_output():
+    """``inflowsim/physics/lead_lag_terms.py`` is what ``bench/lead_lag_derivation.py``
+    writes (the derivation also checks that the lag-free blades' columns are the
+    base model's matrices); about a minute of sympy."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    script = Path(__file__).resolve().parents[1] / "bench" / "lead_lag_derivation.py"
+    assert subprocess.run([sys.executable, str(script), "--check"]).returncode == 0

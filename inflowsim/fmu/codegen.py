@@ -233,12 +233,17 @@ def _loads_c(s: Structure, meas, index: int, sp) -> list:
                 if x.is_zero is not True:
                     targets.append((f"{name}[{i * ncol + j}]", x))
     free = set().union(*(x.free_symbols for _, x in targets)) if targets else set()
+    # the run-time calls the load terms ask for (lead-lag's steady lag), made here
+    # as in the descriptor
+    calls = k.numeric.calls
+    free = free.union(*(sp.sympify(x).free_symbols for c in calls for x in c[1]))
     # an effect linearised about the trim inflow (lead-lag) has the speed through
     # the disc in its load terms: computed here as the descriptor's caller does
     speed = (["    const double V = ifs_flow_speed(v);"]
              if any(str(x) == "V" for x in free) else [])
     return ([f"static void loads_{index}(const IfsVariables *v, const double *a, "
-             "const double *b, double *lc, double *ld)", "{"] + speed +
+             "const double *b, double *lc, double *ld)", "{"] + speed
+            + _numeric_calls_c(calls, sp) +
             ["    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);",
              "    memset(ld, 0, sizeof(double) * IFS_NL * IFS_NU);"]
             + _assignments(sp, targets) + ["}", ""])
@@ -458,7 +463,9 @@ def equations_c(structures) -> str:
     for i, st in enumerate(structures):
         s, e, a, b, meas, calls = _trace(st)
         states.add(e.shape[0])
-        numeric += [c[0] for c in calls if c[0] not in numeric]
+        for c in calls:                       # each effect's function once (lead-lag
+            if c[0] not in numeric:           # calls its solve several times)
+                numeric.append(c[0])
         measurement = _measurement_c(meas, i, sp)
         cut = measurement.index("") + 1
         parts = {"descriptor": _descriptor_c(s, e, a, b, i, sp, calls),

@@ -121,7 +121,13 @@ def load_rows(a, b, effects, p, k, azimuth_bias, states, inputs):
         d = d + a0s * (w[:, :3] @ dbeta_u + w[:, 9:] @ u8)
     if llg.NAME in effects:
         # the lag's own term: its rate and displacement change the blades' airspeed
-        c = c + a0s * (llg.in_loads(p, k) @ _select(states, llg.STATES, n))
+        # and move their lift; and the steady lag's share of the base columns
+        w = llg.in_loads(p, k)
+        c = c + a0s * (w[:, 15:21] @ _select(states, llg.STATES, n) + w[:, 0:3] @ pb
+                       + w[:, 3:6] @ dbeta_x + w[:, 6:9] @ pl)
+        if through:
+            c = c + a0s * (w[:, 9:12] @ th_x)
+        d = d + a0s * (w[:, 3:6] @ dbeta_u + w[:, 9:12] @ th + w[:, 12:15] @ nu)
     for e in effects:
         eff = CATALOGUE.get(e)
         if eff is not None and eff.loads is not None:

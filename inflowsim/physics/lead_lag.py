@@ -3,35 +3,51 @@
 Rigid blade, flap and lag about a central hinge with equivalent springs (the lag
 frequency ``nu_zeta`` [per rev] holds a lag hinge offset's centrifugal stiffness),
 lag angle ``zeta`` positive *against* the rotation (aft, Johnson's convention),
-azimuth time (``' = d/dpsi``), moments over ``I_b Omega^2``.  Single blade, linear
-about an axisymmetric trim (collective ``theta_t``, coning ``beta_t``, trim up-flow
-``u = muz_t - lambda0_t``)::
+azimuth time (``' = d/dpsi``), moments over ``I_b Omega^2``::
 
-    beta'' + lambda_beta2 beta - 2 beta_t zeta'             = 4 n_beta int r (theta U_T^2 + U_P U_T) dr
-    zeta'' + C_zeta zeta' + nu_zeta^2 zeta + 2 beta_t beta' = 4 n_beta int r (-(theta U_T U_P + U_P^2) + delta U_T^2) dr
+    beta'' + lambda_beta2 beta - 2 beta zeta' + beta zeta'^2 = 4 n_beta int r (theta U_T^2 + U_P U_T) dr
+    zeta'' + C zeta' + nu^2 zeta + 2 beta beta' (1 - zeta') = 4 n_beta int r (-(theta U_T + U_P) U_P + delta U_T^2) dr
 
-with ``U_T = r (1 - zeta') + mu sin(psi - zeta)``, ``U_P = muz - lambda_i - r beta'
-- mu beta cos(psi - zeta) + r (pbar sin psi + qbar cos psi)`` (the base model's,
-section 1, with the blade's azimuth ``psi - zeta``), ``delta = c_d0 / a0`` the profile
-drag over the lift slope, ``C_zeta = 2 zeta_lag nu_zeta`` the lag damper.  The
-``2 beta_t`` terms are the Coriolis coupling (a blade flapping up comes nearer the
-shaft and, keeping its angular momentum, leads: ``zeta'' = -2 beta_t beta'``).
+with ``U_T = r (1 - zeta') + mu sin(psi - zeta)``, ``U_P = muz - lambda0 - r
+((lambda1c - qbar) cos(psi - zeta) + (lambda1s - pbar) sin(psi - zeta)) - r beta' - mu
+beta cos(psi - zeta)`` (the base model's, section 1, met by the blade where it is, at
+``psi - zeta``), ``delta = c_d0 / a0`` the profile drag over the lift slope, ``C =
+2 zeta_lag nu_zeta`` the lag damper.  The ``2 beta`` terms are the Coriolis coupling
+(a blade flapping up comes nearer the shaft and, keeping its angular momentum, leads).
 
-Projected on ``(1, 2 cos psi, 2 sin psi)`` and averaged over the azimuth (the base
-model's constant-coefficient approximation), with ``zeta = zeta0 + zeta1c cos psi
-+ zeta1s sin psi``.  The functions return the averaged coefficients; columns ``x =
-(zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s')``.  Derived with sympy
-(``bench/lead_lag_derivation.py``); checked against the individual-blade equations
-integrated blade by blade (``tests/test_lead_lag.py``).  Pure functions of numbers
-or of sympy symbols (the FMU's C is generated from them).
+Linearised about a forward-flight trim (pitch, flap and inflow with their cyclics,
+the steady lag the trim's drag holds), projected on ``(1, 2 cos psi, 2 sin psi)``
+and averaged over the azimuth (the base model's constant-coefficient
+approximation), with ``zeta = zeta0 + zeta1c cos psi + zeta1s sin psi``: the
+coefficients are :mod:`inflowsim.physics.lead_lag_terms`, derived with sympy by
+``bench/lead_lag_derivation.py``.  The steady lag is the steady state of the same
+averaged lag rows under the trim's lag moment (:func:`steady_lag`).  Checked against
+the individual-blade equations integrated blade by blade (``tests/test_lead_lag.py``)
+and against the blade truth's own equations differenced about its periodic trim
+(``tests/test_bladesim_lag.py``).  Pure functions of numbers or of sympy symbols
+(the FMU's C is generated from them).
 """
 from __future__ import annotations
 
 import numpy as np
 
+from . import lead_lag_terms as lt
+
+#: The effect's name (its run-time solves in the FMU: the effect's ``runtime``).
+NAME = "lead-lag"
+
 #: Blade section profile drag coefficient ``c_d0`` [-] (NACA 0012 at the small
 #: angles of a trimmed rotor; Johnson, *Helicopter Theory*, uses 0.01).
 CD0 = 0.01
+#: Columns of the multiblade coefficients (:data:`lead_lag_terms.COLS`): the base
+#: states ``z = (beta, lambda, beta')`` of a :class:`StateBlock`, the six
+#: azimuth-unit inputs ``(theta0, theta1c, theta1s, muz, qbar, pbar)``, the lag
+#: ``x = (zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s')``; and the base
+#: equations' blocks (flap, flap rate, inflow).
+Z_COLS = [0, 1, 2, 6, 7, 8, 3, 4, 5]
+U_COLS = list(range(9, 15))
+X_COLS = list(range(15, 21))
+BETA, DBETA, LAMBDA = slice(0, 3), slice(3, 6), slice(6, 9)
 
 
 def _arr(rows):
@@ -41,107 +57,115 @@ def _arr(rows):
         return np.array(rows, dtype=object)
 
 
-def flap_lag_aero(mu, nb, th, b, u):
-    """Aerodynamic flap moments of the lag, multiblade flap rows ``(beta0, beta1c,
-    beta1s)`` by ``x = (zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s')`` [-] (the
-    Coriolis terms are not in it: :func:`flap_coupling`)."""
-    o = 0 * mu
-    return _arr([
-        [o, -mu * nb * u, o, -2 * nb * (3 * th + 2 * u) / 3, 2 * b * mu * nb / 3,
-         -4 * mu * nb * th / 3],
-        [-2 * mu * nb * (4 * th + 3 * u) / 3, b * mu**2 * nb,
-         -nb * (3 * mu**2 * th + 6 * th + 4 * u) / 3, 4 * b * mu * nb / 3,
-         -2 * nb * (3 * th + 2 * u) / 3, o],
-        [-4 * b * mu * nb / 3, nb * (-3 * mu**2 * th + 6 * th + 4 * u) / 3,
-         -b * mu**2 * nb, -8 * mu * nb * th / 3, o, -2 * nb * (3 * th + 2 * u) / 3]])
-
-
-def flap_coupling(mu, nb, th, b, u):
-    """Everything the lag adds to the flap rows' right-hand side: the aerodynamic
-    moments and the Coriolis ``+2 beta_t zeta'`` projected, ``2 beta_t zeta0'``,
-    ``2 beta_t (zeta1c' + zeta1s)`` and ``2 beta_t (zeta1s' - zeta1c)`` [-]."""
-    o = 0 * b
-    cor = _arr([[o, o, o, 2 * b, o, o],
-                [o, o, 2 * b, o, 2 * b, o],
-                [o, -2 * b, o, o, o, 2 * b]])
-    return flap_lag_aero(mu, nb, th, b, u) + cor
-
-
-def load_coupling(mu, th, b, u):
-    """``(C_T, C_mc, C_ms) / (a0 s)`` per ``x = (zeta0, zeta1c, zeta1s, zeta0',
-    zeta1c', zeta1s')`` (section 3's loads with the lag's ``U_T``, each blade's
-    lift acting on the hub where the blade is, at ``psi - zeta``) [-].
-
-    The hub moments' displacement columns hold both the lag's change of the lift
-    and the lift's displacement with the blade; a collective lag (the whole rotor
-    turned in azimuth about an axisymmetric trim) leaves them unchanged, the
-    cyclic lag moves the centre of lift: ``C_mc`` per ``zeta1s`` is ``theta (2 -
-    mu^2) / 32`` (``model.md`` 9.1; the blade truth's ``lag_terms``)."""
-    o = 0 * mu
-    return _arr([
-        [o, -mu * u / 4, o, -(4 * th + 3 * u) / 12, b * mu / 8, -mu * th / 4],
-        [o, -b * mu**2 / 32, th * (2 - mu**2) / 32, -b * mu / 12,
-         (3 * th + 2 * u) / 24, o],
-        [o, -th * (2 - 3 * mu**2) / 32, b * mu**2 / 32,
-         mu * th / 6, o, (3 * th + 2 * u) / 24]])
-
-
-def lag_aero(mu, nb, th, b, u, dl):
-    """Aerodynamic lag moments, rows ``(zeta0, zeta1c, zeta1s)`` of the projected lag
-    equation, as ``(z, x, inputs)``: per ``z = (beta, lambda, beta')`` (3 x 9), per
-    the lag's own ``x`` (3 x 6) and per the azimuth-unit inputs ``(theta0, theta1c,
-    theta1s, muz, qbar, pbar)`` (3 x 6) [-]; ``dl = c_d0 / a0``."""
-    o = 0 * mu
-    k = nb * (3 * th + 8 * u) / 3
-    z = _arr([
-        [-2 * b * mu**2 * nb, 2 * mu * nb * u, -4 * b * mu * nb / 3,
-         4 * nb * (th + 3 * u) / 3, -4 * b * mu * nb / 3, 2 * mu * nb * th / 3,
-         k, -4 * b * mu * nb / 3, 2 * mu * nb * th / 3],
-        [4 * mu * nb * (th + 3 * u) / 3, -3 * b * mu**2 * nb,
-         nb * (3 * mu**2 * th + 6 * th + 16 * u) / 6,
-         -4 * b * mu * nb, k, o,
-         -8 * b * mu * nb / 3, k, o],
-        [o, -nb * (-3 * mu**2 * th + 6 * th + 16 * u) / 6, -b * mu**2 * nb,
-         2 * mu * nb * th, o, k,
-         4 * mu * nb * th / 3, o, k]])
-    d = 2 * nb * (2 * th * u - 3 * dl) / 3
-    x = _arr([
-        [o, mu * nb * th * u, 2 * b * mu * nb * u, d, -2 * b * mu * nb * th / 3,
-         -4 * dl * mu * nb / 3],
-        [2 * mu * nb * (3 * th * u - 4 * dl) / 3, -b * mu**2 * nb * th,
-         nb * (-3 * b**2 * mu**2 - 3 * dl * mu**2 - 6 * dl + 4 * th * u) / 3,
-         -4 * b * mu * nb * th / 3, d, o],
-        [4 * b * mu * nb * (th + 3 * u) / 3,
-         -nb * (3 * b**2 * mu**2 + 3 * dl * mu**2 - 6 * dl + 4 * th * u) / 3,
-         b * mu**2 * nb * th, -8 * dl * mu * nb / 3, o, d]])
-    inputs = _arr([
-        [-4 * nb * u / 3, 2 * b * mu * nb / 3, -mu * nb * u, -4 * nb * (th + 3 * u) / 3,
-         4 * b * mu * nb / 3, -2 * mu * nb * th / 3],
-        [4 * b * mu * nb / 3, -4 * nb * u / 3, b * mu**2 * nb / 2, 4 * b * mu * nb, -k, o],
-        [-2 * mu * nb * u, b * mu**2 * nb / 2, -4 * nb * u / 3, -2 * mu * nb * th, o, -k]])
-    return z, x, inputs
-
-
-def lag_structure(nu_zeta, zeta_lag, b):
-    """The projected lag equation's structural and inertial part moved to the
-    right-hand side, rows ``(zeta0, zeta1c, zeta1s)``: ``(per z, per x)`` (3 x 9,
-    3 x 6) [-].
-
-    ``zeta0'' = -nu^2 zeta0 - C zeta0' - 2 beta_t beta0'``,
-    ``zeta1c'' = -(nu^2 - 1) zeta1c - C zeta1s - C zeta1c' - 2 zeta1s'
-    - 2 beta_t (beta1c' + beta1s)`` and ``zeta1s'' = -(nu^2 - 1) zeta1s + C zeta1c
-    - C zeta1s' + 2 zeta1c' - 2 beta_t (beta1s' - beta1c)``, ``C = 2 zeta_lag nu``."""
+def lag_structure(nu_zeta, zeta_lag):
+    """The projected lag equation's spring, damper and rotating-frame terms moved to
+    the right-hand side, rows ``(zeta0, zeta1c, zeta1s)`` per ``x`` (3 x 6) [-]:
+    ``zeta0'' = -nu^2 zeta0 - C zeta0'``, ``zeta1c'' = -(nu^2 - 1) zeta1c - C zeta1s
+    - C zeta1c' - 2 zeta1s'`` and ``zeta1s'' = -(nu^2 - 1) zeta1s + C zeta1c - C
+    zeta1s' + 2 zeta1c'``, ``C = 2 zeta_lag nu`` (the Coriolis terms are the trim's:
+    :func:`coefficients`)."""
     c = 2 * zeta_lag * nu_zeta
     k0 = nu_zeta**2
     k = k0 - 1
-    o = 0 * b
-    x = _arr([[-k0, o, o, -c, o, o],
-              [o, -k, -c, o, -c, -2 + o],
-              [o, c, -k, o, 2 + o, -c]])
-    z = _arr([[o, o, o, o, o, o, -2 * b, o, o],
-              [o, o, -2 * b, o, o, o, o, -2 * b, o],
-              [o, 2 * b, o, o, o, o, o, o, -2 * b]])
-    return z, x
+    o = 0 * c
+    return _arr([[-k0, o, o, -c, o, o],
+                 [o, -k, -c, o, -c, -2 + o],
+                 [o, c, -k, o, 2 + o, -c]])
 
 
-__all__ = ["flap_lag_aero", "flap_coupling", "load_coupling", "lag_aero", "lag_structure"]
+def _solve3(a, b, numeric=None):
+    """``a^-1 b`` for a 3 x 3 ``a``: LAPACK for numbers; traced on symbols for the
+    FMU (``numeric``, the constants' ``k.numeric``) a run-time call, the generated C
+    solving the system (the effect's ``runtime``: a symbolic solve's nested quotients grow
+    past what the code generator expands); Cramer's rule for symbols otherwise."""
+    if a.dtype != object and np.asarray(b).dtype != object:
+        return np.linalg.solve(a, b)
+    if numeric is not None:
+        args = tuple(a.ravel()) + tuple(np.asarray(b).ravel())
+        return numeric(NAME, args, ((3, 1),))[0][:, 0]
+    m = [[a[i, j] for j in range(3)] for i in range(3)]
+
+    def d3(x):
+        return (x[0][0] * (x[1][1] * x[2][2] - x[1][2] * x[2][1])
+                - x[0][1] * (x[1][0] * x[2][2] - x[1][2] * x[2][0])
+                + x[0][2] * (x[1][0] * x[2][1] - x[1][1] * x[2][0]))
+    dm = d3(m)
+    out = []
+    for j in range(3):
+        mj = [[b[i] if c == j else m[i][c] for c in range(3)] for i in range(3)]
+        out.append(d3(mj) / dm)
+    return np.array(out, dtype=object)
+
+
+def steady_lag(structure, stiffness, moment, numeric=None):
+    """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] of the trim: the averaged lag
+    rows at rest, ``(S + A) zeta_t + Z_t = 0``, with ``S`` the spring, damper and
+    rotating-frame displacement terms (:func:`lag_structure`), ``A`` the lag rows'
+    displacement columns about the trim without lag (``stiffness``,
+    :func:`lead_lag_terms.lag_stiffness`) and ``Z_t`` the lag's trim
+    moment (:func:`lead_lag_terms.lag_trim`: the drag and the Coriolis moment of
+    the cyclic flap)."""
+    return _solve3(structure[:, :3] + stiffness, -moment, numeric)
+
+
+def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
+                 g_lambda=None, numeric=None):
+    """The lag's multiblade coefficients about a forward-flight trim.
+
+    Parameters
+    ----------
+    mu, nb, dl : float
+        Advance ratio, ``n_beta`` and ``c_d0 / a0`` [-].
+    theta, beta : sequence of 3
+        Trim pitch and flap ``(0, 1c, 1s)`` (true, not recorded) [rad].
+    muz : float
+        Trim hub velocity normal to the disc [-].
+    lam : sequence of 3
+        Trim inflow of the rigid blades (the basic model's steady state) [-].
+    nu_zeta, zeta_lag : float
+        Lag frequency [per rev] and damper [-] (the steady lag's).
+    lm, g_lambda : ndarray (3, 3), optional
+        The inflow model's gain ``L`` and the loads per inflow ``G_lambda``: the
+        trim inflow then moves by the steady lag's share of the trim's loads,
+        ``(I - L G_lambda)^-1 L dc`` (two fixed-point steps: the share is a few
+        per cent of the cyclic loads; the steady lag and the inflow are found
+        together to the square of that).  Without them the inflow is ``lam``.
+    numeric : callable, optional
+        Traced for the FMU: the constants' ``k.numeric`` (the 3 x 3 solves run in
+        the generated C, the effect's ``runtime``).
+
+    Returns
+    -------
+    zeta_t : ndarray (3,)
+        The steady lag (:func:`steady_lag`) [rad].
+    flap, lag, loads : ndarray (3, 21)
+        The flap rows' right-hand side, the lag rows' (without
+        :func:`lag_structure`) and ``(C_T, C_mc, C_ms) / (a0 s)``, columns
+        :data:`lead_lag_terms.COLS`; in the flap and load rows the base columns
+        hold only the steady lag's share (the rest is the base model's) [-].
+    lam_t : ndarray (3,)
+        The trim inflow they are linearised about [-].
+    """
+    s_x = lag_structure(nu_zeta, zeta_lag)
+    if numeric is not None:
+        # traced: the trim inflow once at run time (its closed form is a quotient
+        # that every coefficient would otherwise carry into the generator's expansion)
+        lam = _solve3(np.eye(3).astype(object), np.asarray(lam, dtype=object), numeric)
+    lam_t = np.asarray(lam)
+
+    def at(lam_t):
+        args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
+        return args, steady_lag(s_x, lt.lag_stiffness(*args), lt.lag_trim(*args), numeric)
+
+    args, zt = at(lam_t)
+    if lm is not None:
+        a = np.eye(3) - lm @ g_lambda
+        for _ in range(2):
+            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt)),
+                                              numeric)
+            args, zt = at(lam_t)
+    return (zt, *lt.terms(*args, tuple(zt)), lam_t)
+
+
+__all__ = ["NAME", "CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
+           "coefficients"]

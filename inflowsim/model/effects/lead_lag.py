@@ -24,10 +24,16 @@ Parameters: ``nu_zeta`` [per rev] the rotating lag frequency, ``zeta_lag`` [-] t
 lag damper's damping ratio (``C_zeta = 2 zeta_lag nu_zeta``), ``k_flap_lag`` [-]
 a scale on the lag's action on flap and inflow (theory 1; neutral 0: the lag
 states are then driven but drive nothing, so the structure without the effect is
-exactly nested, not on a boundary).  Linearised about the trim (``Constants.trim``,
-``about_trim``): collective, coning and the trim up-flow ``muz - lambda0`` (the
-basic model's trim inflow, as ``advance-ratio-perturbation``'s); the cyclic trim and
-the in-plane velocity inputs are not carried in the lag's terms.
+exactly nested, not on a boundary).  Linearised about the forward-flight trim
+(``Constants.trim``, ``about_trim``; ``model.md`` 9.1, "The forward-flight trim"):
+the trim's pitch and flap with their cyclics, the structure's trim inflow (the basic
+model's, or Eq. (14)'s with ``momentum-speed``, as ``advance-ratio-perturbation``'s)
+moved by the steady lag's share of the trim's loads, and the steady lag the trim's
+drag and Coriolis moment hold (:func:`steady_lag`, from ``nu_zeta``, ``zeta_lag``,
+``n_beta``: no parameter of its own).  The steady lag also has a share of the base
+flap and inflow rows' own columns (the blades meet the free stream and the inflow,
+and their lift acts, at ``psi - zeta``), scaled by ``k_flap_lag`` with the rest of
+the lag's action.  The in-plane velocity inputs are not carried.
 
 Two parts (``Effect.parts``): the coupling ``k_flap_lag``, then the frequency and the
 damper.  Where ``k_flap_lag = 0`` the lag's frequency and damper act on nothing (they
@@ -40,10 +46,11 @@ second part once the coupling is in, where they are identified.
 """
 import numpy as np
 
-from ._effect import Effect
+from ._effect import Effect, RuntimeLinear
 from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
+from ..recent import Recent
 from ...physics import lead_lag as ll
 from ...physics import loads as ld
 
@@ -55,44 +62,119 @@ NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
 
 def _trim(p, k):
-    """``(theta_t, beta_t, u)``: collective, coning and trim up-flow ``muz - lambda0``."""
+    """``(theta, beta, muz, lam)``: the true trim pitch and flap (3 each), ``muz``
+    and the rigid blades' trim inflow of the structure (3)."""
     true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
-    theta, beta, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
-    return theta[0], beta[0], muz - lam[0]
+    return true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
+
+
+def coefficients(p, k):
+    """``(zeta_t, flap, lag, loads, lam_t)`` of
+    :func:`inflowsim.physics.lead_lag.coefficients` at the structure's trim (its
+    inflow moved by the steady lag's share of the trim's loads), for parameters
+    ``p`` (``n_beta``, ``nu_zeta``, ``zeta_lag``) and constants ``k``."""
+    th, b, muz, lam = _trim(p, k)
+    args = (k.mu, p["n_beta"], ll.CD0 / k.a0, tuple(th), tuple(b), muz, tuple(lam),
+            p["nu_zeta"], p["zeta_lag"])
+    if all(isinstance(x, float) for x in args[:3] + args[3] + args[4] + args[5:6]
+           + args[6] + args[7:]) and isinstance(k.a0s, float) \
+            and isinstance(k.flow_speed, float):
+        key = (*(float(x) for x in args[:3]), tuple(float(x) for x in args[3]),
+               tuple(float(x) for x in args[4]), float(muz), tuple(float(x) for x in lam),
+               *(float(x) for x in args[7:]), float(k.a0s), float(k.flow_speed))
+        return _COEFFICIENTS.get(key, lambda: _read_only(_coefficients(args, k)))
+    return _coefficients(args, k)
+
+
+def _coefficients(args, k):
+    return ll.coefficients(*args, ld.momentum_l(k.mu, k.a0s, k.flow_speed),
+                           ld.g_lambda(k.mu), getattr(k, "numeric", None))
+
+
+def _read_only(out):
+    for x in out:
+        x.flags.writeable = False
+    return out
+
+
+#: Coefficients remembered (:func:`coefficients`, a pure function of its
+#: arguments), most recent last.
+_COEFFICIENTS = Recent(16)
+
+
+def steady_lag(p, k):
+    """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] the effect is linearised
+    about (:func:`inflowsim.physics.lead_lag.steady_lag`)."""
+    return coefficients(p, k)[0]
 
 
 def in_loads(p, k):
-    """``(C_T, C_mc, C_ms) / (a0 s)`` per the lag states ``STATES`` (the lag rate's
-    and the lag's change of the blades' airspeed, scaled by ``k_flap_lag``) [-]."""
-    th, b, u = _trim(p, k)
-    return p["k_flap_lag"] * ll.load_coupling(k.mu, th, b, u)
+    """``(C_T, C_mc, C_ms) / (a0 s)`` per the columns of
+    :data:`inflowsim.physics.lead_lag_terms.COLS`: the lag's (its rate and
+    displacement change the blades' airspeed and move their lift) and the steady
+    lag's share of the base states' and inputs', scaled by ``k_flap_lag`` [-]."""
+    return p["k_flap_lag"] * coefficients(p, k)[3]
+
+
+def _bias(m, p):
+    """The pitch columns (9:12 of ``COLS``) of ``m`` taken from the recorded cyclic
+    pitch: true = ``R(-dpsi)`` recorded."""
+    if "azimuth_bias" not in p:
+        return m[:, 9:15]
+    return np.hstack([m[:, 9:10], m[:, 10:12] @ rotation(-p["azimuth_bias"]), m[:, 12:15]])
 
 
 def block(p, k, n_inputs: int = 10) -> StateBlock:
     """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
-    th, b, u = _trim(p, k)
-    mu, nb = k.mu, p["n_beta"]
+    _, flap, lag, loads, _ = coefficients(p, k)
     kf = p["k_flap_lag"]
-    s_z, s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"], b)
-    a_z, a_x, a_u = ll.lag_aero(mu, nb, th, b, u, ll.CD0 / k.a0)
-    if "azimuth_bias" in p:
-        # the model takes the recorded cyclic pitch: true = R(-dpsi) recorded
-        a_u = np.hstack([a_u[:, :1], a_u[:, 1:3] @ rotation(-p["azimuth_bias"]),
-                         a_u[:, 3:]])
+    s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"])
+    a_z, a_x, a_u = lag[:, ll.Z_COLS], lag[:, ll.X_COLS], _bias(lag, p)
     z3, i3 = np.zeros((3, 3)), np.eye(3)
     a = np.vstack([np.hstack([z3, i3]), s_x + a_x])
-    az = np.vstack([np.zeros((3, 9)), s_z + a_z])
+    az = np.vstack([np.zeros((3, 9)), a_z])
     b_u = np.vstack([np.zeros((3, n_inputs)),
                      np.hstack([a_u, np.zeros((3, n_inputs - 6))])])
-    f_x = kf * ll.flap_coupling(mu, nb, th, b, u)
-    l_x = kf * (ld.momentum_l(mu, k.a0s, k.flow_speed) @ ll.load_coupling(mu, th, b, u))
+    f_x = kf * flap[:, ll.X_COLS]
+    l_x = kf * (ld.momentum_l(k.mu, k.a0s, k.flow_speed) @ loads[:, ll.X_COLS])
     return StateBlock(effect=NAME, states=STATES, e=np.eye(6), a=a, a_z=az, b=b_u,
                       f_x=f_x, l_x=l_x)
 
 
+def _base_terms(eq, p, k):
+    """The steady lag's share of the base equations' state and input columns (the
+    blades meet the free stream, the inflow and the body rates at ``psi - zeta_t``,
+    and the lag rate of the trim's cyclic lag acts in the Coriolis moment), scaled
+    by ``k_flap_lag`` (neutral 0: the base equations unchanged)."""
+    _, flap, _, loads, _ = coefficients(p, k)
+    kf = p["k_flap_lag"]
+    lm = kf * ld.momentum_l(k.mu, k.a0s, k.flow_speed)
+    fl = kf * flap
+    zu = np.zeros((3, eq.h_u.shape[1] - 6))
+    return eq.with_(
+        d=eq.d - fl[:, ll.BETA], c=eq.c - fl[:, ll.DBETA],
+        h_lambda=eq.h_lambda + fl[:, ll.LAMBDA],
+        h_u=eq.h_u + np.hstack([_bias(fl, p), zu]),
+        p_beta=eq.p_beta + lm @ loads[:, ll.BETA],
+        p_dbeta=eq.p_dbeta + lm @ loads[:, ll.DBETA],
+        p_lambda=eq.p_lambda + lm @ loads[:, ll.LAMBDA],
+        p_u=eq.p_u + np.hstack([lm @ _bias(loads, p), zu]))
+
+
+def _runtime():
+    """What the FMU solves at run time for the lag's 3 x 3 systems (the steady lag,
+    the trim inflow: :func:`inflowsim.physics.lead_lag.coefficients` traced): a
+    :class:`RuntimeLinear` of twelve arguments, the matrix row by row, then the
+    right-hand side."""
+    return RuntimeLinear(
+        n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
+        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
+
+
 def _equations(eq, p, k):
+    eq = _base_terms(eq, p, k)
     return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1]),))
 
 
@@ -137,7 +219,9 @@ EFFECT = Effect(
     parts=(("k_flap_lag",), ("nu_zeta", "zeta_lag")),
     parts_in_order=True,
     states=STATES,
+    runtime=lambda: _runtime(),
 )
 
 
-__all__ = ["NAME", "STATES", "NU_THEORY", "in_loads", "block", "EFFECT"]
+__all__ = ["NAME", "STATES", "NU_THEORY", "coefficients", "steady_lag", "in_loads", "block",
+           "EFFECT"]
