@@ -220,7 +220,9 @@ def test_the_wrong_sampled_data_convention_raises_false_alarms():
     assert wrong.missing_effect == "time-delay"
 
 
-@pytest.mark.parametrize("hold, rate", [("continuous", 64),
+# slow: the paper's three effects step by step is the demo's ladder too
+# (test_cli.test_demo_writes_report runs it by default)
+@pytest.mark.parametrize("hold, rate", [pytest.param("continuous", 64, marks=pytest.mark.slow),
                                         pytest.param("zoh", 256, marks=pytest.mark.slow)])
 def test_three_missing_effects_resolved_step_by_step(hold, rate):
     """The paper's own story: truth glauert (Table 3), start basic: the three
@@ -250,6 +252,7 @@ def test_three_missing_effects_resolved_step_by_step(hold, rate):
         assert abs(lad.final.fit.parameters[n] - v) < 3 * lad.final.fit.sigma[n], n
 
 
+@pytest.mark.slow      # test_verdict's outside-catalogue terms are the default run's
 def test_structured_residual_outside_the_catalogue_is_said_plainly():
     """A cross-coupling no candidate represents (lateral flap answering the
     collective through a lag): no spurious effect is added; the diagnosis names

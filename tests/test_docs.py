@@ -1,5 +1,6 @@
 """The documentation in the repository (issue #11 item 8): the README's Python tour runs
 as written, its links resolve, and the limits ``docs/`` states are the code's."""
+import ast
 import re
 import shutil
 from pathlib import Path
@@ -27,6 +28,23 @@ def test_readme_links_to_docs_resolve():
         assert (ROOT / link).is_file(), link
 
 
+def test_python_blocks_compile():
+    """Every Python block of the README's tour parses and its imports resolve (the
+    run itself is the slow test below)."""
+    blocks = python_blocks(README)
+    assert len(blocks) >= 3
+    for i, block in enumerate(blocks):
+        code = compile(block, f"README.md python block {i + 1}", "exec")
+        for node in ast.walk(ast.parse(block)):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                mod = __import__(node.module, fromlist=[a.name for a in node.names])
+                for a in node.names:
+                    assert hasattr(mod, a.name), (node.module, a.name)
+        assert code is not None
+
+
+# slow: a ladder and an FMU build as the README writes them (44 s of the default run)
+@pytest.mark.slow
 def test_python_tour_runs_as_written(tmp_path, monkeypatch):
     blocks = python_blocks(README)
     assert len(blocks) >= 3

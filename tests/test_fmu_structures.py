@@ -176,7 +176,6 @@ def built(tmp_path_factory, structure, version=2, model=None):
 FMI2_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay",
                 "basic+delay-beta0+delay-beta1c", "glauert+delay-beta1s",
                 "basic+separate-time-constants+hub-velocity-coupling",
-                "glauert+advance-ratio-perturbation+flap-inertia+second-harmonic-flap",
                 "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay",
                 "basic+peters-he-6")
 

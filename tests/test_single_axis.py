@@ -37,10 +37,11 @@ def single_axis_ladder(tmp_path, capsys, channel, seed=0):
     return _LADDERS[channel, seed]
 
 
+# every case slow (the default run's budget, issue #38): the map's single-axis
+# records (test_outside_truths) stay in the default run
 @pytest.mark.parametrize("channel, seed", [
-    ("theta1s", 0),
     *(pytest.param(c, s, marks=pytest.mark.slow) for c, s in [
-        ("theta1c", 0), ("theta0", 0), ("theta1s", 1), ("theta1c", 2), ("theta0", 3)])])
+        ("theta1s", 0), ("theta1c", 0), ("theta0", 0), ("theta1s", 1), ("theta1c", 2), ("theta0", 3)])])
 def test_single_axis_ladder_adds_nothing_false_and_says_what_it_cannot_see(
         tmp_path, capsys, channel, seed):
     rec, doc, _ = single_axis_ladder(tmp_path, capsys, channel, seed)

@@ -276,6 +276,7 @@ def floor_ratio(fit, rec, colour_hz, rate):
     return [float(abs(fit.S[0][i, i]) / level) for i in range(3)]
 
 
+@pytest.mark.slow      # test_diagnose names wake-distortion hidden by default
 def test_one_hidden_record_is_named_with_k_r_within_its_bound(tmp_path):
     rec = write_record(tmp_path / "r.csv", "puma", "two-axis", 100, None, 21, 1.0)
     d = diagnose(rec, "basic", pool=POOL)
