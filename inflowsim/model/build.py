@@ -450,7 +450,7 @@ def _output_map(n, meas):
 
 #: Read-only arrays that many models hold alike (zeros, identities, the output map
 #: at one azimuth bias): made once, shared (:func:`_shared`).
-_SHARED: dict = {}
+_SHARED = Recent(64)
 
 
 def _shared(key, make, remember=True):
@@ -459,16 +459,7 @@ def _shared(key, make, remember=True):
     plain numbers)."""
     if not remember:
         return _own(make())
-    out = _SHARED.get(key)
-    if out is None:
-        out = _own(make())
-        if len(_SHARED) >= 64:
-            try:
-                del _SHARED[next(iter(_SHARED))]
-            except (KeyError, RuntimeError, StopIteration):
-                pass
-        _SHARED[key] = out
-    return out
+    return _SHARED.get(key, lambda: _own(make()))
 
 
 __all__ = ["Model", "build_model", "model_unchecked", "model_from_equations", "descriptor", "equations", "base_equations",
