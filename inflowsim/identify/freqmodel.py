@@ -40,7 +40,8 @@ import numpy as np
 
 from ..simulate.sampled import BASES, expm, shift_taps
 
-__all__ = ["flap_response", "flap_responses", "leading", "shift_groups", "window_integral", "shifted_transform",
+__all__ = ["flap_response", "flap_responses", "flap_derivatives", "leading",
+           "leading_states", "truncated", "shift_groups", "window_integral", "shifted_transform",
            "zoh", "expm", "continuous_input"]
 
 
@@ -285,19 +286,31 @@ def leading(model):
     parameter that acts only on the dropped states has, exactly, no influence,
     rather than a rounding-level one a search can wander on.
     """
+    return truncated(model, leading_states(model))
+
+
+def leading_states(model) -> int:
+    """``n0`` of :func:`leading`: the number of states it keeps (``n`` where none
+    can be dropped)."""
     a = model.a
     n = a.shape[0]
     if n <= LEADING:
-        return model
+        return n
     c = model.c
     for n0 in range(LEADING, n):
         if not a[:n0, n0:].any() and not c[:3, n0:].any():
-            break
-    else:
+            return n0
+    return n
+
+
+def truncated(model, n0):
+    """``model`` with only its first ``n0`` states (the model itself for all of
+    them); ``n0`` from :func:`leading_states` (or more)."""
+    if n0 >= model.a.shape[0]:
         return model
     out = object.__new__(type(model))
     out.__dict__.update(model.__dict__)
-    for name, x in (("a", a[:n0, :n0]), ("b", model.b[:n0]), ("c", c[:, :n0]),
+    for name, x in (("a", model.a[:n0, :n0]), ("b", model.b[:n0]), ("c", model.c[:, :n0]),
                     ("end_basis", model.end_basis[:n0]),
                     ("end_input", model.end_input[:n0])):
         x = np.array(x)                 # contiguous, as a model's own arrays
@@ -547,45 +560,65 @@ def _eig_products(dec, den, inp, C, P, zs, ze, groups):
     return y_u, y_nu, groups
 
 
+def _input_maps(model, sp, groups):
+    """``(A, maps)``: the state matrix ``A`` of the record's hold (``a``, or ``exp(a
+    dt)`` of a held record) and per shift group ``maps[g] = {key: M}``, the group's
+    input term ``sum_key X_key M^T`` without the end states' part (``X_key =``
+    :func:`_input_basis` ``(sp, key)``, a function of the record and the key only):
+    for a continuous record one key, the input shifts, with ``M = b``; for a held
+    one a key per tap offset ``o`` with ``M = G_o``
+    (:func:`inflowsim.simulate.sampled.shift_taps`)."""
+    a, b = model.a, model.b
+    sigma = np.asarray(model.input_delays, float)
+    if sp.hold == "continuous":
+        return a, [{("shift",) + tuple((tau - sigma).tolist()): b} for _, tau in groups]
+    phi, maps = None, []
+    for _, tau in groups:
+        phi, taps = shift_taps(a, b, sp.dt, sp.hold, tau - sigma)
+        maps.append(dict(taps))
+    return phi, maps
+
+
+def _input_basis(sp, key):
+    """``X_key`` ``(nf, m)`` of :func:`_input_maps`: the recorded inputs' transform
+    shifted by each column's ``d`` (a continuous record's key ``("shift", d_1, ...)``,
+    :func:`continuous_input`) or by the tap offset ``o`` (a held record's,
+    :func:`shifted_transform`)."""
+    if sp.hold != "continuous":
+        return shifted_transform(sp.U, sp.u_time, sp.f_hz, sp.dt, key)
+    d = np.array(key[1:])
+    if d.size and (d == d[0]).all():
+        # one shift for every input: its transform as it is
+        return np.ascontiguousarray(continuous_input(sp, d[0]))
+    ud = np.empty((sp.f_hz.size, d.size), dtype=complex)
+    for v in np.unique(d):
+        cols = np.flatnonzero(d == v)
+        ud[:, cols] = continuous_input(sp, v)[:, cols]
+    return ud
+
+
 def _input_terms(model, sp, groups):
     """``(inp, A, s, zs, ze)``: each shift group's input term ``inp[g]`` ``(nf, n)``
     of ``(s I - A) x = input + zs x_0 + ze x_end`` (the end states' input part ``q
     u`` included), the state matrix ``A`` of the record's hold (``a``, or ``exp(a
     dt)`` of a held record) and :func:`_terms`."""
-    a, b = model.a, model.b
-    n = a.shape[0]
+    n = model.a.shape[0]
     q = model.end_input
-    f = sp.f_hz
-    nf = f.size
-    sigma = np.asarray(model.input_delays, float)
-    G = len(groups)
+    nf = sp.f_hz.size
     u0, u1 = sp.u_time[0], sp.u_time[-1]
+    A, maps = _input_maps(model, sp, groups)
     # per group the input term (nf, n) of  (s I - A) x = input + zs x_0 + ze x_end
-    inp = np.empty((G, nf, n), dtype=complex)
+    inp = np.empty((len(groups), nf, n), dtype=complex)
     s, zs, ze = _terms(sp)
-    if sp.hold == "continuous":
-        A = a
-        no_input_delays = sigma.size and not np.count_nonzero(sigma)
-        for g, (_, tau) in enumerate(groups):
-            d = tau - sigma
-            if no_input_delays:
-                # one shift for every input: its transform as it is
-                ud = np.ascontiguousarray(continuous_input(sp, d[0]))
-            else:
-                ud = np.empty((nf, b.shape[1]), dtype=complex)
-                for v in np.unique(d):
-                    cols = np.flatnonzero(d == v)
-                    ud[:, cols] = continuous_input(sp, v)[:, cols]
-            inp[g] = ud @ b.T
-    else:
-        phi = None
-        for g, (_, tau) in enumerate(groups):
-            phi, taps = shift_taps(a, b, sp.dt, sp.hold, tau - sigma)
-            acc = np.zeros((nf, n), dtype=complex)
-            for o, Go in taps.items():
-                acc += shifted_transform(sp.U, sp.u_time, f, sp.dt, o) @ Go.T
-            inp[g] = acc
-        A = phi
+    for g, terms in enumerate(maps):
+        if sp.hold == "continuous":
+            (key, b), = terms.items()
+            inp[g] = _input_basis(sp, key) @ b.T
+            continue
+        acc = np.zeros((nf, n), dtype=complex)
+        for o, Go in terms.items():
+            acc += _input_basis(sp, o) @ Go.T
+        inp[g] = acc
     # end states on the slow manifold: x = P v + q u (q = 0 for first-order flapping,
     # where adding its zeros would change no number)
     if np.count_nonzero(q):
@@ -596,6 +629,151 @@ def _input_terms(model, sp, groups):
         t += np.multiply(zs[:, None], (q @ u0)[None, :])
         inp += t[None]
     return inp, A, s, zs, ze
+
+
+#: Bytes of the per-parameter temporaries :func:`flap_derivatives` makes at once
+#: (``(nf, p, n)`` complex, a few of them): its parameters are taken in runs of
+#: this size (a 2-hour record's 9 752 bins: 1.9 MB a parameter of a 12-state model).
+DERIVATIVE_BYTES = 16 * 2 ** 20
+
+
+def flap_derivatives(model, pairs, sp, nu, weight=None):
+    """Derivatives of the flap transforms at a fixed end-effect nuisance, ``d (y_u +
+    y_nu nu) / d theta_i`` ``(nf, 3, p)`` complex, by the resolvent.
+
+    At every frequency ``y = C (s I - A)^-1 x`` with ``x`` the input term and the
+    end states (:func:`flap_response`), so, ``R = (s I - A)^-1``,
+
+        ``dy = dC R x + C R (dA R x + dx)``,
+
+    with ``dA, dC, dx`` the changes of the model's small matrices (``A`` of the
+    record's hold, ``C``, the input maps, the end-state basis and input:
+    :func:`_input_maps`) taken as differences ``(plus - minus) / step`` of the
+    models ``pairs = [(plus, minus, step), ...]`` (one per parameter: a central or
+    one-sided difference, ``minus`` or ``plus`` the model itself).  ``R`` is
+    applied in the eigen basis of ``A`` (``V diag(1 / (s - lam)) V^-1``), or by
+    solving each frequency's system where :func:`flap_response` would
+    (ill-conditioned eigenvectors, a pole on a bin).  A parameter that moves a
+    time shift of a continuous record moves the input basis, ``dx`` the difference
+    of the shifted transforms times their maps.  The states kept are those that
+    drive the flap outputs in any of the models (:func:`leading_states`).
+
+    Parameters
+    ----------
+    model : Model
+        The model at the parameters (``theta``).
+    pairs : list of (Model, Model, float)
+        Per parameter the models at ``theta_i + h`` and ``theta_i - h`` (or
+        ``theta``) and the step between them [the parameter's unit].
+    sp : Spectra
+        The record's transforms.
+    nu : ndarray
+        The end-effect nuisance (:func:`flap_response`'s ``y_nu @ nu``).
+    weight : ndarray (3, 3), optional
+        A weighting ``W`` of the flap channels: ``W dy`` returned.
+
+    Returns
+    -------
+    ndarray, complex ``(nf, 3, p)`` [rad s per unit of the parameter]
+    """
+    n0 = max(leading_states(m) for m in [model] + [x for pm in pairs for x in pm[:2]])
+    model = truncated(model, n0)
+    pairs = [(truncated(mp, n0), truncated(mm, n0), step) for mp, mm, step in pairs]
+    groups = shift_groups(model)
+    inp, A, s, zs, ze = _input_terms(model, sp, groups)
+    nf, n, p = s.size, A.shape[0], len(pairs)
+    C, P, k = model.c[:3], model.end_basis, model.end_basis.shape[1]
+    dec = _eig(A)
+    if dec is not None:
+        den = s[:, None] - dec[0]
+        if not (den != 0).all():           # a pole exactly on a bin: as the solve does
+            dec = None
+    if dec is not None:
+        _, T, Ti = dec
+        r = np.divide(1.0, den, out=den)
+
+        def resolvent(z):                  # z (nf, ..., n) in eigen coordinates
+            z *= r.reshape((nf,) + (1,) * (z.ndim - 2) + (n,))
+            return z
+    else:
+        T = Ti = np.eye(n)
+        sA = s[:, None, None] * np.eye(n) - A
+
+        def resolvent(z):
+            shape = z.shape
+            z = np.linalg.solve(sA, z.reshape(nf, -1, n).transpose(0, 2, 1))
+            return np.ascontiguousarray(z.transpose(0, 2, 1)).reshape(shape)
+    u0, u1 = sp.u_time[0], sp.u_time[-1]
+    # the small matrices' differences, each parameter's
+    dA = np.empty((p, n, n))
+    dC = np.empty((p, 3, n))
+    dq = np.empty((p,) + model.end_input.shape)
+    dP = np.empty((p, n, k))
+    dmaps = [{} for _ in groups]           # per group {key: {i: dM}}
+    for i, (mp, mm, step) in enumerate(pairs):
+        Ap, maps_p = _input_maps(mp, sp, shift_groups(mp))
+        Am, maps_m = _input_maps(mm, sp, shift_groups(mm))
+        dA[i] = (Ap - Am) / step
+        dC[i] = (mp.c[:3] - mm.c[:3]) / step
+        dq[i] = (mp.end_input - mm.end_input) / step
+        dP[i] = (mp.end_basis - mm.end_basis) / step
+        for g in range(len(groups)):
+            tp, tm = maps_p[g], maps_m[g]
+            for key in {**tp, **tm}:
+                Mp, Mm = tp.get(key), tm.get(key)
+                dM = (Mp if Mm is None else Mm * -1.0 if Mp is None else Mp - Mm) / step
+                if dM.any():
+                    dmaps[g].setdefault(key, {})[i] = dM
+    # z = [xi | X_key ... | zs | ze] @ coef: for every parameter at once, in eigen
+    # coordinates, dA R x (coef (V^-1 dA V)^T), the input maps' change and the end
+    # states' (dq u + dP nu): one product, each part's columns only where some
+    # parameter moves it
+    wide = bool(dq.any() or dP.any())
+    y = np.empty((nf, 3, p), dtype=complex)
+    whole = len(groups) == 1 and tuple(groups[0][0]) == (0, 1, 2)
+    per = max(1, DERIVATIVE_BYTES // (16 * nf * n))
+    for g, (rows, _) in enumerate(groups):
+        nu0, nu1 = nu[2 * k * g:2 * k * g + k], nu[2 * k * g + k:2 * k * (g + 1)]
+        # the state's response R x in eigen coordinates (nf, n), x with the end states
+        x = inp[g] + np.outer(zs, P @ nu0) + np.outer(ze, P @ nu1)
+        xi = resolvent(x @ Ti.T)
+        del x
+        keys = list(dmaps[g])
+        parts = [xi] + [_input_basis(sp, key) for key in keys] + \
+            ([zs[:, None], ze[:, None]] if wide else [])
+        basis = np.concatenate(parts, axis=1)
+        del parts
+        # the output maps, weighted where every channel is in this group
+        Cw = C[rows] @ T
+        dCw = dC[:, rows] @ T                                   # (p, rows, n)
+        if whole and weight is not None:
+            Cw, dCw = weight @ Cw, weight @ dCw
+        moves_c = dCw.any(axis=(1, 2))
+        for j0 in range(0, p, per):
+            m = min(per, p - j0)
+            coef = np.zeros((basis.shape[1], m, n), dtype=complex)
+            coef[:n] = (Ti @ dA[j0:j0 + m] @ T).transpose(2, 0, 1)
+            row = n
+            for key in keys:
+                M = dmaps[g][key]
+                w = next(iter(M.values())).shape[1]
+                for i, dM in M.items():
+                    if j0 <= i < j0 + m:
+                        coef[row:row + w, i - j0] = (Ti @ dM).T
+                row += w
+            if wide:
+                coef[row, :] = (dq[j0:j0 + m] @ u0 + dP[j0:j0 + m] @ nu0) @ Ti.T
+                coef[row + 1, :] = (dq[j0:j0 + m] @ u1 + dP[j0:j0 + m] @ nu1) @ Ti.T
+            z = resolvent((basis @ coef.reshape(len(coef), m * n)).reshape(nf, m, n))
+            out = (z.reshape(nf * m, n) @ Cw.T).reshape(nf, m, len(rows))
+            del z
+            # dC R x, for the parameters that move C (the azimuth bias)
+            for t in np.flatnonzero(moves_c[j0:j0 + m]):
+                out[:, t] += xi @ dCw[j0 + t].T
+            y[:, rows, j0:j0 + m] = out.transpose(0, 2, 1)
+    if not whole and weight is not None:
+        y = weight @ y
+    return y
 
 
 def _flap_response(model, sp, method):

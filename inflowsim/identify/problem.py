@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..model.build import models_unchecked
 from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
-from .freqmodel import flap_responses
+from .freqmodel import flap_derivatives, flap_responses
 
 #: Typical magnitudes (finite-difference step scale and LM scaling floor).
 TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
@@ -28,8 +28,8 @@ S_FLOOR = 1e-14
 #: forward-difference Jacobian's base point), and the responses do not depend on ``S``.
 MEMO = 4
 MEMO_BYTES = 16 * 2 ** 20
-#: Bytes of responses one step of the Jacobian evaluates together
-#: (:meth:`Problem.jacobian`): every point of a normal record's Jacobian at once
+#: Bytes of responses one step of a Jacobian by differences evaluates together
+#: (:meth:`Problem._jacobian_by_differences`): every point of a normal record's at once
 #: (a 26.6 s record's band: 37 bins, 60 kB a point), a few of a 2-hour record's
 #: (9 750 bins, 14 MB a point).
 POINT_BYTES = 32 * 2 ** 20
@@ -246,6 +246,59 @@ class Problem:
             out.append(_stack2(e @ W.T))
         return out
 
+    def jacobian(self, theta, weights, nus, bases, central=True):
+        """Sensitivities of the projected weighted residuals to ``theta``.
+
+        The flap transforms' derivatives at the fixed nuisance by the resolvent
+        (:func:`.freqmodel.flap_derivatives`: ``dy = dC R x + C R (dA R x + dx)``),
+        the small matrices' changes (state, output, input and end-state maps, time
+        shifts) taken as differences of the models at steps ``1e-6`` of each
+        parameter's typical size: central ones (``central``) or forward, one-sided
+        at a range limit; then weighted and projected orthogonally to the nuisance
+        columns (Kaufman's variable-projection Jacobian).  Returns one block per
+        record, ``(2 nf 3, p)``.
+
+        A problem whose responses are not those of its models alone (a subclass
+        with its own :meth:`_responses_many`: the map of missing terms' augmented
+        problems, whose entries include an input feedthrough and lagged terms
+        outside the model's matrices) is differenced as a whole
+        (:meth:`_jacobian_by_differences`).
+        """
+        if type(self)._responses_many is not Problem._responses_many:
+            return self._jacobian_by_differences(theta, weights, nus, bases, central)
+        lo, hi = self.bounds()
+        h = 1e-6 * self.typical(theta)
+        points, plan = [theta], []         # the models built: theta, then each step's
+        for i in range(theta.size):
+            up, dn = theta[i] + h[i] <= hi[i], theta[i] - h[i] >= lo[i]
+            ip = im = 0
+            if up:
+                ip = len(points)
+                points.append(theta.copy())
+                points[-1][i] += h[i]
+            if not up or central and dn:
+                im = len(points)
+                points.append(theta.copy())
+                points[-1][i] -= h[i]
+            plan.append((ip, im, (theta[i] + h[i] if ip else theta[i])
+                         - (theta[i] - h[i] if im else theta[i])))
+        ps = [self._checked(t) for t in points]
+        out = []
+        for sp, W, nu, Q in zip(self.spectra, weights, nus, bases):
+            models = models_unchecked(self.structure, ps, sp.constants)
+            dy = flap_derivatives(models[0], [(models[ip], models[im], step)
+                                              for ip, im, step in plan], sp, nu, W)
+            # stacked as the residual is ([Re; Im] of (nf, 3) row by row); the
+            # residual is data minus model: d r / d theta = -(d model)
+            half = dy.shape[0] * 3
+            blk = np.empty((2 * half, theta.size))
+            np.negative(dy.real, out=blk[:half].reshape(dy.shape))
+            np.negative(dy.imag, out=blk[half:].reshape(dy.shape))
+            del dy
+            blk -= Q @ (Q.T @ blk)
+            out.append(blk)
+        return out
+
     def _direct_many(self, thetas, weights, nus):
         """:meth:`direct` of each parameter vector, the ones not remembered evaluated
         together."""
@@ -264,10 +317,9 @@ class Problem:
         m = len(self.structure.inputs)
         return sum(16 * sp.f_hz.size * (4 * n + 2 * m + 3 + 9 * n) for sp in self.spectra)
 
-    def jacobian(self, theta, weights, nus, bases, central=True):
-        """Sensitivities of the projected weighted residuals to ``theta``.
-
-        Central differences of the full model (discretisation, delays, end terms
+    def _jacobian_by_differences(self, theta, weights, nus, bases, central=True):
+        """:meth:`jacobian` of a problem whose responses are not its models' alone:
+        central differences of the full model (discretisation, delays, end terms
         included) with steps ``1e-6`` of each parameter's typical size, one-sided
         at a range limit; then projected orthogonally to the nuisance columns
         (Kaufman's variable-projection Jacobian).  Returns one block per record,
