@@ -655,8 +655,9 @@ def flap_derivatives(model, pairs, sp, nu, weight=None):
     solving each frequency's system where :func:`flap_response` would
     (ill-conditioned eigenvectors, a pole on a bin).  A parameter that moves a
     time shift of a continuous record moves the input basis, ``dx`` the difference
-    of the shifted transforms times their maps.  The states kept are those that
-    drive the flap outputs in any of the models (:func:`leading_states`).
+    of the shifted transforms times their maps.  The states kept for a parameter
+    are those that drive the flap outputs in the model or either of its two
+    (:func:`leading_states`).
 
     Parameters
     ----------
@@ -676,9 +677,28 @@ def flap_derivatives(model, pairs, sp, nu, weight=None):
     -------
     ndarray, complex ``(nf, 3, p)`` [rad s per unit of the parameter]
     """
-    n0 = max(leading_states(m) for m in [model] + [x for pm in pairs for x in pm[:2]])
-    model = truncated(model, n0)
-    pairs = [(truncated(mp, n0), truncated(mm, n0), step) for mp, mm, step in pairs]
+    # each parameter with the states its two models need (a parameter that acts
+    # only on states its models drop has, exactly, no influence: :func:`leading`)
+    n_base = leading_states(model)
+    by_states = {}
+    for i, (mp, mm, _) in enumerate(pairs):
+        n0 = max(n_base, leading_states(mp), leading_states(mm))
+        by_states.setdefault(n0, []).append(i)
+    if len(by_states) == 1:
+        (n0, _), = by_states.items()
+        return _derivatives(truncated(model, n0), [
+            (truncated(mp, n0), truncated(mm, n0), step) for mp, mm, step in pairs],
+            sp, nu, weight)
+    y = np.empty((sp.f_hz.size, 3, len(pairs)), dtype=complex)
+    for n0, idx in by_states.items():
+        y[:, :, idx] = _derivatives(truncated(model, n0), [
+            (truncated(pairs[i][0], n0), truncated(pairs[i][1], n0), pairs[i][2])
+            for i in idx], sp, nu, weight)
+    return y
+
+
+def _derivatives(model, pairs, sp, nu, weight):
+    """:func:`flap_derivatives` of models of the same states."""
     groups = shift_groups(model)
     inp, A, s, zs, ze = _input_terms(model, sp, groups)
     nf, n, p = s.size, A.shape[0], len(pairs)
