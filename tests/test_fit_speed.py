@@ -40,10 +40,6 @@ def test_states_that_drive_nothing_are_left_out_of_the_flap_response(structure, 
     fast = fm.flap_response(m, sp)
     plain = fm._flap_response(m, sp, "solve")          # every state, each bin solved
     assert _worst(fast[:2], plain[:2]) < 1e-10
-    # the batched route of a Jacobian's points takes the same leading states
-    ms = [m, build_model(s, {**p, "nu_zeta": p["nu_zeta"] * 1.01}, sp.constants)]
-    for got, one in zip(fm.flap_responses(ms, sp), ms):
-        assert _worst(got[:2], fm._flap_response(one, sp, "solve")[:2]) < 1e-10
 
 
 @pytest.mark.parametrize("structure,change", [
@@ -98,23 +94,6 @@ def test_a_start_equal_to_an_earlier_one_is_reported_with_its_cost(monkeypatch):
     assert labels[:2] == ["start", "start, lead-lag at theory"]
     assert fit.starts[0][1] == fit.starts[1][1]
     assert runs.count(estimator.SHORT_RUN) == len(fit.starts) - 1
-
-
-@pytest.mark.parametrize("structure", [
-    "basic+servo-actuators", "basic+flap-inertia", "glauert+lead-lag",
-    "basic+flap-inertia+servo-actuators+lead-lag"])
-def test_a_jacobians_points_with_appended_states_are_evaluated_together(structure):
-    # end states on a manifold (x = P v + q u, P not square, q not zero): the stacked
-    # route is the one-model route number for number, and the plain solve to rounding
-    s, sp = _spectra(structure, "continuous")
-    p = theory_parameters(s, sp.constants)
-    ms = [build_model(s, {**p, "lambda_beta2": p["lambda_beta2"] * (1 + e)}, sp.constants)
-          for e in (0.0, 1e-6, 2e-6)]
-    assert fm._batch_key(fm.leading(ms[0]), sp) is not None
-    for got, m in zip(fm.flap_responses(ms, sp), ms):
-        one = fm.flap_response(m, sp)
-        assert all(np.array_equal(x, y) for x, y in zip(got[:2], one[:2]))
-        assert _worst(got[:2], fm._flap_response(m, sp, "solve")[:2]) < 1e-12
 
 
 @pytest.mark.parametrize("structure", [

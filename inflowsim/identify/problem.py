@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..model.build import models_unchecked
 from ..model.params import SPECS, check_constants, check_parameters
 from ..model.structure import Structure
-from .freqmodel import flap_derivatives, flap_responses
+from .freqmodel import flap_derivatives, flap_response
 
 #: Typical magnitudes (finite-difference step scale and LM scaling floor).
 TYPICAL = {"delay": 0.01, "azimuth_bias": 0.05, "tau": 1.0, "tau0": 1.0, "tau_cs": 1.0}
@@ -154,10 +154,10 @@ class Problem:
 
     def _responses_many(self, thetas):
         """:meth:`responses` of several parameter vectors (not remembered), each
-        record's models built and evaluated together (:func:`models_unchecked`,
-        :func:`.freqmodel.flap_responses`)."""
+        record's models built together (:func:`models_unchecked`)."""
         ps = [self._checked(t) for t in thetas]
-        per_record = [flap_responses(models_unchecked(self.structure, ps, sp.constants), sp)
+        per_record = [[flap_response(m, sp) for m in
+                       models_unchecked(self.structure, ps, sp.constants)]
                       for sp in self.spectra]
         out = []
         for j in range(len(thetas)):
@@ -310,7 +310,7 @@ class Problem:
 
     def _point_bytes(self) -> int:
         """Bytes of the temporaries one parameter vector's responses take at once
-        (every record, :func:`.freqmodel.flap_responses`): the resolvent and its
+        (every record, :func:`.freqmodel.flap_response`): the resolvent and its
         denominator ``(nf, n)``, the input terms, and the end-state responses
         ``(nf, 3, 2 k)`` with their half ``(nf, 3, k)``, complex; ``k <= n``."""
         n = len(self.structure.states)
