@@ -270,12 +270,19 @@ def _flow_speed_c(sp) -> list:
             f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
-def _runtime_of(effect: str):
-    """The :class:`~inflowsim.model.effects.RuntimeSolve` that ``effect`` declares
-    (:attr:`~inflowsim.model.effects.Effect.runtime`), or None."""
+def _runtime_of(call: str):
+    """What the run-time call ``call`` (an effect's name, or ``<effect>/<part>``)
+    computes, as its effect declares it (:attr:`~inflowsim.model.effects.Effect.
+    runtime`: a :class:`~inflowsim.model.effects.RuntimeSolve`, ``RuntimeLinear`` or
+    ``RuntimePolynomials``), or None."""
     from ..model.effects import CATALOGUE
-    e = CATALOGUE.get(effect)
-    return e.runtime() if e is not None and e.runtime is not None else None
+    e = CATALOGUE.get(call.split("/")[0])
+    if e is None or e.runtime is None:
+        return None
+    rt = e.runtime()
+    if isinstance(rt, dict):
+        return rt.get(call)
+    return rt if call == e.name else None
 
 
 def _c_function(effect: str) -> str:
@@ -437,6 +444,59 @@ def _linear_c(effect: str, rl, sp) -> list:
             + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",), body))
 
 
+def _int_array(name, ctype, values, per_line=16) -> list:
+    """A static const integer array of ``values`` (1-D or 2-D)."""
+    a = np.asarray(values)
+    shape = "".join(f"[{n}]" for n in a.shape)
+    rows = a if a.ndim == 2 else a[None, :]
+    out = [f"static const {ctype} {name}{shape} = {{"]
+    for row in rows:
+        body = [f"{'    ' * a.ndim}{', '.join(str(int(v)) for v in row[i:i + per_line])},"
+                for i in range(0, len(row), per_line)]
+        out += (["    {"] + body + ["    },"]) if a.ndim == 2 else body
+    return out + ["};"]
+
+
+def _polynomials_c(call: str, rp) -> list:
+    """The C function ``numeric_<call>(arg, out0)`` of run-time polynomials
+    (:class:`~inflowsim.model.effects.RuntimePolynomials`): the table's arrays
+    (:class:`inflowsim.physics.polynomial.Polynomials`: each monomial's variables,
+    each term's output, monomial and coefficient) and the loop of its Python
+    evaluation, in the same order (so, built without contraction, the same
+    doubles): each monomial the product of its variables left to right, each
+    output the sum of its terms from zero."""
+    t = rp.table
+    f = _c_function(call)
+    up = f.upper()
+    nv, nm = len(t.variables), len(t.monomials)
+    out, mono, coef = t.term_arrays()
+    idx = t.index_rows()
+    assert nv < 127 and max(nm, t.n_out) < 65536
+    lines = [f"/* --- {call}: its run-time polynomials "
+             "(inflowsim.model.effects.RuntimePolynomials), generated --- */",
+             f"/* variables: {', '.join(t.variables)} ({nv}: the value 1) */"]
+    lines += _int_array(f"{up}_VAR", "signed char", idx)
+    lines += _int_array(f"{up}_OUT", "unsigned short", out)
+    lines += _int_array(f"{up}_MONO", "unsigned short", mono)
+    lines += [f"static const double {up}_COEF[{len(coef)}] = {{"]
+    lines += [f"    {', '.join(repr(float(c)) for c in coef[i:i + 4])},"
+              for i in range(0, len(coef), 4)] + ["};", ""]
+    depth = idx.shape[0]
+    body = [f"    double v[{nv + 1}], m[{nm}];", "    int i;",
+            f"    for (i = 0; i < {nv}; i++) v[i] = arg[i];", f"    v[{nv}] = 1.0;",
+            f"    for (i = 0; i < {nm}; i++) {{",
+            f"        double x = v[{up}_VAR[0][i]];"]
+    if depth > 1:
+        body += ["        int j;",
+                 f"        for (j = 1; j < {depth}; j++) x *= v[{up}_VAR[j][i]];"]
+    body += ["        m[i] = x;", "    }",
+             f"    memset(out0, 0, sizeof(double) * {t.n_out});",
+             f"    for (i = 0; i < {len(coef)}; i++) "
+             f"out0[{up}_OUT[i]] += {up}_COEF[i] * m[{up}_MONO[i]];"]
+    return lines + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",),
+                           body)
+
+
 #: the generated functions of each structure, ``<kind>_<index>``
 KINDS = ("descriptor", "bias", "flap_delays", "loads")
 
@@ -477,10 +537,11 @@ def equations_c(structures) -> str:
                 first[key] = i
                 body += parts[kind]
             impl[kind].append(first[key])
-    from ..model.effects import RuntimeLinear
+    from ..model.effects import RuntimeLinear, RuntimePolynomials
     for effect in numeric:                     # before the descriptors that call them
         rt = _runtime_of(effect)
         body = (_linear_c(effect, rt, sp) if isinstance(rt, RuntimeLinear)
+                else _polynomials_c(effect, rt) if isinstance(rt, RuntimePolynomials)
                 else _runtime_c(effect, rt, sp)) + body
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "

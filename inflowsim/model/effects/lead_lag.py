@@ -46,12 +46,13 @@ second part once the coupling is in, where they are identified.
 """
 import numpy as np
 
-from ._effect import Effect, RuntimeLinear
+from ._effect import Effect, RuntimeLinear, RuntimePolynomials
 from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ..recent import Recent
 from ...physics import lead_lag as ll
+from ...physics import lead_lag_terms as lt
 from ...physics import loads as ld
 
 NAME = "lead-lag"
@@ -164,13 +165,16 @@ def _base_terms(eq, p, k):
 
 
 def _runtime():
-    """What the FMU solves at run time for the lag's 3 x 3 systems (the steady lag,
-    the trim inflow: :func:`inflowsim.physics.lead_lag.coefficients` traced): a
-    :class:`RuntimeLinear` of twelve arguments, the matrix row by row, then the
-    right-hand side."""
-    return RuntimeLinear(
+    """What the FMU computes at run time (:func:`inflowsim.physics.lead_lag.
+    coefficients` traced): the lag's 3 x 3 systems (the steady lag, the trim
+    inflow), a :class:`RuntimeLinear` of twelve arguments, the matrix row by row,
+    then the right-hand side; and the trim polynomials of
+    :mod:`~inflowsim.physics.lead_lag_terms` (calls ``lead-lag/<table>``), each a
+    :class:`RuntimePolynomials`."""
+    return {NAME: RuntimeLinear(
         n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
-        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
+        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))} | {
+        f"{NAME}/{name}": RuntimePolynomials(t) for name, t in lt.TABLES.items()}
 
 
 def _equations(eq, p, k):

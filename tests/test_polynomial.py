@@ -1,0 +1,52 @@
+"""Polynomials held as data (:mod:`inflowsim.physics.polynomial`): the lead-lag
+coefficients' form that Python evaluates and the FMU's generator prints into C."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy
+
+from inflowsim.model.effects import CATALOGUE, RuntimePolynomials
+from inflowsim.physics import lead_lag_terms as lt
+from inflowsim.physics.polynomial import Polynomials
+
+
+def test_a_table_is_its_sum_of_terms():
+    """Each output is the sum of coefficient times monomial: numbers, and symbols
+    (the same table expanded by sympy), and an output without terms is zero."""
+    p = Polynomials(name="t", variables=("x", "y"), n_out=3,
+                    monomials=((), (0,), (0, 0, 1)), terms=((0, 0, 2.0), (0, 2, -0.5),
+                                                           (2, 1, 3.0)))
+    x, y = 0.3, -1.7
+    np.testing.assert_array_equal(p((x, y)), [2.0 - 0.5 * x * x * y, 0.0, 3.0 * x])
+    sx, sy = sympy.symbols("x y")
+    got = p((sx, sy))
+    assert sympy.expand(got[0] - (2 - sympy.Rational(1, 2) * sx**2 * sy)) == 0
+    assert got[1] == 0 and sympy.expand(got[2] - 3 * sx) == 0
+    assert p.empty == (1,) and p.depth == 3
+
+
+def test_the_lag_tables_are_the_effects_run_time_calls():
+    """The lead-lag effect declares each table of ``lead_lag_terms`` as a run-time
+    call ``lead-lag/<table>`` (the FMU's C evaluates the table), and the table's
+    numbers are its symbolic expansion's at a trim (the lag's trim moment)."""
+    rt = CATALOGUE["lead-lag"].runtime()
+    for name, table in lt.TABLES.items():
+        assert isinstance(rt[f"lead-lag/{name}"], RuntimePolynomials)
+        assert rt[f"lead-lag/{name}"].table is table
+    args = (0.3, 0.9, 0.0015, (0.17, 0.01, -0.05), (0.06, 0.011, -0.004), -0.03, 0.004,
+            -0.002)
+    values = [args[0], args[1], args[2], *args[3], *args[4], *args[5:]]
+    t = lt.TABLES["lag_trim"]
+    syms = sympy.symbols(" ".join(t.variables))
+    expr = t(syms)
+    want = [float(e.xreplace(dict(zip(syms, values)))) for e in expr]
+    np.testing.assert_allclose(lt.lag_trim(*args), want, rtol=1e-13, atol=1e-16)
+    np.testing.assert_array_equal(rt["lead-lag/lag_trim"].solve(values)[:, 0],
+                                  lt.lag_trim(*args))
+    zt = (0.01, 0.002, -0.001)
+    flap, lag, loads = lt.terms(*args, zt)
+    y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), zt[1], zt[2]])
+    np.testing.assert_array_equal(np.concatenate([flap.ravel(), lag.ravel(),
+                                                  loads.ravel()]), y)
