@@ -64,12 +64,13 @@ def main(argv):
         i = argv.index("--builds")
         n = int(argv[i + 1])
         argv = argv[:i] + argv[i + 2:]
-    print("| structure | Python [s] | compiler [s] | inflow_equations.c [kB] | "
+    from inflowsim.fmu.codegen import n_states
+    print("| structure | NX | Python [s] | compiler [s] | inflow_equations.c [kB] | "
           "build_model [ms] |")
-    print("| --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- |")
     for s in argv:
         py, cc, size = fmu_cost(s)
-        print(f"| `{s}` | {py:.1f} | {cc:.1f} | {size / 1e3:.0f} | "
+        print(f"| `{s}` | {n_states([s])} | {py:.1f} | {cc:.1f} | {size / 1e3:.0f} | "
               f"{build_cost(s, n) * 1e3:.2f} |", flush=True)
     print(f"load average {os.getloadavg()[0]:.2f}")
 

@@ -78,10 +78,9 @@ class Polynomials:
             v = np.array(list(values) + [1.0], dtype=float)
         except TypeError:                                   # symbols
             return self._symbolic(values)
-        g = v[idx]
-        m = g[0]
-        for row in g[1:]:                # left to right, as the generated C
-            m = m * row
+        # each monomial's variables multiplied left to right (a reduction over the
+        # first axis takes the rows in order), as the generated C
+        m = np.multiply.reduce(v[idx], axis=0)
         return np.bincount(out, weights=coef * m[mono], minlength=self.n_out)
 
     def _symbolic(self, values):

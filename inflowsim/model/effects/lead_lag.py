@@ -127,9 +127,10 @@ def _bias(m, p):
     return np.hstack([m[:, 9:10], m[:, 10:12] @ rotation(-p["azimuth_bias"]), m[:, 12:15]])
 
 
-def block(p, k, n_inputs: int = 10) -> StateBlock:
-    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
-    _, flap, lag, loads, _ = coefficients(p, k)
+def block(p, k, n_inputs: int = 10, coeffs=None) -> StateBlock:
+    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``
+    (``coeffs``: :func:`coefficients` at them, if known)."""
+    _, flap, lag, loads, _ = coefficients(p, k) if coeffs is None else coeffs
     kf = p["k_flap_lag"]
     s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"])
     a_z, a_x, a_u = lag[:, ll.Z_COLS], lag[:, ll.X_COLS], _bias(lag, p)
@@ -144,12 +145,13 @@ def block(p, k, n_inputs: int = 10) -> StateBlock:
                       f_x=f_x, l_x=l_x)
 
 
-def _base_terms(eq, p, k):
+def _base_terms(eq, p, k, coeffs):
     """The steady lag's share of the base equations' state and input columns (the
     blades meet the free stream, the inflow and the body rates at ``psi - zeta_t``,
     and the lag rate of the trim's cyclic lag acts in the Coriolis moment), scaled
-    by ``k_flap_lag`` (neutral 0: the base equations unchanged)."""
-    _, flap, _, loads, _ = coefficients(p, k)
+    by ``k_flap_lag`` (neutral 0: the base equations unchanged); ``coeffs`` the
+    :func:`coefficients`."""
+    _, flap, _, loads, _ = coeffs
     kf = p["k_flap_lag"]
     lm = kf * ld.momentum_l(k.mu, k.a0s, k.flow_speed)
     fl = kf * flap
@@ -178,8 +180,9 @@ def _runtime():
 
 
 def _equations(eq, p, k):
-    eq = _base_terms(eq, p, k)
-    return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1]),))
+    c = coefficients(p, k)
+    eq = _base_terms(eq, p, k, c)
+    return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1], c),))
 
 
 def _theory(k):
