@@ -33,8 +33,8 @@ solution the C finds by LU, as the Peters-He effects' ``L(X)^-1``, whose symboli
 inverse took minutes to generate from ten states up; or a
 :class:`~inflowsim.model.effects.RuntimePolynomials`: a table of polynomials printed
 as arrays with the loop of its Python evaluation, as ``lead-lag``'s trim
-coefficients, whose expansion into the descriptor made 290 kB of C and 40-80 s of
-generation and compilation).  An effect may ask for several calls, named
+coefficients, whose expansion into the descriptor made 290-340 kB of C and 40-100 s
+of CPU to generate and compile).  An effect may ask for several calls, named
 ``<effect>/<part>``.
 """
 from __future__ import annotations
