@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import sympy
 
 from inflowsim.model.effects import CATALOGUE, RuntimePolynomials
@@ -50,3 +51,34 @@ def test_the_lag_tables_are_the_effects_run_time_calls():
     y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), zt[1], zt[2]])
     np.testing.assert_array_equal(np.concatenate([flap.ravel(), lag.ravel(),
                                                   loads.ravel()]), y)
+
+
+@pytest.mark.slow
+def test_the_traced_lag_with_its_calls_evaluated_is_the_python_descriptor():
+    """Traced for the FMU, the lag's terms are run-time calls (its 3 x 3 solves and
+    its trim tables); each call evaluated in Python through what the effect declares
+    (``RuntimeLinear.solve``, ``RuntimePolynomials.solve``), in order (a call's
+    arguments hold earlier calls' results), the traced E, A, B are build_model's:
+    the tracing checked apart from the compiler (a second of sympy)."""
+    from inflowsim.fmu.codegen import _runtime_of, _trace
+    from inflowsim.model import descriptor
+    from inflowsim.model.params import PUMA
+    from inflowsim.model.presets import truth_parameters
+    structure = "glauert+azimuth-bias+lead-lag"
+    trim = {"theta0": 0.17, "theta1c": 0.012, "theta1s": -0.05, "beta0": 0.06,
+            "beta1c": 0.011, "beta1s": -0.004, "muz": -0.02}
+    k = PUMA.with_trim(trim).with_mu(0.27)
+    p = truth_parameters(structure, k) | {"azimuth_bias": 0.2, "k_flap_lag": 1.3}
+    e, a, b = descriptor(structure, p, k)
+    _, es, as_, bs, _, calls = _trace(structure)
+    assert {c[0] for c in calls} == {"lead-lag", *(f"lead-lag/{n}" for n in lt.TABLES)}
+    values = {**p, "mu": k.mu, "a0": k.a0, "solidity": k.solidity, "V": k.flow_speed,
+              **{f"trim_{c}": x for c, x in trim.items()}}
+    subs = {sympy.Symbol(n): v for n, v in values.items()}
+    for i, (name, args, shapes) in enumerate(calls):
+        y = _runtime_of(name).solve([float(sympy.sympify(x).xreplace(subs)) for x in args])
+        assert y.shape == shapes[0]
+        subs.update({sympy.Symbol(f"numeric_{i}_0[{j}]"): v for j, v in enumerate(y.ravel())})
+    for sym, num in ((es, e), (as_, a), (bs, b[:, : bs.shape[1]])):
+        got = np.array([[float(sympy.sympify(x).xreplace(subs)) for x in row] for row in sym])
+        np.testing.assert_allclose(got, num, rtol=1e-12, atol=1e-13 * np.abs(num).max())
