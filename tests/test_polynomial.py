@@ -28,6 +28,20 @@ def test_a_table_is_its_sum_of_terms():
     assert p.empty == (1,) and p.depth == 3
 
 
+def test_the_prefix_tree_multiplies_as_the_table():
+    """The generated C's monomials (one multiply per node of the prefix tree) are
+    the doubles of the table's own evaluation (left to right), on the lag's terms."""
+    t = lt.TABLES["terms"]
+    parent, var, node = t.prefix_tree()
+    v = np.random.default_rng(3).normal(0.0, 0.4, len(t.variables))
+    m = [1.0]
+    for a, b in zip(parent[1:], var[1:]):
+        assert a < len(m)
+        m.append(m[a] * v[b])
+    want = np.multiply.reduce(np.append(v, 1.0)[t.index_rows()], axis=0)
+    np.testing.assert_array_equal(np.array(m)[list(node)], want)
+
+
 def test_the_lag_tables_are_the_effects_run_time_calls():
     """The lead-lag effect declares each table of ``lead_lag_terms`` as a run-time
     call ``lead-lag/<table>`` (the FMU's C evaluates the table), and the table's

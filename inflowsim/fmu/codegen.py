@@ -464,40 +464,44 @@ def _int_array(name, ctype, values, per_line=16) -> list:
 
 def _polynomials_c(call: str, rp) -> list:
     """The C function ``numeric_<call>(arg, out0)`` of run-time polynomials
-    (:class:`~inflowsim.model.effects.RuntimePolynomials`): the table's arrays
-    (:class:`inflowsim.physics.polynomial.Polynomials`: each monomial's variables,
-    each term's output, monomial and coefficient) and the loop of its Python
-    evaluation, in the same order (so, built without contraction, the same
-    doubles): each monomial the product of its variables left to right, each
-    output the sum of its terms from zero."""
+    (:class:`~inflowsim.model.effects.RuntimePolynomials`): the table
+    (:class:`inflowsim.physics.polynomial.Polynomials`) as arrays, its monomials by
+    their prefix tree (one multiply each, :meth:`~inflowsim.physics.polynomial.
+    Polynomials.prefix_tree`), then each output's terms (monomial and coefficient);
+    the multiplies and adds of its Python evaluation in the same order (so, built
+    without contraction, the same doubles): each monomial the product of its
+    variables left to right, each output the sum of its terms from zero."""
     t = rp.table
     f = _c_function(call)
     up = f.upper()
-    nv, nm = len(t.variables), len(t.monomials)
+    nv = len(t.variables)
+    parent, var, node = t.prefix_tree()
     out, mono, coef = t.term_arrays()
-    idx = t.index_rows()
-    assert nv < 127 and max(nm, t.n_out) < 65536
+    nn = len(parent)
+    assert nv < 127 and max(nn, t.n_out) < 65536
     lines = [f"/* --- {call}: its run-time polynomials "
              "(inflowsim.model.effects.RuntimePolynomials), generated --- */",
-             f"/* variables: {', '.join(t.variables)} ({nv}: the value 1) */"]
-    lines += _int_array(f"{up}_VAR", "signed char", idx)
-    lines += _int_array(f"{up}_OUT", "unsigned short", out)
-    lines += _int_array(f"{up}_MONO", "unsigned short", mono)
+             f"/* variables: {', '.join(t.variables)}; the monomials' prefix tree: "
+             "node j = node PARENT[j] * variable VAR[j], node 0 = 1 */"]
+    # each output's terms together, in the table's order (as numpy's bincount adds
+    # them): the C sums them in a register, from zero
+    assert np.all(np.diff(out) >= 0), "a table's terms grouped by output"
+    first = np.searchsorted(out, np.arange(t.n_out + 1))
+    lines += _int_array(f"{up}_PARENT", "unsigned short", parent[1:])
+    lines += _int_array(f"{up}_VAR", "signed char", var[1:])
+    lines += _int_array(f"{up}_FIRST", "unsigned short", first)
+    lines += _int_array(f"{up}_NODE", "unsigned short", [node[j] for j in mono])
     lines += [f"static const double {up}_COEF[{len(coef)}] = {{"]
     lines += [f"    {', '.join(repr(float(c)) for c in coef[i:i + 4])},"
               for i in range(0, len(coef), 4)] + ["};", ""]
-    depth = idx.shape[0]
-    body = [f"    double v[{nv + 1}], m[{nm}];", "    int i;",
-            f"    for (i = 0; i < {nv}; i++) v[i] = arg[i];", f"    v[{nv}] = 1.0;",
-            f"    for (i = 0; i < {nm}; i++) {{",
-            f"        double x = v[{up}_VAR[0][i]];"]
-    if depth > 1:
-        body += ["        int j;",
-                 f"        for (j = 1; j < {depth}; j++) x *= v[{up}_VAR[j][i]];"]
-    body += ["        m[i] = x;", "    }",
-             f"    memset(out0, 0, sizeof(double) * {t.n_out});",
-             f"    for (i = 0; i < {len(coef)}; i++) "
-             f"out0[{up}_OUT[i]] += {up}_COEF[i] * m[{up}_MONO[i]];"]
+    body = [f"    double m[{nn}];", "    int i, o;", "    m[0] = 1.0;",
+            f"    for (i = 1; i < {nn}; i++) "
+            f"m[i] = m[{up}_PARENT[i - 1]] * arg[{up}_VAR[i - 1]];",
+            f"    for (o = 0; o < {t.n_out}; o++) {{",
+            "        double s = 0.0;",
+            f"        for (i = {up}_FIRST[o]; i < {up}_FIRST[o + 1]; i++) "
+            f"s += {up}_COEF[i] * m[{up}_NODE[i]];",
+            "        out0[o] = s;", "    }"]
     return lines + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",),
                            body)
 

@@ -66,6 +66,23 @@ class Polynomials:
         ``len(variables)`` (the value 1)."""
         return self._arrays[0]
 
+    def prefix_tree(self) -> tuple:
+        """``(parent, variable, node)``: every monomial and each of its prefixes
+        once as a node, node 0 the value 1 and node ``j`` its ``parent[j]`` (an
+        earlier node) times the variable ``variable[j]``; ``node[i]`` is monomial
+        ``i``'s node.  One multiply per node, and each monomial's multiplies in the
+        order of :meth:`__call__` (left to right: the same double)."""
+        nodes = {(): 0}
+        parent, variable, node = [0], [-1], []
+        for m in self.monomials:
+            for j in range(1, len(m) + 1):
+                if m[:j] not in nodes:
+                    nodes[m[:j]] = len(parent)
+                    parent.append(nodes[m[:j - 1]])
+                    variable.append(m[j - 1])
+            node.append(nodes[m])
+        return tuple(parent), tuple(variable), tuple(node)
+
     def term_arrays(self) -> tuple:
         """``(output, monomial, coefficient)`` of every term, as three arrays."""
         return self._arrays[1:]
