@@ -96,3 +96,32 @@ def test_the_traced_lag_with_its_calls_evaluated_is_the_python_descriptor():
     for sym, num in ((es, e), (as_, a), (bs, b[:, : bs.shape[1]])):
         got = np.array([[float(sympy.sympify(x).xreplace(subs)) for x in row] for row in sym])
         np.testing.assert_allclose(got, num, rtol=1e-12, atol=1e-13 * np.abs(num).max())
+
+
+@pytest.mark.slow
+def test_the_generated_c_gives_the_tables_doubles(tmp_path):
+    """The C the FMU's generator prints for each lag table, compiled with the FMU's
+    flags, gives Python's evaluation bit for bit at random points."""
+    import ctypes
+    import subprocess
+    from inflowsim.fmu import codegen
+    from inflowsim.fmu.build import CFLAGS, compiler
+    rt = CATALOGUE["lead-lag"].runtime()
+    src = ["#include <string.h>"]
+    for name in lt.TABLES:
+        src += [line.replace("static void numeric", "void numeric")
+                for line in codegen._polynomials_c(f"lead-lag/{name}", rt[f"lead-lag/{name}"])]
+    (tmp_path / "t.c").write_text("\n".join(src))
+    flags = [f for f in CFLAGS if f != "-fvisibility=hidden"]
+    subprocess.run([compiler(), *flags, str(tmp_path / "t.c"), "-o", str(tmp_path / "t.so")],
+                   check=True)
+    lib = ctypes.CDLL(str(tmp_path / "t.so"))
+    rng = np.random.default_rng(7)
+    ptr = ctypes.POINTER(ctypes.c_double)
+    for name, t in lt.TABLES.items():
+        f = getattr(lib, "numeric_lead_lag_" + name)
+        for _ in range(200):
+            v = rng.normal(0.0, 0.4, len(t.variables))
+            out = np.zeros(t.n_out)
+            f(v.ctypes.data_as(ptr), out.ctypes.data_as(ptr))
+            np.testing.assert_array_equal(out, t(list(v)))
