@@ -161,7 +161,20 @@ def _measurement_c(meas, index: int, sp) -> list:
 
 def _numeric_calls_c(calls, sp) -> list:
     """The descriptor's run-time calls (:class:`_NumericCalls`): each result array
-    declared, then filled by the effect's generated function from its arguments."""
+    declared, then filled by the effect's generated function from its arguments
+    (the same text for the loads, which trace the same calls: made once)."""
+    key = tuple((effect, tuple(args), tuple(shapes)) for effect, args, shapes in calls)
+    if key not in _CALLS_TEXT:
+        _CALLS_TEXT.clear()                    # one structure's at a time
+        _CALLS_TEXT[key] = tuple(_numeric_calls_lines(calls, sp))
+    return list(_CALLS_TEXT[key])
+
+
+#: :func:`_numeric_calls_c`'s text of the last calls
+_CALLS_TEXT = {}
+
+
+def _numeric_calls_lines(calls, sp) -> list:
     lines = []
     for i, (effect, args, shapes) in enumerate(calls):
         outs = [f"numeric_{i}_{o}" for o in range(len(shapes))]
