@@ -187,26 +187,30 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
 rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
-3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic
-inflow ``l1c_t, l1s_t`` and (``terms``) the steady lag ``zt``: its collective part
-exactly (a turn of the blades' azimuth), its cyclic part to first order.  Pure
-functions of numbers or of sympy symbols (the FMU's C is generated from them).
+3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim:
+pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic inflow ``l1c_t,
+l1s_t`` and (``terms``, ``load_trim``) the steady lag ``zt``: its collective part
+exactly (a turn of the blades' azimuth: ``cz0, sz0``, its cosine and sine), its
+cyclic part to first order.
+
+Each is a polynomial in the trim, held as data (:class:`~inflowsim.physics.
+polynomial.Polynomials`: the derivation's exact coefficients rounded once to
+doubles, expanded): evaluated on numbers in a few array operations, or (``numeric``,
+the FMU's code generator tracing the model) a run-time call whose C the generator
+prints from the same table.
 """
 from __future__ import annotations
 
 import math
 
-import numpy as np
+from .polynomial import Polynomials
 
 #: Columns of the matrices of :func:`terms`.
 COLS = {cols!r}
-
-
-def _arr(rows):
-    try:
-        return np.array(rows, dtype=float)
-    except TypeError:                # symbols: the FMU's generator
-        return np.array(rows, dtype=object)
+#: The variables of :func:`lag_trim` and :func:`lag_stiffness` (the trim without lag).
+TRIM_VARIABLES = {trim!r}
+#: The variables of :func:`terms` and :func:`load_trim` (with the steady lag).
+VARIABLES = {variables!r}
 
 
 def _cos_sin(x):
@@ -216,59 +220,115 @@ def _cos_sin(x):
         import sympy
         return sympy.cos(x), sympy.sin(x)
 
+
+def _evaluate(table, values, numeric):
+    """``table`` at ``values``: on numbers, or (``numeric``: the traced model's
+    run-time call, ``(name, arguments, shapes) -> results``) a call named after the
+    table, its identically zero outputs left exact."""
+    if numeric is None:
+        return table(values)
+    y = numeric(table.name, tuple(values), ((table.n_out, 1),))[0][:, 0].copy()
+    y[list(table.empty)] = 0
+    return y
+
+'''
+#: The variables of the trim polynomials (:data:`TRIM` with the steady lag's
+#: collective part as its cosine and sine).
+TRIM_VARIABLES = ["mu", "nb", "dl"] + TRIM
+VARIABLES = TRIM_VARIABLES + LAG_TRIM
+
+
+def _to_double(c) -> float:
+    """A rational coefficient correctly rounded."""
+    from fractions import Fraction
+    c = sp.Rational(c)
+    return float(Fraction(int(c.p), int(c.q)))
+
+
+def table(exprs, variables):
+    """``(monomials, terms)`` of :class:`inflowsim.physics.polynomial.Polynomials`
+    for the polynomials ``exprs`` in ``variables``: the monomials by degree, then
+    by their exponents (the first variable's highest first); each output's terms in
+    the monomials' order."""
+    syms = [sp.Symbol(v) for v in variables]
+    polys = [sp.Poly(sp.expand(sp.sympify(e)), *syms) for e in exprs]
+    monos = sorted({m for p in polys for m in p.monoms()},
+                   key=lambda m: (sum(m), tuple(-k for k in m)))
+    index = {m: j for j, m in enumerate(monos)}
+    terms = []
+    for o, p in enumerate(polys):
+        if p.is_zero:
+            continue
+        terms += sorted((o, index[m], _to_double(c)) for m, c in p.terms())
+    monomials = [tuple(i for i, k in enumerate(m) for _ in range(k)) for m in monos]
+    return monomials, terms
+
+
+def _table_code(var, name, exprs, variables, variables_name):
+    monomials, terms = table(exprs, variables)
+    lines = [f"{var} = Polynomials(",
+             f"    name={name!r}, variables={variables_name}, n_out={len(exprs)},",
+             "    monomials=("]
+    for i in range(0, len(monomials), 8):
+        lines.append("        " + " ".join(f"{m!r}," for m in monomials[i:i + 8]))
+    lines += ["    ),", "    terms=("]
+    for i in range(0, len(terms), 3):
+        lines.append("        " + " ".join(f"({o}, {j}, {c!r})," for o, j, c in terms[i:i + 3]))
+    return lines + ["    ))", ""]
+
+
+def _flat(rows):
+    return [e for row in rows for e in (row if isinstance(row, list) else [row])]
+
+
+FUNCTIONS = '''
+
+def terms(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
+    """``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-]."""
+    cz0, sz0 = _cos_sin(zt[0])
+    y = _evaluate(_TERMS, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1], zt[2]),
+                  numeric)
+    return y[:63].reshape(3, 21), y[63:126].reshape(3, 21), y[126:].reshape(3, 21)
+
+
+def lag_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, numeric=None):
+    """The lag rows' right-hand side at the trim without lag (3) [-]."""
+    return _evaluate(_LAG_TRIM, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t), numeric)
+
+
+def lag_stiffness(mu, nb, dl, th, b, u, l1c_t, l1s_t, numeric=None):
+    """The lag rows' displacement columns (``COLS[15:18]``) without steady lag (3 x
+    3) [-]."""
+    return _evaluate(_LAG_STIFFNESS, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t),
+                     numeric).reshape(3, 3)
+
+
+def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
+    """The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` (3) [-]."""
+    cz0, sz0 = _cos_sin(zt[0])
+    return _evaluate(_LOAD_TRIM, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1],
+                                  zt[2]), numeric)
+
+
+#: The tables, by name (each a run-time call of the FMU).
+TABLES = {t.name: t for t in (_TERMS, _LAG_TRIM, _LAG_STIFFNESS, _LOAD_TRIM)}
+
+__all__ = ["COLS", "TRIM_VARIABLES", "VARIABLES", "TABLES", "terms", "lag_trim",
+           "lag_stiffness", "load_trim"]
 '''
 
 
-def _code(e):
-    return sp.pycode(sp.collect(e, [sp.Symbol("nb")]), fully_qualified_modules=False)
-
-
-def _function(name, args, doc, setup, arrays):
-    """Python source of one function: common subexpressions (``x0, x1, ...``), then
-    each array of ``arrays`` (``{variable: rows (or a vector) of expressions}``),
-    returned as a tuple (one array: itself)."""
-    flat = [e for rows in arrays.values() for row in rows
-            for e in (row if isinstance(row, list) else [row])]
-    subs, reduced = sp.cse([sp.sympify(e) for e in flat], symbols=sp.numbered_symbols("x"),
-                           order="none")
-    lines = [f"\ndef {name}({args}):", f'    """{doc}"""'] + setup + ["    o = 0 * mu"]
-    lines += [f"    {v} = {_code(e)}" for v, e in subs]
-    it = iter(reduced)
-    for var, rows in arrays.items():
-        if rows and isinstance(rows[0], list):
-            lines.append(f"    {var} = _arr([")
-            for row in rows:
-                vals = [next(it) for _ in row]
-                lines.append("        [" + ", ".join(_code(e) if e != 0 else "o"
-                                                    for e in vals) + "],")
-            lines.append("    ])")
-        else:
-            vals = [next(it) for _ in rows]
-            lines.append(f"    {var} = _arr([" + ", ".join(_code(e) if e != 0 else "o"
-                                                          for e in vals) + "])")
-    lines.append(f"    return {', '.join(arrays)}\n")
-    return lines
-
-
 def render(out) -> str:
-    lines = [HEADER.format(cols=tuple(COLS))]
-    args = "mu, nb, dl, th, b, u, l1c_t, l1s_t"
-    unpack = ["    th0, th1c, th1s = th", "    b0t, b1ct, b1st = b"]
-    lag = ["    z0t, z1ct, z1st = zt", "    cz0, sz0 = _cos_sin(z0t)"]
-    lines += _function("terms", args + ", zt",
-                       "``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-].",
-                       unpack + lag, {n: out[n] for n in ("flap", "lag", "loads")})
-    lines += _function("lag_trim", args,
-                       "The lag rows' right-hand side at the trim without lag (3) [-].",
-                       unpack, {"moment": out["lag_trim"]})
-    lines += _function("lag_stiffness", args,
-                       "The lag rows' displacement columns (``COLS[15:18]``) without "
-                       "steady lag (3 x 3) [-].", unpack, {"stiffness": out["lag_stiffness"]})
-    lines += _function("load_trim", args + ", zt",
-                       "The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` "
-                       "(3) [-].", unpack + lag, {"loads": out["load_trim"]})
-    lines.append('\n__all__ = ["COLS", "terms", "lag_trim", "lag_stiffness", "load_trim"]\n')
-    return "\n".join(lines)
+    lines = [HEADER.format(cols=tuple(COLS), trim=tuple(TRIM_VARIABLES),
+                           variables=tuple(VARIABLES))]
+    for var, name, exprs, variables in (
+            ("_TERMS", "terms", _flat(out["flap"] + out["lag"] + out["loads"]), VARIABLES),
+            ("_LAG_TRIM", "lag_trim", _flat(out["lag_trim"]), TRIM_VARIABLES),
+            ("_LAG_STIFFNESS", "lag_stiffness", _flat(out["lag_stiffness"]), TRIM_VARIABLES),
+            ("_LOAD_TRIM", "load_trim", _flat(out["load_trim"]), VARIABLES)):
+        lines += _table_code(var, name, exprs, variables,
+                             "VARIABLES" if variables is VARIABLES else "TRIM_VARIABLES")
+    return "\n".join(lines) + FUNCTIONS
 
 
 if __name__ == "__main__":

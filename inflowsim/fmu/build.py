@@ -278,7 +278,9 @@ def _naming_os_errors(name):
         raise
 
 
-def _stage_sources(dest: Path, fmi_version: int, d: Description = DEFAULT) -> None:
+def _stage_sources(dest: Path, fmi_version: int, d: Description = DEFAULT) -> dict:
+    """Copy the hand-written sources and write the generated ones into ``dest``;
+    returns the generated files (:func:`generated_files`, made once per build)."""
     src = source_dir()
     layer, headers = LAYER[fmi_version]
     hand = CORE_SOURCES + (layer,) + CORE_HEADERS + headers
@@ -289,12 +291,14 @@ def _stage_sources(dest: Path, fmi_version: int, d: Description = DEFAULT) -> No
     for f in hand + ("LICENSE-FMI.txt",):
         if (src / f).is_file():
             shutil.copyfile(src / f, dest / f)
-    for name, text in generated_files(d).items():
+    files = generated_files(d)
+    for name, text in files.items():
         if name.endswith((".c", ".h")):
             (dest / name).write_text(text, encoding="utf-8")
     # the FMI 3.0 build description; FMPy also reads it to compile an FMI 2.0 FMU
     (dest / "buildDescription.xml").write_text(_build_description(fmi_version),
                                                encoding="utf-8")
+    return files
 
 
 def _build_description(fmi_version: int) -> str:
@@ -456,7 +460,7 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
             _naming_os_errors(f"{tmp} (the build folder of {out})"):
         root = Path(tmp) / "fmu"
         b.set_postfix_str("generating the C equations of " + ", ".join(d.structures))
-        _stage_sources(root / "sources", version, d)
+        files = _stage_sources(root / "sources", version, d)
         b.update()
         (root / "binaries" / plat).mkdir(parents=True)
         b.set_postfix_str(f"compiling {plat} with {compiler()}")
@@ -474,8 +478,8 @@ def build_fmu(out_path="inflowsim.fmu", overwrite: bool = False, protect=(),
         (root / "documentation").mkdir()
         (root / "documentation" / "index.html").write_text(documentation_html(version, d),
                                                            encoding="utf-8")
-        (root / "modelDescription.xml").write_text(
-            generated_files(d)[DESCRIPTION[version]], encoding="utf-8")
+        (root / "modelDescription.xml").write_text(files[DESCRIPTION[version]],
+                                                   encoding="utf-8")
         with atomic_path(out) as part:
             with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
                 for p in sorted(root.rglob("*")):

@@ -30,7 +30,12 @@ is generated too, from what the effect declares
 sympy, its quadrature points, its Newton residual and settings, its results; or a
 :class:`~inflowsim.model.effects.RuntimeLinear`: a matrix and right-hand side whose
 solution the C finds by LU, as the Peters-He effects' ``L(X)^-1``, whose symbolic
-inverse took minutes to generate from ten states up).
+inverse took minutes to generate from ten states up; or a
+:class:`~inflowsim.model.effects.RuntimePolynomials`: a table of polynomials printed
+as arrays with the loop of its Python evaluation, as ``lead-lag``'s trim
+coefficients, whose expansion into the descriptor made 290-340 kB of C and 40-100 s
+of CPU to generate and compile).  An effect may ask for several calls, named
+``<effect>/<part>``.
 """
 from __future__ import annotations
 
@@ -156,7 +161,20 @@ def _measurement_c(meas, index: int, sp) -> list:
 
 def _numeric_calls_c(calls, sp) -> list:
     """The descriptor's run-time calls (:class:`_NumericCalls`): each result array
-    declared, then filled by the effect's generated function from its arguments."""
+    declared, then filled by the effect's generated function from its arguments
+    (the same text for the loads, which trace the same calls: made once)."""
+    key = tuple((effect, tuple(args), tuple(shapes)) for effect, args, shapes in calls)
+    if key not in _CALLS_TEXT:
+        _CALLS_TEXT.clear()                    # one structure's at a time
+        _CALLS_TEXT[key] = tuple(_numeric_calls_lines(calls, sp))
+    return list(_CALLS_TEXT[key])
+
+
+#: :func:`_numeric_calls_c`'s text of the last calls
+_CALLS_TEXT = {}
+
+
+def _numeric_calls_lines(calls, sp) -> list:
     lines = []
     for i, (effect, args, shapes) in enumerate(calls):
         outs = [f"numeric_{i}_{o}" for o in range(len(shapes))]
@@ -270,12 +288,19 @@ def _flow_speed_c(sp) -> list:
             f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
-def _runtime_of(effect: str):
-    """The :class:`~inflowsim.model.effects.RuntimeSolve` that ``effect`` declares
-    (:attr:`~inflowsim.model.effects.Effect.runtime`), or None."""
+def _runtime_of(call: str):
+    """What the run-time call ``call`` (an effect's name, or ``<effect>/<part>``)
+    computes, as its effect declares it (:attr:`~inflowsim.model.effects.Effect.
+    runtime`: a :class:`~inflowsim.model.effects.RuntimeSolve`, ``RuntimeLinear`` or
+    ``RuntimePolynomials``), or None."""
     from ..model.effects import CATALOGUE
-    e = CATALOGUE.get(effect)
-    return e.runtime() if e is not None and e.runtime is not None else None
+    e = CATALOGUE.get(call.split("/")[0])
+    if e is None or e.runtime is None:
+        return None
+    rt = e.runtime()
+    if isinstance(rt, dict):
+        return rt.get(call)
+    return rt if call == e.name else None
 
 
 def _c_function(effect: str) -> str:
@@ -437,6 +462,63 @@ def _linear_c(effect: str, rl, sp) -> list:
             + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",), body))
 
 
+def _int_array(name, ctype, values, per_line=16) -> list:
+    """A static const integer array of ``values`` (1-D or 2-D)."""
+    a = np.asarray(values)
+    shape = "".join(f"[{n}]" for n in a.shape)
+    rows = a if a.ndim == 2 else a[None, :]
+    out = [f"static const {ctype} {name}{shape} = {{"]
+    for row in rows:
+        body = [f"{'    ' * a.ndim}{', '.join(str(int(v)) for v in row[i:i + per_line])},"
+                for i in range(0, len(row), per_line)]
+        out += (["    {"] + body + ["    },"]) if a.ndim == 2 else body
+    return out + ["};"]
+
+
+def _polynomials_c(call: str, rp) -> list:
+    """The C function ``numeric_<call>(arg, out0)`` of run-time polynomials
+    (:class:`~inflowsim.model.effects.RuntimePolynomials`): the table
+    (:class:`inflowsim.physics.polynomial.Polynomials`) as arrays, its monomials by
+    their prefix tree (one multiply each, :meth:`~inflowsim.physics.polynomial.
+    Polynomials.prefix_tree`), then each output's terms (monomial and coefficient);
+    the multiplies and adds of its Python evaluation in the same order (so, built
+    without contraction, the same doubles): each monomial the product of its
+    variables left to right, each output the sum of its terms from zero."""
+    t = rp.table
+    f = _c_function(call)
+    up = f.upper()
+    nv = len(t.variables)
+    parent, var, node = t.prefix_tree()
+    out, mono, coef = t.term_arrays()
+    nn = len(parent)
+    assert nv < 127 and max(nn, t.n_out) < 65536
+    lines = [f"/* --- {call}: its run-time polynomials "
+             "(inflowsim.model.effects.RuntimePolynomials), generated --- */",
+             f"/* variables: {', '.join(t.variables)}; the monomials' prefix tree: "
+             "node j = node PARENT[j] * variable VAR[j], node 0 = 1 */"]
+    # each output's terms together, in the table's order (as numpy's bincount adds
+    # them): the C sums them in a register, from zero
+    assert np.all(np.diff(out) >= 0), "a table's terms grouped by output"
+    first = np.searchsorted(out, np.arange(t.n_out + 1))
+    lines += _int_array(f"{up}_PARENT", "unsigned short", parent[1:])
+    lines += _int_array(f"{up}_VAR", "signed char", var[1:])
+    lines += _int_array(f"{up}_FIRST", "unsigned short", first)
+    lines += _int_array(f"{up}_NODE", "unsigned short", [node[j] for j in mono])
+    lines += [f"static const double {up}_COEF[{len(coef)}] = {{"]
+    lines += [f"    {', '.join(repr(float(c)) for c in coef[i:i + 4])},"
+              for i in range(0, len(coef), 4)] + ["};", ""]
+    body = [f"    double m[{nn}];", "    int i, o;", "    m[0] = 1.0;",
+            f"    for (i = 1; i < {nn}; i++) "
+            f"m[i] = m[{up}_PARENT[i - 1]] * arg[{up}_VAR[i - 1]];",
+            f"    for (o = 0; o < {t.n_out}; o++) {{",
+            "        double s = 0.0;",
+            f"        for (i = {up}_FIRST[o]; i < {up}_FIRST[o + 1]; i++) "
+            f"s += {up}_COEF[i] * m[{up}_NODE[i]];",
+            "        out0[o] = s;", "    }"]
+    return lines + _c_body(f"static void {f}(const double *arg, double *out0)", ("arg",),
+                           body)
+
+
 #: the generated functions of each structure, ``<kind>_<index>``
 KINDS = ("descriptor", "bias", "flap_delays", "loads")
 
@@ -477,10 +559,11 @@ def equations_c(structures) -> str:
                 first[key] = i
                 body += parts[kind]
             impl[kind].append(first[key])
-    from ..model.effects import RuntimeLinear
+    from ..model.effects import RuntimeLinear, RuntimePolynomials
     for effect in numeric:                     # before the descriptors that call them
         rt = _runtime_of(effect)
         body = (_linear_c(effect, rt, sp) if isinstance(rt, RuntimeLinear)
+                else _polynomials_c(effect, rt) if isinstance(rt, RuntimePolynomials)
                 else _runtime_c(effect, rt, sp)) + body
     if len(states) != 1:
         raise InputError("the structures of one FMU must have the same number of states "

@@ -131,8 +131,9 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
         per cent of the cyclic loads; the steady lag and the inflow are found
         together to the square of that).  Without them the inflow is ``lam``.
     numeric : callable, optional
-        Traced for the FMU: the constants' ``k.numeric`` (the 3 x 3 solves run in
-        the generated C, the effect's ``runtime``).
+        Traced for the FMU: the constants' ``k.numeric`` (the 3 x 3 solves and the
+        trim polynomials of :mod:`lead_lag_terms`, calls ``lead-lag/<table>``, run
+        in the generated C, the effect's ``runtime``).
 
     Returns
     -------
@@ -153,18 +154,25 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
         lam = _solve3(np.eye(3).astype(object), np.asarray(lam, dtype=object), numeric)
     lam_t = np.asarray(lam)
 
+    # traced, the trim polynomials too are run-time calls (their tables printed
+    # into C): expanded into the descriptor they were most of its code
+    tables = None if numeric is None else (
+        lambda name, arg, shapes: numeric(f"{NAME}/{name}", arg, shapes))
+
     def at(lam_t):
         args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
-        return args, steady_lag(s_x, lt.lag_stiffness(*args), lt.lag_trim(*args), numeric)
+        return args, steady_lag(s_x, lt.lag_stiffness(*args, numeric=tables),
+                                lt.lag_trim(*args, numeric=tables), numeric)
 
     args, zt = at(lam_t)
     if lm is not None:
         a = np.eye(3) - lm @ g_lambda
         for _ in range(2):
-            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt)),
+            lam_t = np.asarray(lam) + _solve3(a, lm @ lt.load_trim(*args, tuple(zt),
+                                                                   numeric=tables),
                                               numeric)
             args, zt = at(lam_t)
-    return (zt, *lt.terms(*args, tuple(zt)), lam_t)
+    return (zt, *lt.terms(*args, tuple(zt), numeric=tables), lam_t)
 
 
 __all__ = ["NAME", "CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",

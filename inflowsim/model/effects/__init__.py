@@ -13,7 +13,7 @@ module imports none of them (no import circle, issue #40).
 """
 from __future__ import annotations
 
-from ._effect import Effect, ParameterSpec, RuntimeLinear, RuntimeSolve
+from ._effect import Effect, ParameterSpec, RuntimeLinear, RuntimePolynomials, RuntimeSolve
 from ..params import register as register_spec
 from . import (separate_time_constants, hub_velocity_coupling, glauert, azimuth_bias,
                time_delay)
@@ -95,5 +95,5 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "RuntimeLinear", "CATALOGUE", "register", "LOADERS", "load_missing",
-           "MOVED"]
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "RuntimeLinear", "RuntimePolynomials",
+           "CATALOGUE", "register", "LOADERS", "load_missing", "MOVED"]

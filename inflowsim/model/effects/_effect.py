@@ -8,7 +8,7 @@ import numpy as np
 from ..equations import Equations, Measurement
 from ..params import Constants, ParameterSpec
 
-__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "RuntimeLinear"]
+__all__ = ["Effect", "ParameterSpec", "RuntimeSolve", "RuntimeLinear", "RuntimePolynomials"]
 
 
 def _unchanged(x, p, k):
@@ -115,6 +115,37 @@ class RuntimeLinear:
 
 
 @dataclass(frozen=True)
+class RuntimePolynomials:
+    """Polynomials an effect evaluates at run time (``k.numeric`` while traced,
+    :attr:`Effect.runtime`): its arguments are the values of the table's variables,
+    its one result the outputs (``n_out x 1``).  The table is data
+    (:class:`inflowsim.physics.polynomial.Polynomials`), so the FMU's C holds it as
+    arrays and evaluates it with the loop Python's own evaluation follows (the same
+    doubles), where the expanded expressions (the lead-lag coefficients, polynomial
+    of degree 8 in the trim) made most of the generated code and its compile time.
+
+    Attributes
+    ----------
+    table : Polynomials
+        The polynomials.
+    """
+
+    table: object
+
+    @property
+    def n_args(self) -> int:
+        return len(self.table.variables)
+
+    def shape(self, arg=None) -> tuple:
+        """``(n_out, 1)``: the result's shape."""
+        return (self.table.n_out, 1)
+
+    def solve(self, arg) -> np.ndarray:
+        """The outputs at ``arg`` on numbers (what the generated C computes)."""
+        return self.table([float(x) for x in arg]).reshape(-1, 1)
+
+
+@dataclass(frozen=True)
 class Effect:
     """One candidate physical or measurement effect (``workflow.md``).
 
@@ -187,10 +218,12 @@ class Effect:
         thrust and moments); runs on numbers or sympy symbols
         (:func:`inflowsim.model.loads.load_rows`).
     runtime : callable, optional
-        ``() -> RuntimeSolve | RuntimeLinear``: what it computes at run time when
-        traced on symbols asks for a call (``k.numeric(name, args, shapes)``): the
-        FMU's code generator makes the called C function from it (a Newton solve
-        over a quadrature, or a linear solve).
+        ``() -> RuntimeSolve | RuntimeLinear | dict``: what it computes at run time
+        when traced on symbols asks for a call (``k.numeric(name, args, shapes)``,
+        ``name`` the effect's): the FMU's code generator makes the called C function
+        from it (a Newton solve over a quadrature, a linear solve).  An effect with
+        several calls gives ``{call name: RuntimeSolve | RuntimeLinear |
+        RuntimePolynomials}``, each name the effect's or ``<effect>/<part>``.
     """
 
     name: str

@@ -46,12 +46,13 @@ second part once the coupling is in, where they are identified.
 """
 import numpy as np
 
-from ._effect import Effect, RuntimeLinear
+from ._effect import Effect, RuntimeLinear, RuntimePolynomials
 from .advance_ratio_perturbation import true_trim, true_trim_state
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ..recent import Recent
 from ...physics import lead_lag as ll
+from ...physics import lead_lag_terms as lt
 from ...physics import loads as ld
 
 NAME = "lead-lag"
@@ -126,9 +127,10 @@ def _bias(m, p):
     return np.hstack([m[:, 9:10], m[:, 10:12] @ rotation(-p["azimuth_bias"]), m[:, 12:15]])
 
 
-def block(p, k, n_inputs: int = 10) -> StateBlock:
-    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``."""
-    _, flap, lag, loads, _ = coefficients(p, k)
+def block(p, k, n_inputs: int = 10, coeffs=None) -> StateBlock:
+    """The lag's :class:`StateBlock` for parameters ``p`` and constants ``k``
+    (``coeffs``: :func:`coefficients` at them, if known)."""
+    _, flap, lag, loads, _ = coefficients(p, k) if coeffs is None else coeffs
     kf = p["k_flap_lag"]
     s_x = ll.lag_structure(p["nu_zeta"], p["zeta_lag"])
     a_z, a_x, a_u = lag[:, ll.Z_COLS], lag[:, ll.X_COLS], _bias(lag, p)
@@ -143,12 +145,13 @@ def block(p, k, n_inputs: int = 10) -> StateBlock:
                       f_x=f_x, l_x=l_x)
 
 
-def _base_terms(eq, p, k):
+def _base_terms(eq, p, k, coeffs):
     """The steady lag's share of the base equations' state and input columns (the
     blades meet the free stream, the inflow and the body rates at ``psi - zeta_t``,
     and the lag rate of the trim's cyclic lag acts in the Coriolis moment), scaled
-    by ``k_flap_lag`` (neutral 0: the base equations unchanged)."""
-    _, flap, _, loads, _ = coefficients(p, k)
+    by ``k_flap_lag`` (neutral 0: the base equations unchanged); ``coeffs`` the
+    :func:`coefficients`."""
+    _, flap, _, loads, _ = coeffs
     kf = p["k_flap_lag"]
     lm = kf * ld.momentum_l(k.mu, k.a0s, k.flow_speed)
     fl = kf * flap
@@ -164,18 +167,22 @@ def _base_terms(eq, p, k):
 
 
 def _runtime():
-    """What the FMU solves at run time for the lag's 3 x 3 systems (the steady lag,
-    the trim inflow: :func:`inflowsim.physics.lead_lag.coefficients` traced): a
-    :class:`RuntimeLinear` of twelve arguments, the matrix row by row, then the
-    right-hand side."""
-    return RuntimeLinear(
+    """What the FMU computes at run time (:func:`inflowsim.physics.lead_lag.
+    coefficients` traced): the lag's 3 x 3 systems (the steady lag, the trim
+    inflow), a :class:`RuntimeLinear` of twelve arguments, the matrix row by row,
+    then the right-hand side; and the trim polynomials of
+    :mod:`~inflowsim.physics.lead_lag_terms` (calls ``lead-lag/<table>``), each a
+    :class:`RuntimePolynomials`."""
+    return {NAME: RuntimeLinear(
         n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
-        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))
+        rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))} | {
+        f"{NAME}/{name}": RuntimePolynomials(t) for name, t in lt.TABLES.items()}
 
 
 def _equations(eq, p, k):
-    eq = _base_terms(eq, p, k)
-    return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1]),))
+    c = coefficients(p, k)
+    eq = _base_terms(eq, p, k, c)
+    return eq.with_(blocks=eq.blocks + (block(p, k, eq.h_u.shape[1], c),))
 
 
 def _theory(k):
