@@ -66,8 +66,8 @@ cyclic term's score lands in the coning row).  So, by default:
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
    refit (``Term.refit_statistic``); where the first entry is significant and
-   its first group (step 4) holds more than one entry or an entry on an inflow
-   variable, the lagged entries of
+   its first group (step 4) holds more than one entry, or an entry in the inflow
+   equation or on an inflow variable, the lagged entries of
    every inflow variable in each row the refitted entries lie in are refitted
    too, started at unit gain (a base whose inflow time constant slowed to a slow
    state it absorbs leaves other entries of the rows standing in for the lagged
@@ -1171,8 +1171,8 @@ def _with_siblings(table, prob, theta):
     """``table`` (confirmed, :func:`_confirmed`) with the lagged inflow entries of
     every row its refitted entries lie in (:func:`_slow_rows`) refitted too, started
     at unit gain (the score's sign), and all ranked again: only where the first
-    entry is significant and its first group holds more than one entry or an entry
-    on an inflow variable.  A slow state driven by the
+    entry is significant and its first group holds more than one entry, or an entry
+    in the inflow equation or on an inflow variable.  A slow state driven by the
     inflow is absorbed by the base's inflow time constant, which leaves other
     entries standing in for its lagged entry, whose own score is then near zero
     and the cost flat in its coefficient at zero (a saddle a refit from zero stays
@@ -1180,7 +1180,8 @@ def _with_siblings(table, prob, theta):
     done = list(table.terms[:table.confirmed])
     group = [t for t in done if t.first_group]
     if not table.lag or not group or not group[0].significant(table.alpha) or not (
-            len(group) > 1 or any(t.variable in INFLOW for t in group)):
+            len(group) > 1 or any(t.variable in INFLOW or t.block == "inflow"
+                                  for t in group)):
         return table
     keys = {t.key for t in done}
     by_key = {t.key: t for t in table.terms}
