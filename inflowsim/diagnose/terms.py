@@ -1178,10 +1178,8 @@ def _with_siblings(table, prob, theta):
     and the cost flat in its coefficient at zero (a saddle a refit from zero stays
     on)."""
     done = list(table.terms[:table.confirmed])
-    group = [t for t in done if t.first_group]
-    if not table.lag or not group or not group[0].significant(table.alpha) or not (
-            len(group) > 1 or any(t.variable in INFLOW or t.block == "inflow"
-                                  for t in group)):
+    if not table.lag or not _looks_for_slow_states(
+            [t for t in done if t.first_group], table.alpha):
         return table
     keys = {t.key for t in done}
     by_key = {t.key: t for t in table.terms}
@@ -1226,6 +1224,16 @@ def _grouped(done):
     best = done[0].refit_statistic
     return [replace(t, first_group=True) if t.refit_statistic is not None
             and t.refit_statistic >= best - TIE else t for t in done]
+
+
+def _looks_for_slow_states(group, alpha) -> bool:
+    """Whether the map refits the lagged inflow entries of its refitted entries' rows
+    (:func:`_with_siblings`): the first entry of its first group ``group`` (refitted
+    terms, ranked) significant at ``alpha``, and ``group`` holding more than one entry,
+    or an entry in the inflow equation or on an inflow variable (what a slow inflow
+    state the base absorbed leaves standing in for it)."""
+    return bool(group) and group[0].significant(alpha) and (
+        len(group) > 1 or any(t.block == "inflow" or t.variable in INFLOW for t in group))
 
 
 def _slow_rows(done, lag):
