@@ -165,14 +165,14 @@ def test_the_done_when_study_places_the_map_s_first_group():
     """The map's first group (the entries the record cannot tell apart) lies where
     the truth's term acts on >= 90 % of the records of the kinds a single entry can
     place (all but cyclic-stiffness); the groups are mostly one entry, and the top
-    entry alone is in place on most records too; the entry the map names, where it
-    names one, on >= 90 %."""
+    entry alone is in place on >= 90 % too (issue 36's criterion, ties counted as
+    they fall); the entry the map names, where it names one, on >= 90 %."""
     bench, rows = _study()
     placed = [r for r in rows if r["kind"] not in bench.AMBIGUOUS]
     assert len({r["kind"] for r in placed}) >= 4
     assert sum(r["hit"] for r in placed) >= 0.9 * len(placed), bench.table(rows)
     assert sum(len(r["group"]) == 1 for r in placed) >= 0.75 * len(placed)
-    assert sum(r["entry_hit"] for r in placed) >= 0.85 * len(placed), bench.table(rows)
+    assert sum(r["entry_hit"] for r in placed) >= 0.9 * len(placed), bench.table(rows)
     # the entry the map names (determined: significant, alone in its first group) is
     # in place on >= 90 % of the records it names one on, and it names one on most
     named = [r for r in placed if r["determination"] == "determined"]
