@@ -67,13 +67,13 @@ cyclic term's score lands in the coning row).  So, by default:
    parameter free, and ranked first by the likelihood-ratio statistic of that
    refit (``Term.refit_statistic``); where the first entry is significant and
    its first group (step 4) holds more than one entry, or an entry in the inflow
-   equation or on an inflow variable, the lagged entries of
-   every inflow variable in each row the refitted entries lie in are refitted
-   too, started at unit gain (a base whose inflow time constant slowed to a slow
-   state it absorbs leaves other entries of the rows standing in for the lagged
-   one, whose own score is then near zero, and the cost flat in its coefficient
-   at zero: a saddle a refit from zero stays on), and all ranked again; the entry
-   whose refit lowers the cost most wins;
+   equation or on an inflow variable, the lagged entries of every inflow variable
+   in each row the refitted entries lie in are refitted too, started at unit gain
+   (a base whose inflow time constant slowed to a slow state it absorbs leaves
+   other entries of the rows standing in for the lagged one, whose own score is
+   then near zero, and the cost flat in its coefficient at zero: a saddle a refit
+   from zero stays on), and all ranked again; the entry whose refit lowers the
+   cost most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
