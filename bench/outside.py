@@ -300,17 +300,29 @@ def run(kinds=KINDS, say=print, each=None, seeds=SEEDS):
     return rows
 
 
-def seeds_lines() -> list[str]:
+def seeds_lines(page_rows=()) -> list[str]:
     """The further seeds' summaries (``--seeds``: ``bench/results/outside_seeds-*.json``,
-    where they have run)."""
-    out = []
+    where they have run), and the top entry's share over them and ``page_rows``
+    together."""
+    out, every = [], [r for r in page_rows if r["kind"] not in AMBIGUOUS]
     for path in sorted((HERE / "results").glob("outside_seeds-*.json")):
         rows = json.loads(path.read_text())
         placed = [r for r in rows if r["kind"] not in AMBIGUOUS]
+        every += placed
         seeds = ", ".join(str(x) for x in sorted({r["seed"] for r in rows}))
         out += [f"Seeds {seeds} (`python bench/outside.py --seeds ...`, "
                 f"`bench/results/{path.name}`; the same kinds and axes):", "",
                 *summary(rows)[:4], ""]
+    if out and page_rows:
+        alone = sum(r["entry_hit"] for r in every)
+        det = [r for r in every if _determination(r) == "determined"]
+        seeds = ", ".join(str(x) for x in sorted({r["seed"] for r in every}))
+        out += [f"All seeds ({seeds}) together: the top entry alone where the truth's "
+                f"term acts on {alone} of {len(every)} records "
+                f"({100 * alone / len(every):.0f} %; 90 % asked: "
+                f"{'met' if alone >= 0.9 * len(every) else 'not met'}); the map names "
+                f"one entry on {len(det)}, in place on "
+                f"{sum(r['entry_hit'] for r in det)}.", ""]
     return out
 
 
@@ -361,13 +373,14 @@ def write(rows, wall, complete=True):
              "rotor-speed truth (a slow state driven by the uniform inflow, 0.8 s, "
              "loop gain 8) is no constant entry: the map's lagged entry `flap beta0 x "
              "lambda0` is it, found by the refits of the lagged inflow entries in "
-             "the row of a leading inflow entry (the base's inflow time "
+             "the rows of the refitted entries, from unit gain, where a significant "
+             "first group ties or holds an inflow entry (the base's inflow time "
              "constant slows to absorb it, and the lagged entry's own score is near "
              "zero at that fit); the map is "
              "made at the freed fit only where freeing the shared parameters adds "
              "beside the best single entry (`made_freed`, `freed_gain` in the rows).",
              "",
-             *verdict_lines(rows), "", *seeds_lines(), *bounds_lines(),
+             *verdict_lines(rows), "", *seeds_lines(rows), *bounds_lines(),
              "## Per record", "",
              *table(rows), ""]
     (HERE / "outside.md").write_text("\n".join(lines))

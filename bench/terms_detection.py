@@ -33,7 +33,7 @@ def main():
                 terms = mapped(block, seed, hold=hold)[2]
                 key = [(t.block, t.equation, t.variable) for t in terms.terms]
                 i = key.index((block, eq, var))
-                first += i == 0 and terms.terms[0].sign > 0
+                first += i == 0 and terms.terms[0].sign == np.sign(value)
                 own.append(terms.terms[i].statistic)
                 other.append(max(t.statistic for j, t in enumerate(terms.terms) if j != i))
                 sig.append(len(terms.significant))

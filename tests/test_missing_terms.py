@@ -404,3 +404,27 @@ def test_a_lagged_entry_s_column_is_the_refit_model_s_derivative(hold):
             lz = z / (1 + 2j * np.pi * sp.f_hz * lag)[:, None]
             np.testing.assert_allclose(blk[:, c], np.concatenate([lz.real.ravel(),
                                                                   lz.imag.ravel()]))
+
+
+def test_the_map_looks_for_slow_states_where_its_first_group_leaves_room():
+    """Issue 36: a slow state driven by the inflow, absorbed by the base's inflow time
+    constant, leaves stand-ins in the rows it acts in and its own lagged entry's score
+    near zero.  Where a significant first group ties, or holds an entry in the inflow
+    equation or on an inflow variable, the lagged inflow entries of every refitted
+    entry's row are refitted (not the pitch's: it has none); not where one entry off
+    the inflow stands alone, nor where nothing is significant."""
+    from inflowsim.diagnose.terms import _looks_for_slow_states, _slow_rows
+    inflow_row = replace(_term("theta1c", 30, 60, True), block="inflow", equation="lambda0")
+    assert not _looks_for_slow_states([_term("p", 30, 60, True)], 1e-3)
+    assert _looks_for_slow_states([_term("lambda1c", 30, 60, True)], 1e-3)
+    assert _looks_for_slow_states([inflow_row], 1e-3)
+    assert _looks_for_slow_states([_term("p", 30, 60, True), _term("q", 29, 58, True)],
+                                  1e-3)
+    assert not _looks_for_slow_states([_term("p", 3, 4, True, p=0.5),
+                                       _term("q", 2, 3, True, p=0.5)], 1e-3)
+    assert not _looks_for_slow_states([], 1e-3)
+    pitch = Term("pitch", "theta1", "beta1", 30, 1e-9, 1e-9, 1, 0.1, "g")
+    done = [_term("p", 30, 60, True), inflow_row, pitch, _term("lambda1c", 20, 40)]
+    assert _slow_rows(done, 0.7) == tuple(
+        (b, e, v, 0.7) for b, e in (("flap", "beta0"), ("inflow", "lambda0"))
+        for v in ("lambda0", "lambda1c", "lambda1s"))

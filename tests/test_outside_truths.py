@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from inflowsim.channels import FLAP, FLAP_RATE, INFLOW, INPUTS
-from inflowsim.diagnose.terms import BLOCKS, PITCH_FEEDS, PITCH_ROWS, missing_terms
+from inflowsim.diagnose.terms import BLOCKS, CONFIRM, PITCH_FEEDS, PITCH_ROWS, missing_terms
 from inflowsim.identify import identify
 from outside_truths import KINDS, TRUTHS, outside_record
 
@@ -139,18 +139,40 @@ def test_the_map_determines_a_slow_state_as_a_lagged_entry(tmp_path):
 
 
 @pytest.mark.slow
+def test_the_map_finds_a_slow_state_behind_tied_stand_ins(tmp_path):
+    """Issue 36: on a single-axis record (theta1c alone, which hardly moves the
+    uniform inflow) the rotor-speed truth's slow state is absorbed by the base's
+    inflow time constant: entries of the uniform inflow row tie at the top, and the
+    lagged ``flap beta0 x lambda0``, whose score is near zero there (a refit from
+    zero stays on the saddle), is not among the entries of largest score.  The
+    refits of the lagged inflow entries in the refitted entries' rows, from unit
+    gain, find it: named alone, in place, its coefficient near the truth's ``-k g``
+    (seed 6: the first group tied in the inflow row before those refits)."""
+    rec, info = outside_record(tmp_path / "r.csv", "rotor-speed", 6, rate=64.0,
+                               axes="theta1c", colour_hz=None)
+    terms = missing_terms(rec, identify(rec, "basic"))
+    top = terms.answer
+    assert top is not None, terms.rows[:4]
+    assert top.key[:3] == ("flap", "beta0", "lambda0") and top.lag, top.key
+    # not among the entries of largest score that the map refits first
+    assert sum(t.statistic > top.statistic for t in terms.terms) >= CONFIRM
+    truth = info["truth"]
+    assert top.refit_coefficient == pytest.approx(-truth.strength * truth.gain, rel=0.35)
+
+
+@pytest.mark.slow
 def test_the_done_when_study_places_the_map_s_first_group():
     """The map's first group (the entries the record cannot tell apart) lies where
     the truth's term acts on >= 90 % of the records of the kinds a single entry can
     place (all but cyclic-stiffness); the groups are mostly one entry, and the top
-    entry alone is in place on most records too; the entry the map names, where it
-    names one, on >= 90 %."""
+    entry alone is in place on >= 90 % too (issue 36's criterion, ties counted as
+    they fall); the entry the map names, where it names one, on >= 90 %."""
     bench, rows = _study()
     placed = [r for r in rows if r["kind"] not in bench.AMBIGUOUS]
     assert len({r["kind"] for r in placed}) >= 4
     assert sum(r["hit"] for r in placed) >= 0.9 * len(placed), bench.table(rows)
     assert sum(len(r["group"]) == 1 for r in placed) >= 0.75 * len(placed)
-    assert sum(r["entry_hit"] for r in placed) >= 0.85 * len(placed), bench.table(rows)
+    assert sum(r["entry_hit"] for r in placed) >= 0.9 * len(placed), bench.table(rows)
     # the entry the map names (determined: significant, alone in its first group) is
     # in place on >= 90 % of the records it names one on, and it names one on most
     named = [r for r in placed if r["determination"] == "determined"]

@@ -65,13 +65,15 @@ cyclic term's score lands in the coning row).  So, by default:
 2. at each of the two fits, the base and the freed, the :data:`CONFIRM` entries
    of largest score are refitted, each with its coefficient and every other
    parameter free, and ranked first by the likelihood-ratio statistic of that
-   refit (``Term.refit_statistic``); where an inflow entry (constant or lagged) is
-   in the first group (step 4), the lagged entries of every inflow variable in its
-   row are refitted too, started at its estimate (a base whose inflow time
-   constant slowed to a slow state it absorbs leaves another inflow entry standing
-   in for the lagged one, whose own score is then near zero, and the cost flat in
-   its coefficient at zero), and all ranked again; the entry whose refit lowers
-   the cost most wins;
+   refit (``Term.refit_statistic``); where the first entry is significant and
+   its first group (step 4) holds more than one entry, or an entry in the inflow
+   equation or on an inflow variable, the lagged entries of every inflow variable
+   in each row the refitted entries lie in are refitted too, started at unit gain
+   (a base whose inflow time constant slowed to a slow state it absorbs leaves
+   other entries of the rows standing in for the lagged one, whose own score is
+   then near zero, and the cost flat in its coefficient at zero: a saddle a refit
+   from zero stays on), and all ranked again; the entry whose refit lowers the
+   cost most wins;
 3. the map is the freed fit's only where freeing the shared parameters lowers the
    cost beside the best single entry: where the freed fit's first entry with the
    offsets (their likelihood ratio plus its refit's) beats the base fit's first
@@ -1167,32 +1169,33 @@ def _confirmed(table, prob, theta, confirm):
 
 def _with_siblings(table, prob, theta):
     """``table`` (confirmed, :func:`_confirmed`) with the lagged inflow entries of
-    the row (:func:`_siblings`) of the first inflow entry in its first group
-    refitted too, started at that entry's estimate, and all ranked again: only
-    where an inflow entry is among those the record cannot tell from the first (a
-    slow state the base absorbed leaves such an entry standing in for the lagged
-    one)."""
+    every row its refitted entries lie in (:func:`_slow_rows`) refitted too, started
+    at unit gain (the score's sign), and all ranked again: only where the first
+    entry is significant and its first group holds more than one entry, or an entry
+    in the inflow equation or on an inflow variable.  A slow state driven by the
+    inflow is absorbed by the base's inflow time constant, which leaves other
+    entries standing in for its lagged entry, whose own score is then near zero
+    and the cost flat in its coefficient at zero (a saddle a refit from zero stays
+    on)."""
     done = list(table.terms[:table.confirmed])
-    lead = next((t for t in done if t.first_group and _siblings(t, table.lag)
-                 and t.refit_coefficient), None)
-    if lead is None:
+    if not table.lag or not _looks_for_slow_states(
+            [t for t in done if t.first_group], table.alpha):
         return table
-    done = [replace(t, first_group=False) for t in done]
     keys = {t.key for t in done}
     by_key = {t.key: t for t in table.terms}
     more = []
-    for key in _siblings(lead, table.lag):
+    for key in _slow_rows(done, table.lag):
         sib = by_key.get(key)
         if sib is not None and sib.testable and sib.key not in keys:
             more.append(sib)
             keys.add(sib.key)
     if not more:
         return table
-    # started off k = 0, where an absorbed slow state leaves the cost flat in k (a
-    # saddle the refit from zero stays on), at the leading entry's estimate: the
-    # lag's gain is one at low frequency
-    done = _ranked(done + [_refitted(table, prob, theta, t, lead.refit_coefficient)
-                           for t in more])
+    done = [replace(t, first_group=False) for t in done]
+    # started off k = 0, where an absorbed slow state leaves the cost flat in k, at
+    # unit gain: the lag's gain is one at low frequency, the row then taking up the
+    # variable itself
+    done = _ranked(done + [_refitted(table, prob, theta, t, float(t.sign)) for t in more])
     rest = [t for t in table.terms[table.confirmed:] if t not in more]
     return replace(table, terms=tuple(_grouped(done) + rest), confirmed=len(done))
 
@@ -1223,17 +1226,25 @@ def _grouped(done):
             and t.refit_statistic >= best - TIE else t for t in done]
 
 
-def _siblings(t, lag):
-    """The keys (:attr:`Term.key`) of the lagged entries of every inflow variable in
-    ``t``'s row (time constant ``lag``) where ``t`` is an entry on an inflow variable
-    (constant or lagged); ``()`` otherwise.  The base's one parameter that lags a
-    variable is the inflow's time constant: slowed to absorb a slow state driven by
-    the inflow, it leaves another inflow entry of the row standing in for the lagged
-    one (the inflow harmonics slowed alike: any of them), whose own score is near
-    zero at that fit."""
-    if lag and t.block in LAGGED_BLOCKS and t.variable in INFLOW:
-        return tuple((t.block, t.equation, v, lag) for v in INFLOW)
-    return ()
+def _looks_for_slow_states(group, alpha) -> bool:
+    """Whether the map refits the lagged inflow entries of its refitted entries' rows
+    (:func:`_with_siblings`): the first entry of its first group ``group`` (refitted
+    terms, ranked) significant at ``alpha``, and ``group`` holding more than one entry,
+    or an entry in the inflow equation or on an inflow variable (what a slow inflow
+    state the base absorbed leaves standing in for it)."""
+    return bool(group) and group[0].significant(alpha) and (
+        len(group) > 1 or any(t.block == "inflow" or t.variable in INFLOW for t in group))
+
+
+def _slow_rows(done, lag):
+    """The keys (:attr:`Term.key`) of the lagged entries (time constant ``lag``) of
+    every inflow variable in each row of ``done`` (the refitted entries) that has
+    lagged entries, in their order.  The base's one parameter that lags a variable
+    is the inflow's time constant: slowed to absorb a slow state driven by the
+    inflow, it leaves other entries of the rows the slow state acts in standing in
+    for its lagged entry, whose own score is near zero at that fit."""
+    rows = dict.fromkeys((t.block, t.equation) for t in done if t.block in LAGGED_BLOCKS)
+    return tuple((b, e, v, lag) for b, e in rows for v in INFLOW)
 
 
 #: Largest temporary of the projections [bytes]: a 2-hour record's 162 columns of
