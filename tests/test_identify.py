@@ -1,5 +1,7 @@
 """Frequency-domain output-error identification: recovery, bounds, facilities,
 failure modes (issue #4)."""
+from functools import lru_cache
+
 import numpy as np
 import pytest
 
@@ -26,7 +28,11 @@ def truth(structure):
     return p
 
 
+@lru_cache(maxsize=32)
 def record(structure, noise=0.0, seed=0, manoeuvres=THREE, constants=PUMA, **kw):
+    """The virtual record of ``structure`` at :func:`truth`, made once a session
+    (records are frozen; a continuous one is an adaptive ODE solve: the glauert and
+    basic noise-free records serve several tests)."""
     return virtual_record(VirtualTest(structure=structure, parameters=truth(structure),
                                       manoeuvres=manoeuvres, noise_flap=noise, seed=seed,
                                       constants=constants, **kw))

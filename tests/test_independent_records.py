@@ -79,7 +79,7 @@ def test_the_hidden_effect_is_named_with_the_truth_within_its_bound(
         tmp_path, truth, effect, parameter, rate, colour_hz, seed):
     rec, p = _record(tmp_path / "rec.csv", truth, rate, colour_hz, seed)
     assert rec.hold == "continuous"
-    d = diagnose(rec, "basic")
+    d = diagnose(rec, "basic", assess=False)          # the decision only (no map)
     assert d.missing_effect == effect, [(c.effect, c.reason) for c in d.candidates]
     named = d.candidates[0]
     assert named.measure == ("input-correlated excess" if colour_hz else "level deviance")
@@ -89,7 +89,7 @@ def test_the_hidden_effect_is_named_with_the_truth_within_its_bound(
 
 def test_no_alarm_on_the_true_structure_under_coloured_noise(tmp_path):
     rec, _ = _record(tmp_path / "rec.csv", "glauert", 200, 3.0, 12)
-    d = diagnose(rec, "glauert")
+    d = diagnose(rec, "glauert", assess=False)        # the decision only (no map)
     assert d.missing_effect is None, [(c.effect, c.reason) for c in d.candidates]
     assert not any(c.accepted for c in d.candidates)
     assert [f for f in d.failures if f.kind == "coloured-noise"

@@ -131,7 +131,7 @@ def test_the_lag_hidden_in_a_record_is_named_with_its_truth_within_3_sigma(tmp_p
     is the truth here), the coupling within 3 sigma; the ladder's second rung adds
     the second part (``test_the_ladder_names_the_lag_and_ends_explained``)."""
     rec, p = _record(tmp_path / "rec.csv", "glauert+lead-lag", rate=64)
-    d = diagnose(rec, "glauert", pool=["lead-lag"])
+    d = diagnose(rec, "glauert", pool=["lead-lag"], assess=False)   # the decision (no map)
     assert d.missing_effect == "lead-lag", [(c.effect, c.reason) for c in d.candidates]
     added = d.candidates[0].added
     assert set(added) >= {"k_flap_lag"}, added

@@ -7,6 +7,9 @@ sampled, at 64 and 256 Hz; no sampled-data code is on that route.  Held records
 come from the exact ZOH replay; linear-input records from scipy's ``lsim``.
 The truths are moved away from every start value the estimator tries.
 """
+from functools import lru_cache
+from types import MappingProxyType
+
 import numpy as np
 import pytest
 from scipy import signal
@@ -29,6 +32,18 @@ def moved(structure, **extra):
     return p
 
 
+@lru_cache(maxsize=None)
+def noise_free(structure, extra=(), rate=64, hold="continuous"):
+    """``(record, truth)``: the noise-free record of ``moved(structure, **extra)``
+    (``extra`` as sorted items), made once a session: records are frozen, and a
+    continuous one is an adaptive ODE solve (the convention test reads the recovery
+    test's glauert record)."""
+    truth = moved(structure, **dict(extra))
+    rec = virtual_record(VirtualTest(structure=structure, parameters=truth, dt=1 / rate,
+                                     noise_flap=0.0, manoeuvres=THREE, hold=hold))
+    return rec, MappingProxyType(truth)
+
+
 def rel_error(fit, truth):
     return max(abs(fit.parameters[n] - v) / max(abs(v), 1e-3) for n, v in truth.items())
 
@@ -47,9 +62,7 @@ CASES = [
     *((s, e, 64) for s, e in CASES), (*CASES[0], 256),
     *(pytest.param(s, e, 256, marks=pytest.mark.slow) for s, e in CASES[1:])])
 def test_continuous_records_are_recovered_to_1e6(structure, extra, rate):
-    truth = moved(structure, **extra)
-    rec = virtual_record(VirtualTest(structure=structure, parameters=truth, dt=1 / rate,
-                                     noise_flap=0.0, manoeuvres=THREE))
+    rec, truth = noise_free(structure, tuple(sorted(extra.items())), rate, "continuous")
     assert rec.hold == "continuous" and "hold" in rec.meta
     fit = identify(rec, structure)
     assert fit.converged
@@ -58,9 +71,7 @@ def test_continuous_records_are_recovered_to_1e6(structure, extra, rate):
 
 @pytest.mark.parametrize("structure, extra", CASES[:3])
 def test_held_records_are_recovered_exactly(structure, extra):
-    truth = moved(structure, **extra)
-    rec = virtual_record(VirtualTest(structure=structure, parameters=truth, dt=1 / 64,
-                                     noise_flap=0.0, manoeuvres=THREE, hold="zoh"))
+    rec, truth = noise_free(structure, tuple(sorted(extra.items())), 64, "zoh")
     assert rec.hold == "zoh"
     fit = identify(rec, structure)
     assert rel_error(fit, truth) < 1e-9
@@ -71,9 +82,8 @@ def test_held_records_are_recovered_exactly(structure, extra):
 def test_the_wrong_sampled_data_convention_fails(kind, wrong):
     """What the estimator assumes between samples matters far above 1e-6: the
     recovery tests above would fail with the wrong convention."""
-    truth = moved("glauert")
-    rec = virtual_record(VirtualTest(structure="glauert", parameters=truth, dt=1 / 64,
-                                     noise_flap=0.0, manoeuvres=THREE, hold=kind))
+    rec, truth = noise_free("glauert", (), 64, kind)
+    assert rec.hold == kind
     assert rel_error(identify(rec, "glauert"), truth) < 1e-6
     assert rel_error(identify(rec, "glauert", hold=wrong), truth) > 1e-3
 

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 import inflowsim as ifs
+from conftest import virtual
 from inflowsim import PUMA, build_model, preset_parameters
 from inflowsim.simulate.sampled import gregory_weights
 from inflowsim.simulate.discrete import zoh
@@ -11,7 +12,6 @@ from inflowsim.identify import record_spectra, snap_band
 from inflowsim.identify.freqmodel import flap_response
 from inflowsim.identify.transform import Spectra, dft
 from inflowsim.data.record import find_trim
-from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 
 
 def test_band_snaps_to_the_paper_grid():
@@ -123,7 +123,7 @@ def test_continuous_response_is_not_exact_for_sampled_data():
 @pytest.mark.parametrize("hold", ["zoh", "continuous"])
 def test_spectra_are_of_perturbations_about_trim(hold):
     """Held records: the DFT; continuous records: the Gregory-weighted sum."""
-    rec = virtual_record(VirtualTest(noise_flap=0.0, hold=hold))
+    rec = virtual(noise_flap=0.0, hold=hold)          # made once a session
     sp = record_spectra(rec, ("theta1s", "mux"), (0.2256, 1.58))
     assert sp.hold == hold == rec.hold
     trim = find_trim(rec)
@@ -137,7 +137,7 @@ def test_spectra_are_of_perturbations_about_trim(hold):
 
 
 def test_band_beyond_nyquist_or_record_is_refused():
-    rec = virtual_record(VirtualTest(noise_flap=0.0))
+    rec = virtual(noise_flap=0.0, hold="continuous")  # the record above, not made again
     with pytest.raises(RecordError, match="Nyquist"):
         record_spectra(rec, ("theta1s",), (0.3, 80.0))
     with pytest.raises(RecordError, match="too short"):
