@@ -41,15 +41,19 @@ _TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const dou
 #: the primitives' C result types (``void`` where none)
 _PRIMITIVES = {"copy": "void", "scale": "void", "axpy": "void", "matmul": "void",
                "norm1": "double", "lu_solve": "int", "gemm": "void",
-               "horner": "void", "absmax": "double", "absdiffmax": "double"}
+               "horner": "void", "fhorner": "void", "absmax": "double",
+               "absdiffmax": "double", "taylor_first": "void", "taylor_term": "void"}
 
 
 class _Function:
     """The C text of one registered function."""
 
-    def __init__(self, f, c_name: str, static: bool, sizes: dict, others: dict):
+    def __init__(self, f, c_name: str, static: bool, sizes: dict, others: dict,
+                 variant=None):
         self.f, self.c_name, self.static, self.sizes = f, c_name, static, sizes
         self.others = others                     # {python name: (C name, C type)}
+        self.variant = variant                   # an alg.Variant, or None
+        self.size_types = {}                     # {size argument: its C type}
         src = textwrap.dedent(inspect.getsource(f))
         self.tree = ast.parse(src).body[0]
         self.line0 = inspect.getsourcelines(f)[1] - 1
@@ -83,7 +87,8 @@ class _Function:
         if isinstance(e, ast.Name):
             if e.id in self.sizes:
                 c = self.sizes[e.id]
-                return (c if c.isidentifier() else f"({c})"), "int", 16
+                return ((c if c.isidentifier() or c.isdigit() else f"({c})"),
+                        self.size_types.get(e.id, "int"), 16)
             if e.id in self.types:
                 return e.id, self.types[e.id], 16
             return (*self.constant(e), 16)
@@ -164,7 +169,8 @@ class _Function:
                 typ = "int" if f.attr in _MATH_INT else "double"
                 return f"{_MATH[f.attr]}({', '.join(self.arg(a) for a in args)})", typ
             if f.value.id == "P" and f.attr in _PRIMITIVES:
-                return (f"ifs_{f.attr}({', '.join(self.arg(a) for a in args)})",
+                name = self.variant.primitives.get(f.attr, f.attr) if self.variant else f.attr
+                return (f"ifs_{name}({', '.join(self.arg(a) for a in args)})",
                         _PRIMITIVES[f.attr])
         if isinstance(f, ast.Name):
             if f.id in ("int", "float") and len(args) == 1:
@@ -291,6 +297,7 @@ class _Function:
             if typ is None:
                 self.fail(a, f"the argument type {ast.unparse(a.annotation)}")
             if a.arg in self.sizes:
+                self.size_types[a.arg] = typ
                 continue
             self.types[a.arg] = typ
             params.append(f"{typ}{'' if typ.endswith('*') else ' '}{a.arg}")
@@ -298,17 +305,23 @@ class _Function:
         rtype = "void" if ret is None or ast.unparse(ret) == "None" else \
             _TYPES[ast.unparse(ret)]
         head = "static " if self.static else ""
-        return f"{head}{rtype} {self.c_name}({', '.join(params) or 'void'})"
+        name = self.c_name
+        if self.variant:
+            name += self.variant.suffix
+        return f"{head}{rtype} {name}({', '.join(params) or 'void'})"
 
     def text(self) -> list:
         sig = self.signature()
         doc = ast.get_docstring(self.tree) or ""
         first = " ".join(re.sub(r"(:\w+:)?`+~?\.?", "", doc.split("\n\n")[0]).split())
-        lines = ["/* " + ln for ln in _fill(f"{self.f.__name__}: {first}")]
-        lines[1:] = [" * " + ln[3:] for ln in lines[1:]]
-        lines[-1] += " */"
+        lines = _comment(f"{self.f.__name__}: {first}" if not self.variant else
+                         f"{self.f.__name__}{self.variant.suffix}: {self.variant.what}")
         self.block(self.tree.body, 1)
-        return lines + [*_wrap_line(sig), "{", *self.out, "}"]
+        body = lines + [*_wrap_line(sig), "{", *self.out, "}"]
+        if self.variant:
+            body = [f"#ifdef {self.variant.guard}", *lines, self.variant.attribute,
+                    *_wrap_line(sig), "{", *self.out, "}", "#endif"]
+        return body
 
 
 #: the generated lines' length, where a break at a comma or an operator can keep them
@@ -344,6 +357,14 @@ def _wrap_line(line: str) -> list:
 
 def _fill(text: str) -> list:
     return textwrap.wrap(text, 84) or [""]
+
+
+def _comment(text: str) -> list:
+    """``text`` as a C block comment, filled."""
+    lines = ["/* " + ln for ln in _fill(text)]
+    lines[1:] = [" * " + ln[3:] for ln in lines[1:]]
+    lines[-1] += " */"
+    return lines
 
 
 def _wrap(text: str) -> str:
@@ -389,9 +410,10 @@ def algorithms_c() -> str:
            "/*",
            " * The stepping algorithms the Simulator runs in Python, translated: the same",
            " * operations in the same order.  The primitives (ifs_matmul, ifs_lu_solve, ...)",
-           " * are in inflow_numerics.c.",
+           " * are in inflow_numerics.h and .c, the step's own (ifs_taylor_first ...) in",
+           " * inflow_model.h.",
            " */",
-           "#include <math.h>", "", '#include "inflow_numerics.h"', "",
+           "#include <math.h>", "", '#include "inflow_model.h"', "",
            "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif", ""]
     for name in tables:
         values = ", ".join(_c_float(v) for v in getattr(alg, name))
@@ -401,6 +423,8 @@ def algorithms_c() -> str:
     publics = [fn for fn in alg.ALGORITHMS if not fn[2]]
     for f, c_name, static, sizes in statics + publics:
         out += _Function(f, c_name, static, sizes, others).text() + [""]
+        for v in alg.VARIANTS.get(c_name, ()):
+            out += _Function(f, c_name, static, sizes, others, v).text() + [""]
     return "\n".join(out)
 
 
