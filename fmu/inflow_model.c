@@ -3,10 +3,13 @@
  * 19-20, section 6), exact zero-order-hold discretisation, one step.  The
  * equations themselves (descriptor, loads, the speed through the disc) are
  * generated from the Python model into inflow_equations.c (inflowsim.fmu.codegen);
- * the numerics (LU, exponential, Taylor rule, the mu table) are in
- * inflow_numerics.c.  This file does the SI state space, discretisation and
- * stepping of inflowsim.model.build_model and inflowsim.simulate.discrete.zoh.  The
- * tests check the two agree to rounding.  Knows nothing of FMI.
+ * the stepping algorithms the Simulator runs too (the exponential, the Taylor step
+ * of a remainder, the mu table's fit, segment search and evaluation) are generated
+ * into inflow_algorithms.c from inflowsim.simulate.algorithms, their primitives and
+ * the table's storage in inflow_numerics.[ch].  This file does the SI state space
+ * of inflowsim.model.build_model and binds the model to them: discretisation,
+ * whole steps and remainders, the table's exact entries.  The tests check the two
+ * agree to rounding.  Knows nothing of FMI.
  */
 #include <math.h>
 #include <stdio.h>

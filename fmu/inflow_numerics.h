@@ -141,21 +141,24 @@ IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, do
  * the model's matrix). */
 IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int cols)
 {
-    int e = 0, k;
+    int e, k;
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    IFS_UNROLL
-    for (; e + 4 <= cols; e += 4) {
-        ifs_v4 acc = *(const ifs_v4 *)(q + deg * cols + e);
+    if (cols % 4 == 0) {
         IFS_UNROLL
-        for (k = deg - 1; k >= 0; k--) {
-            const ifs_v4 c = *(const ifs_v4 *)(q + k * cols + e);
-            acc = (ifs_v4){fma(acc[0], y, c[0]), fma(acc[1], y, c[1]), fma(acc[2], y, c[2]),
-                           fma(acc[3], y, c[3])};
+        for (e = 0; e < cols; e += 4) {
+            ifs_v4 acc = *(const ifs_v4 *)(q + deg * cols + e);
+            IFS_UNROLL
+            for (k = deg - 1; k >= 0; k--) {
+                const ifs_v4 c = *(const ifs_v4 *)(q + k * cols + e);
+                acc = (ifs_v4){fma(acc[0], y, c[0]), fma(acc[1], y, c[1]),
+                               fma(acc[2], y, c[2]), fma(acc[3], y, c[3])};
+            }
+            *(ifs_v4 *)(out + e) = acc;
         }
-        *(ifs_v4 *)(out + e) = acc;
+        return;
     }
 #endif
-    for (; e < cols; e++) {
+    for (e = 0; e < cols; e++) {
         double acc = q[deg * cols + e];
         for (k = deg - 1; k >= 0; k--) acc = fma(acc, y, q[k * cols + e]);
         out[e] = acc;
@@ -167,19 +170,18 @@ static inline __attribute__((target("avx2,fma"), always_inline)) void
 ifs_fhorner_fma(const double *q, int deg, double y, double *out, int cols)
 {
     const __m256d yv = _mm256_set1_pd(y);
-    int e = 0, k;
+    int e, k;
+    if (cols % 4) {
+        ifs_fhorner(q, deg, y, out, cols);
+        return;
+    }
     IFS_UNROLL
-    for (; e + 4 <= cols; e += 4) {
+    for (e = 0; e < cols; e += 4) {
         __m256d acc = _mm256_loadu_pd(q + deg * cols + e);
         IFS_UNROLL
         for (k = deg - 1; k >= 0; k--)
             acc = _mm256_fmadd_pd(acc, yv, _mm256_loadu_pd(q + k * cols + e));
         _mm256_storeu_pd(out + e, acc);
-    }
-    for (; e < cols; e++) {
-        double acc = q[deg * cols + e];
-        for (k = deg - 1; k >= 0; k--) acc = fma(acc, y, q[k * cols + e]);
-        out[e] = acc;
     }
 }
 #endif

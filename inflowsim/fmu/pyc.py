@@ -13,7 +13,12 @@ expression after the size arguments are replaced); ``for ... in range(a[, b[,
 ``float()``, the primitives ``P.<name>`` (C ``ifs_<name>``) and the other
 algorithms; a vector's tail ``a[k:]`` (``a + k``) as an argument.  ``/`` of two
 integers is Python's true division, written with a cast; ``//`` and ``%`` are
-meant for non-negative integers (C truncates, Python floors).
+meant for non-negative integers (C truncates, Python floors).  A size argument
+(:func:`~inflowsim.simulate.algorithms.algorithm`'s ``sizes``) becomes its C
+constant with its annotated type (``IFS_MU_LO`` a double); a
+:class:`~inflowsim.simulate.algorithms.Variant` writes the function again under
+another name, guard and target, with other primitives (the ``mu`` table's
+evaluation with the CPU's fused multiply-adds).
 """
 from __future__ import annotations
 

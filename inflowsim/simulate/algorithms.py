@@ -6,8 +6,9 @@ both languages: flat float vectors (row-major matrices, their sizes passed as
 arguments), ``int`` and ``float`` scalars declared by annotation, ``for ... in
 range``, ``while``, ``if``, scalar arithmetic, the functions of :mod:`math`, module
 constants, and the primitives of :class:`P` (matrix products, ``y += alpha x``,
-Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of hand-written C in
-``fmu/inflow_numerics.c``, the only numerics written twice).  :func:`algorithm`
+Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of
+hand-written C in ``fmu/inflow_numerics.[ch]`` and ``fmu/inflow_model.h``, the only
+numerics written twice).  :func:`algorithm`
 names each function's C function and the size arguments that are compile-time
 constants in the FMU (``IFS_NA``: the augmented ``[x; u]``).
 
@@ -16,15 +17,19 @@ differ only where a primitive's NumPy sums in another order than the C loop (a
 few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
 generated C and compares it with these functions on the same inputs.
 
-Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
+Single-sourced here: the Taylor rule's term count (:func:`taylor_count`) and the
+Taylor step itself (:func:`taylor_step`: the FMU's step of a communication
+remainder; on the identity the Simulator's ``[phi gam]`` after ``set_dt``), the
 matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
-``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
-parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
-:func:`power_fit`) and check (:func:`mu_check`).  Still each side's own: the
-Taylor step itself (here the stored terms of :class:`~inflowsim.simulate.discrete.
-TaylorZoh`, in the FMU the vector series of ``taylor_step``) and the table's
-evaluation on a ``mu`` change (here one dot product, in the FMU Horner's rule with
-fused multiply-adds), both in the step's hot path.
+``mu`` table's segment ends (:func:`mu_edges`), fit: its segments and their parts
+(:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
+:func:`power_fit`), check (:func:`mu_check`), segment search (:func:`mu_guess`,
+:func:`mu_segment`) and evaluation (:func:`mu_eval`, the parts: what a change of
+``mu`` reads; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
+rarely).  Each side's own are the primitives only; in the step's hot path
+``P.fhorner`` (here one dot product of the powers, in C Horner's rule with fused
+multiply-adds, its AVX2 variant :data:`FMA4`) and the Taylor step's matrix-vector
+products (in C the step's dot product, ``fmu/inflow_model.h``).
 """
 from __future__ import annotations
 

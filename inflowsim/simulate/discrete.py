@@ -11,19 +11,35 @@ from .algorithms import expm, taylor_count, taylor_step
 METHODS = ("zoh", "rk4")
 
 
-def zoh(a: np.ndarray, b: np.ndarray, dt: float):
-    """Exact zero-order-hold discretisation: the matrix exponential of the augmented
-    system ``[[a, b], [0, 0]] dt`` by :func:`inflowsim.simulate.algorithms.expm`
-    (Pade [13/13], scaling and squaring: the FMU's, generated from it).  NaN where
-    that fails (a non-finite ``a`` or ``b``)."""
+def hold(a: np.ndarray, b: np.ndarray, dt: float, exponential):
+    """``(phi, gam)`` of the zero-order hold over ``dt`` [s]: ``exponential`` of the
+    augmented ``[[a, b], [0, 0]] dt`` (a fresh array it may overwrite), its top rows
+    (views of the result).  One construction for every exponential: :func:`zoh`'s,
+    the virtual flight test's body model (scipy's, :mod:`inflowsim.flighttest.body`)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a
     aug[:n, n:] = b
-    aug *= dt
-    if expm(aug.reshape(-1), n + m) != 0:
-        aug[:] = np.nan
-    return aug[:n, :n].copy(), aug[:n, n:].copy()
+    e = exponential(aug * dt)
+    return e[:n, :n], e[:n, n:]
+
+
+def _pade(x: np.ndarray) -> np.ndarray:
+    """:func:`inflowsim.simulate.algorithms.expm` of ``x`` in place; NaN where it
+    fails (a non-finite ``x``)."""
+    if expm(x.reshape(-1), len(x)) != 0:
+        x[:] = np.nan
+    return x
+
+
+def zoh(a: np.ndarray, b: np.ndarray, dt: float):
+    """Exact zero-order-hold discretisation: the matrix exponential of the augmented
+    system ``[[a, b], [0, 0]] dt`` (:func:`hold`) by
+    :func:`inflowsim.simulate.algorithms.expm` (Pade [13/13], scaling and squaring:
+    the FMU's, generated from it).  NaN where that fails (a non-finite ``a`` or
+    ``b``)."""
+    phi, gam = hold(a, b, dt, _pade)
+    return phi.copy(), gam.copy()
 
 
 def rk4(a: np.ndarray, b: np.ndarray, dt: float):
@@ -162,5 +178,5 @@ def lifted_replay(phi, gam, u, x0, block: int | None = None):
     return xs.reshape(nb * L, n)[:nsamp]
 
 
-__all__ = ["METHODS", "zoh", "rk4", "TaylorZoh", "rk4_max_step", "discretize",
+__all__ = ["METHODS", "hold", "zoh", "rk4", "TaylorZoh", "rk4_max_step", "discretize",
            "lifted_replay"]
