@@ -267,8 +267,8 @@ int ifs_mu_segment(const double *edge, const double *guess, double mu)
  * holding it and x's local variable y there, then the part's polynomials at y
  * (Horner's rule with fused multiply-adds in C). A change of mu: the Simulator's
  * inflowsim.simulate.simulator.Simulator.set_mu, the FMU's [phi gam] */
-void ifs_mu_eval(const double *edge, const double *guess, const double *q, double mu,
-                 double *out)
+IFS_FLATTEN void ifs_mu_eval(const double *edge, const double *guess, const double *q,
+                             double mu, double *out)
 {
     int seg = ifs_mu_segment(edge, guess, mu);
     double e0 = edge[seg];
@@ -290,8 +290,8 @@ void ifs_mu_eval(const double *edge, const double *guess, const double *q, doubl
 /* mu_eval_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at run
  * time where the CPU has them) */
 __attribute__((target("avx2,fma")))
-void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q, double mu,
-                     double *out)
+IFS_FLATTEN void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q,
+                                 double mu, double *out)
 {
     int seg = ifs_mu_segment(edge, guess, mu);
     double e0 = edge[seg];

@@ -56,6 +56,14 @@
 #define IFS_UNROLL
 #endif
 
+/* a generated algorithm in the step's hot path inlines every call in it
+ * (inflowsim.simulate.algorithms.FLATTEN) */
+#if defined(__GNUC__)
+#define IFS_FLATTEN __attribute__((flatten))
+#else
+#define IFS_FLATTEN
+#endif
+
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
 /* unaligned, aliasing-safe views of 4 and 2 doubles */
 typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));

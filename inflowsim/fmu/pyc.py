@@ -309,7 +309,8 @@ class _Function:
         ret = self.tree.returns
         rtype = "void" if ret is None or ast.unparse(ret) == "None" else \
             _TYPES[ast.unparse(ret)]
-        head = "static " if self.static else ""
+        head = ("static " if self.static else "") + (
+            "IFS_FLATTEN " if self.c_name in alg.FLATTEN else "")
         name = self.c_name
         if self.variant:
             name += self.variant.suffix

@@ -62,6 +62,9 @@ C_MACROS = {"TAYLOR_TOL": "IFS_TAYLOR_TOL", "TAYLOR_MAX_TERMS": "IFS_KMAX"}
 ALGORITHMS = []
 #: ``{C name: [Variant, ...]}``: further C versions of a registered function.
 VARIANTS = {}
+#: The registered functions whose C inlines every call in them (``IFS_FLATTEN``: the
+#: step's hot path, where a call costs as much as the work).
+FLATTEN = set()
 
 
 @dataclass(frozen=True)
@@ -84,14 +87,18 @@ FMA4 = Variant("_fma", "IFS_MU_FMA4", '__attribute__((target("avx2,fma")))',
                "(ifs_fhorner_fma; chosen at run time where the CPU has them)")
 
 
-def algorithm(c_name: str, sizes=None, static: bool = False, variants=()):
+def algorithm(c_name: str, sizes=None, static: bool = False, variants=(),
+              flatten: bool = False):
     """Register a function of this module for translation into C as ``c_name``;
     ``sizes``: arguments that are a C constant expression in the FMU (dropped from
-    the C signature); ``variants``: further C versions (:class:`Variant`)."""
+    the C signature); ``variants``: further C versions (:class:`Variant`);
+    ``flatten``: its C inlines the algorithms it calls."""
     def register(f):
         ALGORITHMS.append((f, c_name, static, dict(sizes or {})))
         if variants:
             VARIANTS[c_name] = list(variants)
+        if flatten:
+            FLATTEN.add(c_name)
         return f
     return register
 
@@ -476,7 +483,7 @@ def mu_segment(edge: CVec, guess: CVec, mu: float, nseg: int, nguess: int, lo: f
 
 
 @algorithm("ifs_mu_eval", sizes={**_TABLE, "split": "IFS_MU_SPLIT", "fdeg": "IFS_MU_FDEG",
-                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,))
+                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,), flatten=True)
 def mu_eval(edge: CVec, guess: CVec, q: CVec, mu: float, out: Vec, nseg: int, nguess: int,
             lo: float, hi: float, split: int, fdeg: int, cols: int) -> None:
     """The table at ``mu`` (:func:`mu_fit`'s parts ``q``, ``cols`` entries each) into
@@ -540,6 +547,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
 
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
-           "VARIANTS", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
+           "VARIANTS", "FLATTEN", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
            "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]

@@ -13,8 +13,9 @@ A loop that follows the flight condition (:meth:`~Simulator.set_mu` every step)
 takes the discrete matrices from a table in ``mu`` built once per parameter set
 (with a parameter schedule, :mod:`inflowsim.model.schedule`, the scheduled
 parameters at each ``mu`` are tabulated with it, so they cost nothing more a step),
-and a step that changes (:meth:`~Simulator.set_dt`) from a stored Taylor series:
-the FMU's table and term rule, one description (:mod:`.mutable`).  Inputs are
+and a step that changes (:meth:`~Simulator.set_dt`) from the Taylor series of the
+solution: the FMU's table, its evaluation, Taylor step and term rule, one
+description (:mod:`.algorithms`, :mod:`.mutable`).  Inputs are
 refused with one line (:class:`~inflowsim.errors.InputError`) if they are not
 real numbers, not finite or beyond ``U_MAX``; RK4 is refused at a step where it is
 unstable (:func:`~inflowsim.simulate.discrete.rk4_max_step`).
