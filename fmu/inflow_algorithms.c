@@ -44,12 +44,13 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
  * by rows in abr (n rows rl apart) and by columns in abc (ld apart). The FMU's step of
  * a communication interval that changes from frame to frame (one column); on the
  * columns of the identity [phi gam], the Simulator's step after set_dt
- * (inflowsim.simulate.discrete.taylor_zoh). */
-void ifs_taylor_step(const double *abr, const double *abc, int nk, double r, double *z)
+ * (inflowsim.simulate.discrete.TaylorZoh). */
+IFS_HOT void ifs_taylor_step(const double *abr, const double *abc, int nk, double r,
+                             double *z)
 {
     double w0[IFS_LD * 1] = {0.0};
-    double w1[IFS_LD * 1] = {0.0};
-    double acc[IFS_LD * 1] = {0.0};
+    double w1[IFS_LD * 1];
+    double acc[IFS_LD * 1];
     ifs_taylor_first(abr, z, r, w0, IFS_NX, IFS_RL, 1);
     ifs_copy(acc, w0, IFS_LD * 1);
     for (int k = 2; k < nk + 1; k++) {

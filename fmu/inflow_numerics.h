@@ -57,7 +57,7 @@
 #endif
 
 /* a generated algorithm in the step's hot path inlines every call in it
- * (inflowsim.simulate.algorithms.FLATTEN) */
+ * (inflowsim.simulate.algorithms.ATTRIBUTES) */
 #if defined(__GNUC__)
 #define IFS_FLATTEN __attribute__((flatten))
 #else

@@ -5,7 +5,8 @@ A walk over each function's Python syntax tree (:mod:`ast`) that knows the subse
 the algorithms are written in and refuses anything else with the line it cannot
 translate: arguments annotated ``int``, ``float``, ``Vec`` (``double *``) or
 ``CVec`` (``const double *``); locals declared by an annotated assignment
-(``s: int = 0``) or as ``P.new(size)`` (a zeroed local array; its size a C constant
+(``s: int = 0``) or as ``P.new(size)`` (a zeroed local array; ``P.empty``: not
+zeroed, every entry read written first; its size a C constant
 expression after the size arguments are replaced); ``for ... in range(a[, b[,
 +-1]])``, ``while``, ``if``/``elif``/``else``, ``return``, ``break``,
 ``continue``; ``+ - * / // %``, comparisons (one operator each), ``and``, ``or``,
@@ -221,12 +222,13 @@ class _Function:
                 self.fail(s, "a multiple assignment")
             t, v = s.targets[0], s.value
             if (isinstance(t, ast.Name) and isinstance(v, ast.Call)
-                    and ast.unparse(v.func) == "P.new" and t.id not in self.types):
+                    and ast.unparse(v.func) in ("P.new", "P.empty") and t.id not in self.types):
                 if any(isinstance(n, ast.Name) and n.id in self.types
                        for n in ast.walk(v.args[0])):
                     self.fail(s, "a local array's size that is not a C constant")
                 self.types[t.id] = "double *"
-                self.emit(d, f"double {t.id}[{self.expr(v.args[0])[0]}] = {{0.0}};")
+                zero = " = {0.0}" if ast.unparse(v.func) == "P.new" else ""
+                self.emit(d, f"double {t.id}[{self.expr(v.args[0])[0]}]{zero};")
                 return
             if isinstance(t, ast.Name) and t.id not in self.types:
                 self.fail(s, f"{t.id} assigned before its declaration (name: type = value)")
@@ -309,8 +311,8 @@ class _Function:
         ret = self.tree.returns
         rtype = "void" if ret is None or ast.unparse(ret) == "None" else \
             _TYPES[ast.unparse(ret)]
-        head = ("static " if self.static else "") + (
-            "IFS_FLATTEN " if self.c_name in alg.FLATTEN else "")
+        head = ("static " if self.static else "") + "".join(
+            f"{m} " for m in alg.ATTRIBUTES.get(self.c_name, ()))
         name = self.c_name
         if self.variant:
             name += self.variant.suffix

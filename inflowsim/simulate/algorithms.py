@@ -62,9 +62,10 @@ C_MACROS = {"TAYLOR_TOL": "IFS_TAYLOR_TOL", "TAYLOR_MAX_TERMS": "IFS_KMAX"}
 ALGORITHMS = []
 #: ``{C name: [Variant, ...]}``: further C versions of a registered function.
 VARIANTS = {}
-#: The registered functions whose C inlines every call in them (``IFS_FLATTEN``: the
-#: step's hot path, where a call costs as much as the work).
-FLATTEN = set()
+#: ``{C name: (C attribute macro, ...)}``: the hot path's (``fmu/inflow_numerics.h``):
+#: ``IFS_FLATTEN`` inlines every call in the function (where a call costs as much as
+#: the work), ``IFS_HOT`` compiles it for AVX2 and the baseline, chosen at load time.
+ATTRIBUTES = {}
 
 
 @dataclass(frozen=True)
@@ -87,18 +88,17 @@ FMA4 = Variant("_fma", "IFS_MU_FMA4", '__attribute__((target("avx2,fma")))',
                "(ifs_fhorner_fma; chosen at run time where the CPU has them)")
 
 
-def algorithm(c_name: str, sizes=None, static: bool = False, variants=(),
-              flatten: bool = False):
+def algorithm(c_name: str, sizes=None, static: bool = False, variants=(), attributes=()):
     """Register a function of this module for translation into C as ``c_name``;
     ``sizes``: arguments that are a C constant expression in the FMU (dropped from
     the C signature); ``variants``: further C versions (:class:`Variant`);
-    ``flatten``: its C inlines the algorithms it calls."""
+    ``attributes``: C attribute macros (:data:`ATTRIBUTES`)."""
     def register(f):
         ALGORITHMS.append((f, c_name, static, dict(sizes or {})))
         if variants:
             VARIANTS[c_name] = list(variants)
-        if flatten:
-            FLATTEN.add(c_name)
+        if attributes:
+            ATTRIBUTES[c_name] = tuple(attributes)
         return f
     return register
 
@@ -140,6 +140,12 @@ class P:
     def new(size: int) -> np.ndarray:
         """A zero vector of ``size`` (a local array in C)."""
         return np.zeros(size)
+
+    @staticmethod
+    def empty(size: int) -> np.ndarray:
+        """A vector of ``size`` whose entries are written before they are read (a
+        local array in C, not zeroed)."""
+        return np.empty(size)
 
     @staticmethod
     def copy(dst: np.ndarray, src: np.ndarray, size: int) -> None:
@@ -270,7 +276,7 @@ def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
 
 
 @algorithm("ifs_taylor_step", sizes={"n": "IFS_NX", "rl": "IFS_RL", "ld": "IFS_LD",
-                                     "cols": "1"})
+                                     "cols": "1"}, attributes=("IFS_HOT",))
 def taylor_step(abr: CVec, abc: CVec, nk: int, r: float, z: Vec, n: int, rl: int, ld: int,
                 cols: int) -> None:
     """The step of length ``r`` [s] (either sign) of ``x' = a x + b u`` with ``u``
@@ -282,10 +288,11 @@ def taylor_step(abr: CVec, abc: CVec, nk: int, r: float, z: Vec, n: int, rl: int
     ``[a b]`` by rows in ``abr`` (``n`` rows ``rl`` apart) and by columns in ``abc``
     (``ld`` apart).  The FMU's step of a communication interval that changes from
     frame to frame (one column); on the columns of the identity ``[phi gam]``, the
-    Simulator's step after ``set_dt`` (:func:`inflowsim.simulate.discrete.taylor_zoh`)."""
-    w0 = P.new(ld * cols)
-    w1 = P.new(ld * cols)
-    acc = P.new(ld * cols)
+    Simulator's step after ``set_dt``
+    (:class:`inflowsim.simulate.discrete.TaylorZoh`)."""
+    w0 = P.new(ld * cols)                 # (zero: its padding is copied to acc)
+    w1 = P.empty(ld * cols)
+    acc = P.empty(ld * cols)
     P.taylor_first(abr, z, r, w0, n, rl, cols)           # w_1 = r [a b] z
     P.copy(acc, w0, ld * cols)
     for k in range(2, nk + 1):
@@ -483,7 +490,8 @@ def mu_segment(edge: CVec, guess: CVec, mu: float, nseg: int, nguess: int, lo: f
 
 
 @algorithm("ifs_mu_eval", sizes={**_TABLE, "split": "IFS_MU_SPLIT", "fdeg": "IFS_MU_FDEG",
-                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,), flatten=True)
+                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,),
+           attributes=("IFS_FLATTEN",))
 def mu_eval(edge: CVec, guess: CVec, q: CVec, mu: float, out: Vec, nseg: int, nguess: int,
             lo: float, hi: float, split: int, fdeg: int, cols: int) -> None:
     """The table at ``mu`` (:func:`mu_fit`'s parts ``q``, ``cols`` entries each) into
@@ -547,6 +555,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
 
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
-           "VARIANTS", "FLATTEN", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
+           "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
            "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]
