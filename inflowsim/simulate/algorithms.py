@@ -207,8 +207,9 @@ class P:
         """``w = ([a b] z) r``: ``[a b]`` by rows (``n`` rows ``rl`` apart), ``z`` ``rl``
         x ``cols``, ``w`` ``n`` x ``cols`` (row-major).  In C the step's dot product
         (``ifs_rows``, ``cols`` 1)."""
-        w[:n * cols].reshape(n, cols)[:] = (ab[:n * rl].reshape(n, rl)
-                                            @ z[:rl * cols].reshape(rl, cols)) * r
+        out = w[:n * cols].reshape(n, cols)
+        np.dot(ab[:n * rl].reshape(n, rl), z[:rl * cols].reshape(rl, cols), out=out)
+        out *= r
 
     @staticmethod
     def taylor_term(ab: np.ndarray, w: np.ndarray, s: float, w_next: np.ndarray,
@@ -216,9 +217,9 @@ class P:
         """``w_next = (a w) s`` and ``acc += w_next``: ``a`` the first ``n`` columns of
         ``[a b]`` stored by columns (column ``j`` at ``ab[j ld:]``), ``w``, ``w_next``
         and ``acc`` ``n`` x ``cols`` (row-major)."""
-        a = ab[:n * ld].reshape(n, ld)[:, :n].T
+        # (np.dot: a third of np.matmul's call on these small arrays)
         nxt = w_next[:n * cols].reshape(n, cols)
-        np.matmul(a, w[:n * cols].reshape(n, cols), out=nxt)
+        np.dot(ab[:n * ld].reshape(n, ld)[:, :n].T, w[:n * cols].reshape(n, cols), out=nxt)
         nxt *= s
         acc[:n * cols] += w_next[:n * cols]
 
