@@ -2,11 +2,12 @@
 /*
  * The stepping algorithms the Simulator runs in Python, translated: the same
  * operations in the same order.  The primitives (ifs_matmul, ifs_lu_solve, ...)
- * are in inflow_numerics.c.
+ * are in inflow_numerics.h and .c, the step's own (ifs_taylor_first ...) in
+ * inflow_model.h.
  */
 #include <math.h>
 
-#include "inflow_numerics.h"
+#include "inflow_model.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -33,6 +34,33 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
         bound *= q / (k + 1);
     }
     return 0;
+}
+
+/* taylor_step: The step of length r [s] (either sign) of x' = a x + b u with u held,
+ * by nk terms of the Taylor series of the solution (taylor_count): x(r) = x + sum_k
+ * w_k, w_1 = r (a x + b u), w_k = (r / k) a w_(k-1) (the k-th derivative times r^k /
+ * k!; each term bounded by the one before, so nothing overflows). z: [x; u] (rl rows
+ * of cols columns, row-major), its first n rows overwritten by the new states; [a b]
+ * by rows in abr (n rows rl apart) and by columns in abc (ld apart). The FMU's step of
+ * a communication interval that changes from frame to frame (one column); on the
+ * columns of the identity [phi gam], the Simulator's step after set_dt
+ * (inflowsim.simulate.discrete.TaylorZoh). */
+IFS_HOT void ifs_taylor_step(const double *abr, const double *abc, int nk, double r,
+                             double *z)
+{
+    double w0[IFS_LD * 1] = {0.0};
+    double w1[IFS_LD * 1];
+    double acc[IFS_LD * 1];
+    ifs_taylor_first(abr, z, r, w0, IFS_NX, IFS_RL, 1);
+    ifs_copy(acc, w0, IFS_LD * 1);
+    for (int k = 2; k < nk + 1; k++) {
+        if (k % 2 == 0) {
+            ifs_taylor_term(abc, w0, r / k, w1, acc, IFS_NX, IFS_LD, 1);
+        } else {
+            ifs_taylor_term(abc, w1, r / k, w0, acc, IFS_NX, IFS_LD, 1);
+        }
+    }
+    ifs_axpy(z, 1.0, acc, IFS_NX * 1);
 }
 
 /* expm: exp(A) of the n x n matrix a (row-major), overwritten by the result: scaling
@@ -198,6 +226,104 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
         }
     }
     return 0;
+}
+
+/* mu_guess: Where mu_segment starts looking: guess[c] the segment holding the start of
+ * cell c of nguess equal cells of [lo, hi] (the cells narrower than any segment). */
+void ifs_mu_guess(const double *edge, double *guess)
+{
+    int seg = 0;
+    for (int c = 0; c < IFS_MU_NGUESS; c++) {
+        double at = IFS_MU_LO + (IFS_MU_HI - IFS_MU_LO) * c / IFS_MU_NGUESS;
+        while (seg < IFS_MU_NSEG - 1 && at >= edge[seg + 1]) {
+            seg += 1;
+        }
+        guess[c] = ((double)(seg));
+    }
+}
+
+/* mu_segment: The segment [edge[s], edge[s + 1]) holding mu (the first or the last
+ * beyond the ends): from mu_guess's cell, a step or two along the ends. */
+int ifs_mu_segment(const double *edge, const double *guess, double mu)
+{
+    int c = ((int)((mu - IFS_MU_LO) * (IFS_MU_NGUESS / (IFS_MU_HI - IFS_MU_LO))));
+    if (c < 0) {
+        c = 0;
+    }
+    if (c >= IFS_MU_NGUESS) {
+        c = IFS_MU_NGUESS - 1;
+    }
+    int seg = ((int)(guess[c]));
+    while (seg > 0 && mu < edge[seg]) {
+        seg -= 1;
+    }
+    while (seg < IFS_MU_NSEG - 1 && mu >= edge[seg + 1]) {
+        seg += 1;
+    }
+    return seg;
+}
+
+/* mu_eval: The table at mu (mu_fit's parts q, cols entries each) into out: the segment
+ * (mu_segment), mu's local variable x in it, the part of the split equal parts of x
+ * holding it and x's local variable y there, then the part's polynomials at y
+ * (Horner's rule with fused multiply-adds in C). A change of mu: the Simulator's
+ * inflowsim.simulate.simulator.Simulator.set_mu, the FMU's [phi gam] */
+IFS_FLATTEN void ifs_mu_eval(const double *edge, const double *guess, const double *q,
+                             double mu, double *out)
+{
+    int seg = ifs_mu_segment(edge, guess, mu);
+    double e0 = edge[seg];
+    double e1 = edge[seg + 1];
+    double x = (2.0 * mu - e0 - e1) / (e1 - e0);
+    int j = ((int)((x + 1.0) * (0.5 * IFS_MU_SPLIT)));
+    if (j < 0) {
+        j = 0;
+    }
+    if (j >= IFS_MU_SPLIT) {
+        j = IFS_MU_SPLIT - 1;
+    }
+    double y = (x + 1.0) * IFS_MU_SPLIT - (2 * j + 1);
+    ifs_fhorner(q + (seg * IFS_MU_SPLIT + j) * (IFS_MU_FDEG + 1) * IFS_MU_HALF0,
+                IFS_MU_FDEG, y, out, IFS_MU_HALF0);
+}
+
+#ifdef IFS_MU_FMA4
+/* mu_eval_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at run
+ * time where the CPU has them) */
+__attribute__((target("avx2,fma")))
+IFS_FLATTEN void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q,
+                                 double mu, double *out)
+{
+    int seg = ifs_mu_segment(edge, guess, mu);
+    double e0 = edge[seg];
+    double e1 = edge[seg + 1];
+    double x = (2.0 * mu - e0 - e1) / (e1 - e0);
+    int j = ((int)((x + 1.0) * (0.5 * IFS_MU_SPLIT)));
+    if (j < 0) {
+        j = 0;
+    }
+    if (j >= IFS_MU_SPLIT) {
+        j = IFS_MU_SPLIT - 1;
+    }
+    double y = (x + 1.0) * IFS_MU_SPLIT - (2 * j + 1);
+    ifs_fhorner_fma(q + (seg * IFS_MU_SPLIT + j) * (IFS_MU_FDEG + 1) * IFS_MU_HALF0,
+                    IFS_MU_FDEG, y, out, IFS_MU_HALF0);
+}
+#endif
+
+/* mu_eval_coarse: Entries first .. first + size - 1 of the segments' polynomials
+ * (mu_fit's p, ntab entries each) at mu into out by Horner's rule: the FMU's [a b],
+ * read rarely (a remainder step, a load). */
+void ifs_mu_eval_coarse(const double *edge, const double *guess, const double *p,
+                        double mu, int first, int size, double *out)
+{
+    int seg = ifs_mu_segment(edge, guess, mu);
+    double e0 = edge[seg];
+    double e1 = edge[seg + 1];
+    double xs[1] = {0.0};
+    xs[0] = (2.0 * mu - e0 - e1) / (e1 - e0);
+    ifs_horner(p + (seg * (IFS_MU_DEG + 1) * IFS_MU_NTAB + first), IFS_MU_DEG, xs, 1, out,
+               size, IFS_MU_NTAB, size);
 }
 
 /* mu_check: The table's check: at each segment's midpoint the largest difference

@@ -3,19 +3,19 @@
  * 19-20, section 6), exact zero-order-hold discretisation, one step.  The
  * equations themselves (descriptor, loads, the speed through the disc) are
  * generated from the Python model into inflow_equations.c (inflowsim.fmu.codegen);
- * the numerics (LU, exponential, Taylor rule, the mu table) are in
- * inflow_numerics.c.  This file does the SI state space, discretisation and
- * stepping of inflowsim.model.build_model and inflowsim.simulate.discrete.zoh.  The
- * tests check the two agree to rounding.  Knows nothing of FMI.
+ * the stepping algorithms the Simulator runs too (the exponential, the Taylor step
+ * of a remainder, the mu table's fit, segment search and evaluation) are generated
+ * into inflow_algorithms.c from inflowsim.simulate.algorithms, their primitives and
+ * the table's storage in inflow_numerics.[ch].  This file does the SI state space
+ * of inflowsim.model.build_model and binds the model to them: discretisation,
+ * whole steps and remainders, the table's exact entries.  The tests check the two
+ * agree to rounding.  Knows nothing of FMI.
  */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "inflow_model.h"
-#ifdef IFS_MU_FMA4
-#include <immintrin.h>   /* the table's fused multiply-adds, four at once */
-#endif
 
 #define NX IFS_NX
 #define NU IFS_NU
@@ -59,25 +59,6 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
 static int taylor_count(const IfsModel *m, double r)
 {
     return ifs_taylor_count(m->norm_a, m->norm_ab, r);
-}
-
-/* x <- x(r) for u held over r (r of either sign), by the Taylor series of the
- * solution: x(r) = x + sum_k w_k with w_1 = r (a x + b u) and w_k = (r / k) a w_(k-1)
- * (the k-th derivative times r^k / k!).  nk matrix-vector products of a, no matrix
- * exponential: the step of a communication interval that changes from frame to
- * frame.  Every term is bounded by the one before (taylor_count), so nothing
- * overflows.  x: [x; u; 0] (IfsModel.x). */
-static IFS_HOT void taylor_step(const IfsModel *m, int nk, double r, double x[IFS_RL])
-{
-    double w[2][IFS_LD], acc[IFS_LD];
-    int i, k;
-    memset(w, 0, sizeof w);
-    ifs_rows(m->abr, x, w[0]);                       /* a x + b u */
-    for (i = 0; i < NX; i++) w[0][i] *= r;
-    memcpy(acc, w[0], sizeof acc);
-    for (k = 2; k <= nk; k++)
-        ifs_taylor_term(m->abc, w[k & 1], r / (double)k, w[(k + 1) & 1], acc);
-    for (i = 0; i < NX; i++) x[i] += acc[i];
 }
 
 /* The azimuth bias: the outputs' rotation (recorded flap = true one rotated) and the
@@ -210,9 +191,9 @@ static IFS_HOT int advance(IfsModel *m, double h)
             const int nd = m->rem > 0.0 ? taylor_count(m, r - m->rem) : 0;
             if (nd > 0 && (nk == 0 || nd + 1 < nk)) {
                 ifs_step(m->pg_rem, m->x);
-                taylor_step(m, nd, r - m->rem, m->x);
+                ifs_taylor_step(m->abr, m->abc, nd, r - m->rem, m->x);
             } else if (nk > 0) {
-                taylor_step(m, nk, r, m->x);
+                ifs_taylor_step(m->abr, m->abc, nk, r, m->x);
             } else {                                /* a stiff model: the exponential */
                 if (ifs_discretize(m, r, m->pg_rem) != 0) return -1;
                 m->rem = r;
@@ -273,54 +254,19 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
     return ifs_mu_table_fit(t, mu_build_entries, &b);
 }
 
-/* [phi gam] at mu from the table's parts (prt, local variable y), evaluated straight
- * into m->pg, whose order half 0 is stored in: four entries a vector of fused
- * multiply-adds FMA4 (the CPU's four at once, or the C library's fma lane by lane:
- * one rounding each, so the same numbers) */
-#define MU_APPLY_BODY(FMA4)                                                            \
-    do {                                                                               \
-        int e_;                                                                        \
-        IFS_UNROLL                                                                     \
-        for (e_ = 0; e_ < IFS_MU_HALF0; e_ += 4)                                       \
-            IFS_MU_FHORNER4(FMA4, t, prt, e_, *(ifs_v4 *)(m->pg + e_));                \
-    } while (0)
-
-#ifdef IFS_MU_FMA4
-#define FMA4_CPU(acc, c)                                                               \
-    ((ifs_v4)_mm256_fmadd_pd((__m256d)(acc), (__m256d)yv, (__m256d)(c)))
-/* (static: called through ifs_mu_table_apply, where t->fma chose it) */
-static __attribute__((target("avx2,fma"))) void mu_apply_fma(const IfsMuTable *t, int prt,
-                                                             double y, IfsModel *m)
-{
-    const ifs_v4 yv = {y, y, y, y};
-    MU_APPLY_BODY(FMA4_CPU);
-}
-#endif
-
-static void mu_apply(const IfsMuTable *t, int prt, double y, IfsModel *m)
-{
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-#define FMA4_LIB(acc, c)                                                               \
-    ((ifs_v4){fma((acc)[0], y, (c)[0]), fma((acc)[1], y, (c)[1]),                      \
-              fma((acc)[2], y, (c)[2]), fma((acc)[3], y, (c)[3])})
-    MU_APPLY_BODY(FMA4_LIB);
-#else
-    int e;
-    for (e = 0; e < IFS_MU_HALF0; e++) m->pg[e] = ifs_mu_fhorner(t, prt, y, e);
-#endif
-}
-
+/* [phi gam] at mu from the table (ifs_mu_eval: its segment, part and Horner's rule,
+ * generated from inflowsim.simulate.algorithms.mu_eval), evaluated straight into
+ * m->pg, whose order half 0 is stored in; with the CPU's fused multiply-adds where
+ * it has them (t->fma), else the C library's fma: one rounding each, the same
+ * numbers */
 void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
-    double x, y;
-    const int seg = ifs_mu_table_locate(t, v->mu, &x);
-    const int prt = ifs_mu_table_part(seg, x, &y);
 #ifdef IFS_MU_FMA4
     if (t->fma)
-        mu_apply_fma(t, prt, y, m);
+        ifs_mu_eval_fma(t->edge, t->guess, &t->q[0][0][0], v->mu, m->pg);
     else
 #endif
-        mu_apply(t, prt, y, m);
+        ifs_mu_eval(t->edge, t->guess, &t->q[0][0][0], v->mu, m->pg);
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;

@@ -287,36 +287,74 @@ static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(
 
 
 /*
- * One term of the remainder's Taylor series (ifs_advance): w_next = (a w) s with a
- * the first IFS_NX columns of ab (stored like pg), and acc += w_next.  The terms
- * depend on each other, so each sum is two chains (even and odd columns) to halve
- * its latency.  Two rows at a time where the compiler has GNU vectors; the scalar
- * version adds in the same order.
+ * The primitives of the Taylor step (inflowsim.simulate.algorithms.taylor_step,
+ * generated into ifs_taylor_step; P.taylor_first and P.taylor_term there):
+ *
+ * w = ([a b] z) r: [a b] by rows (n rows rl apart, as pg), z = [x; u] (rl rows of
+ * cols columns); for the model (cols 1, n IFS_NX, rl IFS_RL) the step's dot product
+ * (ifs_rows), then the scaling.
  */
-IFS_INLINE void ifs_taylor_term(const double *ab, const double w[IFS_LD], double s,
-                                double w_next[IFS_LD], double acc[IFS_LD])
+IFS_INLINE void ifs_taylor_first(const double *ab, const double *z, double r, double *w,
+                                 int n, int rl, int cols)
+{
+    int i, j, c;
+    if (cols == 1 && n == IFS_NX && rl == IFS_RL) {
+        ifs_rows(ab, z, w);
+        for (i = 0; i < IFS_NX; i++) w[i] *= r;
+        return;
+    }
+    for (i = 0; i < n; i++)
+        for (c = 0; c < cols; c++) {
+            double t = 0.0;
+            for (j = 0; j < rl; j++) t += ab[i * rl + j] * z[j * cols + c];
+            w[i * cols + c] = t * r;
+        }
+}
+
+/*
+ * w_next = (a w) s and acc += w_next: a the first n columns of [a b] stored by
+ * columns (column j at ab + j ld; ld at least n rounded up to even, the rows past n
+ * zero), w, w_next and acc n x cols.  The terms depend on each other, so for one
+ * column each sum is two chains (even and odd columns) to halve its latency, two rows
+ * at a time where the compiler has GNU vectors (the scalar version adds in the same
+ * order).
+ */
+IFS_INLINE void ifs_taylor_term(const double *ab, const double *w, double s,
+                                double *w_next, double *acc, int n, int ld, int cols)
 {
     int r, j;
+    if (cols != 1) {
+        int c;
+        for (r = 0; r < n; r++)
+            for (c = 0; c < cols; c++) {
+                double t = 0.0;
+                for (j = 0; j < n; j++) t += ab[j * ld + r] * w[j * cols + c];
+                t *= s;
+                w_next[r * cols + c] = t;
+                acc[r * cols + c] += t;
+            }
+        return;
+    }
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     IFS_UNROLL
-    for (r = 0; r < (IFS_NX + 1) / 2; r++) {
+    for (r = 0; r < (n + 1) / 2; r++) {
         ifs_v2 t = *(const ifs_v2 *)(ab + 2 * r) * w[0];
-        ifs_v2 t1 = *(const ifs_v2 *)(ab + IFS_LD + 2 * r) * w[1];
+        ifs_v2 t1 = *(const ifs_v2 *)(ab + ld + 2 * r) * w[1];
         IFS_UNROLL
-        for (j = 2; j < IFS_NX; j += 2) {
-            t += *(const ifs_v2 *)(ab + j * IFS_LD + 2 * r) * w[j];
-            if (j + 1 < IFS_NX) t1 += *(const ifs_v2 *)(ab + (j + 1) * IFS_LD + 2 * r) * w[j + 1];
+        for (j = 2; j < n; j += 2) {
+            t += *(const ifs_v2 *)(ab + j * ld + 2 * r) * w[j];
+            if (j + 1 < n) t1 += *(const ifs_v2 *)(ab + (j + 1) * ld + 2 * r) * w[j + 1];
         }
         t = (t + t1) * s;
         *(ifs_v2 *)(w_next + 2 * r) = t;
         *(ifs_v2 *)(acc + 2 * r) += t;
     }
 #else
-    for (r = 0; r < IFS_NX; r++) {
-        double t = ab[r] * w[0], t1 = ab[IFS_LD + r] * w[1];
-        for (j = 2; j < IFS_NX; j += 2) {
-            t += ab[j * IFS_LD + r] * w[j];
-            if (j + 1 < IFS_NX) t1 += ab[(j + 1) * IFS_LD + r] * w[j + 1];
+    for (r = 0; r < n; r++) {
+        double t = ab[r] * w[0], t1 = ab[ld + r] * w[1];
+        for (j = 2; j < n; j += 2) {
+            t += ab[j * ld + r] * w[j];
+            if (j + 1 < n) t1 += ab[(j + 1) * ld + r] * w[j + 1];
         }
         t = (t + t1) * s;
         w_next[r] = t;

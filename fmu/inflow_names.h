@@ -41,7 +41,12 @@
 #define ifs_lu_solve IFS_NAME(ifs_lu_solve)
 #define ifs_mu_check IFS_NAME(ifs_mu_check)
 #define ifs_mu_edges IFS_NAME(ifs_mu_edges)
+#define ifs_mu_eval IFS_NAME(ifs_mu_eval)
+#define ifs_mu_eval_coarse IFS_NAME(ifs_mu_eval_coarse)
+#define ifs_mu_eval_fma IFS_NAME(ifs_mu_eval_fma)
 #define ifs_mu_fit IFS_NAME(ifs_mu_fit)
+#define ifs_mu_guess IFS_NAME(ifs_mu_guess)
+#define ifs_mu_segment IFS_NAME(ifs_mu_segment)
 #define ifs_mu_table_apply IFS_NAME(ifs_mu_table_apply)
 #define ifs_mu_table_apply_ab IFS_NAME(ifs_mu_table_apply_ab)
 #define ifs_mu_table_build IFS_NAME(ifs_mu_table_build)
@@ -69,6 +74,7 @@
 #define ifs_state_serialize IFS_NAME(ifs_state_serialize)
 #define ifs_state_set IFS_NAME(ifs_state_set)
 #define ifs_taylor_count IFS_NAME(ifs_taylor_count)
+#define ifs_taylor_step IFS_NAME(ifs_taylor_step)
 #endif
 
 #endif

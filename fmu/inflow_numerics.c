@@ -1,7 +1,8 @@
 /*
  * The FMU's numerics (inflow_numerics.h): dense LU and the other primitives of the
- * generated algorithms (inflow_algorithms.c: the matrix exponential, the Taylor rule
- * of a remainder step, the table's segment ends, fit and check), the table in mu.
+ * generated algorithms (inflow_algorithms.c: the matrix exponential, the Taylor step
+ * of a remainder and its term count, the table's segment ends, fit, check, segment
+ * finding and evaluation), the table in mu bound to them.
  * Nothing here knows the rotor; the model's equations are in inflow_equations.c
  * (generated) and inflow_model.c.
  */
@@ -102,36 +103,13 @@ static void mu_edges(double e[IFS_MU_NSEG + 1])
 #endif
 }
 
-/* Entries first .. first + n - 1 (n a multiple of four) of the coarse interpolant
- * at mu, four at a time.  (IFS_HOT: the AVX2 clone does four doubles a vector; the
- * same numbers.) */
-static IFS_HOT void mu_eval_range(const IfsMuTable *t, double mu, int first, int n,
-                                  double *out)
-{
-    double x;
-    const int seg = ifs_mu_table_locate(t, mu, &x);
-    int e;
-    for (e = 0; e < n; e += 4) {
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-        IFS_MU_HORNER4(t, seg, x, first + e, *(ifs_v4 *)(out + e));
-#else
-        int i;
-        for (i = e; i < e + 4; i++) out[i] = ifs_mu_horner(t, seg, x, first + i);
-#endif
-    }
-}
-
 void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out)
 {
-    if (half == 0) {           /* the parts (the same numbers as ifs_mu_table_apply) */
-        double x, y;
-        const int seg = ifs_mu_table_locate(t, mu, &x);
-        const int prt = ifs_mu_table_part(seg, x, &y);
-        int e;
-        for (e = 0; e < IFS_MU_HALF0; e++) out[e] = ifs_mu_fhorner(t, prt, y, e);
-    } else {
-        mu_eval_range(t, mu, IFS_MU_HALF0, IFS_MU_HALF, out);
-    }
+    if (half == 0)             /* the parts (the same numbers as ifs_mu_table_apply) */
+        ifs_mu_eval(t->edge, t->guess, &t->q[0][0][0], mu, out);
+    else
+        ifs_mu_eval_coarse(t->edge, t->guess, &t->p[0][0][0], mu, IFS_MU_HALF0, IFS_MU_HALF,
+                           out);
 }
 
 /* 1 if this CPU has AVX2 and FMA and this build evaluates the table with them */
@@ -156,17 +134,12 @@ static int table_values(void *t, double mu, double out[IFS_MU_NTAB])
 
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
 {
-    int seg, c;
     double worst = 0.0;
     t->state = -1;
     t->err = 0.0;
     t->fma = cpu_fma();
     mu_edges(t->edge);
-    for (c = seg = 0; c < IFS_MU_NGUESS; c++) {
-        const double at = IFS_MU_LO + (IFS_MU_HI - IFS_MU_LO) * c / IFS_MU_NGUESS;
-        while (seg < IFS_MU_NSEG - 1 && at >= t->edge[seg + 1]) seg++;
-        t->guess[c] = (unsigned char)seg;
-    }
+    ifs_mu_guess(t->edge, t->guess);
     /* the segments' and their parts' coefficients (inflow_algorithms.c) */
     if (ifs_mu_fit(t->edge, IFS_MU_NSEG, entries, ctx, &t->p[0][0][0], &t->q[0][0][0]) != 0)
         return t->state;

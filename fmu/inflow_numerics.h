@@ -1,10 +1,11 @@
 /*
  * The FMU's numerics, apart from the model's equations: dense LU solves and the
- * other primitives, the matrix exponential, the Taylor rule of a remainder step and
- * the table in mu (fit, check and evaluation).  The exponential, the Taylor rule's
- * term count and the table's segment ends, fit and check are generated
- * (inflow_algorithms.c, from inflowsim.simulate.algorithms, which the Python
- * Simulator runs); the table's evaluation is here.  Knows nothing of rotors: the
+ * other primitives, the matrix exponential, the Taylor series of a remainder step
+ * and the table in mu (fit, check and evaluation).  The algorithms themselves (the
+ * exponential, the Taylor step and its term count, the table's segment ends, fit,
+ * check, segment finding and evaluation) are generated (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms, which the Python Simulator runs); here are their
+ * primitives and the table's storage.  Knows nothing of rotors: the
  * model (inflow_model.c) gives the table its exact entries through a callback.  The
  * table's and the Taylor rule's constants (IFS_MU_LO ... IFS_KMAX) are generated
  * into inflow_vars.h from inflowsim.simulate.mutable.
@@ -55,6 +56,14 @@
 #define IFS_UNROLL
 #endif
 
+/* a generated algorithm in the step's hot path inlines every call in it
+ * (inflowsim.simulate.algorithms.ATTRIBUTES) */
+#if defined(__GNUC__)
+#define IFS_FLATTEN __attribute__((flatten))
+#else
+#define IFS_FLATTEN
+#endif
+
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
 /* unaligned, aliasing-safe views of 4 and 2 doubles */
 typedef double ifs_v4 __attribute__((vector_size(32), aligned(8), may_alias));
@@ -69,8 +78,8 @@ typedef double ifs_v2 __attribute__((vector_size(16), aligned(8), may_alias));
  * dst = src, x *= alpha, y += alpha x (sizes in doubles), C = A B (n x n; C
  * neither A nor B; each row summed in the order of k), C = A B (rows x inner times
  * inner x cols, the rows of B ldb and of C ldc apart), Horner's rule for the
- * polynomials of degree deg in the columns of p at nx points (ifs_mu_horner's
- * operations; the rows of out ldo apart). */
+ * polynomials of degree deg in the columns of p at nx points (the rows of out ldo
+ * apart). */
 IFS_INLINE void ifs_copy(double *dst, const double *src, int size)
 {
     int i;
@@ -125,6 +134,66 @@ IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, do
         }
 }
 
+/* The mu table's evaluation (inflowsim.simulate.algorithms.mu_eval) with the CPU's
+ * AVX2 and FMA where it has them and this build can (IFS_MU_FMA4; ifs_mu_eval_fma,
+ * chosen at run time); else with the C library's fma, the same numbers. */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(IFS_SCALAR_STEP) && \
+    !defined(IFS_NO_CLONES)
+#define IFS_MU_FMA4 1
+#include <immintrin.h>
+#endif
+
+/* out[e] = sum_k q[k cols + e] y^k for e < cols, k = 0 .. deg: Horner's rule with
+ * fused multiply-adds (one rounding each: every path gives the same numbers), four
+ * entries a vector (the table's [phi gam], cols a multiple of four, straight into
+ * the model's matrix). */
+IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int cols)
+{
+    int e, k;
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    if (cols % 4 == 0) {
+        IFS_UNROLL
+        for (e = 0; e < cols; e += 4) {
+            ifs_v4 acc = *(const ifs_v4 *)(q + deg * cols + e);
+            IFS_UNROLL
+            for (k = deg - 1; k >= 0; k--) {
+                const ifs_v4 c = *(const ifs_v4 *)(q + k * cols + e);
+                acc = (ifs_v4){fma(acc[0], y, c[0]), fma(acc[1], y, c[1]),
+                               fma(acc[2], y, c[2]), fma(acc[3], y, c[3])};
+            }
+            *(ifs_v4 *)(out + e) = acc;
+        }
+        return;
+    }
+#endif
+    for (e = 0; e < cols; e++) {
+        double acc = q[deg * cols + e];
+        for (k = deg - 1; k >= 0; k--) acc = fma(acc, y, q[k * cols + e]);
+        out[e] = acc;
+    }
+}
+#ifdef IFS_MU_FMA4
+/* ... the CPU's four fused multiply-adds at once (inside a function for AVX2 and FMA) */
+static inline __attribute__((target("avx2,fma"), always_inline)) void
+ifs_fhorner_fma(const double *q, int deg, double y, double *out, int cols)
+{
+    const __m256d yv = _mm256_set1_pd(y);
+    int e, k;
+    if (cols % 4) {
+        ifs_fhorner(q, deg, y, out, cols);
+        return;
+    }
+    IFS_UNROLL
+    for (e = 0; e < cols; e += 4) {
+        __m256d acc = _mm256_loadu_pd(q + deg * cols + e);
+        IFS_UNROLL
+        for (k = deg - 1; k >= 0; k--)
+            acc = _mm256_fmadd_pd(acc, yv, _mm256_loadu_pd(q + k * cols + e));
+        _mm256_storeu_pd(out + e, acc);
+    }
+}
+#endif
+
 
 /* Solve A X = B in place (A n x n destroyed, B n x nrhs overwritten by X), LU with
  * partial pivoting.  -1 if a pivot is below tol times the largest |A| entry. */
@@ -150,6 +219,10 @@ int ifs_expm(double *A);
  * 1-norms norm_a = |a| and norm_ab = |[a b]|: the first k whose next term is
  * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed. */
 int ifs_taylor_count(double norm_a, double norm_ab, double r);
+/* z[0 .. IFS_NX) <- the state after r [s] for [x; u] = z held, by nk terms of that
+ * series: abr [a b] by rows (IFS_RL apart), abc by columns (IFS_LD apart;
+ * IfsModel's). */
+void ifs_taylor_step(const double *abr, const double *abc, int nk, double r, double *z);
 
 /* Chebyshev interpolation at n nodes: ch (n x n) gives the Chebyshev coefficients
  * sum_j ch[k][j] f_j of the polynomial through f_j at the Chebyshev-Gauss nodes
@@ -173,22 +246,20 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * the order the step reads it, so a mu change evaluates it straight into the
  * model's matrices (ifs_mu_table_apply, inflow_model.c): row by row, each row
  * IFS_RL long (zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
- * IFS_MU_HALF entries) is
- * read rarely (a remainder step, a load).
+ * IFS_MU_HALF entries) is read rarely (a remainder step, a load).
  *
  * What a mu change evaluates, and the check checks, of half 0 is a finer table made
  * from the first without another exact value: each segment cut into IFS_MU_SPLIT
  * equal parts of x, on each the segment's polynomial interpolated again at the
  * part's IFS_MU_FDEG + 1 Chebyshev-Gauss nodes (local variable y in [-1, 1]),
  * evaluated by Horner's rule with fused multiply-adds (fma: one rounding, on every
- * path, so every build gives the same numbers): inflowsim.simulate.mutable.MuTable,
- * the same algorithm.
+ * path, so every build gives the same numbers): inflowsim.simulate.algorithms.mu_eval,
+ * which the Simulator's table (inflowsim.simulate.mutable.MuTable) runs too.
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #define IFS_MU_HALF0 (IFS_NX * IFS_RL)
 #define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
 #define IFS_MU_NPART (IFS_MU_NSEG * IFS_MU_SPLIT)
-#define IFS_MU_NGUESS 64           /* cells of the segment guess, narrower than any */
 typedef struct {
     /* the parts' power coefficients of half 0 (IfsMuTable's comment): what a mu
      * change reads */
@@ -197,8 +268,9 @@ typedef struct {
     int fma;                   /* 1: evaluate with the CPU's AVX2 and FMA (IFS_MU_FMA4) */
     double err;                /* the largest relative error found by the check */
     double edge[IFS_MU_NSEG + 1];                        /* segment ends */
-    /* the segment holding the start of cell c of IFS_MU_NGUESS equal cells */
-    unsigned char guess[IFS_MU_NGUESS];
+    /* the segment holding the start of cell c of IFS_MU_NGUESS equal cells
+     * (ifs_mu_guess) */
+    double guess[IFS_MU_NGUESS];
     double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
 
@@ -226,86 +298,26 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
 double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx,
                     IfsMuEntries table, void *tctx, int split);
 
+/* The cells' segments (guess, IFS_MU_NGUESS), the segment holding mu, the table's
+ * [phi gam] at mu from the parts q (IFS_MU_HALF0 entries into out; _fma with the
+ * CPU's AVX2 and FMA), entries first .. first + size - 1 of the segments' p at mu
+ * (inflow_algorithms.c, from inflowsim.simulate.algorithms: mu_guess, mu_segment,
+ * mu_eval, mu_eval_coarse, which the Simulator runs). */
+void ifs_mu_guess(const double *edge, double *guess);
+int ifs_mu_segment(const double *edge, const double *guess, double mu);
+void ifs_mu_eval(const double *edge, const double *guess, const double *q, double mu,
+                 double *out);
+#ifdef IFS_MU_FMA4
+void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q, double mu,
+                     double *out);
+#endif
+void ifs_mu_eval_coarse(const double *edge, const double *guess, const double *p,
+                        double mu, int first, int size, double *out);
+
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);
 /* Half 0 (IFS_MU_HALF0 entries, from the parts) or 1 (IFS_MU_HALF) of the
  * interpolant at mu (within the table's range). */
 void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out);
-
-/* The table evaluated with the CPU's AVX2 and FMA where it has them (t->fma)
- * and this build can (IFS_MU_FMA4); else with the C library's fma, the same numbers */
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(IFS_SCALAR_STEP) && \
-    !defined(IFS_NO_CLONES)
-#define IFS_MU_FMA4 1
-#endif
-
-/* The segment holding mu, and mu's local variable in it (in [-1, 1]). */
-IFS_INLINE int ifs_mu_table_locate(const IfsMuTable *t, double mu, double *x)
-{
-    int c = (int)((mu - IFS_MU_LO) * (IFS_MU_NGUESS / (IFS_MU_HI - IFS_MU_LO))), seg;
-    double lo, hi;
-    if (c < 0) c = 0;
-    if (c >= IFS_MU_NGUESS) c = IFS_MU_NGUESS - 1;
-    seg = t->guess[c];
-    while (seg > 0 && mu < t->edge[seg]) seg--;
-    while (seg < IFS_MU_NSEG - 1 && mu >= t->edge[seg + 1]) seg++;
-    lo = t->edge[seg];
-    hi = t->edge[seg + 1];
-    *x = (2.0 * mu - lo - hi) / (hi - lo);
-    return seg;
-}
-
-/* The part of segment seg holding its local variable x, and x's local variable y
- * in it (inflowsim.simulate.mutable.part, the same operations). */
-IFS_INLINE int ifs_mu_table_part(int seg, double x, double *y)
-{
-    int j = (int)((x + 1.0) * (0.5 * IFS_MU_SPLIT));
-    if (j < 0) j = 0;
-    if (j >= IFS_MU_SPLIT) j = IFS_MU_SPLIT - 1;
-    *y = (x + 1.0) * IFS_MU_SPLIT - (double)(2 * j + 1);
-    return seg * IFS_MU_SPLIT + j;
-}
-
-/* Horner's rule for entry e of segment seg at x: the same operations for every
- * entry in the scalar and the vector form, so the same numbers */
-IFS_INLINE double ifs_mu_horner(const IfsMuTable *t, int seg, double x, int e)
-{
-    double acc = t->p[seg][IFS_MU_DEG][e];
-    int k;
-    for (k = IFS_MU_DEG - 1; k >= 0; k--) acc = acc * x + t->p[seg][k][e];
-    return acc;
-}
-/* ... and with fused multiply-adds for entry e of half 0 in part prt at y */
-IFS_INLINE double ifs_mu_fhorner(const IfsMuTable *t, int prt, double y, int e)
-{
-    double acc = t->q[prt][IFS_MU_FDEG][e];
-    int k;
-    for (k = IFS_MU_FDEG - 1; k >= 0; k--) acc = fma(acc, y, t->q[prt][k][e]);
-    return acc;
-}
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-/* ... for entries e .. e + 3, into the ifs_v4 out (a macro: a function returning a
- * 32-byte vector changes the ABI without AVX) */
-#define IFS_MU_HORNER4(t, seg, x, e, out)                                              \
-    do {                                                                               \
-        ifs_v4 acc_ = *(const ifs_v4 *)((t)->p[seg][IFS_MU_DEG] + (e));                \
-        int k_;                                                                        \
-        IFS_UNROLL                                                                     \
-        for (k_ = IFS_MU_DEG - 1; k_ >= 0; k_--)                                       \
-            acc_ = acc_ * (x) + *(const ifs_v4 *)((t)->p[seg][k_] + (e));              \
-        out = acc_;                                                                    \
-    } while (0)
-/* ifs_mu_fhorner for entries e .. e + 3 of part prt, with FMA4(acc, c) the four
- * fused multiply-adds acc * y + c (the CPU's, or the C library's fma lane by lane) */
-#define IFS_MU_FHORNER4(FMA4, t, prt, e, out)                                          \
-    do {                                                                               \
-        ifs_v4 acc_ = *(const ifs_v4 *)((t)->q[prt][IFS_MU_FDEG] + (e));               \
-        int k_;                                                                        \
-        IFS_UNROLL                                                                     \
-        for (k_ = IFS_MU_FDEG - 1; k_ >= 0; k_--)                                      \
-            acc_ = FMA4(acc_, *(const ifs_v4 *)((t)->q[prt][k_] + (e)));               \
-        out = acc_;                                                                    \
-    } while (0)
-#endif
 
 #endif

@@ -14,6 +14,7 @@ from inflowsim.fmu import pyc
 from inflowsim.fmu.build import CFLAGS, compiler, source_dir
 from inflowsim.simulate import algorithms as alg
 from inflowsim.simulate import mutable
+from inflowsim.simulate.discrete import TaylorZoh
 
 NA = 16          # the presets' FMU (fmu/inflow_vars.h): 6 states and 10 inputs
 NTAB, HALF0 = 192, 96   # its mu table's entries, and those of [phi gam] (inflow_numerics.h)
@@ -42,6 +43,13 @@ def lib(tmp_path_factory):
     lib.ifs_mu_check.argtypes = (p, i, ENTRIES, ctypes.c_void_p, ENTRIES, ctypes.c_void_p, i)
     lib.ifs_mu_check.restype = d
     lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
+    lib.ifs_taylor_step.argtypes = (p, p, i, d, p)
+    lib.ifs_mu_guess.argtypes = (p, p)
+    lib.ifs_mu_segment.argtypes, lib.ifs_mu_segment.restype = (p, p, d), i
+    lib.ifs_mu_eval.argtypes = (p, p, p, d, p)
+    lib.ifs_mu_eval_coarse.argtypes = (p, p, p, d, i, i, p)
+    if hasattr(lib, "ifs_mu_eval_fma"):
+        lib.ifs_mu_eval_fma.argtypes = (p, p, p, d, p)
     return lib
 
 
@@ -58,6 +66,30 @@ def test_python_and_generated_c_agree(lib):
     for na, nab, r in [(5.0, 9.0, 1e-3), (80.0, 300.0, 0.01), (1e3, 2e3, 1.0), (0.0, 0.0, 0.1),
                        *rng.uniform(0, 200, (40, 3)) * [1, 2, 0.002]]:
         assert lib.ifs_taylor_count(na, nab, r) == alg.taylor_count(na, nab, r)
+    # the Taylor step: the FMU's layout ([a b] by padded rows and by padded columns,
+    # one column [x; u]) against the Python on the same arrays, and the Simulator's
+    # use (the columns of the identity) against scipy's exponential
+    nx, rl, ld = 6, 16, 8
+    a = rng.standard_normal((nx, nx)) * 20 - 40 * np.eye(nx)
+    b = rng.standard_normal((nx, NA - nx)) * 10
+    ab = np.hstack([a, b])
+    abr, abc = np.zeros(nx * rl), np.zeros(NA * ld)
+    abr.reshape(nx, rl)[:, :NA] = ab
+    abc.reshape(NA, ld)[:, :nx] = ab.T
+    for r in (4e-3, -1.5e-3, 0.02):
+        nk = alg.taylor_count(np.abs(a).sum(axis=0).max(), np.abs(ab).sum(axis=0).max(), r)
+        z = np.zeros(rl)
+        z[:NA] = rng.standard_normal(NA)
+        py, c = z.copy(), z.copy()
+        alg.taylor_step(abr, abc, nk, r, py, nx, rl, ld, 1)
+        lib.ifs_taylor_step(_p(abr), _p(abc), nk, r, _p(c))
+        want = scipy_expm(np.vstack([ab, np.zeros((NA - nx, NA))]) * r)[:nx] @ z[:NA]
+        assert 0 < nk and np.array_equal(py[nx:], z[nx:]) and np.array_equal(c[nx:], z[nx:])
+        assert np.max(np.abs(py - c)) <= 1e-13 * np.max(np.abs(want))
+        assert np.max(np.abs(py[:nx] - want)) <= 1e-12 * np.max(np.abs(want))
+        phi, gam = TaylorZoh(a, b)(abs(r))
+        want = scipy_expm(np.vstack([ab, np.zeros((NA - nx, NA))]) * abs(r))[:nx]
+        assert np.max(np.abs(np.hstack([phi, gam]) - want)) <= 1e-12 * np.max(np.abs(want))
     # the exponential of an augmented [[a b] dt; 0 0] and of a large-norm matrix
     # (squarings), both against scipy too
     for scale in (0.01, 0.3, 4.0):
@@ -120,6 +152,35 @@ def test_python_and_generated_c_agree(lib):
     assert lib.ifs_mu_fit(_p(edge), nseg, ENTRIES(c_exact), None, _p(cp), _p(cq)) == 0
     for py, c in ((pp, cp), (pq, cq)):
         assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(py))
+    # the segment search and the table's evaluation (what a mu change reads): the
+    # same segments as bisection, at the ends too; the values, of the parts (with
+    # and without the CPU's fused multiply-adds: the same numbers) and of [a b]
+    guess, cguess = np.zeros(mutable.GUESS_CELLS), np.zeros(mutable.GUESS_CELLS)
+    table = (nseg, mutable.GUESS_CELLS, mutable.MU_LO, mutable.MU_HI)
+    alg.mu_guess(edge, guess, *table)
+    lib.ifs_mu_guess(_p(edge), _p(cguess))
+    assert np.array_equal(guess, cguess)
+    fma = hasattr(lib, "ifs_mu_eval_fma") and {"avx2", "fma"} <= set(
+        open("/proc/cpuinfo").read().split())
+    for mu in (*edge, *rng.uniform(mutable.MU_LO, mutable.MU_HI, 20)):
+        seg = alg.mu_segment(edge, guess, mu, *table)
+        assert seg == lib.ifs_mu_segment(_p(edge), _p(guess), mu) == min(
+            int(np.searchsorted(edge, mu, side="right")) - 1, nseg - 1)
+        py, c, cf = np.zeros(HALF0), np.zeros(HALF0), np.zeros(HALF0)
+        alg.mu_eval(edge, list(guess), pq, mu, py, *table, mutable.SPLIT, mutable.FINE_DEGREE,
+                    HALF0)
+        lib.ifs_mu_eval(_p(edge), _p(guess), _p(cq), mu, _p(c))
+        assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(c))
+        if fma:
+            lib.ifs_mu_eval_fma(_p(edge), _p(guess), _p(cq), mu, _p(cf))
+            assert np.array_equal(c, cf)
+        py, c = np.zeros(NTAB - HALF0), np.zeros(NTAB - HALF0)
+        alg.mu_eval_coarse(edge, guess, pp, mu, HALF0, NTAB - HALF0, py, *table,
+                           mutable.DEGREE, NTAB)
+        lib.ifs_mu_eval_coarse(_p(edge), _p(guess), _p(cp), mu, HALF0, NTAB - HALF0, _p(c))
+        assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(c))
+        exact(None, mu, want := np.zeros(NTAB))
+        assert np.max(np.abs(c - want[HALF0:])) <= 1e-9 * np.max(np.abs(want))
     # the check: a table off by 1e-9 of the first half's scale at one mu, and a NaN
 
     def table(ctx, mu, out):

@@ -27,24 +27,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..channels import INPUTS
+from ..simulate.discrete import hold
 
 G = 9.81
 
 
 def zoh(a: np.ndarray, b: np.ndarray, dt: float):
     """The body's zero-order hold for the virtual records: scipy's matrix
-    exponential of ``[[a, b], [0, 0]] dt``.  Not the Simulator's
+    exponential in :func:`inflowsim.simulate.discrete.hold`.  Not the Simulator's
     (:func:`inflowsim.simulate.discrete.zoh`, the same to rounding): a record's
     samples rounded otherwise move a fit on it (``bench/check_same_fits.py``: up to
     2e-5 of a correlation on the held record), so every study's records stay
     the same numbers."""
     from scipy.linalg import expm        # (imported here: see simulate.discrete)
-    n, m = b.shape
-    aug = np.zeros((n + m, n + m))
-    aug[:n, :n] = a
-    aug[:n, n:] = b
-    e = expm(aug * dt)
-    return e[:n, :n], e[:n, n:]
+    return hold(a, b, dt, expm)
+
+
 #: Hub channels the body model produces (the model inputs after the controls, in
 #: their order), the rows of :meth:`BodyModel.hub_matrices`.
 HUB = INPUTS[3:]

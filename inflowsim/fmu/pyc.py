@@ -5,7 +5,8 @@ A walk over each function's Python syntax tree (:mod:`ast`) that knows the subse
 the algorithms are written in and refuses anything else with the line it cannot
 translate: arguments annotated ``int``, ``float``, ``Vec`` (``double *``) or
 ``CVec`` (``const double *``); locals declared by an annotated assignment
-(``s: int = 0``) or as ``P.new(size)`` (a zeroed local array; its size a C constant
+(``s: int = 0``) or as ``P.new(size)`` (a zeroed local array; ``P.empty``: not
+zeroed, every entry read written first; its size a C constant
 expression after the size arguments are replaced); ``for ... in range(a[, b[,
 +-1]])``, ``while``, ``if``/``elif``/``else``, ``return``, ``break``,
 ``continue``; ``+ - * / // %``, comparisons (one operator each), ``and``, ``or``,
@@ -13,7 +14,12 @@ expression after the size arguments are replaced); ``for ... in range(a[, b[,
 ``float()``, the primitives ``P.<name>`` (C ``ifs_<name>``) and the other
 algorithms; a vector's tail ``a[k:]`` (``a + k``) as an argument.  ``/`` of two
 integers is Python's true division, written with a cast; ``//`` and ``%`` are
-meant for non-negative integers (C truncates, Python floors).
+meant for non-negative integers (C truncates, Python floors).  A size argument
+(:func:`~inflowsim.simulate.algorithms.algorithm`'s ``sizes``) becomes its C
+constant with its annotated type (``IFS_MU_LO`` a double); a
+:class:`~inflowsim.simulate.algorithms.Variant` writes the function again under
+another name, guard and target, with other primitives (the ``mu`` table's
+evaluation with the CPU's fused multiply-adds).
 """
 from __future__ import annotations
 
@@ -41,15 +47,19 @@ _TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const dou
 #: the primitives' C result types (``void`` where none)
 _PRIMITIVES = {"copy": "void", "scale": "void", "axpy": "void", "matmul": "void",
                "norm1": "double", "lu_solve": "int", "gemm": "void",
-               "horner": "void", "absmax": "double", "absdiffmax": "double"}
+               "horner": "void", "fhorner": "void", "absmax": "double",
+               "absdiffmax": "double", "taylor_first": "void", "taylor_term": "void"}
 
 
 class _Function:
     """The C text of one registered function."""
 
-    def __init__(self, f, c_name: str, static: bool, sizes: dict, others: dict):
+    def __init__(self, f, c_name: str, static: bool, sizes: dict, others: dict,
+                 variant=None):
         self.f, self.c_name, self.static, self.sizes = f, c_name, static, sizes
         self.others = others                     # {python name: (C name, C type)}
+        self.variant = variant                   # an alg.Variant, or None
+        self.size_types = {}                     # {size argument: its C type}
         src = textwrap.dedent(inspect.getsource(f))
         self.tree = ast.parse(src).body[0]
         self.line0 = inspect.getsourcelines(f)[1] - 1
@@ -83,7 +93,8 @@ class _Function:
         if isinstance(e, ast.Name):
             if e.id in self.sizes:
                 c = self.sizes[e.id]
-                return (c if c.isidentifier() else f"({c})"), "int", 16
+                return ((c if c.isidentifier() or c.isdigit() else f"({c})"),
+                        self.size_types.get(e.id, "int"), 16)
             if e.id in self.types:
                 return e.id, self.types[e.id], 16
             return (*self.constant(e), 16)
@@ -164,7 +175,8 @@ class _Function:
                 typ = "int" if f.attr in _MATH_INT else "double"
                 return f"{_MATH[f.attr]}({', '.join(self.arg(a) for a in args)})", typ
             if f.value.id == "P" and f.attr in _PRIMITIVES:
-                return (f"ifs_{f.attr}({', '.join(self.arg(a) for a in args)})",
+                name = self.variant.primitives.get(f.attr, f.attr) if self.variant else f.attr
+                return (f"ifs_{name}({', '.join(self.arg(a) for a in args)})",
                         _PRIMITIVES[f.attr])
         if isinstance(f, ast.Name):
             if f.id in ("int", "float") and len(args) == 1:
@@ -210,12 +222,13 @@ class _Function:
                 self.fail(s, "a multiple assignment")
             t, v = s.targets[0], s.value
             if (isinstance(t, ast.Name) and isinstance(v, ast.Call)
-                    and ast.unparse(v.func) == "P.new" and t.id not in self.types):
+                    and ast.unparse(v.func) in ("P.new", "P.empty") and t.id not in self.types):
                 if any(isinstance(n, ast.Name) and n.id in self.types
                        for n in ast.walk(v.args[0])):
                     self.fail(s, "a local array's size that is not a C constant")
                 self.types[t.id] = "double *"
-                self.emit(d, f"double {t.id}[{self.expr(v.args[0])[0]}] = {{0.0}};")
+                zero = " = {0.0}" if ast.unparse(v.func) == "P.new" else ""
+                self.emit(d, f"double {t.id}[{self.expr(v.args[0])[0]}]{zero};")
                 return
             if isinstance(t, ast.Name) and t.id not in self.types:
                 self.fail(s, f"{t.id} assigned before its declaration (name: type = value)")
@@ -291,24 +304,32 @@ class _Function:
             if typ is None:
                 self.fail(a, f"the argument type {ast.unparse(a.annotation)}")
             if a.arg in self.sizes:
+                self.size_types[a.arg] = typ
                 continue
             self.types[a.arg] = typ
             params.append(f"{typ}{'' if typ.endswith('*') else ' '}{a.arg}")
         ret = self.tree.returns
         rtype = "void" if ret is None or ast.unparse(ret) == "None" else \
             _TYPES[ast.unparse(ret)]
-        head = "static " if self.static else ""
-        return f"{head}{rtype} {self.c_name}({', '.join(params) or 'void'})"
+        head = ("static " if self.static else "") + "".join(
+            f"{m} " for m in alg.ATTRIBUTES.get(self.c_name, ()))
+        name = self.c_name
+        if self.variant:
+            name += self.variant.suffix
+        return f"{head}{rtype} {name}({', '.join(params) or 'void'})"
 
     def text(self) -> list:
         sig = self.signature()
         doc = ast.get_docstring(self.tree) or ""
         first = " ".join(re.sub(r"(:\w+:)?`+~?\.?", "", doc.split("\n\n")[0]).split())
-        lines = ["/* " + ln for ln in _fill(f"{self.f.__name__}: {first}")]
-        lines[1:] = [" * " + ln[3:] for ln in lines[1:]]
-        lines[-1] += " */"
+        lines = _comment(f"{self.f.__name__}: {first}" if not self.variant else
+                         f"{self.f.__name__}{self.variant.suffix}: {self.variant.what}")
         self.block(self.tree.body, 1)
-        return lines + [*_wrap_line(sig), "{", *self.out, "}"]
+        body = lines + [*_wrap_line(sig), "{", *self.out, "}"]
+        if self.variant:
+            body = [f"#ifdef {self.variant.guard}", *lines, self.variant.attribute,
+                    *_wrap_line(sig), "{", *self.out, "}", "#endif"]
+        return body
 
 
 #: the generated lines' length, where a break at a comma or an operator can keep them
@@ -344,6 +365,14 @@ def _wrap_line(line: str) -> list:
 
 def _fill(text: str) -> list:
     return textwrap.wrap(text, 84) or [""]
+
+
+def _comment(text: str) -> list:
+    """``text`` as a C block comment, filled."""
+    lines = ["/* " + ln for ln in _fill(text)]
+    lines[1:] = [" * " + ln[3:] for ln in lines[1:]]
+    lines[-1] += " */"
+    return lines
 
 
 def _wrap(text: str) -> str:
@@ -389,9 +418,10 @@ def algorithms_c() -> str:
            "/*",
            " * The stepping algorithms the Simulator runs in Python, translated: the same",
            " * operations in the same order.  The primitives (ifs_matmul, ifs_lu_solve, ...)",
-           " * are in inflow_numerics.c.",
+           " * are in inflow_numerics.h and .c, the step's own (ifs_taylor_first ...) in",
+           " * inflow_model.h.",
            " */",
-           "#include <math.h>", "", '#include "inflow_numerics.h"', "",
+           "#include <math.h>", "", '#include "inflow_model.h"', "",
            "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif", ""]
     for name in tables:
         values = ", ".join(_c_float(v) for v in getattr(alg, name))
@@ -401,6 +431,8 @@ def algorithms_c() -> str:
     publics = [fn for fn in alg.ALGORITHMS if not fn[2]]
     for f, c_name, static, sizes in statics + publics:
         out += _Function(f, c_name, static, sizes, others).text() + [""]
+        for v in alg.VARIANTS.get(c_name, ()):
+            out += _Function(f, c_name, static, sizes, others, v).text() + [""]
     return "\n".join(out)
 
 

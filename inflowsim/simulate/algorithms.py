@@ -6,8 +6,9 @@ both languages: flat float vectors (row-major matrices, their sizes passed as
 arguments), ``int`` and ``float`` scalars declared by annotation, ``for ... in
 range``, ``while``, ``if``, scalar arithmetic, the functions of :mod:`math`, module
 constants, and the primitives of :class:`P` (matrix products, ``y += alpha x``,
-Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of hand-written C in
-``fmu/inflow_numerics.c``, the only numerics written twice).  :func:`algorithm`
+Horner's rule, largest entries, the 1-norm, an LU solve: NumPy here, a few lines of
+hand-written C in ``fmu/inflow_numerics.[ch]`` and ``fmu/inflow_model.h``, the only
+numerics written twice).  :func:`algorithm`
 names each function's C function and the size arguments that are compile-time
 constants in the FMU (``IFS_NA``: the augmented ``[x; u]``).
 
@@ -16,19 +17,25 @@ differ only where a primitive's NumPy sums in another order than the C loop (a
 few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
 generated C and compares it with these functions on the same inputs.
 
-Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), the
+Single-sourced here: the Taylor rule's term count (:func:`taylor_count`) and the
+Taylor step itself (:func:`taylor_step`: the FMU's step of a communication
+remainder; on the identity the Simulator's ``[phi gam]`` after ``set_dt``), the
 matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
-``mu`` table's segment ends (:func:`mu_edges`) and fit: its segments and their
-parts (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
-:func:`power_fit`) and check (:func:`mu_check`).  Still each side's own: the
-Taylor step itself (here the stored terms of :class:`~inflowsim.simulate.discrete.
-TaylorZoh`, in the FMU the vector series of ``taylor_step``) and the table's
-evaluation on a ``mu`` change (here one dot product, in the FMU Horner's rule with
-fused multiply-adds), both in the step's hot path.
+``mu`` table's segment ends (:func:`mu_edges`), fit: its segments and their parts
+(:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
+:func:`power_fit`), check (:func:`mu_check`), segment search (:func:`mu_guess`,
+:func:`mu_segment`) and evaluation (:func:`mu_eval`, the parts: what a change of
+``mu`` reads; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
+rarely).  Each side's own are the primitives only; in the step's hot path
+``P.fhorner`` (here one dot product of the powers, in C Horner's rule with fused
+multiply-adds, its AVX2 variant :data:`FMA4`) and the Taylor step's matrix-vector
+products (in C the step's dot product, ``fmu/inflow_model.h``).
 """
 from __future__ import annotations
 
 import math
+import struct
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -54,14 +61,45 @@ C_MACROS = {"TAYLOR_TOL": "IFS_TAYLOR_TOL", "TAYLOR_MAX_TERMS": "IFS_KMAX"}
 #: The functions the C is generated from, in order: ``(function, C name, static,
 #: {size argument: C constant})``.
 ALGORITHMS = []
+#: ``{C name: [Variant, ...]}``: further C versions of a registered function.
+VARIANTS = {}
+#: ``{C name: (C attribute macro, ...)}``: the hot path's (``fmu/inflow_numerics.h``):
+#: ``IFS_FLATTEN`` inlines every call in the function (where a call costs as much as
+#: the work), ``IFS_HOT`` compiles it for AVX2 and the baseline, chosen at load time.
+ATTRIBUTES = {}
 
 
-def algorithm(c_name: str, sizes=None, static: bool = False):
+@dataclass(frozen=True)
+class Variant:
+    """Another C version of an algorithm: its name ``C name + suffix``, compiled
+    where the macro ``guard`` is defined, with the C ``attribute`` (a target), the
+    primitives ``{name: other name}`` replaced; ``what`` says what it is for."""
+    suffix: str
+    guard: str
+    attribute: str
+    primitives: dict
+    what: str
+
+
+#: The mu table's evaluation with the CPU's fused multiply-adds four at once
+#: (``IFS_MU_FMA4``: x86-64 with GNU C; the FMU takes it where the CPU has AVX2 and
+#: FMA, else the C library's ``fma``: one rounding either way, the same numbers).
+FMA4 = Variant("_fma", "IFS_MU_FMA4", '__attribute__((target("avx2,fma")))',
+               {"fhorner": "fhorner_fma"}, "the same with the CPU's AVX2 and FMA "
+               "(ifs_fhorner_fma; chosen at run time where the CPU has them)")
+
+
+def algorithm(c_name: str, sizes=None, static: bool = False, variants=(), attributes=()):
     """Register a function of this module for translation into C as ``c_name``;
     ``sizes``: arguments that are a C constant expression in the FMU (dropped from
-    the C signature)."""
+    the C signature); ``variants``: further C versions (:class:`Variant`);
+    ``attributes``: C attribute macros (:data:`ATTRIBUTES`)."""
     def register(f):
         ALGORITHMS.append((f, c_name, static, dict(sizes or {})))
+        if variants:
+            VARIANTS[c_name] = list(variants)
+        if attributes:
+            ATTRIBUTES[c_name] = tuple(attributes)
         return f
     return register
 
@@ -94,6 +132,18 @@ class Ctx:
     """Annotation: what :class:`Entries` is given (``void *`` in C)."""
 
 
+_POWERS = {}
+
+
+def _powers_buffer(deg: int):
+    """A vector of ``deg + 1`` doubles, written by packing floats into its buffer (a
+    fifth of the cost of ``np.power(y, k, out=)``, bench/simulator.md): P.fhorner's."""
+    if deg not in _POWERS:
+        v = np.empty(deg + 1)
+        _POWERS[deg] = (v, struct.Struct(f"{deg + 1}d").pack_into, memoryview(v).cast("B"))
+    return _POWERS[deg]
+
+
 class P:
     """The primitives (``ifs_<name>`` in ``fmu/inflow_numerics.c``): whole-vector
     operations that NumPy does at once here.  Vectors are flat float64 arrays;
@@ -103,6 +153,12 @@ class P:
     def new(size: int) -> np.ndarray:
         """A zero vector of ``size`` (a local array in C)."""
         return np.zeros(size)
+
+    @staticmethod
+    def empty(size: int) -> np.ndarray:
+        """A vector of ``size`` whose entries are written before they are read (a
+        local array in C, not zeroed)."""
+        return np.empty(size)
 
     @staticmethod
     def copy(dst: np.ndarray, src: np.ndarray, size: int) -> None:
@@ -146,6 +202,41 @@ class P:
             acc *= xs
             acc += pk[k]
         _rows(out, nx, cols, ldo)[:] = acc
+
+    @staticmethod
+    def fhorner(q: np.ndarray, deg: int, y: float, out: np.ndarray, cols: int) -> None:
+        """``out[e] = sum_k q[k, e] y^k`` for ``e < cols`` (rows ``k = 0 .. deg`` of
+        ``q``, ``cols`` apart): in C Horner's rule with fused multiply-adds, four
+        entries a vector; here the powers of ``y`` times ``q`` in one dot product
+        (a fifth of the cost of Horner's rule in NumPy)."""
+        pw = [1.0, y]
+        for _ in range(deg - 1):
+            pw.append(pw[-1] * y)
+        powers, pack, buf = _powers_buffer(deg)
+        pack(buf, 0, *pw[:deg + 1])
+        powers.dot(q[:(deg + 1) * cols].reshape(deg + 1, cols), out=out[:cols])
+
+    @staticmethod
+    def taylor_first(ab: np.ndarray, z: np.ndarray, r: float, w: np.ndarray, n: int,
+                     rl: int, cols: int) -> None:
+        """``w = ([a b] z) r``: ``[a b]`` by rows (``n`` rows ``rl`` apart), ``z`` ``rl``
+        x ``cols``, ``w`` ``n`` x ``cols`` (row-major).  In C the step's dot product
+        (``ifs_rows``, ``cols`` 1)."""
+        out = w[:n * cols].reshape(n, cols)
+        np.dot(ab[:n * rl].reshape(n, rl), z[:rl * cols].reshape(rl, cols), out=out)
+        out *= r
+
+    @staticmethod
+    def taylor_term(ab: np.ndarray, w: np.ndarray, s: float, w_next: np.ndarray,
+                    acc: np.ndarray, n: int, ld: int, cols: int) -> None:
+        """``w_next = (a w) s`` and ``acc += w_next``: ``a`` the first ``n`` columns of
+        ``[a b]`` stored by columns (column ``j`` at ``ab[j ld:]``), ``w``, ``w_next``
+        and ``acc`` ``n`` x ``cols`` (row-major)."""
+        # (np.dot: a third of np.matmul's call on these small arrays)
+        nxt = w_next[:n * cols].reshape(n, cols)
+        np.dot(ab[:n * ld].reshape(n, ld)[:, :n].T, w[:n * cols].reshape(n, cols), out=nxt)
+        nxt *= s
+        acc[:n * cols] += w_next[:n * cols]
 
     @staticmethod
     def absmax(x: np.ndarray, size: int) -> float:
@@ -198,6 +289,34 @@ def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
             return k
         bound *= q / (k + 1)
     return 0
+
+
+@algorithm("ifs_taylor_step", sizes={"n": "IFS_NX", "rl": "IFS_RL", "ld": "IFS_LD",
+                                     "cols": "1"}, attributes=("IFS_HOT",))
+def taylor_step(abr: CVec, abc: CVec, nk: int, r: float, z: Vec, n: int, rl: int, ld: int,
+                cols: int) -> None:
+    """The step of length ``r`` [s] (either sign) of ``x' = a x + b u`` with ``u``
+    held, by ``nk`` terms of the Taylor series of the solution (:func:`taylor_count`):
+    ``x(r) = x + sum_k w_k``, ``w_1 = r (a x + b u)``, ``w_k = (r / k) a w_(k-1)``
+    (the ``k``-th derivative times ``r^k / k!``; each term bounded by the one
+    before, so nothing overflows).  ``z``: ``[x; u]`` (``rl`` rows of ``cols``
+    columns, row-major), its first ``n`` rows overwritten by the new states;
+    ``[a b]`` by rows in ``abr`` (``n`` rows ``rl`` apart) and by columns in ``abc``
+    (``ld`` apart).  The FMU's step of a communication interval that changes from
+    frame to frame (one column); on the columns of the identity ``[phi gam]``, the
+    Simulator's step after ``set_dt``
+    (:class:`inflowsim.simulate.discrete.TaylorZoh`)."""
+    w0 = P.new(ld * cols)                 # (zero: its padding is copied to acc)
+    w1 = P.empty(ld * cols)
+    acc = P.empty(ld * cols)
+    P.taylor_first(abr, z, r, w0, n, rl, cols)           # w_1 = r [a b] z
+    P.copy(acc, w0, ld * cols)
+    for k in range(2, nk + 1):
+        if k % 2 == 0:
+            P.taylor_term(abc, w0, r / k, w1, acc, n, ld, cols)
+        else:
+            P.taylor_term(abc, w1, r / k, w0, acc, n, ld, cols)
+    P.axpy(z, 1.0, acc, n * cols)
 
 
 @algorithm("ifs_expm", sizes={"n": "IFS_NA"})
@@ -351,6 +470,80 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
     return 0
 
 
+_TABLE = {"nseg": "IFS_MU_NSEG", "nguess": "IFS_MU_NGUESS", "lo": "IFS_MU_LO",
+          "hi": "IFS_MU_HI"}
+
+
+@algorithm("ifs_mu_guess", sizes=_TABLE)
+def mu_guess(edge: CVec, guess: Vec, nseg: int, nguess: int, lo: float, hi: float) -> None:
+    """Where :func:`mu_segment` starts looking: ``guess[c]`` the segment holding the
+    start of cell ``c`` of ``nguess`` equal cells of ``[lo, hi]`` (the cells
+    narrower than any segment)."""
+    seg: int = 0
+    for c in range(nguess):
+        at: float = lo + (hi - lo) * c / nguess
+        while seg < nseg - 1 and at >= edge[seg + 1]:
+            seg += 1
+        guess[c] = float(seg)
+
+
+@algorithm("ifs_mu_segment", sizes=_TABLE)
+def mu_segment(edge: CVec, guess: CVec, mu: float, nseg: int, nguess: int, lo: float,
+               hi: float) -> int:
+    """The segment ``[edge[s], edge[s + 1])`` holding ``mu`` (the first or the last
+    beyond the ends): from :func:`mu_guess`'s cell, a step or two along the ends."""
+    c: int = int((mu - lo) * (nguess / (hi - lo)))
+    if c < 0:
+        c = 0
+    if c >= nguess:
+        c = nguess - 1
+    seg: int = int(guess[c])
+    while seg > 0 and mu < edge[seg]:
+        seg -= 1
+    while seg < nseg - 1 and mu >= edge[seg + 1]:
+        seg += 1
+    return seg
+
+
+@algorithm("ifs_mu_eval", sizes={**_TABLE, "split": "IFS_MU_SPLIT", "fdeg": "IFS_MU_FDEG",
+                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,),
+           attributes=("IFS_FLATTEN",))
+def mu_eval(edge: CVec, guess: CVec, q: CVec, mu: float, out: Vec, nseg: int, nguess: int,
+            lo: float, hi: float, split: int, fdeg: int, cols: int) -> None:
+    """The table at ``mu`` (:func:`mu_fit`'s parts ``q``, ``cols`` entries each) into
+    ``out``: the segment (:func:`mu_segment`), ``mu``'s local variable ``x`` in it,
+    the part of the ``split`` equal parts of ``x`` holding it and ``x``'s local
+    variable ``y`` there, then the part's polynomials at ``y`` (Horner's rule with
+    fused multiply-adds in C).  A change of ``mu``: the Simulator's
+    :meth:`~inflowsim.simulate.simulator.Simulator.set_mu`, the FMU's ``[phi gam]``."""
+    seg: int = mu_segment(edge, guess, mu, nseg, nguess, lo, hi)
+    e0: float = edge[seg]
+    e1: float = edge[seg + 1]
+    x: float = (2.0 * mu - e0 - e1) / (e1 - e0)
+    j: int = int((x + 1.0) * (0.5 * split))
+    if j < 0:
+        j = 0
+    if j >= split:
+        j = split - 1
+    y: float = (x + 1.0) * split - (2 * j + 1)
+    P.fhorner(q[(seg * split + j) * (fdeg + 1) * cols:], fdeg, y, out, cols)
+
+
+@algorithm("ifs_mu_eval_coarse", sizes={**_TABLE, "deg": "IFS_MU_DEG", "ntab": "IFS_MU_NTAB"})
+def mu_eval_coarse(edge: CVec, guess: CVec, p: CVec, mu: float, first: int, size: int,
+                   out: Vec, nseg: int, nguess: int, lo: float, hi: float, deg: int,
+                   ntab: int) -> None:
+    """Entries ``first .. first + size - 1`` of the segments' polynomials
+    (:func:`mu_fit`'s ``p``, ``ntab`` entries each) at ``mu`` into ``out`` by Horner's
+    rule: the FMU's ``[a b]``, read rarely (a remainder step, a load)."""
+    seg: int = mu_segment(edge, guess, mu, nseg, nguess, lo, hi)
+    e0: float = edge[seg]
+    e1: float = edge[seg + 1]
+    xs = P.new(1)
+    xs[0] = (2.0 * mu - e0 - e1) / (e1 - e0)
+    P.horner(p[seg * (deg + 1) * ntab + first:], deg, xs, 1, out, size, ntab, size)
+
+
 @algorithm("ifs_mu_check", sizes={"ntab": "IFS_MU_NTAB"})
 def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, tctx: Ctx,
              split: int, ntab: int) -> float:
@@ -378,5 +571,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
 
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
-           "algorithm", "Vec", "CVec", "Entries", "Ctx", "P", "taylor_count", "expm", "cheb_matrices",
-           "power_fit", "mu_edges", "mu_fit", "mu_check"]
+           "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
+           "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
+           "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]

@@ -6,24 +6,40 @@ from __future__ import annotations
 
 import numpy as np
 
-from .algorithms import expm
+from .algorithms import expm, taylor_count, taylor_step
 
 METHODS = ("zoh", "rk4")
 
 
-def zoh(a: np.ndarray, b: np.ndarray, dt: float):
-    """Exact zero-order-hold discretisation: the matrix exponential of the augmented
-    system ``[[a, b], [0, 0]] dt`` by :func:`inflowsim.simulate.algorithms.expm`
-    (Pade [13/13], scaling and squaring: the FMU's, generated from it).  NaN where
-    that fails (a non-finite ``a`` or ``b``)."""
+def hold(a: np.ndarray, b: np.ndarray, dt: float, exponential):
+    """``(phi, gam)`` of the zero-order hold over ``dt`` [s]: ``exponential`` of the
+    augmented ``[[a, b], [0, 0]] dt`` (a fresh array it may overwrite), its top rows
+    (views of the result).  One construction for every exponential: :func:`zoh`'s,
+    the virtual flight test's body model (scipy's, :mod:`inflowsim.flighttest.body`)."""
     n, m = b.shape
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = a
     aug[:n, n:] = b
-    aug *= dt
-    if expm(aug.reshape(-1), n + m) != 0:
-        aug[:] = np.nan
-    return aug[:n, :n].copy(), aug[:n, n:].copy()
+    e = exponential(aug * dt)
+    return e[:n, :n], e[:n, n:]
+
+
+def _pade(x: np.ndarray) -> np.ndarray:
+    """:func:`inflowsim.simulate.algorithms.expm` of ``x`` in place; NaN where it
+    fails (a non-finite ``x``)."""
+    if expm(x.reshape(-1), len(x)) != 0:
+        x[:] = np.nan
+    return x
+
+
+def zoh(a: np.ndarray, b: np.ndarray, dt: float):
+    """Exact zero-order-hold discretisation: the matrix exponential of the augmented
+    system ``[[a, b], [0, 0]] dt`` (:func:`hold`) by
+    :func:`inflowsim.simulate.algorithms.expm` (Pade [13/13], scaling and squaring:
+    the FMU's, generated from it).  NaN where that fails (a non-finite ``a`` or
+    ``b``)."""
+    phi, gam = hold(a, b, dt, _pade)
+    return phi.copy(), gam.copy()
 
 
 def rk4(a: np.ndarray, b: np.ndarray, dt: float):
@@ -44,55 +60,41 @@ def rk4(a: np.ndarray, b: np.ndarray, dt: float):
 
 
 class TaylorZoh:
-    """:func:`zoh` of one ``(a, b)`` at any step, by the Taylor series of the
-    exponential: ``[phi gam](h) = [I 0] + sum_k h^k T_k`` with ``T_k = a^(k-1)
-    [a b] / k!`` stored once, so a new step costs one product of its powers with
-    the stored terms.  As many terms as the FMU's rule asks
-    (:func:`inflowsim.simulate.mutable.taylor_terms`: the next term below 1e-17 of
-    the result's scale, every term bounded by the one before); the matrix
-    exponential where that would need more than ``TAYLOR_MAX_TERMS``.
+    """:func:`zoh` of one ``(a, b)`` at any step ``h`` by the Taylor series of the
+    solution: :func:`inflowsim.simulate.algorithms.taylor_step` (the FMU's step of a
+    communication remainder, generated from it) on the columns of the identity, so
+    that column ``j`` of ``[phi gam](h)`` is the step of ``[x; u] = e_j``.  As many
+    terms as the FMU's rule asks (:func:`inflowsim.simulate.algorithms.taylor_count`:
+    the next term below 1e-17 of the result's scale, every term bounded by the one
+    before); the matrix exponential where that would need more than
+    ``TAYLOR_MAX_TERMS``."""
 
-    With an output matrix ``c`` the rows ``c [phi gam]`` are stored beside them
-    (:meth:`into`: the Simulator's step matrix in one product).
-    """
-
-    def __init__(self, a: np.ndarray, b: np.ndarray, c: np.ndarray | None = None):
-        from .mutable import TAYLOR_MAX_TERMS
+    def __init__(self, a: np.ndarray, b: np.ndarray):
         self.a, self.b = a, b
-        n = a.shape[0]
         ab = np.hstack([a, b])
         self.norm_a = float(np.abs(a).sum(axis=0).max(initial=0.0))
         self.norm_ab = float(np.abs(ab).sum(axis=0).max(initial=0.0))
-        rows = np.eye(n) if c is None else np.vstack([np.eye(n), c])
-        terms = np.empty((TAYLOR_MAX_TERMS, rows.shape[0], ab.shape[1]))
-        w = ab
-        for k in range(1, TAYLOR_MAX_TERMS + 1):
-            if k > 1:
-                w = (a @ w) / k
-            terms[k - 1] = rows @ w
-        self._terms = terms.reshape(TAYLOR_MAX_TERMS, -1)
-        self._const = np.hstack([rows, np.zeros((rows.shape[0], b.shape[1]))]).ravel()
-        self._shape, self._n = (rows.shape[0], ab.shape[1]), n
+        self._abr = ab.ravel()                  # [a b] by rows
+        self._abc = ab.T.ravel()                # ... and by columns
+        self._n, self._na = ab.shape
 
-    def into(self, h: float, out: np.ndarray) -> bool:
-        """Write the stored rows at step ``h`` [s] into the flat vector ``out``;
-        False (nothing written) where the series would need too many terms."""
-        from .mutable import taylor_terms
-        k = taylor_terms(self.norm_a, self.norm_ab, h)
+    def pg(self, h: float):
+        """``[phi gam]`` at step ``h`` [s]; None where the series would need too
+        many terms."""
+        k = taylor_count(self.norm_a, self.norm_ab, h)
         if k == 0 or not np.isfinite(self.norm_ab):
-            return False
-        powers = h ** np.arange(1.0, k + 1.0)
-        np.dot(powers, self._terms[:k], out=out)
-        out += self._const
-        return True
+            return None
+        n, na = self._n, self._na
+        z = np.eye(na).ravel()
+        taylor_step(self._abr, self._abc, k, h, z, n, na, n, na)
+        return z[:n * na].reshape(n, na)
 
     def __call__(self, h: float):
         """``(phi, gam)`` at step ``h`` [s]."""
-        pg = np.empty(self._shape)
-        if not self.into(h, pg.reshape(-1)):
+        pg = self.pg(h)
+        if pg is None:
             return zoh(self.a, self.b, h)
-        n = self._n
-        return pg[:n, :n], pg[:n, n:]
+        return pg[:, :self._n], pg[:, self._n:]
 
 
 #: RK4's stability polynomial ``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``: a step is
@@ -176,5 +178,5 @@ def lifted_replay(phi, gam, u, x0, block: int | None = None):
     return xs.reshape(nb * L, n)[:nsamp]
 
 
-__all__ = ["METHODS", "zoh", "rk4", "TaylorZoh", "rk4_max_step", "discretize",
+__all__ = ["METHODS", "hold", "zoh", "rk4", "TaylorZoh", "rk4_max_step", "discretize",
            "lifted_replay"]

@@ -18,7 +18,7 @@ What a flight-condition change evaluates is a finer table made from that one
 without another exact build: each segment cut into ``SPLIT`` equal parts in
 ``x``, on each the segment's polynomial interpolated again at the part's
 ``FINE_DEGREE + 1`` Chebyshev-Gauss nodes, in the part's own local variable ``y``
-(:func:`part`).  Over a sixteenth of its segment the degree-7 polynomial is a
+(:func:`~.algorithms.mu_eval`).  Over a sixteenth of its segment the degree-7 polynomial is a
 degree-4 one to within a tenth of its own error (the worst error against the
 exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
 ``bench/fmu_mu_accuracy.py``), and a change of ``mu`` costs four multiply-adds
@@ -26,30 +26,31 @@ per entry instead of seven multiplies and seven adds (the FMU's Horner rule
 uses fused multiply-adds; issue #38, bench/fmu.md).
 
 The FMU's C builds the same table at run time for its tunable parameters: the
-segment ends, the fit and the check are :mod:`.algorithms`' ``mu_edges``,
-``mu_fit`` and ``mu_check``, which :class:`MuTable` runs and the C is generated
+segment ends, the fit, the check, the segment search and the evaluation are
+:mod:`.algorithms`' ``mu_edges``, ``mu_fit``, ``mu_check``, ``mu_guess``,
+``mu_segment`` and ``mu_eval``, which :class:`MuTable` runs and the C is generated
 from (``fmu/inflow_algorithms.c``); its constants (``IFS_MU_LO`` ...
 ``IFS_TAYLOR_TOL``) are generated from this module into ``inflow_vars.h``
-(:func:`c_defines`), so the two cannot drift.  The evaluation is each side's own:
-here a dot product of the powers of the part's local variable, in the C Horner's
-rule with fused multiply-adds (``fmu/inflow_numerics.c``, the step's hot path).
+(:func:`c_defines`), so the two cannot drift.  Only the evaluation's last primitive
+differs: here a dot product of the powers of the part's local variable, in the C
+Horner's rule with fused multiply-adds (the step's hot path).
 
 A step of another length ``r`` (the FMU's communication remainder, the
 Simulator's :meth:`~inflowsim.simulate.simulator.Simulator.set_dt`) is the Taylor
-series of the solution with as many terms as make the next one at most
-``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms; :func:`taylor_terms`, which is
-:func:`inflowsim.simulate.algorithms.taylor_count`: the FMU's C is generated from
-it), at most ``TAYLOR_MAX_TERMS``; beyond that, the matrix exponential.
+series of the solution (:func:`inflowsim.simulate.algorithms.taylor_step`) with as
+many terms as make the next one at most ``TAYLOR_TOL`` times ``|[x; u]|`` (1-norms;
+:func:`taylor_terms`, which is :func:`inflowsim.simulate.algorithms.taylor_count`:
+the FMU's C is generated from both), at most ``TAYLOR_MAX_TERMS``; beyond that,
+the matrix exponential.
 """
 from __future__ import annotations
 
-import bisect
 import math
-import struct
 
 import numpy as np
 
-from .algorithms import TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_fit
+from .algorithms import (TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_eval, mu_fit,
+                         mu_guess)
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -67,6 +68,9 @@ TOLERANCE = 1e-12
 #: A knot this close to a segment end [-] is on it (its kink is outside every
 #: segment's nodes); a segment narrower would round its local variable away.
 KNOT_GAP = 1e-9
+#: Equal cells of ``[MU_LO, MU_HI]`` whose first segments start the segment search
+#: (:func:`~.algorithms.mu_guess`): narrower than any segment.
+GUESS_CELLS = 64
 # The Taylor rule's constants TAYLOR_TOL and TAYLOR_MAX_TERMS live with its
 # algorithm (.algorithms, the one source of the Simulator's and the FMU's
 # taylor_terms); imported above.
@@ -96,31 +100,6 @@ def edges(knots=()) -> list:
     e = np.zeros(SEGMENTS + len(k) + 1)
     mu_edges(MU_LO, MU_HI, k, len(k), e, SEGMENTS)
     return [float(v) for v in e]
-
-
-def part(x: float):
-    """The part ``j`` of a segment holding its local variable ``x`` (``SPLIT`` equal
-    parts of ``[-1, 1]``) and ``x``'s local variable ``y`` in it, in ``[-1, 1]``
-    (the C's ``ifs_mu_table_part``, the same operations)."""
-    j = int((x + 1.0) * (0.5 * SPLIT))
-    j = 0 if j < 0 else (SPLIT - 1 if j >= SPLIT else j)
-    return j, (x + 1.0) * SPLIT - (2 * j + 1)
-
-
-def _powers4(y):
-    y2 = y * y
-    return (1.0, y, y2, y2 * y, y2 * y2)
-
-
-def _powers_loop(y):
-    p = [1.0, y]
-    for _ in range(FINE_DEGREE - 1):
-        p.append(p[-1] * y)
-    return p
-
-
-#: ``y -> (1, y, ..., y^FINE_DEGREE)``: written out for degree 4 (a loop costs twice as much)
-_powers = _powers4 if FINE_DEGREE == 4 else _powers_loop
 
 
 class MuTable:
@@ -165,11 +144,11 @@ class MuTable:
         mu_fit(np.asarray(self.edges, dtype=float), nseg, entries, None, p, q, DEGREE,
                FINE_DEGREE, SPLIT, ntab, ntab)
         self._p = p.reshape(nseg, DEGREE + 1, ntab)          # [segment, degree, entry]
-        self._q = q.reshape(nseg * SPLIT, FINE_DEGREE + 1, ntab)   # [part, degree, entry]
-        nf = FINE_DEGREE + 1
-        self._y = np.empty(nf)                      # powers of y, written in place
-        self._pack = struct.Struct(f"{nf}d").pack_into
-        self._ybuf = memoryview(self._y).cast("B")
+        self._q = q                  # [part, degree, entry], flat
+        self._ntab, self._nseg = ntab, nseg
+        guess = np.zeros(GUESS_CELLS)
+        mu_guess(np.asarray(self.edges, dtype=float), guess, nseg, GUESS_CELLS, MU_LO, MU_HI)
+        self._guess = [float(g) for g in guess]     # (lists: cheaper to index)
         # the check between the nodes (mu_check, the C's): blocks as entry ranges
         rows = np.arange(self.shape[0] if self.shape else 1)
         ranges = [(int(rows[b][0]), int(rows[b][-1]) + 1) for b in blocks if len(rows[b])]
@@ -194,18 +173,11 @@ class MuTable:
 
     def into(self, mu: float, out: np.ndarray) -> None:
         """``out[:] = f(mu).ravel()`` (``out`` a C-contiguous float vector; ``mu``
-        within the table).  One dot product of the powers of the part's local
-        variable with its coefficients: about a microsecond."""
-        e = self.edges
-        s = bisect.bisect_right(e, mu) - 1
-        if s >= len(e) - 1:
-            s = len(e) - 2
-        lo, hi = e[s], e[s + 1]
-        j, y = part((2.0 * mu - lo - hi) / (hi - lo))
-        # the powers by Python floats packed into the array's buffer: a fifth of
-        # the cost of np.power(y, k, out=) (bench/simulator.md)
-        self._pack(self._ybuf, 0, *_powers(y))
-        self._y.dot(self._q[s * SPLIT + j], out=out)
+        within the table): :func:`~.algorithms.mu_eval`, the FMU's evaluation (its
+        segment, part and polynomials; here one dot product of the powers of the
+        part's local variable with its coefficients)."""
+        mu_eval(self.edges, self._guess, self._q, mu, out, self._nseg, GUESS_CELLS, MU_LO,
+                MU_HI, SPLIT, FINE_DEGREE, self._ntab)
 
 
 def c_defines() -> list:
@@ -221,11 +193,12 @@ def c_defines() -> list:
             f"#define IFS_MU_FDEG {FINE_DEGREE}",
             f"#define IFS_MU_TOL {TOLERANCE!r}",
             f"#define IFS_MU_KNOT_GAP {KNOT_GAP!r}",
+            f"#define IFS_MU_NGUESS {GUESS_CELLS}  /* cells of the segment guess */",
             f"#define IFS_TAYLOR_TOL {TAYLOR_TOL!r}",
             f"#define IFS_KMAX {TAYLOR_MAX_TERMS}  /* most Taylor terms of a remainder "
             "step */"]
 
 
-__all__ = ["MuTable", "edges", "knot_edges", "part", "taylor_terms",
+__all__ = ["MuTable", "edges", "knot_edges", "taylor_terms",
            "c_defines", "MU_LO", "MU_HI", "SEGMENTS", "DEGREE", "SPLIT", "FINE_DEGREE",
-           "TOLERANCE", "KNOT_GAP", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]
+           "TOLERANCE", "KNOT_GAP", "GUESS_CELLS", "TAYLOR_TOL", "TAYLOR_MAX_TERMS"]

@@ -13,8 +13,9 @@ A loop that follows the flight condition (:meth:`~Simulator.set_mu` every step)
 takes the discrete matrices from a table in ``mu`` built once per parameter set
 (with a parameter schedule, :mod:`inflowsim.model.schedule`, the scheduled
 parameters at each ``mu`` are tabulated with it, so they cost nothing more a step),
-and a step that changes (:meth:`~Simulator.set_dt`) from a stored Taylor series:
-the FMU's table and term rule, one description (:mod:`.mutable`).  Inputs are
+and a step that changes (:meth:`~Simulator.set_dt`) from the Taylor series of the
+solution: the FMU's table, its evaluation, Taylor step and term rule, one
+description (:mod:`.algorithms`, :mod:`.mutable`).  Inputs are
 refused with one line (:class:`~inflowsim.errors.InputError`) if they are not
 real numbers, not finite or beyond ``U_MAX``; RK4 is refused at a step where it is
 unstable (:func:`~inflowsim.simulate.discrete.rk4_max_step`).
@@ -285,9 +286,9 @@ class Simulator:
         (:attr:`time` goes on from the time of the change in steps of the new dt; a
         model with output delays restarts its delay line).
 
-        The zero-order hold at the new step is the Taylor series of the
-        exponential with the FMU's term rule (:func:`~inflowsim.simulate.mutable.
-        taylor_terms`), or the matrix exponential where that needs too many terms."""
+        The zero-order hold at the new step is the FMU's Taylor step with its
+        term rule (:class:`~inflowsim.simulate.discrete.TaylorZoh`), or the matrix
+        exponential where that needs too many terms."""
         if not (np.isfinite(dt) and dt > 0):
             raise InputError(f"dt = {dt}: the step must be a finite number > 0 s")
         dt = float(dt)
@@ -312,8 +313,10 @@ class Simulator:
         self._mu_table, self._mu_changes = None, 0
         if self.method == "zoh":
             if self._taylor is None or self._taylor.a is not model.a:
-                self._taylor = TaylorZoh(model.a, model.b, model.c)
-            if self._taylor.into(dt, self._Mtop):
+                self._taylor = TaylorZoh(model.a, model.b)
+            pg = self._taylor.pg(dt)
+            if pg is not None:
+                self._set_pg(pg, model.c)
                 return
         self._set_pg(np.hstack(discretize(model.a, model.b, dt, self.method)), model.c)
 
