@@ -45,8 +45,8 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
  * a communication interval that changes from frame to frame (one column); on the
  * columns of the identity [phi gam], the Simulator's step after set_dt
  * (inflowsim.simulate.discrete.TaylorZoh). */
-IFS_HOT void ifs_taylor_step(const double *abr, const double *abc, int nk, double r,
-                             double *z)
+static IFS_HOT void ifs_taylor_step_clones(const double *abr, const double *abc, int nk,
+                                           double r, double *z)
 {
     double w0[IFS_LD * 1] = {0.0};
     double w1[IFS_LD * 1];
@@ -61,6 +61,11 @@ IFS_HOT void ifs_taylor_step(const double *abr, const double *abc, int nk, doubl
         }
     }
     ifs_axpy(z, 1.0, acc, IFS_NX * 1);
+}
+
+void ifs_taylor_step(const double *abr, const double *abc, int nk, double r, double *z)
+{
+    ifs_taylor_step_clones(abr, abc, nk, r, z);
 }
 
 /* expm: exp(A) of the n x n matrix a (row-major), overwritten by the result: scaling

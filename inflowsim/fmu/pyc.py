@@ -311,12 +311,24 @@ class _Function:
         ret = self.tree.returns
         rtype = "void" if ret is None or ast.unparse(ret) == "None" else \
             _TYPES[ast.unparse(ret)]
-        head = ("static " if self.static else "") + "".join(
+        self.params, self.rtype = params, rtype
+        head = ("static " if self.static or self.clones else "") + "".join(
             f"{m} " for m in alg.ATTRIBUTES.get(self.c_name, ()))
         name = self.c_name
         if self.variant:
             name += self.variant.suffix
+        if self.clones:
+            name += "_clones"
         return f"{head}{rtype} {name}({', '.join(params) or 'void'})"
+
+    @property
+    def clones(self) -> bool:
+        """Compiled for several CPUs (``IFS_HOT``) and called from another file: GCC
+        exports the clones' dispatcher of an external function whatever its
+        visibility, so the clones are a static function and the public name a plain
+        one that calls it."""
+        return (not self.static and not self.variant
+                and "IFS_HOT" in alg.ATTRIBUTES.get(self.c_name, ()))
 
     def text(self) -> list:
         sig = self.signature()
@@ -326,6 +338,12 @@ class _Function:
                          f"{self.f.__name__}{self.variant.suffix}: {self.variant.what}")
         self.block(self.tree.body, 1)
         body = lines + [*_wrap_line(sig), "{", *self.out, "}"]
+        if self.clones:
+            args = ", ".join(a.arg for a in self.tree.args.args if a.arg not in self.sizes)
+            call = f"{self.c_name}_clones({args});"
+            body += ["", *_wrap_line(f"{self.rtype} {self.c_name}("
+                                     f"{', '.join(self.params) or 'void'})"),
+                     "{", f"    {'' if self.rtype == 'void' else 'return '}{call}", "}"]
         if self.variant:
             body = [f"#ifdef {self.variant.guard}", *lines, self.variant.attribute,
                     *_wrap_line(sig), "{", *self.out, "}", "#endif"]
