@@ -138,12 +138,15 @@ class Rule:
     tie : float
         Scores (``G``, gains beside the others) this close are equal [-] (lines 2-5,
         :func:`ranked`).  The estimator stops when a step lowers the cost by at most
-        ``1e-7 n_f`` (``n_f`` the fit's frequency bins, ``estimator._lm``), near the
-        minimum the rest of the descent is below that last step, so each ``J`` lies
-        within ``1e-7 n_f`` above its minimum and a difference of two scores,
-        ``2 (J_a - J_b)``, is known to ``2e-7 n_f``.  0.01 covers ``n_f`` up to
-        5e4 (1.4 bins a second in the default band: about ten hours of record; the
-        README's 27 s record has 37), and is 200 times below ``schwarz_min``.
+        ``1e-7 n_f`` (``n_f`` the fit's frequency bins; ``_lm`` in
+        :mod:`inflowsim.identify.estimator`); converging faster than halving, the
+        rest of the descent is below that last step, so each ``J`` lies within
+        ``1e-7 n_f`` above its minimum and a difference of two scores, ``2 (J_a -
+        J_b)``, is known to ``2e-7 n_f``.  ``2e-3`` is that for ``n_f = 1e4``, a
+        2-hour record in the default band (1.35 Hz wide, ``1/T`` apart;
+        ``bench/long.md``); on the README's 27 s record (37 bins) it leaves 270
+        times the bound to searches that crawl.  A thousand times below
+        ``schwarz_min``: no evidence either way.
     max_steps : int
         Rungs the ladder adds at most, and atoms it removes at most (line 5) [-].
     max_lag : int
@@ -177,7 +180,7 @@ class Rule:
     material: float = 0.10
     white_measure: str = "level"
     coloured: float = 3.0
-    tie: float = 0.01
+    tie: float = 2e-3
     max_steps: int = MAX_STEPS
     max_lag: int = 6
     floor_over_band: float = 5.0
