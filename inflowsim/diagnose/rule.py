@@ -1102,5 +1102,5 @@ __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_wi
            "rule_from_json", "Scored", "Decision", "Atom", "applicable", "excluded",
            "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
-           "offered_effects", "least_significant", "decide", "select", "STEPS",
-           "STATEMENT"]
+           "offered_effects", "least_significant", "decide", "select", "ranked",
+           "row_order", "atom_order", "STEPS", "STATEMENT"]
