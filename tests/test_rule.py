@@ -169,6 +169,8 @@ def test_scores_within_tie_are_ranked_by_the_stated_order_not_by_rounding(ahead)
     hub = _tied(["hub-velocity-coupling"], 28.5 + ahead, 3, ["k02", "k12", "k22"])  # 6
     assert decide([hub, glauert]).chosen == glauert
     assert decide([glauert, hub]).rows[:2] == (glauert, hub)
+    listed = candidates_of(decide([hub, replace(glauert, effects=("glauert",))]))
+    assert [c.atom for c in listed] == ["glauert (c1, c2, c3, c4)", "hub-velocity-coupling"]
     assert decide([glauert, replace(hub, schwarz_gain=28.5 + 2 * tie)]).chosen.atoms == (
         "hub-velocity-coupling",)
     # fewer fitted first; equal counts: the catalogue's order
