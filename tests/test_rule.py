@@ -18,7 +18,8 @@ import inflowsim as ifs
 from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.candidates import candidates_of, describe
 from inflowsim.diagnose.rule import (DEFAULT_RULE, STATEMENT, TESTS, Decision, Rule,
-                                     Scored, atoms, decide, lattice, paired)
+                                     Scored, atom_order, atoms, decide, lattice, paired,
+                                     row_order)
 from inflowsim.errors import InputError
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import theory_parameters, truth_parameters
@@ -57,7 +58,7 @@ def test_the_rule_is_five_steps_in_order_and_its_text_is_rendered_from_them():
         assert line[len(f"{i}. "):].replace(" ", "") in " ".join(
             step.__doc__.split()).replace("**", "").replace("``", "").replace(" ", "")
     # every setting the lines name is a field of Rule
-    for name in ("width", "alpha", "plausible_sigmas", "schwarz_min", "material"):
+    for name in ("width", "alpha", "plausible_sigmas", "schwarz_min", "material", "tie"):
         assert any(name in line for line in STATEMENT) and hasattr(DEFAULT_RULE, name)
 
 
@@ -123,7 +124,10 @@ def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed
             assert d.best is None and not d.accepted and d.added == ()
             continue
         top = max(r.schwarz_gain for r in admissible)
-        assert d.chosen.schwarz_gain == top and d.chosen.admissible(rule)
+        # of those within tie of the largest G, the first by the stated order
+        assert d.chosen == min((r for r in admissible
+                                if r.schwarz_gain >= top - rule.tie), key=row_order)
+        assert d.chosen.admissible(rule)
         lim = math.log10(rule.alpha)
         assert all(lp < lim for _, lp in d.chosen.beside) and not d.chosen.implausible
         line4 = (d.chosen.schwarz_gain > rule.schwarz_min
@@ -133,7 +137,9 @@ def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed
         assert d.accepted == line4
         # one atom a rung: the one with the largest gain beside the others
         gains = dict(d.chosen.beside_gain)
-        assert d.added == ((max(d.chosen.atoms, key=gains.get),) if line4 else ())
+        near = [a for a in d.chosen.atoms
+                if gains[a] >= max(gains.values()) - rule.tie]
+        assert d.added == ((min(near, key=atom_order),) if line4 else ())
         # rows ranked: admissible first, by gain
         flags = [r.admissible(rule) for r in d.rows]
         assert flags == sorted(flags, reverse=True)
@@ -144,6 +150,48 @@ def _row(atoms, gain, lps, before=100.0, after=50.0, noise=10.0, implausible=())
     return Scored(tuple(atoms), tuple(atoms), "s", len(atoms), schwarz_gain=gain,
                   beside=tuple(zip(atoms, lps)), excess_before=before, excess_after=after,
                   excess_noise=noise, implausible=implausible)
+
+
+def _tied(atoms, gain, dof, flat=(), gains=None):
+    return replace(_row(atoms, gain, [-9.0] * len(atoms)), dof=dof, flat=tuple(flat),
+                   beside_gain=tuple(zip(atoms, gains or [gain] * len(atoms))))
+
+
+@pytest.mark.parametrize("ahead", [1e-12, -1e-12, 0.3 * DEFAULT_RULE.tie,
+                                   -0.9 * DEFAULT_RULE.tie])
+def test_scores_within_tie_are_ranked_by_the_stated_order_not_by_rounding(ahead):
+    """Rows whose ``G`` differ by less than ``tie`` are ranked by fewer parameters
+    fitted, then offered, then the catalogue's order, whichever is ahead (the README
+    record: Glauert's ``c1..c4`` and the hub-velocity coupling, each with three
+    determined parameters, fit the same to 1e-12); a difference above it decides."""
+    tie = DEFAULT_RULE.tie
+    glauert = _tied(["glauert (c1, c2, c3, c4)"], 28.5, 3, ["c2"])    # 4 offered
+    hub = _tied(["hub-velocity-coupling"], 28.5 + ahead, 3, ["k02", "k12", "k22"])  # 6
+    assert decide([hub, glauert]).chosen == glauert
+    assert decide([glauert, hub]).rows[:2] == (glauert, hub)
+    listed = candidates_of(decide([hub, replace(glauert, effects=("glauert",))]))
+    assert [c.atom for c in listed] == ["glauert (c1, c2, c3, c4)", "hub-velocity-coupling"]
+    assert decide([glauert, replace(hub, schwarz_gain=28.5 + 2 * tie)]).chosen.atoms == (
+        "hub-velocity-coupling",)
+    # fewer fitted first; equal counts: the catalogue's order
+    delay = _tied(["time-delay"], 40.0 + ahead, 1)
+    stc = _tied(["separate-time-constants"], 40.0, 2)
+    assert decide([stc, delay]).chosen == delay
+    skew = _tied(["skewed-wake"], 40.0 + ahead, 1)
+    mu = _tied(["advance-ratio-perturbation"], 40.0, 1)
+    assert decide([mu, skew]).chosen == decide([skew, mu]).chosen == skew
+    assert decide([skew, replace(mu, schwarz_gain=40.0 + ahead + 2 * tie)]).chosen == \
+        replace(mu, schwarz_gain=40.0 + ahead + 2 * tie)
+    # the atom added: gains beside the others within tie, the same order
+    pair = _tied(["advance-ratio-perturbation", "skewed-wake"], 60.0, 2,
+                 gains=[30.0 + ahead, 30.0])
+    assert decide([pair]).added == ("skewed-wake",)
+    pair = replace(pair, beside_gain=(("advance-ratio-perturbation", 30.0 + 2 * tie),
+                                      ("skewed-wake", 30.0)))
+    assert decide([pair]).added == ("advance-ratio-perturbation",)
+    # the atoms paired, by gain: the same order
+    found = [(r.atoms[0], r) for r in (mu, skew)]
+    assert [a for a, _ in paired(found)] == ["skewed-wake", "advance-ratio-perturbation"]
 
 
 def test_a_weaker_structure_is_never_named_because_the_stronger_explains_little():
@@ -233,7 +281,7 @@ def test_a_base_at_the_noise_has_nothing_to_explain():
 
 @pytest.mark.parametrize("bad", [{"alpha": 0}, {"alpha": 1.5}, {"width": -1},
                                  {"width": 1.5}, {"material": 1.0},
-                                 {"white_measure": "loud"}])
+                                 {"white_measure": "loud"}, {"tie": -0.1}])
 def test_bad_settings_are_refused_in_one_line(bad):
     with pytest.raises(InputError) as e:
         Rule(**bad)

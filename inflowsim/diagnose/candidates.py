@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..model.effects import CATALOGUE
-from .rule import Decision, Scored, explained_pairs
+from .rule import Decision, Scored, explained_pairs, ranked, row_order
 
 
 @dataclass(frozen=True)
@@ -134,16 +134,18 @@ def _held_words(row: Scored) -> str:
 
 def candidates_of(decision: Decision) -> list[Candidate]:
     """One :class:`Candidate` per atom (the single rows), the added ones first, then
-    by Schwarz gain; failed fits last."""
+    by Schwarz gain (equal within the rule's ``tie``: its stated order,
+    :func:`.rule.ranked`); failed fits last."""
     added = set(decision.added)
     lim = math.log10(decision.rule.alpha)
     beside_any = {}
     for a, b in explained_pairs(decision.rows, decision.rule):
         beside_any.setdefault(a, b)
-    out = []
+    out, rows = [], []
     for r in decision.rows:
         if len(r.atoms) != 1:
             continue
+        rows.append(r)
         eff = CATALOGUE[r.effects[0]]
         by = dict(r.explained_by).get(r.atoms[0]) or beside_any.get(r.atoms[0])
         fit = r.fit
@@ -166,8 +168,15 @@ def candidates_of(decision: Decision) -> list[Candidate]:
             accepted=r.atoms[0] in added, reason=describe(r, decision),
             held=r.held, measure=r.measure, explained_by=by,
             failed=r.failed(decision.rule)))
-    return sorted(out, key=lambda c: (c.error is not None, not c.accepted,
-                                      -c.schwarz_gain if c.error is None else 0.0))
+    # the added first, then by Schwarz gain, equal within the rule's tie by its
+    # stated order (rule.ranked); failed fits last
+    pairs = list(zip(out, rows))
+    groups = [[t for t in pairs if t[0].error is None and t[0].accepted],
+              [t for t in pairs if t[0].error is None and not t[0].accepted]]
+    ok = [c for g in groups for c, _ in ranked(g, lambda t: t[0].schwarz_gain,
+                                               lambda t: row_order(t[1]),
+                                               decision.rule.tie)]
+    return ok + [c for c, _ in pairs if c.error is not None]
 
 
 __all__ = ["Candidate", "describe", "candidates_of"]

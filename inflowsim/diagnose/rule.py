@@ -60,6 +60,13 @@ What the terms mean, and why:
   judge an atom beside those added before it only; a collective doublet's ladder
   added a wake skew that the time constants and the azimuth bias, added after it,
   explain (p = 0.1 beside them).
+- *Ties*: every ranking (structures by ``G``, atoms by gain beside the others, the
+  start of a pair by cost, removals by p-value) takes scores within ``tie`` of the
+  best as equal, settled by fewer parameters fitted, then fewer offered (the more
+  specific claim: Glauert's four in-plane gains where the hub-velocity coupling's six
+  fit the same), then the catalogue's order (:func:`ranked`).  Rounding decides
+  nothing: two interchangeable atoms fit the same to 1e-12, which side is ahead by
+  rounding changed with the Jacobian's difference step.
 - *Gain beside the others*: ``2 (J_without - J) - k_atom ln n``, what the atom adds to
   the structure without it.  One atom is added a rung, the one the accepted structure
   needs most; its partner is judged again on the next rung, beside it, where a
@@ -128,6 +135,18 @@ class Rule:
         input-correlated one (0: every record) [-].  Over the 136 white-noise
         records of ``bench/detection.py`` the ratio is 0.57-1.68; a 2 Hz low-pass
         in the data system puts it at 29-830 on its 128 coloured null records.
+    tie : float
+        Scores (``G``, gains beside the others) this close are equal [-] (lines 2-5,
+        :func:`ranked`).  The estimator stops when a step lowers the cost by at most
+        ``1e-7 n_f`` (``n_f`` the fit's frequency bins; ``_lm`` in
+        :mod:`inflowsim.identify.estimator`); converging faster than halving, the
+        rest of the descent is below that last step, so each ``J`` lies within
+        ``1e-7 n_f`` above its minimum and a difference of two scores, ``2 (J_a -
+        J_b)``, is known to ``2e-7 n_f``.  ``2e-3`` is that for ``n_f = 1e4``, a
+        2-hour record in the default band (1.35 Hz wide, ``1/T`` apart;
+        ``bench/long.md``); on the README's 27 s record (37 bins) it leaves 270
+        times the bound to searches that crawl.  A thousand times below
+        ``schwarz_min``: no evidence either way.
     max_steps : int
         Rungs the ladder adds at most, and atoms it removes at most (line 5) [-].
     max_lag : int
@@ -161,6 +180,7 @@ class Rule:
     material: float = 0.10
     white_measure: str = "level"
     coloured: float = 3.0
+    tie: float = 2e-3
     max_steps: int = MAX_STEPS
     max_lag: int = 6
     floor_over_band: float = 5.0
@@ -184,6 +204,8 @@ class Rule:
                 raise InputError(f"{name} = {v!r}: give a whole number >= 1")
         if self.plausible_sigmas < 0 or not 0 <= self.material < 1:
             raise InputError("plausible_sigmas >= 0 and 0 <= material < 1, please")
+        if not self.tie >= 0:
+            raise InputError(f"tie = {self.tie!r}: give a score difference >= 0")
         if not 0 < self.nyquist_share <= 1 or self.lpm_span < 1:
             raise InputError("0 < nyquist_share <= 1 and lpm_span >= 1, please")
         if self.white_measure not in WHITE_MEASURES:
@@ -577,12 +599,14 @@ def paired(found, rule: Rule = DEFAULT_RULE) -> list:
         The settings.
     """
     lim = math.log10(rule.alpha)
-    ranked = sorted(((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim),
-                    key=lambda t: -t[1].schwarz_gain)
-    out = ranked[:rule.width]
+    def best_first(pairs):
+        return ranked(pairs, lambda t: t[1].schwarz_gain, lambda t: row_order(t[1]),
+                      rule.tie)
+    top = best_first((a, r) for a, r in found if r.error is None and r.beside[0][1] < lim)
+    out = top[:rule.width]
     more = sum(1 for _, r in out if r.implausible)
-    out += [(a, r) for a, r in ranked[rule.width:] if not r.implausible][:more]
-    return sorted(out, key=lambda t: -t[1].schwarz_gain)
+    out += [(a, r) for a, r in top[rule.width:] if not r.implausible][:more]
+    return best_first(out)
 
 
 def _measured(row: Scored, base: dict, new: dict) -> Scored:
@@ -627,6 +651,77 @@ def schwarz_gain(j_base, j_new, dof, n_freq) -> float:
     """``2 (J_base - J_new) - dof ln(n_data)``, ``n_data = 6 n_freq`` the real numbers
     fitted (three complex channels a bin): the criterion candidates rank by."""
     return float(2.0 * (j_base - j_new) - dof * np.log(6 * n_freq))
+
+
+# -- ties -------------------------------------------------------------------------------
+def ranked(items, score, order, tie) -> list:
+    """``items`` best first, ties settled by ``order``, not by rounding: of the items
+    left, the next is the first by ``order`` of those whose ``score`` is within
+    ``tie`` of the largest left.
+
+    Every ranking of the rule uses it (the structures by ``G``, a structure's atoms by
+    gain beside the others, the atoms to pair, the start of a pair, the removal):
+    scores within the fits' precision (``Rule.tie``) are equal, so which of two
+    interchangeable atoms is ahead by 1e-12 decides nothing.
+
+    Parameters
+    ----------
+    items : iterable
+        What is ranked.
+    score : callable
+        ``score(item)`` -> float, larger better (``-inf`` last).
+    order : callable
+        ``order(item)`` -> sort key, smaller first: the stated order among equals
+        (:func:`row_order`, :func:`atom_order`).
+    tie : float
+        Scores this close are equal (in the scores' units).
+    """
+    left = list(items)
+    scores = [float(score(x)) for x in left]
+    out = []
+    while left:
+        top = max(scores)
+        near = [i for i, v in enumerate(scores) if v >= top - tie or v == top]
+        i = min(near, key=lambda j: order(left[j]))
+        out.append(left.pop(i))
+        scores.pop(i)
+    return out
+
+
+def _place(label: str) -> tuple:
+    """An atom's place in the catalogue: its effect's position (effects outside it
+    after), then its part's."""
+    effect, _, rest = label.partition(" (")
+    names = list(CATALOGUE)
+    if effect not in names:
+        return (len(names), effect, 0)
+    parts = [tuple(p) for p in CATALOGUE[effect].parts]
+    params = tuple(n.strip() for n in rest.rstrip(")").split(",")) if rest else ()
+    return (names.index(effect), "", parts.index(params) if params in parts else 0)
+
+
+def _offered(label: str) -> int:
+    """The parameters an atom offers (held ones too)."""
+    effect, _, rest = label.partition(" (")
+    if rest:
+        return len(rest.split(","))
+    return len(CATALOGUE[effect].parameters) if effect in CATALOGUE else 0
+
+
+def row_order(row: Scored) -> tuple:
+    """Among structures of equal score: fewer parameters fitted (``dof``), then fewer
+    offered (held ones too: the more specific claim), then the catalogue's order of
+    their atoms (:data:`CATALOGUE`'s, the paper's effects first)."""
+    return (row.dof, sum(_offered(a) for a in row.atoms),
+            tuple(sorted(_place(a) for a in row.atoms)), row.atoms)
+
+
+def atom_order(label: str, flat=()) -> tuple:
+    """Among atoms of equal gain: fewer parameters fitted (those in ``flat`` not),
+    then fewer offered, then the catalogue's order."""
+    n = _offered(label)
+    params = atom_of(label).params if label.partition(" (")[0] in CATALOGUE else ()
+    return (n - sum(1 for p in params if p in flat), n, _place(label), label)
 
 
 
@@ -722,7 +817,9 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     go together."""
     if excluded(a.effect, (b.effect,)):
         return None
-    (x, rx), (y, ry) = sorted(((a, ra), (b, rb)), key=lambda t: t[1].fit.cost)
+    # the better alone by cost (in G's units, 2 J), a tie by the stated order
+    (x, rx), (y, ry) = ranked(((a, ra), (b, rb)), lambda t: -2.0 * t[1].fit.cost,
+                              lambda t: row_order(t[1]), rule.tie)
     try:
         fit, held, flat = _fit_with(records, base_fit, rx.fit, (y,), band_hz, fit_fn)
     except InputError:
@@ -737,7 +834,8 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     ln_n = np.log(6 * fit.n_freq)
     gains = ((x.label, float(2 * (ry.fit.cost - fit.cost) - dx * ln_n)),
              (y.label, float(2 * (rx.fit.cost - fit.cost) - dy * ln_n)))
-    order = sorted(((x, rx), (y, ry)), key=lambda t: -dict(gains)[t[0].label])
+    order = ranked(((x, rx), (y, ry)), lambda t: dict(gains)[t[0].label],
+                   lambda t: atom_order(t[0].label, flat), rule.tie)
     add = tuple(t[0] for t in order)
     rank = [u.label for u in add]
     return _row(base_fit, add, fit, held, flat,
@@ -817,9 +915,11 @@ def admissible(rows, rule: Rule = DEFAULT_RULE) -> tuple:
 def accepted(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     """**Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
     it takes at least ``material`` of the residual's excess over the noise (whiter).
+    Scores within ``tie`` are equal: fewer parameters first, then the catalogue's order.
 
-    The rows ranked (admissible first, by ``G``, then fewer parameters), the first
-    ``best`` where it is admissible, accepted where it fails none of line 4's tests.
+    The rows ranked (admissible first, by ``G``, equal within ``tie`` settled by
+    :func:`row_order`, :func:`ranked`), the first ``best`` where it is admissible,
+    accepted where it fails none of line 4's tests.
 
     Parameters
     ----------
@@ -828,9 +928,10 @@ def accepted(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     rule : Rule
         The settings.
     """
-    def key(r):
-        return (not r.admissible(rule), -r.schwarz_gain, r.dof)
-    rows = tuple(sorted(rows, key=key))
+    def best_first(rows):
+        return ranked(rows, lambda r: r.schwarz_gain, row_order, rule.tie)
+    rows = tuple(best_first(r for r in rows if r.admissible(rule))
+                 + best_first(r for r in rows if not r.admissible(rule)))
     if not rows or not rows[0].admissible(rule):
         return Decision(rows, None, False, rule)
     failed = set(rows[0].failed(rule))
@@ -856,7 +957,8 @@ def added(decision: Decision) -> tuple:
         return ()
     c = decision.chosen
     gains = dict(c.beside_gain) or {c.atoms[0]: c.schwarz_gain}
-    return (max(c.atoms, key=lambda a: gains.get(a, -math.inf)),)
+    return tuple(ranked(c.atoms, lambda a: gains.get(a, -math.inf),
+                        lambda a: atom_order(a, c.flat), decision.rule.tie)[:1])
 
 
 def offered_effects() -> list:
@@ -877,7 +979,9 @@ def least_significant(records, fit, labels, band_hz, hold=None,
     """Line 5's removal: ``(atom, fit without it, log10 p)`` of the atom of ``labels``
     (added to ``fit``'s structure on a ladder) least significant beside the others,
     where its p-value is ``rule.alpha`` or more; ``None`` when every one is
-    significant.
+    significant.  p-values equal within what ``rule.tie`` in the statistic moves
+    them are equal (:func:`ranked`): the atom with more parameters, then the
+    catalogue's later, is removed.
 
     Parameters
     ----------
@@ -895,7 +999,7 @@ def least_significant(records, fit, labels, band_hz, hold=None,
         The settings.
     """
     from ..identify import identify
-    worst = None
+    found = []
     held = set(fit.fixed or ())
     for label in dict.fromkeys(labels):
         atom = atom_of(label)
@@ -921,10 +1025,20 @@ def least_significant(records, fit, labels, band_hz, hold=None,
                          hold=hold)
         except InputError:
             continue
-        lp = lr_test(f.cost, fit.cost, len(free), _boundary(atom, held))[2]
-        if lp >= math.log10(rule.alpha) and (worst is None or lp > worst[2]):
-            worst = (label, f, lp)
-    return worst
+        b = _boundary(atom, held)
+        lp = lr_test(f.cost, fit.cost, len(free), b)[2]
+        if lp >= math.log10(rule.alpha):
+            # what the statistic's precision (tie) moves log10 p by
+            moved = abs(lr_test(f.cost - rule.tie / 2, fit.cost, len(free), b)[2] - lp)
+            found.append((label, f, lp, moved))
+    if not found:
+        return None
+    tie = max(t[3] for t in found)
+    # among equals the one the stated order puts last goes (the simpler stays)
+    later = sorted(range(len(found)), key=lambda i: atom_order(found[i][0], held))
+    i = ranked(range(len(found)), lambda i: found[i][2], lambda i: -later.index(i),
+               tie)[0]
+    return found[i][:3]
 
 
 # -- the steps together ---------------------------------------------------------------
@@ -988,5 +1102,5 @@ __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_wi
            "rule_from_json", "Scored", "Decision", "Atom", "applicable", "excluded",
            "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
-           "offered_effects", "least_significant", "decide", "select", "STEPS",
-           "STATEMENT"]
+           "offered_effects", "least_significant", "decide", "select", "ranked",
+           "row_order", "atom_order", "STEPS", "STATEMENT"]

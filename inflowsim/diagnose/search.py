@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from .candidates import candidates_of
 from .excess import judge
 from .rule import (DEFAULT_RULE, Decision, Rule, atom_of, least_significant,
-                   offered_effects, rule_with, select)
+                   offered_effects, ranked, row_order, rule_with, select)
 from .terms import missing_terms
 from .failures import (Failure, _as_list, analyses_of, parameter_failures, residual_tests,
                        spectrum_failures, unexplained)
@@ -271,7 +271,7 @@ def diagnose(records, structure, band_hz=DEFAULT_BAND, start=None, pool=None,
 def _alone(recs, dec, analyses, band_hz, rule) -> dict | None:
     """``{effect: share of the excess it removes alone}`` where the decision names
     two or more effects: each effect's best single row of the lattice (largest
-    statistic), its residual analysed (:func:`~inflowsim.diagnose.verdict.excess_share`);
+    statistic, equal within ``rule.tie`` by the rule's order), its residual analysed (:func:`~inflowsim.diagnose.verdict.excess_share`);
     ``None`` for one effect, or where an effect has no row of its own."""
     from .verdict import excess_share
     if len(dec.effects) < 2:
@@ -281,7 +281,7 @@ def _alone(recs, dec, analyses, band_hz, rule) -> dict | None:
         rows = [r for r in dec.rows if tuple(r.effects) == (e,) and r.fit is not None]
         if not rows:
             return None
-        best = max(rows, key=lambda r: r.statistic)
+        best = ranked(rows, lambda r: r.statistic, row_order, rule.tie)[0]
         out[e] = excess_share(analyses, analyses_of(recs, best.fit, band_hz,
                                                     check_colour=False, rule=rule))
     return out
