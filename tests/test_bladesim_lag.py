@@ -287,3 +287,68 @@ def test_lead_lag_from_a_blade_truth_record_within_3_sigma(blade_fits):
     fit = blade_fits["lag"][BASE + "+lead-lag"]
     for name, truth in (("nu_zeta", NU), ("zeta_lag", ZL)):
         assert abs(fit.parameters[name] - truth) < 3 * fit.sigma[name], name
+
+
+def test_a_blade_truth_record_names_its_rotors_hub():
+    """The record of a hingeless blade truth says so (``# hub: hingeless``), as the
+    linear flight test's does: the lag's theory frequency (0.65 per rev, not an
+    articulated rotor's 0.25) and the plausible ranges are the hingeless rotor's."""
+    from dataclasses import replace
+    from inflowsim.flighttest.nonlinear import FlightTest, nonlinear_flighttest
+    k = replace(ifs.PUMA, hub="hingeless")
+    rec = nonlinear_flighttest(FlightTest(rotor=RotorSpec(constants=k, speed="mu"),
+                                          duration=0.5, dt=0.05, body=None,
+                                          noise_flap=0.0)).record
+    assert rec.meta["hub"] == "hingeless" and rec.constants.hub == "hingeless"
+    assert lead_lag.EFFECT.theory(rec.constants)["nu_zeta"] == 0.65
+
+
+#: The hingeless rotor of ``bench/detection.py`` (flap frequency squared 1.25, Lock
+#: number 5.2, mu 0.236) with its theory lag (``nu_zeta`` 0.65, ``zeta_lag`` 0.2).
+HINGELESS = {"mu": 0.236, "a0": 5.7, "solidity": 0.07, "omega": 44.4, "radius": 4.91,
+             "hub": "hingeless"}
+
+
+@pytest.fixture(scope="module")
+def hingeless_ladders():
+    from dataclasses import replace
+    from inflowsim.diagnose import ladder
+    from inflowsim.flighttest.nonlinear import FlightTest, nonlinear_flighttest
+    from inflowsim.flighttest.virtual import Manoeuvre
+    man = (Manoeuvre(channel="theta1s", shape="3211", amplitude=np.radians(1.0),
+                     t_start=2.0, width=0.4),)
+    spec = RotorSpec(constants=replace(ifs.PUMA, **HINGELESS), lambda_beta2=1.25,
+                     n_beta=0.65, speed="mu", nu_zeta=0.65, zeta_lag=0.2)
+    out = []
+    for seed in (5, 6):
+        rec = nonlinear_flighttest(FlightTest(rotor=spec, manoeuvres=man, seed=seed,
+                                              body=None)).record
+        out.append((rec, ladder(rec, BASE)))
+    return out
+
+
+@pytest.mark.slow
+def test_the_hingeless_blade_truths_lag_is_named_with_its_second_harmonic_flap(
+        hingeless_ladders):
+    """The hingeless blade truth's lag (2.7 and 4.1 times the noise in ``beta0``,
+    ``beta1s``; seeds 5 and 6): the ladder from the rigid blades' structure names
+    ``lead-lag`` first and then ``second-harmonic-flap`` (the rigid truth's own 2/rev
+    flap: ``k_beta2`` 1.04 +- 0.16 on the lag-free record), nothing else, and ends
+    ``explained`` with every channel within 1.5 of the floor; the lag's coupling
+    (its frequency and damper at the hingeless theory) and ``k_beta2`` within 3
+    sigma of the truth.  Before the lag's second harmonic and the record's hub, the
+    ladder named ``azimuth-bias`` and ``peters-he-6`` instead."""
+    for rec, lad in hingeless_ladders:
+        added = [r.added for r in lad.rungs[1:]]
+        assert added[0] == "lead-lag" and set(added) <= {"lead-lag", "second-harmonic-flap"}, \
+            added
+        assert lad.verdict.status == "explained"
+        fit = lad.final.fit
+        level = len(rec) * 1e-4 ** 2
+        assert max(abs(fit.S[0][i, i]) for i in range(3)) / level < 1.5
+        truth = {"k_flap_lag": 1.0, "k_beta2": 1.0, "nu_zeta": 0.65, "zeta_lag": 0.2}
+        for n, v in truth.items():
+            if fit.sigma.get(n):
+                assert abs(fit.parameters[n] - v) < 3 * fit.sigma[n], (n, fit.parameters[n])
+        assert fit.parameters["nu_zeta"] == pytest.approx(0.65, abs=3 * (
+            fit.sigma.get("nu_zeta") or 0) + 1e-12)
