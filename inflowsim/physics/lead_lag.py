@@ -195,15 +195,19 @@ def second_harmonic(nu_zeta, zeta_lag, rows, numeric=None):
     k = second_harmonic_structure(nu_zeta, zeta_lag) - lag2_z2
     if k.dtype != object and np.asarray(lag2).dtype != object:
         return np.linalg.solve(k, lag2)
-    # traced: the 2 x 2 inverse by two run-time 3 x 3 solves (bordered by a unit
-    # row), the columns then products of numbers known at run time
+    # traced: each column a run-time 3 x 3 solve (the 2 x 2 bordered by a unit row),
+    # so that the generated C multiplies the rows' polynomials by numbers known at
+    # run time instead of expanding products of polynomials
+    lag2 = np.asarray(lag2, dtype=object)
     o = 0 * k[0, 0]
     kk = np.array([[k[0, 0], k[0, 1], o], [k[1, 0], k[1, 1], o], [o, o, 1 + o]],
                   dtype=object)
-    inv = np.array([_solve3(kk, np.array([1 + o, o, o], dtype=object), numeric)[:2],
-                    _solve3(kk, np.array([o, 1 + o, o], dtype=object), numeric)[:2]],
-                   dtype=object).T
-    return inv @ np.asarray(lag2, dtype=object)
+    out = np.zeros(lag2.shape, dtype=object)
+    for j in range(lag2.shape[1]):
+        if not (lag2[0, j] == 0 and lag2[1, j] == 0):
+            out[:, j] = _solve3(kk, np.array([lag2[0, j], lag2[1, j], o], dtype=object),
+                                numeric)[:2]
+    return out
 
 
 __all__ = ["NAME", "CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
