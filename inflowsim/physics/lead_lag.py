@@ -169,7 +169,20 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     rows2, flap2, lag2, loads2 = (lambda r: (r[:2], *r[2:]))(
         lt.second_harmonic(*args, tuple(zt)))
     t2 = second_harmonic(nu_zeta, zeta_lag, rows2, numeric)
+    if numeric is not None:
+        # traced: its columns in the rows as numbers known at run time too (as the
+        # trim inflow above), so that the products are of numbers, not of polynomials
+        flap2, lag2, loads2 = (_at_run_time(m, numeric) for m in (flap2, lag2, loads2))
     return (zt, flap + flap2 @ t2, lag + lag2 @ t2, loads + loads2 @ t2, lam_t)
+
+
+def _at_run_time(m, numeric):
+    """A traced 3 x n matrix as run-time numbers: each column through the effect's
+    run-time 3 x 3 solve with the unit matrix."""
+    m = np.asarray(m, dtype=object)
+    eye = np.eye(3).astype(object)
+    return np.array([_solve3(eye, m[:, j], numeric) for j in range(m.shape[1])],
+                    dtype=object).T
 
 
 def second_harmonic_structure(nu_zeta, zeta_lag):
