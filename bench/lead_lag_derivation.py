@@ -29,7 +29,11 @@ azimuth: ``cos z0``, ``sin z0``), the cyclic steady lag to first order
 perturbation is kept).  Each
 right-hand side is projected on ``(1, 2 cos psi, 2 sin psi)`` (loads: 1) and
 averaged over the azimuth (the constant-coefficient approximation of the base
-model, section 2).  Polynomial arithmetic in sympy's sparse rings (a few seconds).
+model, section 2).  The lag also has its second harmonic ``zeta2c cos 2psi + zeta2s
+sin 2psi`` (for four blades the reactionless lag's 2/rev part): in forward flight the
+flap's Coriolis moment and the ``mu`` terms drive it from the first harmonics and it
+acts back on them; its modes are at ``2 -+ nu`` per rev, so it enters quasi-statically
+(its own rates left out), its rows projected on ``(2 cos 2psi, 2 sin 2psi)``.  Polynomial arithmetic in sympy's sparse rings (a few seconds).
 
     python bench/lead_lag_derivation.py            # writes the module
     python bench/lead_lag_derivation.py --check    # exit 1 if it differs
@@ -49,7 +53,11 @@ COLS = ["b0", "b1c", "b1s", "db0", "db1c", "db1s", "l0", "l1c", "l1s", "t0", "t1
 #: the trim: pitch, flap, up-flow, cyclic inflow, steady lag
 TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "u", "l1c_t", "l1s_t"]
 LAG_TRIM = ["cz0", "sz0", "z1ct", "z1st"]
-GENS = ["h", "eps", "C", "S", "r", "mu", "nb", "dl"] + TRIM + LAG_TRIM + ["d_" + c for c in COLS]
+#: the second-harmonic lag ``zeta2c cos 2psi + zeta2s sin 2psi`` (quasi-static: its
+#: modes at ``2 -+ nu`` per rev lie far above the flap's band)
+Z2 = ["z2c", "z2s"]
+GENS = (["h", "eps", "C", "S", "r", "mu", "nb", "dl"] + TRIM + LAG_TRIM
+        + ["d_" + c for c in COLS + Z2])
 
 
 def derive():
@@ -67,14 +75,17 @@ def derive():
             out = tr(out * x)
         return out
 
-    v = {c: h * g["d_" + c] for c in COLS}
+    v = {c: h * g["d_" + c] for c in COLS + Z2}
     t = g
+    c2, s2 = C * C - S * S, 2 * S * C               # cos 2 psi, sin 2 psi
     # the steady lag: its collective part exactly (a turn of the blade's azimuth,
     # cz0 = cos zeta0_t, sz0 = sin zeta0_t), its cyclic part to first order
+    # the second-harmonic lag quasi-static (its coordinates' own rates left out)
     zeta = (eps * (t["z1ct"] * C + t["z1st"] * S)
-            + v["z0"] + v["z1c"] * C + v["z1s"] * S)
+            + v["z0"] + v["z1c"] * C + v["z1s"] * S + v["z2c"] * c2 + v["z2s"] * s2)
     dzeta = (eps * (-t["z1ct"] * S + t["z1st"] * C)
-             + v["dz0"] + (v["dz1c"] + v["z1s"]) * C + (v["dz1s"] - v["z1c"]) * S)
+             + v["dz0"] + (v["dz1c"] + v["z1s"]) * C + (v["dz1s"] - v["z1c"]) * S
+             + 2 * v["z2s"] * c2 - 2 * v["z2c"] * s2)
     beta = t["b0t"] + t["b1ct"] * C + t["b1st"] * S + v["b0"] + v["b1c"] * C + v["b1s"] * S
     dbeta = (-t["b1ct"] * S + t["b1st"] * C + v["db0"] + (v["db1c"] + v["b1s"]) * C
              + (v["db1s"] - v["b1c"]) * S)
@@ -117,9 +128,9 @@ def derive():
         e = sp.expand(sp.expand(e).subs(syms["cz0"] ** 2, 1 - syms["sz0"] ** 2))
         hh = syms["h"]
         lin = sp.expand(e.coeff(hh, 1))
-        return e.coeff(hh, 0), {c: lin.coeff(syms["d_" + c]) for c in COLS}
+        return e.coeff(hh, 0), {c: lin.coeff(syms["d_" + c]) for c in COLS + Z2}
 
-    out, lag_free = {}, {}
+    out, lag_free, z2_rows = {}, {}, {}
     no_lag = {syms["cz0"]: 1, syms["sz0"]: 0, syms["z1ct"]: 0, syms["z1st"]: 0}
     for name, f, weights in (("flap", flap, (1, 2 * C, 2 * S)), ("lag", lag, (1, 2 * C, 2 * S)),
                              ("loads", None, None)):
@@ -132,10 +143,11 @@ def derive():
                 # lag-free blades' are the base model's own (checked below); the
                 # effect adds the steady lag's share
                 free.append([lin[c].subs(no_lag) for c in COLS[:15]])
-                lin = {c: sp.expand(lin[c] - (free[-1][j] if j < 15 else 0))
-                       for j, c in enumerate(COLS)}
+                lin = {**lin, **{c: sp.expand(lin[c] - (free[-1][j] if j < 15 else 0))
+                                 for j, c in enumerate(COLS)}}
             rows.append([lin[c] for c in COLS])
             zero.append(z)
+            z2_rows.setdefault(name, []).append([lin[c] for c in Z2])
         out[name] = rows
         lag_free[name] = free
         if name == "lag":
@@ -146,6 +158,12 @@ def derive():
         if name == "loads":
             # the steady lag's share of the trim's loads (it moves the trim inflow)
             out["load_trim"] = [sp.expand(z - z.subs(no_lag)) for z in zero]
+    # the second-harmonic lag's own rows (the lag projected on 2 cos 2psi, 2 sin
+    # 2psi) and its columns in the flap, lag and load rows
+    lag2 = [split(average(tr(lag * w)))[1] for w in (2 * c2, 2 * s2)]
+    out["second"] = {"lag2": [[r[c] for c in COLS] for r in lag2],
+                     "lag2_z2": [[r[c] for c in Z2] for r in lag2],
+                     **{name + "_z2": z2_rows[name] for name in ("flap", "lag", "loads")}}
     _check_base(lag_free, syms)
     return out
 
@@ -187,8 +205,10 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
 rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
-3) and :func:`load_trim` the steady lag's share of the trim's loads (3).  The trim:
-pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic inflow ``l1c_t,
+3), :func:`load_trim` the steady lag's share of the trim's loads (3) and
+:func:`second_harmonic` the second-harmonic lag's rows and columns (quasi-static,
+condensed into the first harmonics by :func:`inflowsim.physics.lead_lag.
+coefficients`).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic inflow ``l1c_t,
 l1s_t`` and (``terms``, ``load_trim``) the steady lag ``zt``: its collective part
 exactly (a turn of the blades' azimuth: ``cz0, sz0``, its cosine and sine), its
 cyclic part to first order.
@@ -281,6 +301,10 @@ def _flat(rows):
     return [e for row in rows for e in (row if isinstance(row, list) else [row])]
 
 
+#: The second harmonic's outputs, in the order of its table (sizes 42, 4, 6, 6, 6).
+SECOND = ("lag2", "lag2_z2", "flap_z2", "lag_z2", "loads_z2")
+
+
 FUNCTIONS = '''
 
 def terms(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
@@ -310,11 +334,23 @@ def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
                                   zt[2]), numeric)
 
 
+def second_harmonic(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
+    """The second-harmonic lag ``(zeta2c, zeta2s)`` (quasi-static): ``(lag2, lag2_z2,
+    flap_z2, lag_z2, loads_z2)``, its own rows' right-hand side per :data:`COLS` (2 x
+    21) and per itself (2 x 2), and its columns in the flap, lag and load rows of
+    :func:`terms` (3 x 2 each) [-]."""
+    cz0, sz0 = _cos_sin(zt[0])
+    y = _evaluate(_SECOND, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1], zt[2]),
+                  numeric)
+    return (y[:42].reshape(2, 21), y[42:46].reshape(2, 2), y[46:52].reshape(3, 2),
+            y[52:58].reshape(3, 2), y[58:64].reshape(3, 2))
+
+
 #: The tables, by name (each a run-time call of the FMU).
-TABLES = {t.name: t for t in (_TERMS, _LAG_TRIM, _LAG_STIFFNESS, _LOAD_TRIM)}
+TABLES = {t.name: t for t in (_TERMS, _LAG_TRIM, _LAG_STIFFNESS, _LOAD_TRIM, _SECOND)}
 
 __all__ = ["COLS", "TRIM_VARIABLES", "VARIABLES", "TABLES", "terms", "lag_trim",
-           "lag_stiffness", "load_trim"]
+           "lag_stiffness", "load_trim", "second_harmonic"]
 '''
 
 
@@ -325,7 +361,9 @@ def render(out) -> str:
             ("_TERMS", "terms", _flat(out["flap"] + out["lag"] + out["loads"]), VARIABLES),
             ("_LAG_TRIM", "lag_trim", _flat(out["lag_trim"]), TRIM_VARIABLES),
             ("_LAG_STIFFNESS", "lag_stiffness", _flat(out["lag_stiffness"]), TRIM_VARIABLES),
-            ("_LOAD_TRIM", "load_trim", _flat(out["load_trim"]), VARIABLES)):
+            ("_LOAD_TRIM", "load_trim", _flat(out["load_trim"]), VARIABLES),
+            ("_SECOND", "second_harmonic",
+             _flat([e for k in SECOND for e in _flat(out["second"][k])]), VARIABLES)):
         lines += _table_code(var, name, exprs, variables,
                              "VARIABLES" if variables is VARIABLES else "TRIM_VARIABLES")
     return "\n".join(lines) + FUNCTIONS

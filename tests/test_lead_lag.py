@@ -429,6 +429,52 @@ def test_the_forward_flight_trims_coriolis_terms():
     assert np.all(lag[:, 6:15] == 0) and np.all(flap[:, :15] == 0)
 
 
+def test_the_second_harmonic_lags_coriolis_terms():
+    """The second-harmonic lag's inertial couplings (``model.md`` 9.1): with ``n_beta
+    = 0`` and no steady lag, the generated rows and columns are the Coriolis terms
+    ``2 beta zeta'`` (flap) and ``-2 beta beta' (1 - zeta')`` (lag) about the cyclic
+    flap, averaged here by quadrature over the azimuth (a 64-point rule, exact for
+    these trigonometric polynomials) with ``zeta = zeta2c cos 2psi + zeta2s sin 2psi``
+    at rest in the fixed frame; and the condensed lag moves the first harmonics'
+    flap rows by ``flap_z2 zeta2`` per column."""
+    from inflowsim.physics import lead_lag as ll
+    from inflowsim.physics import lead_lag_terms as lt
+    b0, b1c, b1s = 0.1, -0.05, 0.03
+    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
+    lag2, lag2_z2, flap_z2, lag_z2, _ = lt.second_harmonic(*args, (0.0, 0.0, 0.0))
+    psi = 2 * np.pi * np.arange(64) / 64
+    c, s_, c2, s2 = np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)
+    bt, dbt = b0 + b1c * c + b1s * s_, -b1c * s_ + b1s * c
+    w1, w2 = (np.ones_like(psi), 2 * c, 2 * s_), (2 * c2, 2 * s2)
+    dz = (-2 * s2, 2 * c2)                       # zeta' per (zeta2c, zeta2s)
+
+    def avg(*f):
+        return np.mean(np.prod(f, axis=0))
+    np.testing.assert_allclose(flap_z2, [[avg(w, 2 * bt, d) for d in dz] for w in w1],
+                               atol=1e-15)
+    np.testing.assert_allclose(lag_z2, [[avg(w, 2 * bt * dbt, d) for d in dz] for w in w1],
+                               atol=1e-15)
+    np.testing.assert_allclose(lag2_z2, [[avg(w, 2 * bt * dbt, d) for d in dz] for w in w2],
+                               atol=1e-15)
+    # the flap columns of its rows: -2 (d beta beta_t' + beta_t d beta'), the blade's
+    # flap (1, cos, sin) and its rate with the rotation of the coordinates
+    one = np.ones_like(psi)
+    dbeta = [(one, 0 * psi), (c, -s_), (s_, c), (0 * psi, one), (0 * psi, c), (0 * psi, s_)]
+    np.testing.assert_allclose(lag2[:, :6], [[avg(w, -2 * (db * dbt + bt * ddb))
+                                              for db, ddb in dbeta] for w in w2], atol=1e-15)
+    assert np.all(lag2[:, 6:15] == 0)
+    # its lag columns: 2 beta_t beta_t' d zeta', the first harmonics' rate (zeta0 ..
+    # zeta1s' as the coordinates rotate)
+    dzeta = [0 * psi, -s_, c, one, c, s_]
+    np.testing.assert_allclose(lag2[:, 15:], [[avg(w, 2 * bt * dbt, d) for d in dzeta]
+                                              for w in w2], atol=1e-15)
+    # it couples: the cyclic flap drives it and it acts back on the flap
+    assert np.abs(flap_z2).max() > 0.05 and np.abs(lag2[:, :6]).max() > 0.05
+    t2 = ll.second_harmonic(0.65, 0.2, (lag2, lag2_z2))
+    k = ll.second_harmonic_structure(0.65, 0.2) - lag2_z2
+    np.testing.assert_allclose(k @ t2, lag2, atol=1e-15)
+
+
 @pytest.mark.slow
 def test_the_generated_coefficients_are_the_derivations_output():
     """``inflowsim/physics/lead_lag_terms.py`` is what ``bench/lead_lag_derivation.py``

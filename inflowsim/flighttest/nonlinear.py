@@ -415,6 +415,10 @@ def nonlinear_flighttest(test: FlightTest = FlightTest(), progress=None) -> Flig
             "radius": radius, "aircraft": "Puma (virtual, nonlinear blade-element truth)",
             "description": test.description, "synthetic": "true", "seed": test.seed,
             "hold": test.hold}
+    if k.hub is not None:
+        # the rotor's hub: its effects' theory values and plausible ranges (a
+        # hingeless rotor's lag frequency, 0.65 per rev, not an articulated one's)
+        meta["hub"] = k.hub
     rec = Record.from_arrays(t, cols, meta, source="<flighttest>")
     elapsed = time.perf_counter() - t_start
     truth = {"truth": "nonlinear",

@@ -172,8 +172,53 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
                                                                    numeric=tables),
                                               numeric)
             args, zt = at(lam_t)
-    return (zt, *lt.terms(*args, tuple(zt), numeric=tables), lam_t)
+    flap, lag, loads = lt.terms(*args, tuple(zt), numeric=tables)
+    # the second-harmonic lag, quasi-static, condensed into the first harmonics
+    rows2, flap2, lag2, loads2 = (lambda r: (r[:2], *r[2:]))(
+        lt.second_harmonic(*args, tuple(zt), numeric=tables))
+    # traced, its rows and columns are run-time numbers (the table's call): the
+    # products below are of numbers, not of polynomials
+    t2 = second_harmonic(nu_zeta, zeta_lag, rows2, numeric)
+    return (zt, flap + flap2 @ t2, lag + lag2 @ t2, loads + loads2 @ t2, lam_t)
+
+
+def second_harmonic_structure(nu_zeta, zeta_lag):
+    """The second-harmonic lag's spring, damper and rotating-frame displacement terms,
+    rows ``(zeta2c, zeta2s)`` per ``(zeta2c, zeta2s)`` (2 x 2) [-]: with ``zeta =
+    zeta2c cos 2psi + zeta2s sin 2psi`` at rest in the fixed frame, ``zeta'' + C zeta'
+    + nu^2 zeta`` projected on ``(2 cos 2psi, 2 sin 2psi)`` is ``((nu^2 - 4) zeta2c + 2 C
+    zeta2s, (nu^2 - 4) zeta2s - 2 C zeta2c)``, ``C = 2 zeta_lag nu``."""
+    c = 2 * zeta_lag * nu_zeta
+    k = nu_zeta**2 - 4
+    return _arr([[k, 2 * c], [-2 * c, k]])
+
+
+def second_harmonic(nu_zeta, zeta_lag, rows, numeric=None):
+    """The quasi-static second-harmonic lag ``(zeta2c, zeta2s)`` per the columns of
+    :data:`lead_lag_terms.COLS` (2 x 21) [rad per unit]: its rows at rest,
+    ``S2 zeta2 = lag2 w + lag2_z2 zeta2`` (``S2``: :func:`second_harmonic_structure`;
+    ``rows = (lag2, lag2_z2)`` of :func:`lead_lag_terms.second_harmonic`), solved for
+    ``zeta2``.  Its modes lie at ``2 -+ nu_zeta`` per rev in the fixed frame (1.35 and
+    2.65 per rev at ``nu_zeta = 0.65``), far above the flap's band: its own rates are
+    left out (``model.md`` 9.1)."""
+    lag2, lag2_z2 = rows
+    k = second_harmonic_structure(nu_zeta, zeta_lag) - lag2_z2
+    if k.dtype != object and np.asarray(lag2).dtype != object:
+        return np.linalg.solve(k, lag2)
+    # traced: each column a run-time 3 x 3 solve (the 2 x 2 bordered by a unit row),
+    # so that the generated C multiplies the rows' polynomials by numbers known at
+    # run time instead of expanding products of polynomials
+    lag2 = np.asarray(lag2, dtype=object)
+    o = 0 * k[0, 0]
+    kk = np.array([[k[0, 0], k[0, 1], o], [k[1, 0], k[1, 1], o], [o, o, 1 + o]],
+                  dtype=object)
+    out = np.zeros(lag2.shape, dtype=object)
+    for j in range(lag2.shape[1]):
+        if not (lag2[0, j] == 0 and lag2[1, j] == 0):
+            out[:, j] = _solve3(kk, np.array([lag2[0, j], lag2[1, j], o], dtype=object),
+                                numeric)[:2]
+    return out
 
 
 __all__ = ["NAME", "CD0", "Z_COLS", "U_COLS", "X_COLS", "lag_structure", "steady_lag",
-           "coefficients"]
+           "coefficients", "second_harmonic_structure", "second_harmonic"]
