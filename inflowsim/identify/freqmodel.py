@@ -38,6 +38,7 @@ import weakref
 
 import numpy as np
 
+from ..simulate.discrete import hold
 from ..simulate.sampled import BASES, expm, shift_taps
 
 __all__ = ["flap_response", "flap_derivatives", "leading",
@@ -48,12 +49,7 @@ __all__ = ["flap_response", "flap_derivatives", "leading",
 def zoh(a, b, dt):
     """``(phi, gam)`` of the zero-order hold over ``dt`` (as
     :func:`inflowsim.simulate.discrete.zoh`, by :func:`inflowsim.simulate.sampled.expm`)."""
-    n, m = b.shape
-    aug = np.zeros((n + m, n + m))
-    aug[:n, :n] = a
-    aug[:n, n:] = b
-    e = expm(aug * dt)
-    return e[:n, :n], e[:n, n:]
+    return hold(a, b, dt, expm)
 
 
 def shift_groups(model):
