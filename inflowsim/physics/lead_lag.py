@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import lead_lag_terms as lt
 
 #: The effect's name (its run-time solves in the FMU: the effect's ``runtime``).
 NAME = "lead-lag"
@@ -147,6 +146,9 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     lam_t : ndarray (3,)
         The trim inflow they are linearised about [-].
     """
+    # the generated tables (200 kB of source) are read only when a lag model is built,
+    # not by every command that imports the catalogue
+    from . import lead_lag_terms as lt
     s_x = lag_structure(nu_zeta, zeta_lag)
     if numeric is not None:
         # traced: the trim inflow once at run time (its closed form is a quotient

@@ -52,7 +52,6 @@ from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ..recent import Recent
 from ...physics import lead_lag as ll
-from ...physics import lead_lag_terms as lt
 from ...physics import loads as ld
 
 NAME = "lead-lag"
@@ -173,6 +172,7 @@ def _runtime():
     then the right-hand side; and the trim polynomials of
     :mod:`~inflowsim.physics.lead_lag_terms` (calls ``lead-lag/<table>``), each a
     :class:`RuntimePolynomials`."""
+    from ...physics import lead_lag_terms as lt     # read when a lag FMU is made
     return {NAME: RuntimeLinear(
         n_args=12, matrix=lambda arg: np.array(arg[:9], dtype=object).reshape(3, 3),
         rhs=lambda arg: np.array(arg[9:12], dtype=object).reshape(3, 1))} | {
