@@ -236,6 +236,16 @@ def test_the_trim_of_a_still_record_describes_itself(still_path):
     assert trim.as_dict()["description"] == trim.describe()
 
 
+def test_a_still_record_too_short_for_a_trim_is_refused_by_name(still_path):
+    # four samples: a record (at least 4) but not a trim (at least 5), nothing moving
+    from inflowsim.data.record import Record, RecordError, find_trim, read_record
+    rec = read_record(still_path)
+    short = Record.from_arrays(rec.t[:4], {c: v[:4] for c, v in rec.channels.items()},
+                               dict(rec.meta))
+    with pytest.raises(RecordError, match="fewer than the 5 a trim needs"):
+        find_trim(short)
+
+
 def test_simulate_refuses_a_step_that_makes_too_many_samples(capsys, rec_path, tmp_path):
     from inflowsim.data.record import MAX_SAMPLES
     out = tmp_path / "x.csv"

@@ -479,6 +479,10 @@ def find_trim(rec: Record, window=None) -> Trim:
         else:
             move = float(t[k])
             i1 = int(np.searchsorted(t, move - TRIM_MARGIN, side="right"))
+        if i1 < MIN_TRIM_SAMPLES and move is None:
+            raise RecordError(
+                f"{rec.source}: only {i1} samples, fewer than the {MIN_TRIM_SAMPLES} a "
+                "trim needs")
         if i1 < MIN_TRIM_SAMPLES:
             raise RecordError(
                 f"{rec.source}: no quiet lead-in: a control moves at t = {move:.4g} s, "
