@@ -95,19 +95,6 @@ IFS_INLINE void ifs_axpy(double *y, double alpha, const double *x, int size)
     int i;
     for (i = 0; i < size; i++) y[i] += alpha * x[i];
 }
-IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
-{
-    int i, j, k;
-    for (i = 0; i < n; i++) {
-        double *row = C + i * n;
-        for (j = 0; j < n; j++) row[j] = 0.0;
-        for (k = 0; k < n; k++) {
-            const double aik = A[i * n + k];
-            if (aik == 0.0) continue;
-            for (j = 0; j < n; j++) row[j] += aik * B[k * n + j];
-        }
-    }
-}
 IFS_INLINE void ifs_gemm(const double *A, const double *B, double *C, int rows, int inner,
                          int cols, int ldb, int ldc)
 {
@@ -121,6 +108,11 @@ IFS_INLINE void ifs_gemm(const double *A, const double *B, double *C, int rows, 
             for (j = 0; j < cols; j++) row[j] += aik * B[k * ldb + j];
         }
     }
+}
+/* the square case of ifs_gemm (n x n, rows n apart) */
+IFS_INLINE void ifs_matmul(const double *A, const double *B, double *C, int n)
+{
+    ifs_gemm(A, B, C, n, n, n, n, n);
 }
 IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, double *out,
                            int cols, int ldp, int ldo)
