@@ -1,14 +1,14 @@
 /*
  * FMI 2.0 co-simulation interface of the inflowsim rotor flap / inflow model: a
- * thin layer over the slave in inflow_slave.[ch] (which holds the checks and the
- * stepping shared with the FMI 3.0 layer).  No global mutable state: every
- * instance owns its data.
+ * thin layer over the FMI shim (inflow_fmi.h: the calls both versions serve alike)
+ * and the slave in inflow_slave.[ch] (the checks and the stepping).  No global
+ * mutable state: every instance owns its data.
  */
 #include <stdio.h>
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "inflow_slave.h"
+#include "inflow_fmi.h"
 
 typedef struct {
     IfsInstance i;             /* first, 64-byte aligned (see fmi2Instantiate) */
@@ -26,7 +26,7 @@ static void emit(void *env, int status, const char *category, const char *messag
 #define ERR(c, ...) ((fmi2Status)ifs_log(&(c)->i.log, IFS_ERROR, __VA_ARGS__))
 
 /* An error for a call this FMU does not serve; a null component is an error too. */
-#define REFUSE(comp, ...) ((comp) ? ERR((Instance *)(comp), __VA_ARGS__) : fmi2Error)
+#define REFUSE(comp, what) ((fmi2Status)ifs_fmi_refuse(comp, what))
 
 /* --- common functions --- */
 
@@ -36,12 +36,9 @@ IFS_EXPORT const char *fmi2GetVersion(void) { return fmi2Version; }
 IFS_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean on, size_t n,
                                           const fmi2String categories[])
 {
-    Instance *c = (Instance *)comp;
     (void)n;
     (void)categories;
-    if (!c) return fmi2Error;
-    c->i.log.debug = on;
-    return fmi2OK;
+    return (fmi2Status)ifs_fmi_set_debug_logging(comp, on);
 }
 
 /* the FMI 2.0 allocator behind IfsCalloc (ctx: the callback functions) */
@@ -79,50 +76,37 @@ IFS_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2Str
 
 IFS_EXPORT void fmi2FreeInstance(fmi2Component comp)
 {
-    if (comp) ifs_instance_free(&((Instance *)comp)->i);
+    ifs_fmi_free_instance(comp);
 }
 
 IFS_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean tol_defined,
                                           fmi2Real tol, fmi2Real start,
                                           fmi2Boolean stop_defined, fmi2Real stop)
 {
-    Instance *c = (Instance *)comp;
     (void)tol_defined;
     (void)tol;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_set_start_time(&c->i.s, &c->i.log, "fmi2SetupExperiment",
-                                                start, stop_defined != fmi2False, stop);
+    return (fmi2Status)ifs_fmi_setup(comp, "fmi2SetupExperiment", start,
+                                     stop_defined != fmi2False, stop);
 }
 
 IFS_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component comp)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_enter_init(&c->i.s, &c->i.log, "fmi2EnterInitializationMode");
+    return (fmi2Status)ifs_fmi_enter_init(comp, "fmi2EnterInitializationMode");
 }
 
 IFS_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component comp)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_exit_init(&c->i.s, &c->i.log, "fmi2ExitInitializationMode");
+    return (fmi2Status)ifs_fmi_exit_init(comp, "fmi2ExitInitializationMode");
 }
 
 IFS_EXPORT fmi2Status fmi2Terminate(fmi2Component comp)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    c->i.s.phase = IFS_PH_TERMINATED;
-    ifs_slave_refresh(&c->i.s);
-    return fmi2OK;
+    return (fmi2Status)ifs_fmi_terminate(comp);
 }
 
 IFS_EXPORT fmi2Status fmi2Reset(fmi2Component comp)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    ifs_slave_init(&c->i.s);
-    return fmi2OK;
+    return (fmi2Status)ifs_fmi_reset(comp);
 }
 
 /* --- get / set --- */
@@ -130,134 +114,87 @@ IFS_EXPORT fmi2Status fmi2Reset(fmi2Component comp)
 IFS_EXPORT fmi2Status fmi2GetReal(fmi2Component comp, const fmi2ValueReference vr[],
                                   size_t nvr, fmi2Real value[])
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_get_reals(&c->i.s, &c->i.log, "fmi2GetReal", vr, nvr, value);
+    return (fmi2Status)ifs_fmi_get_reals(comp, "fmi2GetReal", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference vr[],
                                   size_t nvr, const fmi2Real value[])
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    if (ifs_slave_set_mu(&c->i.s, vr, nvr, value)) return fmi2OK;
-    return (fmi2Status)ifs_slave_set_reals(&c->i.s, &c->i.log, "fmi2SetReal", vr, nvr, value);
+    return (fmi2Status)ifs_fmi_set_reals(comp, "fmi2SetReal", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2GetInteger(fmi2Component comp, const fmi2ValueReference vr[],
                                      size_t nvr, fmi2Integer value[])
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_get_ints(&c->i.s, &c->i.log, "fmi2GetInteger", vr, nvr, value);
+    return (fmi2Status)ifs_fmi_get_ints(comp, "fmi2GetInteger", vr, nvr, value);
 }
 
 IFS_EXPORT fmi2Status fmi2SetInteger(fmi2Component comp, const fmi2ValueReference vr[],
                                      size_t nvr, const fmi2Integer value[])
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_set_ints(&c->i.s, &c->i.log, "fmi2SetInteger", vr, nvr, value);
+    return (fmi2Status)ifs_fmi_set_ints(comp, "fmi2SetInteger", vr, nvr, value);
 }
 
-IFS_EXPORT fmi2Status fmi2GetBoolean(fmi2Component comp, const fmi2ValueReference vr[],
-                                     size_t nvr, fmi2Boolean value[])
-{
-    (void)value;
-    if (nvr == 0) return fmi2OK;
-    return REFUSE(comp, "fmi2GetBoolean: %u: this FMU has no Boolean variables",
-               vr ? vr[0] : 0u);
-}
+/* Types this FMU has no variables of: an empty call is fine (even with a null
+ * component, as FMI 2.0's layer always answered), anything else an error. */
+#define NO_SUCH_TYPE(fn, T, what)                                                          \
+    IFS_EXPORT fmi2Status fn(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, \
+                             T value[])                                                    \
+    {                                                                                      \
+        (void)value;                                                                       \
+        if (nvr == 0) return fmi2OK;                                                       \
+        return (fmi2Status)ifs_fmi_no_such_type(comp, #fn, what, vr, nvr);                 \
+    }
 
-IFS_EXPORT fmi2Status fmi2SetBoolean(fmi2Component comp, const fmi2ValueReference vr[],
-                                     size_t nvr, const fmi2Boolean value[])
-{
-    (void)value;
-    if (nvr == 0) return fmi2OK;
-    return REFUSE(comp, "fmi2SetBoolean: %u: this FMU has no Boolean variables",
-               vr ? vr[0] : 0u);
-}
-
-IFS_EXPORT fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[],
-                                    size_t nvr, fmi2String value[])
-{
-    (void)value;
-    if (nvr == 0) return fmi2OK;
-    return REFUSE(comp, "fmi2GetString: %u: this FMU has no String variables",
-               vr ? vr[0] : 0u);
-}
-
-IFS_EXPORT fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[],
-                                    size_t nvr, const fmi2String value[])
-{
-    (void)value;
-    if (nvr == 0) return fmi2OK;
-    return REFUSE(comp, "fmi2SetString: %u: this FMU has no String variables",
-               vr ? vr[0] : 0u);
-}
+NO_SUCH_TYPE(fmi2GetBoolean, fmi2Boolean, "Boolean variables")
+NO_SUCH_TYPE(fmi2SetBoolean, const fmi2Boolean, "Boolean variables")
+NO_SUCH_TYPE(fmi2GetString, fmi2String, "String variables")
+NO_SUCH_TYPE(fmi2SetString, const fmi2String, "String variables")
 
 /* --- FMU state --- */
 
 IFS_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_get(&c->i.s, &c->i.log, "fmi2GetFMUstate", state,
-                                     ifs_instance_calloc, &c->i);
+    return (fmi2Status)ifs_fmi_get_state(comp, "fmi2GetFMUstate", state);
 }
 
 IFS_EXPORT fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_set(&c->i.s, &c->i.log, "fmi2SetFMUstate", state);
+    return (fmi2Status)ifs_fmi_set_state(comp, "fmi2SetFMUstate", state);
 }
 
 IFS_EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state)
 {
-    Instance *c = (Instance *)comp;
-    if (!c || !state) return fmi2Error;
-    if (*state) c->cb.freeMemory(*state);
-    *state = NULL;
-    return fmi2OK;
+    return (fmi2Status)ifs_fmi_free_state(comp, state);
 }
 
 IFS_EXPORT fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state,
                                                  size_t *size)
 {
     (void)state;
-    if (!comp || !size) return fmi2Error;
-    *size = sizeof(IfsSavedState);
-    return fmi2OK;
+    return (fmi2Status)ifs_fmi_state_size(comp, size);
 }
 
 IFS_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state,
                                             fmi2Byte bytes[], size_t size)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_serialize(&c->i.log, "fmi2SerializeFMUstate", state,
-                                           (unsigned char *)bytes, size);
+    return (fmi2Status)ifs_fmi_serialize(comp, "fmi2SerializeFMUstate", state,
+                                         (unsigned char *)bytes, size);
 }
 
 IFS_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte bytes[],
                                               size_t size, fmi2FMUstate *state)
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_state_deserialize(&c->i.log, "fmi2DeSerializeFMUstate",
-                                             (const unsigned char *)bytes, size, state,
-                                             ifs_instance_calloc, &c->i);
+    return (fmi2Status)ifs_fmi_deserialize(comp, "fmi2DeSerializeFMUstate",
+                                           (const unsigned char *)bytes, size, state);
 }
 
 IFS_EXPORT fmi2Status fmi2GetDirectionalDerivative(
     fmi2Component comp, const fmi2ValueReference unknown[], size_t nu,
     const fmi2ValueReference known[], size_t nk, const fmi2Real dknown[], fmi2Real dunknown[])
 {
-    Instance *c = (Instance *)comp;
-    if (!c) return fmi2Error;
-    return (fmi2Status)ifs_slave_directional(&c->i.s, &c->i.log, "fmi2GetDirectionalDerivative",
-                                             unknown, nu, known, nk, dknown, dunknown);
+    return (fmi2Status)ifs_fmi_directional(comp, "fmi2GetDirectionalDerivative", unknown, nu,
+                                           known, nk, dknown, dunknown);
 }
 
 /* --- co-simulation --- */

@@ -1,7 +1,7 @@
 /*
  * FMI 3.0 co-simulation interface of the inflowsim rotor flap / inflow model: a
- * thin layer over the slave in inflow_slave.[ch], the same one the FMI 2.0 layer
- * uses, so both FMUs step identically.  Co-simulation only, no event mode, no
+ * thin layer over the FMI shim (inflow_fmi.h) and the slave in inflow_slave.[ch],
+ * the same ones the FMI 2.0 layer uses, so both FMUs step identically.  Co-simulation only, no event mode, no
  * clocks; the real variables are Float64, the structure Int32, and "time" is the
  * independent variable (read-only).  No global mutable state.
  */
@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "fmi3Functions.h"
-#include "inflow_slave.h"
+#include "inflow_fmi.h"
 
 typedef struct {
     IfsInstance i;             /* first, 64-byte aligned (see instantiate) */
@@ -31,9 +31,7 @@ static void emit(void *env, int status, const char *category, const char *messag
 
 static fmi3Status refuse(fmi3Instance inst, const char *what)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return ERR(c, "%s", what);
+    return (fmi3Status)ifs_fmi_refuse(inst, what);
 }
 
 /* --- common functions --- */
@@ -43,12 +41,9 @@ IFS_EXPORT const char *fmi3GetVersion(void) { return fmi3Version; }
 IFS_EXPORT fmi3Status fmi3SetDebugLogging(fmi3Instance inst, fmi3Boolean on, size_t n,
                                           const fmi3String categories[])
 {
-    Instance *c = (Instance *)inst;
     (void)n;
     (void)categories;
-    if (!c) return fmi3Error;
-    c->i.log.debug = on;
-    return fmi3OK;
+    return (fmi3Status)ifs_fmi_set_debug_logging(inst, on);
 }
 
 /* the C library's allocator behind IfsCalloc */
@@ -124,29 +119,24 @@ IFS_EXPORT fmi3Instance fmi3InstantiateScheduledExecution(
 
 IFS_EXPORT void fmi3FreeInstance(fmi3Instance inst)
 {
-    if (inst) ifs_instance_free(&((Instance *)inst)->i);
+    ifs_fmi_free_instance(inst);
 }
 
 IFS_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean tol_defined,
                                                   fmi3Float64 tol, fmi3Float64 start,
                                                   fmi3Boolean stop_defined, fmi3Float64 stop)
 {
-    Instance *c = (Instance *)inst;
     const char *fn = "fmi3EnterInitializationMode";
     (void)tol_defined;
     (void)tol;
-    if (!c) return fmi3Error;
-    if (ifs_slave_set_start_time(&c->i.s, &c->i.log, fn, start, stop_defined != fmi3False,
-                                 stop) != IFS_OK)
+    if (ifs_fmi_setup(inst, fn, start, stop_defined != fmi3False, stop) != IFS_OK)
         return fmi3Error;
-    return (fmi3Status)ifs_slave_enter_init(&c->i.s, &c->i.log, fn);
+    return (fmi3Status)ifs_fmi_enter_init(inst, fn);
 }
 
 IFS_EXPORT fmi3Status fmi3ExitInitializationMode(fmi3Instance inst)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return (fmi3Status)ifs_slave_exit_init(&c->i.s, &c->i.log, "fmi3ExitInitializationMode");
+    return (fmi3Status)ifs_fmi_exit_init(inst, "fmi3ExitInitializationMode");
 }
 
 IFS_EXPORT fmi3Status fmi3EnterEventMode(fmi3Instance inst)
@@ -156,25 +146,22 @@ IFS_EXPORT fmi3Status fmi3EnterEventMode(fmi3Instance inst)
 
 IFS_EXPORT fmi3Status fmi3Terminate(fmi3Instance inst)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    c->i.s.phase = IFS_PH_TERMINATED;
-    ifs_slave_refresh(&c->i.s);
-    return fmi3OK;
+    return (fmi3Status)ifs_fmi_terminate(inst);
 }
 
 IFS_EXPORT fmi3Status fmi3Reset(fmi3Instance inst)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    ifs_slave_init(&c->i.s);
-    return fmi3OK;
+    return (fmi3Status)ifs_fmi_reset(inst);
 }
 
 /* --- get / set --- */
 
-static int counts_ok(Instance *c, const char *fn, size_t nvr, size_t nv)
+/* 1 if there are as many values as value references; 0 (an error, logged) if
+ * not, or for a null instance */
+static int counts_ok(fmi3Instance inst, const char *fn, size_t nvr, size_t nv)
 {
+    Instance *c = (Instance *)inst;
+    if (!c) return 0;
     if (nv == nvr) return 1;
     ERR(c, "%s: %u values for %u value references (every variable is a scalar)", fn,
         (unsigned)nv, (unsigned)nvr);
@@ -187,8 +174,7 @@ IFS_EXPORT fmi3Status fmi3GetFloat64(fmi3Instance inst, const fmi3ValueReference
     Instance *c = (Instance *)inst;
     const char *fn = "fmi3GetFloat64";
     size_t i;
-    if (!c) return fmi3Error;
-    if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
+    if (!counts_ok(inst, fn, nvr, nv)) return fmi3Error;
     if (nvr > 0 && (!vr || !values)) return ERR(c, "%s: null array", fn);
     for (i = 0; i < nvr && vr[i] != IFS_VR_time; i++) {}
     if (i == nvr)
@@ -209,8 +195,7 @@ IFS_EXPORT fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference
     Instance *c = (Instance *)inst;
     const char *fn = "fmi3SetFloat64";
     size_t i;
-    if (!c) return fmi3Error;
-    if (!counts_ok(c, fn, nvr, nv)) return fmi3Error;
+    if (!counts_ok(inst, fn, nvr, nv)) return fmi3Error;
     if (ifs_slave_set_mu(&c->i.s, vr, nvr, values)) return fmi3OK;
     for (i = 0; vr && i < nvr; i++)
         if (vr[i] == IFS_VR_time)
@@ -221,29 +206,22 @@ IFS_EXPORT fmi3Status fmi3SetFloat64(fmi3Instance inst, const fmi3ValueReference
 IFS_EXPORT fmi3Status fmi3GetInt32(fmi3Instance inst, const fmi3ValueReference vr[],
                                    size_t nvr, fmi3Int32 values[], size_t nv)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    if (!counts_ok(c, "fmi3GetInt32", nvr, nv)) return fmi3Error;
-    return (fmi3Status)ifs_slave_get_ints(&c->i.s, &c->i.log, "fmi3GetInt32", vr, nvr, values);
+    if (!counts_ok(inst, "fmi3GetInt32", nvr, nv)) return fmi3Error;
+    return (fmi3Status)ifs_fmi_get_ints(inst, "fmi3GetInt32", vr, nvr, values);
 }
 
 IFS_EXPORT fmi3Status fmi3SetInt32(fmi3Instance inst, const fmi3ValueReference vr[],
                                    size_t nvr, const fmi3Int32 values[], size_t nv)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    if (!counts_ok(c, "fmi3SetInt32", nvr, nv)) return fmi3Error;
-    return (fmi3Status)ifs_slave_set_ints(&c->i.s, &c->i.log, "fmi3SetInt32", vr, nvr, values);
+    if (!counts_ok(inst, "fmi3SetInt32", nvr, nv)) return fmi3Error;
+    return (fmi3Status)ifs_fmi_set_ints(inst, "fmi3SetInt32", vr, nvr, values);
 }
 
 /* Types this FMU has no variables of: an empty call is fine, anything else an error. */
 static fmi3Status no_such_type(fmi3Instance inst, const char *fn, const fmi3ValueReference vr[],
                                size_t nvr)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    if (nvr == 0) return fmi3OK;
-    return ERR(c, "%s: %u: this FMU has no variables of this type", fn, vr ? vr[0] : 0u);
+    return (fmi3Status)ifs_fmi_no_such_type(inst, fn, "variables of this type", vr, nvr);
 }
 
 #define NO_SUCH_TYPE(fn, T)                                                                \
@@ -348,52 +326,36 @@ IFS_EXPORT fmi3Status fmi3GetVariableDependencies(
 
 IFS_EXPORT fmi3Status fmi3GetFMUState(fmi3Instance inst, fmi3FMUState *state)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_get(&c->i.s, &c->i.log, "fmi3GetFMUState", state,
-                                     ifs_instance_calloc, &c->i);
+    return (fmi3Status)ifs_fmi_get_state(inst, "fmi3GetFMUState", state);
 }
 
 IFS_EXPORT fmi3Status fmi3SetFMUState(fmi3Instance inst, fmi3FMUState state)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_set(&c->i.s, &c->i.log, "fmi3SetFMUState", state);
+    return (fmi3Status)ifs_fmi_set_state(inst, "fmi3SetFMUState", state);
 }
 
 IFS_EXPORT fmi3Status fmi3FreeFMUState(fmi3Instance inst, fmi3FMUState *state)
 {
-    if (!inst || !state) return fmi3Error;
-    free(*state);
-    *state = NULL;
-    return fmi3OK;
+    return (fmi3Status)ifs_fmi_free_state(inst, state);
 }
 
 IFS_EXPORT fmi3Status fmi3SerializedFMUStateSize(fmi3Instance inst, fmi3FMUState state,
                                                  size_t *size)
 {
     (void)state;
-    if (!inst || !size) return fmi3Error;
-    *size = sizeof(IfsSavedState);
-    return fmi3OK;
+    return (fmi3Status)ifs_fmi_state_size(inst, size);
 }
 
 IFS_EXPORT fmi3Status fmi3SerializeFMUState(fmi3Instance inst, fmi3FMUState state,
                                             fmi3Byte bytes[], size_t size)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_serialize(&c->i.log, "fmi3SerializeFMUState", state, bytes,
-                                           size);
+    return (fmi3Status)ifs_fmi_serialize(inst, "fmi3SerializeFMUState", state, bytes, size);
 }
 
 IFS_EXPORT fmi3Status fmi3DeserializeFMUState(fmi3Instance inst, const fmi3Byte bytes[],
                                               size_t size, fmi3FMUState *state)
 {
-    Instance *c = (Instance *)inst;
-    if (!c) return fmi3Error;
-    return (fmi3Status)ifs_state_deserialize(&c->i.log, "fmi3DeserializeFMUState", bytes, size,
-                                             state, ifs_instance_calloc, &c->i);
+    return (fmi3Status)ifs_fmi_deserialize(inst, "fmi3DeserializeFMUState", bytes, size, state);
 }
 
 /* --- derivatives (exact zeros: no direct feedthrough); not provided: adjoints,
@@ -412,8 +374,8 @@ IFS_EXPORT fmi3Status fmi3GetDirectionalDerivative(
                                    "sensitivities for %lu unknowns", fn, (unsigned long)ns,
                                    (unsigned long)nk, (unsigned long)nsens,
                                    (unsigned long)nu);
-    return (fmi3Status)ifs_slave_directional(&c->i.s, &c->i.log, fn, unknowns, nu, knowns, nk,
-                                             seed, sensitivity);
+    return (fmi3Status)ifs_fmi_directional(inst, fn, unknowns, nu, knowns, nk, seed,
+                                           sensitivity);
 }
 
 IFS_EXPORT fmi3Status fmi3GetAdjointDerivative(

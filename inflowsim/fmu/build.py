@@ -5,7 +5,8 @@ for FMI 2.0, ``binaries/x86_64-linux/inflowsim.so`` for FMI 3.0; no Python insid
 ``sources/`` (every C source and the FMI headers) and ``documentation/index.html``.
 The variable table and ``modelDescription.xml`` are regenerated from
 :mod:`.variables` for every build, so they always agree.  Both FMI versions are
-thin layers (``inflow_fmi2.c``, ``inflow_fmi3.c``) over the same slave and model.
+thin layers (``inflow_fmi2.c``, ``inflow_fmi3.c``) over one shim (``inflow_fmi.h``),
+the same slave and model.
 """
 from __future__ import annotations
 
@@ -28,7 +29,8 @@ from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 #: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
 #: come from Python), then each FMI version's layer and headers.
 CORE_SOURCES = ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c")
-CORE_HEADERS = ("inflow_numerics.h", "inflow_model.h", "inflow_slave.h", "inflow_names.h")
+CORE_HEADERS = ("inflow_numerics.h", "inflow_model.h", "inflow_slave.h", "inflow_fmi.h",
+                "inflow_names.h")
 LAYER = {2: ("inflow_fmi2.c", ("fmi2Functions.h", "fmi2FunctionTypes.h",
                                "fmi2TypesPlatform.h")),
          3: ("inflow_fmi3.c", ("fmi3Functions.h", "fmi3FunctionTypes.h",
