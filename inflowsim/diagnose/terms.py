@@ -771,7 +771,10 @@ class _Augmented(Problem):
     (``splits``: ``(parameter, group)``, each a free offset ``delta`` of the
     parameter in that group's rows) and, optionally, one entry's coefficient ``k``
     free (``entry``: ``(block, row, variable)``), appended to the free vector in
-    that order."""
+    that order.  Its responses are not its models' alone (the entry's feedthrough
+    and lags): its Jacobian is differenced as a whole."""
+
+    models_alone = False
 
     def __init__(self, structure, spectra, values, fixed, ties, splits, entry, n_inputs):
         super().__init__(structure, spectra, values, fixed=fixed, ties=ties)

@@ -40,7 +40,19 @@ class Problem:
 
     ``theta`` (free values) -> full parameter dict: each free entry sets one
     parameter or one tie group; fixed parameters keep their values.
+
+    Attributes
+    ----------
+    models_alone : bool
+        The responses are those of the structure's models alone (class attribute;
+        True): :meth:`jacobian` differentiates the models' matrices through the
+        resolvent.  A subclass whose responses are not (its own
+        :meth:`_responses_many`: the map of missing terms' augmented problems, with
+        an input feedthrough and lagged terms outside the models' matrices) sets it
+        False and is differenced as a whole (:meth:`_jacobian_by_differences`).
     """
+
+    models_alone: bool = True
 
     def __init__(self, structure, spectra, values: dict, fixed=(), ties=()):
         self.structure = Structure.parse(structure)
@@ -258,13 +270,12 @@ class Problem:
         columns (Kaufman's variable-projection Jacobian).  Returns one block per
         record, ``(2 nf 3, p)``.
 
-        A problem whose responses are not those of its models alone (a subclass
-        with its own :meth:`_responses_many`: the map of missing terms' augmented
-        problems, whose entries include an input feedthrough and lagged terms
-        outside the model's matrices) is differenced as a whole
-        (:meth:`_jacobian_by_differences`).
+        A problem whose responses are not those of its models alone
+        (:attr:`models_alone` False: the map of missing terms' augmented problems,
+        whose entries include an input feedthrough and lagged terms outside the
+        model's matrices) is differenced as a whole (:meth:`_jacobian_by_differences`).
         """
-        if type(self)._responses_many is not Problem._responses_many:
+        if not self.models_alone:
             return self._jacobian_by_differences(theta, weights, nus, bases, central)
         lo, hi = self.bounds()
         h = 1e-6 * self.typical(theta)
