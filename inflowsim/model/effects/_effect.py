@@ -250,6 +250,33 @@ class Effect:
     loads: Callable | None = None
     runtime: Callable | None = None
 
+    @classmethod
+    def of_one(cls, *, spec: ParameterSpec, theory, neutral=None, **fields) -> "Effect":
+        """An effect of one parameter, ``spec``'s, named once: its ``parameters``,
+        ``specs``, ``theory`` and ``neutral`` from it.
+
+        Parameters
+        ----------
+        spec : ParameterSpec
+            The parameter.
+        theory : float or callable
+            Its a-priori value [``spec.unit``], or ``Constants -> value``.
+        neutral : float or callable, optional
+            Its value at which the effect changes nothing, or ``Constants -> value``
+            (default: the theory value, neutral).
+        **fields
+            The other fields (``name``, ``physics``, ``paper``, ``equations`` ...).
+        """
+        def values(v):
+            if v is None:
+                return None
+            if callable(v):
+                return lambda k: {spec.name: v(k)}
+            v = float(v)
+            return lambda k: {spec.name: v}
+        return cls(parameters=(spec.name,), theory=values(theory), neutral=values(neutral),
+                   specs=(spec,), **fields)
+
     def plausible_ranges(self, constants: Constants) -> dict:
         """``{name: (low, high, why)}`` of its parameters, in their own units."""
         out = {}

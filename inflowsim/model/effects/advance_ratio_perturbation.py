@@ -106,20 +106,19 @@ def _equations(eq, p, k):
     return eq.with_(h_u=h_u, p_u=p_u)
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name=NAME,
     physics="In-plane velocity perturbations change the blades' own airspeed and the "
             "flap-induced normal velocity, forcing flap and rotor loads directly, not "
             "only through the inflow.",
     paper="extension: the paper holds mu constant",
-    parameters=("k_mu",),
-    theory=lambda k: {"k_mu": 1.0},
-    neutral=lambda k: {"k_mu": 0.0},
+    theory=1.0,
+    neutral=0.0,
     equations=_equations,
-    specs=(ParameterSpec("k_mu", "-", "scale of the direct in-plane velocity forcing of "
-                         "flap and loads (theory 1, neutral 0)", -10.0, 10.0,
-                         plausible=(0.5, 1.5, "the blade-element linearisation is exact "
-                                              "for small perturbations: theory 1")),),
+    spec=ParameterSpec("k_mu", "-", "scale of the direct in-plane velocity forcing of "
+                       "flap and loads (theory 1, neutral 0)", -10.0, 10.0,
+                       plausible=(0.5, 1.5, "the blade-element linearisation is exact "
+                                            "for small perturbations: theory 1")),
     uses_inplane=True,
     about_trim=True,
 )

@@ -23,19 +23,18 @@ def _measurement(m, p, k):
     return m.with_(azimuth_bias=p["azimuth_bias"])
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name="azimuth-bias",
     physics="The recorded blade azimuth is offset, so recorded cyclic flap and pitch "
             "are rotated copies of the true ones: a phase error shared by beta1c and "
             "beta1s.",
     paper="Section 2.3",
-    parameters=("azimuth_bias",),
-    theory=lambda k: {"azimuth_bias": 0.0},
+    theory=0.0,
     equations=_equations,
-    specs=(ParameterSpec("azimuth_bias", "rad", "offset of the recorded blade azimuth",
-                         -math.pi, math.pi, plausible=(-0.5, 0.5, "an azimuth offset over "
-                                                       "30 deg points at a wiring or sign "
-                                                       "error, not a bias")),),
+    spec=ParameterSpec("azimuth_bias", "rad", "offset of the recorded blade azimuth",
+                       -math.pi, math.pi, plausible=(-0.5, 0.5, "an azimuth offset over "
+                                                     "30 deg points at a wiring or sign "
+                                                     "error, not a bias")),
     measurement=_measurement,
 )
 

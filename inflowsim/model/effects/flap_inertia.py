@@ -41,20 +41,19 @@ def _equations(eq, p, k):
     return eq.with_(m2=p["flap_inertia"] * np.eye(3))
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name="flap-inertia",
     physics="The blades' own flap inertia: the multiblade flap second derivatives "
             "that first-order flapping drops matter near the flap regressing mode "
             "(second-order flapping, nine states).",
     paper="Section 2 (terms neglected in Eq. 1)",
-    parameters=("flap_inertia",),
-    theory=lambda k: {"flap_inertia": 1.0},
-    neutral=lambda k: {"flap_inertia": FLOOR},
+    theory=1.0,
+    neutral=FLOOR,
     equations=_equations,
-    specs=(ParameterSpec("flap_inertia", "-", "coefficient of the multiblade flap second "
-                         "derivatives (1: the blades' own inertia; 0: first-order "
-                         "flapping)", FLOOR, 10.0, plausible=(0.5, 1.5, "the flap equation "
-                         "is normalised by the blade's own inertia: theory 1")),),
+    spec=ParameterSpec("flap_inertia", "-", "coefficient of the multiblade flap second "
+                       "derivatives (1: the blades' own inertia; 0: first-order "
+                       "flapping)", FLOOR, 10.0, plausible=(0.5, 1.5, "the flap equation "
+                       "is normalised by the blade's own inertia: theory 1")),
     second_order=True,
     boundary=("flap_inertia",),
 )

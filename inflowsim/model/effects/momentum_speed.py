@@ -133,26 +133,25 @@ def _equations(eq, p, k):
                     p_lambda=eq.p_lambda + s * a[:, 6:9], p_u=eq.p_u + s * b)
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name=NAME,
     physics="The speed through the disc of Eq. (14) moves with the blade normal "
             "velocity and the inflow itself: linearised over the whole disc it changes "
             "the mass flow of every inflow harmonic and couples the mean inflow to "
             "collective, climb and coning rate, beyond the paper's Glauert terms.",
     paper="Eq. (14), linearised without the approximations of Eqs. (16)-(18)",
-    parameters=("k_V",),
-    theory=lambda k: {"k_V": 1.0},
-    neutral=lambda k: {"k_V": 0.0},
+    theory=1.0,
+    neutral=0.0,
     equations=_equations,
     uses_inplane=True,
     about_trim=True,
     runtime=_runtime,
     alternatives=("glauert",),
     offered=False,
-    specs=(ParameterSpec("k_V", "-", "scale of Eq. (14)'s linearised speed terms "
-                         "(theory 1, neutral 0: the paper's V = mu)", -5.0, 5.0,
-                         plausible=(0.5, 1.5, "the linearisation is exact for small "
-                                              "perturbations: theory 1")),),
+    spec=ParameterSpec("k_V", "-", "scale of Eq. (14)'s linearised speed terms "
+                       "(theory 1, neutral 0: the paper's V = mu)", -5.0, 5.0,
+                       plausible=(0.5, 1.5, "the linearisation is exact for small "
+                                            "perturbations: theory 1")),
 )
 
 

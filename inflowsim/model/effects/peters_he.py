@@ -177,7 +177,7 @@ def _effect(name: str, power: int) -> Effect:
         return parts(power, k.mu, k.flow_speed, k.a0s, p["n_beta"], p["k_ph"])["loads"]
 
     n_total = len(state_names) + 3
-    return Effect(
+    return Effect.of_one(
         name=name,
         physics=f"The induced inflow has more radial and harmonic shape than the linear "
                 f"lambda0 + r (lambda1c cos + lambda1s sin): Peters-He finite-state "
@@ -185,11 +185,10 @@ def _effect(name: str, power: int) -> Effect:
                 "skewed wake's couplings between its harmonics, its higher states and "
                 "skew coupled to flap and the recorded inflow by k_ph.",
         paper="extension (Peters & He 1991, 1995 finite-state inflow)",
-        parameters=("k_ph",),
-        theory=lambda k: {"k_ph": 1.0},
-        neutral=lambda k: {"k_ph": 0.0},
+        theory=1.0,
+        neutral=0.0,
         equations=equations,
-        specs=(SPEC,),
+        spec=SPEC,
         alternatives=tuple(n for n in POWERS if n != name) + ("skewed-wake",),
         # the lowest order only: its detection study (bench/rotor-physics.md) named it
         # first and raised no alarm; higher orders are asked for by name

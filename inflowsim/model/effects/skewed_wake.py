@@ -87,20 +87,19 @@ def theory_skew(k) -> float:
     return be.pitt_peters_skew_gain(be.wake_skew_angle(k.mu, lam[0], muz))
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name="skewed-wake",
     physics="The wake is swept aft in forward flight: thrust raises the inflow at the "
             "rear of the disc and a nose-up moment raises the mean inflow (Pitt-Peters "
             "coupling of lambda0 and lambda1c).",
     paper="extension (Pitt-Peters gain matrix)",
-    parameters=("k_skew",),
-    theory=lambda k: {"k_skew": theory_skew(k)},
-    neutral=lambda k: {"k_skew": 0.0},
+    theory=theory_skew,
+    neutral=0.0,
     equations=_equations,
-    specs=(ParameterSpec("k_skew", "-", "Pitt-Peters wake-skew coupling 15 pi/64 "
-                         "tan(chi/2) between lambda0 and lambda1c", -10.0, 10.0,
-                         plausible=(0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is positive "
-                                              "and below 15 pi/64")),),
+    spec=ParameterSpec("k_skew", "-", "Pitt-Peters wake-skew coupling 15 pi/64 "
+                       "tan(chi/2) between lambda0 and lambda1c", -10.0, 10.0,
+                       plausible=(0.0, 1.5, "Pitt-Peters 15 pi/64 tan(chi/2) is positive "
+                                            "and below 15 pi/64")),
 )
 
 

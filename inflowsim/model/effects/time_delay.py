@@ -14,20 +14,19 @@ def _measurement(m, p, k):
     return m.with_(delays=(p["delay"],) * 3)
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name="time-delay",
     physics="The measurement chain shifts the recorded flap in time (a lag, or a "
             "lead): a phase error growing linearly with frequency on every flap "
             "channel.",
     paper="Section 2.2",
-    parameters=("delay",),
-    theory=lambda k: {"delay": 0.0},
+    theory=0.0,
     measurement=_measurement,
-    specs=(ParameterSpec("delay", "s", "time shift of the recorded flap channels (delay > "
-                         "0, lead < 0)", -1.0, 1.0, plausible=(-0.1, 0.1, "measurement-"
-                         "chain time shifts are tens of milliseconds"),
-                         physical=(0.0, 1.0, "a measurement chain delays the recorded "
-                                   "flap; it cannot lead the pitch that drives it")),),
+    spec=ParameterSpec("delay", "s", "time shift of the recorded flap channels (delay > "
+                       "0, lead < 0)", -1.0, 1.0, plausible=(-0.1, 0.1, "measurement-"
+                       "chain time shifts are tens of milliseconds"),
+                       physical=(0.0, 1.0, "a measurement chain delays the recorded "
+                                 "flap; it cannot lead the pitch that drives it")),
     alternatives=("delay-beta0", "delay-beta1c", "delay-beta1s"),
 )
 

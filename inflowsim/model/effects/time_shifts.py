@@ -37,21 +37,20 @@ def _input(channel):
 
 def _effect(channel, output):
     kind = "flap channel" if output else "input"
-    return Effect(
+    return Effect.of_one(
         name=f"delay-{channel}",
         physics=f"The recorded {kind} {channel} is shifted in time against the other "
                 "channels (a data-system skew, lag or lead).",
         paper="Section 2.2 (time shifts in the input and output vectors)",
-        parameters=(f"delay_{channel}",),
-        theory=lambda k, c=channel: {f"delay_{c}": 0.0},
+        theory=0.0,
         measurement=_output(channel) if output else _input(channel),
         uses_inplane=channel in ("mux", "muy"),
         alternatives=("time-delay",) if output else (),
         offered=False,
-        specs=(ParameterSpec(f"delay_{channel}", "s", f"time shift of the recorded "
-                             f"{channel} (delay > 0, lead < 0)", -1.0, 1.0,
-                             plausible=(-0.1, 0.1, "data-system skews are tens of "
-                                                   "milliseconds")),),
+        spec=ParameterSpec(f"delay_{channel}", "s", f"time shift of the recorded "
+                           f"{channel} (delay > 0, lead < 0)", -1.0, 1.0,
+                           plausible=(-0.1, 0.1, "data-system skews are tens of "
+                                                 "milliseconds")),
     )
 
 

@@ -84,25 +84,24 @@ def keller_gain(chi: float) -> float:
     return float(np.interp(min(abs(math.degrees(chi)), 90.0), deg, val))
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name="wake-distortion",
     physics="The rotor's pitch and roll rate bend its wake (each part shed from the "
             "tip-path plane of its moment), which adds an inflow gradient along the "
             "rate: nose-up raises the inflow at the rear of the disc (Keller's K_R).",
     paper="extension (Keller 1996; Krothapalli, Prasad and Peters 2001; Zhao, Prasad "
           "and Peters 2004)",
-    parameters=("K_R",),
-    theory=lambda k: {"K_R": keller_gain(skew_angle(k))},
-    neutral=lambda k: {"K_R": 0.0},
+    theory=lambda k: keller_gain(skew_angle(k)),
+    neutral=0.0,
     equations=_equations,
     # offered by default: the detection study of bench/wake.md
     offered=True,
-    specs=(ParameterSpec("K_R", "-", "wake-curvature gain: cyclic inflow per tip-path "
-                         "plane pitch and roll rate (Keller)", -20.0, 20.0,
-                         plausible=(0.0, 2.5, "the kinematic wake's vortex tube gives "
-                                              "1.5 in hover (Keller), less as the wake "
-                                              "skews; correlations with flight data "
-                                              "use 1-2")),),
+    spec=ParameterSpec("K_R", "-", "wake-curvature gain: cyclic inflow per tip-path "
+                       "plane pitch and roll rate (Keller)", -20.0, 20.0,
+                       plausible=(0.0, 2.5, "the kinematic wake's vortex tube gives "
+                                            "1.5 in hover (Keller), less as the wake "
+                                            "skews; correlations with flight data "
+                                            "use 1-2")),
 )
 
 

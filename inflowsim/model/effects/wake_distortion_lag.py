@@ -79,23 +79,22 @@ def transport_speed(k) -> float:
     return ld.momentum_inflow(0.0, k.ct) if k.ct is not None else 1.0
 
 
-EFFECT = Effect(
+EFFECT = Effect.of_one(
     name=NAME,
     physics="The wake's curvature lags the disc's pitch and roll rate (it cannot bend "
             "faster than it is carried away): wake-distortion's gradient through a "
             "first-order lag tau_w (with wake-distortion).",
     paper="extension (Zhao, Prasad and Peters 2004, dynamic wake distortion)",
-    parameters=("tau_w",),
-    theory=lambda k: {"tau_w": 1.0 / transport_speed(k)},
-    neutral=lambda k: {"tau_w": FLOOR},
+    theory=lambda k: 1.0 / transport_speed(k),
+    neutral=FLOOR,
     equations=_equations,
     offered=False,
     boundary=("tau_w",),
-    specs=(ParameterSpec("tau_w", "azimuth rad", "wake curvature's lag (Zhao et al.)",
-                         FLOOR, 1e3, plausible=(0.0, 1.5, "the wake's transport over "
-                                                "about a radius: under 1 s for "
-                                                "full-scale rotors"),
-                         plausible_seconds=True),),
+    spec=ParameterSpec("tau_w", "azimuth rad", "wake curvature's lag (Zhao et al.)",
+                       FLOOR, 1e3, plausible=(0.0, 1.5, "the wake's transport over "
+                                              "about a radius: under 1 s for "
+                                              "full-scale rotors"),
+                       plausible_seconds=True),
     states=STATES,
 )
 
