@@ -246,11 +246,8 @@ def report_html(result, df, figure=None) -> str:
 
     Parameters
     ----------
-    result : CampaignResult
-    df : pandas.DataFrame
-        The campaign table.
-    figure : str, optional
-        The figure's file name beside the page.
+    result, df, figure
+        As :func:`report_markdown` (the figure beside the page).
     """
     from ..report.document import render_page
     return render_page("Campaign report", report_blocks(result, df, figure),

@@ -1062,22 +1062,9 @@ def select(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
 
     Parameters
     ----------
-    records : list of Record
-        The records the fits are made on.
-    base_fit : FitResult
-        The base structure's fit.
-    band_hz : (float, float)
-        Analysis band [Hz].
-    fit_fn : callable
-        ``fit_fn(records, structure, band_hz=, start=, fixed=)`` -> FitResult.
-    pool : list of str, optional
-        Candidate effects (default the catalogue's offered ones).
-    judge : callable, optional
-        The excess measure (:func:`inflowsim.diagnose.excess.judge`).
-    rule : Rule
-        The settings.
-    progress : callable, optional
-        Progress (:mod:`inflowsim.progress`).
+    records, base_fit, band_hz, fit_fn, pool, judge, rule, progress
+        :func:`lattice`'s (lines 1 and 2), which takes them; ``rule`` also decides
+        (lines 3 to 5).
     """
     rows = lattice(records, base_fit, band_hz, fit_fn, pool, judge, rule,     # 1, 2
                    progress)

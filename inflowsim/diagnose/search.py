@@ -179,12 +179,9 @@ def failures_of(records, fit, band_hz, analyses=None,
 
     Parameters
     ----------
-    records : Record, path or list of them
-        The flight-test records (each with its own flight condition and trim).
-    fit : FitResult
-        The fitted structure.
-    band_hz : (float, float)
-        Analysis band [Hz].
+    records, fit, band_hz
+        The records, the fitted structure and the analysis band [Hz], as
+        :func:`analyses_of`.
     analyses : list of ResidualAnalysis, optional
         The fit's residual analyses (default: computed, :func:`analyses_of`).
     rule : Rule

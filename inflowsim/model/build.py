@@ -149,12 +149,9 @@ def descriptor(structure, params, constants):
 
     Parameters
     ----------
-    structure : str or Structure
-        The structure.
-    params : mapping of str to float
-        Its parameters (SI; angles [rad], time constants in azimuth units [-]).
-    constants : Constants
-        Flight condition and rotor (``mu`` [-], ``omega`` [rad/s], ``a0`` [1/rad] ...).
+    structure, params, constants
+        As :func:`equations`: the structure, its parameters (SI) and the flight
+        condition and rotor (``mu`` [-], ``omega`` [rad/s], ``a0`` [1/rad] ...).
     """
     s, p, eq, _ = equations(structure, params, constants)
     e, a, b = assemble(eq, s.second_order)
