@@ -11,8 +11,8 @@ material), and says how much excess is left (the verdict).
 from __future__ import annotations
 
 from ._common import (add_model_arguments, add_record_arguments, add_search_arguments,
-                      check_search_arguments, pool_with, print_json, progress,
-                      read_records, start_values)
+                      check_search_arguments, emit, pool_with, progress, read_records,
+                      start_values)
 
 HELP = "where a model fails on a record, and the ranked candidate effects"
 
@@ -34,11 +34,5 @@ def run(args) -> int:
     d = diagnose(recs, args.model, tuple(args.band), start=start, pool=pool_with(args.candidates, args.also),
                  alpha=args.alpha, progress=progress, hold=args.hold,
                  manoeuvres=standard_manoeuvres)
-    if args.report:
-        path = diagnosis_report(d).write(args.report, protect=args.record)
-        progress(f"report: {path}")
-    if args.json:
-        print_json(d.to_json())
-    else:
-        print(format_diagnosis(d))
+    emit("diagnose", args, d, diagnosis_report, format_diagnosis, protect=args.record)
     return 0

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 from ..defaults import MAX_STEPS
 from ._common import (add_effect_arguments, add_record_arguments, add_search_arguments,
-                      check_search_arguments, pool_with, print_json, progress,
-                      read_records)
+                      check_search_arguments, emit, pool_with, progress, read_records)
 
 HELP = "add the missing effect and refit until none is left, or climb given structures"
 
@@ -46,11 +45,6 @@ def run(args) -> int:
                      pool=pool_with(args.candidates, args.also), alpha=args.alpha,
                      progress=progress,
                      hold=args.hold, manoeuvres=standard_manoeuvres)
-    if args.report:
-        path = ladder_report(lad, record=recs[0]).write(args.report, protect=args.record)
-        progress(f"report: {path}")
-    if args.json:
-        print_json(lad.to_json())
-    else:
-        print(ladder_markdown(lad))
+    emit("ladder", args, lad, lambda r: ladder_report(r, record=recs[0]), ladder_markdown,
+         protect=args.record)
     return 0
