@@ -386,16 +386,23 @@ static const IfsIntegerVar *integer_var(unsigned int vr)
     return NULL;
 }
 
+/* The Integer of value reference vr, or NULL with the error logged (fn's) */
+static const IfsIntegerVar *integer_or_log(const IfsLog *lg, const char *fn, unsigned int vr)
+{
+    const IfsIntegerVar *var = integer_var(vr);
+    if (!var)
+        ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of an Integer", fn, vr);
+    return var;
+}
+
 int ifs_slave_get_ints(const IfsSlave *s, const IfsLog *lg, const char *fn,
                        const unsigned int vr[], size_t n, int value[])
 {
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     for (i = 0; i < n; i++) {
-        const IfsIntegerVar *var = integer_var(vr[i]);
-        if (!var)
-            return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of an Integer",
-                           fn, vr[i]);
+        const IfsIntegerVar *var = integer_or_log(lg, fn, vr[i]);
+        if (!var) return IFS_ERROR;
         value[i] = *(const int *)((const char *)&s->v + var->offset);
     }
     return IFS_OK;
@@ -407,10 +414,8 @@ int ifs_slave_set_ints(IfsSlave *s, const IfsLog *lg, const char *fn,
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
     for (i = 0; i < n; i++) {
-        const IfsIntegerVar *var = integer_var(vr[i]);
-        if (!var)
-            return ifs_log(lg, IFS_ERROR, "%s: %u is not the value reference of an Integer",
-                           fn, vr[i]);
+        const IfsIntegerVar *var = integer_or_log(lg, fn, vr[i]);
+        if (!var) return IFS_ERROR;
         if (var->kind == IFS_FIXED && s->phase != IFS_PH_INSTANTIATED &&
             s->phase != IFS_PH_INIT)
             return ifs_log(lg, IFS_ERROR, "%s: %s is fixed after initialization", fn,
