@@ -87,7 +87,9 @@ def expm(x: np.ndarray) -> np.ndarray:
     OpenBLAS's default threads); in the fits (interleaved, best of 7) held-record
     fits 18-40 % slower with it, continuous ones unchanged (no call).  Its fits
     agree: ``check_same_fits.py --ladder`` moves only the zoh record's estimates, by
-    at most 7e-8 of their bounds, every decision the same.
+    at most 7e-8 of their bounds, every decision the same; the ladder from ``basic``
+    on that record takes the same rungs (estimates within 2e-7 of their bounds),
+    13 % more CPU.
     """
     nrm = np.abs(x).sum(axis=1).max() if x.size else 0.0
     s = max(0, int(np.ceil(np.log2(nrm / 0.5)))) if nrm > 0.5 else 0
