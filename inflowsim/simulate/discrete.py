@@ -73,8 +73,8 @@ class TaylorZoh:
         self.a, self.b = a, b
         n, m = b.shape
         na = n + m
-        # [a b] by rows and by columns (unpadded), the 1-norms |a| and |[a b]|:
-        # the FMU's preparation (taylor_prepare), on the same layout as its step's
+        # [a b] by rows and by columns (unpadded: rows n + m apart, columns n apart),
+        # the 1-norms |a| and |[a b]|: the FMU's preparation (taylor_prepare)
         self._abr, self._abc, norms = np.empty(n * na), np.empty(na * n), np.empty(2)
         taylor_prepare(np.ascontiguousarray(a, float).ravel(),
                        np.ascontiguousarray(b, float).ravel(), self._abr, self._abc, norms,
