@@ -36,6 +36,7 @@ def lib(tmp_path_factory):
     lib = ctypes.CDLL(str(so))
     d, i, p = ctypes.c_double, ctypes.c_int, ctypes.POINTER(ctypes.c_double)
     lib.ifs_taylor_count.argtypes, lib.ifs_taylor_count.restype = (d, d, d), i
+    lib.ifs_taylor_prepare.argtypes = (p, p, p, p, p)
     lib.ifs_expm.argtypes, lib.ifs_expm.restype = (p,), i
     lib.ifs_cheb_matrices.argtypes = (i, p, p)
     lib.ifs_power_fit.argtypes = (i, p, p, p, i, i, p, p, i)
@@ -44,7 +45,6 @@ def lib(tmp_path_factory):
     lib.ifs_mu_check.restype = d
     lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
     lib.ifs_taylor_step.argtypes = (p, p, i, d, p)
-    lib.ifs_taylor_prepare.argtypes = (p, p, p, p, p)
     lib.ifs_mu_guess.argtypes = (p, p)
     lib.ifs_mu_segment.argtypes, lib.ifs_mu_segment.restype = (p, p, d), i
     lib.ifs_mu_eval.argtypes = (p, p, p, d, p)

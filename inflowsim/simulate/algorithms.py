@@ -601,6 +601,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
            "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
-           "taylor_count", "taylor_prepare", "taylor_step", "expm", "cheb_matrices",
-           "power_fit", "mu_edges",
+           "taylor_prepare",
+           "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
            "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]
