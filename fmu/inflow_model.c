@@ -95,9 +95,9 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
         return -1;
     }
-    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= 0.5 && v->ct > 0.0)) {
+    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= IFS_MU_HI && v->ct > 0.0)) {
         snprintf(msg, msg_len, "mu = %g, ct = %g: the mass-flow speed needs mu in "
-                 "[0, 0.5] and a trim thrust coefficient ct > 0", v->mu, v->ct);
+                 "[0, %g] and a trim thrust coefficient ct > 0", v->mu, v->ct, IFS_MU_HI);
         return -1;
     }
     if (v->structure < 0 || v->structure >= IFS_N_STRUCTURES) {
