@@ -36,6 +36,35 @@ int ifs_taylor_count(double norm_a, double norm_ab, double r)
     return 0;
 }
 
+/* taylor_prepare: What the Taylor step of x' = a x + b u (taylor_step) needs from a (n
+ * x n) and b (n x m, row-major): [a b] by rows into abr (n rows rl apart) and by
+ * columns into abc (n + m columns ld apart), the padding zero; and the 1-norms that
+ * bound its terms (taylor_count), norms[0] = |a| and norms[1] = |[a b]| [1/s] (NaN if
+ * an entry is). The FMU's after a build or a change of mu (fmu/inflow_model.c), the
+ * Simulator's inflowsim.simulate.discrete.TaylorZoh */
+void ifs_taylor_prepare(const double *a, const double *b, double *abr, double *abc,
+                        double *norms)
+{
+    for (int i = 0; i < IFS_NX * IFS_RL; i++) {
+        abr[i] = 0.0;
+    }
+    for (int i = 0; i < (IFS_NX + IFS_NU) * IFS_LD; i++) {
+        abc[i] = 0.0;
+    }
+    for (int i = 0; i < IFS_NX; i++) {
+        for (int j = 0; j < IFS_NX; j++) {
+            abr[i * IFS_RL + j] = a[i * IFS_NX + j];
+            abc[j * IFS_LD + i] = a[i * IFS_NX + j];
+        }
+        for (int j = 0; j < IFS_NU; j++) {
+            abr[i * IFS_RL + IFS_NX + j] = b[i * IFS_NU + j];
+            abc[(IFS_NX + j) * IFS_LD + i] = b[i * IFS_NU + j];
+        }
+    }
+    norms[0] = ifs_norm1(a, IFS_NX, IFS_NX);
+    norms[1] = ifs_norm1(abr, IFS_NX, IFS_RL);
+}
+
 /* taylor_step: The step of length r [s] (either sign) of x' = a x + b u with u held,
  * by nk terms of the Taylor series of the solution (taylor_count): x(r) = x + sum_k
  * w_k, w_1 = r (a x + b u), w_k = (r / k) a w_(k-1) (the k-th derivative times r^k /

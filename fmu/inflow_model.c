@@ -58,7 +58,7 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
 
 static int taylor_count(const IfsModel *m, double r)
 {
-    return ifs_taylor_count(m->norm_a, m->norm_ab, r);
+    return ifs_taylor_count(m->norms[0], m->norms[1], r);
 }
 
 /* The azimuth bias: the outputs' rotation (recorded flap = true one rotated) and the
@@ -71,27 +71,12 @@ static void set_bias(IfsModel *m, const IfsVariables *v)
     build_loads(m, v);
 }
 
-/* What the remainder's Taylor series needs from a and b: [a b] by columns, and the
- * 1-norms of a and [a b] that bound its terms. */
+/* What the remainder's Taylor series needs from a and b ([a b] by rows and by
+ * columns, the 1-norms |a| and |[a b]| that bound its terms): generated from
+ * inflowsim.simulate.algorithms.taylor_prepare, the Simulator's TaylorZoh's too. */
 static void set_taylor(IfsModel *n)
 {
-    int i, j;
-    memset(n->abc, 0, sizeof n->abc);
-    memset(n->abr, 0, sizeof n->abr);
-    for (i = 0; i < NX; i++) {
-        for (j = 0; j < NX; j++)
-            n->abc[j * IFS_LD + i] = n->abr[i * IFS_RL + j] = n->a[i * NX + j];
-        for (j = 0; j < NU; j++)
-            n->abc[(NX + j) * IFS_LD + i] = n->abr[i * IFS_RL + NX + j] = n->b[i * NU + j];
-    }
-    n->norm_a = n->norm_ab = 0.0;
-    for (j = 0; j < NA; j++) {
-        double col = 0.0;
-        for (i = 0; i < NX; i++)
-            col += fabs(j < NX ? n->a[i * NX + j] : n->b[i * NU + j - NX]);
-        if (j < NX && col > n->norm_a) n->norm_a = col;
-        if (col > n->norm_ab) n->norm_ab = col;
-    }
+    ifs_taylor_prepare(n->a, n->b, n->abr, n->abc, n->norms);
 }
 
 int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
@@ -110,9 +95,9 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
                  "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
         return -1;
     }
-    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= 0.5 && v->ct > 0.0)) {
+    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= IFS_MU_HI && v->ct > 0.0)) {
         snprintf(msg, msg_len, "mu = %g, ct = %g: the mass-flow speed needs mu in "
-                 "[0, 0.5] and a trim thrust coefficient ct > 0", v->mu, v->ct);
+                 "[0, %g] and a trim thrust coefficient ct > 0", v->mu, v->ct, IFS_MU_HI);
         return -1;
     }
     if (v->structure < 0 || v->structure >= IFS_N_STRUCTURES) {

@@ -63,8 +63,9 @@ typedef struct {
      * inputs) */
     double abc[IFS_NA * IFS_LD];
     double abr[IFS_NX * IFS_RL];
-    /* 1-norms of a and of [a b] [1/s]: the Taylor series' term bounds */
-    double norm_a, norm_ab;
+    /* the 1-norms |a| and |[a b]| [1/s]: the Taylor series' term bounds (abc, abr and
+     * these from ifs_taylor_prepare, generated from algorithms.taylor_prepare) */
+    double norms[2];
     /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
      * applied from the table updates [phi gam] first, the rest when asked) */
     int ab_stale;

@@ -74,6 +74,7 @@
 #define ifs_state_serialize IFS_NAME(ifs_state_serialize)
 #define ifs_state_set IFS_NAME(ifs_state_set)
 #define ifs_taylor_count IFS_NAME(ifs_taylor_count)
+#define ifs_taylor_prepare IFS_NAME(ifs_taylor_prepare)
 #define ifs_taylor_step IFS_NAME(ifs_taylor_step)
 #endif
 

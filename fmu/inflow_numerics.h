@@ -211,6 +211,10 @@ int ifs_expm(double *A);
  * 1-norms norm_a = |a| and norm_ab = |[a b]|: the first k whose next term is
  * bounded by IFS_TAYLOR_TOL |[x; u]|; 0 if more than IFS_KMAX would be needed. */
 int ifs_taylor_count(double norm_a, double norm_ab, double r);
+/* [a b] (a IFS_NX x IFS_NX, b IFS_NX x IFS_NU, row-major) by rows into abr and by
+ * columns into abc (IfsModel's layout, padding zero), norms = {|a|, |[a b]|}. */
+void ifs_taylor_prepare(const double *a, const double *b, double *abr, double *abc,
+                        double *norms);
 /* z[0 .. IFS_NX) <- the state after r [s] for [x; u] = z held, by nk terms of that
  * series: abr [a b] by rows (IFS_RL apart), abc by columns (IFS_LD apart;
  * IfsModel's). */

@@ -36,6 +36,7 @@ def lib(tmp_path_factory):
     lib = ctypes.CDLL(str(so))
     d, i, p = ctypes.c_double, ctypes.c_int, ctypes.POINTER(ctypes.c_double)
     lib.ifs_taylor_count.argtypes, lib.ifs_taylor_count.restype = (d, d, d), i
+    lib.ifs_taylor_prepare.argtypes = (p, p, p, p, p)
     lib.ifs_expm.argtypes, lib.ifs_expm.restype = (p,), i
     lib.ifs_cheb_matrices.argtypes = (i, p, p)
     lib.ifs_power_fit.argtypes = (i, p, p, p, i, i, p, p, i)
@@ -73,11 +74,19 @@ def test_python_and_generated_c_agree(lib):
     a = rng.standard_normal((nx, nx)) * 20 - 40 * np.eye(nx)
     b = rng.standard_normal((nx, NA - nx)) * 10
     ab = np.hstack([a, b])
-    abr, abc = np.zeros(nx * rl), np.zeros(NA * ld)
-    abr.reshape(nx, rl)[:, :NA] = ab
-    abc.reshape(NA, ld)[:, :nx] = ab.T
+    # its preparation: [a b] by padded rows and columns (over a stale fill), the norms
+    abr, abc, norms = np.full(nx * rl, 7.0), np.full(NA * ld, 7.0), np.zeros(2)
+    cabr, cabc, cnorms = abr.copy(), abc.copy(), norms.copy()
+    alg.taylor_prepare(a.ravel(), b.ravel(), abr, abc, norms, nx, NA - nx, rl, ld)
+    lib.ifs_taylor_prepare(_p(a.ravel()), _p(b.ravel()), _p(cabr), _p(cabc), _p(cnorms))
+    assert np.array_equal(abr, cabr) and np.array_equal(abc, cabc)
+    assert np.array_equal(norms, cnorms)
+    rows, cols = abr.reshape(nx, rl), abc.reshape(NA, ld)
+    assert np.array_equal(rows[:, :NA], ab) and not rows[:, NA:].any()
+    assert np.array_equal(cols[:, :nx], ab.T) and not cols[:, nx:].any()
+    assert norms[0] == np.abs(a).sum(axis=0).max() and norms[1] == np.abs(ab).sum(axis=0).max()
     for r in (4e-3, -1.5e-3, 0.02):
-        nk = alg.taylor_count(np.abs(a).sum(axis=0).max(), np.abs(ab).sum(axis=0).max(), r)
+        nk = alg.taylor_count(norms[0], norms[1], r)
         z = np.zeros(rl)
         z[:NA] = rng.standard_normal(NA)
         py, c = z.copy(), z.copy()

@@ -38,7 +38,8 @@ def zoh(a: np.ndarray, b: np.ndarray, dt: float):
     (:func:`inflowsim.simulate.discrete.zoh`, the same to rounding): a record's
     samples rounded otherwise move a fit on it (``bench/check_same_fits.py``: up to
     2e-5 of a correlation on the held record), so every study's records stay
-    the same numbers."""
+    the same numbers.  Kept on purpose: the truth generator's exponential is
+    independent of the code under test."""
     from scipy.linalg import expm        # (imported here: see simulate.discrete)
     return hold(a, b, dt, expm)
 

@@ -38,18 +38,11 @@ import weakref
 
 import numpy as np
 
-from ..simulate.discrete import hold
-from ..simulate.sampled import BASES, expm, shift_taps
+from ..simulate.sampled import BASES, shift_taps
 
 __all__ = ["flap_response", "flap_derivatives", "leading",
            "leading_states", "truncated", "shift_groups", "window_integral", "shifted_transform",
-           "zoh", "expm", "continuous_input"]
-
-
-def zoh(a, b, dt):
-    """``(phi, gam)`` of the zero-order hold over ``dt`` (as
-    :func:`inflowsim.simulate.discrete.zoh`, by :func:`inflowsim.simulate.sampled.expm`)."""
-    return hold(a, b, dt, expm)
+           "continuous_input"]
 
 
 def shift_groups(model):

@@ -17,9 +17,11 @@ differ only where a primitive's NumPy sums in another order than the C loop (a
 few units of the last place).  ``tests/test_fmu_algorithms.py`` compiles the
 generated C and compares it with these functions on the same inputs.
 
-Single-sourced here: the Taylor rule's term count (:func:`taylor_count`) and the
-Taylor step itself (:func:`taylor_step`: the FMU's step of a communication
-remainder; on the identity the Simulator's ``[phi gam]`` after ``set_dt``), the
+Single-sourced here: the Taylor rule's term count (:func:`taylor_count`), what the
+Taylor step needs from ``a`` and ``b`` (:func:`taylor_prepare`: ``[a b]`` by rows and
+by columns, the 1-norms that bound its terms) and the Taylor step itself
+(:func:`taylor_step`: the FMU's step of a communication remainder; on the identity
+the Simulator's ``[phi gam]`` after ``set_dt``), the
 matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
 ``mu`` table's segment ends (:func:`mu_edges`), fit: its segments and their parts
 (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
@@ -289,6 +291,33 @@ def taylor_count(norm_a: float, norm_ab: float, r: float) -> int:
             return k
         bound *= q / (k + 1)
     return 0
+
+
+@algorithm("ifs_taylor_prepare", sizes={"n": "IFS_NX", "m": "IFS_NU", "rl": "IFS_RL",
+                                        "ld": "IFS_LD"})
+def taylor_prepare(a: CVec, b: CVec, abr: Vec, abc: Vec, norms: Vec, n: int, m: int, rl: int,
+                   ld: int) -> None:
+    """What the Taylor step of ``x' = a x + b u`` (:func:`taylor_step`) needs from ``a``
+    (``n`` x ``n``) and ``b`` (``n`` x ``m``, row-major): ``[a b]`` by rows into
+    ``abr`` (``n`` rows ``rl`` apart) and by columns into ``abc`` (``n + m`` columns
+    ``ld`` apart), the padding zero; and the 1-norms that bound its terms
+    (:func:`taylor_count`), ``norms[0] = |a|`` and ``norms[1] = |[a b]|`` [1/s] (NaN
+    if an entry is).  The FMU's after a build or a change of ``mu``
+    (``fmu/inflow_model.c``), the Simulator's
+    :class:`~inflowsim.simulate.discrete.TaylorZoh`."""
+    for i in range(n * rl):
+        abr[i] = 0.0
+    for i in range((n + m) * ld):
+        abc[i] = 0.0
+    for i in range(n):
+        for j in range(n):
+            abr[i * rl + j] = a[i * n + j]
+            abc[j * ld + i] = a[i * n + j]
+        for j in range(m):
+            abr[i * rl + n + j] = b[i * m + j]
+            abc[(n + j) * ld + i] = b[i * m + j]
+    norms[0] = P.norm1(a, n, n)
+    norms[1] = P.norm1(abr, n, rl)
 
 
 @algorithm("ifs_taylor_step", sizes={"n": "IFS_NX", "rl": "IFS_RL", "ld": "IFS_LD",
@@ -572,5 +601,6 @@ def mu_check(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, table: Entries, 
 
 __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", "ALGORITHMS",
            "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
+           "taylor_prepare",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
            "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]

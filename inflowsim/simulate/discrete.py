@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .algorithms import expm, taylor_count, taylor_step
+from .algorithms import expm, taylor_count, taylor_prepare, taylor_step
 
 METHODS = ("zoh", "rk4")
 
@@ -71,12 +71,16 @@ class TaylorZoh:
 
     def __init__(self, a: np.ndarray, b: np.ndarray):
         self.a, self.b = a, b
-        ab = np.hstack([a, b])
-        self.norm_a = float(np.abs(a).sum(axis=0).max(initial=0.0))
-        self.norm_ab = float(np.abs(ab).sum(axis=0).max(initial=0.0))
-        self._abr = ab.ravel()                  # [a b] by rows
-        self._abc = ab.T.ravel()                # ... and by columns
-        self._n, self._na = ab.shape
+        n, m = b.shape
+        na = n + m
+        # [a b] by rows and by columns (unpadded: rows n + m apart, columns n apart),
+        # the 1-norms |a| and |[a b]|: the FMU's preparation (taylor_prepare)
+        self._abr, self._abc, norms = np.empty(n * na), np.empty(na * n), np.empty(2)
+        taylor_prepare(np.ascontiguousarray(a, float).ravel(),
+                       np.ascontiguousarray(b, float).ravel(), self._abr, self._abc, norms,
+                       n, m, na, n)
+        self.norm_a, self.norm_ab = float(norms[0]), float(norms[1])
+        self._n, self._na = n, na
 
     def pg(self, h: float):
         """``[phi gam]`` at step ``h`` [s]; None where the series would need too

@@ -73,9 +73,23 @@ def expm(x: np.ndarray) -> np.ndarray:
     """Matrix exponential by scaling and squaring of a degree-16 Taylor series.
 
     Equal to ``scipy.linalg.expm`` to rounding for the small, well-scaled
-    matrices of one sample step, and only matrix products: scipy's Pade solver
-    is tens of times slower on a loaded multi-core machine (threaded LAPACK on
-    small matrices), and a fit evaluates it thousands of times.
+    matrices of one sample step (2e-15 relative), and only matrix products.  A fit
+    of a held record (``zoh``, ``foh``: :func:`shift_taps`) evaluates it about a
+    thousand times, a replay once per shift; a continuous record's fit not at all.
+
+    Kept beside the FMU's generated exponential
+    (:func:`inflowsim.simulate.algorithms.expm`, Pade [13/13], which
+    :func:`inflowsim.simulate.discrete.zoh` runs) because that one, run through its
+    NumPy primitives (about 35 calls and two LAPACK factorisations), is slower here.
+    Measured on the 1055 16 x 16 matrices of the zoh record's glauert+time-delay fit
+    of ``bench/check_same_fits.py`` (CPU time, best of 5, load 8-10 on 2 cores): 63
+    us a call against 111 us (scipy's 17 us with one BLAS thread, 2.0 ms with
+    OpenBLAS's default threads); in the fits (interleaved, best of 9, load 12-15)
+    held-record fits 20-30 % slower with it, continuous ones unchanged (no call).
+    Its fits agree: ``check_same_fits.py --ladder`` moves only the zoh record's
+    estimates, by at most 7e-8 of their bounds, every decision the same; the ladder
+    from ``basic`` on that record takes the same rungs (estimates within 2e-7 of
+    their bounds), 13 % more CPU.
     """
     nrm = np.abs(x).sum(axis=1).max() if x.size else 0.0
     s = max(0, int(np.ceil(np.log2(nrm / 0.5)))) if nrm > 0.5 else 0
