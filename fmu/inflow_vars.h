@@ -27,7 +27,7 @@
 #define IFS_MU_FDEG 4
 #define IFS_MU_TOL 1e-12
 #define IFS_MU_KNOT_GAP 1e-09
-#define IFS_MU_NGUESS 64  /* cells of the segment guess */
+#define IFS_MU_NGUESS 1024  /* cells of the part guess */
 #define IFS_TAYLOR_TOL 1e-17
 #define IFS_KMAX 30  /* most Taylor terms of a remainder step */
 #define IFS_N_SCHEDULED 0  /* parameters that follow mu (a schedule) */
