@@ -236,7 +236,7 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * an exact value relative to the half's largest entry; the table is used only if
  * that is within IFS_MU_TOL.  Half 0 ([phi gam], IFS_MU_HALF0 entries) is stored in
  * the order the step reads it, so a mu change evaluates it straight into the
- * model's matrices (ifs_mu_table_apply, inflow_model.c): row by row, each row
+ * model's matrices (ifs_mu_table_apply, inflow_model.h): row by row, each row
  * IFS_RL long (zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
  * IFS_MU_HALF entries) is read rarely (a remainder step, a load).
  *
@@ -246,7 +246,9 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * part's IFS_MU_FDEG + 1 Chebyshev-Gauss nodes (local variable y in [-1, 1]),
  * evaluated by Horner's rule with fused multiply-adds (fma: one rounding, on every
  * path, so every build gives the same numbers): inflowsim.simulate.algorithms.mu_eval,
- * which the Simulator's table (inflowsim.simulate.mutable.MuTable) runs too.
+ * which the Simulator's table (inflowsim.simulate.mutable.MuTable) runs too.  The
+ * part holding mu is the one its cell of IFS_MU_NGUESS equal cells starts in, or
+ * the next (mu_part); y = (mu - pmid[j]) pscale[j].
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #define IFS_MU_HALF0 (IFS_NX * IFS_RL)

@@ -18,12 +18,14 @@ What a flight-condition change evaluates is a finer table made from that one
 without another exact build: each segment cut into ``SPLIT`` equal parts in
 ``x``, on each the segment's polynomial interpolated again at the part's
 ``FINE_DEGREE + 1`` Chebyshev-Gauss nodes, in the part's own local variable ``y``
-(:func:`~.algorithms.mu_eval`).  Over a sixteenth of its segment the degree-7 polynomial is a
-degree-4 one to within a tenth of its own error (the worst error against the
-exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
-``bench/fmu_mu_accuracy.py``), and a change of ``mu`` costs four multiply-adds
-per entry instead of seven multiplies and seven adds (the FMU's Horner rule
-uses fused multiply-adds; issue #38, bench/fmu.md).
+(:func:`~.algorithms.mu_eval`).  Over a 32nd of its segment the degree-7
+polynomial is a cubic to within 1e-13 of each block's largest entry (the worst
+error against the exact hold, 1.1e-13 against 2.8e-14 for the segments alone,
+``glauert``; ``bench/fmu_mu_accuracy.py``: a tenth of ``TOLERANCE``), and a
+change of ``mu`` costs three multiply-adds per entry instead of seven multiplies
+and seven adds (the FMU's Horner rule uses fused multiply-adds; issue #38,
+bench/fmu.md).  The part holding ``mu`` is found from a table of equal cells
+(:func:`~.algorithms.mu_part`).
 
 The FMU's C builds the same table at run time for its tunable parameters: the
 segment ends, the fit, the check, the part search and the evaluation are
@@ -59,9 +61,9 @@ MU_HI = 0.5
 #: Geometric segments and the polynomial degree on each.
 SEGMENTS = 16
 DEGREE = 7
-#: Each segment's parts in the evaluated table (a power of two), and their degree.
-SPLIT = 16
-FINE_DEGREE = 4
+#: Each segment's parts in the evaluated table, and their degree.
+SPLIT = 32
+FINE_DEGREE = 3
 #: A table is used only if its check at the segment midpoints is within this
 #: fraction of each block's largest entry.
 TOLERANCE = 1e-12
@@ -69,9 +71,10 @@ TOLERANCE = 1e-12
 #: segment's nodes); a segment narrower would round its local variable away.
 KNOT_GAP = 1e-9
 #: Equal cells of ``[MU_LO, MU_HI]`` whose first parts start the part search
-#: (:func:`~.algorithms.mu_parts`): narrower than any part (the first segment's
-#: sixteenth, 6.6e-4, against 3.9e-4), so that a search takes a step at most.
-GUESS_CELLS = 1024
+#: (:func:`~.algorithms.mu_parts`): narrower than any part without knots (the
+#: first segment's ``1/SPLIT``, 3.3e-4, against 2.0e-4), so that a search takes a
+#: step at most.
+GUESS_CELLS = 2048
 # The Taylor rule's constants TAYLOR_TOL and TAYLOR_MAX_TERMS live with its
 # algorithm (.algorithms, the one source of the Simulator's and the FMU's
 # taylor_terms); imported above.
