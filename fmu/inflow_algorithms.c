@@ -262,23 +262,39 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
     return 0;
 }
 
-/* mu_guess: Where mu_segment starts looking: guess[c] the segment holding the start of
- * cell c of nguess equal cells of [lo, hi] (the cells narrower than any segment). */
-void ifs_mu_guess(const double *edge, double *guess)
+/* mu_parts: The parts of mu_fit in mu (npart = nseg split): pstart where each starts
+ * (a segment's first on the segment's start), then inf (the last part holds the rest);
+ * pmid and pscale the part's local variable y = (mu - pmid[j]) pscale[j] (the part's
+ * [-1, 1]); guess[c] the part holding the start of cell c of nguess equal cells of
+ * [lo, hi], where mu_part starts looking (the cells narrower than any part without
+ * knots: a step at most). */
+void ifs_mu_parts(const double *edge, int nseg, double *pstart, double *pmid,
+                  double *pscale, double *guess)
 {
-    int seg = 0;
+    for (int seg = 0; seg < nseg; seg++) {
+        double e0 = edge[seg];
+        double e1 = edge[seg + 1];
+        for (int c = 0; c < IFS_MU_SPLIT; c++) {
+            pstart[seg * IFS_MU_SPLIT + c] = e0 + (e1 - e0) * c / IFS_MU_SPLIT;
+            pmid[seg * IFS_MU_SPLIT + c] = e0 + (e1 - e0) * (2 * c + 1) / (2 * IFS_MU_SPLIT);
+            pscale[seg * IFS_MU_SPLIT + c] = 2 * IFS_MU_SPLIT / (e1 - e0);
+        }
+    }
+    pstart[IFS_MU_NPART] = INFINITY;
+    int j = 0;
     for (int c = 0; c < IFS_MU_NGUESS; c++) {
         double at = IFS_MU_LO + (IFS_MU_HI - IFS_MU_LO) * c / IFS_MU_NGUESS;
-        while (seg < IFS_MU_NSEG - 1 && at >= edge[seg + 1]) {
-            seg += 1;
+        while (at >= pstart[j + 1]) {
+            j += 1;
         }
-        guess[c] = ((double)(seg));
+        guess[c] = ((double)(j));
     }
 }
 
-/* mu_segment: The segment [edge[s], edge[s + 1]) holding mu (the first or the last
- * beyond the ends): from mu_guess's cell, a step or two along the ends. */
-int ifs_mu_segment(const double *edge, const double *guess, double mu)
+/* mu_part: The part holding mu (mu_parts; pstart[j] <= mu < pstart[j + 1], the first
+ * below lo): from its cell's guess, a step or none (within the rounding of the cell's
+ * start the part before it: its polynomial holds there too). */
+int ifs_mu_part(const double *pstart, const double *guess, double mu)
 {
     int c = ((int)((mu - IFS_MU_LO) * (IFS_MU_NGUESS / (IFS_MU_HI - IFS_MU_LO))));
     if (c < 0) {
@@ -287,71 +303,49 @@ int ifs_mu_segment(const double *edge, const double *guess, double mu)
     if (c >= IFS_MU_NGUESS) {
         c = IFS_MU_NGUESS - 1;
     }
-    int seg = ((int)(guess[c]));
-    while (seg > 0 && mu < edge[seg]) {
-        seg -= 1;
+    int j = ((int)(guess[c]));
+    while (mu >= pstart[j + 1]) {
+        j += 1;
     }
-    while (seg < IFS_MU_NSEG - 1 && mu >= edge[seg + 1]) {
-        seg += 1;
-    }
-    return seg;
+    return j;
 }
 
-/* mu_eval: The table at mu (mu_fit's parts q, cols entries each) into out: the segment
- * (mu_segment), mu's local variable x in it, the part of the split equal parts of x
- * holding it and x's local variable y there, then the part's polynomials at y
+/* mu_eval: The table at mu (mu_fit's parts q, cols entries each) into out: the part
+ * holding mu (mu_part), mu's local variable y there, then the part's polynomials at y
  * (Horner's rule with fused multiply-adds in C). A change of mu: the Simulator's
  * inflowsim.simulate.simulator.Simulator.set_mu, the FMU's [phi gam] */
-IFS_FLATTEN void ifs_mu_eval(const double *edge, const double *guess, const double *q,
+IFS_FLATTEN void ifs_mu_eval(const double *pstart, const double *pmid,
+                             const double *pscale, const double *guess, const double *q,
                              double mu, double *out)
 {
-    int seg = ifs_mu_segment(edge, guess, mu);
-    double e0 = edge[seg];
-    double e1 = edge[seg + 1];
-    double x = (2.0 * mu - e0 - e1) / (e1 - e0);
-    int j = ((int)((x + 1.0) * (0.5 * IFS_MU_SPLIT)));
-    if (j < 0) {
-        j = 0;
-    }
-    if (j >= IFS_MU_SPLIT) {
-        j = IFS_MU_SPLIT - 1;
-    }
-    double y = (x + 1.0) * IFS_MU_SPLIT - (2 * j + 1);
-    ifs_fhorner(q + (seg * IFS_MU_SPLIT + j) * (IFS_MU_FDEG + 1) * IFS_MU_HALF0,
-                IFS_MU_FDEG, y, out, IFS_MU_HALF0);
+    int j = ifs_mu_part(pstart, guess, mu);
+    double y = (mu - pmid[j]) * pscale[j];
+    ifs_fhorner(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, out,
+                IFS_MU_HALF0);
 }
 
 #ifdef IFS_MU_FMA4
 /* mu_eval_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at run
  * time where the CPU has them) */
 __attribute__((target("avx2,fma")))
-IFS_FLATTEN void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q,
-                                 double mu, double *out)
+IFS_FLATTEN void ifs_mu_eval_fma(const double *pstart, const double *pmid,
+                                 const double *pscale, const double *guess,
+                                 const double *q, double mu, double *out)
 {
-    int seg = ifs_mu_segment(edge, guess, mu);
-    double e0 = edge[seg];
-    double e1 = edge[seg + 1];
-    double x = (2.0 * mu - e0 - e1) / (e1 - e0);
-    int j = ((int)((x + 1.0) * (0.5 * IFS_MU_SPLIT)));
-    if (j < 0) {
-        j = 0;
-    }
-    if (j >= IFS_MU_SPLIT) {
-        j = IFS_MU_SPLIT - 1;
-    }
-    double y = (x + 1.0) * IFS_MU_SPLIT - (2 * j + 1);
-    ifs_fhorner_fma(q + (seg * IFS_MU_SPLIT + j) * (IFS_MU_FDEG + 1) * IFS_MU_HALF0,
-                    IFS_MU_FDEG, y, out, IFS_MU_HALF0);
+    int j = ifs_mu_part(pstart, guess, mu);
+    double y = (mu - pmid[j]) * pscale[j];
+    ifs_fhorner_fma(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, out,
+                    IFS_MU_HALF0);
 }
 #endif
 
 /* mu_eval_coarse: Entries first .. first + size - 1 of the segments' polynomials
- * (mu_fit's p, ntab entries each) at mu into out by Horner's rule: the FMU's [a b],
- * read rarely (a remainder step, a load). */
-void ifs_mu_eval_coarse(const double *edge, const double *guess, const double *p,
-                        double mu, int first, int size, double *out)
+ * (mu_fit's p, ntab entries each) at mu into out by Horner's rule: the segment of the
+ * part holding mu (mu_part); the FMU's [a b], read rarely (a remainder step, a load). */
+void ifs_mu_eval_coarse(const double *edge, const double *pstart, const double *guess,
+                        const double *p, double mu, int first, int size, double *out)
 {
-    int seg = ifs_mu_segment(edge, guess, mu);
+    int seg = ifs_mu_part(pstart, guess, mu) / IFS_MU_SPLIT;
     double e0 = edge[seg];
     double e1 = edge[seg + 1];
     double xs[1] = {0.0};

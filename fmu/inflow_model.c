@@ -239,24 +239,6 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v)
     return ifs_mu_table_fit(t, mu_build_entries, &b);
 }
 
-/* [phi gam] at mu from the table (ifs_mu_eval: its segment, part and Horner's rule,
- * generated from inflowsim.simulate.algorithms.mu_eval), evaluated straight into
- * m->pg, whose order half 0 is stored in; with the CPU's fused multiply-adds where
- * it has them (t->fma), else the C library's fma: one rounding each, the same
- * numbers */
-void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
-{
-#ifdef IFS_MU_FMA4
-    if (t->fma)
-        ifs_mu_eval_fma(t->edge, t->guess, &t->q[0][0][0], v->mu, m->pg);
-    else
-#endif
-        ifs_mu_eval(t->edge, t->guess, &t->q[0][0][0], v->mu, m->pg);
-    m->rem = 0.0;          /* the remainder caches belong to the old matrices */
-    m->rem_prev = 0.0;
-    m->ab_stale = 1;
-}
-
 void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel *m)
 {
     double f[IFS_MU_HALF];

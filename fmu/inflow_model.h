@@ -83,9 +83,26 @@ typedef struct {
  * change; else mu changes rebuild exactly. */
 /* Build the table for the parameters in v (mu ignored); returns t->state. */
 int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
-/* Set m's [phi gam] at dt for v->mu from a valid table, and mark a, b and the loads
- * stale (m->ab_stale): the step at dt needs only [phi gam]. */
-void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v, IfsModel *m);
+/* Set m's [phi gam] at dt for v->mu from a valid table (ifs_mu_eval: its part and
+ * Horner's rule, generated from inflowsim.simulate.algorithms.mu_eval, straight into
+ * m->pg, whose order the table's half 0 is stored in; with the CPU's fused
+ * multiply-adds where it has them, t->fma, else the C library's fma: one rounding
+ * each, the same numbers), and mark a, b and the loads stale (m->ab_stale): the step
+ * at dt needs only [phi gam].  Inline: the FMI layers' set of mu calls it (a call
+ * less per mu change). */
+static inline void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v,
+                                      IfsModel *m)
+{
+    m->rem = 0.0;          /* the remainder caches belong to the old matrices */
+    m->rem_prev = 0.0;
+    m->ab_stale = 1;
+#ifdef IFS_MU_FMA4
+    if (t->fma)
+        ifs_mu_eval_fma(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], v->mu, m->pg);
+    else
+#endif
+        ifs_mu_eval(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], v->mu, m->pg);
+}
 /* Bring a, b, the loads and the Taylor bounds up to date after ifs_mu_table_apply
  * (a remainder step or a load read needs them). */
 void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel *m);

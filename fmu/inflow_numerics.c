@@ -106,10 +106,10 @@ static void mu_edges(double e[IFS_MU_NSEG + 1])
 void ifs_mu_table_eval(const IfsMuTable *t, double mu, int half, double *out)
 {
     if (half == 0)             /* the parts (the same numbers as ifs_mu_table_apply) */
-        ifs_mu_eval(t->edge, t->guess, &t->q[0][0][0], mu, out);
+        ifs_mu_eval(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], mu, out);
     else
-        ifs_mu_eval_coarse(t->edge, t->guess, &t->p[0][0][0], mu, IFS_MU_HALF0, IFS_MU_HALF,
-                           out);
+        ifs_mu_eval_coarse(t->edge, t->pstart, t->guess, &t->p[0][0][0], mu, IFS_MU_HALF0,
+                           IFS_MU_HALF, out);
 }
 
 /* 1 if this CPU has AVX2 and FMA and this build evaluates the table with them */
@@ -139,7 +139,7 @@ int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx)
     t->err = 0.0;
     t->fma = cpu_fma();
     mu_edges(t->edge);
-    ifs_mu_guess(t->edge, t->guess);
+    ifs_mu_parts(t->edge, IFS_MU_NSEG, t->pstart, t->pmid, t->pscale, t->guess);
     /* the segments' and their parts' coefficients (inflow_algorithms.c) */
     if (ifs_mu_fit(t->edge, IFS_MU_NSEG, entries, ctx, &t->p[0][0][0], &t->q[0][0][0]) != 0)
         return t->state;

@@ -240,7 +240,7 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * an exact value relative to the half's largest entry; the table is used only if
  * that is within IFS_MU_TOL.  Half 0 ([phi gam], IFS_MU_HALF0 entries) is stored in
  * the order the step reads it, so a mu change evaluates it straight into the
- * model's matrices (ifs_mu_table_apply, inflow_model.c): row by row, each row
+ * model's matrices (ifs_mu_table_apply, inflow_model.h): row by row, each row
  * IFS_RL long (zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
  * IFS_MU_HALF entries) is read rarely (a remainder step, a load).
  *
@@ -250,7 +250,9 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * part's IFS_MU_FDEG + 1 Chebyshev-Gauss nodes (local variable y in [-1, 1]),
  * evaluated by Horner's rule with fused multiply-adds (fma: one rounding, on every
  * path, so every build gives the same numbers): inflowsim.simulate.algorithms.mu_eval,
- * which the Simulator's table (inflowsim.simulate.mutable.MuTable) runs too.
+ * which the Simulator's table (inflowsim.simulate.mutable.MuTable) runs too.  The
+ * part holding mu is the one its cell of IFS_MU_NGUESS equal cells starts in, or
+ * the next (mu_part); y = (mu - pmid[j]) pscale[j].
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #define IFS_MU_HALF0 (IFS_NX * IFS_RL)
@@ -264,8 +266,12 @@ typedef struct {
     int fma;                   /* 1: evaluate with the CPU's AVX2 and FMA (IFS_MU_FMA4) */
     double err;                /* the largest relative error found by the check */
     double edge[IFS_MU_NSEG + 1];                        /* segment ends */
-    /* the segment holding the start of cell c of IFS_MU_NGUESS equal cells
-     * (ifs_mu_guess) */
+    /* the parts (ifs_mu_parts): their starts (then +inf), the midpoints and scales
+     * of their local variables; the part holding the start of cell c of
+     * IFS_MU_NGUESS equal cells */
+    double pstart[IFS_MU_NPART + 1];
+    double pmid[IFS_MU_NPART];
+    double pscale[IFS_MU_NPART];
     double guess[IFS_MU_NGUESS];
     double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
@@ -294,21 +300,23 @@ int ifs_mu_fit(const double *edge, int nseg, IfsMuEntries entries, void *ctx, do
 double ifs_mu_check(const double *edge, int nseg, IfsMuEntries entries, void *ctx,
                     IfsMuEntries table, void *tctx, int split);
 
-/* The cells' segments (guess, IFS_MU_NGUESS), the segment holding mu, the table's
- * [phi gam] at mu from the parts q (IFS_MU_HALF0 entries into out; _fma with the
- * CPU's AVX2 and FMA), entries first .. first + size - 1 of the segments' p at mu
- * (inflow_algorithms.c, from inflowsim.simulate.algorithms: mu_guess, mu_segment,
- * mu_eval, mu_eval_coarse, which the Simulator runs). */
-void ifs_mu_guess(const double *edge, double *guess);
-int ifs_mu_segment(const double *edge, const double *guess, double mu);
-void ifs_mu_eval(const double *edge, const double *guess, const double *q, double mu,
-                 double *out);
+/* The parts' starts, midpoints and scales, the cells' parts (guess, IFS_MU_NGUESS);
+ * the part holding mu; the table's [phi gam] at mu from the parts q (IFS_MU_HALF0
+ * entries into out; _fma with the CPU's AVX2 and FMA); entries first .. first +
+ * size - 1 of the segments' p at mu (inflow_algorithms.c, from
+ * inflowsim.simulate.algorithms: mu_parts, mu_part, mu_eval, mu_eval_coarse, which
+ * the Simulator runs). */
+void ifs_mu_parts(const double *edge, int nseg, double *pstart, double *pmid, double *pscale,
+                  double *guess);
+int ifs_mu_part(const double *pstart, const double *guess, double mu);
+void ifs_mu_eval(const double *pstart, const double *pmid, const double *pscale,
+                 const double *guess, const double *q, double mu, double *out);
 #ifdef IFS_MU_FMA4
-void ifs_mu_eval_fma(const double *edge, const double *guess, const double *q, double mu,
-                     double *out);
+void ifs_mu_eval_fma(const double *pstart, const double *pmid, const double *pscale,
+                     const double *guess, const double *q, double mu, double *out);
 #endif
-void ifs_mu_eval_coarse(const double *edge, const double *guess, const double *p,
-                        double mu, int first, int size, double *out);
+void ifs_mu_eval_coarse(const double *edge, const double *pstart, const double *guess,
+                        const double *p, double mu, int first, int size, double *out);
 
 /* Fit and check the table; returns t->state (1 valid, -1 not). */
 int ifs_mu_table_fit(IfsMuTable *t, IfsMuEntries entries, void *ctx);

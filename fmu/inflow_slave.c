@@ -48,6 +48,13 @@ void ifs_slave_init(IfsSlave *s)
 #if IFS_N_SCHEDULED
     ifs_schedule_apply(&s->v);
 #endif
+    {   /* the table's range and mu's declared one (an open end of it inside the
+         * table's: none; mu then always waits for the step) */
+        const IfsRealVar *var = &ifs_real_vars[IFS_VR_mu];
+        const int open = var->lower_open && var->lower >= IFS_MU_LO;
+        s->mu_range[0] = open ? INFINITY : var->lower > IFS_MU_LO ? var->lower : IFS_MU_LO;
+        s->mu_range[1] = open ? -INFINITY : var->upper < IFS_MU_HI ? var->upper : IFS_MU_HI;
+    }
     s->phase = IFS_PH_INSTANTIATED;
     s->dirty = 1;
     s->m.h_last = -1.0;
@@ -537,7 +544,21 @@ static int ends_in_time(const IfsSlave *s, long long n)
     return (s->t_base + (double)n * s->h_comm) + s->h_comm <= s->t_stop;
 }
 
-void ifs_slave_refresh(IfsSlave *s)
+/* The mu a set of mu alone takes from the table at once (IfsSlave.mu_lo, mu_hi):
+ * mu_range where rebuild_model would take it from the table with nothing else to
+ * do (a schedule's parameters and bias follow mu there: not here), else none */
+static inline void mu_window(IfsSlave *s)
+{
+    const int table = !(IFS_N_SCHEDULED || IFS_SCHEDULED_BIAS) && s->phase == IFS_PH_STEP &&
+                      !s->dirty && !s->delay.active && !s->params_changed && s->tab &&
+                      s->tab->state == 1;
+    s->mu_lo = table ? s->mu_range[0] : INFINITY;
+    s->mu_hi = table ? s->mu_range[1] : -INFINITY;
+}
+
+/* ifs_slave_refresh but for the mu window: after a step, which changes none of its
+ * terms (a rebuild or fresh_ab in it refreshed all) */
+static void refresh_time(IfsSlave *s)
 {
     s->now = s->t_base + (double)s->n_comm * s->h_comm;
     s->fast_h = s->phase == IFS_PH_STEP && !s->dirty && !s->delay.active &&
@@ -551,6 +572,12 @@ void ifs_slave_refresh(IfsSlave *s)
         while (n < LLONG_MAX && ends_in_time(s, n)) n++;
         s->n_stop = n;
     }
+}
+
+void ifs_slave_refresh(IfsSlave *s)
+{
+    mu_window(s);
+    refresh_time(s);
 }
 
 /* --- outputs --- */
@@ -641,7 +668,7 @@ IFS_COLD int ifs_slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, doubl
                             double h)
 {
     const int status = slave_step(s, lg, fn, t, h);
-    ifs_slave_refresh(s);
+    refresh_time(s);
     return status;
 }
 
@@ -708,6 +735,7 @@ static inline int near_now(double t, double now)
             ON_TIME(s_, t, h)) {                                                       \
             ifs_mu_table_apply(s_->tab, &s_->v, &s_->m);                               \
             s_->dirty = 0;                                                             \
+            mu_window(s_);                                                             \
             STEP;                                                                      \
             STEPPED(s_);                                                               \
             s_->fast_h = s_->h_comm;                                                   \

@@ -66,6 +66,12 @@ typedef struct {
     /* the FMI layer's mu table (never part of a saved state: restored instances keep
      * their own and rebuild it); NULL: mu changes always rebuild exactly */
     IfsMuTable *tab;
+    /* the mu a set of mu alone takes from the table at once (ifs_slave_set_mu):
+     * mu_range, the table's and mu's declared range, while the table is valid for
+     * the parameters, in step mode, with nothing else to rebuild and no delay line;
+     * else none (+inf, -inf); kept by ifs_slave_refresh */
+    double mu_lo, mu_hi;
+    double mu_range[2];
     /* time = t_base + n_comm h_comm: a step counter, never a running sum */
     double t_start, t_base, h_comm;
     long long n_comm;
@@ -117,25 +123,36 @@ int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
 int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, const double value[]);
 /* A new mu alone (n == 1), the flight condition of a simulator changing speed every
- * step, inline in the FMI layers' set functions: within the table's range and mu's
- * declared one, with no other parameter change pending, it is stored (the step
- * takes it from the table: ifs_slave_step_rest) and 1 returned, as
+ * step, inline in the FMI layers' set functions: within [s->mu_lo, s->mu_hi] (the
+ * table valid, ifs_slave_refresh) the table's [phi gam] at once (ifs_mu_table_apply:
+ * the next step is the fixed-mu step, and the loads read before it are those of the
+ * new mu, as the Simulator's set_mu); else, within the table's range and mu's
+ * declared one with no other parameter change pending, it is stored (the step takes
+ * it from the table or builds the table: ifs_slave_step_rest); then 1 returned, as
  * ifs_slave_set_reals would (the general call cost 70 instructions more, a quarter
  * of the mu step, bench/fmu.md); else 0 and nothing done. */
 static inline int ifs_slave_set_mu(IfsSlave *s, const unsigned int vr[], size_t n,
                                    const double value[])
 {
-    if (n == 1 && vr && value && vr[0] == IFS_VR_mu && !s->params_changed &&
-        value[0] >= IFS_MU_LO && value[0] <= IFS_MU_HI &&
-        value[0] >= ifs_real_vars[IFS_VR_mu].lower &&
-        value[0] <= ifs_real_vars[IFS_VR_mu].upper &&
-        !(ifs_real_vars[IFS_VR_mu].lower_open && value[0] == ifs_real_vars[IFS_VR_mu].lower)) {
-        if (s->v.mu != value[0]) {
-            s->dirty = 1;
-            s->fast_h = NAN;
+    if (n == 1 && vr && value && vr[0] == IFS_VR_mu) {
+        const double mu = value[0];
+        if (mu >= s->mu_lo && mu <= s->mu_hi) {
+            if (s->v.mu != mu) {
+                s->v.mu = mu;
+                ifs_mu_table_apply(s->tab, &s->v, &s->m);
+            }
+            return 1;
         }
-        s->v.mu = value[0];
-        return 1;
+        if (!s->params_changed && mu >= IFS_MU_LO && mu <= IFS_MU_HI &&
+            mu >= ifs_real_vars[IFS_VR_mu].lower && mu <= ifs_real_vars[IFS_VR_mu].upper &&
+            !(ifs_real_vars[IFS_VR_mu].lower_open && mu == ifs_real_vars[IFS_VR_mu].lower)) {
+            if (s->v.mu != mu) {
+                s->dirty = 1;
+                s->fast_h = NAN;
+            }
+            s->v.mu = mu;
+            return 1;
+        }
     }
     return 0;
 }

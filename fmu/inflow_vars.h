@@ -23,11 +23,11 @@
 #define IFS_MU_RANGE "[0.1, 0.5]"  /* for messages */
 #define IFS_MU_SEG 16
 #define IFS_MU_DEG 7
-#define IFS_MU_SPLIT 16
-#define IFS_MU_FDEG 4
+#define IFS_MU_SPLIT 32
+#define IFS_MU_FDEG 3
 #define IFS_MU_TOL 1e-12
 #define IFS_MU_KNOT_GAP 1e-09
-#define IFS_MU_NGUESS 64  /* cells of the segment guess */
+#define IFS_MU_NGUESS 2048  /* cells of the part guess */
 #define IFS_TAYLOR_TOL 1e-17
 #define IFS_KMAX 30  /* most Taylor terms of a remainder step */
 #define IFS_N_SCHEDULED 0  /* parameters that follow mu (a schedule) */

@@ -1078,6 +1078,37 @@ def test_mu_changing_every_step_follows_the_exact_model(version, unzipped, unzip
     s.freeInstance()
 
 
+def test_a_new_mu_alone_takes_effect_at_once(unzipped, guid):
+    """A set of mu alone between steps takes the table's matrices at once (issue #38:
+    the step after it is the fixed-mu step), as the Simulator's set_mu: the loads
+    read before the next step are those of the new mu, and the steps equal the
+    Simulator's, mu changing every step."""
+    from inflowsim.model.loads import load_matrices
+    m = model_of("glauert")
+    s = open_fmu(unzipped, guid, start_values(m))
+    sim = Simulator(m, DT)
+    ins, outs, lvr = ([VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS],
+                      [VR[n] for n in LOADS])
+    u = np.zeros(len(ALL_INPUTS))
+    worst_y = worst_l = peak = peak_l = 0.0
+    for k in range(40):
+        mu = 0.3 + 0.1 * math.sin(0.2 * k)
+        u[ALL_INPUTS.index("theta1s")] = 0.02 * math.cos(0.3 * k)
+        s.setReal([VR["mu"]], [mu])
+        sim.set_mu(mu)
+        s.setReal(ins, list(u))
+        if k >= 2:     # the table built (the FMU's first change, the Simulator's second)
+            want = load_matrices(m.with_mu(mu))(sim.state, u[:sim.m])
+            worst_l = max(worst_l, np.abs(np.array(s.getReal(lvr)) - want).max())
+            peak_l = max(peak_l, np.abs(want).max())
+        s.doStep(k * DT, DT)
+        sim.step(u[:sim.m])
+        worst_y = max(worst_y, np.abs(np.array(s.getReal(outs)) - sim.outputs()).max())
+        peak = max(peak, np.abs(sim.outputs()).max())
+    s.freeInstance()
+    assert peak > 1e-4 and worst_y < 1e-10 * peak and worst_l < 1e-10 * peak_l
+
+
 @pytest.mark.parametrize("mu", [0.0, 0.05, 0.3])
 @pytest.mark.parametrize("structure", ["basic", "glauert"])
 def test_mass_flow_speed_from_hover_equals_the_simulator(structure, mu, unzipped, guid,

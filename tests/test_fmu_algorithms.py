@@ -45,12 +45,12 @@ def lib(tmp_path_factory):
     lib.ifs_mu_check.restype = d
     lib.ifs_mu_fit.argtypes, lib.ifs_mu_fit.restype = (p, i, ENTRIES, ctypes.c_void_p, p, p), i
     lib.ifs_taylor_step.argtypes = (p, p, i, d, p)
-    lib.ifs_mu_guess.argtypes = (p, p)
-    lib.ifs_mu_segment.argtypes, lib.ifs_mu_segment.restype = (p, p, d), i
-    lib.ifs_mu_eval.argtypes = (p, p, p, d, p)
-    lib.ifs_mu_eval_coarse.argtypes = (p, p, p, d, i, i, p)
+    lib.ifs_mu_parts.argtypes = (p, i, p, p, p, p)
+    lib.ifs_mu_part.argtypes, lib.ifs_mu_part.restype = (p, p, d), i
+    lib.ifs_mu_eval.argtypes = (p, p, p, p, p, d, p)
+    lib.ifs_mu_eval_coarse.argtypes = (p, p, p, p, d, i, i, p)
     if hasattr(lib, "ifs_mu_eval_fma"):
-        lib.ifs_mu_eval_fma.argtypes = (p, p, p, d, p)
+        lib.ifs_mu_eval_fma.argtypes = (p, p, p, p, p, d, p)
     return lib
 
 
@@ -161,32 +161,46 @@ def test_python_and_generated_c_agree(lib):
     assert lib.ifs_mu_fit(_p(edge), nseg, ENTRIES(c_exact), None, _p(cp), _p(cq)) == 0
     for py, c in ((pp, cp), (pq, cq)):
         assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(py))
-    # the segment search and the table's evaluation (what a mu change reads): the
-    # same segments as bisection, at the ends too; the values, of the parts (with
-    # and without the CPU's fused multiply-adds: the same numbers) and of [a b]
-    guess, cguess = np.zeros(mutable.GUESS_CELLS), np.zeros(mutable.GUESS_CELLS)
-    table = (nseg, mutable.GUESS_CELLS, mutable.MU_LO, mutable.MU_HI)
-    alg.mu_guess(edge, guess, *table)
-    lib.ifs_mu_guess(_p(edge), _p(cguess))
-    assert np.array_equal(guess, cguess)
+    # the part search and the table's evaluation (what a mu change reads): the parts
+    # of bisection, at their starts too, and their segments (within the rounding of
+    # a cell's start the part before: mu is then at most a few units of the last
+    # place outside its [-1, 1]); the values, of the parts (with and without the
+    # CPU's fused multiply-adds: the same numbers) and of [a b]
+    npart = nseg * mutable.SPLIT
+    parts = [np.zeros(n) for n in (npart + 1, npart, npart, mutable.GUESS_CELLS)]
+    cparts = [np.zeros_like(a) for a in parts]
+    table = (npart, mutable.GUESS_CELLS, mutable.MU_LO, mutable.MU_HI)
+    alg.mu_parts(edge, nseg, *parts, *table, mutable.SPLIT)
+    lib.ifs_mu_parts(_p(edge), nseg, *map(_p, cparts))
+    assert all(np.array_equal(a, b) for a, b in zip(parts, cparts))
+    pstart, pmid, pscale, guess = parts
+    assert np.array_equal(pstart[:-1:mutable.SPLIT], edge[:-1]) and pstart[-1] == np.inf
+    # a step at most: each cell narrower than any part
+    assert np.max(np.diff(guess)) <= 1 and np.min(np.diff(edge)) / mutable.SPLIT > (
+        mutable.MU_HI - mutable.MU_LO) / mutable.GUESS_CELLS
     fma = hasattr(lib, "ifs_mu_eval_fma") and {"avx2", "fma"} <= set(
         open("/proc/cpuinfo").read().split())
-    for mu in (*edge, *rng.uniform(mutable.MU_LO, mutable.MU_HI, 20)):
-        seg = alg.mu_segment(edge, guess, mu, *table)
-        assert seg == lib.ifs_mu_segment(_p(edge), _p(guess), mu) == min(
-            int(np.searchsorted(edge, mu, side="right")) - 1, nseg - 1)
+    for mu in (*edge, *pstart[1:-1:7], *rng.uniform(mutable.MU_LO, mutable.MU_HI, 20)):
+        j = alg.mu_part(pstart, guess, mu, *table)
+        assert j == lib.ifs_mu_part(_p(pstart), _p(guess), mu)
+        assert j in (int(np.searchsorted(pstart, mu, side="right")) - 1,
+                     int(np.searchsorted(pstart, mu * (1 + 1e-15), side="right")) - 1)
+        assert j // mutable.SPLIT == min(int(np.searchsorted(edge, mu, side="right")) - 1,
+                                         nseg - 1)
+        assert -1 - 1e-12 <= (mu - pmid[j]) * pscale[j] <= 1 + 1e-12
         py, c, cf = np.zeros(HALF0), np.zeros(HALF0), np.zeros(HALF0)
-        alg.mu_eval(edge, list(guess), pq, mu, py, *table, mutable.SPLIT, mutable.FINE_DEGREE,
-                    HALF0)
-        lib.ifs_mu_eval(_p(edge), _p(guess), _p(cq), mu, _p(c))
+        alg.mu_eval(pstart, pmid, pscale, list(guess), pq, mu, py, *table,
+                    mutable.FINE_DEGREE, HALF0)
+        lib.ifs_mu_eval(*map(_p, parts), _p(cq), mu, _p(c))
         assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(c))
         if fma:
-            lib.ifs_mu_eval_fma(_p(edge), _p(guess), _p(cq), mu, _p(cf))
+            lib.ifs_mu_eval_fma(*map(_p, parts), _p(cq), mu, _p(cf))
             assert np.array_equal(c, cf)
         py, c = np.zeros(NTAB - HALF0), np.zeros(NTAB - HALF0)
-        alg.mu_eval_coarse(edge, guess, pp, mu, HALF0, NTAB - HALF0, py, *table,
-                           mutable.DEGREE, NTAB)
-        lib.ifs_mu_eval_coarse(_p(edge), _p(guess), _p(cp), mu, HALF0, NTAB - HALF0, _p(c))
+        alg.mu_eval_coarse(edge, pstart, guess, pp, mu, HALF0, NTAB - HALF0, py, *table,
+                           mutable.SPLIT, mutable.DEGREE, NTAB)
+        lib.ifs_mu_eval_coarse(_p(edge), _p(pstart), _p(guess), _p(cp), mu, HALF0,
+                               NTAB - HALF0, _p(c))
         assert np.max(np.abs(py - c)) <= 1e-12 * np.max(np.abs(c))
         exact(None, mu, want := np.zeros(NTAB))
         assert np.max(np.abs(c - want[HALF0:])) <= 1e-9 * np.max(np.abs(want))

@@ -37,7 +37,7 @@ _MATH = {"cos": "cos", "sin": "sin", "fabs": "fabs", "pow": "pow", "ldexp": "lde
          "isfinite": "isfinite", "floor": "floor", "sqrt": "sqrt", "fma": "fma",
          "exp": "exp", "log": "log"}
 _MATH_INT = {"isfinite"}                  # functions whose C result is an int
-_MATH_CONST = {"pi": "M_PI"}
+_MATH_CONST = {"pi": "M_PI", "inf": "INFINITY"}
 _BINOP = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "/",
           ast.Mod: "%"}
 _CMP = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==",
@@ -378,7 +378,9 @@ def _wrap_line(line: str) -> list:
         return [line]
     least = min(sp[:2] for sp in fits)
     _, _, cut, column = max(sp for sp in fits if sp[:2] == least)
-    return [line[:cut].rstrip()] + _wrap_line(" " * column + line[cut:])
+    # the rest is inside the parenthesis at column - 1: wrapped with it in place
+    rest = _wrap_line(" " * (column - 1) + "(" + line[cut:])
+    return [line[:cut].rstrip(), " " * column + rest[0][column:]] + rest[1:]
 
 
 def _fill(text: str) -> list:

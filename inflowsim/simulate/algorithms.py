@@ -25,8 +25,8 @@ the Simulator's ``[phi gam]`` after ``set_dt``), the
 matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and the
 ``mu`` table's segment ends (:func:`mu_edges`), fit: its segments and their parts
 (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
-:func:`power_fit`), check (:func:`mu_check`), segment search (:func:`mu_guess`,
-:func:`mu_segment`) and evaluation (:func:`mu_eval`, the parts: what a change of
+:func:`power_fit`), check (:func:`mu_check`), part search (:func:`mu_parts`,
+:func:`mu_part`) and evaluation (:func:`mu_eval`, the parts: what a change of
 ``mu`` reads; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
 rarely).  Each side's own are the primitives only; in the step's hot path
 ``P.fhorner`` (here one dot product of the powers, in C Horner's rule with fused
@@ -499,73 +499,78 @@ def mu_fit(edge: CVec, nseg: int, entries: Entries, ctx: Ctx, p: Vec, q: Vec, de
     return 0
 
 
-_TABLE = {"nseg": "IFS_MU_NSEG", "nguess": "IFS_MU_NGUESS", "lo": "IFS_MU_LO",
+_PARTS = {"npart": "IFS_MU_NPART", "nguess": "IFS_MU_NGUESS", "lo": "IFS_MU_LO",
           "hi": "IFS_MU_HI"}
 
 
-@algorithm("ifs_mu_guess", sizes=_TABLE)
-def mu_guess(edge: CVec, guess: Vec, nseg: int, nguess: int, lo: float, hi: float) -> None:
-    """Where :func:`mu_segment` starts looking: ``guess[c]`` the segment holding the
-    start of cell ``c`` of ``nguess`` equal cells of ``[lo, hi]`` (the cells
-    narrower than any segment)."""
-    seg: int = 0
+@algorithm("ifs_mu_parts", sizes={**_PARTS, "split": "IFS_MU_SPLIT"})
+def mu_parts(edge: CVec, nseg: int, pstart: Vec, pmid: Vec, pscale: Vec, guess: Vec,
+             npart: int, nguess: int, lo: float, hi: float, split: int) -> None:
+    """The parts of :func:`mu_fit` in ``mu`` (``npart = nseg split``): ``pstart``
+    where each starts (a segment's first on the segment's start), then ``inf`` (the
+    last part holds the rest); ``pmid`` and ``pscale`` the part's local variable ``y
+    = (mu - pmid[j]) pscale[j]`` (the part's ``[-1, 1]``); ``guess[c]`` the part
+    holding the start of cell ``c`` of ``nguess`` equal cells of ``[lo, hi]``, where
+    :func:`mu_part` starts looking (the cells narrower than any part without
+    knots: a step at most)."""
+    for seg in range(nseg):
+        e0: float = edge[seg]
+        e1: float = edge[seg + 1]
+        for c in range(split):
+            pstart[seg * split + c] = e0 + (e1 - e0) * c / split
+            pmid[seg * split + c] = e0 + (e1 - e0) * (2 * c + 1) / (2 * split)
+            pscale[seg * split + c] = 2 * split / (e1 - e0)
+    pstart[npart] = math.inf
+    j: int = 0
     for c in range(nguess):
         at: float = lo + (hi - lo) * c / nguess
-        while seg < nseg - 1 and at >= edge[seg + 1]:
-            seg += 1
-        guess[c] = float(seg)
+        while at >= pstart[j + 1]:
+            j += 1
+        guess[c] = float(j)
 
 
-@algorithm("ifs_mu_segment", sizes=_TABLE)
-def mu_segment(edge: CVec, guess: CVec, mu: float, nseg: int, nguess: int, lo: float,
-               hi: float) -> int:
-    """The segment ``[edge[s], edge[s + 1])`` holding ``mu`` (the first or the last
-    beyond the ends): from :func:`mu_guess`'s cell, a step or two along the ends."""
+@algorithm("ifs_mu_part", sizes=_PARTS)
+def mu_part(pstart: CVec, guess: CVec, mu: float, npart: int, nguess: int, lo: float,
+            hi: float) -> int:
+    """The part holding ``mu`` (:func:`mu_parts`; ``pstart[j] <= mu < pstart[j +
+    1]``, the first below ``lo``): from its cell's guess, a step or none (within the
+    rounding of the cell's start the part before it: its polynomial holds there
+    too)."""
     c: int = int((mu - lo) * (nguess / (hi - lo)))
     if c < 0:
         c = 0
     if c >= nguess:
         c = nguess - 1
-    seg: int = int(guess[c])
-    while seg > 0 and mu < edge[seg]:
-        seg -= 1
-    while seg < nseg - 1 and mu >= edge[seg + 1]:
-        seg += 1
-    return seg
+    j: int = int(guess[c])
+    while mu >= pstart[j + 1]:
+        j += 1
+    return j
 
 
-@algorithm("ifs_mu_eval", sizes={**_TABLE, "split": "IFS_MU_SPLIT", "fdeg": "IFS_MU_FDEG",
-                                 "cols": "IFS_MU_HALF0"}, variants=(FMA4,),
-           attributes=("IFS_FLATTEN",))
-def mu_eval(edge: CVec, guess: CVec, q: CVec, mu: float, out: Vec, nseg: int, nguess: int,
-            lo: float, hi: float, split: int, fdeg: int, cols: int) -> None:
+@algorithm("ifs_mu_eval", sizes={**_PARTS, "fdeg": "IFS_MU_FDEG", "cols": "IFS_MU_HALF0"},
+           variants=(FMA4,), attributes=("IFS_FLATTEN",))
+def mu_eval(pstart: CVec, pmid: CVec, pscale: CVec, guess: CVec, q: CVec, mu: float, out: Vec,
+            npart: int, nguess: int, lo: float, hi: float, fdeg: int, cols: int) -> None:
     """The table at ``mu`` (:func:`mu_fit`'s parts ``q``, ``cols`` entries each) into
-    ``out``: the segment (:func:`mu_segment`), ``mu``'s local variable ``x`` in it,
-    the part of the ``split`` equal parts of ``x`` holding it and ``x``'s local
-    variable ``y`` there, then the part's polynomials at ``y`` (Horner's rule with
-    fused multiply-adds in C).  A change of ``mu``: the Simulator's
+    ``out``: the part holding ``mu`` (:func:`mu_part`), ``mu``'s local variable
+    ``y`` there, then the part's polynomials at ``y`` (Horner's rule with fused
+    multiply-adds in C).  A change of ``mu``: the Simulator's
     :meth:`~inflowsim.simulate.simulator.Simulator.set_mu`, the FMU's ``[phi gam]``."""
-    seg: int = mu_segment(edge, guess, mu, nseg, nguess, lo, hi)
-    e0: float = edge[seg]
-    e1: float = edge[seg + 1]
-    x: float = (2.0 * mu - e0 - e1) / (e1 - e0)
-    j: int = int((x + 1.0) * (0.5 * split))
-    if j < 0:
-        j = 0
-    if j >= split:
-        j = split - 1
-    y: float = (x + 1.0) * split - (2 * j + 1)
-    P.fhorner(q[(seg * split + j) * (fdeg + 1) * cols:], fdeg, y, out, cols)
+    j: int = mu_part(pstart, guess, mu, npart, nguess, lo, hi)
+    y: float = (mu - pmid[j]) * pscale[j]
+    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, out, cols)
 
 
-@algorithm("ifs_mu_eval_coarse", sizes={**_TABLE, "deg": "IFS_MU_DEG", "ntab": "IFS_MU_NTAB"})
-def mu_eval_coarse(edge: CVec, guess: CVec, p: CVec, mu: float, first: int, size: int,
-                   out: Vec, nseg: int, nguess: int, lo: float, hi: float, deg: int,
-                   ntab: int) -> None:
+@algorithm("ifs_mu_eval_coarse", sizes={**_PARTS, "split": "IFS_MU_SPLIT", "deg": "IFS_MU_DEG",
+                                        "ntab": "IFS_MU_NTAB"})
+def mu_eval_coarse(edge: CVec, pstart: CVec, guess: CVec, p: CVec, mu: float, first: int,
+                   size: int, out: Vec, npart: int, nguess: int, lo: float, hi: float,
+                   split: int, deg: int, ntab: int) -> None:
     """Entries ``first .. first + size - 1`` of the segments' polynomials
     (:func:`mu_fit`'s ``p``, ``ntab`` entries each) at ``mu`` into ``out`` by Horner's
-    rule: the FMU's ``[a b]``, read rarely (a remainder step, a load)."""
-    seg: int = mu_segment(edge, guess, mu, nseg, nguess, lo, hi)
+    rule: the segment of the part holding ``mu`` (:func:`mu_part`); the FMU's ``[a
+    b]``, read rarely (a remainder step, a load)."""
+    seg: int = mu_part(pstart, guess, mu, npart, nguess, lo, hi) // split
     e0: float = edge[seg]
     e1: float = edge[seg + 1]
     xs = P.new(1)
@@ -603,4 +608,4 @@ __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", 
            "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
            "taylor_prepare",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
-           "mu_fit", "mu_guess", "mu_segment", "mu_eval", "mu_eval_coarse", "mu_check"]
+           "mu_fit", "mu_parts", "mu_part", "mu_eval", "mu_eval_coarse", "mu_check"]

@@ -18,17 +18,19 @@ What a flight-condition change evaluates is a finer table made from that one
 without another exact build: each segment cut into ``SPLIT`` equal parts in
 ``x``, on each the segment's polynomial interpolated again at the part's
 ``FINE_DEGREE + 1`` Chebyshev-Gauss nodes, in the part's own local variable ``y``
-(:func:`~.algorithms.mu_eval`).  Over a sixteenth of its segment the degree-7 polynomial is a
-degree-4 one to within a tenth of its own error (the worst error against the
-exact hold, 2.98e-14 against 2.76e-14 for the segments alone, ``glauert``;
-``bench/fmu_mu_accuracy.py``), and a change of ``mu`` costs four multiply-adds
-per entry instead of seven multiplies and seven adds (the FMU's Horner rule
-uses fused multiply-adds; issue #38, bench/fmu.md).
+(:func:`~.algorithms.mu_eval`).  Over a 32nd of its segment the degree-7
+polynomial is a cubic to within 1e-13 of each block's largest entry (the worst
+error against the exact hold, 1.1e-13 against 2.8e-14 for the segments alone,
+``glauert``; ``bench/fmu_mu_accuracy.py``: a tenth of ``TOLERANCE``), and a
+change of ``mu`` costs three multiply-adds per entry instead of seven multiplies
+and seven adds (the FMU's Horner rule uses fused multiply-adds; issue #38,
+bench/fmu.md).  The part holding ``mu`` is found from a table of equal cells
+(:func:`~.algorithms.mu_part`).
 
 The FMU's C builds the same table at run time for its tunable parameters: the
-segment ends, the fit, the check, the segment search and the evaluation are
-:mod:`.algorithms`' ``mu_edges``, ``mu_fit``, ``mu_check``, ``mu_guess``,
-``mu_segment`` and ``mu_eval``, which :class:`MuTable` runs and the C is generated
+segment ends, the fit, the check, the part search and the evaluation are
+:mod:`.algorithms`' ``mu_edges``, ``mu_fit``, ``mu_check``, ``mu_parts``,
+``mu_part`` and ``mu_eval``, which :class:`MuTable` runs and the C is generated
 from (``fmu/inflow_algorithms.c``); its constants (``IFS_MU_LO`` ...
 ``IFS_TAYLOR_TOL``) are generated from this module into ``inflow_vars.h``
 (:func:`c_defines`), so the two cannot drift.  Only the evaluation's last primitive
@@ -50,7 +52,7 @@ import math
 import numpy as np
 
 from .algorithms import (TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_eval, mu_fit,
-                         mu_guess)
+                         mu_parts)
 from .algorithms import taylor_count as taylor_terms
 
 #: Advance-ratio range of the table (the forward-flight momentum model's range).
@@ -59,18 +61,20 @@ MU_HI = 0.5
 #: Geometric segments and the polynomial degree on each.
 SEGMENTS = 16
 DEGREE = 7
-#: Each segment's parts in the evaluated table (a power of two), and their degree.
-SPLIT = 16
-FINE_DEGREE = 4
+#: Each segment's parts in the evaluated table, and their degree.
+SPLIT = 32
+FINE_DEGREE = 3
 #: A table is used only if its check at the segment midpoints is within this
 #: fraction of each block's largest entry.
 TOLERANCE = 1e-12
 #: A knot this close to a segment end [-] is on it (its kink is outside every
 #: segment's nodes); a segment narrower would round its local variable away.
 KNOT_GAP = 1e-9
-#: Equal cells of ``[MU_LO, MU_HI]`` whose first segments start the segment search
-#: (:func:`~.algorithms.mu_guess`): narrower than any segment.
-GUESS_CELLS = 64
+#: Equal cells of ``[MU_LO, MU_HI]`` whose first parts start the part search
+#: (:func:`~.algorithms.mu_parts`): narrower than any part without knots (the
+#: first segment's ``1/SPLIT``, 3.3e-4, against 2.0e-4), so that a search takes a
+#: step at most.
+GUESS_CELLS = 2048
 # The Taylor rule's constants TAYLOR_TOL and TAYLOR_MAX_TERMS live with its
 # algorithm (.algorithms, the one source of the Simulator's and the FMU's
 # taylor_terms); imported above.
@@ -146,9 +150,14 @@ class MuTable:
         self._p = p.reshape(nseg, DEGREE + 1, ntab)          # [segment, degree, entry]
         self._q = q                  # [part, degree, entry], flat
         self._ntab, self._nseg = ntab, nseg
+        npart = nseg * SPLIT
+        pstart, pmid, pscale = np.zeros(npart + 1), np.zeros(npart), np.zeros(npart)
         guess = np.zeros(GUESS_CELLS)
-        mu_guess(np.asarray(self.edges, dtype=float), guess, nseg, GUESS_CELLS, MU_LO, MU_HI)
-        self._guess = [float(g) for g in guess]     # (lists: cheaper to index)
+        mu_parts(np.asarray(self.edges, dtype=float), nseg, pstart, pmid, pscale, guess, npart,
+                 GUESS_CELLS, MU_LO, MU_HI, SPLIT)
+        # (lists: cheaper to index)
+        self._parts = [[float(v) for v in a] for a in (pstart, pmid, pscale, guess)]
+        self._npart = npart
         # the check between the nodes (mu_check, the C's): blocks as entry ranges
         rows = np.arange(self.shape[0] if self.shape else 1)
         ranges = [(int(rows[b][0]), int(rows[b][-1]) + 1) for b in blocks if len(rows[b])]
@@ -176,8 +185,9 @@ class MuTable:
         within the table): :func:`~.algorithms.mu_eval`, the FMU's evaluation (its
         segment, part and polynomials; here one dot product of the powers of the
         part's local variable with its coefficients)."""
-        mu_eval(self.edges, self._guess, self._q, mu, out, self._nseg, GUESS_CELLS, MU_LO,
-                MU_HI, SPLIT, FINE_DEGREE, self._ntab)
+        pstart, pmid, pscale, guess = self._parts
+        mu_eval(pstart, pmid, pscale, guess, self._q, mu, out, self._npart, GUESS_CELLS, MU_LO,
+                MU_HI, FINE_DEGREE, self._ntab)
 
 
 def c_defines() -> list:
@@ -193,7 +203,7 @@ def c_defines() -> list:
             f"#define IFS_MU_FDEG {FINE_DEGREE}",
             f"#define IFS_MU_TOL {TOLERANCE!r}",
             f"#define IFS_MU_KNOT_GAP {KNOT_GAP!r}",
-            f"#define IFS_MU_NGUESS {GUESS_CELLS}  /* cells of the segment guess */",
+            f"#define IFS_MU_NGUESS {GUESS_CELLS}  /* cells of the part guess */",
             f"#define IFS_TAYLOR_TOL {TAYLOR_TOL!r}",
             f"#define IFS_KMAX {TAYLOR_MAX_TERMS}  /* most Taylor terms of a remainder "
             "step */"]
