@@ -168,9 +168,10 @@ def _lm(prob, st, max_iter, report=None):
     or ``J^T J + A``, whose quadratic model predicted the last step's cost change
     more closely (NL2SOL's choice; ``J^T J + A`` only where it is positive definite
     with the damping, else the damping grows).  Before that the steps are the
-    relaxation's, number for number.  The stop is unchanged: a step below ``1e-9``
-    of each parameter's typical size, or a fall below ``1e-7 n_f`` at small
-    damping.
+    relaxation's, number for number.  The stop: a step below ``1e-9`` of each
+    parameter's typical size, or a fall below ``1e-7 n_f`` at small damping; once
+    the secant term exists, two such falls in a row (its steps are uneven: one
+    small fall between larger ones is not the minimum).
     Returns ``(state, cost, iterations, converged)``.
     """
     lo, hi = prob.bounds()
@@ -181,6 +182,7 @@ def _lm(prob, st, max_iter, report=None):
     # secant term, last step (in the search's coordinates) and gradient, which
     # curvature the next step takes, near the minimum yet
     A, last, aug, near = None, None, False, False
+    small_now = False
     for it in range(1, max_iter + 1):
         # forward differences suffice for the search; bounds use central ones
         J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=False))
@@ -220,6 +222,7 @@ def _lm(prob, st, max_iter, report=None):
             return st, c, it, True       # no descent left: at a minimum to precision
         small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
         small_drop = (c - cn) <= tol
+        was_small, small_now = small_now, small_drop
         moved = tn - st.theta
         moved[logm] = np.log(tn[logm] / st.theta[logm])
         if A is not None:
@@ -233,7 +236,7 @@ def _lm(prob, st, max_iter, report=None):
         lam = max(lam / 10, 1e-9)
         if report:
             report(it, c)
-        if small_step or (small_drop and lam <= 1e-2):
+        if small_step or (small_drop and lam <= 1e-2 and (A is None or was_small)):
             return st, c, it, True
     return st, c, max_iter, False
 
