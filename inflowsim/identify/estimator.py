@@ -50,6 +50,11 @@ from .transform import DEFAULT_BAND, as_record, record_spectra
 
 #: Iterations given to every starting point before the best one continues.
 SHORT_RUN = 6
+#: Cost fall [-] (of (12), a log-likelihood) of an accepted step below which the search
+#: is near its minimum and starts its secant estimate of the curvature the
+#: Gauss-Newton term lacks (:func:`_lm`): the relaxation's steps until then, number
+#: for number.
+NEAR = 0.01
 #: Half-width (frequencies) of the local residual spectrum in the coloured bound.
 HALF_WINDOW = 3
 #: A correlation this close to 1 is reported.
@@ -144,10 +149,29 @@ def _lm(prob, st, max_iter, report=None):
     For fixed ``S`` the step is Gauss-Newton on the ``S^-1/2``-weighted residuals;
     a step is accepted when the cost with ``S`` re-estimated (the concentrated
     cost ``n_f ln|S|``) falls, and ``S`` is then updated: relaxation at every
-    iteration, which keeps its speed when ``S`` and the parameters are strongly
-    coupled (model error).  Positive parameters (:meth:`Problem.log_mask`) step in
-    ``log``; the others are clipped to their ranges; a step that makes the model
-    invalid is rejected like one that raises the cost.
+    iteration.  Positive parameters (:meth:`Problem.log_mask`) step in ``log``; the
+    others are clipped to their ranges; a step that makes the model invalid is
+    rejected like one that raises the cost.
+
+    The gradient ``J^T r`` at the re-estimated ``S`` is the concentrated cost's,
+    but ``J^T J`` is not its curvature: re-estimating ``S`` takes a share of the
+    curvature where ``S`` and the parameters are coupled (model error), and
+    residuals of a structure that lacks an effect add second derivatives.  Near
+    the minimum the relaxation then converges only linearly, its rate that share
+    (0.9 for the default record's candidates: 60-100 iterations creeping at a cost
+    fall of 1e-5 a step, stopped short of the minimum by about ten times the last
+    fall).  The rule: once an accepted step lowers the cost by less than
+    :data:`NEAR`, every accepted step updates a secant estimate ``A`` of the
+    curvature ``J^T J`` lacks, ``(J^T J + A) s = y`` for the step ``s`` and the
+    gradient's change ``y`` (the symmetric, sized update of Dennis, Gay and Welsch
+    1981, NL2SOL, :func:`_secant`), and the next step takes the curvature, ``J^T J``
+    or ``J^T J + A``, whose quadratic model predicted the last step's cost change
+    more closely (NL2SOL's choice; ``J^T J + A`` only where it is positive definite
+    with the damping, else the damping grows).  Before that the steps are the
+    relaxation's, number for number.  The stop: a step below ``1e-9`` of each
+    parameter's typical size, or a fall below ``1e-7 n_f`` at small damping; once
+    the secant term exists, two such falls in a row (its steps are uneven: one
+    small fall between larger ones is not the minimum).
     Returns ``(state, cost, iterations, converged)``.
     """
     lo, hi = prob.bounds()
@@ -155,6 +179,10 @@ def _lm(prob, st, max_iter, report=None):
     lam = 1e-3
     c = _concentrated(prob, st)
     tol = 1e-7 * max(1.0, prob.n_freq)
+    # secant term, last step (in the search's coordinates) and gradient, which
+    # curvature the next step takes, near the minimum yet
+    A, last, aug, near = None, None, False, False
+    small_now = False
     for it in range(1, max_iter + 1):
         # forward differences suffice for the search; bounds use central ones
         J = np.vstack(prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=False))
@@ -162,6 +190,9 @@ def _lm(prob, st, max_iter, report=None):
         r = np.concatenate(st.r)
         g = J.T @ r
         H = J.T @ J
+        if near:
+            A = _secant(A, H, g, *last)
+        B = H + A if aug else H
         d = np.diag(H).copy()
         dmax = max(d.max(), 1e-300)
         d = np.where(d > 1e-12 * dmax, d, dmax * 1e-12)
@@ -169,7 +200,7 @@ def _lm(prob, st, max_iter, report=None):
         at_lo, at_hi = st.theta <= lo, st.theta >= hi
         while lam < 1e12:
             try:
-                delta = _step(H, g, lam * d, at_lo, at_hi)
+                delta = _step(B, g, lam * d, at_lo, at_hi, definite=aug)
             except np.linalg.LinAlgError:
                 lam *= 10
                 continue
@@ -191,16 +222,54 @@ def _lm(prob, st, max_iter, report=None):
             return st, c, it, True       # no descent left: at a minimum to precision
         small_step = np.all(np.abs(tn - st.theta) <= 1e-9 * prob.typical(tn))
         small_drop = (c - cn) <= tol
+        was_small, small_now = small_now, small_drop
+        moved = tn - st.theta
+        moved[logm] = np.log(tn[logm] / st.theta[logm])
+        if A is not None:
+            # the curvature whose model predicted this step's change of the cost
+            # (twice the model's: g and B are of |r|^2 / 2) more closely
+            q = 2 * float(g @ moved) + float(moved @ H @ moved)
+            aug = abs(q + float(moved @ A @ moved) - (cn - c)) < abs(q - (cn - c))
+        last = (moved, g)
+        near = near or (c - cn) < NEAR
         st, c = _reweighted(prob, sn, s_new), cn
         lam = max(lam / 10, 1e-9)
         if report:
             report(it, c)
-        if small_step or (small_drop and lam <= 1e-2):
+        if small_step or (small_drop and lam <= 1e-2 and (A is None or was_small)):
             return st, c, it, True
     return st, c, max_iter, False
 
 
-def _step(H, g, damp, at_lo, at_hi):
+def _secant(A, H, g, s, g_old):
+    """The secant estimate of the curvature the Gauss-Newton term lacks, after a step.
+
+    ``A`` (``None``: zero) updated so that ``(H + A) s = y``, ``y = g - g_old`` the
+    change of the gradient (half the cost's, as ``g = J^T r``) along the step ``s``
+    (the search's coordinates), ``H = J^T J`` at the step's end: first sized down to
+    what the step measured (``A <- min(1, |s^T y#| / |s^T A s|) A``, ``y# = y - H
+    s``), then the symmetric rank-two update of Dennis, Gay and Welsch (1981, *ACM
+    TOMS* 7, 348-368, NL2SOL)
+
+        ``A + (v y^T + y v^T) / (y^T s) - (v^T s) y y^T / (y^T s)^2``, ``v = y# - A s``.
+
+    A step along which the gradient did not grow (``y^T s <= 0``) leaves ``A``.
+    """
+    y = g - g_old
+    ys = float(y @ s)
+    if not (np.isfinite(ys) and ys > 0):
+        return A
+    if A is None:
+        A = np.zeros_like(H)
+    ysh = y - H @ s
+    sas = float(s @ A @ s)
+    if sas != 0:
+        A = A * min(1.0, abs(float(s @ ysh)) / abs(sas))
+    v = ysh - A @ s
+    return A + (np.outer(v, y) + np.outer(y, v)) / ys - (float(v @ s) / ys ** 2) * np.outer(y, y)
+
+
+def _step(H, g, damp, at_lo, at_hi, definite=False):
     """The damped Gauss-Newton step ``(H + diag(damp)) delta = -g``, with every
     parameter that sits at a range limit and that the step would push past it held
     (its row and column dropped, its step zero; repeated while another one is
@@ -211,20 +280,30 @@ def _step(H, g, damp, at_lo, at_hi):
     taken at large, so the damping never falls and the search crawls to its
     iteration limit (a candidate effect whose best value is its neutral boundary,
     as ``servo_tau`` on a record without servos).  Where no parameter is pushed
-    past a limit it is the plain solve, number for number."""
-    delta = np.linalg.solve(H + np.diag(damp), -g)
+    past a limit it is the plain solve, number for number.  ``definite``: ``H`` may
+    be indefinite (with the secant term, :func:`_lm`), and a damped matrix that is
+    not positive definite raises :class:`numpy.linalg.LinAlgError` (Cholesky)."""
+    solve = _solve_definite if definite else np.linalg.solve
+    delta = solve(H + np.diag(damp), -g)
     held = (at_lo & (delta < 0)) | (at_hi & (delta > 0))
     while held.any():
         free = ~held
         delta = np.zeros_like(g)
         if free.any():
             sub = np.ix_(free, free)
-            delta[free] = np.linalg.solve(H[sub] + np.diag(damp[free]), -g[free])
+            delta[free] = solve(H[sub] + np.diag(damp[free]), -g[free])
         more = (at_lo & (delta < 0)) | (at_hi & (delta > 0))
         if not more.any():
             break
         held |= more
     return delta
+
+
+def _solve_definite(M, b):
+    """``M^-1 b`` of a positive-definite ``M`` (Cholesky; :class:`numpy.linalg.LinAlgError`
+    otherwise)."""
+    L = np.linalg.cholesky(M)
+    return np.linalg.solve(L.T, np.linalg.solve(L, b))
 
 
 def fit_from(prob, theta, max_iter=100, report=None):
@@ -775,7 +854,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
                       nu=tuple(st.nus))
 
 
-__all__ = ["SHORT_RUN", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
+__all__ = ["SHORT_RUN", "NEAR", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
            "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
            "evaluate", "fit_state", "fit_from", "as_records", "spectra_of",
            "covariances"]
