@@ -407,11 +407,12 @@ def test_the_forward_flight_trims_coriolis_terms():
     trim"), projected by hand: with ``n_beta = 0`` and no steady lag the generated
     coefficients are exactly ``2 beta zeta'`` in the flap rows and ``-2 beta beta'``
     in the lag rows about the cyclic flap ``(b0, b1c, b1s)``, and the lag's trim
-    moment is the cyclic flap's Coriolis moment."""
+    moment is the cyclic flap's Coriolis moment, its first harmonics and its 2/rev
+    part."""
     from inflowsim.physics import lead_lag_terms as lt
     b0, b1c, b1s = 0.1, -0.05, 0.03
     args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
-    flap, lag, _ = lt.terms(*args, (0.0, 0.0, 0.0))
+    flap, lag, _ = lt.terms(*args, (0.0,) * 5)
     # columns zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s'
     np.testing.assert_allclose(flap[:, 15:], [[0, -b1s, b1c, 2 * b0, b1c, b1s],
                                               [0, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
@@ -422,7 +423,10 @@ def test_the_forward_flight_trims_coriolis_terms():
                                                       [2 * b1s, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
                                                       [-2 * b1c, -2 * b0, 0, 2 * b1s, 0, 2 * b0]]),
                                atol=1e-15)
-    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c],
+    # and its 2/rev part, -2 beta beta' on (2 cos 2psi, 2 sin 2psi), holds the trim's
+    # 2/rev lag
+    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c,
+                                                    -2 * b1c * b1s, b1c**2 - b1s**2],
                                atol=1e-15)
     # no aerodynamics: nothing on the inflow and the inputs; no steady lag: nothing
     # on the base columns of the flap rows
@@ -441,7 +445,7 @@ def test_the_second_harmonic_lags_coriolis_terms():
     from inflowsim.physics import lead_lag_terms as lt
     b0, b1c, b1s = 0.1, -0.05, 0.03
     args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
-    lag2, lag2_z2, flap_z2, lag_z2, _ = lt.second_harmonic(*args, (0.0, 0.0, 0.0))
+    lag2, lag2_z2, flap_z2, lag_z2, _ = lt.second_harmonic(*args, (0.0,) * 5)
     psi = 2 * np.pi * np.arange(64) / 64
     c, s_, c2, s2 = np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)
     bt, dbt = b0 + b1c * c + b1s * s_, -b1c * s_ + b1s * c
@@ -473,6 +477,38 @@ def test_the_second_harmonic_lags_coriolis_terms():
     t2 = ll.second_harmonic(0.65, 0.2, (lag2, lag2_z2))
     k = ll.second_harmonic_structure(0.65, 0.2) - lag2_z2
     np.testing.assert_allclose(k @ t2, lag2, atol=1e-15)
+
+
+def test_the_trims_steady_lag_with_its_second_harmonic_by_harmonic_balance():
+    """The steady lag of the trim, its 2/rev part included (``model.md`` 9.1, "The
+    forward-flight trim"): with ``n_beta = 0`` each blade's lag is ``zeta'' + C zeta'
+    + nu^2 zeta = -2 beta beta' (1 - zeta')`` about the cyclic flap, and its periodic
+    solution in harmonics 0-2 (balanced here by a 64-point quadrature on ``(1, 2 cos
+    psi, 2 sin psi, 2 cos 2psi, 2 sin 2psi)``) is the effect's :func:`steady_lag`
+    from the generated tables.  The 2/rev part is the cyclic flap's Coriolis moment
+    ``-2 b1c b1s cos 2psi + (b1c^2 - b1s^2) sin 2psi`` over ``nu^2 - 4``, about a
+    tenth of the cyclic steady lag at the Puma's trim."""
+    from inflowsim.physics import lead_lag as ll
+    from inflowsim.physics import lead_lag_terms as lt
+    nu, zl = 0.25, 0.2
+    b0, b1c, b1s = 0.12, -0.05, -0.033
+    args = (0.25, 0.0, 0.0, (0.17, 0.01, -0.05), (b0, b1c, b1s), -0.02, 0.001, 0.002)
+    zt = ll.steady_lag(ll.lag_structure(nu, zl), ll.second_harmonic_structure(nu, zl),
+                       lt.lag_stiffness(*args), lt.lag_trim(*args))
+    psi = 2 * np.pi * np.arange(64) / 64
+    c, s_ = np.cos(psi), np.sin(psi)
+    basis = np.array([np.ones_like(psi), c, s_, np.cos(2 * psi), np.sin(2 * psi)])
+    rate = np.array([0 * psi, -s_, c, -2 * np.sin(2 * psi), 2 * np.cos(2 * psi)])
+    accel = -np.array([0, 1, 1, 4, 4])[:, None] * basis
+    weights = np.array([1, 2, 2, 2, 2])[:, None] * basis
+    bb, dbb = b0 + b1c * c + b1s * s_, -b1c * s_ + b1s * c
+    cz = 2 * zl * nu
+    # the residual of each basis function, projected: L zeta = -2 beta beta'
+    lhs = [(weights * (a + cz * r + nu**2 * f - 2 * bb * dbb * r)).mean(axis=1)
+           for f, r, a in zip(basis, rate, accel)]
+    want = np.linalg.solve(np.array(lhs).T, (weights * (-2 * bb * dbb)).mean(axis=1))
+    np.testing.assert_allclose(zt, want, rtol=1e-12, atol=1e-17)
+    assert 0.05 * np.abs(zt[1:3]).max() < np.abs(zt[3:]).max() < 0.5 * np.abs(zt[1:3]).max()
 
 
 @pytest.mark.slow

@@ -60,9 +60,9 @@ def test_the_lag_tables_are_the_effects_run_time_calls():
     np.testing.assert_allclose(lt.lag_trim(*args), want, rtol=1e-13, atol=1e-16)
     np.testing.assert_array_equal(rt["lead-lag/lag_trim"].solve(values)[:, 0],
                                   lt.lag_trim(*args))
-    zt = (0.01, 0.002, -0.001)
+    zt = (0.01, 0.002, -0.001, 0.0005, -0.0003)
     flap, lag, loads = lt.terms(*args, zt)
-    y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), zt[1], zt[2]])
+    y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), *zt[1:]])
     np.testing.assert_array_equal(np.concatenate([flap.ravel(), lag.ravel(),
                                                   loads.ravel()]), y)
 
