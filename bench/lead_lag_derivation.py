@@ -20,8 +20,9 @@ the body rates where it is, at ``psi - zeta``; the swashplate sets its pitch
 ``theta = theta0 + theta1c cos psi + theta1s sin psi`` at the hub azimuth.
 
 Linearised about a forward-flight trim in multiblade coordinates: pitch
-``(th0, th1c, th1s)``, flap ``(b0, b1c, b1s)`` (the blade at ``b0 + b1c cos psi + b1s
-sin psi``, its rate ``-b1c sin psi + b1s cos psi``), up-flow ``u = muz - lambda0``,
+``(th0, th1c, th1s)``, flap ``(b0, b1c, b1s, b2c, b2s)`` (the blade at ``b0 + b1c cos
+psi + b1s sin psi + b2c cos 2psi + b2s sin 2psi``: the trim's 2/rev flap, which the
+Coriolis moment carries into the lag's trim and couplings), up-flow ``u = muz - lambda0``,
 cyclic inflow ``(l1c, l1s)`` and the steady lag ``(z0, z1c, z1s, z2c, z2s)`` (its
 second harmonic: the trim's 2/rev lag, which the cyclic flap's Coriolis moment
 ``-2 beta beta'`` and the ``mu`` terms force).  Every product of the trim is kept;
@@ -51,8 +52,8 @@ OUT = Path(__file__).resolve().parents[1] / "inflowsim" / "physics" / "lead_lag_
 #: perturbations, the columns of the generated matrices
 COLS = ["b0", "b1c", "b1s", "db0", "db1c", "db1s", "l0", "l1c", "l1s", "t0", "t1c", "t1s",
         "muz", "q", "p", "z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
-#: the trim: pitch, flap, up-flow, cyclic inflow, steady lag
-TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "u", "l1c_t", "l1s_t"]
+#: the trim: pitch, flap (with its 2/rev part), up-flow, cyclic inflow
+TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "b2ct", "b2st", "u", "l1c_t", "l1s_t"]
 LAG_TRIM = ["cz0", "sz0", "z1ct", "z1st", "z2ct", "z2st"]
 #: the second-harmonic lag ``zeta2c cos 2psi + zeta2s sin 2psi`` (quasi-static: its
 #: modes at ``2 -+ nu`` per rev lie far above the flap's band)
@@ -89,9 +90,13 @@ def derive():
     dzeta = (eps * (-t["z1ct"] * S + t["z1st"] * C + 2 * t["z2st"] * c2 - 2 * t["z2ct"] * s2)
              + v["dz0"] + (v["dz1c"] + v["z1s"]) * C + (v["dz1s"] - v["z1c"]) * S
              + 2 * v["z2s"] * c2 - 2 * v["z2c"] * s2)
-    beta = t["b0t"] + t["b1ct"] * C + t["b1st"] * S + v["b0"] + v["b1c"] * C + v["b1s"] * S
-    dbeta = (-t["b1ct"] * S + t["b1st"] * C + v["db0"] + (v["db1c"] + v["b1s"]) * C
-             + (v["db1s"] - v["b1c"]) * S)
+    # the trim's flap with its 2/rev part (the rigid blades' periodic coefficients
+    # force it: second-harmonic-flap's quasi-static balance at the trim), at rest in
+    # the fixed frame
+    beta = (t["b0t"] + t["b1ct"] * C + t["b1st"] * S + t["b2ct"] * c2 + t["b2st"] * s2
+            + v["b0"] + v["b1c"] * C + v["b1s"] * S)
+    dbeta = (-t["b1ct"] * S + t["b1st"] * C + 2 * t["b2st"] * c2 - 2 * t["b2ct"] * s2
+             + v["db0"] + (v["db1c"] + v["b1s"]) * C + (v["db1s"] - v["b1c"]) * S)
     z2 = mul(zeta, zeta)
     s0 = S * t["cz0"] - C * t["sz0"]                # sin(psi - zeta0_t)
     c0 = C * t["cz0"] + S * t["sz0"]                # cos(psi - zeta0_t)
@@ -220,7 +225,7 @@ rows, 5: the first harmonics' rows, then the second harmonic's),
 :func:`second_harmonic` the second-harmonic lag's rows and columns (quasi-static,
 condensed into the first harmonics by :func:`inflowsim.physics.lead_lag.
 coefficients`).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``,
-cyclic inflow ``l1c_t, l1s_t`` and (``terms``, ``load_trim``) the steady lag ``zt =
+cyclic inflow ``l1c_t, l1s_t`` (the flap ``b`` with its 2/rev part: 5) and (``terms``, ``load_trim``) the steady lag ``zt =
 (zeta0, zeta1c, zeta1s, zeta2c, zeta2s)``: its collective part exactly (a turn of
 the blades' azimuth: ``cz0, sz0``, its cosine and sine), its first and second
 harmonics to first order.

@@ -26,8 +26,8 @@ STATES = ("beta0", "beta1c", "beta1s", "beta0_prime", "beta1c_prime", "beta1s_pr
 
 def _effect(mu, th_t, b_t, nu, zl, theta=None, beta=None):
     """The effect's ``(A, B)`` rows ``(beta'', lambda', zeta'')`` in the truth's state
-    and input order, the trim inflow it is linearised about, the spec and the
-    steady lag it holds (an axisymmetric trim ``th_t, b_t``, or the trim's pitch
+    and input order, the trim inflow it is linearised about, the spec, the
+    steady lag it holds and the trim's 2/rev flap (an axisymmetric trim ``th_t, b_t``, or the trim's pitch
     ``theta`` and flap ``beta``)."""
     theta = (th_t, 0.0, 0.0) if theta is None else theta
     beta = (b_t, 0.0, 0.0) if beta is None else beta
@@ -51,26 +51,29 @@ def _effect(mu, th_t, b_t, nu, zl, theta=None, beta=None):
     # model's trim inflow moved by the steady lag's share of the trim's loads
     zt, *_, lam = lead_lag.coefficients(p, k)
     assert np.abs(lam - true_trim(k, 0.0, None)[3]).max() < 0.003
-    return a[np.ix_(rows, idx)], bm, lam, spec, zt
+    return a[np.ix_(rows, idx)], bm, lam, spec, zt, lead_lag.trim_flap2(p, k)
 
 
-def _with_second_lag(rot, psi, w):
+def _with_second_lag(rot, psi, w, b2=(0.0, 0.0)):
     """The truth's multiblade accelerations ``(beta'', lambda', zeta'')`` (9) and its
     second-harmonic lag's ``(zeta2c'', zeta2s'')`` (2) at ``w = (z (15), u (10),
     zeta2c, zeta2s)``: the blades' lag gains ``zeta2c cos 2psi_i + zeta2s sin 2psi_i``
     at rest in the fixed frame (its rate ``2 (zeta2s cos - zeta2c sin) 2psi_i``), and
     the lag accelerations are projected on ``(2 cos 2psi_i, 2 sin 2psi_i) / Nb`` too
-    (``zeta2c'' = P2c + 4 zeta2c`` with the coordinates' rates zero)."""
+    (``zeta2c'' = P2c + 4 zeta2c`` with the coordinates' rates zero); the blades'
+    flap also has the trim's 2/rev part ``b2`` (at rest in the fixed frame)."""
     z, u, (z2c, z2s) = w[:15], w[15:25], w[25:]
     nb = rot.nb
     a2 = 2 * (psi + rot.offsets)
     c2, s2 = np.cos(a2), np.sin(a2)
     zeta2, dzeta2 = z2c * c2 + z2s * s2, 2 * (z2s * c2 - z2c * s2)
+    beta2, dbeta2 = b2[0] * c2 + b2[1] * s2, 2 * (b2[1] * c2 - b2[0] * s2)
     # the first harmonics' blades from multiblade_derivatives' own transformation
     from inflowsim.physics.multiblade import blade_angles
     rates = [z[12], z[13] + z[11], z[14] - z[10]]
-    x = np.concatenate([blade_angles(z[0:3], psi, nb),
-                        blade_angles([z[3], z[4] + z[2], z[5] - z[1]], psi, nb), z[6:9],
+    x = np.concatenate([blade_angles(z[0:3], psi, nb) + beta2,
+                        blade_angles([z[3], z[4] + z[2], z[5] - z[1]], psi, nb) + dbeta2,
+                        z[6:9],
                         blade_angles(z[9:12], psi, nb) + zeta2,
                         blade_angles(rates, psi, nb) + dzeta2])
     f = rot.rhs(psi, x, tuple(float(v) for v in u))
@@ -84,11 +87,11 @@ def _with_second_lag(rot, psi, w):
     return out
 
 
-def _truth_jacobian(spec, z0, u0, z2=(0.0, 0.0), n_psi=4, eps=1e-6):
+def _truth_jacobian(spec, z0, u0, z2=(0.0, 0.0), b2=(0.0, 0.0), n_psi=4, eps=1e-6):
     """The truth's averaged Jacobian of ``(beta'', lambda', zeta'')`` per ``(z, u)``
     (9 x 25) with its second-harmonic lag quasi-static: differenced with
     ``zeta2c, zeta2s`` as two more columns and rows (about the trim's 2/rev lag
-    ``z2``), and those condensed, ``zeta2 = -J22^-1 J2w w`` (the effect's
+    ``z2`` and 2/rev flap ``b2``), and those condensed, ``zeta2 = -J22^-1 J2w w`` (the effect's
     :func:`inflowsim.physics.lead_lag.second_harmonic` by another route: the blades'
     own equations, numbers only)."""
     rot = BladeRotor(spec)
@@ -101,8 +104,8 @@ def _truth_jacobian(spec, z0, u0, z2=(0.0, 0.0), n_psi=4, eps=1e-6):
         for j in range(w0.size):
             d = np.zeros(w0.size)
             d[j] = eps
-            jac[:, j] += (_with_second_lag(rot, psi, w0 + d)
-                          - _with_second_lag(rot, psi, w0 - d)) / (2 * eps)
+            jac[:, j] += (_with_second_lag(rot, psi, w0 + d, b2)
+                          - _with_second_lag(rot, psi, w0 - d, b2)) / (2 * eps)
     jac /= n_psi
     return jac[:9, :25] - jac[:9, 25:] @ np.linalg.solve(jac[9:, 25:], jac[9:, :25])
 
@@ -124,14 +127,15 @@ def test_the_blade_truths_lag_linearised_is_the_lead_lag_effect(mu, b_t, nu, zl)
     moment at this point: within ``4 tan beta_t max|Z_t|`` (7e-4 at the Puma's
     coning)."""
     th_t = 0.17
-    a, b, lam, spec, zt = _effect(mu, th_t, b_t, nu, zl)
+    a, b, lam, spec, zt, b2 = _effect(mu, th_t, b_t, nu, zl)
     u0 = np.array([th_t, 0, 0, 0, 0, 0, 0, 0, mu, 0])
     z0 = np.concatenate([[b_t, 0, 0], np.zeros(3), lam, zt[:3], np.zeros(3)])
     lam0 = lam[0]
     # the drag holds the blades aft by a few degrees; the cyclic steady lag is small
     assert 0.005 < zt[0] < 0.2 and np.abs(zt[1:]).max() < zt[0]
-    # the truth linearised about the effect's steady lag, its 2/rev part included
-    jac = _truth_jacobian(spec, z0, u0, zt[3:])
+    # the truth linearised about the effect's steady lag and flap, their 2/rev parts
+    # included
+    jac = _truth_jacobian(spec, z0, u0, zt[3:], b2)
     rel, atol = 2 * b_t ** 2, 1e-7 + np.abs(zt[1:]).max() ** 2
     rot = BladeRotor(spec)
     x0 = np.concatenate([np.full(16, b_t), np.zeros(16), [lam0, 0, 0], np.zeros(32)])
@@ -180,12 +184,12 @@ def test_about_the_truths_own_periodic_trim_the_effect_is_the_truth(mu, nu, zl):
     u0 = trim_inputs(mu)
     rotor = RotorSpec(constants=ifs.PUMA.with_mu(mu), speed="mu", nu_zeta=nu, zeta_lag=zl)
     tr = BladeRotor(rotor).periodic_trim(u0)
-    a, b, lam, spec, zt = _effect(mu, None, None, nu, zl, theta=tuple(u0[:3]),
+    a, b, lam, spec, zt, b2 = _effect(mu, None, None, nu, zl, theta=tuple(u0[:3]),
                                   beta=tuple(tr.beta))
     assert abs(zt[0] - tr.zeta[0]) < 0.02 * tr.zeta[0]
     np.testing.assert_allclose(zt[1:3], tr.zeta[1:], atol=1e-3)
     z0 = np.concatenate([tr.beta, np.zeros(3), tr.lam, tr.zeta, np.zeros(3)])
-    jac = _truth_jacobian(spec, z0, u0, zt[3:])
+    jac = _truth_jacobian(spec, z0, u0, zt[3:], b2)
     coupling = max(np.abs(a[:6, 9:]).max(), np.abs(a[6:, :9]).max())
     assert coupling > 0.05
     assert np.abs(jac[:, :15] - a).max() < 0.05 * coupling

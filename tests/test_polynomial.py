@@ -50,8 +50,8 @@ def test_the_lag_tables_are_the_effects_run_time_calls():
     for name, table in lt.TABLES.items():
         assert isinstance(rt[f"lead-lag/{name}"], RuntimePolynomials)
         assert rt[f"lead-lag/{name}"].table is table
-    args = (0.3, 0.9, 0.0015, (0.17, 0.01, -0.05), (0.06, 0.011, -0.004), -0.03, 0.004,
-            -0.002)
+    args = (0.3, 0.9, 0.0015, (0.17, 0.01, -0.05), (0.06, 0.011, -0.004, -0.003, 0.001),
+            -0.03, 0.004, -0.002)
     values = [args[0], args[1], args[2], *args[3], *args[4], *args[5:]]
     t = lt.TABLES["lag_trim"]
     syms = sympy.symbols(" ".join(t.variables))

@@ -148,8 +148,11 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     ----------
     mu, nb, dl : float
         Advance ratio, ``n_beta`` and ``c_d0 / a0`` [-].
-    theta, beta : sequence of 3
-        Trim pitch and flap ``(0, 1c, 1s)`` (true, not recorded) [rad].
+    theta : sequence of 3
+        Trim pitch ``(0, 1c, 1s)`` (true, not recorded) [rad].
+    beta : sequence of 5
+        Trim flap ``(0, 1c, 1s, 2c, 2s)``: its 2/rev part the rigid blades'
+        (:func:`inflowsim.model.effects.lead_lag.trim_flap2`) [rad].
     muz : float
         Trim hub velocity normal to the disc [-].
     lam : sequence of 3
