@@ -351,8 +351,8 @@ def test_the_hingeless_blade_truths_lag_is_named_with_its_second_harmonic_flap(
         hingeless_ladders):
     """The hingeless blade truth's lag (2.7 and 4.1 times the noise in ``beta0``,
     ``beta1s``; seeds 5 and 6): the ladder from the rigid blades' structure names
-    ``lead-lag`` first and then ``second-harmonic-flap`` (the rigid truth's own 2/rev
-    flap: ``k_beta2`` 1.04 +- 0.16 on the lag-free record), nothing else, and ends
+    ``lead-lag`` first and then (seed 5) ``second-harmonic-flap`` (the rigid truth's own
+    2/rev flap: ``k_beta2`` 1.04 +- 0.16 on the lag-free record), nothing else, and ends
     ``explained`` with every channel within 1.5 of the floor; the lag's coupling
     (its frequency and damper at the hingeless theory) and ``k_beta2`` within 3
     sigma of the truth.  Before the lag's second harmonic and the record's hub, the
