@@ -20,12 +20,12 @@ the steady lag the trim's drag holds), projected on ``(1, 2 cos psi, 2 sin psi)`
 and averaged over the azimuth (the base model's constant-coefficient
 approximation), with ``zeta = zeta0 + zeta1c cos psi + zeta1s sin psi``: the
 coefficients are :mod:`inflowsim.physics.lead_lag_terms`, derived with sympy by
-``bench/lead_lag_derivation.py``.  The steady lag is the steady state of the same
-averaged lag rows under the trim's lag moment (:func:`steady_lag`), its second
-harmonic included (the trim's 2/rev lag, held by the cyclic flap's Coriolis moment:
-a few tenths of a per cent of the blades' airspeed at 2/rev, which moves the lag's
-couplings by as much as the lag's share of the response is above the noise).  Checked against
-the individual-blade equations integrated blade by blade (``tests/test_lead_lag.py``)
+``bench/lead_lag_derivation.py``.  The trim's flap has its 2/rev part (the rigid
+blades', ``beta`` of :func:`coefficients`), and the steady lag is the steady state of
+the same averaged lag rows under the trim's lag moment (:func:`steady_lag`), its 2/rev
+part included (held by the flap's Coriolis moment ``-2 beta beta'``): each a few
+tenths of a per cent of the blades' airspeed, which the Coriolis moments carry into
+the 1/rev couplings (``model.md`` 9.1).  Checked against the individual-blade equations integrated blade by blade (``tests/test_lead_lag.py``)
 and against the blade truth's own equations differenced about its periodic trim
 (``tests/test_bladesim_lag.py``).  Pure functions of numbers or of sympy symbols
 (the FMU's C is generated from them).
