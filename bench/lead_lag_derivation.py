@@ -20,13 +20,15 @@ the body rates where it is, at ``psi - zeta``; the swashplate sets its pitch
 ``theta = theta0 + theta1c cos psi + theta1s sin psi`` at the hub azimuth.
 
 Linearised about a forward-flight trim in multiblade coordinates: pitch
-``(th0, th1c, th1s)``, flap ``(b0, b1c, b1s)`` (the blade at ``b0 + b1c cos psi + b1s
-sin psi``, its rate ``-b1c sin psi + b1s cos psi``), up-flow ``u = muz - lambda0``,
-cyclic inflow ``(l1c, l1s)`` and the steady lag ``(z0, z1c, z1s)``.  Every product
-of the trim is kept; the collective steady lag exactly (it turns the blades'
-azimuth: ``cos z0``, ``sin z0``), the cyclic steady lag to first order
-(``sin(psi - zeta)`` to second order in ``zeta``, so that its product with a lag
-perturbation is kept).  Each
+``(th0, th1c, th1s)``, flap ``(b0, b1c, b1s, b2c, b2s)`` (the blade at ``b0 + b1c cos
+psi + b1s sin psi + b2c cos 2psi + b2s sin 2psi``: the trim's 2/rev flap, which the
+Coriolis moment carries into the lag's trim and couplings), up-flow ``u = muz - lambda0``,
+cyclic inflow ``(l1c, l1s)`` and the steady lag ``(z0, z1c, z1s, z2c, z2s)`` (its
+second harmonic: the trim's 2/rev lag, which the cyclic flap's Coriolis moment
+``-2 beta beta'`` and the ``mu`` terms force).  Every product of the trim is kept;
+the collective steady lag exactly (it turns the blades' azimuth: ``cos z0``, ``sin
+z0``), its harmonics to first order (``sin(psi - zeta)`` to second order in
+``zeta``, so that their product with a lag perturbation is kept).  Each
 right-hand side is projected on ``(1, 2 cos psi, 2 sin psi)`` (loads: 1) and
 averaged over the azimuth (the constant-coefficient approximation of the base
 model, section 2).  The lag also has its second harmonic ``zeta2c cos 2psi + zeta2s
@@ -50,9 +52,9 @@ OUT = Path(__file__).resolve().parents[1] / "inflowsim" / "physics" / "lead_lag_
 #: perturbations, the columns of the generated matrices
 COLS = ["b0", "b1c", "b1s", "db0", "db1c", "db1s", "l0", "l1c", "l1s", "t0", "t1c", "t1s",
         "muz", "q", "p", "z0", "z1c", "z1s", "dz0", "dz1c", "dz1s"]
-#: the trim: pitch, flap, up-flow, cyclic inflow, steady lag
-TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "u", "l1c_t", "l1s_t"]
-LAG_TRIM = ["cz0", "sz0", "z1ct", "z1st"]
+#: the trim: pitch, flap (with its 2/rev part), up-flow, cyclic inflow
+TRIM = ["th0", "th1c", "th1s", "b0t", "b1ct", "b1st", "b2ct", "b2st", "u", "l1c_t", "l1s_t"]
+LAG_TRIM = ["cz0", "sz0", "z1ct", "z1st", "z2ct", "z2st"]
 #: the second-harmonic lag ``zeta2c cos 2psi + zeta2s sin 2psi`` (quasi-static: its
 #: modes at ``2 -+ nu`` per rev lie far above the flap's band)
 Z2 = ["z2c", "z2s"]
@@ -79,16 +81,22 @@ def derive():
     t = g
     c2, s2 = C * C - S * S, 2 * S * C               # cos 2 psi, sin 2 psi
     # the steady lag: its collective part exactly (a turn of the blade's azimuth,
-    # cz0 = cos zeta0_t, sz0 = sin zeta0_t), its cyclic part to first order
-    # the second-harmonic lag quasi-static (its coordinates' own rates left out)
-    zeta = (eps * (t["z1ct"] * C + t["z1st"] * S)
+    # cz0 = cos zeta0_t, sz0 = sin zeta0_t), its first and second harmonics to first
+    # order (the trim's 2/rev lag: the cyclic flap's Coriolis moment and the mu
+    # terms hold it); the second-harmonic lag perturbation quasi-static (its
+    # coordinates' own rates left out)
+    zeta = (eps * (t["z1ct"] * C + t["z1st"] * S + t["z2ct"] * c2 + t["z2st"] * s2)
             + v["z0"] + v["z1c"] * C + v["z1s"] * S + v["z2c"] * c2 + v["z2s"] * s2)
-    dzeta = (eps * (-t["z1ct"] * S + t["z1st"] * C)
+    dzeta = (eps * (-t["z1ct"] * S + t["z1st"] * C + 2 * t["z2st"] * c2 - 2 * t["z2ct"] * s2)
              + v["dz0"] + (v["dz1c"] + v["z1s"]) * C + (v["dz1s"] - v["z1c"]) * S
              + 2 * v["z2s"] * c2 - 2 * v["z2c"] * s2)
-    beta = t["b0t"] + t["b1ct"] * C + t["b1st"] * S + v["b0"] + v["b1c"] * C + v["b1s"] * S
-    dbeta = (-t["b1ct"] * S + t["b1st"] * C + v["db0"] + (v["db1c"] + v["b1s"]) * C
-             + (v["db1s"] - v["b1c"]) * S)
+    # the trim's flap with its 2/rev part (the rigid blades' periodic coefficients
+    # force it: second-harmonic-flap's quasi-static balance at the trim), at rest in
+    # the fixed frame
+    beta = (t["b0t"] + t["b1ct"] * C + t["b1st"] * S + t["b2ct"] * c2 + t["b2st"] * s2
+            + v["b0"] + v["b1c"] * C + v["b1s"] * S)
+    dbeta = (-t["b1ct"] * S + t["b1st"] * C + 2 * t["b2st"] * c2 - 2 * t["b2ct"] * s2
+             + v["db0"] + (v["db1c"] + v["b1s"]) * C + (v["db1s"] - v["b1c"]) * S)
     z2 = mul(zeta, zeta)
     s0 = S * t["cz0"] - C * t["sz0"]                # sin(psi - zeta0_t)
     c0 = C * t["cz0"] + S * t["sz0"]                # cos(psi - zeta0_t)
@@ -131,7 +139,10 @@ def derive():
         return e.coeff(hh, 0), {c: lin.coeff(syms["d_" + c]) for c in COLS + Z2}
 
     out, lag_free, z2_rows = {}, {}, {}
-    no_lag = {syms["cz0"]: 1, syms["sz0"]: 0, syms["z1ct"]: 0, syms["z1st"]: 0}
+    no_lag = {syms["cz0"]: 1, syms["sz0"]: 0, syms["z1ct"]: 0, syms["z1st"]: 0,
+              syms["z2ct"]: 0, syms["z2st"]: 0}
+    # the second-harmonic lag's own rows (the lag projected on 2 cos 2psi, 2 sin 2psi)
+    lag2 = [split(average(tr(lag * w))) for w in (2 * c2, 2 * s2)]
     for name, f, weights in (("flap", flap, (1, 2 * C, 2 * S)), ("lag", lag, (1, 2 * C, 2 * S)),
                              ("loads", None, None)):
         rows, zero, free = [], [], []
@@ -151,16 +162,20 @@ def derive():
         out[name] = rows
         lag_free[name] = free
         if name == "lag":
-            out["lag_trim"] = [sp.expand(z.subs(no_lag)) for z in zero]
-            # the lag rows' displacement columns without steady lag (its stiffness)
-            out["lag_stiffness"] = [[sp.expand(r[j].subs(no_lag)) for j in range(15, 18)]
-                                    for r in rows]
+            # the lag's trim moment and the displacement columns without steady lag
+            # (its stiffness), rows and columns (zeta0, zeta1c, zeta1s, zeta2c, zeta2s):
+            # the first harmonics' rows, then the second harmonic's
+            z2r = z2_rows["lag"]
+            out["lag_trim"] = [sp.expand(z.subs(no_lag)) for z in zero + [z for z, _ in lag2]]
+            out["lag_stiffness"] = [
+                [sp.expand(e.subs(no_lag)) for e in r[15:18] + z2r[i]]
+                for i, r in enumerate(rows)] + [
+                [sp.expand(lin[c].subs(no_lag)) for c in COLS[15:18] + Z2] for _, lin in lag2]
         if name == "loads":
             # the steady lag's share of the trim's loads (it moves the trim inflow)
             out["load_trim"] = [sp.expand(z - z.subs(no_lag)) for z in zero]
-    # the second-harmonic lag's own rows (the lag projected on 2 cos 2psi, 2 sin
-    # 2psi) and its columns in the flap, lag and load rows
-    lag2 = [split(average(tr(lag * w)))[1] for w in (2 * c2, 2 * s2)]
+    # the second-harmonic lag's rows and its columns in the flap, lag and load rows
+    lag2 = [lin for _, lin in lag2]
     out["second"] = {"lag2": [[r[c] for c in COLS] for r in lag2],
                      "lag2_z2": [[r[c] for c in Z2] for r in lag2],
                      **{name + "_z2": z2_rows[name] for name in ("flap", "lag", "loads")}}
@@ -204,14 +219,16 @@ effect's multiblade coefficients about a forward-flight trim (``model.md`` 9.1).
 2 cos psi, 2 sin psi)``; loads: ``(C_T, C_mc, C_ms) / (a0 s)``), columns :data:`COLS`
 (flap, flap rate, inflow, pitch, ``muz``, ``qbar``, ``pbar``, lag, lag rate);
 :func:`lag_trim` the lag's trim moment (the zero-order right-hand side of the lag
-rows, 3), :func:`lag_stiffness` their displacement columns without steady lag (3 x
-3), :func:`load_trim` the steady lag's share of the trim's loads (3) and
+rows, 5: the first harmonics' rows, then the second harmonic's),
+:func:`lag_stiffness` their displacement columns without steady lag (5 x 5),
+:func:`load_trim` the steady lag's share of the trim's loads (3) and
 :func:`second_harmonic` the second-harmonic lag's rows and columns (quasi-static,
 condensed into the first harmonics by :func:`inflowsim.physics.lead_lag.
-coefficients`).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``, cyclic inflow ``l1c_t,
-l1s_t`` and (``terms``, ``load_trim``) the steady lag ``zt``: its collective part
-exactly (a turn of the blades' azimuth: ``cz0, sz0``, its cosine and sine), its
-cyclic part to first order.
+coefficients`).  The trim: pitch ``th``, flap ``b``, up-flow ``u = muz - lambda0``,
+cyclic inflow ``l1c_t, l1s_t`` (the flap ``b`` with its 2/rev part: 5) and (``terms``, ``load_trim``) the steady lag ``zt =
+(zeta0, zeta1c, zeta1s, zeta2c, zeta2s)``: its collective part exactly (a turn of
+the blades' azimuth: ``cz0, sz0``, its cosine and sine), its first and second
+harmonics to first order.
 
 Each is a polynomial in the trim, held as data (:class:`~inflowsim.physics.
 polynomial.Polynomials`: the derivation's exact coefficients rounded once to
@@ -310,28 +327,29 @@ FUNCTIONS = '''
 def terms(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
     """``(flap, lag, loads)``, each 3 x 21 (:data:`COLS`) [-]."""
     cz0, sz0 = _cos_sin(zt[0])
-    y = _evaluate(_TERMS, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1], zt[2]),
+    y = _evaluate(_TERMS, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, *zt[1:5]),
                   numeric)
     return y[:63].reshape(3, 21), y[63:126].reshape(3, 21), y[126:].reshape(3, 21)
 
 
 def lag_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, numeric=None):
-    """The lag rows' right-hand side at the trim without lag (3) [-]."""
+    """The lag rows' right-hand side at the trim without lag, rows ``(0, 1c, 1s, 2c,
+    2s)`` (5) [-]."""
     return _evaluate(_LAG_TRIM, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t), numeric)
 
 
 def lag_stiffness(mu, nb, dl, th, b, u, l1c_t, l1s_t, numeric=None):
-    """The lag rows' displacement columns (``COLS[15:18]``) without steady lag (3 x
-    3) [-]."""
+    """The lag rows' displacement columns without steady lag, rows and columns
+    ``(zeta0, zeta1c, zeta1s, zeta2c, zeta2s)`` (5 x 5) [-]."""
     return _evaluate(_LAG_STIFFNESS, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t),
-                     numeric).reshape(3, 3)
+                     numeric).reshape(5, 5)
 
 
 def load_trim(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
     """The steady lag's share of the trim's ``(C_T, C_mc, C_ms) / (a0 s)`` (3) [-]."""
     cz0, sz0 = _cos_sin(zt[0])
-    return _evaluate(_LOAD_TRIM, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1],
-                                  zt[2]), numeric)
+    return _evaluate(_LOAD_TRIM, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0,
+                                  *zt[1:5]), numeric)
 
 
 def second_harmonic(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
@@ -340,7 +358,7 @@ def second_harmonic(mu, nb, dl, th, b, u, l1c_t, l1s_t, zt, numeric=None):
     21) and per itself (2 x 2), and its columns in the flap, lag and load rows of
     :func:`terms` (3 x 2 each) [-]."""
     cz0, sz0 = _cos_sin(zt[0])
-    y = _evaluate(_SECOND, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, zt[1], zt[2]),
+    y = _evaluate(_SECOND, (mu, nb, dl, *th, *b, u, l1c_t, l1s_t, cz0, sz0, *zt[1:5]),
                   numeric)
     return (y[:42].reshape(2, 21), y[42:46].reshape(2, 2), y[46:52].reshape(3, 2),
             y[52:58].reshape(3, 2), y[58:64].reshape(3, 2))

@@ -26,8 +26,8 @@ STATES = ("beta0", "beta1c", "beta1s", "beta0_prime", "beta1c_prime", "beta1s_pr
 
 def _effect(mu, th_t, b_t, nu, zl, theta=None, beta=None):
     """The effect's ``(A, B)`` rows ``(beta'', lambda', zeta'')`` in the truth's state
-    and input order, the trim inflow it is linearised about, the spec and the
-    steady lag it holds (an axisymmetric trim ``th_t, b_t``, or the trim's pitch
+    and input order, the trim inflow it is linearised about, the spec, the
+    steady lag it holds and the trim's 2/rev flap (an axisymmetric trim ``th_t, b_t``, or the trim's pitch
     ``theta`` and flap ``beta``)."""
     theta = (th_t, 0.0, 0.0) if theta is None else theta
     beta = (b_t, 0.0, 0.0) if beta is None else beta
@@ -51,26 +51,29 @@ def _effect(mu, th_t, b_t, nu, zl, theta=None, beta=None):
     # model's trim inflow moved by the steady lag's share of the trim's loads
     zt, *_, lam = lead_lag.coefficients(p, k)
     assert np.abs(lam - true_trim(k, 0.0, None)[3]).max() < 0.003
-    return a[np.ix_(rows, idx)], bm, lam, spec, zt
+    return a[np.ix_(rows, idx)], bm, lam, spec, zt, lead_lag.trim_flap2(p, k)
 
 
-def _with_second_lag(rot, psi, w):
+def _with_second_lag(rot, psi, w, b2=(0.0, 0.0)):
     """The truth's multiblade accelerations ``(beta'', lambda', zeta'')`` (9) and its
     second-harmonic lag's ``(zeta2c'', zeta2s'')`` (2) at ``w = (z (15), u (10),
     zeta2c, zeta2s)``: the blades' lag gains ``zeta2c cos 2psi_i + zeta2s sin 2psi_i``
     at rest in the fixed frame (its rate ``2 (zeta2s cos - zeta2c sin) 2psi_i``), and
     the lag accelerations are projected on ``(2 cos 2psi_i, 2 sin 2psi_i) / Nb`` too
-    (``zeta2c'' = P2c + 4 zeta2c`` with the coordinates' rates zero)."""
+    (``zeta2c'' = P2c + 4 zeta2c`` with the coordinates' rates zero); the blades'
+    flap also has the trim's 2/rev part ``b2`` (at rest in the fixed frame)."""
     z, u, (z2c, z2s) = w[:15], w[15:25], w[25:]
     nb = rot.nb
     a2 = 2 * (psi + rot.offsets)
     c2, s2 = np.cos(a2), np.sin(a2)
     zeta2, dzeta2 = z2c * c2 + z2s * s2, 2 * (z2s * c2 - z2c * s2)
+    beta2, dbeta2 = b2[0] * c2 + b2[1] * s2, 2 * (b2[1] * c2 - b2[0] * s2)
     # the first harmonics' blades from multiblade_derivatives' own transformation
     from inflowsim.physics.multiblade import blade_angles
     rates = [z[12], z[13] + z[11], z[14] - z[10]]
-    x = np.concatenate([blade_angles(z[0:3], psi, nb),
-                        blade_angles([z[3], z[4] + z[2], z[5] - z[1]], psi, nb), z[6:9],
+    x = np.concatenate([blade_angles(z[0:3], psi, nb) + beta2,
+                        blade_angles([z[3], z[4] + z[2], z[5] - z[1]], psi, nb) + dbeta2,
+                        z[6:9],
                         blade_angles(z[9:12], psi, nb) + zeta2,
                         blade_angles(rates, psi, nb) + dzeta2])
     f = rot.rhs(psi, x, tuple(float(v) for v in u))
@@ -84,24 +87,25 @@ def _with_second_lag(rot, psi, w):
     return out
 
 
-def _truth_jacobian(spec, z0, u0, n_psi=4, eps=1e-6):
+def _truth_jacobian(spec, z0, u0, z2=(0.0, 0.0), b2=(0.0, 0.0), n_psi=4, eps=1e-6):
     """The truth's averaged Jacobian of ``(beta'', lambda', zeta'')`` per ``(z, u)``
     (9 x 25) with its second-harmonic lag quasi-static: differenced with
-    ``zeta2c, zeta2s`` as two more columns and rows, and those condensed, ``zeta2 =
-    -J22^-1 J2w w`` (the effect's :func:`inflowsim.physics.lead_lag.second_harmonic`
-    by another route: the blades' own equations, numbers only)."""
+    ``zeta2c, zeta2s`` as two more columns and rows (about the trim's 2/rev lag
+    ``z2`` and 2/rev flap ``b2``), and those condensed, ``zeta2 = -J22^-1 J2w w`` (the effect's
+    :func:`inflowsim.physics.lead_lag.second_harmonic` by another route: the blades'
+    own equations, numbers only)."""
     rot = BladeRotor(spec)
-    w0 = np.concatenate([z0, u0, [0.0, 0.0]])
+    w0 = np.concatenate([z0, u0, z2])
     jac = np.zeros((11, w0.size))
     # without the second harmonic, the library's multiblade transformation
-    np.testing.assert_allclose(_with_second_lag(rot, 0.1, w0)[:9],
+    np.testing.assert_allclose(_with_second_lag(rot, 0.1, w0 * (np.arange(w0.size) < 25))[:9],
                                multiblade_derivatives(rot, 0.1, z0, u0), rtol=0, atol=1e-13)
     for psi in np.linspace(0, 2 * np.pi / rot.nb, n_psi, endpoint=False):
         for j in range(w0.size):
             d = np.zeros(w0.size)
             d[j] = eps
-            jac[:, j] += (_with_second_lag(rot, psi, w0 + d)
-                          - _with_second_lag(rot, psi, w0 - d)) / (2 * eps)
+            jac[:, j] += (_with_second_lag(rot, psi, w0 + d, b2)
+                          - _with_second_lag(rot, psi, w0 - d, b2)) / (2 * eps)
     jac /= n_psi
     return jac[:9, :25] - jac[:9, 25:] @ np.linalg.solve(jac[9:, 25:], jac[9:, :25])
 
@@ -123,13 +127,15 @@ def test_the_blade_truths_lag_linearised_is_the_lead_lag_effect(mu, b_t, nu, zl)
     moment at this point: within ``4 tan beta_t max|Z_t|`` (7e-4 at the Puma's
     coning)."""
     th_t = 0.17
-    a, b, lam, spec, zt = _effect(mu, th_t, b_t, nu, zl)
+    a, b, lam, spec, zt, b2 = _effect(mu, th_t, b_t, nu, zl)
     u0 = np.array([th_t, 0, 0, 0, 0, 0, 0, 0, mu, 0])
-    z0 = np.concatenate([[b_t, 0, 0], np.zeros(3), lam, zt, np.zeros(3)])
+    z0 = np.concatenate([[b_t, 0, 0], np.zeros(3), lam, zt[:3], np.zeros(3)])
     lam0 = lam[0]
     # the drag holds the blades aft by a few degrees; the cyclic steady lag is small
     assert 0.005 < zt[0] < 0.2 and np.abs(zt[1:]).max() < zt[0]
-    jac = _truth_jacobian(spec, z0, u0)
+    # the truth linearised about the effect's steady lag and flap, their 2/rev parts
+    # included
+    jac = _truth_jacobian(spec, z0, u0, zt[3:], b2)
     rel, atol = 2 * b_t ** 2, 1e-7 + np.abs(zt[1:]).max() ** 2
     rot = BladeRotor(spec)
     x0 = np.concatenate([np.full(16, b_t), np.zeros(16), [lam0, 0, 0], np.zeros(32)])
@@ -169,21 +175,34 @@ def test_about_the_truths_own_periodic_trim_the_effect_is_the_truth(mu, nu, zl):
     Coriolis moment.  The truth's periodic trim (the given controls, four blades)
     against the effect built from what a record gives (the controls and the mean
     flap; the inflow its own trim's): the effect's steady lag is the truth's
-    (measured within 2 % and 7e-4 rad), and the truth's averaged Jacobian about its
-    trim (16 blades) is the effect's, every coefficient within 5 % of the largest
-    lag coupling (measured 0.0036, 0.0043, 0.0046 against 0.14-0.15; linearised
+    (measured within 1 % and 5e-5 rad; its 2/rev part within 1e-5 rad of the
+    truth's blade, the trim's 2/rev flap within 1.6e-4 rad), and the truth's averaged
+    Jacobian about its trim (16 blades) is the effect's, every coefficient within 5 %
+    of the largest lag coupling (measured 0.0034, 0.0043, 0.0020 against 0.15;
+    before the trim's 2/rev flap and lag 0.0036, 0.0043, 0.0046; linearised
     about an axisymmetric trim without steady lag the effect was 0.29 off at mu =
     0.249): what is left is Lagrange's exact inertia (``cos^2 beta``, the coning's
     0.1-0.12 rad) and the trim's higher harmonics, the averaging's own level."""
     u0 = trim_inputs(mu)
     rotor = RotorSpec(constants=ifs.PUMA.with_mu(mu), speed="mu", nu_zeta=nu, zeta_lag=zl)
     tr = BladeRotor(rotor).periodic_trim(u0)
-    a, b, lam, spec, zt = _effect(mu, None, None, nu, zl, theta=tuple(u0[:3]),
+    a, b, lam, spec, zt, b2 = _effect(mu, None, None, nu, zl, theta=tuple(u0[:3]),
                                   beta=tuple(tr.beta))
     assert abs(zt[0] - tr.zeta[0]) < 0.02 * tr.zeta[0]
-    np.testing.assert_allclose(zt[1:], tr.zeta[1:], atol=1e-3)
+    np.testing.assert_allclose(zt[1:3], tr.zeta[1:], atol=1e-4)
+    # the trim's 2/rev lag and flap: blade 0's over a revolution of the periodic trim
+    rot = BladeRotor(rotor)
+    n, x, blade = 360, tr.x, []
+    for m in range(n):
+        blade.append((x[0], x[2 * rot.nb + 3]))
+        x = rot.step(2 * np.pi * m / n, x, tuple(u0), 2 * np.pi / n)
+    psi, blade = 2 * np.pi * np.arange(n) / n, np.array(blade)
+    second = [[2 * np.mean(blade[:, i] * f(2 * psi)) for f in (np.cos, np.sin)]
+              for i in (0, 1)]
+    np.testing.assert_allclose(b2, second[0], atol=3e-4)
+    np.testing.assert_allclose(zt[3:], second[1], atol=5e-5)
     z0 = np.concatenate([tr.beta, np.zeros(3), tr.lam, tr.zeta, np.zeros(3)])
-    jac = _truth_jacobian(spec, z0, u0)
+    jac = _truth_jacobian(spec, z0, u0, zt[3:], b2)
     coupling = max(np.abs(a[:6, 9:]).max(), np.abs(a[6:, :9]).max())
     assert coupling > 0.05
     assert np.abs(jac[:, :15] - a).max() < 0.05 * coupling
@@ -332,8 +351,8 @@ def test_the_hingeless_blade_truths_lag_is_named_with_its_second_harmonic_flap(
         hingeless_ladders):
     """The hingeless blade truth's lag (2.7 and 4.1 times the noise in ``beta0``,
     ``beta1s``; seeds 5 and 6): the ladder from the rigid blades' structure names
-    ``lead-lag`` first and then ``second-harmonic-flap`` (the rigid truth's own 2/rev
-    flap: ``k_beta2`` 1.04 +- 0.16 on the lag-free record), nothing else, and ends
+    ``lead-lag`` first and then (seed 5) ``second-harmonic-flap`` (the rigid truth's own
+    2/rev flap: ``k_beta2`` 1.04 +- 0.16 on the lag-free record), nothing else, and ends
     ``explained`` with every channel within 1.5 of the floor; the lag's coupling
     (its frequency and damper at the hingeless theory) and ``k_beta2`` within 3
     sigma of the truth.  Before the lag's second harmonic and the record's hub, the

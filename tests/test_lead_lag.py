@@ -407,11 +407,13 @@ def test_the_forward_flight_trims_coriolis_terms():
     trim"), projected by hand: with ``n_beta = 0`` and no steady lag the generated
     coefficients are exactly ``2 beta zeta'`` in the flap rows and ``-2 beta beta'``
     in the lag rows about the cyclic flap ``(b0, b1c, b1s)``, and the lag's trim
-    moment is the cyclic flap's Coriolis moment."""
+    moment is the cyclic flap's Coriolis moment, its first harmonics and its 2/rev
+    part."""
     from inflowsim.physics import lead_lag_terms as lt
     b0, b1c, b1s = 0.1, -0.05, 0.03
-    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
-    flap, lag, _ = lt.terms(*args, (0.0, 0.0, 0.0))
+    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s, 0.0, 0.0), -0.02, 0.001,
+            0.002)
+    flap, lag, _ = lt.terms(*args, (0.0,) * 5)
     # columns zeta0, zeta1c, zeta1s, zeta0', zeta1c', zeta1s'
     np.testing.assert_allclose(flap[:, 15:], [[0, -b1s, b1c, 2 * b0, b1c, b1s],
                                               [0, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
@@ -422,7 +424,10 @@ def test_the_forward_flight_trims_coriolis_terms():
                                                       [2 * b1s, 0, 2 * b0, 2 * b1c, 2 * b0, 0],
                                                       [-2 * b1c, -2 * b0, 0, 2 * b1s, 0, 2 * b0]]),
                                atol=1e-15)
-    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c],
+    # and its 2/rev part, -2 beta beta' on (2 cos 2psi, 2 sin 2psi), holds the trim's
+    # 2/rev lag
+    np.testing.assert_allclose(lt.lag_trim(*args), [0, -2 * b0 * b1s, 2 * b0 * b1c,
+                                                    -2 * b1c * b1s, b1c**2 - b1s**2],
                                atol=1e-15)
     # no aerodynamics: nothing on the inflow and the inputs; no steady lag: nothing
     # on the base columns of the flap rows
@@ -433,18 +438,20 @@ def test_the_second_harmonic_lags_coriolis_terms():
     """The second-harmonic lag's inertial couplings (``model.md`` 9.1): with ``n_beta
     = 0`` and no steady lag, the generated rows and columns are the Coriolis terms
     ``2 beta zeta'`` (flap) and ``-2 beta beta' (1 - zeta')`` (lag) about the cyclic
-    flap, averaged here by quadrature over the azimuth (a 64-point rule, exact for
-    these trigonometric polynomials) with ``zeta = zeta2c cos 2psi + zeta2s sin 2psi``
+    flap with its 2/rev part, averaged here by quadrature over the azimuth (a 64-point
+    rule, exact for these trigonometric polynomials) with ``zeta = zeta2c cos 2psi + zeta2s sin 2psi``
     at rest in the fixed frame; and the condensed lag moves the first harmonics'
     flap rows by ``flap_z2 zeta2`` per column."""
     from inflowsim.physics import lead_lag as ll
     from inflowsim.physics import lead_lag_terms as lt
-    b0, b1c, b1s = 0.1, -0.05, 0.03
-    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s), -0.02, 0.001, 0.002)
-    lag2, lag2_z2, flap_z2, lag_z2, _ = lt.second_harmonic(*args, (0.0, 0.0, 0.0))
+    b0, b1c, b1s, b2c, b2s = 0.1, -0.05, 0.03, -0.006, 0.002
+    args = (0.2, 0.0, 0.0, (0.1, 0.02, -0.03), (b0, b1c, b1s, b2c, b2s), -0.02, 0.001,
+            0.002)
+    lag2, lag2_z2, flap_z2, lag_z2, _ = lt.second_harmonic(*args, (0.0,) * 5)
     psi = 2 * np.pi * np.arange(64) / 64
     c, s_, c2, s2 = np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)
-    bt, dbt = b0 + b1c * c + b1s * s_, -b1c * s_ + b1s * c
+    bt = b0 + b1c * c + b1s * s_ + b2c * c2 + b2s * s2
+    dbt = -b1c * s_ + b1s * c - 2 * b2c * s2 + 2 * b2s * c2
     w1, w2 = (np.ones_like(psi), 2 * c, 2 * s_), (2 * c2, 2 * s2)
     dz = (-2 * s2, 2 * c2)                       # zeta' per (zeta2c, zeta2s)
 
@@ -473,6 +480,42 @@ def test_the_second_harmonic_lags_coriolis_terms():
     t2 = ll.second_harmonic(0.65, 0.2, (lag2, lag2_z2))
     k = ll.second_harmonic_structure(0.65, 0.2) - lag2_z2
     np.testing.assert_allclose(k @ t2, lag2, atol=1e-15)
+
+
+def test_the_trims_steady_lag_with_its_second_harmonic_by_harmonic_balance():
+    """The steady lag of the trim, its 2/rev part included (``model.md`` 9.1, "The
+    forward-flight trim"): with ``n_beta = 0`` each blade's lag is ``zeta'' + C zeta'
+    + nu^2 zeta = -2 beta beta' (1 - zeta')`` about the trim's flap (with its 2/rev
+    part, the Puma's), and its periodic
+    solution in harmonics 0-2 (balanced here by a 64-point quadrature on ``(1, 2 cos
+    psi, 2 sin psi, 2 cos 2psi, 2 sin 2psi)``) is the effect's :func:`steady_lag`
+    from the generated tables.  The 2/rev part is mostly the cyclic flap's Coriolis
+    moment ``-2 b1c b1s cos 2psi + (b1c^2 - b1s^2) sin 2psi`` and the coning's with
+    the 2/rev flap, over ``nu^2 - 4``: about a tenth of the cyclic steady lag at the
+    Puma's trim."""
+    from inflowsim.physics import lead_lag as ll
+    from inflowsim.physics import lead_lag_terms as lt
+    nu, zl = 0.25, 0.2
+    b0, b1c, b1s, b2c, b2s = 0.12, -0.05, -0.033, -0.006, 0.002
+    args = (0.25, 0.0, 0.0, (0.17, 0.01, -0.05), (b0, b1c, b1s, b2c, b2s), -0.02, 0.001,
+            0.002)
+    zt = ll.steady_lag(ll.lag_structure(nu, zl), ll.second_harmonic_structure(nu, zl),
+                       lt.lag_stiffness(*args), lt.lag_trim(*args))
+    psi = 2 * np.pi * np.arange(64) / 64
+    c, s_ = np.cos(psi), np.sin(psi)
+    basis = np.array([np.ones_like(psi), c, s_, np.cos(2 * psi), np.sin(2 * psi)])
+    rate = np.array([0 * psi, -s_, c, -2 * np.sin(2 * psi), 2 * np.cos(2 * psi)])
+    accel = -np.array([0, 1, 1, 4, 4])[:, None] * basis
+    weights = np.array([1, 2, 2, 2, 2])[:, None] * basis
+    bb = b0 + b1c * c + b1s * s_ + b2c * np.cos(2 * psi) + b2s * np.sin(2 * psi)
+    dbb = -b1c * s_ + b1s * c - 2 * b2c * np.sin(2 * psi) + 2 * b2s * np.cos(2 * psi)
+    cz = 2 * zl * nu
+    # the residual of each basis function, projected: L zeta = -2 beta beta'
+    lhs = [(weights * (a + cz * r + nu**2 * f - 2 * bb * dbb * r)).mean(axis=1)
+           for f, r, a in zip(basis, rate, accel)]
+    want = np.linalg.solve(np.array(lhs).T, (weights * (-2 * bb * dbb)).mean(axis=1))
+    np.testing.assert_allclose(zt, want, rtol=1e-12, atol=1e-17)
+    assert 0.05 * np.abs(zt[1:3]).max() < np.abs(zt[3:]).max() < 0.5 * np.abs(zt[1:3]).max()
 
 
 @pytest.mark.slow

@@ -119,9 +119,12 @@ def floor_ratio(fit, rec, rate, colour_hz):
 
 
 def _within(fit, p, names=LAG, sigmas=3.0):
+    """The estimates off their truth: by more than ``sigmas`` bounds, or held (no
+    bound: the lag's frequency and damper at theory where their part is not
+    significant) at a value that is not the truth."""
     return {n: (fit.parameters[n], fit.sigma.get(n), p[n]) for n in names
-            if fit.sigma.get(n) is None
-            or abs(fit.parameters[n] - p[n]) > sigmas * fit.sigma[n]}
+            if (fit.parameters[n] != p[n] if fit.sigma.get(n) is None
+                else abs(fit.parameters[n] - p[n]) > sigmas * fit.sigma[n])}
 
 
 def test_the_lag_hidden_in_a_record_is_named_with_its_truth_within_3_sigma(tmp_path):

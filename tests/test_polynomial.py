@@ -50,8 +50,8 @@ def test_the_lag_tables_are_the_effects_run_time_calls():
     for name, table in lt.TABLES.items():
         assert isinstance(rt[f"lead-lag/{name}"], RuntimePolynomials)
         assert rt[f"lead-lag/{name}"].table is table
-    args = (0.3, 0.9, 0.0015, (0.17, 0.01, -0.05), (0.06, 0.011, -0.004), -0.03, 0.004,
-            -0.002)
+    args = (0.3, 0.9, 0.0015, (0.17, 0.01, -0.05), (0.06, 0.011, -0.004, -0.003, 0.001),
+            -0.03, 0.004, -0.002)
     values = [args[0], args[1], args[2], *args[3], *args[4], *args[5:]]
     t = lt.TABLES["lag_trim"]
     syms = sympy.symbols(" ".join(t.variables))
@@ -60,9 +60,9 @@ def test_the_lag_tables_are_the_effects_run_time_calls():
     np.testing.assert_allclose(lt.lag_trim(*args), want, rtol=1e-13, atol=1e-16)
     np.testing.assert_array_equal(rt["lead-lag/lag_trim"].solve(values)[:, 0],
                                   lt.lag_trim(*args))
-    zt = (0.01, 0.002, -0.001)
+    zt = (0.01, 0.002, -0.001, 0.0005, -0.0003)
     flap, lag, loads = lt.terms(*args, zt)
-    y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), zt[1], zt[2]])
+    y = lt.TABLES["terms"]([*values, math.cos(zt[0]), math.sin(zt[0]), *zt[1:]])
     np.testing.assert_array_equal(np.concatenate([flap.ravel(), lag.ravel(),
                                                   loads.ravel()]), y)
 

@@ -20,9 +20,12 @@ the steady lag the trim's drag holds), projected on ``(1, 2 cos psi, 2 sin psi)`
 and averaged over the azimuth (the base model's constant-coefficient
 approximation), with ``zeta = zeta0 + zeta1c cos psi + zeta1s sin psi``: the
 coefficients are :mod:`inflowsim.physics.lead_lag_terms`, derived with sympy by
-``bench/lead_lag_derivation.py``.  The steady lag is the steady state of the same
-averaged lag rows under the trim's lag moment (:func:`steady_lag`).  Checked against
-the individual-blade equations integrated blade by blade (``tests/test_lead_lag.py``)
+``bench/lead_lag_derivation.py``.  The trim's flap has its 2/rev part (the rigid
+blades', ``beta`` of :func:`coefficients`), and the steady lag is the steady state of
+the same averaged lag rows under the trim's lag moment (:func:`steady_lag`), its 2/rev
+part included (held by the flap's Coriolis moment ``-2 beta beta'``): each a few
+tenths of a per cent of the blades' airspeed, which the Coriolis moments carry into
+the 1/rev couplings (``model.md`` 9.1).  Checked against the individual-blade equations integrated blade by blade (``tests/test_lead_lag.py``)
 and against the blade truth's own equations differenced about its periodic trim
 (``tests/test_bladesim_lag.py``).  Pure functions of numbers or of sympy symbols
 (the FMU's C is generated from them).
@@ -96,15 +99,45 @@ def _solve3(a, b, numeric=None):
     return np.array(out, dtype=object)
 
 
-def steady_lag(structure, stiffness, moment, numeric=None):
-    """The steady lag ``(zeta0, zeta1c, zeta1s)`` [rad] of the trim: the averaged lag
-    rows at rest, ``(S + A) zeta_t + Z_t = 0``, with ``S`` the spring, damper and
-    rotating-frame displacement terms (:func:`lag_structure`), ``A`` the lag rows'
-    displacement columns about the trim without lag (``stiffness``,
-    :func:`lead_lag_terms.lag_stiffness`) and ``Z_t`` the lag's trim
-    moment (:func:`lead_lag_terms.lag_trim`: the drag and the Coriolis moment of
-    the cyclic flap)."""
-    return _solve3(structure[:, :3] + stiffness, -moment, numeric)
+def _solve2(a, b, numeric=None):
+    """``a^-1 b`` for a 2 x 2 ``a`` and ``b`` (2 x m): LAPACK for numbers; traced,
+    each column a run-time 3 x 3 solve (``a`` bordered by a unit row, as
+    :func:`second_harmonic`'s); Cramer's rule for symbols otherwise."""
+    if a.dtype != object and np.asarray(b).dtype != object:
+        return np.linalg.solve(a, b)
+    b = np.asarray(b, dtype=object)
+    o = 0 * a[0, 0]
+    if numeric is not None:
+        kk = np.array([[a[0, 0], a[0, 1], o], [a[1, 0], a[1, 1], o], [o, o, 1 + o]],
+                      dtype=object)
+        return np.column_stack([_solve3(kk, np.array([b[0, j], b[1, j], o], dtype=object),
+                                        numeric)[:2] for j in range(b.shape[1])])
+    det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+    inv = np.array([[a[1, 1], -a[0, 1]], [-a[1, 0], a[0, 0]]], dtype=object) / det
+    return inv @ b
+
+
+def steady_lag(structure, structure2, stiffness, moment, numeric=None):
+    """The steady lag ``(zeta0, zeta1c, zeta1s, zeta2c, zeta2s)`` [rad] of the trim:
+    the averaged lag rows at rest, first harmonics and second,
+
+    ``(S + A11) zeta_t + A12 zeta2_t + Z1 = 0``, ``A21 zeta_t + (A22 - S2) zeta2_t
+    + Z2 = 0``,
+
+    with ``S`` the spring, damper and rotating-frame displacement terms
+    (:func:`lag_structure`), ``S2`` the second harmonic's
+    (:func:`second_harmonic_structure`, ``structure2``), ``A`` the lag rows'
+    displacement columns about the trim without lag (``stiffness``, 5 x 5,
+    :func:`lead_lag_terms.lag_stiffness`) and ``Z`` the lag's trim moment
+    (:func:`lead_lag_terms.lag_trim`: the drag and the Coriolis moment of the cyclic
+    flap, whose 2/rev part ``-2 beta beta'`` holds the trim's 2/rev lag).  Solved
+    by eliminating the second harmonic (two 2 x 2 systems, one 3 x 3)."""
+    a, z = stiffness, moment
+    p = _solve2(structure2 - a[3:, 3:],
+                np.column_stack([a[3:, :3], z[3:]]), numeric)       # zeta2 = p (zeta, 1)
+    z1 = _solve3(structure[:, :3] + a[:3, :3] + a[:3, 3:] @ p[:, :3],
+                 -(z[:3] + a[:3, 3:] @ p[:, 3]), numeric)
+    return np.concatenate([z1, p[:, :3] @ z1 + p[:, 3]])
 
 
 def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
@@ -115,8 +148,11 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     ----------
     mu, nb, dl : float
         Advance ratio, ``n_beta`` and ``c_d0 / a0`` [-].
-    theta, beta : sequence of 3
-        Trim pitch and flap ``(0, 1c, 1s)`` (true, not recorded) [rad].
+    theta : sequence of 3
+        Trim pitch ``(0, 1c, 1s)`` (true, not recorded) [rad].
+    beta : sequence of 5
+        Trim flap ``(0, 1c, 1s, 2c, 2s)``: its 2/rev part the rigid blades'
+        (:func:`inflowsim.model.effects.lead_lag.trim_flap2`) [rad].
     muz : float
         Trim hub velocity normal to the disc [-].
     lam : sequence of 3
@@ -136,8 +172,9 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
 
     Returns
     -------
-    zeta_t : ndarray (3,)
-        The steady lag (:func:`steady_lag`) [rad].
+    zeta_t : ndarray (5,)
+        The steady lag ``(zeta0, zeta1c, zeta1s, zeta2c, zeta2s)``
+        (:func:`steady_lag`) [rad].
     flap, lag, loads : ndarray (3, 21)
         The flap rows' right-hand side, the lag rows' (without
         :func:`lag_structure`) and ``(C_T, C_mc, C_ms) / (a0 s)``, columns
@@ -150,6 +187,7 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
     # not by every command that imports the catalogue
     from . import lead_lag_terms as lt
     s_x = lag_structure(nu_zeta, zeta_lag)
+    s_2 = second_harmonic_structure(nu_zeta, zeta_lag)
     if numeric is not None:
         # traced: the trim inflow once at run time (its closed form is a quotient
         # that every coefficient would otherwise carry into the generator's expansion)
@@ -163,7 +201,7 @@ def coefficients(mu, nb, dl, theta, beta, muz, lam, nu_zeta, zeta_lag, lm=None,
 
     def at(lam_t):
         args = (mu, nb, dl, theta, beta, muz - lam_t[0], lam_t[1], lam_t[2])
-        return args, steady_lag(s_x, lt.lag_stiffness(*args, numeric=tables),
+        return args, steady_lag(s_x, s_2, lt.lag_stiffness(*args, numeric=tables),
                                 lt.lag_trim(*args, numeric=tables), numeric)
 
     args, zt = at(lam_t)

@@ -48,6 +48,7 @@ import numpy as np
 
 from ._effect import Effect, RuntimeLinear, RuntimePolynomials
 from .advance_ratio_perturbation import true_trim, true_trim_state
+from .second_harmonic_flap import condensed
 from ..equations import StateBlock, rotation
 from ..params import ParameterSpec
 from ..recent import Recent
@@ -62,12 +63,30 @@ NU_THEORY = {"articulated": 0.25, "hingeless": 0.65, "bearingless": 0.65}
 
 
 def _trim(p, k):
-    """``(theta, beta, muz, lam)``: the true trim pitch and flap (3 each), ``muz``
-    and the rigid blades' trim inflow of the structure (3)."""
+    """``(theta, beta, muz, lam)``: the true trim pitch (3) and flap with its 2/rev
+    part (5, :func:`trim_flap2`), ``muz`` and the rigid blades' trim inflow of the
+    structure (3)."""
     true_trim_state(k, 0.0, NAME)           # refused naming this effect without a trim
     # with momentum-speed the structure's trim inflow is Eq. (14)'s (as
     # advance-ratio-perturbation's)
-    return true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
+    th, b, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V"))
+    return th, (*b, *trim_flap2(p, k, (th, b, muz, lam))), muz, lam
+
+
+def trim_flap2(p, k, trim=None):
+    """The trim's 2/rev flap ``(beta2c, beta2s)`` [rad]: the rigid blades' periodic
+    coefficients force it from the trim's flap, inflow and pitch
+    (:func:`inflowsim.model.effects.second_harmonic_flap.condensed`, its
+    quasi-static balance at theory, whether or not that effect is in the structure:
+    it is the trim's, not a perturbation's).  The lag's Coriolis moment ``-2 beta
+    beta'`` and ``2 beta zeta'`` carry it into the steady lag and the couplings
+    (``model.md`` 9.1); ``trim``: :func:`true_trim` at ``p``, ``k`` if known."""
+    th, b, muz, lam = true_trim(k, p.get("azimuth_bias", 0.0), p.get("k_V")) \
+        if trim is None else trim
+    _, s_b, s_l, s_u = condensed(k.mu, p["n_beta"], p["lambda_beta2"])
+    o = 0 * muz
+    return s_b @ np.asarray(b) + s_l @ np.asarray(lam) + s_u @ np.array(
+        [*th, muz, o, o, o, o])
 
 
 def coefficients(p, k):
@@ -230,5 +249,5 @@ EFFECT = Effect(
 )
 
 
-__all__ = ["NAME", "STATES", "NU_THEORY", "coefficients", "steady_lag", "in_loads", "block",
-           "EFFECT"]
+__all__ = ["NAME", "STATES", "NU_THEORY", "coefficients", "steady_lag", "trim_flap2",
+           "in_loads", "block", "EFFECT"]
