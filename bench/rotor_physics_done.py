@@ -1,0 +1,384 @@
+"""Issue #35's done-when, measured for the four new effects in one study.
+
+"On your own independent records with each new effect hidden (two-axis and
+single-axis doublets, sweeps, another rotor, coloured noise; seeds >= 5 per case):
+named first, the ladder ends ``explained`` with every channel within 1.5 times the
+floor, estimates within 3 sigma."
+
+Each effect's records come from its own generator, which shares no code with the
+effect (the tests' generators, imported, not copied):
+
+``servo-actuators``
+    ``tests/servo_records.py``: the servos integrated as their own ODE between the
+    command and the blade pitch of the servo-free ``basic`` matrices; base ``basic``.
+``lead-lag``
+    ``tests/test_lead_lag_records.py``: the ``glauert+lead-lag`` truth's continuous
+    matrices integrated by DOP853 (the integration route is independent; the lag's
+    equations are the effect's own: the nonlinear blade truth's lag is
+    ``bench/rotor-physics.md``'s "Not in this study"); base ``glauert``.
+``wake-distortion``
+    ``tests/test_wake_distortion.py``: Keller's term written by hand on the
+    ``basic`` matrices (``K_R = 1``); base ``basic``.
+``peters-he-6``
+    ``tests/test_peters_he_records.py``: the whole six-state Peters-He rotor built
+    directly (``tests/peters_he_direct.py``); base ``basic+separate-time-constants``.
+
+All integrate the truth with scipy's DOP853 from smooth pilot inputs (raised-cosine
+switches), body rates through a first-order filter of the cyclics, 30 s at
+:data:`RATE`, flap noise of 1e-4 rad (white, or a second-order Butterworth low-pass
+at :data:`COLOUR_HZ` rescaled to the same standard deviation), the default band.
+
+The cases (:data:`CASES`): ``two-axis`` (a 3-2-1-1 on ``theta1s``, a doublet on
+``theta1c``), ``theta1s`` and ``theta1c`` (one cyclic alone: the generator's
+single-axis input, on the lateral cyclic with its two cyclics exchanged), ``sweep``
+(the generator's log sweep), ``hingeless`` (two-axis doublets on the generator's
+hingeless rotor), ``coloured`` (two-axis doublets under coloured noise).
+
+Per record: the ladder from the base with the offered pool
+(``offered_effects()``, which holds all four); the first rung's decision, what the
+ladder adds, its verdict, each flap channel's residual over the noise's own level
+in the band (``floor_ratio``), each estimate's error in its Cramer-Rao sigma
+(``z``: every parameter of the final fit with a truth value); and the effect's size
+on the record (:func:`effect_size`): the likelihood-ratio statistic the truth
+structure gains over the base, expected (the noncentrality from the noise-free
+twin) and as drawn, and the power of a one-degree-of-freedom test at the rule's
+alpha against it.
+
+    python bench/rotor_physics_done.py --effects lead-lag --seeds 0-4 --workers 2
+    python bench/rotor_physics_done.py --cpu-estimate
+    python bench/rotor_physics_done.py --summary bench/results/current/done-*.jsonl.gz
+
+Output: ``bench/results/current/done-<effect>.jsonl`` (gzip it to keep), one
+JSON document a line, appended.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import gzip
+import json
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "tests"))
+sys.path.insert(0, str(HERE))
+
+RATE = 128                 # [Hz]
+COLOUR_HZ = 3.0            # [Hz], the coloured noise's corner
+CASES = ("two-axis", "theta1s", "theta1c", "sweep", "hingeless", "coloured")
+EFFECTS = ("servo-actuators", "lead-lag", "wake-distortion", "peters-he-6")
+BASES = {"servo-actuators": "basic", "lead-lag": "glauert", "wake-distortion": "basic",
+         "peters-he-6": "basic+separate-time-constants"}
+SERVO = {"servo_tau": 0.02, "servo_zeta": 0.7}     # [s], [-]
+K_R = 1.0
+ALPHA = 1e-3               # the rule's (``Rule().alpha``)
+RESULTS = HERE / "results" / "current"
+
+
+@contextlib.contextmanager
+def _patched(module, name, value):
+    """``module.name`` replaced by ``value`` inside the block (a generator's input
+    or noise level; restored after)."""
+    old = getattr(module, name)
+    setattr(module, name, value)
+    try:
+        yield
+    finally:
+        setattr(module, name, old)
+
+
+def _lateral(module):
+    """The generator's own pilot with its two cyclics exchanged: its single-axis
+    input on ``theta1c`` (the body's roll rate then follows through the filter)."""
+    orig = module._pilot
+
+    def pilot(*args, **kw):
+        out = orig(*args, **kw)
+        return (out[1], out[0]) + tuple(out[2:])
+    return _patched(module, "_pilot", pilot)
+
+
+def _case(case):
+    """``(rotor, manoeuvre, colour)`` of a case: manoeuvre ``two-axis``,
+    ``theta1s``, ``theta1c`` or ``sweep``."""
+    if case == "hingeless":
+        return "hingeless", "two-axis", None
+    if case == "coloured":
+        return "puma", "two-axis", COLOUR_HZ
+    return "puma", case, None
+
+
+def _hingeless_constants():
+    from dataclasses import replace
+    from inflowsim.model.params import PUMA
+    from inflowsim.flighttest.virtual import VirtualTest, virtual_record
+    from detection import ROTORS
+    return virtual_record(VirtualTest(duration=1.0, constants=replace(
+        PUMA, **ROTORS["hingeless"][0]))).constants
+
+
+def make_record(effect, case, seed, path, noise=None):
+    """``(record, truth parameters)`` of ``effect`` hidden, ``case``, ``seed``;
+    ``noise`` [rad] overrides the generator's (a tiny one: the noise-free twin)."""
+    rotor, kind, colour = _case(case)
+    if effect == "servo-actuators":
+        import servo_records as G
+        k = _hingeless_constants() if rotor == "hingeless" else None
+        with contextlib.ExitStack() as st:
+            if noise is not None:
+                st.enter_context(_patched(G, "NOISE", noise))
+            return G.record(path, "basic", SERVO["servo_tau"], SERVO["servo_zeta"],
+                            kind=kind, rate=RATE, colour_hz=colour, seed=seed,
+                            constants=k)
+    if effect == "lead-lag":
+        import test_lead_lag_records as G
+        with contextlib.ExitStack() as st:
+            if noise is not None:
+                st.enter_context(_patched(G, "NOISE", noise))
+            if kind == "theta1c":
+                st.enter_context(_lateral(G))
+            gk = {"theta1s": "single-axis", "theta1c": "single-axis"}.get(kind, kind)
+            return G._record(path, "glauert+lead-lag", rotor, gk, RATE, colour, seed)
+    if effect == "wake-distortion":
+        import test_wake_distortion as G
+        import inflowsim as ifs
+        from inflowsim.model.presets import theory_parameters
+        k, base = G.ROTORS[rotor]
+        p = theory_parameters(ifs.Structure.parse("basic"), k) | base | {"tau": 5.0}
+        with contextlib.ExitStack() as st:
+            if noise is not None:
+                st.enter_context(_patched(G, "NOISE", noise))
+            if kind == "theta1c":
+                st.enter_context(_lateral(G))
+            gk = {"theta1s": "single-axis", "theta1c": "single-axis"}.get(kind, kind)
+            rec = G.write_record(path, rotor, gk, RATE, colour, seed, K_R)
+        return rec, p | {"K_R": K_R}
+    if effect == "peters-he-6":
+        import test_peters_he_records as G
+        import peters_he_detection as P
+        k, lb2, nb = P.hingeless() if rotor == "hingeless" else (None, G.LB2, G.NB)
+        with contextlib.ExitStack() as st:
+            if noise is not None:
+                st.enter_context(_patched(G, "NOISE", noise))
+            if kind == "theta1c":
+                st.enter_context(_lateral(G))
+            rec = G.make_record(path, 2, RATE, colour, seed, None,
+                                kind in ("theta1s", "theta1c"), 1.0, constants=k,
+                                lb2=lb2, nb=nb, sweep=kind == "sweep")
+        return rec, P.truth(rec, lb2, nb)
+    raise ValueError(f"unknown effect {effect!r} (known: {', '.join(EFFECTS)})")
+
+
+def floor_ratio(fit, rec, colour):
+    """Each flap channel's residual over the drawn noise's own level in the band
+    (``tests/test_lead_lag_records.floor_ratio``: every generator draws its noise
+    as ``csv_records.flap_noise`` does)."""
+    from test_lead_lag_records import floor_ratio as fr
+    return [float(v) for v in fr(fit, rec, RATE, colour)]
+
+
+def effect_size(effect, case, seed, rec, truth, tmp):
+    """The hidden effect's size on the record, as a likelihood-ratio test sees it.
+
+    ``lambda``: the noncentrality, ``2 n_f ln(|S_n + R| / |S_n|)`` with ``R`` the
+    residual covariance the base leaves on the noise-free twin (the base fitted to
+    it) and ``S_n`` the truth structure's residual covariance on the record (its
+    noise as the fit sees it in the band), ``n_f`` the fit's frequencies: the
+    expected statistic less its degrees of freedom.  ``power``: the chance that a
+    one-degree-of-freedom statistic with that noncentrality passes the chi-square
+    critical value at the rule's alpha (10.83): below a few per cent, no test at
+    that alpha can find the effect on such a record.  ``drawn``: the statistic on
+    the record itself (``2 (cost_base - cost_truth)``, both fitted to it, started at
+    the truth)."""
+    import inflowsim as ifs
+    from scipy.stats import chi2, ncx2
+    from inflowsim.identify import identify
+    base = ifs.Structure.parse(BASES[effect])
+    full = base.with_effect(effect)
+    start = {n: v for n, v in truth.items() if n in full.parameters}
+    clean, _ = make_record(effect, case, seed, tmp / "clean.csv", noise=1e-9)
+    fb_clean = identify(clean, base, start={n: v for n, v in start.items()
+                                            if n in base.parameters})
+    ft = identify(rec, full, start=start)
+    fb = identify(rec, base, start={n: v for n, v in start.items()
+                                    if n in base.parameters})
+    sn = np.real(np.asarray(ft.S[0]))
+    r = np.real(np.asarray(fb_clean.S[0]))
+    nf = int(ft.n_freq)
+    lam = 2 * nf * float(np.linalg.slogdet(sn + r)[1] - np.linalg.slogdet(sn)[1])
+    crit = float(chi2.isf(ALPHA, 1))
+    return {"lambda": lam, "n_freq": nf, "critical": crit,
+            "power": float(ncx2.sf(crit, 1, max(lam, 1e-12))),
+            "drawn": max(0.0, 2.0 * float(fb.cost - ft.cost)),
+            "base_clean_over_noise": [float(r[i, i] / sn[i, i]) for i in range(3)]}
+
+
+def run_one(job):
+    """One record's ladder and measures (a JSON-ready dict)."""
+    effect, case, seed, size = job
+    from inflowsim.diagnose import ladder
+    from inflowsim.diagnose.rule import offered_effects
+    t0 = time.process_time()
+    tmp = Path(tempfile.mkdtemp(prefix="done35_"))
+    rec, truth = make_record(effect, case, seed, tmp / "rec.csv")
+    t_gen = time.process_time() - t0
+    rotor, kind, colour = _case(case)
+    lad = ladder(rec, BASES[effect], pool=offered_effects())
+    first = lad.rungs[0].diagnosis
+    fit = lad.final.fit
+    z = {n: (fit.parameters[n] - v) / fit.sigma[n] for n, v in truth.items()
+         if n in fit.parameters and fit.sigma.get(n)}
+    out = dict(effect=effect, case=case, seed=seed, rotor=rotor, manoeuvre=kind,
+               colour_hz=colour, rate=RATE, base=BASES[effect],
+               first=first.missing_effect,
+               first_candidates=[{k: c.to_json()[k] for k in (
+                   "effect", "atom", "accepted", "statistic", "dof", "log10_p_value",
+                   "schwarz_gain", "plausible", "reason")} for c in first.candidates[:4]],
+               added=[r.added for r in lad.rungs[1:]], status=lad.verdict.status,
+               final=lad.final.structure.name,
+               base_floor_ratio=floor_ratio(lad.rungs[0].fit, rec, colour),
+               floor_ratio=floor_ratio(fit, rec, colour), z=z,
+               estimates={n: [fit.parameters[n], fit.sigma.get(n), truth.get(n)]
+                          for n in fit.parameters},
+               held=sorted(fit.fixed or ()))
+    out["cpu_ladder_s"] = time.process_time() - t0 - t_gen
+    if size:
+        t1 = time.process_time()
+        out["size"] = effect_size(effect, case, seed, rec, truth, tmp)
+        out["cpu_size_s"] = time.process_time() - t1
+    out["cpu_s"] = time.process_time() - t0
+    return out
+
+
+def _seeds(text):
+    a, _, b = text.partition("-")
+    return list(range(int(a), int(b) + 1)) if b else [int(s) for s in text.split(",")]
+
+
+def _read(path):
+    p = Path(path)
+    data = p.read_bytes()
+    text = gzip.decompress(data).decode() if p.suffix == ".gz" else data.decode()
+    return [json.loads(line) for line in text.splitlines() if line.strip()]
+
+
+def done(r):
+    """Whether one record meets the done-when, and what failed (data)."""
+    fails = []
+    if not r["added"] or r["added"][0] != r["effect"]:
+        fails.append("named first")
+    if r["status"] != "explained":
+        fails.append("explained")
+    if max(r["floor_ratio"]) >= 1.5:
+        fails.append("floor")
+    if any(abs(v) > 3 for v in r["z"].values()):
+        fails.append("3 sigma")
+    return fails
+
+
+def summary(paths):
+    """Per effect x case: the done-when's parts, and the spread of the errors."""
+    rows = [r for p in paths for r in _read(p)]
+    print("| effect | case | records | named first | ended explained | worst channel / "
+          "floor (max) | estimates' abs(z) max | within 3 sigma | errors' mean, spread "
+          "[sigma] | done-when met | effect's power at alpha 1e-3 (min) |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |")
+    by = {}
+    for r in rows:
+        by.setdefault((r["effect"], r["case"]), []).append(r)
+    order = {e: i for i, e in enumerate(EFFECTS)}
+    corder = {c: i for i, c in enumerate(CASES)}
+    for (e, c) in sorted(by, key=lambda k: (order.get(k[0], 9), corder.get(k[1], 9))):
+        rs = by[(e, c)]
+        n = len(rs)
+        named = sum(bool(r["added"]) and r["added"][0] == e for r in rs)
+        expl = sum(r["status"] == "explained" for r in rs)
+        worst = max(max(r["floor_ratio"]) for r in rs)
+        zs = [v for r in rs for v in r["z"].values()]
+        zmax = max(abs(v) for v in zs) if zs else float("nan")
+        within = sum(abs(v) <= 3 for v in zs)
+        met = sum(not done(r) for r in rs)
+        pw = [r["size"]["power"] for r in rs if "size" in r]
+        print(f"| `{e}` | {c} | {n} | {named}/{n} | {expl}/{n} | {worst:.2f} | {zmax:.2f} "
+              f"| {within}/{len(zs)} | {np.mean(zs):+.2f}, {np.std(zs):.2f} | {met}/{n} | "
+              f"{min(pw):.3g} |" if pw else
+              f"| `{e}` | {c} | {n} | {named}/{n} | {expl}/{n} | {worst:.2f} | {zmax:.2f} "
+              f"| {within}/{len(zs)} | {np.mean(zs):+.2f}, {np.std(zs):.2f} | {met}/{n} | - |")
+    print()
+    print("Per parameter (errors over the seeds of each effect and case, [sigma]):")
+    print("| effect | case | parameter | mean | spread | max abs |")
+    print("| --- | --- | --- | ---: | ---: | ---: |")
+    for (e, c) in sorted(by, key=lambda k: (order.get(k[0], 9), corder.get(k[1], 9))):
+        names = dict.fromkeys(n for r in by[(e, c)] for n in r["z"])
+        for name in names:
+            v = np.array([r["z"][name] for r in by[(e, c)] if name in r["z"]])
+            print(f"| `{e}` | {c} | `{name}` | {v.mean():+.2f} | {v.std(ddof=1) if len(v) > 1 else 0:.2f} "
+                  f"| {abs(v).max():.2f} |")
+    print()
+    print("Records that miss the done-when:")
+    for r in rows:
+        f = done(r)
+        if f:
+            big = {n: round(v, 2) for n, v in r["z"].items() if abs(v) > 3}
+            size = r.get("size", {})
+            print(f"- {r['effect']}, {r['case']}, seed {r['seed']}: {', '.join(f)}; added "
+                  f"{r['added']}, {r['status']}, worst channel {max(r['floor_ratio']):.2f} "
+                  f"(base {max(r['base_floor_ratio']):.2f}); beyond 3 sigma {big or '-'}; "
+                  f"first rung: {r['first']}; lambda {size.get('lambda', float('nan')):.1f}, "
+                  f"power {size.get('power', float('nan')):.3g}, drawn statistic "
+                  f"{size.get('drawn', float('nan')):.1f}")
+
+
+def cpu_estimate(seed=0):
+    """One record per effect (two-axis, Puma), in this process: its CPU [s]."""
+    for e in EFFECTS:
+        r = run_one((e, "two-axis", seed, True))
+        print(f"{e}: ladder {r['cpu_ladder_s']:.1f} s, size {r['cpu_size_s']:.1f} s, "
+              f"all {r['cpu_s']:.1f} s CPU; added {r['added']}, {r['status']}", flush=True)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--effects", default=",".join(EFFECTS))
+    ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--seeds", default="0-4", help="e.g. 0-4 or 0,2,5")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--no-size", action="store_true",
+                    help="skip the effect's size (two fits and the noise-free twin)")
+    ap.add_argument("--out-dir", default=str(RESULTS))
+    ap.add_argument("--summary", nargs="+")
+    ap.add_argument("--cpu-estimate", action="store_true")
+    a = ap.parse_args(argv)
+    if a.summary:
+        summary(a.summary)
+        return 0
+    if a.cpu_estimate:
+        cpu_estimate()
+        return 0
+    effects = a.effects.split(",")
+    cases = a.cases.split(",")
+    for name in effects:
+        if name not in EFFECTS:
+            print(f"unknown effect {name!r} (known: {', '.join(EFFECTS)})", file=sys.stderr)
+            return 2
+    for name in cases:
+        if name not in CASES:
+            print(f"unknown case {name!r} (known: {', '.join(CASES)})", file=sys.stderr)
+            return 2
+    todo = [(e, c, s, not a.no_size) for e in effects for c in cases for s in _seeds(a.seeds)]
+    outs = {e: open(Path(a.out_dir) / f"done-{e}.jsonl", "a") for e in effects}
+    with ProcessPoolExecutor(a.workers) as ex:
+        for res in ex.map(run_one, todo):
+            outs[res["effect"]].write(json.dumps(res) + "\n")
+            outs[res["effect"]].flush()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
