@@ -39,17 +39,16 @@ Per record: the ladder from the base with the offered pool
 ladder adds, its verdict, each flap channel's residual over the noise's own level
 in the band (``floor_ratio``), each estimate's error in its Cramer-Rao sigma
 (``z``: every parameter of the final fit with a truth value); and the effect's size
-on the record (:func:`effect_size`): the likelihood-ratio statistic the truth
-structure gains over the base, expected (the noncentrality from the noise-free
-twin) and as drawn, and the power of a one-degree-of-freedom test at the rule's
-alpha against it.
+on the record (:func:`effect_size`): the likelihood-ratio statistic of the rule's
+test of the effect's first part, expected (its noncentrality, Wald's form) and as
+drawn, and the power of that one-degree-of-freedom test at the rule's alpha.
 
     python bench/rotor_physics_done.py --effects lead-lag --seeds 0-4 --workers 2
     python bench/rotor_physics_done.py --cpu-estimate
     python bench/rotor_physics_done.py --summary bench/results/current/done-*.jsonl.gz
 
 Output: ``bench/results/current/done-<effect>.jsonl`` (gzip it to keep), one
-JSON document a line, appended.
+JSON document a line, appended; records already there are not run again.
 """
 from __future__ import annotations
 
@@ -72,7 +71,7 @@ sys.path.insert(0, str(HERE))
 RATE = 128                 # [Hz]
 COLOUR_HZ = 3.0            # [Hz], the coloured noise's corner
 CASES = ("two-axis", "theta1s", "theta1c", "sweep", "hingeless", "coloured")
-EFFECTS = ("servo-actuators", "lead-lag", "wake-distortion", "peters-he-6")
+EFFECTS = ("lead-lag", "servo-actuators", "wake-distortion", "peters-he-6")
 BASES = {"servo-actuators": "basic", "lead-lag": "glauert", "wake-distortion": "basic",
          "peters-he-6": "basic+separate-time-constants"}
 SERVO = {"servo_tau": 0.02, "servo_zeta": 0.7}     # [s], [-]
@@ -183,40 +182,57 @@ def floor_ratio(fit, rec, colour):
     return [float(v) for v in fr(fit, rec, RATE, colour)]
 
 
-def effect_size(effect, case, seed, rec, truth, tmp):
-    """The hidden effect's size on the record, as a likelihood-ratio test sees it.
+def effect_size(effect, rec, base, truth):
+    """The hidden effect's size on the record, as the rule's test sees it.
 
-    ``lambda``: the noncentrality, ``2 n_f ln(|S_n + R| / |S_n|)`` with ``R`` the
-    residual covariance the base leaves on the noise-free twin (the base fitted to
-    it) and ``S_n`` the truth structure's residual covariance on the record (its
-    noise as the fit sees it in the band), ``n_f`` the fit's frequencies: the
-    expected statistic less its degrees of freedom.  ``power``: the chance that a
-    one-degree-of-freedom statistic with that noncentrality passes the chi-square
-    critical value at the rule's alpha (10.83): below a few per cent, no test at
-    that alpha can find the effect on such a record.  ``drawn``: the statistic on
-    the record itself (``2 (cost_base - cost_truth)``, both fitted to it, started at
-    the truth)."""
+    The rule tests an effect's first part (``Effect.parts[0]``: ``servo_tau``,
+    ``k_flap_lag``, ``K_R``, ``k_ph``) with its other parameters held (the lag's
+    frequency and damper at theory, the truth's values here), one degree of
+    freedom.  ``lambda``: that test's noncentrality, ``((truth - neutral) /
+    sigma)^2``, ``sigma`` the Cramer-Rao bound of the first part in the truth
+    structure fitted to the record with the rest held at the truth (the Wald form
+    of the expected statistic less its degree of freedom).  ``power``: the chance
+    that a chi-square statistic of one degree of freedom and that noncentrality
+    passes the critical value at the rule's alpha (10.83); a few per cent: no test
+    at that alpha finds the effect on such records.  ``drawn``: the statistic on the
+    record, ``2 (cost_base - cost_truth)``, both fitted to it from the truth."""
     import inflowsim as ifs
     from scipy.stats import chi2, ncx2
     from inflowsim.identify import identify
-    base = ifs.Structure.parse(BASES[effect])
+    from inflowsim.model.effects import CATALOGUE
+    base = ifs.Structure.parse(base) if isinstance(base, str) else base
     full = base.with_effect(effect)
+    e = CATALOGUE[effect]
+    (name,) = e.parts[0] if e.parts else e.parameters
+    neutral = e.neutral_values(rec.constants)[name]
     start = {n: v for n, v in truth.items() if n in full.parameters}
-    clean, _ = make_record(effect, case, seed, tmp / "clean.csv", noise=1e-9)
-    fb_clean = identify(clean, base, start={n: v for n, v in start.items()
-                                            if n in base.parameters})
-    ft = identify(rec, full, start=start)
-    fb = identify(rec, base, start={n: v for n, v in start.items()
-                                    if n in base.parameters})
-    sn = np.real(np.asarray(ft.S[0]))
-    r = np.real(np.asarray(fb_clean.S[0]))
-    nf = int(ft.n_freq)
-    lam = 2 * nf * float(np.linalg.slogdet(sn + r)[1] - np.linalg.slogdet(sn)[1])
+    fixed = {n: start[n] for n in e.parameters if n != name}
+    fb = identify(rec, base, start={n: v for n, v in start.items() if n in base.parameters})
+    ft = identify(rec, full, start=start, fixed=fixed or None)
+    sig = ft.sigma.get(name)
+    lam = ((truth[name] - neutral) / sig) ** 2 if sig else float("nan")
     crit = float(chi2.isf(ALPHA, 1))
-    return {"lambda": lam, "n_freq": nf, "critical": crit,
-            "power": float(ncx2.sf(crit, 1, max(lam, 1e-12))),
-            "drawn": max(0.0, 2.0 * float(fb.cost - ft.cost)),
-            "base_clean_over_noise": [float(r[i, i] / sn[i, i]) for i in range(3)]}
+    return {"parameter": name, "truth": truth[name], "neutral": neutral, "sigma": sig,
+            "estimate": ft.parameters[name], "lambda": lam, "critical": crit,
+            "power": float(ncx2.sf(crit, 1, lam)) if sig else float("nan"),
+            "drawn": max(0.0, 2.0 * float(fb.cost - ft.cost))}
+
+
+def detection_lag_sizes(rotor="hingeless", seeds=(0,)):
+    """The lag's size on ``bench/detection.py``'s hidden-lag records (``--kind
+    hidden --effects lead-lag``, the 12 configurations, the rotor's truth ``basic +
+    lead-lag`` at theory, base ``basic``): :func:`effect_size`'s measures.  One
+    JSON line per configuration on stdout."""
+    import os
+    import detection as D
+    os.environ["INFLOWSIM_STUDY_ROTOR"] = rotor
+    for seed, (hold, rate, noise) in ((s, c) for s in seeds for c in D.CONFIGS):
+        t0 = time.process_time()
+        rec, (s, p, base) = D.record_for("hidden", "lead-lag", hold, rate, noise, seed)
+        out = dict(rotor=rotor, hold=hold, rate=rate, noise=noise, seed=seed,
+                   **effect_size("lead-lag", rec, base, p))
+        out["cpu_s"] = time.process_time() - t0
+        print(json.dumps(out), flush=True)
 
 
 def run_one(job):
@@ -237,6 +253,9 @@ def run_one(job):
     out = dict(effect=effect, case=case, seed=seed, rotor=rotor, manoeuvre=kind,
                colour_hz=colour, rate=RATE, base=BASES[effect],
                first=first.missing_effect,
+               own_candidate=[{k: c.to_json()[k] for k in (
+                   "atom", "accepted", "statistic", "log10_p_value", "schwarz_gain",
+                   "plausible", "reason")} for c in first.candidates if c.effect == effect],
                first_candidates=[{k: c.to_json()[k] for k in (
                    "effect", "atom", "accepted", "statistic", "dof", "log10_p_value",
                    "schwarz_gain", "plausible", "reason")} for c in first.candidates[:4]],
@@ -250,7 +269,7 @@ def run_one(job):
     out["cpu_ladder_s"] = time.process_time() - t0 - t_gen
     if size:
         t1 = time.process_time()
-        out["size"] = effect_size(effect, case, seed, rec, truth, tmp)
+        out["size"] = effect_size(effect, rec, BASES[effect], truth)
         out["cpu_size_s"] = time.process_time() - t1
     out["cpu_s"] = time.process_time() - t0
     return out
@@ -285,6 +304,10 @@ def done(r):
 def summary(paths):
     """Per effect x case: the done-when's parts, and the spread of the errors."""
     rows = [r for p in paths for r in _read(p)]
+    _detection_table([r for r in rows if "hold" in r])
+    rows = [r for r in rows if "hold" not in r]
+    if not rows:
+        return
     print("| effect | case | records | named first | ended explained | worst channel / "
           "floor (max) | estimates' abs(z) max | within 3 sigma | errors' mean, spread "
           "[sigma] | done-when met | effect's power at alpha 1e-3 (min) |")
@@ -335,6 +358,28 @@ def summary(paths):
                   f"{size.get('drawn', float('nan')):.1f}")
 
 
+def _detection_table(rows):
+    """:func:`detection_lag_sizes`' rows: per configuration, the test's noncentrality
+    and power, and the statistics drawn (how many pass the critical value)."""
+    if not rows:
+        return
+    print("| rotor | hold | rate | noise | records | noncentrality | power at alpha 1e-3 | "
+          "statistics drawn | pass 10.83 | `k_flap_lag`'s errors [sigma] |")
+    print("| --- | --- | ---: | --- | ---: | --- | ---: | --- | ---: | --- |")
+    by = {}
+    for r in rows:
+        by.setdefault((r["rotor"], r["hold"], r["rate"], r["noise"]), []).append(r)
+    for key, rs in by.items():
+        lam = sorted(r["lambda"] for r in rs)
+        drawn = [r["drawn"] for r in rs]
+        z = [(r["estimate"] - r["truth"]) / r["sigma"] for r in rs]
+        print(f"| {' | '.join(map(str, key))} | {len(rs)} | {lam[0]:.1f} to "
+              f"{lam[len(lam) // 2]:.1f} (median) | {np.median([r['power'] for r in rs]):.2f} "
+              f"| {', '.join(f'{d:.1f}' for d in drawn)} | {sum(d > r['critical'] for d, r in zip(drawn, rs))}/{len(rs)} "
+              f"| {min(z):+.2f} to {max(z):+.2f} |")
+    print()
+
+
 def cpu_estimate(seed=0):
     """One record per effect (two-axis, Puma), in this process: its CPU [s]."""
     for e in EFFECTS:
@@ -350,16 +395,22 @@ def main(argv=None):
     ap.add_argument("--seeds", default="0-4", help="e.g. 0-4 or 0,2,5")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--no-size", action="store_true",
-                    help="skip the effect's size (two fits and the noise-free twin)")
+                    help="skip the effect's size (two fits)")
     ap.add_argument("--out-dir", default=str(RESULTS))
     ap.add_argument("--summary", nargs="+")
     ap.add_argument("--cpu-estimate", action="store_true")
+    ap.add_argument("--detection-lag", metavar="ROTOR",
+                    help="the lag's size on bench/detection.py's hidden-lag records "
+                         "of ROTOR (puma, hingeless), --seeds: JSON lines on stdout")
     a = ap.parse_args(argv)
     if a.summary:
         summary(a.summary)
         return 0
     if a.cpu_estimate:
         cpu_estimate()
+        return 0
+    if a.detection_lag:
+        detection_lag_sizes(a.detection_lag, _seeds(a.seeds))
         return 0
     effects = a.effects.split(",")
     cases = a.cases.split(",")
@@ -371,7 +422,15 @@ def main(argv=None):
         if name not in CASES:
             print(f"unknown case {name!r} (known: {', '.join(CASES)})", file=sys.stderr)
             return 2
-    todo = [(e, c, s, not a.no_size) for e in effects for c in cases for s in _seeds(a.seeds)]
+    have = set()
+    for e in effects:
+        path = Path(a.out_dir) / f"done-{e}.jsonl"
+        if path.exists():
+            have |= {(r["effect"], r["case"], r["seed"]) for r in _read(path)}
+    # seed by seed (every effect and case gets its first seeds first), records already
+    # in the output files skipped: the study can be stopped and resumed
+    todo = [(e, c, s, not a.no_size) for s in _seeds(a.seeds) for e in effects
+            for c in cases if (e, c, s) not in have]
     outs = {e: open(Path(a.out_dir) / f"done-{e}.jsonl", "a") for e in effects}
     with ProcessPoolExecutor(a.workers) as ex:
         for res in ex.map(run_one, todo):
