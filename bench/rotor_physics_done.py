@@ -218,6 +218,35 @@ def effect_size(effect, rec, base, truth):
             "drawn": max(0.0, 2.0 * float(fb.cost - ft.cost))}
 
 
+def servo_or_delay(case, seed):
+    """Can the record tell the servos from a pure delay?  ``drawn``: ``2 (cost_delay
+    - cost_servo)``, ``basic+time-delay`` and the truth (``basic+servo-actuators``,
+    ``servo_zeta`` held at its truth, one parameter each) fitted to the record;
+    ``bound``: an upper bound on its expectation, ``2 n_f ln(|S_n + R| / |S_n|)``
+    with ``R`` the residual covariance of ``basic+time-delay`` fitted to the
+    noise-free twin (1e-9 rad) and ``S_n`` the truth's on the record (the delay's
+    best fit in the record's own weighting misfits no more than that one)."""
+    import inflowsim as ifs
+    from inflowsim.identify import identify
+    tmp = Path(tempfile.mkdtemp(prefix="done35_"))
+    rec, truth = make_record("servo-actuators", case, seed, tmp / "rec.csv")
+    clean, _ = make_record("servo-actuators", case, seed, tmp / "clean.csv", noise=1e-9)
+    sd = ifs.Structure.parse("basic+time-delay")
+    ss = ifs.Structure.parse("basic+servo-actuators")
+    sb = {n: v for n, v in truth.items() if n in ("lambda_beta2", "n_beta", "tau")}
+    d0 = sb | {"delay": 2 * SERVO["servo_zeta"] * SERVO["servo_tau"]}
+    fd = identify(rec, sd, start=d0)
+    fs = identify(rec, ss, start=truth, fixed={"servo_zeta": truth["servo_zeta"]})
+    fc = identify(clean, sd, start=d0)
+    sn, r = np.asarray(fs.S[0]), np.asarray(fc.S[0])
+    nf = int(fs.n_freq)
+    return {"effect": "servo-actuators", "case": case, "seed": seed, "servo_or_delay": {
+        "drawn": 2.0 * float(fd.cost - fs.cost),
+        "bound": 2 * nf * float(np.linalg.slogdet(sn + r)[1] - np.linalg.slogdet(sn)[1]),
+        "delay": [fd.parameters["delay"], fd.sigma.get("delay")],
+        "servo_tau": [fs.parameters["servo_tau"], fs.sigma.get("servo_tau")]}}
+
+
 def detection_lag_sizes(rotor="hingeless", seeds=(0,)):
     """The lag's size on ``bench/detection.py``'s hidden-lag records (``--kind
     hidden --effects lead-lag``, the 12 configurations, the rotor's truth ``basic +
@@ -250,6 +279,9 @@ def run_one(job):
     fit = lad.final.fit
     z = {n: (fit.parameters[n] - v) / fit.sigma[n] for n, v in truth.items()
          if n in fit.parameters and fit.sigma.get(n)}
+    # the same errors in the fit's robust bounds (the residual's own spectrum)
+    z_robust = {n: (fit.parameters[n] - v) / fit.sigma_robust[n] for n, v in truth.items()
+                if n in fit.parameters and fit.sigma_robust.get(n)}
     out = dict(effect=effect, case=case, seed=seed, rotor=rotor, manoeuvre=kind,
                colour_hz=colour, rate=RATE, base=BASES[effect],
                first=first.missing_effect,
@@ -262,7 +294,7 @@ def run_one(job):
                added=[r.added for r in lad.rungs[1:]], status=lad.verdict.status,
                final=lad.final.structure.name,
                base_floor_ratio=floor_ratio(lad.rungs[0].fit, rec, colour),
-               floor_ratio=floor_ratio(fit, rec, colour), z=z,
+               floor_ratio=floor_ratio(fit, rec, colour), z=z, z_robust=z_robust,
                estimates={n: [fit.parameters[n], fit.sigma.get(n), truth.get(n)]
                           for n in fit.parameters},
                held=sorted(fit.fixed or ()))
@@ -305,13 +337,23 @@ def summary(paths):
     """Per effect x case: the done-when's parts, and the spread of the errors."""
     rows = [r for p in paths for r in _read(p)]
     _detection_table([r for r in rows if "hold" in r])
-    rows = [r for r in rows if "hold" not in r]
+    sod = [r for r in rows if "servo_or_delay" in r]
+    if sod:
+        print("| case | seed | servo against delay, drawn | its bound | delay [ms] |")
+        print("| --- | ---: | ---: | ---: | ---: |")
+        for r in sod:
+            x = r["servo_or_delay"]
+            print(f"| {r['case']} | {r['seed']} | {x['drawn']:+.1f} | {x['bound']:.1f} | "
+                  f"{1e3 * x['delay'][0]:.1f} +- {1e3 * x['delay'][1]:.1f} |")
+        print()
+    rows = [r for r in rows if "hold" not in r and "servo_or_delay" not in r]
     if not rows:
         return
     print("| effect | case | records | named first | ended explained | worst channel / "
           "floor (max) | estimates' abs(z) max | within 3 sigma | errors' mean, spread "
-          "[sigma] | done-when met | effect's power at alpha 1e-3 (min) |")
-    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |")
+          "[sigma] | done-when met | its test's statistic (min) | power at alpha 1e-3 "
+          "(min) |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: |")
     by = {}
     for r in rows:
         by.setdefault((r["effect"], r["case"]), []).append(r)
@@ -328,31 +370,39 @@ def summary(paths):
         within = sum(abs(v) <= 3 for v in zs)
         met = sum(not done(r) for r in rs)
         pw = [r["size"]["power"] for r in rs if "size" in r]
+        st = [c["statistic"] for r in rs for c in r.get("own_candidate", [])[:1]]
         print(f"| `{e}` | {c} | {n} | {named}/{n} | {expl}/{n} | {worst:.2f} | {zmax:.2f} "
               f"| {within}/{len(zs)} | {np.mean(zs):+.2f}, {np.std(zs):.2f} | {met}/{n} | "
-              f"{min(pw):.3g} |" if pw else
-              f"| `{e}` | {c} | {n} | {named}/{n} | {expl}/{n} | {worst:.2f} | {zmax:.2f} "
-              f"| {within}/{len(zs)} | {np.mean(zs):+.2f}, {np.std(zs):.2f} | {met}/{n} | - |")
+              f"{min(st) if st else float('nan'):.1f} | "
+              f"{min(pw) if pw else float('nan'):.3g} |")
     print()
-    print("Per parameter (errors over the seeds of each effect and case, [sigma]):")
-    print("| effect | case | parameter | mean | spread | max abs |")
-    print("| --- | --- | --- | ---: | ---: | ---: |")
-    for (e, c) in sorted(by, key=lambda k: (order.get(k[0], 9), corder.get(k[1], 9))):
-        names = dict.fromkeys(n for r in by[(e, c)] for n in r["z"])
-        for name in names:
-            v = np.array([r["z"][name] for r in by[(e, c)] if name in r["z"]])
-            print(f"| `{e}` | {c} | `{name}` | {v.mean():+.2f} | {v.std(ddof=1) if len(v) > 1 else 0:.2f} "
-                  f"| {abs(v).max():.2f} |")
+    print("Per parameter (errors over every case and seed of an effect, [sigma]):")
+    print("| effect | parameter | estimates | mean | spread | max abs | beyond 3 sigma |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: |")
+    for e in EFFECTS:
+        rs = [r for r in rows if r["effect"] == e]
+        for name in dict.fromkeys(n for r in rs for n in r["z"]):
+            v = np.array([r["z"][name] for r in rs if name in r["z"]])
+            print(f"| `{e}` | `{name}` | {len(v)} | {v.mean():+.2f} | "
+                  f"{v.std(ddof=1) if len(v) > 1 else 0:.2f} | {abs(v).max():.2f} | "
+                  f"{int(np.sum(abs(v) > 3))} |")
     print()
     print("Records that miss the done-when:")
     for r in rows:
         f = done(r)
         if f:
-            big = {n: round(v, 2) for n, v in r["z"].items() if abs(v) > 3}
+            big = {}
+            for name, v in r["z"].items():
+                if abs(v) > 3:       # the case's errors over its seeds: a draw or a bias?
+                    w = np.array([q["z"][name] for q in by[(r["effect"], r["case"])]
+                                  if name in q["z"]])
+                    big[name] = (f"{v:+.2f} (the case's {len(w)} seeds: mean "
+                                 f"{w.mean():+.2f}, spread {w.std(ddof=1) if len(w) > 1 else 0:.2f})")
             size = r.get("size", {})
             print(f"- {r['effect']}, {r['case']}, seed {r['seed']}: {', '.join(f)}; added "
                   f"{r['added']}, {r['status']}, worst channel {max(r['floor_ratio']):.2f} "
-                  f"(base {max(r['base_floor_ratio']):.2f}); beyond 3 sigma {big or '-'}; "
+                  f"(base {max(r['base_floor_ratio']):.2f}); beyond 3 sigma "
+                  f"{', '.join(f'{n} {t}' for n, t in big.items()) or '-'}; "
                   f"first rung: {r['first']}; lambda {size.get('lambda', float('nan')):.1f}, "
                   f"power {size.get('power', float('nan')):.3g}, drawn statistic "
                   f"{size.get('drawn', float('nan')):.1f}")
@@ -399,6 +449,9 @@ def main(argv=None):
     ap.add_argument("--out-dir", default=str(RESULTS))
     ap.add_argument("--summary", nargs="+")
     ap.add_argument("--cpu-estimate", action="store_true")
+    ap.add_argument("--servo-or-delay", metavar="CASE",
+                    help="servo against a pure delay on CASE's servo records, --seeds: "
+                         "JSON lines on stdout (servo_or_delay)")
     ap.add_argument("--detection-lag", metavar="ROTOR",
                     help="the lag's size on bench/detection.py's hidden-lag records "
                          "of ROTOR (puma, hingeless), --seeds: JSON lines on stdout")
@@ -408,6 +461,10 @@ def main(argv=None):
         return 0
     if a.cpu_estimate:
         cpu_estimate()
+        return 0
+    if a.servo_or_delay:
+        for seed in _seeds(a.seeds):
+            print(json.dumps(servo_or_delay(a.servo_or_delay, seed)), flush=True)
         return 0
     if a.detection_lag:
         detection_lag_sizes(a.detection_lag, _seeds(a.seeds))

@@ -18,7 +18,7 @@ import rotor_physics_done as study  # noqa: E402
 #: (effect, case, seed): cases where the study found the done-when met in 5 of 5
 SUBSET = [
     ("servo-actuators", "theta1c", 1),
-    ("lead-lag", "two-axis", 2),
+    ("lead-lag", "sweep", 2),
     ("wake-distortion", "sweep", 3),
     ("peters-he-6", "coloured", 4),
 ]
