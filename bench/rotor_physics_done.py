@@ -279,9 +279,6 @@ def run_one(job):
     fit = lad.final.fit
     z = {n: (fit.parameters[n] - v) / fit.sigma[n] for n, v in truth.items()
          if n in fit.parameters and fit.sigma.get(n)}
-    # the same errors in the fit's robust bounds (the residual's own spectrum)
-    z_robust = {n: (fit.parameters[n] - v) / fit.sigma_robust[n] for n, v in truth.items()
-                if n in fit.parameters and fit.sigma_robust.get(n)}
     out = dict(effect=effect, case=case, seed=seed, rotor=rotor, manoeuvre=kind,
                colour_hz=colour, rate=RATE, base=BASES[effect],
                first=first.missing_effect,
@@ -294,7 +291,7 @@ def run_one(job):
                added=[r.added for r in lad.rungs[1:]], status=lad.verdict.status,
                final=lad.final.structure.name,
                base_floor_ratio=floor_ratio(lad.rungs[0].fit, rec, colour),
-               floor_ratio=floor_ratio(fit, rec, colour), z=z, z_robust=z_robust,
+               floor_ratio=floor_ratio(fit, rec, colour), z=z,
                estimates={n: [fit.parameters[n], fit.sigma.get(n), truth.get(n)]
                           for n in fit.parameters},
                held=sorted(fit.fixed or ()))
