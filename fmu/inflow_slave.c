@@ -262,14 +262,13 @@ static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char 
                    var->name, x, var->lower_open ? '(' : '[', var->lower, var->upper);
 }
 
-/* The simulator loop's frame: the flap and inflow outputs only (1; else 0, nothing
- * done), without a stack frame; the outputs of the state now (without a delay line,
- * from the state at once: ifs_slave_update_outputs's first part). */
+/* The simulator loop's frame: the flap and inflow outputs only (1; else 0, the
+ * others left to the general loop), without a stack frame; the outputs of the state
+ * now (without a delay line, from the state at once: ifs_slave_update_outputs's
+ * first part). */
 static int get_outputs(IfsSlave *s, const unsigned int vr[], size_t n, double value[])
 {
     size_t i;
-    for (i = 0; i < n; i++)
-        if (vr[i] - IFS_VR_beta0 >= 6u) return 0;
     if (s->y_stale) {
         if (s->delay.active) {
             ifs_slave_update_outputs(s);
@@ -280,7 +279,10 @@ static int get_outputs(IfsSlave *s, const unsigned int vr[], size_t n, double va
             s->y_stale = 0;
         }
     }
-    for (i = 0; i < n; i++) value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
+    for (i = 0; i < n; i++) {
+        if (vr[i] - IFS_VR_beta0 >= 6u) return 0;
+        value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
+    }
     return 1;
 }
 
