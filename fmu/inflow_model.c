@@ -51,7 +51,7 @@ int ifs_discretize(const IfsModel *m, double h, double pg[IFS_PG_N])
     for (i = 0; i < NX * NA; i++)
         if (!isfinite(M[i])) return -1;
     memset(pg, 0, sizeof(double) * IFS_PG_N);
-    for (i = 0; i < NX; i++)                    /* top NX rows, by columns */
+    for (i = 0; i < NX; i++)                    /* top NX rows, in the step's order */
         for (j = 0; j < NA; j++) pg[IFS_PG_AT(i, j)] = M[i * NA + j];
     return 0;
 }

@@ -31,9 +31,10 @@ typedef struct {
      * start, which the slave keeps 64-byte aligned (IfsSlave, the FMI layers'
      * instances): a four-wide load or store across a 64-byte cache line costs more
      * (bench/fmu.md). */
-    /* [phi gam] at the internal step dt by columns: column j at pg + j IFS_LD, its
-     * IFS_NX rows then zeros (whole vectors of four rows: IFS_PG_AT), so that each
-     * x_j and u_k multiplies a column four rows at a time (see ifs_step) */
+    /* [phi gam] at the internal step dt as the step reads it (IFS_PG_AT): up to 16
+     * states by columns, column j at pg + j IFS_LD, its IFS_NX rows then zeros, so
+     * that each x_j and u_k multiplies a column four rows at a time; beyond, by rows
+     * (IFS_RL each: one new state a dot product with [x; u]; see ifs_step) */
     double pg[IFS_PG_N];
     /* [x; u; 0]: the state (IFS_NX), then the inputs held (IFS_NU, a copy of the
      * slave's, written when they are set: the step reads them beside the state),
@@ -51,7 +52,7 @@ typedef struct {
     double lc[IFS_NL * IFS_NX];
     double ld[IFS_NL * IFS_NU];
     double dt;
-    /* cached [phi gam] (by rows, as pg) of a remainder step (h not n dt) */
+    /* cached [phi gam] (as pg) of a remainder step (h not n dt) */
     double pg_rem[IFS_PG_N];
     double rem;                    /* its length [s]; 0 = no cache */
     /* the remainder asked for by the previous call under the same matrices (0: none).
