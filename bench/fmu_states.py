@@ -11,13 +11,18 @@ linearised about the trim, as the Peters-He effects' skewed wake, in forward fli
 the Puma's truth values at its ``mu`` 0.249 and the virtual flight test's trim
 there (``flighttest.virtual.PUMA_TRIM``); each build's code generation and compilation timed
 in process CPU), compiles
-``bench/fmu_driver.c`` and ``bench/fp_rate.c`` as ``bench/fmu_bench.py`` does, then runs
-the driver on the libraries in turn, ``--rounds`` times (each run the best of five runs
-of ``--steps`` steps per case), keeping each case's best: the libraries interleaved so
-that a change of machine load falls on all of them alike.  ``fp_rate`` is run in every
-round too (best kept).  The floor of a step is its ``NX (NX + NU)`` multiplies (the
-matrix-vector product ``x <- [Phi Gamma] [x; u]``) in whole vectors of four at the
-measured rate of 4-wide multiplies (no fused multiply-add: every build rounds alike).
+``bench/fmu_driver.c``, ``bench/fp_rate.c`` and, once per ``NX``, ``bench/step_peer.c``
+as ``bench/fmu_bench.py`` does, then runs the driver on the libraries in turn,
+``--rounds`` times (each run the best of five runs of ``--steps`` steps per case),
+keeping each case's best: the libraries interleaved so that a change of machine load
+falls on all of them alike.  ``fp_rate`` and the peers are run in every round too
+(best kept).  Two floors of a step: the throughput floor, its ``NX (NX + NU)``
+multiplies (the matrix-vector product ``x <- [Phi Gamma] [x; u]``) in whole vectors of
+four at the measured rate of 4-wide multiplies (no fused multiply-add: every build
+rounds alike); and the latency-bound peer, the best plain loop of the same recurrence
+with no FMI around it (``step_peer``: every product at every step, the state in
+registers or through memory, the faster), and beside it the peer with the inputs held
+(``phi x + g``, as the FMU's step with its inputs held, which keeps ``g = gam u``).
 Prints a Markdown table.  ``--keep DIR`` keeps the FMUs there (for
 ``bench/fmu_mu_callgrind.sh``'s instruction counts); ``--beside DIR`` times the FMUs
 an earlier run kept in DIR (``s0.fmu`` ... in the same order: another checkout's,
@@ -110,6 +115,10 @@ def main(argv=None):
                              read_model_description(str(fmu)).guid)
         cc = compiler()
         compile_drivers(cc, f"-I{source_dir()}", tmp)
+        for nx in sorted({nx for _, _, nx, _ in libs.values()}):
+            subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
+                            "-Werror", f"-DNX={nx}", "-o", str(tmp / f"peer{nx}"),
+                            str(HERE / "step_peer.c")], check=True)
         rate_exe = tmp / "fp_rate"
         subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
                         "-Werror", "-o", str(rate_exe), str(HERE / "fp_rate.c")], check=True)
@@ -120,6 +129,12 @@ def main(argv=None):
                                  text=True).stdout
             rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
             mul_rate = max(mul_rate, rates["mul_per_ns"])
+            for nx in sorted({nx for _, _, nx, _ in libs.values()}):
+                out = subprocess.run([str(tmp / f"peer{nx}"), str(args.steps)], check=True,
+                                     capture_output=True, text=True).stdout
+                for line in out.splitlines():
+                    name, value = line.split()
+                    best[(nx, name)] = min(best.get((nx, name), math.inf), float(value))
             runs = [(st, "", so, guid) for st, (so, guid, _, _) in libs.items()]
             runs += [(st, "beside ", so, guid) for st, (so, guid) in other.items()]
             for st, tag, so, guid in runs:
@@ -137,22 +152,27 @@ def main(argv=None):
           f"4-wide multiplies {mul_rate:.2f} per ns (best of {args.rounds} rounds)")
     print(f"steps {args.steps} per run, best of 5 runs x {args.rounds} rounds, libraries "
           "interleaved")
-    beside = (" beside [ns] | beside / floor |" if other else "")
+    beside = (" beside [ns] | beside / floor | beside set + step + get [ns] |" if other else "")
     print("| structure | inflow states | NX | generation + compiler CPU [s] | "
           "fmi2DoStep [ns] | set + step + get [ns] | floor [ns] | step / floor | "
+          "peer [ns] | step / peer | peer, inputs held [ns] | step / peer held | "
           "step / 3-state step |" + beside)
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |" +
-          (" --- | --- |" if other else ""))
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |" +
+          (" --- | --- | --- |" if other else ""))
     first = best[(structures[0], "glauert_dostep")]
     for st, (_, _, nx, nu) in libs.items():
         step = best[(st, "glauert_dostep")]
         floor = math.ceil(nx * (nx + nu) / 4) / mul_rate
+        peer = min(best[(nx, "peer_reg_ns")], best[(nx, "peer_mem_ns")])
+        held = best[(nx, "peer_held_ns")]
         gen, comp = built[st]
         print(f"| {st} | {inflow[st]} | {nx} | {gen:.1f} + {comp:.1f} | {step:.1f} | "
               f"{best[(st, 'glauert_set_dostep_get')]:.1f} | {floor:.1f} | "
-              f"{step / floor:.2f} | {step / first:.2f} |" +
+              f"{step / floor:.2f} | {peer:.1f} | {step / peer:.2f} | {held:.1f} | "
+              f"{step / held:.2f} | {step / first:.2f} |" +
               (f" {best[(st, 'beside glauert_dostep')]:.1f} | "
-               f"{best[(st, 'beside glauert_dostep')] / floor:.2f} |" if other else ""))
+               f"{best[(st, 'beside glauert_dostep')] / floor:.2f} | "
+               f"{best[(st, 'beside glauert_set_dostep_get')]:.1f} |" if other else ""))
 
 
 if __name__ == "__main__":

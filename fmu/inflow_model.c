@@ -38,7 +38,7 @@ void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
     ifs_descriptor_of(v, ifs_flow_speed(v), e, a, b);
 }
 
-int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
+int ifs_discretize(const IfsModel *m, double h, double pg[IFS_PG_N])
 {
     double M[NA * NA];
     int i, j;
@@ -50,9 +50,9 @@ int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
     if (ifs_expm(M) != 0) return -1;
     for (i = 0; i < NX * NA; i++)
         if (!isfinite(M[i])) return -1;
-    memset(pg, 0, sizeof(double) * NX * IFS_RL);
-    for (i = 0; i < NX; i++)                    /* top NX rows, by rows */
-        for (j = 0; j < NA; j++) pg[i * IFS_RL + j] = M[i * NA + j];
+    memset(pg, 0, sizeof(double) * IFS_PG_N);
+    for (i = 0; i < NX; i++)                    /* top NX rows, in the step's order */
+        for (j = 0; j < NA; j++) pg[IFS_PG_AT(i, j)] = M[i * NA + j];
     return 0;
 }
 

@@ -31,14 +31,17 @@ typedef struct {
      * start, which the slave keeps 64-byte aligned (IfsSlave, the FMI layers'
      * instances): a four-wide load or store across a 64-byte cache line costs more
      * (bench/fmu.md). */
-    /* [phi gam] at the internal step dt by rows: row i at pg + i IFS_RL, its IFS_NA
-     * coefficients then zeros (whole vectors of four), so that one new state is a
-     * dot product of whole vectors with [x; u] (see ifs_step) */
-    double pg[IFS_NX * IFS_RL];
+    /* [phi gam] at the internal step dt as the step reads it (IFS_PG_AT): up to 16
+     * states by columns, column j at pg + j IFS_LD, its IFS_NX rows then zeros, so
+     * that each x_j and u_k multiplies a column four rows at a time; beyond, by rows
+     * (IFS_RL each: one new state a dot product with [x; u]; see ifs_step) */
+    double pg[IFS_PG_N];
     /* [x; u; 0]: the state (IFS_NX), then the inputs held (IFS_NU, a copy of the
      * slave's, written when they are set: the step reads them beside the state),
      * then zeros to whole vectors of four */
     double x[IFS_RL];
+    /* g = gam u, the inputs' part of the step, while g_ok (ifs_step_held) */
+    double g[IFS_LD];
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
@@ -49,8 +52,8 @@ typedef struct {
     double lc[IFS_NL * IFS_NX];
     double ld[IFS_NL * IFS_NU];
     double dt;
-    /* cached [phi gam] (by rows, as pg) of a remainder step (h not n dt) */
-    double pg_rem[IFS_NX * IFS_RL];
+    /* cached [phi gam] (as pg) of a remainder step (h not n dt) */
+    double pg_rem[IFS_PG_N];
     double rem;                    /* its length [s]; 0 = no cache */
     /* the remainder asked for by the previous call under the same matrices (0: none).
      * The second remainder in a row is cached; a later one that differs from the
@@ -59,8 +62,8 @@ typedef struct {
      * terms (ifs_advance) */
     double rem_prev;
     /* [a b] stored by columns (IFS_LD each: the Taylor remainder's matrix-vector
-     * products, two rows at a time), and by rows as pg (its first product, with the
-     * inputs) */
+     * products, two rows at a time), and by rows (IFS_RL each: its first product,
+     * with the inputs, ifs_rows) */
     double abc[IFS_NA * IFS_LD];
     double abr[IFS_NX * IFS_RL];
     /* the 1-norms |a| and |[a b]| [1/s]: the Taylor series' term bounds (abc, abr and
@@ -69,6 +72,9 @@ typedef struct {
     /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
      * applied from the table updates [phi gam] first, the rest when asked) */
     int ab_stale;
+    /* 1: g is gam u for the inputs and [phi gam] held (cleared when either changes:
+     * the slave's ifs_slave_refresh, its inputs' and mu's sets) */
+    int g_ok;
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
     long long n_last;
@@ -96,6 +102,7 @@ static inline void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;
+    m->g_ok = 0;           /* gam is new: the inputs' part g = gam u with it */
 #ifdef IFS_MU_FMA4
     if (t->fma)
         ifs_mu_eval_fma(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], v->mu, m->pg);
@@ -135,9 +142,9 @@ double ifs_flow_speed(const IfsVariables *v);
 void ifs_schedule_apply(IfsVariables *v);
 #endif
 
-/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored by rows
- * (element (i, j) at pg[i * IFS_RL + j], padding zero: IfsModel.pg). */
-int ifs_discretize(const IfsModel *m, double h, double pg[IFS_NX * IFS_RL]);
+/* [phi gam] for a step h [s]: exp([[a, b], [0, 0]] h), top rows, stored as the
+ * step reads it (element (i, j) at pg[IFS_PG_AT(i, j)], padding zero: IfsModel.pg). */
+int ifs_discretize(const IfsModel *m, double h, double pg[IFS_PG_N]);
 
 /* Advance the state over h [s] with the inputs held (m->x after the state): whole
  * internal steps dt and one exact remainder step.  Returns 0, or -1 if the
@@ -156,29 +163,14 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
     y[5] = x[5];
 }
 
-/*
- * x <- phi x + gam u with [phi gam] = pg (by rows, IFS_RL each) and z = [x; u; 0]
- * (IfsModel.x): one step, the simulator loop's hot path, inline so that it is
- * compiled for the caller's target.  Each new state is the dot product of its row
- * with z in blocks of four: lane l of the row is the pairwise sum over the blocks
- * (IFS_TREE_SUM, the blocks taken last first, so the inputs' products, which do not
- * wait for the new state, are summed first), then the lanes (l0 + l1) + (l2 + l3).
- * Every product of [phi gam] [x; u] is taken once in whole vectors of four (the
- * step's arithmetic floor, bench/fmu_states.md), the padding 0 * 0.  The same
- * operations in the same order on every path: GNU vectors of two (the baseline
- * x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
- * (ifs_step_wide), so the same numbers, provided the compiler does not contract
- * a * b + c into a fused multiply-add (inflowsim builds with -ffp-contract=off;
- * clang is told in inflow_numerics.h).
- */
-/* out = the pairwise sum of the K terms term(j_) (K < 32): the tree whose blocks are
+/* out = the pairwise sum of the K terms term(j_) (K < 64): the tree whose blocks are
  * aligned at powers of two, evaluated streaming (partial sums of whole blocks kept
  * by size, as a binary counter), so only a few values are live at once.  The
  * association is fixed by K alone, so every width (double, pairs, fours) rounds
  * alike. */
 #define IFS_TREE_SUM(T, K, first, term, out)                                           \
     do {                                                                               \
-        T s_[5], c_;                                                                   \
+        T s_[6], c_;                                                                   \
         int j_, l_, have_ = 0;                                                         \
         IFS_UNROLL                                                                     \
         for (j_ = 0; j_ < (K); j_++) {                                                 \
@@ -187,7 +179,7 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
             else                                                                       \
                 c_ = term;                                                             \
             IFS_UNROLL                                                                 \
-            for (l_ = 0; l_ < 5; l_++) {                                               \
+            for (l_ = 0; l_ < 6; l_++) {                                               \
                 if ((j_ >> l_) & 1) {                                                  \
                     c_ = s_[l_] + c_;                                                  \
                 } else {                                                               \
@@ -197,7 +189,7 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
             }                                                                          \
         }                                                                              \
         IFS_UNROLL                                                                     \
-        for (l_ = 0; l_ < 5; l_++)                                                     \
+        for (l_ = 0; l_ < 6; l_++)                                                     \
             if (((K) >> l_) & 1) {                                                     \
                 if (have_)                                                             \
                     c_ = s_[l_] + c_;                                                  \
@@ -207,6 +199,13 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
             }                                                                          \
         out = c_;                                                                      \
     } while (0)
+
+/*
+ * [a b] z by rows ([a b] by rows, IFS_RL each, z = [x; u; 0]), for the Taylor step
+ * (ifs_taylor_first): each row's dot product with z in blocks of four, lane l of the
+ * row the pairwise sum over the blocks (the last block first), then the lanes
+ * (l0 + l1) + (l2 + l3); the same order in pairs and in plain C.
+ */
 /* the k-th block of the sum (the last block first) */
 #define IFS_BLK(k) (IFS_ZB - 1 - (k))
 /* lanes off .. off + width of row r's products with z, summed over the blocks */
@@ -218,7 +217,7 @@ IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
                      *(const T *)(z + 4 * IFS_BLK(j_) + (off)),                        \
                  out)
 
-/* y = [phi gam] z, the new states (see ifs_step) */
+/* y = [a b] z by rows (pg: IFS_NX rows, IFS_RL apart) */
 IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
 {
     int r;
@@ -240,12 +239,215 @@ IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
 #endif
 }
 
+#if IFS_COLUMN_STEP
+/*
+ * x <- phi x + gam u: one step, the simulator loop's hot path, inline so that it is
+ * compiled for the caller's target.  pg is IfsModel.pg ([phi gam] by columns,
+ * IFS_LD each), z = [x; u; 0] (IfsModel.x).  New state i is
+ *
+ *     x_i <- pairwise sum of (phi_i0 x_0, phi_i1 x_1, ..., phi_i,NX-1 x_NX-1, g_i)
+ *     g_i  = pairwise sum of (gam_i0 u_0, ..., gam_i,NU-1 u_NU-1)
+ *
+ * (IFS_TREE_SUM): each x_j and u_k broadcast and multiplied by its column, four rows
+ * a vector, nothing summed across lanes.  The chain from one step's state to the
+ * next is short: the broadcasts of x_j (loads of the last step's stores), one
+ * multiply, a tree of depth ceil(log2(NX + 1)); g, the inputs' part, does not wait
+ * for the state and enters last (a step after new inputs waits for it the tree's
+ * last adds only).  The step on the model (ifs_step_held, ifs_step_wide) keeps g
+ * (IfsModel.g) while the inputs and [phi gam] stay as they were (g_ok, cleared by
+ * whatever changes them: the slave's input and mu sets, ifs_slave_refresh), so a
+ * step with the inputs held takes the NX^2 products of phi x alone.  The same
+ * operations in the same order on every path: GNU vectors of two (the baseline
+ * x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
+ * (ifs_step_wide), so the same numbers, provided the compiler does not contract
+ * a * b + c into a fused multiply-add (inflowsim builds with -ffp-contract=off;
+ * clang is told in inflow_numerics.h).
+ */
+/* rows r0 .. r0 + width of g: column IFS_NX + k times X(IFS_NX + k), X(j) z_j (a
+ * double, or z_j in every lane of a T) */
+#define IFS_GAM_TERMS(T, r0, X, out)                                                   \
+    IFS_TREE_SUM(T, IFS_NU, *(const T *)(pg + IFS_NX * IFS_LD + (r0)) * X(IFS_NX),     \
+                 *(const T *)(pg + (IFS_NX + j_) * IFS_LD + (r0)) * X(IFS_NX + j_), out)
+/* rows r0 .. r0 + width of phi x + g, g0 their g */
+#define IFS_PHI_TERMS(T, r0, g0, X, out)                                               \
+    IFS_TREE_SUM(T, IFS_NX + 1, *(const T *)(pg + (r0)) * X(0),                        \
+                 j_ < IFS_NX ? (T)(*(const T *)(pg + j_ * IFS_LD + (r0)) * X(j_)) : (T)(g0), \
+                 out)
+#define IFS_Z(j) z[j]
+
+/* g[0 .. IFS_NX) = gam u */
+IFS_INLINE void ifs_gam_rows(const double *pg, const double *z, double *g)
+{
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    int p;
+    IFS_UNROLL
+    for (p = 0; p < IFS_NX / 2; p++) {
+        ifs_v2 v;
+        IFS_GAM_TERMS(ifs_v2, 2 * p, IFS_Z, v);
+        *(ifs_v2 *)(g + 2 * p) = v;
+    }
+#if IFS_NX % 2
+    IFS_GAM_TERMS(double, IFS_NX - 1, IFS_Z, g[IFS_NX - 1]);
+#endif
+#else
+    int i;
+    for (i = 0; i < IFS_NX; i++) IFS_GAM_TERMS(double, i, IFS_Z, g[i]);
+#endif
+}
+
+/* z[0 .. IFS_NX) <- phi x + g, every sum before any store (each reads all of x) */
+IFS_INLINE void ifs_phi_step(const double *pg, const double *g, double *z)
+{
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    ifs_v2 y[IFS_NX / 2];
+    int p;
+    IFS_UNROLL
+    for (p = 0; p < IFS_NX / 2; p++)
+        IFS_PHI_TERMS(ifs_v2, 2 * p, *(const ifs_v2 *)(g + 2 * p), IFS_Z, y[p]);
+#if IFS_NX % 2
+    double y1;
+    IFS_PHI_TERMS(double, IFS_NX - 1, g[IFS_NX - 1], IFS_Z, y1);
+#endif
+    IFS_UNROLL
+    for (p = 0; p < IFS_NX / 2; p++) *(ifs_v2 *)(z + 2 * p) = y[p];
+#if IFS_NX % 2
+    z[IFS_NX - 1] = y1;
+#endif
+#else
+    double y[IFS_NX];
+    int i;
+    for (i = 0; i < IFS_NX; i++) IFS_PHI_TERMS(double, i, g[i], IFS_Z, y[i]);
+    memcpy(z, y, sizeof y);
+#endif
+}
+
+/* the step on [phi gam] pg and z = [x; u; 0] */
+IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
+{
+    double g[IFS_LD];
+    ifs_gam_rows(pg, z, g);
+    ifs_phi_step(pg, g, z);
+}
+
+/* the step on the model (its [phi gam] at dt and [x; u]), with g kept */
+IFS_INLINE void ifs_step_held(IfsModel *m)
+{
+    if (!m->g_ok) {
+        ifs_gam_rows(m->pg, m->x, m->g);
+        m->g_ok = 1;
+    }
+    ifs_phi_step(m->pg, m->g, m->x);
+}
+
+/* The same step on the model four rows at a time, for the AVX2 variant of DoStep
+ * (IFS_WIDE_STEP; the slave picks it at load time where the CPU has AVX2: 256-bit
+ * vectors on the baseline x86-64 code are split badly, so that keeps the pairs):
+ * the rows in vectors of four, the last ones in a pair and one alone, each x_j and
+ * u_k broadcast once for all; each vector of new states stored alone (the next
+ * step's broadcasts each load from one store).  The same operations in the same
+ * order as ifs_step, so the same numbers. */
+#if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
+#define IFS_WIDE_STEP 1
+#include <immintrin.h>
+/* z_j in every lane, for x_j: a load that broadcasts (of one of the last step's
+ * stores; its four-wide, two-wide and scalar uses share it) */
+#define IFS_BX4(j) ((ifs_v4)_mm256_broadcast_sd(z + (j)))
+#define IFS_BX2(j) ((ifs_v2)_mm256_castpd256_pd128(_mm256_broadcast_sd(z + (j))))
+#define IFS_BX1(j) _mm256_cvtsd_f64(_mm256_broadcast_sd(z + (j)))
+/* ... and for u_k: the inputs' whole blocks of four loaded once each (as the input
+ * set stored them), the lane permuted across (the simulator loop's frame took 2-3 ns
+ * longer with a broadcast load of each input); in the block shared with the state a
+ * broadcast load (the block's lanes come from more than one store after a step) */
+#define IFS_BU(j)                                                                      \
+    ((j) / 4 == IFS_NX / 4 ? _mm256_broadcast_sd(z + (j))                              \
+                           : _mm256_permute4x64_pd(*(const __m256d *)(z + (j) / 4 * 4),  \
+                                                   ((j) % 4) * 0x55))
+#define IFS_BU4(j) ((ifs_v4)IFS_BU(j))
+#define IFS_BU2(j) ((ifs_v2)_mm256_castpd256_pd128(IFS_BU(j)))
+#define IFS_BU1(j) _mm256_cvtsd_f64(IFS_BU(j))
+static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(IfsModel *m)
+{
+    const double *pg = m->pg;
+    double *z = m->x;
+    double *g = m->g;
+    int q;
+#if IFS_NX >= 4
+    ifs_v4 g4[IFS_NX / 4], y4[IFS_NX / 4];
+#endif
+#if IFS_NX % 4 >= 2
+    ifs_v2 g2, y2;
+#endif
+#if IFS_NX % 2
+    double g1, y1;
+#endif
+    if (!m->g_ok) {
+        IFS_UNROLL
+        for (q = 0; q < IFS_NX / 4; q++) IFS_GAM_TERMS(ifs_v4, 4 * q, IFS_BU4, g4[q]);
+#if IFS_NX % 4 >= 2
+        IFS_GAM_TERMS(ifs_v2, IFS_NX / 4 * 4, IFS_BU2, g2);
+#endif
+#if IFS_NX % 2
+        IFS_GAM_TERMS(double, IFS_NX - 1, IFS_BU1, g1);
+#endif
+        IFS_UNROLL
+        for (q = 0; q < IFS_NX / 4; q++) *(ifs_v4 *)(g + 4 * q) = g4[q];
+#if IFS_NX % 4 >= 2
+        *(ifs_v2 *)(g + IFS_NX / 4 * 4) = g2;
+#endif
+#if IFS_NX % 2
+        g[IFS_NX - 1] = g1;
+#endif
+        m->g_ok = 1;
+    } else {
+        IFS_UNROLL
+        for (q = 0; q < IFS_NX / 4; q++) g4[q] = *(const ifs_v4 *)(g + 4 * q);
+#if IFS_NX % 4 >= 2
+        g2 = *(const ifs_v2 *)(g + IFS_NX / 4 * 4);
+#endif
+#if IFS_NX % 2
+        g1 = g[IFS_NX - 1];
+#endif
+    }
+    IFS_UNROLL
+    for (q = 0; q < IFS_NX / 4; q++) IFS_PHI_TERMS(ifs_v4, 4 * q, g4[q], IFS_BX4, y4[q]);
+#if IFS_NX % 4 >= 2
+    IFS_PHI_TERMS(ifs_v2, IFS_NX / 4 * 4, g2, IFS_BX2, y2);
+#endif
+#if IFS_NX % 2
+    IFS_PHI_TERMS(double, IFS_NX - 1, g1, IFS_BX1, y1);
+#endif
+    IFS_UNROLL
+    for (q = 0; q < IFS_NX / 4; q++) *(ifs_v4 *)(z + 4 * q) = y4[q];
+#if IFS_NX % 4 >= 2
+    *(ifs_v2 *)(z + IFS_NX / 4 * 4) = y2;
+#endif
+#if IFS_NX % 2
+    z[IFS_NX - 1] = y1;
+#endif
+}
+#endif
+
+#else /* the row step */
+
+/*
+ * Beyond 16 states (IFS_COLUMN_STEP 0) the row step: [phi gam] = pg by rows (IFS_RL
+ * each), each new state the dot product of its row with z = [x; u; 0] in blocks of
+ * four (ifs_rows: lane l the pairwise sum over the blocks, the last first, so the
+ * inputs' products are summed before the state's; then (l0 + l1) + (l2 + l3)).
+ * Every product of [phi gam] [x; u] is taken once in whole vectors of four, the
+ * padding 0 * 0; the same operations in the same order on every path.
+ */
 IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
 {
     /* every sum before any store (each reads all of x) */
     double y[IFS_NX];
     ifs_rows(pg, z, y);
     memcpy(z, y, sizeof y);
+}
+
+IFS_INLINE void ifs_step_held(IfsModel *m)
+{
+    ifs_step(m->pg, m->x);
 }
 
 /* The same step four lanes at a time, for the AVX2 variant of DoStep (IFS_WIDE_STEP;
@@ -301,7 +503,7 @@ static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(
     for (g = 0; g < IFS_XB; g++) *(__m256d *)(z + 4 * g) = y[g];
 }
 #endif
-
+#endif /* IFS_COLUMN_STEP */
 
 
 /*
@@ -309,8 +511,8 @@ static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(
  * generated into ifs_taylor_step; P.taylor_first and P.taylor_term there):
  *
  * w = ([a b] z) r: [a b] by rows (n rows rl apart, as pg), z = [x; u] (rl rows of
- * cols columns); for the model (cols 1, n IFS_NX, rl IFS_RL) the step's dot product
- * (ifs_rows), then the scaling.
+ * cols columns); for the model (cols 1, n IFS_NX, rl IFS_RL) the rows'
+ * dot products (ifs_rows), then the scaling.
  */
 IFS_INLINE void ifs_taylor_first(const double *ab, const double *z, double r, double *w,
                                  int n, int rl, int cols)

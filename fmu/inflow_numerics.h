@@ -22,7 +22,20 @@
 #define IFS_NA (IFS_NX + IFS_NU)   /* augmented [x; u] */
 #define IFS_LD ((IFS_NX + 3) / 4 * 4)   /* stored column length: whole vectors of 4 */
 #define IFS_ZB ((IFS_NA + 3) / 4)   /* blocks of four of [x; u] (the last zero-padded) */
-#define IFS_RL (4 * IFS_ZB)          /* a stored row of [phi gam]: [x; u]'s length, padded */
+#define IFS_RL (4 * IFS_ZB)          /* a stored row of [a b]: [x; u]'s length, padded */
+/* The step's [phi gam] (IfsModel.pg, inflow_model.h), element (i, j) at
+ * IFS_PG_AT(i, j): up to 16 states by columns, IFS_LD each (rows past IFS_NX zero:
+ * the column step, short from one state to the next), beyond by rows, IFS_RL each
+ * (the row step: fewer operations, which a step of more states is bound by;
+ * bench/fmu_states.md) */
+#define IFS_COLUMN_STEP (IFS_NX <= 16)
+#if IFS_COLUMN_STEP
+#define IFS_PG_N (IFS_NA * IFS_LD)
+#define IFS_PG_AT(i, j) ((j) * IFS_LD + (i))
+#else
+#define IFS_PG_N (IFS_NX * IFS_RL)
+#define IFS_PG_AT(i, j) ((i) * IFS_RL + (j))
+#endif
 
 /* The DoStep functions, the mu table's evaluation and the stepping of whole
  * communication intervals (ifs_advance: substeps, the Taylor remainder) are
@@ -240,8 +253,8 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * an exact value relative to the half's largest entry; the table is used only if
  * that is within IFS_MU_TOL.  Half 0 ([phi gam], IFS_MU_HALF0 entries) is stored in
  * the order the step reads it, so a mu change evaluates it straight into the
- * model's matrices (ifs_mu_table_apply, inflow_model.h): row by row, each row
- * IFS_RL long (zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
+ * model's matrices (ifs_mu_table_apply, inflow_model.h): IfsModel.pg's order
+ * (IFS_PG_AT, zero-padded to whole vectors of four).  Half 1 ([a b], row-major,
  * IFS_MU_HALF entries) is read rarely (a remainder step, a load).
  *
  * What a mu change evaluates, and the check checks, of half 0 is a finer table made
@@ -255,7 +268,7 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  * the next (mu_part); y = (mu - pmid[j]) pscale[j].
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
-#define IFS_MU_HALF0 (IFS_NX * IFS_RL)
+#define IFS_MU_HALF0 IFS_PG_N
 #define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
 #define IFS_MU_NPART (IFS_MU_NSEG * IFS_MU_SPLIT)
 typedef struct {

@@ -215,11 +215,11 @@ static int real_ok(const IfsRealVar *var, double x)
 }
 
 /* The inputs held beside the state where the step reads them (IfsModel.x), each
- * block of four written whole: the step loads it whole, and a load that needs more
- * than one store waits for the stores to reach the cache (written value by value,
- * the simulator loop's SetReal + DoStep + GetReal took half as long again).  The
- * inputs are read back one by one from the slave's (just stored: each load from
- * one store). */
+ * block of four written whole: a load that needs more than one store waits for the
+ * stores to reach the cache (written value by value, the simulator loop's SetReal +
+ * DoStep + GetReal took half as long again).  The inputs are read back one by one
+ * from the slave's (just stored: each load from one store).  The step's inputs'
+ * part (IfsModel.g) is then stale. */
 static IFS_HOT void hold_blocks(IfsSlave *s)
 {
     /* (volatile: one load per value; two values in one load would need two stores) */
@@ -243,6 +243,7 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
             if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
 #endif
     }
+    s->m.g_ok = 0;
 }
 
 /* Why value x for value reference vr is refused. */
@@ -268,11 +269,36 @@ static IFS_COLD int refuse_real(const IfsSlave *s, const IfsLog *lg, const char 
                    var->name, x, var->lower_open ? '(' : '[', var->lower, var->upper);
 }
 
+/* The simulator loop's frame: the flap and inflow outputs only (1; else 0, the
+ * others left to the general loop), without a stack frame; the outputs of the state
+ * now (without a delay line, from the state at once: ifs_slave_update_outputs's
+ * first part). */
+static int get_outputs(IfsSlave *s, const unsigned int vr[], size_t n, double value[])
+{
+    size_t i;
+    if (s->y_stale) {
+        if (s->delay.active) {
+            ifs_slave_update_outputs(s);
+        } else {
+            double y[IFS_NX];
+            ifs_outputs(&s->m, y);
+            memcpy(&s->v.beta0, y, 6 * sizeof(double));
+            s->y_stale = 0;
+        }
+    }
+    for (i = 0; i < n; i++) {
+        if (vr[i] - IFS_VR_beta0 >= 6u) return 0;
+        value[i] = (&s->v.beta0)[vr[i] - IFS_VR_beta0];
+    }
+    return 1;
+}
+
 int ifs_slave_get_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
                         const unsigned int vr[], size_t n, double value[])
 {
     size_t i;
     if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    if (get_outputs(s, vr, n, value)) return IFS_OK;
     if (s->y_stale) ifs_slave_update_outputs(s);   /* the outputs of the state now */
     for (i = 0; i < n; i++) {
         if (vr[i] - IFS_VR_beta0 < 6u) {        /* flap and inflow */
@@ -303,20 +329,15 @@ typedef char ifs_outputs_are_contiguous[
     offsetof(IfsVariables, lambda1s) - offsetof(IfsVariables, beta0) == 5 * sizeof(double)
     ? 1 : -1];
 
-int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
-                        const unsigned int vr[], size_t n, const double value[])
+/* The simulator loop's frame: inputs only, each within its declared range (NaN
+ * fails the test), which need no rebuild: stored at once (1; else 0, nothing done).
+ * The general checks (set_reals) cost half again as much per value (bench/fmu.md);
+ * apart from them, this needs no stack frame (about 20 instructions of the frame).
+ * mu as well, within the table's range with no other parameter pending: a flight
+ * condition changing every step (stored; the step applies it). */
+static int set_inputs(IfsSlave *s, const unsigned int vr[], size_t n, const double value[])
 {
-    const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
-    IfsVariables before;
-    int parameters = 0;
     size_t i;
-    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
-    if (ifs_slave_set_mu(s, vr, n, value)) return IFS_OK;
-    /* the simulator loop's frame: inputs only, each within its declared range (NaN
-     * fails the test), which need no rebuild: stored at once.  The general checks
-     * below cost half again as much per value (bench/fmu.md). */
-    /* mu as well, within the table's range with no other parameter pending: a
-     * flight condition changing every step (stored; the step applies it) */
     for (i = 0; i < n; i++)
         if (vr[i] < IFS_NU ? !(fabs(value[i]) <= IFS_INPUT_LIMIT)
                            : (vr[i] != IFS_VR_mu || s->params_changed ||
@@ -339,8 +360,18 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             }
         }
         if (inputs) hold_blocks(s);
-        return IFS_OK;
+        return 1;
     }
+    return 0;
+}
+
+static IFS_NOINLINE int set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
+                                  const unsigned int vr[], size_t n, const double value[])
+{
+    const int fixed_ok = s->phase == IFS_PH_INSTANTIATED || s->phase == IFS_PH_INIT;
+    IfsVariables before;
+    int parameters = 0;
+    size_t i;
     /* check everything first: a refused call changes nothing */
     for (i = 0; i < n; i++) {
         const IfsRealVar *var = &ifs_real_vars[vr[i] < IFS_N_REALS ? vr[i] : 0];
@@ -381,6 +412,14 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
         }
     }
     return IFS_OK;
+}
+
+int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
+                        const unsigned int vr[], size_t n, const double value[])
+{
+    if (n > 0 && (!vr || !value)) return ifs_log(lg, IFS_ERROR, "%s: null array", fn);
+    if (ifs_slave_set_mu(s, vr, n, value) || set_inputs(s, vr, n, value)) return IFS_OK;
+    return set_reals(s, lg, fn, vr, n, value);
 }
 
 /* --- integers --- */
@@ -479,7 +518,7 @@ int ifs_slave_directional(IfsSlave *s, const IfsLog *lg, const char *fn,
 
 /* --- the time-delay line --- */
 
-/* x = [phi gam] [x0; u] (pg by rows, as IfsModel.pg) */
+/* x = [phi gam] [x0; u] (pg as IfsModel.pg) */
 static void ring_step(const double *pg, const double x0[IFS_NX], const double u[IFS_NU],
                       double x[IFS_NX])
 {
@@ -560,6 +599,7 @@ static inline void mu_window(IfsSlave *s)
  * terms (a rebuild or fresh_ab in it refreshed all) */
 static void refresh_time(IfsSlave *s)
 {
+    s->m.g_ok = 0;                 /* [phi gam] or the inputs may have changed */
     s->now = s->t_base + (double)s->n_comm * s->h_comm;
     s->fast_h = s->phase == IFS_PH_STEP && !s->dirty && !s->delay.active &&
                 s->h_comm == s->m.dt && s->h_comm > 0.0 ? s->h_comm : NAN;
@@ -747,12 +787,12 @@ static inline int near_now(double t, double now)
 
 static IFS_NOINLINE int rest_base(IfsInstance *c, double t, double h)
 {
-    REST_BODY(c, t, h, ifs_step(s_->m.pg, s_->m.x));
+    REST_BODY(c, t, h, ifs_step_held(&s_->m));
 }
 
 static int do_step_base(void *instance, double t, double h)
 {
-    DO_STEP(instance, t, h, ifs_step(s_->m.pg, s_->m.x), rest_base);
+    DO_STEP(instance, t, h, ifs_step_held(&s_->m), rest_base);
 }
 
 #ifdef IFS_WIDE_STEP

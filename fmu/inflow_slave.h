@@ -35,7 +35,7 @@ typedef struct {
     double d[3];                   /* each flap channel's delay [s] */
     int mm[3];                     /* whole internal steps of each */
     double f[3];                   /* the fraction of a step left, 0 or in (0, 1) */
-    double pg_frac[3][IFS_NX * IFS_RL];    /* [phi gam] over (1 - f) dt, by rows */
+    double pg_frac[3][IFS_PG_N];    /* [phi gam] over (1 - f) dt, as IfsModel.pg */
     long long k;                   /* internal steps taken since initialization */
     double x0[IFS_NX];             /* the state at step 0 (before the record) */
     double hx[IFS_DELAY_DEPTH][IFS_NX];
@@ -205,6 +205,7 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
 static inline void ifs_slave_hold_inputs(IfsSlave *s)
 {
     memcpy(s->m.x + IFS_NX, ifs_slave_inputs(s), IFS_NU * sizeof(double));
+    s->m.g_ok = 0;
 }
 
 /* The state delayed by flap channel i's time shift. */

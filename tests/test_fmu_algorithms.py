@@ -17,7 +17,8 @@ from inflowsim.simulate import mutable
 from inflowsim.simulate.discrete import TaylorZoh
 
 NA = 16          # the presets' FMU (fmu/inflow_vars.h): 6 states and 10 inputs
-NTAB, HALF0 = 192, 96   # its mu table's entries, and those of [phi gam] (inflow_numerics.h)
+NTAB, HALF0 = 224, 128  # its mu table's entries, and those of [phi gam] (inflow_numerics.h:
+#                          IFS_PG_N, by columns of 8)
 ENTRIES = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
                            ctypes.POINTER(ctypes.c_double))
 

@@ -121,9 +121,9 @@ int table_at(double dt, int inflow_speed, double ct, const double *mus, int nmu,
     for (k = 0; k < nmu; k++) {
         s.v.mu = mus[k];
         ifs_mu_table_apply(&t, &s.v, &m);
-        for (j = 0; j < IFS_NA; j++)      /* m.pg holds it by rows (IFS_RL each) */
+        for (j = 0; j < IFS_NA; j++)      /* m.pg: the step's order (IFS_PG_AT) */
             for (i = 0; i < IFS_NX; i++)
-                out[(size_t)k * IFS_NX * IFS_NA + j * IFS_NX + i] = m.pg[i * IFS_RL + j];
+                out[(size_t)k * IFS_NX * IFS_NA + j * IFS_NX + i] = m.pg[IFS_PG_AT(i, j)];
     }
     return 0;
 }
