@@ -35,7 +35,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
 void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
                     double b[NX * NU])
 {
-    ifs_descriptor_of(v, ifs_flow_speed(v), e, a, b);
+    ifs_descriptor_of(v, ifs_flow_speed(v->inflow_speed, v->mu, v->ct), e, a, b);
 }
 
 int ifs_discretize(const IfsModel *m, double h, double pg[NX * IFS_RL])
