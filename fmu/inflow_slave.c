@@ -341,9 +341,8 @@ int ifs_slave_set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
             return refuse_real(s, lg, fn, vr[i], value[i]);
         if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < IFS_MU_LO)
-            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range " IFS_MU_RANGE " "
-                           "with inflow_speed 0 (V ~ mu needs forward flight); set "
-                           "inflow_speed 1 and ct first to reach hover", value[i]);
+            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range " IFS_MU_RANGE
+                           " with inflow_speed 0: " IFS_HOVER_HINT, value[i]);
         parameters |= var->kind != IFS_INPUT;
     }
     /* the copy to restore if the model refuses a new parameter (half a kilobyte):

@@ -30,6 +30,10 @@
 #define IFS_MU_NGUESS 64  /* cells of the segment guess */
 #define IFS_TAYLOR_TOL 1e-17
 #define IFS_KMAX 30  /* most Taylor terms of a remainder step */
+/* the mass-flow speed's ranges (inflowsim.model.params: Constants.check) */
+#define IFS_MASS_FLOW_OK(mu, ct) ((mu) >= 0.0 && (mu) <= 0.5 && (ct) > 0.0 && (ct) <= 0.05)
+#define IFS_MASS_FLOW_NEEDS "mu in [0, 0.5] and a trim thrust coefficient ct in (0, 0.05]"
+#define IFS_HOVER_HINT "V ~ mu needs forward flight; set inflow_speed 1 (mass flow) and ct first to reach hover"
 #define IFS_N_SCHEDULED 0  /* parameters that follow mu (a schedule) */
 #define IFS_MU_N_KNOTS 0  /* the schedule's range ends: extra segment ends of the mu table */
 #define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */

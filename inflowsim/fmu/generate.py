@@ -16,7 +16,8 @@ from . import codegen, pyc
 from ..errors import InputError
 from ..simulate import mutable
 from ..channels import BY_NAME, LIMIT
-from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
+from .variables import (DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable,
+                        checks_c)
 
 #: Bump when the C model's equations change in a way importers must notice.
 MODEL_VERSION = "2"
@@ -273,7 +274,7 @@ def vars_header(d: Description = DEFAULT) -> str:
              + ", ".join(str(BY_NAME[v.name].omega_power) for v in d.reals
                          if v.causality == "input" and v.name != "mu")
              + "}  /* the inputs in azimuth units: u / Omega^k (inflowsim.channels) */",
-             "", *mutable.c_defines(), *schedule_defines(d), "",
+             "", *mutable.c_defines(), *checks_c(), *schedule_defines(d), "",
              "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
     lines += [f"    IFS_VR_time = {time_vr(d)},  /* FMI 3.0 only: the independent variable */",
