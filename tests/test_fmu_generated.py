@@ -158,3 +158,10 @@ def test_the_c_table_and_the_simulators_agree(tmp_path, ct):
         pg = np.hstack([sim.phi, sim.gam])
         c_pg = out[k].reshape(16, 6).T
         assert np.max(np.abs(c_pg - pg)) <= 1e-12 * np.max(np.abs(pg)), mu
+
+
+def test_the_outputs_rotation_follows_the_parameters_of_the_measurement():
+    """IFS_SCHEDULED_BIAS (a schedule's parameter turns the outputs) from the effects'
+    measurement run on symbols, not from a parameter's name."""
+    assert codegen.bias_parameters(["basic", "glauert"]) == {"azimuth_bias"}
+    assert codegen.bias_parameters(["basic+flap-inertia"]) == frozenset()

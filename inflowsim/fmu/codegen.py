@@ -128,6 +128,19 @@ def _trace(structure):
     return s, e, a, b, meas, k.numeric.calls
 
 
+def bias_parameters(structures) -> frozenset:
+    """Names of the parameters the outputs' rotation (the measurement's azimuth
+    bias, ``ifs_bias_of``) depends on in any of ``structures``: the effects'
+    measurement run on symbols, as for the C."""
+    sp = _sympy()
+    out = set()
+    for st in structures:
+        s = Structure.parse(st)
+        bias = apply_effects(s, *_symbols(s))[1].azimuth_bias
+        out |= {str(x) for x in sp.sympify(bias).free_symbols}
+    return frozenset(out)
+
+
 def traced(structure):
     """``(structure, E, A, B, measurement)`` with sympy entries: the Python model run
     on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
@@ -582,4 +595,4 @@ def n_states(structures) -> int:
     return len(Structure.parse(structures[0]).states)
 
 
-__all__ = ["equations_c", "traced", "supported", "n_states", "TRIM_PARAMETERS"]
+__all__ = ["equations_c", "traced", "bias_parameters", "supported", "n_states", "TRIM_PARAMETERS"]

@@ -343,7 +343,10 @@ def schedule_defines(d: Description = DEFAULT) -> list:
              "#define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */"]
     if knots:
         lines.append("#define IFS_MU_KNOTS {" + ", ".join(_num(k) for k in knots) + "}")
-    lines.append(f"#define IFS_SCHEDULED_BIAS {int('azimuth_bias' in d.scheduled)}")
+    # the outputs' rotation follows mu where a scheduled parameter enters it
+    follows = bool(d.scheduled) and bool(codegen.bias_parameters(d.structures)
+                                         & set(d.scheduled))
+    lines.append(f"#define IFS_SCHEDULED_BIAS {int(follows)}")
     return lines
 
 
