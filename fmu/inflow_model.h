@@ -132,12 +132,9 @@ int ifs_advance(IfsModel *m, double h);
 IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
 {
     const double *x = m->x;
-    y[0] = x[0];
-    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
-    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
-    y[3] = x[3];
-    y[4] = x[4];
-    y[5] = x[5];
+#define IFS_X_NOW(i) x
+    IFS_OUTPUT_MAP(y, IFS_X_NOW, m->cos_bias, m->sin_bias);   /* inflow_vars.h */
+#undef IFS_X_NOW
 }
 
 /*

@@ -557,26 +557,22 @@ void ifs_slave_refresh(IfsSlave *s)
 void ifs_slave_update_outputs(IfsSlave *s)
 {
     double y[IFS_NX];
-    ifs_outputs(&s->m, y);
     if (s->delay.active) {         /* the recorded flap, from the delayed states */
-        double xd[3][IFS_NX];
+        double xd[IFS_N_FLAP][IFS_NX];
         int i;
-        for (i = 0; i < 3; i++) {   /* once per delay (time-delay: one for all three) */
+        for (i = 0; i < IFS_N_FLAP; i++) {   /* once per delay (time-delay: one for all) */
             if (i > 0 && s->delay.d[i] == s->delay.d[i - 1])
                 memcpy(xd[i], xd[i - 1], sizeof xd[i]);
             else
                 ifs_slave_delayed_state(s, i, xd[i]);
         }
-        y[0] = xd[0][0];
-        y[1] = s->m.cos_bias * xd[1][1] - s->m.sin_bias * xd[1][2];
-        y[2] = s->m.sin_bias * xd[2][1] + s->m.cos_bias * xd[2][2];
+#define IFS_X_DELAYED(i) ((i) < IFS_N_FLAP ? xd[(i) < IFS_N_FLAP ? (i) : 0] : s->m.x)
+        IFS_OUTPUT_MAP(y, IFS_X_DELAYED, s->m.cos_bias, s->m.sin_bias);   /* inflow_vars.h */
+#undef IFS_X_DELAYED
+    } else {
+        ifs_outputs(&s->m, y);
     }
-    s->v.beta0 = y[0];
-    s->v.beta1c = y[1];
-    s->v.beta1s = y[2];
-    s->v.lambda0 = y[3];
-    s->v.lambda1c = y[4];
-    s->v.lambda1s = y[5];
+    IFS_STORE_OUTPUTS(&s->v, y);
     s->y_stale = 0;
 }
 

@@ -274,7 +274,8 @@ def vars_header(d: Description = DEFAULT) -> str:
              + ", ".join(str(BY_NAME[v.name].omega_power) for v in d.reals
                          if v.causality == "input" and v.name != "mu")
              + "}  /* the inputs in azimuth units: u / Omega^k (inflowsim.channels) */",
-             "", *mutable.c_defines(), *checks_c(), *schedule_defines(d), "",
+             "", *mutable.c_defines(), *checks_c(), *outputs_defines(),
+             *schedule_defines(d), "",
              "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
     lines += [f"    IFS_VR_time = {time_vr(d)},  /* FMI 3.0 only: the independent variable */",
@@ -402,6 +403,45 @@ _DEFINITION = re.compile(r"^(?!static\b|typedef\b|extern\b)[A-Za-z_][^;(=\n]*?"
                          r"\b(ifs_\w+)\s*[\[(]", re.M)
 
 
+def outputs_defines() -> list:
+    """``inflow_vars.h``'s output map, generated from the Python model's
+    (:func:`inflowsim.model.build.output_map` run on a symbolic azimuth bias):
+    ``IFS_OUTPUT_MAP(y, X, c, s)`` writes the outputs ``y`` (``beta0`` ..
+    ``lambda1s``), row ``i`` from the states ``X(i)`` (the delayed flap's own), ``c``,
+    ``s`` the bias' cosine and sine; ``IFS_STORE_OUTPUTS(v, y)`` puts them in the
+    variables; ``IFS_N_FLAP`` the flap rows (each with its own delay)."""
+    import sympy as sp
+    from ..channels import FLAP, OUTPUTS
+    from ..model.build import output_map
+    from ..model.equations import Measurement
+    bias = sp.Symbol("bias")
+    c = output_map(len(OUTPUTS), Measurement(azimuth_bias=bias))
+    factor = {sp.cos(bias): "(c) * ", sp.sin(bias): "(s) * "}
+    rows = []
+    for i in range(len(OUTPUTS)):
+        terms = ""
+        for j in range(c.shape[1]):
+            x = sp.sympify(c[i, j])
+            if x.is_zero:
+                continue
+            sign = " - " if x.could_extract_minus_sign() else " + "
+            x = -x if sign == " - " else x
+            x = sp.Integer(1) if x.is_number and float(x) == 1.0 else x
+            if x != 1 and x not in factor:
+                raise ValueError(f"output_map[{i}, {j}] = {x}: not a term the C prints")
+            term = f"{'' if x == 1 else factor[x]}X({i})[{j}]"
+            terms += (("-" if sign == " - " else "") + term) if not terms else sign + term
+        rows.append(f"    (y)[{i}] = {terms};")
+    store = [f"    (v)->{name} = (y)[{i}];" for i, name in enumerate(OUTPUTS)]
+    def macro(head, body):
+        return [head + " \\", "    do { \\", *["    " + ln + " \\" for ln in body], "    } while (0)"]
+    return (["/* the outputs (inflowsim.model.build.output_map): row i from the states X(i), "
+             "c, s the", " * azimuth bias' cosine and sine; stored in the variables */",
+             f"#define IFS_N_FLAP {len(FLAP)}"]
+            + macro("#define IFS_OUTPUT_MAP(y, X, c, s)", rows)
+            + macro("#define IFS_STORE_OUTPUTS(v, y)", store))
+
+
 def names_header(texts) -> str:
     """``inflow_names.h``: the FMU's global names (every ``ifs_`` function or array
     defined without ``static`` in the C sources ``texts``, hand-written and generated,
@@ -458,5 +498,5 @@ def write_generated(directory) -> list:
 __all__ = ["MODEL_VERSION", "GENERATED", "TIME_VR", "time_vr", "SOURCES", "guid",
            "BASE_UNITS", "DISPLAY_UNITS", "xml_unit", "model_description",
            "model_description_fmi3", "vars_header", "vars_source", "schedule_defines",
-           "schedule_c", "SCHEDULE_APPLY", "names_header", "source_dir", "generated_files",
+           "schedule_c", "SCHEDULE_APPLY", "outputs_defines", "names_header", "source_dir", "generated_files",
            "write_generated"]
