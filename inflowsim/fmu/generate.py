@@ -434,7 +434,8 @@ def outputs_defines() -> list:
         rows.append(f"    (y)[{i}] = {terms};")
     store = [f"    (v)->{name} = (y)[{i}];" for i, name in enumerate(OUTPUTS)]
     def macro(head, body):
-        return [head + " \\", "    do { \\", *["    " + ln + " \\" for ln in body], "    } while (0)"]
+        return [head + " \\", "    do { \\", *["    " + ln + " \\" for ln in body],
+                "    } while (0)"]
     return (["/* the outputs (inflowsim.model.build.output_map): row i from the states X(i), "
              "c, s the", " * azimuth bias' cosine and sine; stored in the variables */",
              f"#define IFS_N_FLAP {len(FLAP)}"]
@@ -498,5 +499,5 @@ def write_generated(directory) -> list:
 __all__ = ["MODEL_VERSION", "GENERATED", "TIME_VR", "time_vr", "SOURCES", "guid",
            "BASE_UNITS", "DISPLAY_UNITS", "xml_unit", "model_description",
            "model_description_fmi3", "vars_header", "vars_source", "schedule_defines",
-           "schedule_c", "SCHEDULE_APPLY", "outputs_defines", "names_header", "source_dir", "generated_files",
-           "write_generated"]
+           "schedule_c", "SCHEDULE_APPLY", "outputs_defines", "names_header", "source_dir",
+           "generated_files", "write_generated"]
