@@ -19,6 +19,38 @@ static const double PADE13[14] = {
     40840800.0, 960960.0, 16380.0, 182.0, 1.0
 };
 
+/* momentum_newton: The trim inflow lambda_m of momentum_inflow by Newton's method on
+ * f(l) = 4 l^2 (mu^2 + l^2) - C_T^2 from the hover root sqrt(C_T / 2) (never below the
+ * root at any mu: it converges monotonically from above); ct not checked. Written in
+ * the subset inflowsim.fmu.pyc translates: the FMU runs this
+ * (fmu/inflow_algorithms.c). */
+static double ifs_momentum_newton(double mu, double ct)
+{
+    double lam = sqrt(ct / 2.0);
+    for (int k = 0; k < 100; k++) {
+        double step = (4 * lam * lam * (mu * mu + lam * lam) - ct * ct) / (8 * lam * mu * mu + 16 * lam * lam * lam);
+        lam -= step;
+        if (fabs(step) <= 1e-15 * lam) {
+            break;
+        }
+    }
+    return lam;
+}
+
+/* flow_speed: The speed through the disc over Omega R in the momentum gains: mu (the
+ * paper's V ~ mu, inflow_speed 0) or (1) the momentum mass-flow parameter V = (mu^2 +
+ * lambda (lambda + lambda_m)) / sqrt(mu^2 + lambda^2) with the trim inflow lambda =
+ * lambda_m (momentum_newton); ct not checked. The FMU's ifs_flow_speed is this
+ * translated (inflowsim.fmu.pyc). */
+double ifs_flow_speed(int inflow_speed, double mu, double ct)
+{
+    if (inflow_speed == 0) {
+        return mu;
+    }
+    double lam = ifs_momentum_newton(mu, ct);
+    return (mu * mu + 2 * lam * lam) / sqrt(mu * mu + lam * lam);
+}
+
 /* taylor_count: Terms of the Taylor series of a step of length |r| [s] of x' = a x + b
  * u, norm_a = |a|, norm_ab = |[a b]| (1-norms): the first k whose next term is bounded
  * by TAYLOR_TOL |[x; u]| (term k is at most (|a| r)^(k-1) |[a b]| r / k! of it); 0 if

@@ -35,7 +35,7 @@ static void build_loads(IfsModel *n, const IfsVariables *v)
 void ifs_descriptor(const IfsVariables *v, double e[NX * NX], double a[NX * NX],
                     double b[NX * NU])
 {
-    ifs_descriptor_of(v, ifs_flow_speed(v), e, a, b);
+    ifs_descriptor_of(v, ifs_flow_speed(v->inflow_speed, v->mu, v->ct), e, a, b);
 }
 
 int ifs_discretize(const IfsModel *m, double h, double pg[IFS_PG_N])
@@ -90,14 +90,13 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     int i, j;
 
     if (v->inflow_speed == 0 && !(v->mu >= IFS_MU_LO && v->mu <= IFS_MU_HI)) {
-        snprintf(msg, msg_len, "mu = %g is outside the allowed range " IFS_MU_RANGE ": "
-                 "forward-flight local momentum (V ~ mu) needs fast forward flight; "
-                 "inflow_speed = 1 (mass flow, with ct) reaches hover", v->mu);
+        snprintf(msg, msg_len, "mu = %g is outside the allowed range " IFS_MU_RANGE
+                 " with inflow_speed 0: " IFS_HOVER_HINT, v->mu);
         return -1;
     }
-    if (v->inflow_speed == 1 && !(v->mu >= 0.0 && v->mu <= IFS_MU_HI && v->ct > 0.0)) {
-        snprintf(msg, msg_len, "mu = %g, ct = %g: the mass-flow speed needs mu in "
-                 "[0, %g] and a trim thrust coefficient ct > 0", v->mu, v->ct, IFS_MU_HI);
+    if (v->inflow_speed == 1 && !IFS_MASS_FLOW_OK(v->mu, v->ct)) {
+        snprintf(msg, msg_len, "mu = %g, ct = %g: the mass-flow speed needs "
+                 IFS_MASS_FLOW_NEEDS, v->mu, v->ct);
         return -1;
     }
     if (v->structure < 0 || v->structure >= IFS_N_STRUCTURES) {
@@ -117,7 +116,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     }
     if (ifs_lu_solve(NX, e, NA, rhs, 1e-12) != 0) {
         snprintf(msg, msg_len, "the descriptor matrix E is singular for these parameters "
-                 "(n_beta, the time constants, k0p, kc, ks, flap_inertia)");
+                 "(those of the structure's rate terms: its x' coefficients)");
         return -1;
     }
     for (i = 0; i < NX; i++) {

@@ -127,14 +127,15 @@ void ifs_descriptor(const IfsVariables *v, double e[IFS_NX * IFS_NX],
 /* Generated from the Python model (inflow_equations.c, inflowsim.fmu.codegen), for
  * v->structure: the descriptor at the speed V through the disc, the azimuth bias
  * [rad], the flap channels' time shifts [s], the loads' rows from the SI state space
- * a, b (inflowsim.model.loads.load_rows: lc 5 x NX, ld 5 x NU, row-major); and the
- * speed through the disc (inflowsim.physics.loads: mu, or the mass-flow parameter). */
+ * a, b (inflowsim.model.loads.load_rows: lc 5 x NX, ld 5 x NU, row-major). */
 void ifs_descriptor_of(const IfsVariables *v, double V, double *e, double *a, double *b);
 double ifs_bias_of(const IfsVariables *v);
 void ifs_flap_delays_of(const IfsVariables *v, double d[3]);
 void ifs_loads_of(const IfsVariables *v, const double *a, const double *b, double *lc,
                   double *ld);
-double ifs_flow_speed(const IfsVariables *v);
+/* the speed through the disc from inflow_speed, mu, ct (inflowsim.physics.loads.flow_speed,
+ * generated into inflow_algorithms.c) */
+double ifs_flow_speed(int inflow_speed, double mu, double ct);
 #if IFS_N_SCHEDULED
 /* Generated from a parameter schedule (inflowsim fmu build --schedule): the
  * scheduled parameters (local variables) in v at v->mu, held beyond the schedule's
@@ -155,12 +156,9 @@ int ifs_advance(IfsModel *m, double h);
 IFS_INLINE void ifs_outputs(const IfsModel *m, double y[IFS_NX])
 {
     const double *x = m->x;
-    y[0] = x[0];
-    y[1] = m->cos_bias * x[1] - m->sin_bias * x[2];
-    y[2] = m->sin_bias * x[1] + m->cos_bias * x[2];
-    y[3] = x[3];
-    y[4] = x[4];
-    y[5] = x[5];
+#define IFS_X_NOW(i) x
+    IFS_OUTPUT_MAP(y, IFS_X_NOW, m->cos_bias, m->sin_bias);   /* inflow_vars.h */
+#undef IFS_X_NOW
 }
 
 /* out = the pairwise sum of the K terms term(j_) (K < 64): the tree whose blocks are

@@ -379,9 +379,8 @@ static IFS_NOINLINE int set_reals(IfsSlave *s, const IfsLog *lg, const char *fn,
             (var->kind == IFS_FIXED && !fixed_ok) || !real_ok(var, value[i]))
             return refuse_real(s, lg, fn, vr[i], value[i]);
         if (vr[i] == IFS_VR_mu && s->v.inflow_speed == 0 && value[i] < IFS_MU_LO)
-            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range " IFS_MU_RANGE " "
-                           "with inflow_speed 0 (V ~ mu needs forward flight); set "
-                           "inflow_speed 1 and ct first to reach hover", value[i]);
+            return ifs_log(lg, IFS_ERROR, "mu = %g is outside the allowed range " IFS_MU_RANGE
+                           " with inflow_speed 0: " IFS_HOVER_HINT, value[i]);
         parameters |= var->kind != IFS_INPUT;
     }
     /* the copy to restore if the model refuses a new parameter (half a kilobyte):
@@ -625,26 +624,22 @@ void ifs_slave_refresh(IfsSlave *s)
 void ifs_slave_update_outputs(IfsSlave *s)
 {
     double y[IFS_NX];
-    ifs_outputs(&s->m, y);
     if (s->delay.active) {         /* the recorded flap, from the delayed states */
-        double xd[3][IFS_NX];
+        double xd[IFS_N_FLAP][IFS_NX];
         int i;
-        for (i = 0; i < 3; i++) {   /* once per delay (time-delay: one for all three) */
+        for (i = 0; i < IFS_N_FLAP; i++) {   /* once per delay (time-delay: one for all) */
             if (i > 0 && s->delay.d[i] == s->delay.d[i - 1])
                 memcpy(xd[i], xd[i - 1], sizeof xd[i]);
             else
                 ifs_slave_delayed_state(s, i, xd[i]);
         }
-        y[0] = xd[0][0];
-        y[1] = s->m.cos_bias * xd[1][1] - s->m.sin_bias * xd[1][2];
-        y[2] = s->m.sin_bias * xd[2][1] + s->m.cos_bias * xd[2][2];
+#define IFS_X_DELAYED(i) ((i) < IFS_N_FLAP ? xd[(i) < IFS_N_FLAP ? (i) : 0] : s->m.x)
+        IFS_OUTPUT_MAP(y, IFS_X_DELAYED, s->m.cos_bias, s->m.sin_bias);   /* inflow_vars.h */
+#undef IFS_X_DELAYED
+    } else {
+        ifs_outputs(&s->m, y);
     }
-    s->v.beta0 = y[0];
-    s->v.beta1c = y[1];
-    s->v.beta1s = y[2];
-    s->v.lambda0 = y[3];
-    s->v.lambda1c = y[4];
-    s->v.lambda1s = y[5];
+    IFS_STORE_OUTPUTS(&s->v, y);
     s->y_stale = 0;
 }
 

@@ -30,6 +30,31 @@
 #define IFS_MU_NGUESS 2048  /* cells of the part guess */
 #define IFS_TAYLOR_TOL 1e-17
 #define IFS_KMAX 30  /* most Taylor terms of a remainder step */
+/* the mass-flow speed's ranges (inflowsim.model.params: Constants.check) */
+#define IFS_MASS_FLOW_OK(mu, ct) ((mu) >= 0.0 && (mu) <= 0.5 && (ct) > 0.0 && (ct) <= 0.05)
+#define IFS_MASS_FLOW_NEEDS "mu in [0, 0.5] and a trim thrust coefficient ct in (0, 0.05]"
+#define IFS_HOVER_HINT "V ~ mu needs forward flight; set inflow_speed 1 (mass flow) and ct first to reach hover"
+/* the outputs (inflowsim.model.build.output_map): row i from the states X(i), c, s the
+ * azimuth bias' cosine and sine; stored in the variables */
+#define IFS_N_FLAP 3
+#define IFS_OUTPUT_MAP(y, X, c, s) \
+    do { \
+        (y)[0] = X(0)[0]; \
+        (y)[1] = (c) * X(1)[1] - (s) * X(1)[2]; \
+        (y)[2] = (s) * X(2)[1] + (c) * X(2)[2]; \
+        (y)[3] = X(3)[3]; \
+        (y)[4] = X(4)[4]; \
+        (y)[5] = X(5)[5]; \
+    } while (0)
+#define IFS_STORE_OUTPUTS(v, y) \
+    do { \
+        (v)->beta0 = (y)[0]; \
+        (v)->beta1c = (y)[1]; \
+        (v)->beta1s = (y)[2]; \
+        (v)->lambda0 = (y)[3]; \
+        (v)->lambda1c = (y)[4]; \
+        (v)->lambda1s = (y)[5]; \
+    } while (0)
 #define IFS_N_SCHEDULED 0  /* parameters that follow mu (a schedule) */
 #define IFS_MU_N_KNOTS 0  /* the schedule's range ends: extra segment ends of the mu table */
 #define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */

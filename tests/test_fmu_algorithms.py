@@ -235,3 +235,15 @@ def test_the_translator_refuses_what_it_cannot_translate():
             pyc.algorithms_c()
     finally:
         alg.ALGORITHMS.pop()
+
+
+def test_the_flow_speed_is_the_physics_one(lib):
+    """The speed through the disc (inflowsim.physics.loads.flow_speed, the mass-flow
+    parameter by Newton's method) translated: the same numbers, hover to mu = 0.5."""
+    from inflowsim.physics import loads as ld
+    d, i = ctypes.c_double, ctypes.c_int
+    lib.ifs_flow_speed.argtypes, lib.ifs_flow_speed.restype = (i, d, d), d
+    for mu in (0.0, 1e-3, 0.05, 0.2, 0.5):
+        for ct in (1e-4, 0.0065, 0.05):
+            assert lib.ifs_flow_speed(1, mu, ct) == ld.flow_speed(1, mu, ct)
+            assert lib.ifs_flow_speed(0, mu, ct) == mu

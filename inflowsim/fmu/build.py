@@ -23,14 +23,13 @@ from pathlib import Path
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
 from ..progress import bar
-from .generate import SOURCES, generated_files, guid, time_vr
+from .generate import SOURCES, generated_files, guid, source_dir, time_vr
 from .variables import DEFAULT, MODEL_IDENTIFIER, Description, describe
 
 #: Hand-written sources of the model and slave (the generated ``inflow_vars.[ch]``
 #: come from Python), then each FMI version's layer and headers.
 CORE_SOURCES = ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c")
-CORE_HEADERS = ("inflow_numerics.h", "inflow_model.h", "inflow_slave.h", "inflow_fmi.h",
-                "inflow_names.h")
+CORE_HEADERS = ("inflow_numerics.h", "inflow_model.h", "inflow_slave.h", "inflow_fmi.h")
 LAYER = {2: ("inflow_fmi2.c", ("fmi2Functions.h", "fmi2FunctionTypes.h",
                                "fmi2TypesPlatform.h")),
          3: ("inflow_fmi3.c", ("fmi3Functions.h", "fmi3FunctionTypes.h",
@@ -44,17 +43,6 @@ FMI_VERSIONS = (2, 3)
 #: path: the CPU's where it has AVX2 and FMA, else the C library's).
 CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror", "-fPIC",
           "-shared", "-fvisibility=hidden")
-
-
-def source_dir() -> Path:
-    """The folder holding the C sources: ``inflowsim/fmu/csrc``, a link to the
-    repository's ``fmu/`` that setuptools follows, so an installed package ships
-    the sources as package data."""
-    here = Path(__file__).resolve().parent
-    for cand in (here / "csrc", here.parents[1] / "fmu"):
-        if (cand / "inflow_model.c").is_file():
-            return cand
-    raise InputError(f"FMU build: the C sources are missing from {here / 'csrc'}")
 
 
 #: Cross-compiled binaries an FMU may carry beside the native one: the mingw-w64

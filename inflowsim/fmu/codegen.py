@@ -128,6 +128,19 @@ def _trace(structure):
     return s, e, a, b, meas, k.numeric.calls
 
 
+def bias_parameters(structures) -> frozenset:
+    """Names of the parameters the outputs' rotation (the measurement's azimuth
+    bias, ``ifs_bias_of``) depends on in any of ``structures``: the effects'
+    measurement run on symbols, as for the C."""
+    sp = _sympy()
+    out = set()
+    for st in structures:
+        s = Structure.parse(st)
+        bias = apply_effects(s, *_symbols(s))[1].azimuth_bias
+        out |= {str(x) for x in sp.sympify(bias).free_symbols}
+    return frozenset(out)
+
+
 def traced(structure):
     """``(structure, E, A, B, measurement)`` with sympy entries: the Python model run
     on symbols (azimuth time, all ten inputs, as :func:`assemble` returns)."""
@@ -257,7 +270,7 @@ def _loads_c(s: Structure, meas, index: int, sp) -> list:
     free = free.union(*(sp.sympify(x).free_symbols for c in calls for x in c[1]))
     # an effect linearised about the trim inflow (lead-lag) has the speed through
     # the disc in its load terms: computed here as the descriptor's caller does
-    speed = (["    const double V = ifs_flow_speed(v);"]
+    speed = (["    const double V = ifs_flow_speed(v->inflow_speed, v->mu, v->ct);"]
              if any(str(x) == "V" for x in free) else [])
     return ([f"static void loads_{index}(const IfsVariables *v, const double *a, "
              "const double *b, double *lc, double *ld)", "{"] + speed
@@ -265,27 +278,6 @@ def _loads_c(s: Structure, meas, index: int, sp) -> list:
             ["    memset(lc, 0, sizeof(double) * IFS_NL * IFS_NX);",
              "    memset(ld, 0, sizeof(double) * IFS_NL * IFS_NU);"]
             + _assignments(sp, targets) + ["}", ""])
-
-
-def _flow_speed_c(sp) -> list:
-    """``ifs_flow_speed``: the speed through the disc, ``mu`` or (``inflow_speed`` 1) the
-    mass-flow parameter by Newton's method: the functions of
-    :mod:`inflowsim.physics.loads` run on symbols, in its loop."""
-    from ..physics import loads as ld
-    mu, ct, lam = sp.Symbol("mu"), sp.Symbol("ct"), sp.Symbol("lam")
-    code = lambda x: sp.ccode(sp.sympify(x))                        # noqa: E731
-    return ["double ifs_flow_speed(const IfsVariables *v)", "{",
-            "    const double mu = v->mu, ct = v->ct;",
-            "    double lam;",
-            "    int k;",
-            "    if (v->inflow_speed == 0) return mu;    /* the paper's V ~ mu */",
-            f"    lam = {code(ld.inflow_start(ct))};",
-            f"    for (k = 0; k < {ld.NEWTON_STEPS}; k++) {{",
-            f"        const double step = {code(ld.inflow_newton_step(lam, mu, ct))};",
-            "        lam -= step;",
-            f"        if (fabs(step) <= {ld.NEWTON_TOL!r} * lam) break;",
-            "    }",
-            f"    return {code(ld.speed_through_disc(mu, lam))};", "}", ""]
 
 
 def _runtime_of(call: str):
@@ -575,8 +567,7 @@ def equations_c(structures) -> str:
             "(inflowsim.model): do not edit. */",
             "/* The descriptor E x' = A x + B u of each structure (azimuth time, "
             "model.md Eq. 8),", " * its azimuth bias, its flap channels' time "
-            "shifts and its loads (model.md section 3);", " * the speed through the "
-            "disc of the momentum gains. */",
+            "shifts and its loads (model.md section 3). */",
             "#include <math.h>", "#include <string.h>", "", '#include "inflow_model.h"']
     if numeric:
         head.append('#include "inflow_numerics.h"')
@@ -596,7 +587,6 @@ def equations_c(structures) -> str:
              "double *lc, double *ld)", "{", "    switch (v->structure) {"]
     tail += cases("loads", "loads_{i}(v, a, b, lc, ld); break;")
     tail += ["    }", "}", ""]
-    tail += _flow_speed_c(sp)
     return "\n".join(head + body + tail)
 
 
@@ -605,4 +595,4 @@ def n_states(structures) -> int:
     return len(Structure.parse(structures[0]).states)
 
 
-__all__ = ["equations_c", "traced", "supported", "n_states", "TRIM_PARAMETERS"]
+__all__ = ["equations_c", "traced", "bias_parameters", "supported", "n_states", "TRIM_PARAMETERS"]

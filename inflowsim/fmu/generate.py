@@ -7,19 +7,22 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 import uuid
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 from . import codegen, pyc
+from ..errors import InputError
 from ..simulate import mutable
 from ..channels import BY_NAME, LIMIT
-from .variables import DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable
+from .variables import (DEFAULT, DT, MODEL_IDENTIFIER, MODEL_NAME, Description, Variable,
+                        checks_c)
 
 #: Bump when the C model's equations change in a way importers must notice.
 MODEL_VERSION = "2"
 GENERATED = ("modelDescription.xml", "modelDescription-fmi3.xml", "inflow_vars.h",
-             "inflow_vars.c", "inflow_equations.c", "inflow_algorithms.c")
+             "inflow_vars.c", "inflow_equations.c", "inflow_algorithms.c", "inflow_names.h")
 #: FMI 3.0 only: the independent variable, after every variable of :data:`VARIABLES`
 #: (FMI 3.0 value references are unique across types, and these already are).
 TIME_VR = len(DEFAULT.variables)
@@ -42,6 +45,17 @@ SOURCES = {2: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_
            3: ("inflow_numerics.c", "inflow_model.c", "inflow_slave.c", "inflow_fmi3.c",
                "inflow_vars.c",
                "inflow_equations.c", "inflow_algorithms.c")}
+
+
+def source_dir() -> Path:
+    """The folder holding the C sources: ``inflowsim/fmu/csrc``, a link to the
+    repository's ``fmu/`` that setuptools follows, so an installed package ships
+    the sources as package data."""
+    here = Path(__file__).resolve().parent
+    for cand in (here / "csrc", here.parents[1] / "fmu"):
+        if (cand / "inflow_model.c").is_file():
+            return cand
+    raise InputError(f"FMU build: the C sources are missing from {here / 'csrc'}")
 
 
 def guid(d: Description = DEFAULT) -> str:
@@ -260,7 +274,8 @@ def vars_header(d: Description = DEFAULT) -> str:
              + ", ".join(str(BY_NAME[v.name].omega_power) for v in d.reals
                          if v.causality == "input" and v.name != "mu")
              + "}  /* the inputs in azimuth units: u / Omega^k (inflowsim.channels) */",
-             "", *mutable.c_defines(), *schedule_defines(d), "",
+             "", *mutable.c_defines(), *checks_c(), *outputs_defines(),
+             *schedule_defines(d), "",
              "/* value references */", "enum {"]
     lines += [f"    IFS_VR_{v.name} = {vr}," for vr, v in enumerate(d.variables)]
     lines += [f"    IFS_VR_time = {time_vr(d)},  /* FMI 3.0 only: the independent variable */",
@@ -329,7 +344,10 @@ def schedule_defines(d: Description = DEFAULT) -> list:
              "#define IFS_MU_NSEG (IFS_MU_SEG + IFS_MU_N_KNOTS)  /* segments */"]
     if knots:
         lines.append("#define IFS_MU_KNOTS {" + ", ".join(_num(k) for k in knots) + "}")
-    lines.append(f"#define IFS_SCHEDULED_BIAS {int('azimuth_bias' in d.scheduled)}")
+    # the outputs' rotation follows mu where a scheduled parameter enters it
+    follows = bool(d.scheduled) and bool(codegen.bias_parameters(d.structures)
+                                         & set(d.scheduled))
+    lines.append(f"#define IFS_SCHEDULED_BIAS {int(follows)}")
     return lines
 
 
@@ -356,7 +374,7 @@ def schedule_c(d: Description = DEFAULT) -> list:
            "of", " * inflowsim fmu build --schedule): each parameter a polynomial in "
            "x = (mu - center) / scale", " * or in x = (1/mu - center) / scale, mu held "
            f"to the schedule's range [{lo}, {hi}]. */",
-           "void ifs_schedule_apply(IfsVariables *v)", "{"]
+           f"void {SCHEDULE_APPLY}(IfsVariables *v)", "{"]
     if any(len(c) > 1 for _, c, _, _, _ in polys):
         out += [f"    const double mu = v->mu < {lo} ? {lo} : v->mu > {hi} ? {hi} : v->mu;",
                 "    double x;"]
@@ -376,14 +394,95 @@ def schedule_c(d: Description = DEFAULT) -> list:
     return out + ["}"]
 
 
+#: The parameter schedule's function (:func:`schedule_c`): a global name of a
+#: scheduled FMU only.
+SCHEDULE_APPLY = "ifs_schedule_apply"
+#: An external definition in a C source: a line that starts with a type (not
+#: ``static``, ``typedef`` or ``extern``) and names an ``ifs_`` function or array.
+_DEFINITION = re.compile(r"^(?!static\b|typedef\b|extern\b)[A-Za-z_][^;(=\n]*?"
+                         r"\b(ifs_\w+)\s*[\[(]", re.M)
+
+
+def outputs_defines() -> list:
+    """``inflow_vars.h``'s output map, generated from the Python model's
+    (:func:`inflowsim.model.build.output_map` run on a symbolic azimuth bias):
+    ``IFS_OUTPUT_MAP(y, X, c, s)`` writes the outputs ``y`` (``beta0`` ..
+    ``lambda1s``), row ``i`` from the states ``X(i)`` (the delayed flap's own), ``c``,
+    ``s`` the bias' cosine and sine; ``IFS_STORE_OUTPUTS(v, y)`` puts them in the
+    variables; ``IFS_N_FLAP`` the flap rows (each with its own delay)."""
+    import sympy as sp
+    from ..channels import FLAP, OUTPUTS
+    from ..model.build import output_map
+    from ..model.equations import Measurement
+    bias = sp.Symbol("bias")
+    c = output_map(len(OUTPUTS), Measurement(azimuth_bias=bias))
+    factor = {sp.cos(bias): "(c) * ", sp.sin(bias): "(s) * "}
+    rows = []
+    for i in range(len(OUTPUTS)):
+        terms = ""
+        for j in range(c.shape[1]):
+            x = sp.sympify(c[i, j])
+            if x.is_zero:
+                continue
+            sign = " - " if x.could_extract_minus_sign() else " + "
+            x = -x if sign == " - " else x
+            x = sp.Integer(1) if x.is_number and float(x) == 1.0 else x
+            if x != 1 and x not in factor:
+                raise ValueError(f"output_map[{i}, {j}] = {x}: not a term the C prints")
+            term = f"{'' if x == 1 else factor[x]}X({i})[{j}]"
+            terms += (("-" if sign == " - " else "") + term) if not terms else sign + term
+        rows.append(f"    (y)[{i}] = {terms};")
+    store = [f"    (v)->{name} = (y)[{i}];" for i, name in enumerate(OUTPUTS)]
+    def macro(head, body):
+        return [head + " \\", "    do { \\", *["    " + ln + " \\" for ln in body],
+                "    } while (0)"]
+    return (["/* the outputs (inflowsim.model.build.output_map): row i from the states X(i), "
+             "c, s the", " * azimuth bias' cosine and sine; stored in the variables */",
+             f"#define IFS_N_FLAP {len(FLAP)}"]
+            + macro("#define IFS_OUTPUT_MAP(y, X, c, s)", rows)
+            + macro("#define IFS_STORE_OUTPUTS(v, y)", store))
+
+
+def names_header(texts) -> str:
+    """``inflow_names.h``: the FMU's global names (every ``ifs_`` function or array
+    defined without ``static`` in the C sources ``texts``, hand-written and generated,
+    and :data:`SCHEDULE_APPLY`), prefixed like the FMI functions under a prefix."""
+    names = sorted({m.group(1) for t in texts for m in _DEFINITION.finditer(t)}
+                   | {SCHEDULE_APPLY})
+    return "\n".join([
+        "/* Generated by inflowsim.fmu.generate from the FMU's C sources: do not edit. */",
+        "/*",
+        " * The FMU's internal global names, prefixed like the FMI functions when the FMU is",
+        " * compiled for static linking (FMI2_FUNCTION_PREFIX or FMI3_FUNCTION_PREFIX defined,",
+        " * e.g. to the model identifier): two FMUs made by inflowsim (a main and a tail rotor)",
+        " * can then be linked into one program.  Without a prefix the names stay as they are",
+        " * (a shared library hides them: -fvisibility=hidden).  Every other function is",
+        " * static; tests/test_fmu.py checks that a prefixed build defines no other global name.",
+        " */",
+        "#ifndef INFLOW_NAMES_H", "#define INFLOW_NAMES_H", "",
+        "#if defined(FMI2_FUNCTION_PREFIX) || defined(FMI3_FUNCTION_PREFIX)",
+        "#define IFS_PASTE_(a, b) a##b", "#define IFS_PASTE(a, b) IFS_PASTE_(a, b)",
+        "#if defined(FMI2_FUNCTION_PREFIX)",
+        "#define IFS_NAME(n) IFS_PASTE(FMI2_FUNCTION_PREFIX, n)", "#else",
+        "#define IFS_NAME(n) IFS_PASTE(FMI3_FUNCTION_PREFIX, n)", "#endif",
+        *[f"#define {n} IFS_NAME({n})" for n in names],
+        "#endif", "", "#endif", ""])
+
+
 def generated_files(d: Description = DEFAULT) -> dict:
     """``{file name: text}`` of every generated file of the FMU ``d`` describes."""
-    return {"modelDescription.xml": model_description(d),
-            "modelDescription-fmi3.xml": model_description_fmi3(d),
-            "inflow_vars.h": vars_header(d), "inflow_vars.c": vars_source(d),
-            "inflow_equations.c": codegen.equations_c(d.structures)
-            + "".join(line + "\n" for line in schedule_c(d)),
-            "inflow_algorithms.c": pyc.algorithms_c()}
+    files = {"modelDescription.xml": model_description(d),
+             "modelDescription-fmi3.xml": model_description_fmi3(d),
+             "inflow_vars.h": vars_header(d), "inflow_vars.c": vars_source(d),
+             "inflow_equations.c": codegen.equations_c(d.structures)
+             + "".join(line + "\n" for line in schedule_c(d)),
+             "inflow_algorithms.c": pyc.algorithms_c()}
+    src = source_dir()
+    hand = sorted({f for v in SOURCES.values() for f in v if f not in files})
+    files["inflow_names.h"] = names_header(
+        [(src / f).read_text(encoding="utf-8") for f in hand]
+        + [t for f, t in files.items() if f.endswith(".c")])
+    return files
 
 
 def write_generated(directory) -> list:
@@ -400,4 +499,5 @@ def write_generated(directory) -> list:
 __all__ = ["MODEL_VERSION", "GENERATED", "TIME_VR", "time_vr", "SOURCES", "guid",
            "BASE_UNITS", "DISPLAY_UNITS", "xml_unit", "model_description",
            "model_description_fmi3", "vars_header", "vars_source", "schedule_defines",
-           "schedule_c", "generated_files", "write_generated"]
+           "schedule_c", "SCHEDULE_APPLY", "outputs_defines", "names_header", "source_dir",
+           "generated_files", "write_generated"]

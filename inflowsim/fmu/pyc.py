@@ -148,9 +148,9 @@ class _Function:
         self.fail(e, f"the expression {ast.unparse(e)}")
 
     def constant(self, e):
-        if e.id in alg.C_MACROS:
+        if e.id in alg.C_MACROS and self.f.__module__ == alg.__name__:
             return alg.C_MACROS[e.id], _py_type(getattr(alg, e.id))
-        value = getattr(alg, e.id, None)
+        value = self.f.__globals__.get(e.id)         # the function's own module's
         if isinstance(value, tuple):
             return e.id, "static const double *"
         if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -185,14 +185,14 @@ class _Function:
             if self.types.get(f.id) == "IfsMuEntries":
                 return f"{f.id}({', '.join(self.arg(a) for a in args)})", "int"
             if f.id in self.others:
-                c_name, typ, sizes = self.others[f.id]
+                c_name, typ, sizes, _ = self.others[f.id]
                 params = [a.arg for a in self.others_tree(f.id).args.args]
                 kept = [self.arg(a) for p, a in zip(params, args) if p not in sizes]
                 return f"{c_name}({', '.join(kept)})", typ
         self.fail(e, f"the call {ast.unparse(e)}")
 
     def others_tree(self, name):
-        return ast.parse(textwrap.dedent(inspect.getsource(getattr(alg, name)))).body[0]
+        return ast.parse(textwrap.dedent(inspect.getsource(self.others[name][3]))).body[0]
 
     # -- statements ----------------------------------------------------------
     def emit(self, depth: int, text: str):
@@ -429,7 +429,7 @@ def algorithms_c() -> str:
     for f, c_name, _, sizes in alg.ALGORITHMS:
         ret = inspect.signature(f).return_annotation
         others[f.__name__] = (c_name, _c_type(ret if isinstance(ret, str) else
-                                              getattr(ret, "__name__", None)), sizes)
+                                              getattr(ret, "__name__", None)), sizes, f)
     tables = sorted({n.id for f, *_ in alg.ALGORITHMS
                      for n in ast.walk(ast.parse(textwrap.dedent(inspect.getsource(f))))
                      if isinstance(n, ast.Name) and isinstance(getattr(alg, n.id, None), tuple)})

@@ -26,7 +26,8 @@ from ..errors import InputError
 from ..model.structure import needs_trim
 from .codegen import TRIM_PARAMETERS
 from ..model.effects import CATALOGUE
-from ..model.params import MU_MAX, MU_MIN, OMEGA_RANGE, PUMA, SPECS
+from ..model.params import (CT_RANGE, MASS_FLOW_MU, MU_MAX, MU_MIN, OMEGA_RANGE, PUMA,
+                            SPECS)
 from ..model.presets import paper_table
 from ..model.structure import Structure
 
@@ -44,6 +45,23 @@ DT = 0.01
 CT_START = 0.0064
 #: Values of the integer parameter ``inflow_speed``.
 INFLOW_SPEEDS = {"mu": 0, "mass-flow": 1}
+#: What the FMU says where ``mu`` is below the range of ``inflow_speed`` 0 (its
+#: build's and its setter's refusal: ``IFS_HOVER_HINT``).
+HOVER_HINT = ("V ~ mu needs forward flight; set inflow_speed 1 (mass flow) and ct first "
+              "to reach hover")
+
+
+def checks_c() -> list:
+    """The lines of ``inflow_vars.h`` that give the C the model's range checks
+    (:meth:`inflowsim.model.params.Constants.check`): the mass-flow speed's
+    ``IFS_MASS_FLOW_OK(mu, ct)`` and what it needs, and :data:`HOVER_HINT`."""
+    (mlo, mhi), (clo, chi) = MASS_FLOW_MU, CT_RANGE
+    return ["/* the mass-flow speed's ranges (inflowsim.model.params: Constants.check) */",
+            f"#define IFS_MASS_FLOW_OK(mu, ct) ((mu) >= {mlo!r} && (mu) <= {mhi!r} && "
+            f"(ct) > {clo!r} && (ct) <= {chi!r})",
+            f'#define IFS_MASS_FLOW_NEEDS "mu in [{mlo:g}, {mhi:g}] and a trim thrust '
+            f'coefficient ct in ({clo:g}, {chi:g}]"',
+            f'#define IFS_HOVER_HINT "{HOVER_HINT}"']
 
 
 @dataclass(frozen=True)
@@ -210,7 +228,7 @@ def _build(structures, start: Mapping[str, float], constants, scheduled=()) -> t
     v.append(Variable("ct", "Real", "parameter", "tunable",
                       k.ct if k.ct is not None else CT_START, "-",
                       "trim thrust coefficient T / (rho pi R^2 (Omega R)^2), for the "
-                      "mass-flow speed (inflow_speed 1) [-]", *_range(0.0, 0.05, True)))
+                      "mass-flow speed (inflow_speed 1) [-]", *_range(*CT_RANGE, True)))
     v.append(Variable("delay", "Real", "parameter", "fixed", start.get("delay", 0.0), "s",
                       "time-delay effect: the recorded flap lags the rotor's by this [s] "
                       "(exact, fractions of dt included; at most 256 dt, communication "
@@ -340,6 +358,6 @@ STRUCTURES = DEFAULT.codes
 
 
 __all__ = ["MODEL_IDENTIFIER", "MODEL_NAME", "DEFAULT_STRUCTURES", "DT", "CT_START",
-           "INFLOW_SPEEDS", "Variable", "POSITIVE_MIN", "Description", "describe",
+           "INFLOW_SPEEDS", "HOVER_HINT", "checks_c", "Variable", "POSITIVE_MIN", "Description", "describe",
            "DEFAULT", "VARIABLES", "VR", "REALS", "INTEGERS", "PARAMETER_NAMES",
            "STRUCTURES"]

@@ -401,9 +401,9 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
     ab = meas.azimuth_bias
     if meas.flap_map is None:
         c = _shared(("c", n, ab, math.copysign(1.0, ab) if type(ab) is float else 0.0),
-                    lambda: _output_map(n, meas), type(ab) is float)
+                    lambda: output_map(n, meas), type(ab) is float)
     else:
-        c = _own(_output_map(n, meas))
+        c = _own(output_map(n, meas))
     md = meas.delays
     plain = type(md) is tuple and all(type(x) is float for x in md)
     delays = _shared(("delays", md, tuple(math.copysign(1.0, x) for x in md) if plain
@@ -433,10 +433,14 @@ def _model(s, p, eq, meas, constants, n_inputs, scale, e, a_az, b_az, a_s, b_s):
                 end_basis=end_basis, end_input=end_input)
 
 
-def _output_map(n, meas):
-    c = np.zeros((6, n))
+def output_map(n, meas):
+    """The output rows ``C`` (6 x ``n``): the states' ``beta``, ``lambda`` as recorded,
+    the cyclic flap turned by the azimuth bias (runs on sympy symbols too: the FMU's
+    ``IFS_OUTPUT_MAP`` is generated from it)."""
+    r = rotation(meas.azimuth_bias)
+    c = np.zeros((6, n), dtype=object if r.dtype == object else float)
     c[:, :6] = np.eye(6)
-    c[1:3, 1:3] = rotation(meas.azimuth_bias)
+    c[1:3, 1:3] = r
     if meas.flap_map is not None:
         # a measurement effect's own terms: recorded flap += flap_map (beta, lambda)
         c[:3, :6] = c[:3, :6] + np.asarray(meas.flap_map, dtype=float)
@@ -460,4 +464,4 @@ def _shared(key, make, remember=True):
 
 
 __all__ = ["Model", "build_model", "model_unchecked", "model_from_equations", "descriptor", "equations", "base_equations",
-           "apply_effects", "FLAP"]
+           "apply_effects", "FLAP", "output_map"]

@@ -49,6 +49,11 @@ MU_MAX = 0.5
 #: range (full-scale main rotors 20-45 rad/s, tail and model rotors up to ~200).
 OMEGA_RANGE = (0.5, 5000.0)
 INFLOW_SPEEDS = ("mu", "mass-flow")
+#: The trim thrust coefficient's range [-], open at 0 (:meth:`Constants.check`; the
+#: FMU declares it and its mass-flow check is generated from it).
+CT_RANGE = (0.0, 0.05)
+#: The advance ratios of the mass-flow speed, hover included (likewise).
+MASS_FLOW_MU = (0.0, MU_MAX)
 OMEGA_PLAUSIBLE = (5.0, 200.0)
 
 
@@ -140,13 +145,13 @@ class Constants:
             raise InputError(f"inflow_speed = {self.inflow_speed!r}: choose "
                              f"{' or '.join(INFLOW_SPEEDS)}")
         if self.ct is not None:
-            _finite_in("ct", self.ct, 0.0, 0.05, lower_open=True,
+            _finite_in("ct", self.ct, *CT_RANGE, lower_open=True,
                        why="trim thrust coefficient")
         if self.inflow_speed == "mass-flow":
             if self.ct is None:
                 raise InputError("inflow_speed 'mass-flow' needs the trim thrust "
                                  "coefficient ct")
-            _finite_in("mu", self.mu, 0.0, MU_MAX)
+            _finite_in("mu", self.mu, *MASS_FLOW_MU)
         else:
             _finite_in("mu", self.mu, MU_MIN, MU_MAX,
                        why="forward-flight local momentum (V ~ mu) needs fast forward "
@@ -369,6 +374,7 @@ def check_parameters(values: Mapping[str, float], names) -> dict[str, float]:
     return {n: SPECS[n].check(values[n]) for n in names}
 
 
-__all__ = ["FrozenMap", "MU_MAX", "OMEGA_RANGE", "INFLOW_SPEEDS", "OMEGA_PLAUSIBLE",
+__all__ = ["FrozenMap", "MU_MAX", "CT_RANGE", "MASS_FLOW_MU", "OMEGA_RANGE", "INFLOW_SPEEDS",
+           "OMEGA_PLAUSIBLE",
            "HUBS", "Constants", "PUMA", "ParameterSpec", "SPECS", "register",
            "check_constants", "check_parameters"]

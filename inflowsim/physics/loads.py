@@ -81,53 +81,51 @@ def momentum_l(mu: float, a0s: float, v: float | None = None) -> np.ndarray:
 
 
 #: Newton's method for the trim inflow: at most this many steps, stopping at a step
-#: below this fraction of the inflow (the FMU's C is generated with the same).
+#: below this fraction of the inflow.
 NEWTON_STEPS = 100
 NEWTON_TOL = 1e-15
 
 
-def inflow_start(ct):
-    """Newton's start for the trim inflow: the hover root ``sqrt(C_T / 2)``, never
-    below the root at any ``mu``."""
-    return _sqrt(ct / 2.0)
+def momentum_newton(mu: float, ct: float) -> float:
+    """The trim inflow ``lambda_m`` of :func:`momentum_inflow` by Newton's method on
+    ``f(l) = 4 l^2 (mu^2 + l^2) - C_T^2`` from the hover root ``sqrt(C_T / 2)`` (never
+    below the root at any ``mu``: it converges monotonically from above); ``ct`` not
+    checked.  Written in the subset :mod:`inflowsim.fmu.pyc` translates: the FMU runs
+    this (``fmu/inflow_algorithms.c``)."""
+    lam: float = math.sqrt(ct / 2.0)
+    for k in range(NEWTON_STEPS):
+        step: float = ((4 * lam * lam * (mu * mu + lam * lam) - ct * ct)
+                       / (8 * lam * mu * mu + 16 * lam * lam * lam))
+        lam -= step
+        if math.fabs(step) <= NEWTON_TOL * lam:
+            break
+    return lam
 
 
-def inflow_newton_step(lam, mu, ct):
-    """One Newton step ``f / f'`` on ``f(l) = 4 l^2 (mu^2 + l^2) - C_T^2`` (runs on
-    numbers or sympy symbols: the FMU's ``ifs_flow_speed`` is this printed)."""
-    f = 4 * lam * lam * (mu * mu + lam * lam) - ct * ct
-    return f / (8 * lam * mu * mu + 16 * lam * lam * lam)
+def flow_speed(inflow_speed: int, mu: float, ct: float) -> float:
+    """The speed through the disc over ``Omega R`` in the momentum gains: ``mu`` (the
+    paper's ``V ~ mu``, ``inflow_speed`` 0) or (1) the momentum mass-flow parameter
+    ``V = (mu^2 + lambda (lambda + lambda_m)) / sqrt(mu^2 + lambda^2)`` with the trim
+    inflow ``lambda = lambda_m`` (:func:`momentum_newton`); ``ct`` not checked.  The
+    FMU's ``ifs_flow_speed`` is this translated (:mod:`inflowsim.fmu.pyc`)."""
+    if inflow_speed == 0:
+        return mu
+    lam: float = momentum_newton(mu, ct)
+    return (mu * mu + 2 * lam * lam) / math.sqrt(mu * mu + lam * lam)
 
 
-def speed_through_disc(mu, lam):
-    """``V = (mu^2 + lambda (lambda + lambda_m)) / sqrt(mu^2 + lambda^2)`` with
-    ``lambda = lambda_m`` (numbers or sympy symbols)."""
-    return (mu * mu + 2 * lam * lam) / _sqrt(mu * mu + lam * lam)
-
-
-def _sqrt(x):
-    try:
-        return math.sqrt(x)
-    except TypeError:       # a sympy symbol: the FMU's C is generated from this code
-        import sympy
-        return sympy.sqrt(x)
+def _check_ct(ct):
+    if not (np.isfinite(ct) and ct > 0):
+        raise InputError(f"ct = {ct:g}: the trim thrust coefficient must be > 0")
 
 
 def momentum_inflow(mu: float, ct: float) -> float:
     """Trim induced inflow ``lambda_m`` over ``Omega R`` of momentum theory in level
     flight: ``lambda_m = C_T / (2 sqrt(mu^2 + lambda_m^2))`` (Glauert's formula; hover
-    ``sqrt(C_T / 2)``, fast flight ``C_T / (2 mu)``).  Solved by Newton's method on
-    ``f(l) = 4 l^2 (mu^2 + l^2) - C_T^2`` from above, where it converges monotonically.
+    ``sqrt(C_T / 2)``, fast flight ``C_T / (2 mu)``): :func:`momentum_newton`.
     """
-    if not (np.isfinite(ct) and ct > 0):
-        raise InputError(f"ct = {ct:g}: the trim thrust coefficient must be > 0")
-    lam = float(inflow_start(ct))
-    for _ in range(NEWTON_STEPS):
-        step = inflow_newton_step(lam, mu, ct)
-        lam -= step
-        if abs(step) <= NEWTON_TOL * lam:
-            break
-    return float(lam)
+    _check_ct(ct)
+    return float(momentum_newton(mu, ct))
 
 
 def mass_flow_parameter(mu: float, ct: float) -> float:
@@ -135,11 +133,12 @@ def mass_flow_parameter(mu: float, ct: float) -> float:
     ``V_T = sqrt(mu^2 + lambda^2)``, with the trim inflow ``lambda = lambda_m``
     (:func:`momentum_inflow`, level flight): the speed that linearised momentum
     theory gives perturbations (Pitt and Peters 1981; Peters and HaQuang 1988).
-    ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight."""
-    return float(speed_through_disc(mu, momentum_inflow(mu, ct)))
+    ``2 sqrt(C_T/2)`` in hover, ``mu`` in fast flight (:func:`flow_speed` 1)."""
+    _check_ct(ct)
+    return float(flow_speed(1, mu, ct))
 
 
 __all__ = ["MU_MIN", "g_dbeta", "g_beta", "g_theta", "g_nu", "g_lambda", "is_number",
-           "momentum_l", "NEWTON_STEPS", "NEWTON_TOL", "inflow_start",
-           "inflow_newton_step", "speed_through_disc", "momentum_inflow",
+           "momentum_l", "NEWTON_STEPS", "NEWTON_TOL", "momentum_newton",
+           "flow_speed", "momentum_inflow",
            "mass_flow_parameter"]

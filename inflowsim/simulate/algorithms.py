@@ -41,6 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..physics import loads as _loads
+
 #: Taylor series of a step: the next term bounded by this times |[x; u]| ...
 TAYLOR_TOL = 1e-17
 #: ... within this many terms, else the matrix exponential.
@@ -104,6 +106,13 @@ def algorithm(c_name: str, sizes=None, static: bool = False, variants=(), attrib
             ATTRIBUTES[c_name] = tuple(attributes)
         return f
     return register
+
+
+# The physics' own iteration, run by the Simulator's model and translated into the
+# FMU's C with the stepping: the speed through the disc (the mass-flow parameter by
+# Newton's method on the trim inflow).
+algorithm("ifs_momentum_newton", static=True)(_loads.momentum_newton)
+algorithm("ifs_flow_speed")(_loads.flow_speed)
 
 
 def _rows(v: np.ndarray, rows: int, cols: int, ld: int) -> np.ndarray:

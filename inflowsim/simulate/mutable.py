@@ -51,13 +51,16 @@ import math
 
 import numpy as np
 
+from ..model.params import MU_MAX
+from ..physics.loads import MU_MIN
 from .algorithms import (TAYLOR_MAX_TERMS, TAYLOR_TOL, mu_check, mu_edges, mu_eval, mu_fit,
                          mu_parts)
 from .algorithms import taylor_count as taylor_terms
 
-#: Advance-ratio range of the table (the forward-flight momentum model's range).
-MU_LO = 0.1
-MU_HI = 0.5
+#: Advance-ratio range of the table: the forward-flight momentum model's
+#: (:data:`inflowsim.physics.loads.MU_MIN`, :data:`inflowsim.model.params.MU_MAX`).
+MU_LO = MU_MIN
+MU_HI = MU_MAX
 #: Geometric segments and the polynomial degree on each.
 SEGMENTS = 16
 DEGREE = 7
