@@ -1013,7 +1013,7 @@ def bin_costs(fit) -> tuple:
 
 def vuong_z(costs_a, costs_b) -> float:
     """Vuong's statistic for two non-nested fits of the same bins (Vuong 1989,
-    Econometrica 57, eq. 5.6): ``d_k = J_b,k - J_a,k`` the per-bin log-likelihood
+    Econometrica 57, section 5): ``d_k = J_b,k - J_a,k`` the per-bin log-likelihood
     ratio of ``a`` over ``b`` (costs are negative log-likelihoods), ``z = sqrt(n)
     mean(d) / std(d)`` [-]; positive: ``a`` fits better.  ``0`` where the fits are
     equal in every bin; ``+-inf`` where they differ by the same amount in every bin.
