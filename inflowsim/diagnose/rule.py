@@ -73,6 +73,15 @@ What the terms mean, and why:
   simpler pair can still take what a flexible atom (Glauert's four in-plane gains)
   would mimic.
 
+- *Indistinguishable* (said, not deciding): the added atom's own fit against each
+  other admissible single atom's, a non-nested comparison by Vuong's test (Vuong
+  1989, Econometrica 57): the per-bin differences of the two fits' costs ``J``, their
+  mean over its standard error, ``z``; the record cannot tell them apart where
+  ``|z| < z_(1 - alpha/2)`` (:func:`vuong_z`, :attr:`Decision.vuong`).  The
+  servos' first-order part and a pure delay are one phase lag inside a band below
+  the servos' frequency: on a coloured-noise record the delay is named and only this
+  says that the servos fit as well.
+
 The decision is data (:class:`Decision`, with ``to_json``; a stored table is decided
 again by :func:`decide`), and the text and reports are rendered from it
 (:mod:`.candidates`).  This module imports none of the diagnosis's measurements: the
@@ -112,7 +121,9 @@ class Rule:
     ----------
     alpha : float
         Level of each likelihood-ratio test [-] (line 3), and of the residual tests
-        the failures, the verdict and the conditional marking make.
+        the failures, the verdict and the conditional marking make.  Indistinguishable:
+        the added atom and an admissible rival of its step, Vuong's ``|z|`` below the
+        normal quantile ``1 - alpha/2`` (two-sided; :func:`vuong_z`).
     width : int
         Significant atoms of largest gain paired with each other, and one more
         plausible atom for each implausible one among them (line 2).
@@ -290,6 +301,9 @@ class Scored:
         Why the structure could not be fitted or judged (then never admissible).
     fit : IdentResult
         Its fit (not in the JSON).
+    bins : tuple of float
+        Its cost ``J`` per frequency bin, all records' bins in turn (not in the
+        JSON): what Vuong's test of it against a rival uses.
     """
 
     atoms: tuple
@@ -312,6 +326,8 @@ class Scored:
     measure: str = "level deviance"
     error: str | None = None
     fit: object = field(repr=False, compare=False, default=None)
+    #: the fit's cost ``J`` per frequency bin (:func:`bin_costs`; not in the JSON)
+    bins: tuple = field(repr=False, compare=False, default=())
 
     @property
     def share(self) -> float | None:
@@ -394,6 +410,17 @@ class Decision:
     best: int | None
     accepted: bool
     rule: Rule = DEFAULT_RULE
+    #: ``((atom, z), ...)``: Vuong's z of the added atom's fit against each other
+    #: admissible single atom's (positive: the added one fits better), largest
+    #: ``|z|`` last; ``()`` where nothing is added or the rows keep no per-bin costs
+    vuong: tuple = ()
+
+    @property
+    def indistinguishable(self) -> tuple:
+        """``((atom, z), ...)`` of :attr:`vuong` the record cannot tell from the
+        added atom: ``|z|`` below the normal quantile at ``1 - alpha / 2``."""
+        crit = vuong_critical(self.rule.alpha)
+        return tuple((a, z) for a, z in self.vuong if abs(z) < crit)
 
     @property
     def chosen(self) -> Scored | None:
@@ -427,6 +454,10 @@ class Decision:
                 "best_failed": [] if c is None else
                 [t for t in c.failed(self.rule) if t in ("parsimonious", "material",
                                                          "whiter")],
+                "vuong": [{"atom": a, "vuong_z": z,
+                           "indistinguishable": abs(z) < vuong_critical(self.rule.alpha)}
+                          for a, z in self.vuong],
+                "indistinguishable_from": [a for a, _ in self.indistinguishable],
                 "structures": [r.to_json(self.rule) for r in self.rows]}
 
 
@@ -797,7 +828,7 @@ def _row(base_fit, add, fit, held, flat, beside, rule, beside_gain=None) -> Scor
                                                   fit.n_freq)),)),
         implausible=tuple(x for a in add for x in
                           _implausible(a, fit, k, held, rule.plausible_sigmas)),
-        held=tuple(held), flat=tuple(flat), fit=fit)
+        held=tuple(held), flat=tuple(flat), fit=fit, bins=bin_costs(fit))
 
 
 def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
@@ -935,7 +966,80 @@ def accepted(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     if not rows or not rows[0].admissible(rule):
         return Decision(rows, None, False, rule)
     failed = set(rows[0].failed(rule))
-    return Decision(rows, 0, not failed & {"parsimonious", "material", "whiter"}, rule)
+    d = Decision(rows, 0, not failed & {"parsimonious", "material", "whiter"}, rule)
+    return replace(d, vuong=vuong_of(d))
+
+
+def vuong_of(decision: Decision) -> tuple:
+    """``((atom, z), ...)``: the added atom's own fit (its single row) against each
+    other admissible single atom of the same step, by Vuong's test (:func:`vuong_z`
+    of their per-bin costs; positive: the added atom fits better), ``|z|`` ascending
+    (ties by the rows' order).  ``()`` where nothing is added, or the rows keep no
+    per-bin costs (a stored table's: :meth:`Scored.from_json`).
+
+    Parameters
+    ----------
+    decision : Decision
+        What :func:`accepted` decided (before the comparison).
+    """
+    own = decision.added_row
+    if own is None or not own.bins:
+        return ()
+    out = [(r.atoms[0], vuong_z(own.bins, r.bins)) for r in decision.rows
+           if len(r.atoms) == 1 and r is not own and r.atoms != own.atoms
+           and r.admissible(decision.rule) and len(r.bins) == len(own.bins)]
+    return tuple(sorted(out, key=lambda t: abs(t[1])))
+
+
+def bin_costs(fit) -> tuple:
+    """A fit's cost ``J`` (12) per frequency bin: ``eps_k^H S^-1 eps_k + ln|S|``
+    with ``eps_k`` the bin's complex residual (end effects eliminated) and ``S`` its
+    record's residual covariance; their sum is the fit's ``J`` (to 1e-12 on a 27-bin
+    virtual record).  ``()`` for a fit without its records' data.
+
+    Parameters
+    ----------
+    fit : FitResult
+        The fit (``data``: each record's ``Z``, ``Y`` [rad s] and ``S`` [rad^2 s^2]).
+    """
+    out = []
+    for d in getattr(fit, "data", None) or ():
+        eps = np.asarray(d.Z) - np.asarray(d.Y)
+        S = np.asarray(d.S)
+        q = np.real(np.einsum("ki,ij,kj->k", eps.conj(), np.linalg.inv(S), eps))
+        out.append(q + float(np.log(np.real(np.linalg.det(S)))))
+    return tuple(float(x) for x in np.concatenate(out)) if out else ()
+
+
+def vuong_z(costs_a, costs_b) -> float:
+    """Vuong's statistic for two non-nested fits of the same bins (Vuong 1989,
+    Econometrica 57, section 5): ``d_k = J_b,k - J_a,k`` the per-bin log-likelihood
+    ratio of ``a`` over ``b`` (costs are negative log-likelihoods), ``z = sqrt(n)
+    mean(d) / std(d)`` [-]; positive: ``a`` fits better.  ``0`` where the fits are
+    equal in every bin; ``+-inf`` where they differ by the same amount in every bin.
+
+    Parameters
+    ----------
+    costs_a, costs_b : sequence of float
+        The two fits' costs per bin [-], the same bins in the same order.
+    """
+    a, b = np.asarray(costs_a, float), np.asarray(costs_b, float)
+    if a.shape != b.shape or a.ndim != 1 or a.size == 0:
+        raise InputError(f"vuong_z: {a.size} bins against {b.size}: give the same "
+                         "bins, one or more")
+    d = b - a
+    m = float(d.mean())
+    sd = float(np.sqrt(max(float(np.mean(d * d)) - m * m, 0.0)))
+    scale = float(np.abs(d).max())
+    if sd <= 1e-12 * scale or scale == 0.0:
+        return 0.0 if abs(m) <= 1e-12 * max(scale, 1e-300) else math.copysign(math.inf, m)
+    return math.sqrt(d.size) * m / sd
+
+
+def vuong_critical(alpha: float) -> float:
+    """The two-sided normal quantile ``z_(1 - alpha/2)`` [-] (3.29 at 1e-3)."""
+    from statistics import NormalDist
+    return NormalDist().inv_cdf(1.0 - alpha / 2.0)
 
 
 # -- 5. Added ---------------------------------------------------------------------------
@@ -1090,4 +1194,5 @@ __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_wi
            "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
            "offered_effects", "least_significant", "decide", "select", "ranked",
-           "row_order", "atom_order", "STEPS", "STATEMENT"]
+           "row_order", "atom_order", "STEPS", "STATEMENT", "vuong_of", "bin_costs",
+           "vuong_z", "vuong_critical"]

@@ -302,6 +302,10 @@ class Rung:
         The fit's residual analyses per record.
     atoms : tuple of str
         The rule's atoms added (an effect, or one part of one: ``glauert (k0p, kc, ks)``).
+    indistinguishable : tuple
+        ``((atom, Vuong z), ...)``: the other admissible single atoms of the step
+        that added this rung's atom which the record cannot tell from it (the
+        deciding :attr:`~inflowsim.diagnose.rule.Decision.indistinguishable`).
     """
 
     structure: Structure
@@ -313,6 +317,8 @@ class Rung:
     analyses: tuple = field(repr=False, default=())
     #: the rule's atoms added on this rung (an effect, or one part of one)
     atoms: tuple = ()
+    #: ``((atom, Vuong z), ...)`` the record cannot tell from the atom added here
+    indistinguishable: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -369,7 +375,10 @@ class Ladder:
                                          else None),
                 "rungs": [
             {"structure": r.structure.name, "effects": list(r.structure.effects),
-             "added": r.added, "atoms": list(r.atoms), "cost": float(r.fit.cost),
+             "added": r.added, "atoms": list(r.atoms),
+             "indistinguishable_from": [{"atom": a, "vuong_z": z}
+                                        for a, z in r.indistinguishable],
+             "cost": float(r.fit.cost),
              "fit": r.fit.fit,
              "S_diag": [[float(v) for v in abs(S.diagonal())] for S in r.fit.S],
              "parameters": parameter_entries(r.fit, self.identifiability
@@ -431,10 +440,11 @@ def ladder(records, structure, band_hz=DEFAULT_BAND, max_steps=None, pool=None,
             if progress:
                 progress(f"adding {' + '.join(win.atoms)}: cost {d.fit.cost:.6g} -> "
                          f"{win.fit.cost:.6g}")
+            told = d.decision.indistinguishable
             d = diagnose(recs, win.fit.structure, band_hz, pool=pool, rule=rule,
                          progress=progress, base_fit=win.fit, hold=hold, assess=False)
             rungs.append(Rung(d.structure, d.fit, "+".join(win.effects), d, d.analyses,
-                              win.atoms))
+                              win.atoms, told))
         # line 5's last clause: an atom added earlier that the later ones explain
         # (no longer significant beside them) is removed, the least significant first
         added_atoms = [a for r in rungs[1:] for a in r.atoms

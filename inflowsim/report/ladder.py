@@ -150,6 +150,10 @@ def ladder_markdown(ladder) -> str:
             and last.missing_terms is not None):
         out.append("where a term is missing (score test of every single-entry addition):")
         out += [f"  {line}" for line in last.missing_terms.describe()]
+    for r in ladder.rungs[1:]:
+        told = told_apart_line(" + ".join(r.atoms), getattr(r, "indistinguishable", ()))
+        if told:
+            out.append(told)
     for atom, lp in getattr(ladder, "removed", ()):
         out.append(f"removed {atom}: not significant beside the effects added after it "
                    f"(p = {10 ** lp:.2g})")
@@ -501,6 +505,16 @@ def ladder_report(ladder, rep: Report | None = None, record=None,
     return rep
 
 
+def told_apart_line(atom, indistinguishable) -> str:
+    """``"time-delay added; the record cannot tell it from servo-actuators (Vuong z =
+    0.4)"``, rendered from the decision's :attr:`~inflowsim.diagnose.rule.Decision.
+    indistinguishable` (``""`` when the record tells every admissible rival apart)."""
+    if not indistinguishable:
+        return ""
+    said = ", ".join(f"{a} (Vuong z = {z:+.1f})" for a, z in indistinguishable)
+    return f"{atom} added; the record cannot tell it from {said}"
+
+
 def decision_lines(decision) -> list:
     """The rule's decision in a few lines, rendered from its table (structures of
     more than one atom; the single atoms are the candidate lines above)."""
@@ -527,6 +541,9 @@ def decision_lines(decision) -> list:
                    f"adds {decision.added[0]}"
                    + ("" if len(c.atoms) == 1 else ", the atom it needs most (the rest "
                       "is judged on the next rung)"))
+        told = told_apart_line(decision.added[0], decision.indistinguishable)
+        if told:
+            out.append(f"  {told}")
     else:
         from ..diagnose.candidates import describe
         out.append(f"rule: the admissible structure of largest gain, "
@@ -539,4 +556,4 @@ __all__ = ["rung_label", "held_parameters", "column_label", "ladder_rows", "COST
            "worse_channels", "candidate_plot", "FAILURE_HEADER", "failure_rows",
            "failure_message", "candidate_rows", "CANDIDATE_HEADER", "STRUCTURE_HEADER",
            "structure_rows", "format_diagnosis", "diagnosis_report", "ladder_report",
-           "decision_lines"]
+           "decision_lines", "told_apart_line"]
