@@ -1139,6 +1139,31 @@ def test_a_new_mu_alone_takes_effect_at_once(unzipped, guid):
     assert peak > 1e-4 and worst_y < 1e-10 * peak and worst_l < 1e-10 * peak_l
 
 
+def test_a_new_mu_with_the_inputs_held_steps_with_its_own_gam(unzipped, guid):
+    """The inputs set once, then mu alone every step: the step's kept inputs' part
+    ``gam u`` (held inputs, issue #35) belongs to the old mu's ``gam``, so a mu the
+    table applies at its set must drop it (the FMU equals the Simulator)."""
+    m = model_of("glauert")
+    s = open_fmu(unzipped, guid, start_values(m))
+    sim = Simulator(m, DT)
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    u = np.zeros(len(ALL_INPUTS))
+    u[ALL_INPUTS.index("theta1s")] = 0.02
+    u[ALL_INPUTS.index("theta0")] = 0.01
+    s.setReal(ins, list(u))
+    worst = peak = 0.0
+    for k in range(40):
+        mu = 0.3 + 0.1 * math.sin(0.2 * k)
+        s.setReal([VR["mu"]], [mu])
+        sim.set_mu(mu)
+        s.doStep(k * DT, DT)
+        sim.step(u[:sim.m])
+        worst = max(worst, np.abs(np.array(s.getReal(outs)) - sim.outputs()).max())
+        peak = max(peak, np.abs(sim.outputs()).max())
+    s.freeInstance()
+    assert peak > 1e-4 and worst < 1e-10 * peak
+
+
 @pytest.mark.parametrize("mu", [0.0, 0.05, 0.3])
 @pytest.mark.parametrize("structure", ["basic", "glauert"])
 def test_mass_flow_speed_from_hover_equals_the_simulator(structure, mu, unzipped, guid,
