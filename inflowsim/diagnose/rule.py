@@ -302,8 +302,9 @@ class Scored:
     fit : IdentResult
         Its fit (not in the JSON).
     bins : tuple of float
-        Its cost ``J`` per frequency bin, all records' bins in turn (not in the
-        JSON): what Vuong's test of it against a rival uses.
+        Its cost ``J`` per frequency bin, all records' bins in turn, where given
+        (not in the JSON); else :meth:`costs_per_bin` takes them from ``fit`` when
+        Vuong's test compares it with a rival.
     """
 
     atoms: tuple
@@ -326,8 +327,14 @@ class Scored:
     measure: str = "level deviance"
     error: str | None = None
     fit: object = field(repr=False, compare=False, default=None)
-    #: the fit's cost ``J`` per frequency bin (:func:`bin_costs`; not in the JSON)
+    #: the fit's cost ``J`` per frequency bin where given (not in the JSON)
     bins: tuple = field(repr=False, compare=False, default=())
+
+    def costs_per_bin(self) -> tuple:
+        """Its cost ``J`` per frequency bin: :attr:`bins`, else :func:`bin_costs` of
+        its fit (computed where compared, not kept: on a 2-hour record each row's
+        would hold some 10^4 numbers); ``()`` without either (a stored table's)."""
+        return self.bins or bin_costs(self.fit)
 
     @property
     def share(self) -> float | None:
@@ -828,7 +835,7 @@ def _row(base_fit, add, fit, held, flat, beside, rule, beside_gain=None) -> Scor
                                                   fit.n_freq)),)),
         implausible=tuple(x for a in add for x in
                           _implausible(a, fit, k, held, rule.plausible_sigmas)),
-        held=tuple(held), flat=tuple(flat), fit=fit, bins=bin_costs(fit))
+        held=tuple(held), flat=tuple(flat), fit=fit)
 
 
 def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
@@ -983,11 +990,16 @@ def vuong_of(decision: Decision) -> tuple:
         What :func:`accepted` decided (before the comparison).
     """
     own = decision.added_row
-    if own is None or not own.bins:
+    mine = own.costs_per_bin() if own is not None else ()
+    if not mine:
         return ()
-    out = [(r.atoms[0], vuong_z(own.bins, r.bins)) for r in decision.rows
-           if len(r.atoms) == 1 and r is not own and r.atoms != own.atoms
-           and r.admissible(decision.rule) and len(r.bins) == len(own.bins)]
+    out = []
+    for r in decision.rows:
+        if (len(r.atoms) == 1 and r is not own and r.atoms != own.atoms
+                and r.admissible(decision.rule)):
+            theirs = r.costs_per_bin()
+            if len(theirs) == len(mine):
+                out.append((r.atoms[0], vuong_z(mine, theirs)))
     return tuple(sorted(out, key=lambda t: abs(t[1])))
 
 
