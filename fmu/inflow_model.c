@@ -134,6 +134,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     n.rem = 0.0;          /* remainder cache belongs to the old matrices */
     n.rem_prev = 0.0;
     n.h_last = -1.0;
+    n.g_ok = 0;           /* ... and the kept g = gam u (as ifs_mu_table_apply's) */
     set_taylor(&n);
     *m = n;
     return 0;
