@@ -103,6 +103,23 @@ def _lateral(module):
     return _patched(module, "_pilot", pilot)
 
 
+@contextlib.contextmanager
+def _drawn(module, noise=None, lateral=False):
+    """The generator ``module`` inside the block with its noise level ``noise`` (None:
+    its own) and, where ``lateral``, its single-axis input on ``theta1c``."""
+    with contextlib.ExitStack() as st:
+        if noise is not None:
+            st.enter_context(_patched(module, "NOISE", noise))
+        if lateral:
+            st.enter_context(_lateral(module))
+        yield
+
+
+def _single(kind):
+    """The generators' manoeuvre for a case's: both single-axis cases are theirs."""
+    return {"theta1s": "single-axis", "theta1c": "single-axis"}.get(kind, kind)
+
+
 def _case(case):
     """``(rotor, manoeuvre, colour)`` of a case: manoeuvre ``two-axis``,
     ``theta1s``, ``theta1c`` or ``sweep``."""
@@ -129,44 +146,29 @@ def make_record(effect, case, seed, path, noise=None):
     if effect == "servo-actuators":
         import servo_records as G
         k = _hingeless_constants() if rotor == "hingeless" else None
-        with contextlib.ExitStack() as st:
-            if noise is not None:
-                st.enter_context(_patched(G, "NOISE", noise))
+        with _drawn(G, noise):
             return G.record(path, "basic", SERVO["servo_tau"], SERVO["servo_zeta"],
                             kind=kind, rate=RATE, colour_hz=colour, seed=seed,
                             constants=k)
     if effect == "lead-lag":
         import test_lead_lag_records as G
-        with contextlib.ExitStack() as st:
-            if noise is not None:
-                st.enter_context(_patched(G, "NOISE", noise))
-            if kind == "theta1c":
-                st.enter_context(_lateral(G))
-            gk = {"theta1s": "single-axis", "theta1c": "single-axis"}.get(kind, kind)
-            return G._record(path, "glauert+lead-lag", rotor, gk, RATE, colour, seed)
+        with _drawn(G, noise, kind == "theta1c"):
+            return G._record(path, "glauert+lead-lag", rotor, _single(kind), RATE,
+                             colour, seed)
     if effect == "wake-distortion":
         import test_wake_distortion as G
         import inflowsim as ifs
         from inflowsim.model.presets import theory_parameters
         k, base = G.ROTORS[rotor]
         p = theory_parameters(ifs.Structure.parse("basic"), k) | base | {"tau": 5.0}
-        with contextlib.ExitStack() as st:
-            if noise is not None:
-                st.enter_context(_patched(G, "NOISE", noise))
-            if kind == "theta1c":
-                st.enter_context(_lateral(G))
-            gk = {"theta1s": "single-axis", "theta1c": "single-axis"}.get(kind, kind)
-            rec = G.write_record(path, rotor, gk, RATE, colour, seed, K_R)
+        with _drawn(G, noise, kind == "theta1c"):
+            rec = G.write_record(path, rotor, _single(kind), RATE, colour, seed, K_R)
         return rec, p | {"K_R": K_R}
     if effect == "peters-he-6":
         import test_peters_he_records as G
         import peters_he_detection as P
         k, lb2, nb = P.hingeless() if rotor == "hingeless" else (None, G.LB2, G.NB)
-        with contextlib.ExitStack() as st:
-            if noise is not None:
-                st.enter_context(_patched(G, "NOISE", noise))
-            if kind == "theta1c":
-                st.enter_context(_lateral(G))
+        with _drawn(G, noise, kind == "theta1c"):
             rec = G.make_record(path, 2, RATE, colour, seed, None,
                                 kind in ("theta1s", "theta1c"), 1.0, constants=k,
                                 lb2=lb2, nb=nb, sweep=kind == "sweep")
