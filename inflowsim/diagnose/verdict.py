@@ -16,6 +16,20 @@ raises the level but is not input-correlated).  Then:
 band (1: noise alone); ``where`` the channels that keep excess, with the frequency
 of their largest ratio.
 
+**Uncorrelated excess.**  A channel whose residual is significantly above the floor
+(the same level test at ``alpha``) but not structured -- not input-correlated, or
+not smooth across frequency -- leaves no excess a linear model could take up, so
+it changes no status; but power is left above the floor there, and the verdict
+says so (``Verdict.uncorrelated_excess``, :class:`UncorrelatedExcess`) instead of
+calling the residual "at the noise floor".  Two causes give it: a response that
+is not linear at the record's amplitude (the nonlinear blade truth with lead-lag at
+1 deg leaves 1.06 times the noise per in-band bin in ``beta1s`` that no linear
+model takes; ``bench/rotor-physics.md``), which smaller inputs or a second
+amplitude tell, and sensor noise above the floor the record gives.  One record
+does not tell them apart reliably: the coherence is near 1 either way at these
+signal-to-noise ratios, and the local polynomial estimate of the in-band noise
+(:mod:`inflowsim.diagnose.lpm`) is raised by both; so the text names both.
+
 **Stand-ins** (issue #36).  An effect named whose estimate is impossible for what
 it claims to be, or that leaves most of the excess, mimics the missing physics in
 the band rather than being it.  Each named effect is a stand-in
@@ -46,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data.record import FLAP_COLUMNS
-from .failures import excess_channels
+from .failures import channel_structure, excess_channels, level_p_value
 from .rule import DEFAULT_RULE, Rule
 
 STATUSES = ("no-missing-effect", "explained", "partly-explained", "unexplained")
@@ -150,6 +164,69 @@ def stand_ins(effects, fit, excess_explained, sigmas: float | None = None,
 
 
 @dataclass(frozen=True)
+class UncorrelatedExcess:
+    """A channel of one record whose residual is significantly above the noise
+    floor but not structured as model error: what no linear model takes up.
+
+    ``over_floor`` the mean in-band residual power over the floor [-];
+    ``p_value`` the level test's (``2 sum r ~ chi2(2 nf)``); ``input_p_value`` and
+    ``structure_p_value`` those of its dependence on the inputs and its smoothness
+    across frequency (:func:`inflowsim.diagnose.failures.channel_structure`; not
+    both under the level); ``input_correlated`` whether the first is (then the
+    residual is only not smooth); ``record`` the record's index in the order
+    given, from 0 (``None`` for a single record).
+    """
+
+    channel: str
+    over_floor: float
+    p_value: float
+    input_p_value: float
+    structure_p_value: float
+    input_correlated: bool = False
+    record: int | None = None
+
+    def describe(self) -> str:
+        where = "" if self.record is None else f" in record {self.record + 1}"
+        head = f"{self.channel} keeps {self.over_floor:.2g} times the floor{where}"
+        if self.input_correlated:
+            return (f"{head}, correlated with the inputs but not smooth across frequency "
+                    "(sensor noise above the floor, or an error no smooth response takes)")
+        return (f"{head}, not correlated with the inputs (a response that is not linear "
+                "at this amplitude: try smaller inputs or compare two amplitudes; or "
+                "sensor noise above the floor)")
+
+    def to_json(self) -> dict:
+        return {"channel": self.channel, "record": self.record,
+                "over_floor": self.over_floor, "p_value": self.p_value,
+                "input_p_value": self.input_p_value,
+                "structure_p_value": self.structure_p_value,
+                "input_correlated": self.input_correlated, "text": self.describe()}
+
+
+def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> tuple:
+    """The :class:`UncorrelatedExcess` of ``analyses`` (per record): channels whose
+    in-band residual is above the floor at ``alpha`` (default ``rule.alpha``; the
+    level test of :func:`~inflowsim.diagnose.failures.excess_channels`) and not
+    structured (:func:`~inflowsim.diagnose.failures.channel_structure`), the
+    complement of ``excess_channels`` among the channels above the floor."""
+    alpha = rule.alpha if alpha is None else alpha
+    out = []
+    for i, ra in enumerate(analyses):
+        for c, ch in enumerate(FLAP_COLUMNS):
+            p = level_p_value(ra, c)
+            if p >= alpha:
+                continue
+            st = channel_structure(ra, c, alpha, rule)
+            if st["structured"]:
+                continue
+            out.append(UncorrelatedExcess(
+                ch, float(ra.ratio[c].mean()), p, float(st["input_p_value"]),
+                float(st["p_value"]), bool(st["input_p_value"] < alpha),
+                None if len(analyses) == 1 else i))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
 class Verdict:
     """See the module docstring; ``effects`` the effects named (diagnose: the one
     missing effect; ladder: every effect added)."""
@@ -161,6 +238,9 @@ class Verdict:
     effects: tuple = ()
     #: the effects named that are stand-ins (:class:`StandIn`)
     stand_ins: tuple = ()
+    #: channels above the floor whose residual is not structured
+    #: (:class:`UncorrelatedExcess`): power left that changes no status
+    uncorrelated_excess: tuple = ()
 
     def is_stand_in(self, effect: str) -> bool:
         return any(x.effect == effect for x in self.stand_ins)
@@ -181,7 +261,8 @@ class Verdict:
                 "where": [{"channel": c, "peak_hz": f, "peak_over_floor": r}
                           for c, f, r in self.where],
                 "effects": list(self.effects),
-                "stand_ins": [x.to_json() for x in self.stand_ins]}
+                "stand_ins": [x.to_json() for x in self.stand_ins],
+                "uncorrelated_excess": [x.to_json() for x in self.uncorrelated_excess]}
 
     def describe(self) -> str:
         """One line, rendered from the fields."""
@@ -189,12 +270,17 @@ class Verdict:
         where = "; ".join(f"{c} peaks at {r:.3g} times the floor near {f:.3g} Hz"
                           for c, f, r in self.where)
         named = " + ".join(self.effects)
+        # "at the noise floor" only where no channel is above it at all
+        floor = ("no input-correlated excess left" if self.uncorrelated_excess else
+                 "the residual is at the noise floor")
         text = {
-            "no-missing-effect": "no missing effect: the residual is at the noise floor",
-            "explained": f"explained by {named}: the residual is at the noise floor",
+            "no-missing-effect": f"no missing effect: {floor}",
+            "explained": f"explained by {named}: {floor}",
             "partly-explained": f"partly explained by {named}: excess left ({where})",
             "unexplained": f"unexplained: excess outside the catalogue ({where})",
         }[self.status]
+        for x in self.uncorrelated_excess:
+            text += f"; {x.describe()}"
         out = f"verdict: {text}; residual power over the floor: {left}"
         for x in self.stand_ins:
             out += f"; {x.describe()}"
@@ -230,7 +316,8 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
     else:
         status = "unexplained" if where else "no-missing-effect"
     v = Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
-                where, tuple(effects))
+                where, tuple(effects),
+                uncorrelated_excess=uncorrelated_excess(final, alpha, rule))
     if not effects:
         return v
     from dataclasses import replace
@@ -238,5 +325,5 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
                                           alone=alone))
 
 
-__all__ = ["STATUSES", "Verdict", "excess_share", "power_over_floor", "stand_ins",
-           "verdict"]
+__all__ = ["STATUSES", "UncorrelatedExcess", "Verdict", "excess_share",
+           "power_over_floor", "stand_ins", "uncorrelated_excess", "verdict"]
