@@ -174,7 +174,12 @@ class UncorrelatedExcess:
     across frequency (:func:`inflowsim.diagnose.failures.channel_structure`; not
     both under the level); ``input_correlated`` whether the first is (then the
     residual is only not smooth); ``record`` the record's index in the order
-    given, from 0 (``None`` for a single record).
+    given, from 0 (``None`` for a single record); ``in_band_noise`` the record's
+    sensor noise in the band over the floor estimated without a model
+    (:mod:`inflowsim.diagnose.lpm`; ``None`` where not estimated): data, not
+    rendered, for a short record's estimate is raised by a nonlinear or lightly
+    damped response too (the blade truth's ``beta1s``: 4.2-4.4 with or without its
+    nonlinear part, whose noise is at the floor).
     """
 
     channel: str
@@ -184,10 +189,13 @@ class UncorrelatedExcess:
     structure_p_value: float
     input_correlated: bool = False
     record: int | None = None
+    in_band_noise: float | None = None
 
     def describe(self) -> str:
         where = "" if self.record is None else f" in record {self.record + 1}"
-        head = f"{self.channel} keeps {self.over_floor:.2g} times the floor{where}"
+        v = self.over_floor
+        times = f"{v:.2g}" if v < 100 else f"{v:.0f}"
+        head = f"{self.channel} keeps {times} times the floor{where}"
         if self.input_correlated:
             return (f"{head}, correlated with the inputs but not smooth across frequency "
                     "(sensor noise above the floor, or an error no smooth response takes)")
@@ -200,15 +208,20 @@ class UncorrelatedExcess:
                 "over_floor": self.over_floor, "p_value": self.p_value,
                 "input_p_value": self.input_p_value,
                 "structure_p_value": self.structure_p_value,
-                "input_correlated": self.input_correlated, "text": self.describe()}
+                "input_correlated": self.input_correlated,
+                "in_band_noise": self.in_band_noise, "text": self.describe()}
 
 
-def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> tuple:
+def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE,
+                        noise_of=None) -> tuple:
     """The :class:`UncorrelatedExcess` of ``analyses`` (per record): channels whose
     in-band residual is above the floor at ``alpha`` (default ``rule.alpha``; the
     level test of :func:`~inflowsim.diagnose.failures.excess_channels`) and not
     structured (:func:`~inflowsim.diagnose.failures.channel_structure`), the
-    complement of ``excess_channels`` among the channels above the floor."""
+    complement of ``excess_channels`` among the channels above the floor.
+    ``noise_of``: analyses of the same records whose in-band noise estimates
+    (``in_band_over_floor``) are taken where ``analyses`` lack them (a candidate's
+    are made without)."""
     alpha = rule.alpha if alpha is None else alpha
     out = []
     for i, ra in enumerate(analyses):
@@ -219,10 +232,14 @@ def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> tupl
             st = channel_structure(ra, c, alpha, rule)
             if st["structured"]:
                 continue
+            noise = tuple(ra.in_band_over_floor)
+            if not noise and noise_of is not None:
+                noise = tuple(noise_of[i].in_band_over_floor)
             out.append(UncorrelatedExcess(
                 ch, float(ra.ratio[c].mean()), p, float(st["input_p_value"]),
                 float(st["p_value"]), bool(st["input_p_value"] < alpha),
-                None if len(analyses) == 1 else i))
+                None if len(analyses) == 1 else i,
+                float(noise[c]) if len(noise) > c else None))
     return tuple(out)
 
 
@@ -317,7 +334,8 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
         status = "unexplained" if where else "no-missing-effect"
     v = Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
                 where, tuple(effects),
-                uncorrelated_excess=uncorrelated_excess(final, alpha, rule))
+                uncorrelated_excess=uncorrelated_excess(final, alpha, rule,
+                                                        noise_of=initial_analyses))
     if not effects:
         return v
     from dataclasses import replace
