@@ -253,12 +253,12 @@ IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
  * for the state and enters first, beside phi_i0 x_0: the products cannot all start
  * at once (two multiplies a cycle), so the last ones to arrive go into the tree's
  * shallower half (with g last, the last products waited for g's add: 2-4 % of the
- * step with the inputs held, bench/fmu_states.md).  The step on the model (ifs_step_held, ifs_step_wide) keeps g
- * (IfsModel.g) while the inputs and [phi gam] stay as they were (g_ok, cleared by
- * whatever changes them: the slave's input and mu sets, ifs_slave_refresh), so a
- * step with the inputs held takes the NX^2 products of phi x alone.  The same
- * operations in the same order on every path: GNU vectors of two (the baseline
- * x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
+ * step with the inputs held, bench/fmu_states.md).  The step on the model
+ * (ifs_step_held, ifs_step_wide) keeps g (IfsModel.g) while the inputs and [phi gam]
+ * stay as they were (g_ok, cleared by whatever changes them: the slave's input and mu
+ * sets, ifs_slave_refresh), so a step with the inputs held takes the NX^2 products of
+ * phi x alone.  The same operations in the same order on every path: GNU vectors of
+ * two (the baseline x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
  * (ifs_step_wide), so the same numbers, provided the compiler does not contract
  * a * b + c into a fused multiply-add (inflowsim builds with -ffp-contract=off;
  * clang is told in inflow_numerics.h).
@@ -344,8 +344,8 @@ IFS_INLINE void ifs_step_held(IfsModel *m)
  * the rows in vectors of four, the last ones in a pair and one alone, each x_j and
  * u_k broadcast once for all; the new states stored in 16-byte halves (the next
  * step's broadcasts each load from one store, forwarded a cycle sooner from a
- * 16-byte store than from a 32-byte one on AMD Zen 4).  The same operations in the same
- * order as ifs_step, so the same numbers. */
+ * 16-byte store than from a 32-byte one on AMD Zen 4).  The same operations in the
+ * same order as ifs_step, so the same numbers. */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
 #include <immintrin.h>
