@@ -23,6 +23,11 @@ rounds alike); and the latency-bound peer, the best plain loop of the same recur
 with no FMI around it (``step_peer``: every product at every step, the state in
 registers or through memory, the faster), and beside it the peer with the inputs held
 (``phi x + g``, as the FMU's step with its inputs held, which keeps ``g = gam u``).
+Beside them the chain floor: the latency of the recurrence from one call's state to
+the next, a 16-byte store and the broadcast load of one of its doubles (a step behind
+a function call keeps its state in memory), one multiply and ``ceil(log2(NX + 1))``
+adds (the least depth of any pairwise sum of ``NX + 1`` terms), each latency measured
+by ``fp_rate`` in every round (best kept); a step can be no faster than either floor.
 Prints a Markdown table.  ``--keep DIR`` keeps the FMUs there (for
 ``bench/fmu_mu_callgrind.sh``'s instruction counts); ``--beside DIR`` times the FMUs
 an earlier run kept in DIR (``s0.fmu`` ... in the same order: another checkout's,
@@ -124,11 +129,14 @@ def main(argv=None):
                         "-Werror", "-o", str(rate_exe), str(HERE / "fp_rate.c")], check=True)
         best: dict = {}
         mul_rate = 0.0
+        lat: dict = {}
         for _ in range(args.rounds):
             out = subprocess.run([str(rate_exe)], check=True, capture_output=True,
                                  text=True).stdout
             rates = {k: float(v) for k, v in (line.split() for line in out.splitlines())}
             mul_rate = max(mul_rate, rates["mul_per_ns"])
+            for k in ("mul_lat_ns", "add_lat_ns", "store_load_ns"):
+                lat[k] = min(lat.get(k, math.inf), rates[k])
             for nx in sorted({nx for _, _, nx, _ in libs.values()}):
                 out = subprocess.run([str(tmp / f"peer{nx}"), str(args.steps)], check=True,
                                      capture_output=True, text=True).stdout
@@ -152,23 +160,32 @@ def main(argv=None):
           f"4-wide multiplies {mul_rate:.2f} per ns (best of {args.rounds} rounds)")
     print(f"steps {args.steps} per run, best of 5 runs x {args.rounds} rounds, libraries "
           "interleaved")
+    print(f"latencies [ns]: 4-wide multiply {lat['mul_lat_ns']:.3f}, add "
+          f"{lat['add_lat_ns']:.3f}, 16-byte store then broadcast load "
+          f"{lat['store_load_ns']:.3f} (best of {args.rounds} rounds)")
     beside = (" beside [ns] | beside / floor | beside set + step + get [ns] |" if other else "")
     print("| structure | inflow states | NX | generation + compiler CPU [s] | "
           "fmi2DoStep [ns] | set + step + get [ns] | floor [ns] | step / floor | "
-          "peer [ns] | step / peer | peer, inputs held [ns] | step / peer held | "
+          "chain floor [ns] | step / chain floor | peer [ns] | step / peer | peer, inputs held [ns] | step / peer held | "
           "step / 3-state step |" + beside)
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |" +
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+          " --- | --- |" +
           (" --- | --- | --- |" if other else ""))
     first = best[(structures[0], "glauert_dostep")]
     for st, (_, _, nx, nu) in libs.items():
         step = best[(st, "glauert_dostep")]
         floor = math.ceil(nx * (nx + nu) / 4) / mul_rate
+        # the chain from one call's state to the next: the store and load through
+        # memory, one multiply, a tree of NX + 1 terms (any pairwise order: depth at
+        # least ceil(log2(NX + 1)))
+        chain = (lat["store_load_ns"] + lat["mul_lat_ns"] +
+                 math.ceil(math.log2(nx + 1)) * lat["add_lat_ns"])
         peer = min(best[(nx, "peer_reg_ns")], best[(nx, "peer_mem_ns")])
         held = best[(nx, "peer_held_ns")]
         gen, comp = built[st]
         print(f"| {st} | {inflow[st]} | {nx} | {gen:.1f} + {comp:.1f} | {step:.1f} | "
               f"{best[(st, 'glauert_set_dostep_get')]:.1f} | {floor:.1f} | "
-              f"{step / floor:.2f} | {peer:.1f} | {step / peer:.2f} | {held:.1f} | "
+              f"{step / floor:.2f} | {chain:.1f} | {step / chain:.2f} | {peer:.1f} | {step / peer:.2f} | {held:.1f} | "
               f"{step / held:.2f} | {step / first:.2f} |" +
               (f" {best[(st, 'beside glauert_dostep')]:.1f} | "
                f"{best[(st, 'beside glauert_dostep')] / floor:.2f} | "

@@ -13,8 +13,8 @@
  * registers, with the inputs held (gam u once: the NX^2 products of phi x and its
  * chain alone, as the FMU's step with its inputs held).  Both take the column form of
  * the FMU's step (inflow_model.h: each x_j and u_k multiplies its column, four rows a
- * vector, the terms of each row summed in a pairwise tree), every product of
- * [phi gam] [x; u] at every step in the first two (the inputs read from a table of
+ * vector, the terms of each row, g first, summed in a pairwise tree), every product
+ * of [phi gam] [x; u] at every step in the first two (the inputs read from a table of
  * eight, which the compiler cannot hoist), no fused multiply-add (-ffp-contract=off: the FMU's
  * rounding), four-wide (AVX2).  A recurrence's time is bound by the larger of its
  * throughput (the products at the machine's rate: bench/fp_rate.c) and the latency
@@ -98,7 +98,8 @@ __attribute__((target("avx2"), noinline)) static double run_reg(const double *pg
         UNROLL
         for (q = 0; q < G; q++) TREE(NU, COL(NX + j_, q) * u[j_], g[q]);
         UNROLL
-        for (q = 0; q < G; q++) TREE(NX + 1, j_ < NX ? COL(j_, q) * BX(j_) : g[q], y[q]);
+        for (q = 0; q < G; q++) TREE(NX + 1, j_ == 0 ? g[q] : COL(j_ - 1, q) * BX(j_ - 1),
+                                 y[q]);
         UNROLL
         for (q = 0; q < G; q++) x[q] = y[q];
     }
@@ -121,7 +122,8 @@ __attribute__((target("avx2"), noinline)) static double run_held(const double *p
     for (k = 0; k < n; k++) {
         __asm__("" : "+r"(pg));
         UNROLL
-        for (q = 0; q < G; q++) TREE(NX + 1, j_ < NX ? COL(j_, q) * BX(j_) : g[q], y[q]);
+        for (q = 0; q < G; q++) TREE(NX + 1, j_ == 0 ? g[q] : COL(j_ - 1, q) * BX(j_ - 1),
+                                 y[q]);
         UNROLL
         for (q = 0; q < G; q++) x[q] = y[q];
     }
@@ -143,7 +145,8 @@ __attribute__((target("avx2"), noinline)) static double run_mem(const double *pg
         UNROLL
         for (q = 0; q < G; q++) TREE(NU, COL(NX + j_, q) * u[j_], g[q]);
         UNROLL
-        for (q = 0; q < G; q++) TREE(NX + 1, j_ < NX ? COL(j_, q) * x[j_] : g[q], y[q]);
+        for (q = 0; q < G; q++) TREE(NX + 1, j_ == 0 ? g[q] : COL(j_ - 1, q) * x[j_ - 1],
+                                 y[q]);
         UNROLL
         for (q = 0; q < G; q++) *(v4 *)(x + 4 * q) = y[q];
         __asm__ volatile("" ::: "memory");     /* the next step loads x again */

@@ -243,20 +243,22 @@ IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
  * compiled for the caller's target.  pg is IfsModel.pg ([phi gam] by columns,
  * IFS_LD each), z = [x; u; 0] (IfsModel.x).  New state i is
  *
- *     x_i <- pairwise sum of (phi_i0 x_0, phi_i1 x_1, ..., phi_i,NX-1 x_NX-1, g_i)
+ *     x_i <- pairwise sum of (g_i, phi_i0 x_0, phi_i1 x_1, ..., phi_i,NX-1 x_NX-1)
  *     g_i  = pairwise sum of (gam_i0 u_0, ..., gam_i,NU-1 u_NU-1)
  *
  * (IFS_TREE_SUM): each x_j and u_k broadcast and multiplied by its column, four rows
  * a vector, nothing summed across lanes.  The chain from one step's state to the
  * next is short: the broadcasts of x_j (loads of the last step's stores), one
- * multiply, a tree of depth ceil(log2(NX + 1)); g, the inputs' part, does not wait
- * for the state and enters last (a step after new inputs waits for it the tree's
- * last adds only).  The step on the model (ifs_step_held, ifs_step_wide) keeps g
- * (IfsModel.g) while the inputs and [phi gam] stay as they were (g_ok, cleared by
- * whatever changes them: the slave's input and mu sets, ifs_slave_refresh), so a
- * step with the inputs held takes the NX^2 products of phi x alone.  The same
- * operations in the same order on every path: GNU vectors of two (the baseline
- * x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
+ * multiply, a tree of depth ceil(log2(NX + 1)).  g, the inputs' part, does not wait
+ * for the state and enters first, beside phi_i0 x_0: the products cannot all start
+ * at once (two multiplies a cycle), so the last ones to arrive go into the tree's
+ * shallower half (with g last, the last products waited for g's add: 2-4 % of the
+ * step with the inputs held, bench/fmu_states.md).  The step on the model
+ * (ifs_step_held, ifs_step_wide) keeps g (IfsModel.g) while the inputs and [phi gam]
+ * stay as they were (g_ok, cleared by whatever changes them: the slave's input and mu
+ * sets, ifs_slave_refresh), so a step with the inputs held takes the NX^2 products of
+ * phi x alone.  The same operations in the same order on every path: GNU vectors of
+ * two (the baseline x86-64 code), plain C, and the four-wide step of the AVX2 DoStep
  * (ifs_step_wide), so the same numbers, provided the compiler does not contract
  * a * b + c into a fused multiply-add (inflowsim builds with -ffp-contract=off;
  * clang is told in inflow_numerics.h).
@@ -266,11 +268,10 @@ IFS_INLINE void ifs_rows(const double *pg, const double *z, double y[IFS_NX])
 #define IFS_GAM_TERMS(T, r0, X, out)                                                   \
     IFS_TREE_SUM(T, IFS_NU, *(const T *)(pg + IFS_NX * IFS_LD + (r0)) * X(IFS_NX),     \
                  *(const T *)(pg + (IFS_NX + j_) * IFS_LD + (r0)) * X(IFS_NX + j_), out)
-/* rows r0 .. r0 + width of phi x + g, g0 their g */
+/* rows r0 .. r0 + width of g + phi x, g0 their g (the terms g, then phi_i0 x_0 ...) */
 #define IFS_PHI_TERMS(T, r0, g0, X, out)                                               \
-    IFS_TREE_SUM(T, IFS_NX + 1, *(const T *)(pg + (r0)) * X(0),                        \
-                 j_ < IFS_NX ? (T)(*(const T *)(pg + j_ * IFS_LD + (r0)) * X(j_)) : (T)(g0), \
-                 out)
+    IFS_TREE_SUM(T, IFS_NX + 1, (T)(g0),                                               \
+                 (T)(*(const T *)(pg + (j_ - 1) * IFS_LD + (r0)) * X(j_ - 1)), out)
 #define IFS_Z(j) z[j]
 
 /* g[0 .. IFS_NX) = gam u */
@@ -341,9 +342,10 @@ IFS_INLINE void ifs_step_held(IfsModel *m)
  * (IFS_WIDE_STEP; the slave picks it at load time where the CPU has AVX2: 256-bit
  * vectors on the baseline x86-64 code are split badly, so that keeps the pairs):
  * the rows in vectors of four, the last ones in a pair and one alone, each x_j and
- * u_k broadcast once for all; each vector of new states stored alone (the next
- * step's broadcasts each load from one store).  The same operations in the same
- * order as ifs_step, so the same numbers. */
+ * u_k broadcast once for all; the new states stored in 16-byte halves (the next
+ * step's broadcasts each load from one store, forwarded a cycle sooner from a
+ * 16-byte store than from a 32-byte one on AMD Zen 4).  The same operations in the
+ * same order as ifs_step, so the same numbers. */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
 #include <immintrin.h>
@@ -415,7 +417,10 @@ static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(
     IFS_PHI_TERMS(double, IFS_NX - 1, g1, IFS_BX1, y1);
 #endif
     IFS_UNROLL
-    for (q = 0; q < IFS_NX / 4; q++) *(ifs_v4 *)(z + 4 * q) = y4[q];
+    for (q = 0; q < IFS_NX / 4; q++) {
+        _mm_storeu_pd(z + 4 * q, _mm256_castpd256_pd128((__m256d)y4[q]));
+        _mm_storeu_pd(z + 4 * q + 2, _mm256_extractf128_pd((__m256d)y4[q], 1));
+    }
 #if IFS_NX % 4 >= 2
     *(ifs_v2 *)(z + IFS_NX / 4 * 4) = y2;
 #endif
