@@ -215,9 +215,10 @@ class P:
         _rows(out, nx, cols, ldo)[:] = acc
 
     @staticmethod
-    def fhorner(q: np.ndarray, deg: int, y: float, out: np.ndarray, cols: int) -> None:
+    def fhorner(q: np.ndarray, deg: int, y: float, out: np.ndarray, cols: int,
+                ld: int) -> None:
         """``out[e] = sum_k q[k, e] y^k`` for ``e < cols`` (rows ``k = 0 .. deg`` of
-        ``q``, ``cols`` apart): in C Horner's rule with fused multiply-adds, four
+        ``q``, ``ld`` apart): in C Horner's rule with fused multiply-adds, four
         entries a vector; here the powers of ``y`` times ``q`` in one dot product
         (a fifth of the cost of Horner's rule in NumPy)."""
         pw = [1.0, y]
@@ -225,7 +226,9 @@ class P:
             pw.append(pw[-1] * y)
         powers, pack, buf = _powers_buffer(deg)
         pack(buf, 0, *pw[:deg + 1])
-        powers.dot(q[:(deg + 1) * cols].reshape(deg + 1, cols), out=out[:cols])
+        rows = (q[:(deg + 1) * cols].reshape(deg + 1, cols) if ld == cols
+                else _rows(q, deg + 1, cols, ld))
+        powers.dot(rows, out=out[:cols])
 
     @staticmethod
     def taylor_first(ab: np.ndarray, z: np.ndarray, r: float, w: np.ndarray, n: int,
@@ -567,7 +570,59 @@ def mu_eval(pstart: CVec, pmid: CVec, pscale: CVec, guess: CVec, q: CVec, mu: fl
     :meth:`~inflowsim.simulate.simulator.Simulator.set_mu`, the FMU's ``[phi gam]``."""
     j: int = mu_part(pstart, guess, mu, npart, nguess, lo, hi)
     y: float = (mu - pmid[j]) * pscale[j]
-    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, out, cols)
+    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, out, cols, cols)
+
+
+@algorithm("ifs_mu_eval_range", sizes={**_PARTS, "fdeg": "IFS_MU_FDEG", "cols": "IFS_MU_HALF0"},
+           variants=(FMA4,), attributes=("IFS_FLATTEN",))
+def mu_eval_range(parts: CVec, q: CVec, mu: float, first: int, size: int, out: Vec,
+                  npart: int, nguess: int, lo: float, hi: float, fdeg: int,
+                  cols: int) -> None:
+    """Entries ``first .. first + size - 1`` of :func:`mu_eval`'s at ``mu`` into the
+    same entries of ``out``, the same numbers (the same part, ``y`` and Horner's
+    rule); ``parts`` :func:`mu_parts`' ``pstart``, ``pmid``, ``pscale`` and ``guess``
+    one after the other (as the FMU's table holds them).  The FMU's ``gam`` after
+    :func:`mu_eval_held` left it out."""
+    j: int = mu_part(parts, parts[3 * npart + 1:], mu, npart, nguess, lo, hi)
+    y: float = (mu - parts[npart + 1 + j]) * parts[2 * npart + 1 + j]
+    P.fhorner(q[j * (fdeg + 1) * cols + first:], fdeg, y, out[first:], size, cols)
+
+
+@algorithm("ifs_mu_eval_held", sizes={**_PARTS, "fdeg": "IFS_MU_FDEG", "cols": "IFS_MU_HALF0",
+                                      "nphi": "IFS_MU_NPHI", "ng": "IFS_LD", "nx": "IFS_NX",
+                                      "nu": "IFS_NU", "rl": "IFS_RL"},
+           variants=(FMA4,), attributes=("IFS_FLATTEN",))
+def mu_eval_held(parts: CVec, q: CVec, mu: float, m: Vec, npart: int, nguess: int, lo: float,
+                 hi: float, fdeg: int, cols: int, nphi: int, ng: int, nx: int, nu: int,
+                 rl: int) -> None:
+    """A change of ``mu`` with the inputs held, the FMU's step by columns.  ``m``
+    holds, one after the other, the model's ``[phi gam]`` (``cols`` entries by
+    columns of ``ng``: ``phi`` the first ``nphi``, then ``gam``'s ``nu`` columns, as
+    the step reads them), ``[x; u]`` (``rl``: ``u`` from ``nx``), ``g = gam u``
+    (``ng``), ``gq`` (``fdeg + 1`` rows of ``ng``), the part ``gq`` was made for plus
+    one (a float, as :func:`mu_parts`' ``guess``: 0 or less none) and the ``mu`` of
+    the last change (``parts`` as :func:`mu_eval_range`'s).  ``phi`` at ``mu``
+    (:func:`mu_eval`'s numbers) and ``g`` from ``gq``, the power coefficients of
+    ``gam u`` on the part holding ``mu``: ``gq_k = C_k u``, ``C_k`` the part's
+    coefficients of ``gam``, made again (from ``q`` and ``u``) where that part is
+    not the one ``gq`` was made for.  ``gam`` itself is left out
+    (:func:`mu_eval_range` evaluates it when it is read): per change three
+    multiply-adds for each entry of ``phi`` and of ``g`` instead of each of ``[phi
+    gam]``, and no ``gam u`` at the next step.  ``g`` differs from ``gam(mu) u`` by
+    rounding alone (the same sum in another order)."""
+    j: int = mu_part(parts, parts[3 * npart + 1:], mu, npart, nguess, lo, hi)
+    y: float = (mu - parts[npart + 1 + j]) * parts[2 * npart + 1 + j]
+    base: int = j * (fdeg + 1) * cols
+    at: int = cols + rl + ng                 # gq in m
+    tail: int = at + (fdeg + 1) * ng         # its part plus one, the mu
+    if int(m[tail]) != j + 1:
+        for k in range(fdeg + 1):
+            P.gemm(m[cols + nx:], q[base + k * cols + nphi:], m[at + k * ng:], 1, nu, ng, ng,
+                   ng)
+        m[tail] = float(j + 1)
+    m[tail + 1] = mu
+    P.fhorner(q[base:], fdeg, y, m, nphi, cols)
+    P.fhorner(m[at:], fdeg, y, m[cols + rl:], ng, ng)
 
 
 @algorithm("ifs_mu_eval_coarse", sizes={**_PARTS, "split": "IFS_MU_SPLIT", "deg": "IFS_MU_DEG",
@@ -617,4 +672,5 @@ __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", 
            "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
            "taylor_prepare",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
-           "mu_fit", "mu_parts", "mu_part", "mu_eval", "mu_eval_coarse", "mu_check"]
+           "mu_fit", "mu_parts", "mu_part", "mu_eval", "mu_eval_range", "mu_eval_held",
+           "mu_eval_coarse", "mu_check"]
