@@ -355,9 +355,10 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
     without clones it steps with the baseline code, and with IFS_SCALAR_STEP with the
     plain-C loop other compilers get.  All must agree bit for bit, on the loop's
     fast path (h = dt), on substeps with a remainder (h = 2.5 dt), with mu
-    changing every step (the mu table's evaluation is cloned for AVX2 too) and with
-    a step changing every frame (the Taylor remainder, over the whole remainder and
-    over its difference from the cached one)."""
+    changing every step (the mu table's evaluation is cloned for AVX2 too; with the
+    inputs held, gam u from the table's parts) and with a step changing every frame
+    (the Taylor remainder, over the whole remainder and over its difference from the
+    cached one)."""
     other = tmp_path / "unzipped"
     shutil.copytree(unzipped, other)
     compile_library(source_dir(), other / "binaries" / "linux64" / "inflowsim.so", flags)
@@ -385,6 +386,11 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
             t0 += h
             y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
         for k in range(20):                # the inputs held: the step keeps gam u
+            s.doStep(t0, DT)
+            t0 += DT
+            y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
+        for k in range(40):                # ... and mu alone: gam u from the table
+            set_reals(s, [VR["mu"]], [0.3 + 0.01 * np.sin(0.2 * k)])   # parts' gq
             s.doStep(t0, DT)
             t0 += DT
             y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))

@@ -27,7 +27,9 @@ matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and th
 (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
 :func:`power_fit`), check (:func:`mu_check`), part search (:func:`mu_parts`,
 :func:`mu_part`) and evaluation (:func:`mu_eval`, the parts: what a change of
-``mu`` reads; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
+``mu`` reads; the FMU's with its inputs held, :func:`mu_eval_held`: ``phi`` and
+``gam u`` from the part's power coefficients of ``gam u``, ``gam`` itself when read,
+:func:`mu_eval_range`; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
 rarely).  Each side's own are the primitives only; in the step's hot path
 ``P.fhorner`` (here one dot product of the powers, in C Horner's rule with fused
 multiply-adds, its AVX2 variant :data:`FMA4`) and the Taylor step's matrix-vector
