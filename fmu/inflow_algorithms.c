@@ -401,59 +401,60 @@ IFS_FLATTEN void ifs_mu_eval_range_fma(const double *parts, const double *q, dou
 /* mu_eval_held: A change of mu with the inputs held, the FMU's step by columns. m
  * holds, one after the other, the model's [phi gam] (cols entries by columns of ng:
  * phi the first nphi, then gam's nu columns, as the step reads them), [x; u] (rl: u
- * from nx), g = gam u (ng), gq (fdeg + 1 rows of ng), the part gq was made for plus
- * one (a float, as mu_parts' guess: 0 or less none) and the mu of the last change
- * (parts as mu_eval_range's). phi at mu (mu_eval's numbers) and g from gq, the power
- * coefficients of gam u on the part holding mu: gq_k = C_k u, C_k the part's
- * coefficients of gam, made again (from q and u) where that part is not the one gq was
- * made for. gam itself is left out (mu_eval_range evaluates it when it is read): per
- * change three multiply-adds for each entry of phi and of g instead of each of [phi
- * gam], and no gam u at the next step. g differs from gam(mu) u by rounding alone (the
- * same sum in another order). */
-IFS_FLATTEN void ifs_mu_eval_held(const double *parts, const double *q, double mu,
-                                  double *m)
+ * from nx), g = gam u (ng), gq (deg + 1 rows of ng), then the segment gq was made for
+ * plus one (a float, as mu_parts' guess; its sign aside: 0 none) and the mu of the
+ * change; parts: the segment ends, then mu_parts' pstart, pmid, pscale and guess one
+ * after the other (as the FMU's table holds them); q and p mu_fit's. */
+IFS_FLATTEN void ifs_mu_eval_held(const double *parts, const double *q, const double *p,
+                                  double mu, double *m)
 {
-    int j = ifs_mu_part(parts, parts + (3 * IFS_MU_NPART + 1), mu);
-    double y = (mu - parts[IFS_MU_NPART + 1 + j]) * parts[2 * IFS_MU_NPART + 1 + j];
-    int base = j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0;
+    int o = IFS_MU_NSEG + 1;
+    int j = ifs_mu_part(parts + o, parts + (o + 3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[o + IFS_MU_NPART + 1 + j]) * parts[o + 2 * IFS_MU_NPART + 1 + j];
+    int seg = j / IFS_MU_SPLIT;
+    double x = (2.0 * mu - parts[seg] - parts[seg + 1]) / (parts[seg + 1] - parts[seg]);
     int at = IFS_MU_HALF0 + IFS_RL + IFS_LD;
-    int tail = at + (IFS_MU_FDEG + 1) * IFS_LD;
-    if (((int)(m[tail])) != j + 1) {
-        for (int k = 0; k < IFS_MU_FDEG + 1; k++) {
-            ifs_gemm(m + (IFS_MU_HALF0 + IFS_NX),
-                     q + (base + k * IFS_MU_HALF0 + IFS_MU_NPHI), m + (at + k * IFS_LD), 1,
-                     IFS_NU, IFS_LD, IFS_LD, IFS_LD);
+    int tail = at + (IFS_MU_DEG + 1) * IFS_LD;
+    if (((int)(fabs(m[tail]))) != seg + 1) {
+        for (int k = 0; k < IFS_MU_DEG + 1; k++) {
+            ifs_gemv_cols(p + ((seg * (IFS_MU_DEG + 1) + k) * IFS_MU_NTAB + IFS_MU_NPHI),
+                          m + (IFS_MU_HALF0 + IFS_NX), m + (at + k * IFS_LD), IFS_LD,
+                          IFS_NU, IFS_LD);
         }
-        m[tail] = ((double)(j + 1));
     }
+    m[tail] = ((double)(seg + 1));
     m[tail + 1] = mu;
-    ifs_fhorner(q + base, IFS_MU_FDEG, y, m, IFS_MU_NPHI, IFS_MU_HALF0);
-    ifs_fhorner(m + at, IFS_MU_FDEG, y, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
+    ifs_fhorner(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, m, IFS_MU_NPHI,
+                IFS_MU_HALF0);
+    ifs_fhorner(m + at, IFS_MU_DEG, x, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
 }
 
 #ifdef IFS_MU_FMA4
 /* mu_eval_held_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at
  * run time where the CPU has them) */
 __attribute__((target("avx2,fma")))
-IFS_FLATTEN void ifs_mu_eval_held_fma(const double *parts, const double *q, double mu,
-                                      double *m)
+IFS_FLATTEN void ifs_mu_eval_held_fma(const double *parts, const double *q,
+                                      const double *p, double mu, double *m)
 {
-    int j = ifs_mu_part(parts, parts + (3 * IFS_MU_NPART + 1), mu);
-    double y = (mu - parts[IFS_MU_NPART + 1 + j]) * parts[2 * IFS_MU_NPART + 1 + j];
-    int base = j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0;
+    int o = IFS_MU_NSEG + 1;
+    int j = ifs_mu_part(parts + o, parts + (o + 3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[o + IFS_MU_NPART + 1 + j]) * parts[o + 2 * IFS_MU_NPART + 1 + j];
+    int seg = j / IFS_MU_SPLIT;
+    double x = (2.0 * mu - parts[seg] - parts[seg + 1]) / (parts[seg + 1] - parts[seg]);
     int at = IFS_MU_HALF0 + IFS_RL + IFS_LD;
-    int tail = at + (IFS_MU_FDEG + 1) * IFS_LD;
-    if (((int)(m[tail])) != j + 1) {
-        for (int k = 0; k < IFS_MU_FDEG + 1; k++) {
-            ifs_gemm(m + (IFS_MU_HALF0 + IFS_NX),
-                     q + (base + k * IFS_MU_HALF0 + IFS_MU_NPHI), m + (at + k * IFS_LD), 1,
-                     IFS_NU, IFS_LD, IFS_LD, IFS_LD);
+    int tail = at + (IFS_MU_DEG + 1) * IFS_LD;
+    if (((int)(fabs(m[tail]))) != seg + 1) {
+        for (int k = 0; k < IFS_MU_DEG + 1; k++) {
+            ifs_gemv_cols(p + ((seg * (IFS_MU_DEG + 1) + k) * IFS_MU_NTAB + IFS_MU_NPHI),
+                          m + (IFS_MU_HALF0 + IFS_NX), m + (at + k * IFS_LD), IFS_LD,
+                          IFS_NU, IFS_LD);
         }
-        m[tail] = ((double)(j + 1));
     }
+    m[tail] = ((double)(seg + 1));
     m[tail + 1] = mu;
-    ifs_fhorner_fma(q + base, IFS_MU_FDEG, y, m, IFS_MU_NPHI, IFS_MU_HALF0);
-    ifs_fhorner_fma(m + at, IFS_MU_FDEG, y, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
+    ifs_fhorner_fma(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, m,
+                    IFS_MU_NPHI, IFS_MU_HALF0);
+    ifs_fhorner_fma(m + at, IFS_MU_DEG, x, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
 }
 #endif
 

@@ -178,6 +178,31 @@ IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int
         out[e] = acc;
     }
 }
+/* y[r] = sum_c a[c lda + r] x[c] for r < rows (a by columns): the columns' multiples
+ * summed in order (no fused multiply-add: every path gives the same numbers), four
+ * rows a vector where rows is a multiple of four. */
+IFS_INLINE void ifs_gemv_cols(const double *a, const double *x, double *y, int rows, int cols,
+                              int lda)
+{
+    int r, c;
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    if (rows % 4 == 0) {
+        IFS_UNROLL
+        for (r = 0; r < rows; r += 4) {
+            ifs_v4 acc = *(const ifs_v4 *)(a + r) * x[0];
+            IFS_UNROLL
+            for (c = 1; c < cols; c++) acc += *(const ifs_v4 *)(a + c * lda + r) * x[c];
+            *(ifs_v4 *)(y + r) = acc;
+        }
+        return;
+    }
+#endif
+    for (r = 0; r < rows; r++) {
+        double acc = a[r] * x[0];
+        for (c = 1; c < cols; c++) acc += a[c * lda + r] * x[c];
+        y[r] = acc;
+    }
+}
 #ifdef IFS_MU_FMA4
 /* ... the CPU's four fused multiply-adds at once (inside a function for AVX2 and FMA) */
 static inline __attribute__((target("avx2,fma"), always_inline)) void
@@ -291,8 +316,9 @@ typedef struct {
     double guess[IFS_MU_NGUESS];
     double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
-/* pstart, pmid, pscale, guess one after the other (ifs_mu_eval_held's parts) */
+/* edge, pstart, pmid, pscale, guess one after the other (ifs_mu_eval_held's parts) */
 typedef char ifs_mu_parts_are_contiguous[
+    offsetof(IfsMuTable, pstart) == offsetof(IfsMuTable, edge) + (IFS_MU_NSEG + 1) * 8 &&
     offsetof(IfsMuTable, pmid) == offsetof(IfsMuTable, pstart) + (IFS_MU_NPART + 1) * 8 &&
     offsetof(IfsMuTable, pscale) == offsetof(IfsMuTable, pmid) + IFS_MU_NPART * 8 &&
     offsetof(IfsMuTable, guess) == offsetof(IfsMuTable, pscale) + IFS_MU_NPART * 8 ? 1 : -1];
@@ -337,16 +363,19 @@ void ifs_mu_eval_fma(const double *pstart, const double *pmid, const double *psc
                      const double *guess, const double *q, double mu, double *out);
 #endif
 /* A change of mu with the inputs held (the column step): in m, the model's [phi gam],
- * [x; u], g, gq, gq_part and gam_mu one after the other (IfsModel), phi and g = gam u
- * from gq, the power coefficients of gam u on the part holding mu, made again where
- * that is not the part gq_part - 1 (mu_eval_held).  Entries first .. first + size - 1
- * of ifs_mu_eval's into out's (mu_eval_range: gam when it is read).  parts: the
- * table's pstart, pmid, pscale and guess, one after the other (IfsMuTable). */
-void ifs_mu_eval_held(const double *parts, const double *q, double mu, double *m);
+ * [x; u], g, gq, gq_seg and gam_mu one after the other (IfsModel): phi, and g = gam
+ * u from gq, the power coefficients of gam u on the segment holding mu, made again
+ * where that is not the segment |gq_seg| - 1 (mu_eval_held; parts: the table's
+ * edge, pstart, pmid, pscale and guess one after the other, IfsMuTable).  Entries
+ * first .. first + size - 1 of ifs_mu_eval's into out's (mu_eval_range: gam when it
+ * is read; parts from pstart). */
+void ifs_mu_eval_held(const double *parts, const double *q, const double *p, double mu,
+                      double *m);
 void ifs_mu_eval_range(const double *parts, const double *q, double mu, int first, int size,
                        double *out);
 #ifdef IFS_MU_FMA4
-void ifs_mu_eval_held_fma(const double *parts, const double *q, double mu, double *m);
+void ifs_mu_eval_held_fma(const double *parts, const double *q, const double *p, double mu,
+                          double *m);
 void ifs_mu_eval_range_fma(const double *parts, const double *q, double mu, int first,
                            int size, double *out);
 /* f (the arguments ...) with the CPU's AVX2 and FMA where t->fma (f_fma), else f */

@@ -201,14 +201,14 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
 }
 
 /* gam at the last mu where a mu change with the inputs held left it stale
- * (IfsModel.gam_stale, ifs_mu_table_apply), before the step's kept g = gam u is
+ * (IfsModel.gq_seg > 0, ifs_mu_table_apply), before the step's kept g = gam u is
  * dropped (g_ok cleared) or anything else reads gam; the coefficients of gam u (gq)
  * dropped with g.  Called where g_ok is cleared but by a mu change. */
 void ifs_slave_fresh_gam(IfsSlave *s);
 static inline void ifs_slave_drop_g(IfsSlave *s)
 {
-    if (s->m.gam_stale) ifs_slave_fresh_gam(s);
-    s->m.gq_part = IFS_GQ_NONE;
+    if (s->m.gq_seg > 0.0) ifs_slave_fresh_gam(s);
+    s->m.gq_seg = IFS_GQ_NONE;
     s->m.g_ok = 0;
 }
 
