@@ -48,7 +48,8 @@ typedef struct {
      * segment s and pg's gam columns not yet those at gam_mu, the last change's mu
      * (g is; ifs_mu_table_gam brings them before anything reads them, and negates
      * gq_seg); -(s + 1), gq made for s, gam as g; IFS_GQ_NONE (0): none made since
-     * the inputs were set; IFS_GQ_NEXT: none, the inputs held through a change */
+     * the inputs were set; IFS_GQ_NEXT: none, the inputs held through a change;
+     * IFS_GQ_STALE: none (new inputs), gam stale */
     double gq[(IFS_MU_DEG + 1) * IFS_LD];
     double gq_seg, gam_mu, gq_pad_[2];
     /* continuous SI state space, row-major */
@@ -91,6 +92,7 @@ typedef struct {
 } IfsModel;
 #define IFS_GQ_NONE 0.0
 #define IFS_GQ_NEXT (-1.0 - IFS_MU_NSEG)
+#define IFS_GQ_STALE (2.0 + IFS_MU_NSEG)   /* gam stale, no gq (new inputs) */
 /* [phi gam], [x; u], g and gq one after the other (ifs_mu_eval_held's block) */
 typedef char ifs_held_block_is_contiguous[
     offsetof(IfsModel, x) == IFS_PG_N * sizeof(double) &&

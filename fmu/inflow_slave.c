@@ -241,8 +241,12 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
      * general one (slave_step): a call here would give the input frame a stack
      * frame */
     if (s->m.gq_seg != IFS_GQ_NONE) {
-        if (s->m.gq_seg > 0.0) s->fast_h = NAN;
-        s->m.gq_seg = IFS_GQ_NONE;
+        if (s->m.gq_seg > 0.0) {    /* gam stale: still, without gq */
+            s->fast_h = NAN;
+            s->m.gq_seg = IFS_GQ_STALE;
+        } else {
+            s->m.gq_seg = IFS_GQ_NONE;
+        }
     }
     s->m.g_ok = 0;
     IFS_UNROLL
