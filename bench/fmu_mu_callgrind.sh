@@ -7,9 +7,9 @@
 #   bench/fmu_mu_callgrind.sh FILE.fmu [N1 N2]
 #
 # Runs bench/fmu_mu_loop.c at N1 and N2 steps (default 20000 and 60000) in each mode
-# and prints the difference per step (the start-up and the first table build cancel),
-# then the mu-every-step instructions per step by function.  Results:
-# bench/fmu_states.md.
+# (and mode 4: a new mu every step, each in another of the table's parts) and prints
+# the difference per step (the start-up and the first table build cancel), then the
+# mu-every-step instructions per step by function.  Results: bench/fmu_states.md.
 set -euo pipefail
 fmu=$(realpath "$1"); n1=${2:-20000}; n2=${3:-60000}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -29,9 +29,10 @@ per_step() {   # mode -> instructions per step
               $(grep -o "Collected : [0-9]*" log.$mode.$n1 | awk '{print $3}')) / (n2 - n1) ))
 }
 fixed=$(per_step 0); varying=$(per_step 1); remainder=$(per_step 2); frame=$(per_step 3)
+across=$(per_step 4)
 echo "$(basename "$fmu"): mu every step $varying, mu fixed $fixed instructions per step" \
      "(ratio $(awk "BEGIN {printf \"%.2f\", $varying / $fixed}")); step varying +-2 %" \
-     "$remainder; frame $frame"
+     "$remainder; frame $frame; mu every step across the table's parts $across"
 for n in $n1 $n2; do
     callgrind_annotate cg.1.$n 2>/dev/null |
         awk '{gsub(",", "", $1); for (i = 2; i <= NF; i++) if ($i ~ /^[?][?][?]:/) print $i, $1}' |

@@ -6,7 +6,10 @@
  *   1  a new mu every step (fmi2SetReal of mu first: the table's evaluation);
  *   2  a step varying +-2 % from frame to frame (the Taylor step of the remainder);
  *   3  the frame: fmi2SetReal of the ten inputs, the step, fmi2GetReal of the six
- *      outputs.
+ *      outputs;
+ *   4  a new mu every step, each in another of the table's parts (steps of 1e-3
+ *      across parts of 3.3e-4 to 1.5e-3: with the inputs held, the part's
+ *      coefficients of gam u made again at nearly every step).
  *
  *   fmu_mu_loop LIBRARY GUID N MODE
  */
@@ -57,9 +60,11 @@ int main(int argc, char **argv)
     t += 0.01;
     for (k = 0; k < 10; k++) u[k] = 1e-3 * (k + 1);
     setr(c, in, 10, u);
+    const int new_mu = mode == 1 || mode == 4;
+    const double mu0 = mode == 4 ? 0.2 : 0.25, dmu = mode == 4 ? 1e-3 : 1e-6;
     for (k = 0; k < n; k++) {
-        if (mode == 1) {
-            m = 0.25 + 1e-6 * (k % 100);
+        if (new_mu) {                /* (one test: mode 0 counts as it did alone) */
+            m = mu0 + dmu * (k % 100);
             setr(c, &mu, 1, &m);
         } else if (mode == 2) {
             h = 0.01 * (1.0 + 0.02 * ((k % 7) - 3) / 3.0);

@@ -353,7 +353,7 @@ IFS_FLATTEN void ifs_mu_eval(const double *pstart, const double *pmid,
     int j = ifs_mu_part(pstart, guess, mu);
     double y = (mu - pmid[j]) * pscale[j];
     ifs_fhorner(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, out,
-                IFS_MU_HALF0);
+                IFS_MU_HALF0, IFS_MU_HALF0);
 }
 
 #ifdef IFS_MU_FMA4
@@ -367,7 +367,94 @@ IFS_FLATTEN void ifs_mu_eval_fma(const double *pstart, const double *pmid,
     int j = ifs_mu_part(pstart, guess, mu);
     double y = (mu - pmid[j]) * pscale[j];
     ifs_fhorner_fma(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, out,
-                    IFS_MU_HALF0);
+                    IFS_MU_HALF0, IFS_MU_HALF0);
+}
+#endif
+
+/* mu_eval_range: Entries first .. first + size - 1 of mu_eval's at mu into the same
+ * entries of out, the same numbers (the same part, y and Horner's rule); parts
+ * mu_parts' pstart, pmid, pscale and guess one after the other (as the FMU's table
+ * holds them). The FMU's gam after mu_eval_held left it out. */
+IFS_FLATTEN void ifs_mu_eval_range(const double *parts, const double *q, double mu,
+                                   int first, int size, double *out)
+{
+    int j = ifs_mu_part(parts, parts + (3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[IFS_MU_NPART + 1 + j]) * parts[2 * IFS_MU_NPART + 1 + j];
+    ifs_fhorner(q + (j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0 + first), IFS_MU_FDEG, y,
+                out + first, size, IFS_MU_HALF0);
+}
+
+#ifdef IFS_MU_FMA4
+/* mu_eval_range_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at
+ * run time where the CPU has them) */
+__attribute__((target("avx2,fma")))
+IFS_FLATTEN void ifs_mu_eval_range_fma(const double *parts, const double *q, double mu,
+                                       int first, int size, double *out)
+{
+    int j = ifs_mu_part(parts, parts + (3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[IFS_MU_NPART + 1 + j]) * parts[2 * IFS_MU_NPART + 1 + j];
+    ifs_fhorner_fma(q + (j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0 + first), IFS_MU_FDEG, y,
+                    out + first, size, IFS_MU_HALF0);
+}
+#endif
+
+/* mu_eval_held: A change of mu with the inputs held, the FMU's step by columns. m
+ * holds, one after the other, the model's [phi gam] (cols entries by columns of ng:
+ * phi the first nphi, then gam's nu columns, as the step reads them), [x; u] (rl: u
+ * from nx), g = gam u (ng), gq (deg + 1 rows of ng), then the segment gq was made for
+ * plus one (a float, as mu_parts' guess; its sign aside: 0 none) and the mu of the
+ * change; parts: the segment ends, then mu_parts' pstart, pmid, pscale and guess one
+ * after the other (as the FMU's table holds them); q and p mu_fit's. */
+IFS_FLATTEN void ifs_mu_eval_held(const double *parts, const double *q, const double *p,
+                                  double mu, double *m)
+{
+    int o = IFS_MU_NSEG + 1;
+    int j = ifs_mu_part(parts + o, parts + (o + 3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[o + IFS_MU_NPART + 1 + j]) * parts[o + 2 * IFS_MU_NPART + 1 + j];
+    int seg = j / IFS_MU_SPLIT;
+    double x = (2.0 * mu - parts[seg] - parts[seg + 1]) / (parts[seg + 1] - parts[seg]);
+    int at = IFS_MU_HALF0 + IFS_RL + IFS_LD;
+    int tail = at + (IFS_MU_DEG + 1) * IFS_LD;
+    if (((int)(fabs(m[tail]))) != seg + 1) {
+        for (int k = 0; k < IFS_MU_DEG + 1; k++) {
+            ifs_gemv_cols(p + ((seg * (IFS_MU_DEG + 1) + k) * IFS_MU_NTAB + IFS_MU_NPHI),
+                          m + (IFS_MU_HALF0 + IFS_NX), m + (at + k * IFS_LD), IFS_LD,
+                          IFS_NU, IFS_LD);
+        }
+    }
+    m[tail] = ((double)(seg + 1));
+    m[tail + 1] = mu;
+    ifs_fhorner(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, m, IFS_MU_NPHI,
+                IFS_MU_HALF0);
+    ifs_fhorner(m + at, IFS_MU_DEG, x, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
+}
+
+#ifdef IFS_MU_FMA4
+/* mu_eval_held_fma: the same with the CPU's AVX2 and FMA (ifs_fhorner_fma; chosen at
+ * run time where the CPU has them) */
+__attribute__((target("avx2,fma")))
+IFS_FLATTEN void ifs_mu_eval_held_fma(const double *parts, const double *q,
+                                      const double *p, double mu, double *m)
+{
+    int o = IFS_MU_NSEG + 1;
+    int j = ifs_mu_part(parts + o, parts + (o + 3 * IFS_MU_NPART + 1), mu);
+    double y = (mu - parts[o + IFS_MU_NPART + 1 + j]) * parts[o + 2 * IFS_MU_NPART + 1 + j];
+    int seg = j / IFS_MU_SPLIT;
+    double x = (2.0 * mu - parts[seg] - parts[seg + 1]) / (parts[seg + 1] - parts[seg]);
+    int at = IFS_MU_HALF0 + IFS_RL + IFS_LD;
+    int tail = at + (IFS_MU_DEG + 1) * IFS_LD;
+    if (((int)(fabs(m[tail]))) != seg + 1) {
+        for (int k = 0; k < IFS_MU_DEG + 1; k++) {
+            ifs_gemv_cols(p + ((seg * (IFS_MU_DEG + 1) + k) * IFS_MU_NTAB + IFS_MU_NPHI),
+                          m + (IFS_MU_HALF0 + IFS_NX), m + (at + k * IFS_LD), IFS_LD,
+                          IFS_NU, IFS_LD);
+        }
+    }
+    m[tail] = ((double)(seg + 1));
+    m[tail + 1] = mu;
+    ifs_fhorner_fma(q + j * (IFS_MU_FDEG + 1) * IFS_MU_HALF0, IFS_MU_FDEG, y, m,
+                    IFS_MU_NPHI, IFS_MU_HALF0);
+    ifs_fhorner_fma(m + at, IFS_MU_DEG, x, m + (IFS_MU_HALF0 + IFS_RL), IFS_LD, IFS_LD);
 }
 #endif
 

@@ -135,6 +135,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
     n.rem_prev = 0.0;
     n.h_last = -1.0;
     n.g_ok = 0;           /* ... and the kept g = gam u (as ifs_mu_table_apply's) */
+    n.gq_seg = IFS_GQ_NONE;
     set_taylor(&n);
     *m = n;
     return 0;

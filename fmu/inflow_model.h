@@ -42,6 +42,16 @@ typedef struct {
     double x[IFS_RL];
     /* g = gam u, the inputs' part of the step, while g_ok (ifs_step_held) */
     double g[IFS_LD];
+    /* A mu change with the inputs held (the column step; ifs_mu_table_apply, with
+     * pg, x and g: ifs_mu_eval_held): the power coefficients of g = gam u on a
+     * segment of the mu table for the inputs held; gq_seg: s + 1, gq made for
+     * segment s and pg's gam columns not yet those at gam_mu, the last change's mu
+     * (g is; ifs_mu_table_gam brings them before anything reads them, and negates
+     * gq_seg); -(s + 1), gq made for s, gam as g; IFS_GQ_NONE (0): none made since
+     * the inputs were set; IFS_GQ_NEXT: none, the inputs held through a change;
+     * IFS_GQ_STALE: none (new inputs), gam stale */
+    double gq[(IFS_MU_DEG + 1) * IFS_LD];
+    double gq_seg, gam_mu, gq_pad_[2];
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
@@ -80,6 +90,16 @@ typedef struct {
     long long n_last;
     double rem_last;
 } IfsModel;
+#define IFS_GQ_NONE 0.0
+#define IFS_GQ_NEXT (-1.0 - IFS_MU_NSEG)
+#define IFS_GQ_STALE (2.0 + IFS_MU_NSEG)   /* gam stale, no gq (new inputs) */
+/* [phi gam], [x; u], g and gq one after the other (ifs_mu_eval_held's block) */
+typedef char ifs_held_block_is_contiguous[
+    offsetof(IfsModel, x) == IFS_PG_N * sizeof(double) &&
+    offsetof(IfsModel, g) == offsetof(IfsModel, x) + IFS_RL * sizeof(double) &&
+    offsetof(IfsModel, gq) == offsetof(IfsModel, g) + IFS_LD * sizeof(double) &&
+    offsetof(IfsModel, gq_seg) == offsetof(IfsModel, gq) + sizeof(((IfsModel *)0)->gq) &&
+    offsetof(IfsModel, gam_mu) == offsetof(IfsModel, gq_seg) + sizeof(double) ? 1 : -1];
 
 /* The discrete matrices tabulated in mu for one set of parameters (IfsMuTable,
  * inflow_numerics.h): a flight condition changing every step costs a polynomial
@@ -94,21 +114,41 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
  * m->pg, whose order the table's half 0 is stored in; with the CPU's fused
  * multiply-adds where it has them, t->fma, else the C library's fma: one rounding
  * each, the same numbers), and mark a, b and the loads stale (m->ab_stale): the step
- * at dt needs only [phi gam].  Inline: the FMI layers' set of mu calls it (a call
- * less per mu change). */
+ * at dt needs only [phi gam].  With the inputs held since the last mu change (g
+ * kept, g_ok, and gq_seg not IFS_GQ_NONE) and the step by columns,
+ * ifs_mu_eval_held: phi alone and the step's g = gam u from the segment's
+ * coefficients of gam u (gq, made once per segment), gam left stale (gq_seg > 0)
+ * until ifs_mu_table_gam (nine in ten of the column step's [phi gam] entries are
+ * gam's for six states).  Inline: the FMI layers' set of mu calls it (a call less
+ * per mu change). */
 static inline void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v,
                                       IfsModel *m)
 {
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
     m->ab_stale = 1;
-    m->g_ok = 0;           /* gam is new: the inputs' part g = gam u with it */
-#ifdef IFS_MU_FMA4
-    if (t->fma)
-        ifs_mu_eval_fma(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], v->mu, m->pg);
-    else
+#if IFS_COLUMN_STEP
+    if (m->g_ok && m->gq_seg != IFS_GQ_NONE) {
+        IFS_MU_CALL(t, ifs_mu_eval_held, t->edge, &t->q[0][0][0], &t->p[0][0][0], v->mu,
+                    m->pg);
+        return;
+    }
+    /* the inputs held through this change: ifs_mu_eval_held at the next */
+    m->gq_seg = m->g_ok ? IFS_GQ_NEXT : IFS_GQ_NONE;
 #endif
-        ifs_mu_eval(t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0], v->mu, m->pg);
+    m->g_ok = 0;           /* gam is new: the inputs' part g = gam u with it */
+    IFS_MU_CALL(t, ifs_mu_eval, t->pstart, t->pmid, t->pscale, t->guess, &t->q[0][0][0],
+                v->mu, m->pg);
+}
+/* gam at the mu of the last change (gam_mu) where ifs_mu_eval_held left it stale
+ * (gq_seg > 0; the table t valid: a table is dropped only with the matrices,
+ * ifs_build, which clears gq_seg), the same numbers as ifs_mu_eval's: before
+ * anything reads gam (a step after new inputs, the general step, a saved state). */
+static inline void ifs_mu_table_gam(const IfsMuTable *t, IfsModel *m)
+{
+    IFS_MU_CALL(t, ifs_mu_eval_range, t->pstart, &t->q[0][0][0], m->gam_mu, IFS_MU_NPHI,
+                IFS_MU_HALF0 - IFS_MU_NPHI, m->pg);
+    m->gq_seg = -m->gq_seg;
 }
 /* Bring a, b, the loads and the Taylor bounds up to date after ifs_mu_table_apply
  * (a remainder step or a load read needs them). */

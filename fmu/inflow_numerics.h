@@ -148,21 +148,22 @@ IFS_INLINE void ifs_horner(const double *p, int deg, const double *x, int nx, do
 #include <immintrin.h>
 #endif
 
-/* out[e] = sum_k q[k cols + e] y^k for e < cols, k = 0 .. deg: Horner's rule with
+/* out[e] = sum_k q[k ld + e] y^k for e < cols, k = 0 .. deg: Horner's rule with
  * fused multiply-adds (one rounding each: every path gives the same numbers), four
  * entries a vector (the table's [phi gam], cols a multiple of four, straight into
  * the model's matrix). */
-IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int cols)
+IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int cols,
+                            int ld)
 {
     int e, k;
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     if (cols % 4 == 0) {
         IFS_UNROLL
         for (e = 0; e < cols; e += 4) {
-            ifs_v4 acc = *(const ifs_v4 *)(q + deg * cols + e);
+            ifs_v4 acc = *(const ifs_v4 *)(q + deg * ld + e);
             IFS_UNROLL
             for (k = deg - 1; k >= 0; k--) {
-                const ifs_v4 c = *(const ifs_v4 *)(q + k * cols + e);
+                const ifs_v4 c = *(const ifs_v4 *)(q + k * ld + e);
                 acc = (ifs_v4){fma(acc[0], y, c[0]), fma(acc[1], y, c[1]),
                                fma(acc[2], y, c[2]), fma(acc[3], y, c[3])};
             }
@@ -172,28 +173,53 @@ IFS_INLINE void ifs_fhorner(const double *q, int deg, double y, double *out, int
     }
 #endif
     for (e = 0; e < cols; e++) {
-        double acc = q[deg * cols + e];
-        for (k = deg - 1; k >= 0; k--) acc = fma(acc, y, q[k * cols + e]);
+        double acc = q[deg * ld + e];
+        for (k = deg - 1; k >= 0; k--) acc = fma(acc, y, q[k * ld + e]);
         out[e] = acc;
+    }
+}
+/* y[r] = sum_c a[c lda + r] x[c] for r < rows (a by columns): the columns' multiples
+ * summed in order (no fused multiply-add: every path gives the same numbers), four
+ * rows a vector where rows is a multiple of four. */
+IFS_INLINE void ifs_gemv_cols(const double *a, const double *x, double *y, int rows, int cols,
+                              int lda)
+{
+    int r, c;
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    if (rows % 4 == 0) {
+        IFS_UNROLL
+        for (r = 0; r < rows; r += 4) {
+            ifs_v4 acc = *(const ifs_v4 *)(a + r) * x[0];
+            IFS_UNROLL
+            for (c = 1; c < cols; c++) acc += *(const ifs_v4 *)(a + c * lda + r) * x[c];
+            *(ifs_v4 *)(y + r) = acc;
+        }
+        return;
+    }
+#endif
+    for (r = 0; r < rows; r++) {
+        double acc = a[r] * x[0];
+        for (c = 1; c < cols; c++) acc += a[c * lda + r] * x[c];
+        y[r] = acc;
     }
 }
 #ifdef IFS_MU_FMA4
 /* ... the CPU's four fused multiply-adds at once (inside a function for AVX2 and FMA) */
 static inline __attribute__((target("avx2,fma"), always_inline)) void
-ifs_fhorner_fma(const double *q, int deg, double y, double *out, int cols)
+ifs_fhorner_fma(const double *q, int deg, double y, double *out, int cols, int ld)
 {
     const __m256d yv = _mm256_set1_pd(y);
     int e, k;
     if (cols % 4) {
-        ifs_fhorner(q, deg, y, out, cols);
+        ifs_fhorner(q, deg, y, out, cols, ld);
         return;
     }
     IFS_UNROLL
     for (e = 0; e < cols; e += 4) {
-        __m256d acc = _mm256_loadu_pd(q + deg * cols + e);
+        __m256d acc = _mm256_loadu_pd(q + deg * ld + e);
         IFS_UNROLL
         for (k = deg - 1; k >= 0; k--)
-            acc = _mm256_fmadd_pd(acc, yv, _mm256_loadu_pd(q + k * cols + e));
+            acc = _mm256_fmadd_pd(acc, yv, _mm256_loadu_pd(q + k * ld + e));
         _mm256_storeu_pd(out + e, acc);
     }
 }
@@ -269,6 +295,8 @@ void ifs_power_fit(int n, const double *ch, const double *tt, const double *f, i
  */
 #define IFS_MU_HALF ((IFS_NX * IFS_NA + 3) / 4 * 4)
 #define IFS_MU_HALF0 IFS_PG_N
+/* half 0's first entries, phi's columns in the column step (ifs_mu_eval_held) */
+#define IFS_MU_NPHI (IFS_NX * IFS_LD)
 #define IFS_MU_NTAB (IFS_MU_HALF0 + IFS_MU_HALF)
 #define IFS_MU_NPART (IFS_MU_NSEG * IFS_MU_SPLIT)
 typedef struct {
@@ -288,6 +316,12 @@ typedef struct {
     double guess[IFS_MU_NGUESS];
     double p[IFS_MU_NSEG][IFS_MU_DEG + 1][IFS_MU_NTAB];  /* power coefficients */
 } IfsMuTable;
+/* edge, pstart, pmid, pscale, guess one after the other (ifs_mu_eval_held's parts) */
+typedef char ifs_mu_parts_are_contiguous[
+    offsetof(IfsMuTable, pstart) == offsetof(IfsMuTable, edge) + (IFS_MU_NSEG + 1) * 8 &&
+    offsetof(IfsMuTable, pmid) == offsetof(IfsMuTable, pstart) + (IFS_MU_NPART + 1) * 8 &&
+    offsetof(IfsMuTable, pscale) == offsetof(IfsMuTable, pmid) + IFS_MU_NPART * 8 &&
+    offsetof(IfsMuTable, guess) == offsetof(IfsMuTable, pscale) + IFS_MU_NPART * 8 ? 1 : -1];
 
 /* The exact entries at mu (both halves, IFS_MU_NTAB values); 0, or -1 if there are
  * none there. */
@@ -327,6 +361,27 @@ void ifs_mu_eval(const double *pstart, const double *pmid, const double *pscale,
 #ifdef IFS_MU_FMA4
 void ifs_mu_eval_fma(const double *pstart, const double *pmid, const double *pscale,
                      const double *guess, const double *q, double mu, double *out);
+#endif
+/* A change of mu with the inputs held (the column step): in m, the model's [phi gam],
+ * [x; u], g, gq, gq_seg and gam_mu one after the other (IfsModel): phi, and g = gam
+ * u from gq, the power coefficients of gam u on the segment holding mu, made again
+ * where that is not the segment |gq_seg| - 1 (mu_eval_held; parts: the table's
+ * edge, pstart, pmid, pscale and guess one after the other, IfsMuTable).  Entries
+ * first .. first + size - 1 of ifs_mu_eval's into out's (mu_eval_range: gam when it
+ * is read; parts from pstart). */
+void ifs_mu_eval_held(const double *parts, const double *q, const double *p, double mu,
+                      double *m);
+void ifs_mu_eval_range(const double *parts, const double *q, double mu, int first, int size,
+                       double *out);
+#ifdef IFS_MU_FMA4
+void ifs_mu_eval_held_fma(const double *parts, const double *q, const double *p, double mu,
+                          double *m);
+void ifs_mu_eval_range_fma(const double *parts, const double *q, double mu, int first,
+                           int size, double *out);
+/* f (the arguments ...) with the CPU's AVX2 and FMA where t->fma (f_fma), else f */
+#define IFS_MU_CALL(t, f, ...) ((t)->fma ? f##_fma(__VA_ARGS__) : f(__VA_ARGS__))
+#else
+#define IFS_MU_CALL(t, f, ...) f(__VA_ARGS__)
 #endif
 void ifs_mu_eval_coarse(const double *edge, const double *pstart, const double *guess,
                         const double *p, double mu, int first, int size, double *out);

@@ -206,6 +206,17 @@ static int fresh_ab(IfsSlave *s)
     return 1;
 }
 
+void ifs_slave_fresh_gam(IfsSlave *s)
+{
+    if (s->tab && s->tab->state == 1) {
+        ifs_mu_table_gam(s->tab, &s->m);
+    } else {           /* (never: the table is dropped with the matrices) an exact build */
+        s->m.gq_seg = IFS_GQ_NONE;
+        s->dirty = 1;
+        s->fast_h = NAN;
+    }
+}
+
 /* --- reals --- */
 
 static int real_ok(const IfsRealVar *var, double x)
@@ -226,6 +237,18 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
     const volatile double *in = ifs_slave_inputs(s);
     double *z = s->m.x;
     int b;
+    /* g dropped (ifs_slave_drop_g) but gam, if stale, brought by the next step, the
+     * general one (slave_step): a call here would give the input frame a stack
+     * frame */
+    if (s->m.gq_seg != IFS_GQ_NONE) {
+        if (s->m.gq_seg > 0.0) {    /* gam stale: still, without gq */
+            s->fast_h = NAN;
+            s->m.gq_seg = IFS_GQ_STALE;
+        } else {
+            s->m.gq_seg = IFS_GQ_NONE;
+        }
+    }
+    s->m.g_ok = 0;
     IFS_UNROLL
     for (b = IFS_NX / 4; b < IFS_ZB; b++) {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
@@ -243,7 +266,6 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
             if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
 #endif
     }
-    s->m.g_ok = 0;
 }
 
 /* Why value x for value reference vr is refused. */
@@ -611,6 +633,9 @@ static void refresh_time(IfsSlave *s)
         while (n < LLONG_MAX && ends_in_time(s, n)) n++;
         s->n_stop = n;
     }
+    /* g dropped, so gam at once if stale (last: a call with nothing after it; gq,
+     * kept with the inputs, is dropped where they change, ifs_slave_drop_g) */
+    if (s->m.gq_seg > 0.0) ifs_slave_fresh_gam(s);
 }
 
 void ifs_slave_refresh(IfsSlave *s)
@@ -668,6 +693,7 @@ static int slave_step(IfsSlave *s, const IfsLog *lg, const char *fn, double t, d
                        "experiment's stop time %.17g s (fmi2SetupExperiment / "
                        "fmi3EnterInitializationMode)", fn, now, h,
                        s->t_stop - 1e-9 * (1.0 + fabs(s->t_stop)));
+    if (s->m.gq_seg > 0.0) ifs_slave_fresh_gam(s);    /* the steps read gam */
     if (s->dirty && rebuild(s, lg) != IFS_OK) return IFS_ERROR;
     /* whole internal steps are counted in a long long and taken one by one */
     if (h > IFS_MAX_STEPS_PER_CALL * s->m.dt)
@@ -850,6 +876,7 @@ int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **st
     memset(st->guid, 0, sizeof st->guid);
     strncpy(st->guid, IFS_GUID, sizeof st->guid - 1);
     st->s = *s;
+    if (st->s.m.gq_seg > 0.0) ifs_slave_fresh_gam(&st->s);   /* a state: all [phi gam] */
     *state = st;
     return IFS_OK;
 }

@@ -200,12 +200,24 @@ static inline const double *ifs_slave_inputs(const IfsSlave *s)
     return (const double *)((const char *)&s->v + offsetof(IfsVariables, theta0));
 }
 
+/* gam at the last mu where a mu change with the inputs held left it stale
+ * (IfsModel.gq_seg > 0, ifs_mu_table_apply), before the step's kept g = gam u is
+ * dropped (g_ok cleared) or anything else reads gam; the coefficients of gam u (gq)
+ * dropped with g.  Called where g_ok is cleared but by a mu change. */
+void ifs_slave_fresh_gam(IfsSlave *s);
+static inline void ifs_slave_drop_g(IfsSlave *s)
+{
+    if (s->m.gq_seg > 0.0) ifs_slave_fresh_gam(s);
+    s->m.gq_seg = IFS_GQ_NONE;
+    s->m.g_ok = 0;
+}
+
 /* The inputs held (theta0 .. muy) copied beside the state, where the step reads
  * them (IfsModel.x): after any change of the slave's inputs but one value's. */
 static inline void ifs_slave_hold_inputs(IfsSlave *s)
 {
+    ifs_slave_drop_g(s);
     memcpy(s->m.x + IFS_NX, ifs_slave_inputs(s), IFS_NU * sizeof(double));
-    s->m.g_ok = 0;
 }
 
 /* The state delayed by flap channel i's time shift. */

@@ -355,9 +355,10 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
     without clones it steps with the baseline code, and with IFS_SCALAR_STEP with the
     plain-C loop other compilers get.  All must agree bit for bit, on the loop's
     fast path (h = dt), on substeps with a remainder (h = 2.5 dt), with mu
-    changing every step (the mu table's evaluation is cloned for AVX2 too) and with
-    a step changing every frame (the Taylor remainder, over the whole remainder and
-    over its difference from the cached one)."""
+    changing every step (the mu table's evaluation is cloned for AVX2 too; with the
+    inputs held, gam u from the table's parts) and with a step changing every frame
+    (the Taylor remainder, over the whole remainder and over its difference from the
+    cached one)."""
     other = tmp_path / "unzipped"
     shutil.copytree(unzipped, other)
     compile_library(source_dir(), other / "binaries" / "linux64" / "inflowsim.so", flags)
@@ -385,6 +386,11 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
             t0 += h
             y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
         for k in range(20):                # the inputs held: the step keeps gam u
+            s.doStep(t0, DT)
+            t0 += DT
+            y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
+        for k in range(40):                # ... and mu alone: gam u from the table
+            set_reals(s, [VR["mu"]], [0.3 + 0.01 * np.sin(0.2 * k)])   # parts' gq
             s.doStep(t0, DT)
             t0 += DT
             y_mu.append(get_reals(s, [VR[n] for n in OUTPUTS]))
@@ -1161,6 +1167,111 @@ def test_a_new_mu_with_the_inputs_held_steps_with_its_own_gam(unzipped, guid):
         worst = max(worst, np.abs(np.array(s.getReal(outs)) - sim.outputs()).max())
         peak = max(peak, np.abs(sim.outputs()).max())
     s.freeInstance()
+    assert peak > 1e-4 and worst < 1e-10 * peak
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_mu_alone_across_the_tables_parts_with_the_inputs_held(version, unzipped, unzipped3,
+                                                                guid):
+    """The inputs set once, then mu alone every step across some sixty of the
+    table's parts, back and forth (the step's ``gam u`` from the part's power
+    coefficients of it, made again at each new part; ``gam`` itself evaluated only
+    when read: issue #38), with new inputs in between, set before and after mu, and
+    held again: the FMU equals the Simulator to 1e-10 throughout."""
+    m = model_of("glauert")
+    s = (open_fmu(unzipped, guid, start_values(m)) if version == 2
+         else open_fmu3(unzipped3, guid, start_values(m)))
+    sim = Simulator(m, DT)
+    ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
+    u = np.zeros(len(ALL_INPUTS))
+    worst = peak = 0.0
+    for k in range(300):
+        # (51 and 157: after mu, where mu turns, so that mu stays in one part)
+        new = k in (0, 51, 90, 157) or 230 <= k < 240
+        if new:
+            u[ALL_INPUTS.index("theta1s")] = 0.02 * math.cos(0.05 * k)
+            u[ALL_INPUTS.index("theta0")] = 0.01 + 0.005 * math.sin(0.07 * k)
+            u[ALL_INPUTS.index("q")] = 0.01 * math.sin(0.03 * k)
+        if new and k % 2 == 0:
+            set_reals(s, ins, u)
+        mu = 0.3 + 0.03 * math.sin(0.03 * k)          # parts of 0.0009 here
+        set_reals(s, [VR["mu"]], [mu])
+        sim.set_mu(mu)
+        if new and k % 2 == 1:                        # the inputs after mu
+            set_reals(s, ins, u)
+        s.doStep(k * DT, DT)
+        sim.step(u[:sim.m])
+        worst = max(worst, np.abs(np.array(get_reals(s, outs)) - sim.outputs()).max())
+        peak = max(peak, np.abs(sim.outputs()).max())
+    s.freeInstance()
+    assert peak > 1e-3 and worst < 1e-10 * peak
+
+
+def test_what_reads_gam_after_mu_changes_with_the_inputs_held(unzipped, guid):
+    """After mu alone changes with the inputs held (the step's g from the table part's
+    coefficients of gam u, gam itself left until read): the loads and their
+    directional derivatives are those of the new mu, a step of two internal steps
+    (the general step, whose steps read gam) and new inputs step as the Simulator,
+    from a saved state restored too (the state holds the whole [phi gam])."""
+    from inflowsim.model.loads import load_matrices
+    m = model_of("glauert")
+    s = open_fmu(unzipped, guid, start_values(m))
+    sim = Simulator(m, DT)
+    ins, outs, lvr = ([VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS],
+                      [VR[n] for n in LOADS])
+    u = np.zeros(len(ALL_INPUTS))
+    u[ALL_INPUTS.index("theta1s")] = 0.02
+    u[ALL_INPUTS.index("theta0")] = 0.01
+    s.setReal(ins, list(u))
+    t, peak, worst = 0.0, 0.0, 0.0
+
+    def mu_alone(n, k0):
+        nonlocal t, worst, peak
+        for k in range(k0, k0 + n):
+            mu = 0.3 + 0.02 * math.sin(0.1 * k)
+            s.setReal([VR["mu"]], [mu])
+            sim.set_mu(mu)
+            s.doStep(t, DT)
+            t += DT
+            sim.step(u[:sim.m])
+            worst = max(worst, np.abs(np.array(s.getReal(outs)) - sim.outputs()).max())
+            peak = max(peak, np.abs(sim.outputs()).max())
+        return mu
+
+    mu = mu_alone(12, 0)
+    lm = load_matrices(m.with_mu(mu))
+    want = lm(sim.state, u[:sim.m])
+    assert np.abs(np.array(s.getReal(lvr)) - want).max() <= 1e-10 * np.abs(want).max()
+    seed = np.linspace(0.5, 1.5, len(ins))
+    want = lm(np.zeros(sim.n), seed[:sim.m])          # the loads are linear in u
+    got = np.array(s.getDirectionalDerivative(lvr, ins, list(seed)))
+    assert np.abs(got - want).max() <= 1e-10 * np.abs(want).max()
+    mu_alone(6, 12)
+    s.doStep(t, 2 * DT)                                # two internal steps at once
+    t += 2 * DT
+    for _ in range(2):
+        sim.step(u[:sim.m])
+    worst = max(worst, np.abs(np.array(s.getReal(outs)) - sim.outputs()).max())
+    mu_alone(6, 18)
+    saved = s.getFMUstate()
+    x_saved = sim.state.copy()
+    v = u.copy()
+    v[ALL_INPUTS.index("theta1c")] = 0.015
+    runs = []
+    for run in range(2):
+        s.setReal(ins, list(v))
+        y = []
+        for k in range(5):
+            s.doStep(t + k * DT, DT)
+            sim.step(v[:sim.m])
+            y.append(s.getReal(outs))
+            worst = max(worst, np.abs(np.array(y[-1]) - sim.outputs()).max())
+        runs.append(np.array(y))
+        s.setFMUstate(saved)
+        sim.reset(x_saved)
+    s.freeFMUstate(saved)
+    s.freeInstance()
+    assert np.array_equal(runs[0], runs[1])
     assert peak > 1e-4 and worst < 1e-10 * peak
 
 

@@ -19,6 +19,8 @@ from inflowsim.simulate.discrete import TaylorZoh
 NA = 16          # the presets' FMU (fmu/inflow_vars.h): 6 states and 10 inputs
 NTAB, HALF0 = 224, 128  # its mu table's entries, and those of [phi gam] (inflow_numerics.h:
 #                          IFS_PG_N, by columns of 8)
+LD, NU, NPHI, RL = 8, 10, 48, 16  # a column's length, the inputs, phi's entries
+#                                  (IFS_MU_NPHI), [x; u]'s length (IFS_RL)
 ENTRIES = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
                            ctypes.POINTER(ctypes.c_double))
 
@@ -50,8 +52,12 @@ def lib(tmp_path_factory):
     lib.ifs_mu_part.argtypes, lib.ifs_mu_part.restype = (p, p, d), i
     lib.ifs_mu_eval.argtypes = (p, p, p, p, p, d, p)
     lib.ifs_mu_eval_coarse.argtypes = (p, p, p, p, d, i, i, p)
+    lib.ifs_mu_eval_held.argtypes = (p, p, p, d, p)
+    lib.ifs_mu_eval_range.argtypes = (p, p, d, i, i, p)
     if hasattr(lib, "ifs_mu_eval_fma"):
         lib.ifs_mu_eval_fma.argtypes = (p, p, p, p, p, d, p)
+        lib.ifs_mu_eval_held_fma.argtypes = lib.ifs_mu_eval_held.argtypes
+        lib.ifs_mu_eval_range_fma.argtypes = lib.ifs_mu_eval_range.argtypes
     return lib
 
 
@@ -197,6 +203,53 @@ def test_python_and_generated_c_agree(lib):
         if fma:
             lib.ifs_mu_eval_fma(*map(_p, parts), _p(cq), mu, _p(cf))
             assert np.array_equal(c, cf)
+        # a mu change with the inputs held: phi alone (mu_eval's numbers) and g = gam
+        # u from the segment's power coefficients of gam u (made for the segment, then
+        # kept), gam when it is read (mu_eval_range: mu_eval's numbers); the model's
+        # block [phi gam], [x; u], g, gq, its segment plus one and mu; the table's
+        # segment ends and parts one after the other
+        u = rng.normal(size=NU) * (rng.uniform(size=NU) > 0.2)
+        gam = c[NPHI:].reshape(NU, LD).T
+        gu = np.max(np.abs(gam) @ np.abs(u))
+        coarse = np.zeros(HALF0 - NPHI)      # gam of the segment's polynomials
+        lib.ifs_mu_eval_coarse(_p(edge), _p(pstart), _p(guess), _p(cp), mu, NPHI,
+                               HALF0 - NPHI, _p(coarse))
+        coarse = coarse.reshape(NU, LD).T
+        block = np.concatenate([edge, *parts])
+        seg = j // mutable.SPLIT
+        at = HALF0 + RL + LD
+        tail = at + (mutable.DEGREE + 1) * LD
+        for make in ((True, False) if fma else (False,)):
+            held, rng_ = ((lib.ifs_mu_eval_held_fma, lib.ifs_mu_eval_range_fma) if make
+                          else (lib.ifs_mu_eval_held, lib.ifs_mu_eval_range))
+            cm = np.full(tail + 4, 7.0)
+            cm[HALF0 + 6:HALF0 + 6 + NU] = u
+            cm[tail] = -1.0 - nseg          # none made
+            held(_p(block), _p(cq), _p(cp), mu, _p(cm))
+            assert cm[tail] == seg + 1 and cm[tail + 1] == mu
+            assert np.array_equal(cm[:NPHI], c[:NPHI]) and np.all(cm[NPHI:HALF0] == 7.0)
+            g = cm[HALF0 + RL:at].copy()
+            assert np.max(np.abs(g - coarse @ u)) <= 1e-14 * gu
+            assert np.max(np.abs(g - gam @ u)) <= 1e-10 * gu
+            cm[at] += 1.0                   # gq kept for the segment: so 1 more in g_0
+            for state in (seg + 1, -seg - 1):    # (negative: gam evaluated since)
+                cm[tail] = state
+                held(_p(block), _p(cq), _p(cp), mu, _p(cm))
+                assert cm[tail] == seg + 1 and abs(cm[HALF0 + RL] - 1.0 - g[0]) <= 1e-13 * gu
+            cm[at] -= 1.0
+            ch = cm[:HALF0].copy()
+            rng_(_p(block[nseg + 1:]), _p(cq), mu, NPHI, HALF0 - NPHI, _p(ch))
+            assert np.array_equal(ch, c)
+        pm = np.full(tail + 4, 7.0)
+        pm[HALF0 + 6:HALF0 + 6 + NU] = u
+        pm[tail] = 0.0
+        alg.mu_eval_held(block, pq, pp.ravel(), mu, pm, nseg, *table, mutable.SPLIT,
+                         mutable.DEGREE, mutable.FINE_DEGREE, HALF0, NTAB, NPHI, LD, 6, NU, RL)
+        held(_p(block), _p(cq), _p(cp), mu, _p(cm))
+        assert np.max(np.abs(pm[:tail + 2] - cm[:tail + 2])) <= 1e-12 * np.max(np.abs(cm))
+        alg.mu_eval_range(block[nseg + 1:], pq, mu, NPHI, HALF0 - NPHI, pm, *table,
+                          mutable.FINE_DEGREE, HALF0)
+        assert np.max(np.abs(pm[:HALF0] - c)) <= 1e-12 * np.max(np.abs(c))
         py, c = np.zeros(NTAB - HALF0), np.zeros(NTAB - HALF0)
         alg.mu_eval_coarse(edge, pstart, guess, pp, mu, HALF0, NTAB - HALF0, py, *table,
                            mutable.SPLIT, mutable.DEGREE, NTAB)

@@ -47,7 +47,7 @@ _TYPES = {"int": "int", "float": "double", "Vec": "double *", "CVec": "const dou
 #: the primitives' C result types (``void`` where none)
 _PRIMITIVES = {"copy": "void", "scale": "void", "axpy": "void", "matmul": "void",
                "norm1": "double", "lu_solve": "int", "gemm": "void",
-               "horner": "void", "fhorner": "void", "absmax": "double",
+               "horner": "void", "fhorner": "void", "gemv_cols": "void", "absmax": "double",
                "absdiffmax": "double", "taylor_first": "void", "taylor_term": "void"}
 
 

@@ -27,7 +27,9 @@ matrix exponential (:func:`expm`, Pade [13/13] with scaling and squaring) and th
 (:func:`mu_fit`; the interpolation matrices :func:`cheb_matrices`,
 :func:`power_fit`), check (:func:`mu_check`), part search (:func:`mu_parts`,
 :func:`mu_part`) and evaluation (:func:`mu_eval`, the parts: what a change of
-``mu`` reads; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
+``mu`` reads; the FMU's with its inputs held, :func:`mu_eval_held`: ``phi``, and
+``gam u`` from the segment's power coefficients of ``gam u``, ``gam`` itself when
+read, :func:`mu_eval_range`; :func:`mu_eval_coarse`, the segments' ``[a b]`` the FMU reads
 rarely).  Each side's own are the primitives only; in the step's hot path
 ``P.fhorner`` (here one dot product of the powers, in C Horner's rule with fused
 multiply-adds, its AVX2 variant :data:`FMA4`) and the Taylor step's matrix-vector
@@ -215,9 +217,10 @@ class P:
         _rows(out, nx, cols, ldo)[:] = acc
 
     @staticmethod
-    def fhorner(q: np.ndarray, deg: int, y: float, out: np.ndarray, cols: int) -> None:
+    def fhorner(q: np.ndarray, deg: int, y: float, out: np.ndarray, cols: int,
+                ld: int) -> None:
         """``out[e] = sum_k q[k, e] y^k`` for ``e < cols`` (rows ``k = 0 .. deg`` of
-        ``q``, ``cols`` apart): in C Horner's rule with fused multiply-adds, four
+        ``q``, ``ld`` apart): in C Horner's rule with fused multiply-adds, four
         entries a vector; here the powers of ``y`` times ``q`` in one dot product
         (a fifth of the cost of Horner's rule in NumPy)."""
         pw = [1.0, y]
@@ -225,7 +228,17 @@ class P:
             pw.append(pw[-1] * y)
         powers, pack, buf = _powers_buffer(deg)
         pack(buf, 0, *pw[:deg + 1])
-        powers.dot(q[:(deg + 1) * cols].reshape(deg + 1, cols), out=out[:cols])
+        rows = (q[:(deg + 1) * cols].reshape(deg + 1, cols) if ld == cols
+                else _rows(q, deg + 1, cols, ld))
+        powers.dot(rows, out=out[:cols])
+
+    @staticmethod
+    def gemv_cols(a: np.ndarray, x: np.ndarray, y: np.ndarray, rows: int, cols: int,
+                  lda: int) -> None:
+        """``y[r] = sum_c a[c lda + r] x[c]`` for ``r < rows``: ``a`` by columns (``cols``
+        of them, ``lda`` apart; the step's ``gam u``).  In C the columns' multiples
+        summed in order, four rows a vector."""
+        y[:rows] = _rows(a, cols, rows, lda).T @ x[:cols]
 
     @staticmethod
     def taylor_first(ab: np.ndarray, z: np.ndarray, r: float, w: np.ndarray, n: int,
@@ -567,7 +580,69 @@ def mu_eval(pstart: CVec, pmid: CVec, pscale: CVec, guess: CVec, q: CVec, mu: fl
     :meth:`~inflowsim.simulate.simulator.Simulator.set_mu`, the FMU's ``[phi gam]``."""
     j: int = mu_part(pstart, guess, mu, npart, nguess, lo, hi)
     y: float = (mu - pmid[j]) * pscale[j]
-    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, out, cols)
+    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, out, cols, cols)
+
+
+@algorithm("ifs_mu_eval_range", sizes={**_PARTS, "fdeg": "IFS_MU_FDEG", "cols": "IFS_MU_HALF0"},
+           variants=(FMA4,), attributes=("IFS_FLATTEN",))
+def mu_eval_range(parts: CVec, q: CVec, mu: float, first: int, size: int, out: Vec,
+                  npart: int, nguess: int, lo: float, hi: float, fdeg: int,
+                  cols: int) -> None:
+    """Entries ``first .. first + size - 1`` of :func:`mu_eval`'s at ``mu`` into the
+    same entries of ``out``, the same numbers (the same part, ``y`` and Horner's
+    rule); ``parts`` :func:`mu_parts`' ``pstart``, ``pmid``, ``pscale`` and ``guess``
+    one after the other (as the FMU's table holds them).  The FMU's ``gam`` after
+    :func:`mu_eval_held` left it out."""
+    j: int = mu_part(parts, parts[3 * npart + 1:], mu, npart, nguess, lo, hi)
+    y: float = (mu - parts[npart + 1 + j]) * parts[2 * npart + 1 + j]
+    P.fhorner(q[j * (fdeg + 1) * cols + first:], fdeg, y, out[first:], size, cols)
+
+
+@algorithm("ifs_mu_eval_held", sizes={**_PARTS, "nseg": "IFS_MU_NSEG", "split": "IFS_MU_SPLIT",
+                                      "deg": "IFS_MU_DEG", "fdeg": "IFS_MU_FDEG",
+                                      "cols": "IFS_MU_HALF0", "ntab": "IFS_MU_NTAB",
+                                      "nphi": "IFS_MU_NPHI", "ng": "IFS_LD", "nx": "IFS_NX",
+                                      "nu": "IFS_NU", "rl": "IFS_RL"},
+           variants=(FMA4,), attributes=("IFS_FLATTEN",))
+def mu_eval_held(parts: CVec, q: CVec, p: CVec, mu: float, m: Vec, nseg: int, npart: int,
+                 nguess: int, lo: float, hi: float, split: int, deg: int, fdeg: int,
+                 cols: int, ntab: int, nphi: int, ng: int, nx: int, nu: int,
+                 rl: int) -> None:
+    """A change of ``mu`` with the inputs held, the FMU's step by columns.  ``m``
+    holds, one after the other, the model's ``[phi gam]`` (``cols`` entries by
+    columns of ``ng``: ``phi`` the first ``nphi``, then ``gam``'s ``nu`` columns, as
+    the step reads them), ``[x; u]`` (``rl``: ``u`` from ``nx``), ``g = gam u``
+    (``ng``), ``gq`` (``deg + 1`` rows of ``ng``), then the segment ``gq`` was made
+    for plus one (a float, as :func:`mu_parts`' ``guess``; its sign aside: 0 none)
+    and the ``mu`` of the change; ``parts``: the segment ends, then
+    :func:`mu_parts`' ``pstart``, ``pmid``, ``pscale`` and ``guess`` one after the
+    other (as the FMU's table holds them); ``q`` and ``p`` :func:`mu_fit`'s.
+
+    ``phi`` at ``mu`` from the part's polynomials (:func:`mu_eval`'s numbers), and
+    ``g`` from ``gq``, the power coefficients of ``gam u`` on the segment holding
+    ``mu`` (``gq_k = P_k u``, ``P_k`` the segment's coefficients of ``gam``, made
+    again where ``mu`` left the segment ``gq`` was made for: ``(deg + 1) nu`` column
+    multiples once per segment); ``gam`` itself left out (:func:`mu_eval_range`
+    evaluates it when it is read).  A change costs three multiply-adds for each entry
+    of ``phi`` and ``deg`` for each of ``g`` instead of three for each of ``[phi
+    gam]``, and the next step no ``gam u``.  ``g`` differs from ``gam(mu) u`` by the
+    segment's polynomial against the part's (``mutable``: 1e-13 of the largest
+    entry) and rounding."""
+    o: int = nseg + 1                        # pstart in parts
+    j: int = mu_part(parts[o:], parts[o + 3 * npart + 1:], mu, npart, nguess, lo, hi)
+    y: float = (mu - parts[o + npart + 1 + j]) * parts[o + 2 * npart + 1 + j]
+    seg: int = j // split
+    x: float = (2.0 * mu - parts[seg] - parts[seg + 1]) / (parts[seg + 1] - parts[seg])
+    at: int = cols + rl + ng                 # gq in m
+    tail: int = at + (deg + 1) * ng          # its segment plus one, the mu
+    if int(math.fabs(m[tail])) != seg + 1:
+        for k in range(deg + 1):
+            P.gemv_cols(p[(seg * (deg + 1) + k) * ntab + nphi:], m[cols + nx:], m[at + k * ng:],
+                        ng, nu, ng)
+    m[tail] = float(seg + 1)
+    m[tail + 1] = mu
+    P.fhorner(q[j * (fdeg + 1) * cols:], fdeg, y, m, nphi, cols)
+    P.fhorner(m[at:], deg, x, m[cols + rl:], ng, ng)
 
 
 @algorithm("ifs_mu_eval_coarse", sizes={**_PARTS, "split": "IFS_MU_SPLIT", "deg": "IFS_MU_DEG",
@@ -617,4 +692,5 @@ __all__ = ["TAYLOR_TOL", "TAYLOR_MAX_TERMS", "PADE13", "EXPM_NORM", "C_MACROS", 
            "VARIANTS", "ATTRIBUTES", "Variant", "FMA4", "algorithm", "Vec", "CVec", "Entries", "Ctx", "P",
            "taylor_prepare",
            "taylor_count", "taylor_step", "expm", "cheb_matrices", "power_fit", "mu_edges",
-           "mu_fit", "mu_parts", "mu_part", "mu_eval", "mu_eval_coarse", "mu_check"]
+           "mu_fit", "mu_parts", "mu_part", "mu_eval", "mu_eval_range", "mu_eval_held",
+           "mu_eval_coarse", "mu_check"]
