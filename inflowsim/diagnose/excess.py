@@ -109,33 +109,45 @@ def judge(records, band_hz, base_fit, base_analyses, rule: Rule = DEFAULT_RULE):
     rule : Rule
         The settings (:class:`~inflowsim.diagnose.rule.Rule`).
     """
-    if any(k >= rule.coloured for ra in base_analyses for k in ra.in_band_over_floor):
-        # the floor is far below the noise: measure without it
+    coloured = any(k >= rule.coloured for ra in base_analyses
+                   for k in ra.in_band_over_floor)
+    if coloured or rule.input_view:
         bases = [smooth_input_basis(ra, rule) for ra in base_analyses]
         levels = [noise_levels(ra, Q) for ra, Q in zip(base_analyses, bases)]
-
-        def measure(analyses):
-            return {"deviance": sum(input_excess(ra, Q, lv) for ra, Q, lv
-                                    in zip(analyses, bases, levels)), "structure": 0.0}
-        base = measure(base_analyses)
         # what the fit took from the noise: its parameters (shared by the records)
         # and each record's end-effect nuisance
         fitted = [len(base_fit.free) / len(base_fit.data) + np.size(d.nu)
                   for d in base_fit.data]
-        base["white_deviance"] = sum(expected_for_noise(ra.f_hz.size, Q.shape[1], n)
-                                     for ra, Q, n in zip(base_analyses, bases, fitted))
+
+        def excess(analyses):
+            return sum(input_excess(ra, Q, lv) for ra, Q, lv
+                       in zip(analyses, bases, levels))
+        input_noise = sum(expected_for_noise(ra.f_hz.size, Q.shape[1], n)
+                          for ra, Q, n in zip(base_analyses, bases, fitted))
+    if coloured:
+        # the floor is far below the noise: measure without it
+        def measure(analyses):
+            return {"deviance": excess(analyses), "structure": 0.0}
+        base = measure(base_analyses)
+        base["white_deviance"] = input_noise
         base["measure"] = "input-correlated excess"
     else:
         deviance, white, label = FLOOR_MEASURES[rule.white_measure]
         floors = [ra.floor for ra in base_analyses]
 
         def measure(analyses):
-            return {"deviance": sum(deviance(ra, fl) for ra, fl in zip(analyses, floors)),
-                    "structure": sum(structure_statistic(ra, fl, rule.max_lag)
-                                     for ra, fl in zip(analyses, floors))}
+            out = {"deviance": sum(deviance(ra, fl) for ra, fl in zip(analyses, floors)),
+                   "structure": sum(structure_statistic(ra, fl, rule.max_lag)
+                                    for ra, fl in zip(analyses, floors))}
+            if rule.input_view:
+                # the second view: the same residual's input-correlated excess
+                out["input"] = excess(analyses)
+            return out
         base = measure(base_analyses)
         base["white_deviance"] = sum(white(ra) for ra in base_analyses)
         base["measure"] = label
+        if rule.input_view:
+            base["input_noise"] = input_noise
     cache = {id(base_fit): base}
 
     def judged(fit):
