@@ -119,6 +119,9 @@ def describe(row: Scored, decision: Decision) -> str:
         if "whiter" in failed:
             words.append(f"does not move the residual toward the noise ({row.measure} "
                          f"{row.excess_before:.1f} -> {row.excess_after:.1f})")
+        if {"material", "whiter"} & set(failed) and row.input_share is not None:
+            words.append(f"nor its input-correlated excess, {row.input_before:.1f} -> "
+                         f"{row.input_after:.1f} ({row.input_noise:.1f} for noise)")
     return "; ".join(words) + _held_words(row)
 
 
