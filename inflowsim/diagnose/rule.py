@@ -394,9 +394,11 @@ class Scored:
     def takes_input(self, rule: Rule = DEFAULT_RULE) -> bool:
         """The second view passes line 4's two tests: the base residual's
         input-correlated excess is above noise's, this structure removes at least
-        ``rule.material`` of it, and lowers it."""
+        ``rule.material`` of it, and lowers it (never where ``rule.input_view`` is
+        false: a stored table decided again without the second view)."""
         share = self.input_share
-        return (share is not None and self.input_before > self.input_noise
+        return (rule.input_view and share is not None
+                and self.input_before > self.input_noise
                 and share >= rule.material and self.input_after < self.input_before)
 
     def failed(self, rule: Rule = DEFAULT_RULE) -> tuple:
