@@ -8,7 +8,6 @@ fitting the lag took it below, so the level deviance rose.  Checked here on rows
 made by hand (the rule's logic), on synthetic residuals (numpy's generator: why the
 level cannot see a small error that the input-correlated excess sees), and, slow,
 on the hingeless lag records and their lag-free twins."""
-from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -114,9 +113,9 @@ def test_a_small_response_error_shows_in_its_input_correlated_part_not_its_level
 @pytest.mark.parametrize("seed", range(5))
 def test_the_hingeless_lag_is_named_and_its_lag_free_twin_names_nothing(tmp_path, seed):
     """``bench/rotor-physics.md``'s done-when, hingeless case (two-axis doublets,
-    white noise, 128 Hz, 30 s, ``mu`` 0.2): the lag is named first on every seed;
-    where the level deviance alone refuses it (seeds 1, 2, 4 at 02f9626) the
-    input-correlated part passes it.  The same record without the lag (the truth
+    white noise, 128 Hz, 30 s, ``mu`` 0.2): the lag is named first on every seed,
+    and its input-correlated part passes it (the level deviance alone refused it
+    on seeds 1, 2 and 4).  The same record without the lag (the truth
     ``glauert``): nothing is named, in either view."""
     from test_lead_lag_records import _record
     from inflowsim.diagnose import diagnose
@@ -127,9 +126,9 @@ def test_the_hingeless_lag_is_named_and_its_lag_free_twin_names_nothing(tmp_path
     assert d.missing_effect == "lead-lag", (seed, d.missing_effect)
     row = d.decision.chosen
     assert row.atoms == ("lead-lag (k_flap_lag)",) and row.failed() == ()
-    assert row.input_before > row.input_noise and row.input_after < row.input_before
-    level_alone = replace(row, input_before=None, input_after=None, input_noise=None)
-    assert row.takes_input() or not level_alone.failed()
+    # the lag takes most of the input-correlated excess (measured 0.74-1.34 of it
+    # over the noise's mean on seeds 0-4)
+    assert row.takes_input() and row.input_share > 0.5, row.input_share
     twin, _ = _record(tmp_path / "twin.csv", "glauert", "hingeless", "two-axis", 128,
                       None, seed)
     n = diagnose(twin, "glauert", pool=offered_effects())
