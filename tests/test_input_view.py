@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from inflowsim.diagnose.candidates import describe
-from inflowsim.diagnose.excess import (expected_for_noise, input_excess, noise_levels,
+from inflowsim.diagnose.excess import (input_excess, noise_levels,
                                        smooth_input_basis)
 from inflowsim.diagnose.failures import level_deviance, white_level_deviance
 from inflowsim.diagnose.rule import DEFAULT_RULE, Rule, Scored, decide
