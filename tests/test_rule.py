@@ -136,8 +136,10 @@ def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed
         c = d.chosen
         level = (c.share >= rule.material and c.excess_before > c.excess_noise
                  and c.excess_after < c.excess_before)
+        tried = sum(1 for r in rows if len(r.atoms) == 1 and r.error is None)
         inputs = c.input_before is not None and (
-            c.input_before > c.input_noise and c.input_after < c.input_before
+            all(lp < math.log10(rule.alpha / max(tried, 1)) for _, lp in c.beside)
+            and c.input_before > c.input_noise and c.input_after < c.input_before
             and (c.input_before - c.input_after) / (c.input_before - c.input_noise)
             >= rule.material)
         line4 = c.schwarz_gain > rule.schwarz_min and (level or inputs)

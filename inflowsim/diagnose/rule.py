@@ -58,8 +58,14 @@ What the terms mean, and why:
   record a structure passes both tests where either view passes both
   (``Rule.input_view``); on a record whose sensor noise is coloured (``Rule.coloured``
   times the floor or more) the floor says little and only the input-correlated part
-  is seen.  The level alone refused the lead-lag on three hingeless records (its
-  likelihood-ratio statistic 20-54): there the base residual's level is at the
+  is seen.  The second view is taken only by a structure whose every atom is
+  significant at ``alpha`` divided by the atoms tried alone on the lattice
+  (Bonferroni): where the level shows nothing to explain, the best of ``m`` atoms
+  passes ``alpha`` by chance ``m`` times as often (a null record's delay, p =
+  1.6e-4 of nine atoms, its level at the noise, its input-correlated excess 46.4
+  -> 40.9 against 37.8 for noise, was named without it).  The level alone refused
+  the lead-lag on three hingeless records (its likelihood-ratio statistic 20-54,
+  p 6e-6 and less, eight atoms tried): there the base residual's level is at the
   floor in every channel, 0.72-1.30 of it, and a level over 41 bins scatters by 16 %
   a channel, as much as the lag moves it; fitting the lag lowers it further and the
   level deviance rose.  Its input-correlated part, 43-70 against 31 for noise, the
@@ -158,9 +164,10 @@ class Rule:
         per-bin deviance (kept for studies).
     input_view : bool
         On a white-noise record the excess is also seen in its input-correlated
-        part (:mod:`.excess`): a structure that takes at least ``material`` of it
-        and lowers it passes line 4's two tests though the level deviance does not
-        fall; ``False``: the level alone.  The level resolves an error spread over
+        part (:mod:`.excess`): a structure whose atoms are each significant at
+        ``alpha`` over the atoms tried (Bonferroni) and that takes at least
+        ``material`` of that part and lowers it passes line 4's two tests though
+        the level deviance does not fall; ``False``: the level alone.  The level resolves an error spread over
         the band (the 2/rev flap raising ``beta1c``'s power 1.9 times); on the
         hingeless rotor's lag records (``bench/rotor-physics.md``) the lag's
         statistic is 20-54 while the base residual's level is 0.72-1.30 of the floor
@@ -363,6 +370,8 @@ class Scored:
     input_before: float | None = None
     input_after: float | None = None
     input_noise: float | None = None
+    #: atoms fitted alone on its lattice (set by :func:`admissible`; 0: not counted)
+    tried: int = field(compare=False, default=0)
     error: str | None = None
     fit: object = field(repr=False, compare=False, default=None)
     #: the fit's cost ``J`` per frequency bin where given (not in the JSON)
@@ -392,12 +401,16 @@ class Scored:
         return (self.input_before - self.input_after) / room if room > 0 else 0.0
 
     def takes_input(self, rule: Rule = DEFAULT_RULE) -> bool:
-        """The second view passes line 4's two tests: the base residual's
-        input-correlated excess is above noise's, this structure removes at least
-        ``rule.material`` of it, and lowers it (never where ``rule.input_view`` is
-        false: a stored table decided again without the second view)."""
+        """The second view passes line 4's two tests: each atom is significant at
+        ``rule.alpha`` over the atoms tried (:attr:`tried`, Bonferroni), the base
+        residual's input-correlated excess is above noise's, this structure removes
+        at least ``rule.material`` of it, and lowers it (never where
+        ``rule.input_view`` is false: a stored table decided again without the
+        second view)."""
         share = self.input_share
-        return (rule.input_view and share is not None
+        lim = math.log10(rule.alpha / max(self.tried, 1))
+        return (rule.input_view and share is not None and bool(self.beside)
+                and all(lp < lim for _, lp in self.beside)
                 and self.input_before > self.input_noise
                 and share >= rule.material and self.input_after < self.input_before)
 
@@ -468,6 +481,7 @@ class Scored:
                 "excess_before": self.excess_before, "excess_after": self.excess_after,
                 "excess_of_noise": self.excess_noise,
                 "input_correlated": None if self.input_before is None else {
+                    "atoms_tried": self.tried,
                     "excess_before": self.input_before,
                     "excess_after": self.input_after,
                     "excess_of_noise": self.input_noise,
@@ -1019,15 +1033,17 @@ def admissible(rows, rule: Rule = DEFAULT_RULE) -> tuple:
             if b is not None:
                 out.append((a, b))
         return tuple(out)
-    return tuple(replace(r, explained_by=explained(r)) for r in rows)
+    tried = sum(1 for r in rows if len(r.atoms) == 1 and r.error is None)
+    return tuple(replace(r, explained_by=explained(r), tried=tried) for r in rows)
 
 
 # -- 4. Accepted ------------------------------------------------------------------------
 def accepted(rows, rule: Rule = DEFAULT_RULE) -> Decision:
     """**Accepted.** The admissible structure of largest ``G``, when ``G > schwarz_min`` and
     it takes at least ``material`` of the residual's excess over the noise, in its level
-    or in its input-correlated part, and lowers it (whiter).  Scores within ``tie`` are
-    equal: fewer parameters first, then the catalogue's order.
+    or, each atom significant at ``alpha`` over the atoms tried, in its input-correlated
+    part, and lowers it (whiter).  Scores within ``tie`` are equal: fewer parameters
+    first, then the catalogue's order.
 
     The rows ranked (admissible first, by ``G``, equal within ``tie`` settled by
     :func:`row_order`, :func:`ranked`), the first ``best`` where it is admissible,
