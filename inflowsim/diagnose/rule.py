@@ -69,7 +69,7 @@ What the terms mean, and why:
   floor in every channel, 0.72-1.30 of it, and a level over 41 bins scatters by 16 %
   a channel, as much as the lag moves it; fitting the lag lowers it further and the
   level deviance rose.  Its input-correlated part, 43-70 against 31 for noise, the
-  lag takes to 26-41.  Neither view passes a structure that fits the noise (the base
+  lag takes to 25-41.  Neither view passes a structure that fits the noise (the base
   at the noise in both, or a share below ``material``), nor one significant because
   the record is long while the residual is made of something else (a small share
   of both).  Only the structure chosen by ``G`` is put to it: a weaker structure is
@@ -167,12 +167,13 @@ class Rule:
         part (:mod:`.excess`): a structure whose atoms are each significant at
         ``alpha`` over the atoms tried (Bonferroni) and that takes at least
         ``material`` of that part and lowers it passes line 4's two tests though
-        the level deviance does not fall; ``False``: the level alone.  The level resolves an error spread over
-        the band (the 2/rev flap raising ``beta1c``'s power 1.9 times); on the
-        hingeless rotor's lag records (``bench/rotor-physics.md``) the lag's
-        statistic is 20-54 while the base residual's level is 0.72-1.30 of the floor
-        in every channel of the three it refused, and its input-correlated excess
-        43-70 against 31 for noise, which the lag takes to 26-41.
+        the level deviance does not fall; ``False``: the level alone.  The level
+        resolves an error spread over the band (the 2/rev flap raising
+        ``beta1c``'s power 1.9 times); on the hingeless rotor's lag records
+        (``bench/rotor-physics.md``) the lag's statistic is 20-54 while the base
+        residual's level is 0.72-1.30 of the floor in every channel of the three
+        it refused, and its input-correlated excess 43-70 against 31 for noise,
+        which the lag takes to 25-41.
     coloured : float
         In-band sensor noise this many times the floor or more makes the excess the
         input-correlated one (0: every record) [-].  Over the 136 white-noise
