@@ -81,8 +81,12 @@ def test_the_2rev_flap_is_named_where_the_per_bin_deviance_saw_nothing():
     assert c.whiteness_before > 5 * white_level_deviance(d.analyses[0].f_hz.size)
     k_beta2, sigma = c.added["k_beta2"]
     assert abs(k_beta2 - 1.0) < 3 * sigma
-    # the per-bin deviance names nothing on the same record
-    old = diagnose(rec, "basic", rule=Rule(white_measure="deviance"))
+    # the per-bin deviance alone names nothing on the same record; beside it, the
+    # input-correlated excess (line 4's second view) sees the 2/rev flap
+    old = diagnose(rec, "basic", rule=Rule(white_measure="deviance", input_view=False),
+                   base_fit=d.fit)
     assert old.missing_effect is None
     assert "nothing to explain" in {c.effect: c for c in old.candidates}[
         "second-harmonic-flap"].reason
+    both = diagnose(rec, "basic", rule=Rule(white_measure="deviance"), base_fit=d.fit)
+    assert both.missing_effect == "second-harmonic-flap"

@@ -109,6 +109,9 @@ def _random_row(rng, i):
         implausible=(("x", 1.0, 0.1, 2.0, 3.0, "why"),) if rng.random() < 0.2 else (),
         excess_before=before, excess_after=float(rng.uniform(0.5, 1.1)) * before,
         excess_noise=noise,
+        # line 4's second view on about half the rows (a white-noise record's)
+        **(dict(input_before=float(rng.uniform(20, 80)), input_noise=30.0,
+                input_after=float(rng.uniform(15, 85))) if rng.random() < 0.5 else {}),
         error="no" if rng.random() < 0.05 else None)
 
 
@@ -130,10 +133,16 @@ def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed
         assert d.chosen.admissible(rule)
         lim = math.log10(rule.alpha)
         assert all(lp < lim for _, lp in d.chosen.beside) and not d.chosen.implausible
-        line4 = (d.chosen.schwarz_gain > rule.schwarz_min
-                 and d.chosen.share >= rule.material
-                 and d.chosen.excess_before > d.chosen.excess_noise
-                 and d.chosen.excess_after < d.chosen.excess_before)
+        c = d.chosen
+        level = (c.share >= rule.material and c.excess_before > c.excess_noise
+                 and c.excess_after < c.excess_before)
+        tried = sum(1 for r in rows if len(r.atoms) == 1 and r.error is None)
+        inputs = c.input_before is not None and (
+            all(lp < math.log10(rule.alpha / max(tried, 1)) for _, lp in c.beside)
+            and c.input_before > c.input_noise and c.input_after < c.input_before
+            and (c.input_before - c.input_after) / (c.input_before - c.input_noise)
+            >= rule.material)
+        line4 = c.schwarz_gain > rule.schwarz_min and (level or inputs)
         assert d.accepted == line4
         # one atom a rung: the one with the largest gain beside the others
         gains = dict(d.chosen.beside_gain)

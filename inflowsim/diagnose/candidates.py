@@ -119,6 +119,16 @@ def describe(row: Scored, decision: Decision) -> str:
         if "whiter" in failed:
             words.append(f"does not move the residual toward the noise ({row.measure} "
                          f"{row.excess_before:.1f} -> {row.excess_after:.1f})")
+        if {"material", "whiter"} & set(failed) and row.input_share is not None:
+            seen = (f"{row.input_before:.1f} -> {row.input_after:.1f} "
+                    f"({row.input_noise:.1f} for noise)")
+            lim = rule.alpha / max(row.tried, 1)
+            if any(lp >= math.log10(lim) for _, lp in row.beside):
+                words.append(f"its input-correlated excess ({seen}) is read only at p < "
+                             f"{lim:.2g} ({rule.alpha:g} over the {row.tried} atoms "
+                             f"tried)")
+            else:
+                words.append(f"nor its input-correlated excess, {seen}")
     return "; ".join(words) + _held_words(row)
 
 
