@@ -20,7 +20,10 @@ Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
 ``cov = M^-1`` with ``M = 2 Re sum_w G^H S^-1 G`` (``G = d eps / d theta``; the 2
 because a circular complex residual of covariance ``S`` carries the information
 of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
-projection (the Schur complement of the joint information).  A second bound
+projection (the Schur complement of the joint information), and widened by the
+finite-sample factor of ``S`` estimated from the record's own bins (per record
+``(nu + m) / (nu - m)`` on the variance, ``nu`` the bins' degrees of freedom, ``m = 3``:
+:func:`weight_factors`, ``model.md`` section 7).  A second bound
 (``sigma_colored``) corrects for coloured residuals, after Morelli and Klein: the
 sandwich ``M^-1 V M^-1`` with ``V`` from the residuals' local spectrum and their
 correlation across neighbouring frequencies (:func:`_colored`).  A third
@@ -506,7 +509,8 @@ def covariances(prob, st):
     cov, cov_coloured, cov_robust : ndarray
         White-residual, coloured-residual (sandwich) and robust covariances, in
         ``prob.free`` order (NaN where undetermined), scaled for the degrees of
-        freedom the fit took.
+        freedom the fit took and for ``S`` estimated from each record's bins
+        (:func:`finite_sample_covariance`; the sandwiches ``g`` only).
     dead : list of int
         Indices of the parameters the records do not determine.
     n_null : int
@@ -941,6 +945,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
 
 
 __all__ = ["SHORT_RUN", "NEAR", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
-           "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
+           "S_CONDITION_LIMIT", "S_ROUNDING", "FEW_DOF", "null_directions",
+           "weight_dof", "weight_factors", "finite_sample_covariance", "identify", "Evaluation",
            "evaluate", "fit_state", "fit_from", "as_records", "spectra_of",
            "covariances"]
