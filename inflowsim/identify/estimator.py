@@ -20,7 +20,10 @@ Bounds: the Cramer-Rao bound of the complex Gaussian likelihood,
 ``cov = M^-1`` with ``M = 2 Re sum_w G^H S^-1 G`` (``G = d eps / d theta``; the 2
 because a circular complex residual of covariance ``S`` carries the information
 of two real ones of covariance ``S/2``), the nuisance end terms accounted for by
-projection (the Schur complement of the joint information).  A second bound
+projection (the Schur complement of the joint information), and widened by the
+finite-sample factor of ``S`` estimated from the record's own bins (per record
+``(nu + m) / (nu - m)`` on the variance, ``nu`` the bins' degrees of freedom, ``m = 3``:
+:func:`weight_factors`, ``model.md`` section 7).  A second bound
 (``sigma_colored``) corrects for coloured residuals, after Morelli and Klein: the
 sandwich ``M^-1 V M^-1`` with ``V`` from the residuals' local spectrum and their
 correlation across neighbouring frequencies (:func:`_colored`).  A third
@@ -338,7 +341,7 @@ def _information(prob, st):
     return 2.0 * J.T @ J, blocks
 
 
-def _colored(prob, st, blocks, cov):
+def _colored(prob, st, blocks, cov, grow=None):
     """Residual-spectrum sandwich for coloured residuals (after Morelli and Klein).
 
     ``cov_c = M^-1 V M^-1`` with ``V = 2 Re sum_k sum_j w_j G_k^H R_k(j) G_{k-j}``:
@@ -351,7 +354,8 @@ def _colored(prob, st, blocks, cov):
     residuals ``V = M`` and the bound is the Cramer-Rao one.
     """
     V = np.zeros_like(cov)
-    for sp, blk, r in zip(prob.spectra, blocks, st.r):
+    for sp, blk, r, gr in zip(prob.spectra, blocks, st.r, grow or [1.0] * len(blocks)):
+        Vr = np.zeros_like(cov)
         nf = sp.f_hz.size
         lmax = int(np.ceil(nf ** (1 / 3)))
         h = blk.shape[0] // 2
@@ -373,11 +377,12 @@ def _colored(prob, st, blocks, cov):
             w = 1 - abs(j) / (lmax + 1)
             # sum_k G_k^H R_k G_{k-j} as one product over (k, i) (BLAS, not einsum)
             RG = (R @ G[k0 - j:k1 - j]).reshape(-1, G.shape[2])
-            V += 2.0 * w * np.real(Gc[k0:k1].reshape(-1, G.shape[2]).T @ RG)
+            Vr += 2.0 * w * np.real(Gc[k0:k1].reshape(-1, G.shape[2]).T @ RG)
+        V += gr * Vr
     return cov @ V @ cov
 
 
-def _robust(prob, st, blocks, cov):
+def _robust(prob, st, blocks, cov, grow=None):
     """Huber-White sandwich of the per-frequency scores, Newey-West band.
 
     ``cov_r = M^-1 V M^-1`` (Huber 1967; White 1982, *Econometrica* 50, 1-25) with
@@ -404,7 +409,8 @@ def _robust(prob, st, blocks, cov):
     varies across the band.
     """
     V = np.zeros_like(cov)
-    for sp, blk, r, Q in zip(prob.spectra, blocks, st.r, st.bases):
+    for sp, blk, r, Q, gr in zip(prob.spectra, blocks, st.r, st.bases,
+                                 grow or [1.0] * len(blocks)):
         nf = sp.f_hz.size
         df = np.min(np.diff(sp.f_hz)) if nf > 1 else np.inf
         lmax = int(np.ceil(1.0 / (sp.n_samples * sp.dt * df) - 1e-9)) if nf > 1 else 0
@@ -416,10 +422,11 @@ def _robust(prob, st, blocks, cov):
         G = (blk[:h] + 1j * blk[h:]).reshape(nf, 3, -1)
         e = unstack(r, nf) / np.sqrt(np.clip(1.0 - hk, 1e-3, 1.0))[:, None]
         s = 2.0 * np.real(np.einsum("kip,ki->kp", G.conj(), e))      # (nf, p)
-        V += s.T @ s
+        Vr = s.T @ s
         for j in range(1, lmax + 1):
             g = s[j:].T @ s[:-j]
-            V += (1.0 - j / (lmax + 1)) * (g + g.T)
+            Vr += (1.0 - j / (lmax + 1)) * (g + g.T)
+        V += gr * Vr
     return cov @ V @ cov
 
 
@@ -440,6 +447,52 @@ def null_directions(M):
     return sorted(dead), flat
 
 
+def weight_dof(rows, S, lost):
+    """Each record's degrees of freedom ``nu`` for its residual covariance ``S`` and
+    ``S``'s dimension ``m``: ``[(nu, m)]``; ``rows`` each record's real residual
+    rows (``2 m n``), ``lost`` the real dimensions the fit took from them all.
+
+    A record's ``S`` (``m x m`` Hermitian, ``m = 3`` flap channels) is estimated
+    from its ``n`` bins' residuals, which lost ``lost`` real dimensions of all
+    records' ``n_data`` to the fit (parameters and end-effect nuisance); with the
+    loss shared in proportion, ``nu = (rows / 2 m) (n_data - lost) / n_data``
+    (``rows = 2 m n``): the bins' count less the record's share of the loss in
+    complex ``m``-vectors, so that ``nu S~ / n`` (``S~`` the bias-corrected ``S``)
+    is complex Wishart with ``nu`` degrees of freedom (``model.md`` section 7).
+    """
+    n_data = sum(rows)
+    keep = max(n_data - lost, 1) / max(n_data, 1)
+    out = []
+    for n, s in zip(rows, S):
+        m = np.asarray(s).shape[0]
+        out.append((n / (2.0 * m) * keep, m))
+    return out
+
+
+def weight_factors(dofs):
+    """Per record ``(c, g)`` of the finite-sample bound (``model.md`` section 7).
+
+    ``c = (nu - m) / nu``: the information read with the estimated ``S`` is
+    ``nu / (nu - m)`` times the true one on average (the mean of a complex inverse
+    Wishart matrix), ``c`` undoes it; ``g = 1 + m / nu``: weighting by the estimated
+    ``S`` instead of the true one adds ``m / nu`` of the information's inverse to
+    the estimates' covariance (first order in ``1 / nu``).  A record with ``nu <= m``
+    does not determine its ``S`` (``c = 0``: its information is not counted)."""
+    return [((nu - m) / nu if nu > m else 0.0, 1.0 + m / nu if nu > 0 else 1.0)
+            for nu, m in dofs]
+
+
+def finite_sample_covariance(Ms, factors):
+    """``A^-1 B A^-1`` with ``A = sum_r c_r M_r``, ``B = sum_r c_r g_r M_r`` over the
+    records' information matrices ``Ms`` (:func:`weight_factors`); for one record
+    ``M^-1 (nu + m) / (nu - m)``.  Raises :class:`numpy.linalg.LinAlgError` where
+    ``A`` is singular (no record determines its ``S``)."""
+    A = sum(c * M for M, (c, g) in zip(Ms, factors))
+    B = sum(c * g * M for M, (c, g) in zip(Ms, factors))
+    Ai = np.linalg.inv(A)
+    return Ai @ B @ Ai
+
+
 def covariances(prob, st):
     """Cramer-Rao covariances of the free parameters at a fit's state, over the
     directions the records determine.
@@ -456,7 +509,8 @@ def covariances(prob, st):
     cov, cov_coloured, cov_robust : ndarray
         White-residual, coloured-residual (sandwich) and robust covariances, in
         ``prob.free`` order (NaN where undetermined), scaled for the degrees of
-        freedom the fit took.
+        freedom the fit took and for ``S`` estimated from each record's bins
+        (:func:`finite_sample_covariance`; the sandwiches ``g`` only).
     dead : list of int
         Indices of the parameters the records do not determine.
     n_null : int
@@ -476,10 +530,18 @@ def covariances(prob, st):
         lost = ok.size + sum(Q.shape[1] for Q in st.bases)
         dof = n_data / max(n_data - lost, 1)
         sub = np.linalg.inv(M[np.ix_(ok, ok)])
-        cov[np.ix_(ok, ok)] = sub * dof
         blocks_ok = [b[:, ok] for b in blocks]
-        cov_c[np.ix_(ok, ok)] = _colored(prob, st, blocks_ok, sub) * dof
-        cov_r[np.ix_(ok, ok)] = _robust(prob, st, blocks_ok, sub) * dof
+        # S is estimated from each record's few bins: the bound for that (c, g)
+        factors = weight_factors(weight_dof([b.shape[0] for b in blocks], st.S, lost))
+        try:
+            cov[np.ix_(ok, ok)] = finite_sample_covariance(
+                [2.0 * b.T @ b for b in blocks_ok], factors) * dof
+        except np.linalg.LinAlgError:
+            return cov, cov_c, cov_r, list(range(p)), p
+        # the sandwiches read the weighting's scale from the residual: only g
+        grow = [g for _, g in factors]
+        cov_c[np.ix_(ok, ok)] = _colored(prob, st, blocks_ok, sub, grow) * dof
+        cov_r[np.ix_(ok, ok)] = _robust(prob, st, blocks_ok, sub, grow) * dof
     return cov, cov_c, cov_r, sorted(dead), len(null_dirs)
 
 
@@ -526,6 +588,34 @@ def _warnings(prob, theta, cov, dead, n_null, converged, iterations):
             out.append(f"{names[i]} = {theta[i]:g} is at the limit of its range: the data "
                        "push it beyond; the structure may lack an effect")
     return out, corr
+
+
+#: A record whose residual covariance rests on fewer degrees of freedom than this
+#: many times its dimension is said to (its bounds widened by 1.5 or more).
+FEW_DOF = 3.0
+
+
+def _few_bins(prob, st) -> list:
+    """Records whose bins leave few degrees of freedom for their ``S``: the bounds
+    are widened for it (:func:`weight_factors`), or, at ``nu <= m``, the record's
+    information is not counted."""
+    lost = len(prob.free) + sum(Q.shape[1] for Q in st.bases)
+    rows = [2 * np.asarray(s).shape[0] * sp.f_hz.size for sp, s in zip(prob.spectra, st.S)]
+    out = []
+    for sp, (nu, m) in zip(prob.spectra, weight_dof(rows, st.S, lost)):
+        if nu <= m:
+            out.append(f"{sp.source}: its {sp.f_hz.size} frequencies leave {nu:.1f} "
+                       f"degrees of freedom for the {m} x {m} residual covariance, no more "
+                       "than its dimension: the record cannot estimate its noise, and its "
+                       "information is not counted in the bounds; widen the band or "
+                       "lengthen the record")
+        elif nu < FEW_DOF * m:
+            out.append(f"{sp.source}: its {sp.f_hz.size} frequencies leave {nu:.1f} "
+                       f"degrees of freedom for the {m} x {m} residual covariance: the "
+                       f"bounds are widened by {np.sqrt((nu + m) / (nu - m)):.2f} for "
+                       "the noise estimated from so few, and are themselves uncertain; "
+                       "widen the band or lengthen the record")
+    return out
 
 
 def _collapsed_s(spectra, S) -> list:
@@ -756,7 +846,7 @@ def _result(prob, st, j, iters, conv, starts):
         data.append(RecordFit(sp.source, sp.constants, sp.dt, sp.f_hz, sp.Z,
                               y_u + y_nu @ nu, x0, S, sp.trim, sp.trim_method,
                               sp.u_time, sp.z_time, sp.hold, nu))
-    warns += _collapsed_s(prob.spectra, st.S)
+    warns += _few_bins(prob, st) + _collapsed_s(prob.spectra, st.S)
     Zall = np.vstack([d.Z for d in data])
     Yall = np.vstack([d.Y for d in data])
     model = build_model(prob.structure, params, prob.spectra[0].constants)
@@ -855,6 +945,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
 
 
 __all__ = ["SHORT_RUN", "NEAR", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
-           "S_CONDITION_LIMIT", "S_ROUNDING", "null_directions", "identify", "Evaluation",
+           "S_CONDITION_LIMIT", "S_ROUNDING", "FEW_DOF", "null_directions",
+           "weight_dof", "weight_factors", "finite_sample_covariance", "identify", "Evaluation",
            "evaluate", "fit_state", "fit_from", "as_records", "spectra_of",
            "covariances"]

@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..model.params import SPECS
-from .estimator import fit_state, null_directions
+from .estimator import fit_state, null_directions, weight_dof, weight_factors
 from .problem import Problem
 from .transform import DEFAULT_BAND, dft, record_spectra, transform_weights
 
@@ -183,12 +183,17 @@ def prior_sigma(name, constants) -> float | None:
 
 
 def _information(prob, S):
+    """The information, each record's discounted for its residual covariance
+    estimated from its own bins (``sum_r M_r (nu_r - m) / (nu_r + m)``, the
+    estimator's finite-sample bound, exact for one record: ``model.md`` section 7),
+    and the degrees-of-freedom factor."""
     st = fit_state(prob, prob.theta0(), S)
     blocks = prob.jacobian(st.theta, st.weights, st.nus, st.bases, central=True)
-    J = np.vstack(blocks)
-    n_data = J.shape[0]
-    lost = J.shape[1] + sum(Q.shape[1] for Q in st.bases)
-    return 2.0 * J.T @ J, n_data / max(n_data - lost, 1)
+    n_data = sum(b.shape[0] for b in blocks)
+    lost = blocks[0].shape[1] + sum(Q.shape[1] for Q in st.bases)
+    factors = weight_factors(weight_dof([b.shape[0] for b in blocks], S, lost))
+    M = sum(2.0 * (c / g) * b.T @ b for b, (c, g) in zip(blocks, factors))
+    return M, n_data / max(n_data - lost, 1)
 
 
 def _determined(M):
