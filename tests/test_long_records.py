@@ -257,6 +257,7 @@ def _colored_by_index(prob, st, blocks, cov):
     from inflowsim.identify.problem import unstack
     V = np.zeros_like(cov)
     for sp, blk, r in zip(prob.spectra, blocks, st.r):
+        Vr = np.zeros_like(cov)      # per record, as the sandwich sums (its factor g)
         nf = sp.f_hz.size
         lmax = int(np.ceil(nf ** (1 / 3)))
         h = blk.shape[0] // 2
@@ -271,7 +272,8 @@ def _colored_by_index(prob, st, blocks, cov):
             R = (cs[hi] - cs[lo]) / (hi - lo)[:, None, None]
             w = 1 - abs(j) / (lmax + 1)
             RG = (R @ G[k - j]).reshape(-1, G.shape[2])
-            V += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
+            Vr += 2.0 * w * np.real(G[k].reshape(-1, G.shape[2]).conj().T @ RG)
+        V += Vr
     return cov @ V @ cov
 
 
