@@ -28,7 +28,6 @@ Output: one JSON line per case (every seed's errors) appended to ``--out``.
 from __future__ import annotations
 
 import argparse
-import gzip
 import json
 import sys
 import tempfile
@@ -110,12 +109,7 @@ def true_bound(clean, structure, truth, held, band):
     ``S = N NOISE^2 I`` (white noise; the transform's scaling, as ``floor_ratio``),
     per free parameter the records determine: ``{name: sigma}``."""
     from inflowsim.identify.estimator import _information, fit_state, null_directions
-    from inflowsim.identify.estimator import spectra_of
-    from inflowsim.identify.problem import Problem
-    from inflowsim.model.structure import Structure
-    s = Structure.parse(structure)
-    sp = spectra_of([clean], s, band, None)
-    prob = Problem(s, sp, {n: truth[n] for n in s.parameters}, fixed=tuple(held))
+    prob = _problem(clean, structure, truth, held, band)
     st = fit_state(prob, prob.theta0(), [len(clean.t) * NOISE ** 2 * np.eye(3)])
     M, _ = _information(prob, st)
     dead, _ = null_directions(M)
@@ -221,13 +215,6 @@ def run_case(name, seeds, diagnostics=True):
             "cpu_fit_s": (time.process_time() - t1) / max(len(seeds), 1)}
 
 
-def _read(path):
-    p = Path(path)
-    data = p.read_bytes()
-    text = gzip.decompress(data).decode() if p.suffix == ".gz" else data.decode()
-    return [json.loads(line) for line in text.splitlines() if line.strip()]
-
-
 def spread(z):
     """``(mean, std, its sampling uncertainty)`` of errors ``z`` (1-d)."""
     z = np.asarray(z, dtype=float)
@@ -236,7 +223,7 @@ def spread(z):
 
 
 def summary(paths):
-    docs = [d for p in paths for d in _read(p)]
+    docs = [d for p in paths for d in D._read(p)]
     print("| case | bins | seeds | parameter | errors' mean [sigma] | spread / sigma | "
           "spread / sigma_colored | spread / sigma_robust | seeds 0-4: spread / sigma | "
           "estimates' spread / true CR | rms sigma / true CR |")
