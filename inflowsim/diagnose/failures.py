@@ -579,22 +579,38 @@ def residual_tests(ra: ResidualAnalysis, record=None, model=None, alpha=None,
     return out
 
 
-def excess_channels(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> list:
+def above_floor(analyses, alpha=None, rule: Rule = DEFAULT_RULE) -> list:
+    """``(record index, channel index, level p-value, structure)`` of every channel,
+    over the records, whose in-band residual is above the floor (level test at
+    ``alpha``, default ``rule.alpha``), ``structure`` its :func:`channel_structure`:
+    measured once, split by it into the structured excess (:func:`excess_channels`)
+    and the rest (:func:`inflowsim.diagnose.verdict.uncorrelated_excess`)."""
+    alpha = rule.alpha if alpha is None else alpha
+    out = []
+    for i, ra in enumerate(analyses):
+        for c in range(len(FLAP_COLUMNS)):
+            p = level_p_value(ra, c)
+            if p < alpha:
+                out.append((i, c, p, channel_structure(ra, c, alpha, rule)))
+    return out
+
+
+def excess_channels(analyses, alpha=None, rule: Rule = DEFAULT_RULE,
+                    above=None) -> list:
     """``(channel, peak_hz, peak ratio, mean ratio)`` of every channel, over the
     records, whose residual keeps excess over the floor (level test at ``alpha``,
     default ``rule.alpha``) that is structured (:func:`channel_structure`): the
-    verdict's ``where`` and the ``unexplained`` findings both come from here."""
-    alpha = rule.alpha if alpha is None else alpha
+    verdict's ``where`` and the ``unexplained`` findings both come from here.
+    ``above``: :func:`above_floor` of the same, where already measured."""
+    if above is None:
+        above = above_floor(analyses, alpha, rule)
     out = []
-    for ra in analyses:
-        for c, ch in enumerate(FLAP_COLUMNS):
-            if level_p_value(ra, c) >= alpha:
-                continue
-            if not channel_structure(ra, c, alpha, rule)["structured"]:
-                continue
-            r = ra.ratio[c]
-            k = int(np.argmax(r))
-            out.append((ch, float(ra.f_hz[k]), float(r[k]), float(r.mean())))
+    for i, c, _, st in above:
+        if not st["structured"]:
+            continue
+        ra, r = analyses[i], analyses[i].ratio[c]
+        k = int(np.argmax(r))
+        out.append((FLAP_COLUMNS[c], float(ra.f_hz[k]), float(r[k]), float(r.mean())))
     return out
 
 
@@ -662,4 +678,4 @@ __all__ = ["Failure", "ResidualAnalysis", "residual_analysis", "analyses_of", "s
            "residual_tests", "parameter_failures", "unexplained", "noise_floor",
            "frequency_whiteness", "structure_statistic", "channel_structure",
            "floor_deviance", "level_deviance", "white_level_deviance", "level_p_value",
-           "WHITE_DEVIANCE", "input_regression"]
+           "WHITE_DEVIANCE", "input_regression", "above_floor", "excess_channels"]

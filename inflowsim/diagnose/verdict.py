@@ -60,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data.record import FLAP_COLUMNS
-from .failures import channel_structure, excess_channels, level_p_value
+from .failures import above_floor, excess_channels
 from .rule import DEFAULT_RULE, Rule
 
 STATUSES = ("no-missing-effect", "explained", "partly-explained", "unexplained")
@@ -213,7 +213,7 @@ class UncorrelatedExcess:
 
 
 def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE,
-                        noise_of=None) -> tuple:
+                        noise_of=None, above=None) -> tuple:
     """The :class:`UncorrelatedExcess` of ``analyses`` (per record): channels whose
     in-band residual is above the floor at ``alpha`` (default ``rule.alpha``; the
     level test of :func:`~inflowsim.diagnose.failures.excess_channels`) and not
@@ -221,25 +221,24 @@ def uncorrelated_excess(analyses, alpha=None, rule: Rule = DEFAULT_RULE,
     complement of ``excess_channels`` among the channels above the floor.
     ``noise_of``: analyses of the same records whose in-band noise estimates
     (``in_band_over_floor``) are taken where ``analyses`` lack them (a candidate's
-    are made without)."""
+    are made without); ``above``: :func:`~inflowsim.diagnose.failures.above_floor`
+    of the same, where already measured."""
     alpha = rule.alpha if alpha is None else alpha
+    if above is None:
+        above = above_floor(analyses, alpha, rule)
     out = []
-    for i, ra in enumerate(analyses):
-        for c, ch in enumerate(FLAP_COLUMNS):
-            p = level_p_value(ra, c)
-            if p >= alpha:
-                continue
-            st = channel_structure(ra, c, alpha, rule)
-            if st["structured"]:
-                continue
-            noise = tuple(ra.in_band_over_floor)
-            if not noise and noise_of is not None:
-                noise = tuple(noise_of[i].in_band_over_floor)
-            out.append(UncorrelatedExcess(
-                ch, float(ra.ratio[c].mean()), p, float(st["input_p_value"]),
-                float(st["p_value"]), bool(st["input_p_value"] < alpha),
-                None if len(analyses) == 1 else i,
-                float(noise[c]) if len(noise) > c else None))
+    for i, c, p, st in above:
+        if st["structured"]:
+            continue
+        ra = analyses[i]
+        noise = tuple(ra.in_band_over_floor)
+        if not noise and noise_of is not None:
+            noise = tuple(noise_of[i].in_band_over_floor)
+        out.append(UncorrelatedExcess(
+            FLAP_COLUMNS[c], float(ra.ratio[c].mean()), p, float(st["input_p_value"]),
+            float(st["p_value"]), bool(st["input_p_value"] < alpha),
+            None if len(analyses) == 1 else i,
+            float(noise[c]) if len(noise) > c else None))
     return tuple(out)
 
 
@@ -327,7 +326,8 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
     named effects are stand-ins (:func:`stand_ins`; ``alone`` the share each
     removes alone, where several are named in one decision)."""
     final = final_analyses if effects else initial_analyses
-    where = tuple(w[:3] for w in excess_channels(final, alpha, rule))
+    above = above_floor(final, alpha, rule)
+    where = tuple(w[:3] for w in excess_channels(final, alpha, rule, above))
     if effects:
         status = "partly-explained" if where else "explained"
     else:
@@ -335,7 +335,8 @@ def verdict(initial_analyses, final_analyses, effects=(), alpha=None,
     v = Verdict(status, power_over_floor(final), power_over_floor(initial_analyses),
                 where, tuple(effects),
                 uncorrelated_excess=uncorrelated_excess(final, alpha, rule,
-                                                        noise_of=initial_analyses))
+                                                        noise_of=initial_analyses,
+                                                        above=above))
     if not effects:
         return v
     from dataclasses import replace
