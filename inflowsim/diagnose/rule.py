@@ -122,7 +122,7 @@ from ..model.effects import CATALOGUE
 from ..model.presets import theory_parameters
 from ..model.structure import Structure
 from ..progress import bar
-from .tails import binom_pmf, chi2_logsf, chi2_sf
+from .tails import binom_pmf, chi2_logsf, chi2_sf, f_logsf, f_sf
 
 
 # -- the settings ---------------------------------------------------------------------
@@ -757,20 +757,39 @@ def nested_start(base_fit, structure: Structure, constants) -> dict:
     return start
 
 
-def lr_test(j_base, j_new, dof, boundary=0):
-    """``(statistic, dof, log10 p)`` of ``2 (J_base - J_new)``: chi-square with ``dof``
-    degrees of freedom, or for ``boundary`` parameters at the edge of their range
-    the mixture ``2^-b sum_i C(b, i) chi2(dof - b + i)`` (Self and Liang)."""
+def lr_test(j_base, j_new, dof, boundary=0, calibration=None):
+    """``(statistic, dof, log10 p)`` of ``2 (J_base - J_new)``, read with the larger
+    fit's ``calibration = (kappa, d)`` (:attr:`~inflowsim.identify.FitResult.lr`):
+    ``statistic / (kappa dof)`` as ``F(dof, d)``, or for ``boundary`` parameters at
+    the edge of their range the mixture ``2^-b sum_i C(b, i) F(dof - b + i, d)``
+    (Self and Liang); ``None`` or ``d`` infinite: chi-square, ``kappa`` 1
+    (``model.md`` section 7)."""
     stat = max(0.0, 2.0 * (j_base - j_new))
     d = max(dof, 1)
+    kappa, dd = (1.0, math.inf) if calibration is None else calibration
+    x = stat / kappa
+
+    def tail(k):
+        if not math.isfinite(dd):
+            return chi2_sf(x, k)
+        return f_sf(x / k, k, dd)
+
     if not boundary:
-        return stat, d, float(chi2_logsf(stat, d) / np.log(10))
+        if not math.isfinite(dd):
+            return stat, d, float(chi2_logsf(x, d) / np.log(10))
+        return stat, d, float(f_logsf(x / d, d, dd) / np.log(10))
     b = min(boundary, d)
     if stat == 0.0:
         return stat, d, 0.0
-    p = sum(binom_pmf(i, b, 0.5) * (chi2_sf(stat, d - b + i) if d - b + i > 0
-                                    else 0.0) for i in range(b + 1))
+    p = sum(binom_pmf(i, b, 0.5) * (tail(d - b + i) if d - b + i > 0 else 0.0)
+            for i in range(b + 1))
     return stat, d, float(np.log10(max(p, 1e-300)))
+
+
+def _lr(fit):
+    """A fit's likelihood-ratio calibration, ``None`` (chi-square) for a fit without
+    one (a study's own ``fit_fn``)."""
+    return getattr(fit, "lr", None)
 
 
 def schwarz_gain(j_base, j_new, dof, n_freq) -> float:
@@ -934,7 +953,7 @@ def _single(records, base_fit, atom, band_hz, fit_fn, rule) -> Scored:
         return Scored((atom.label,), (atom.effect,), s.name, len(atom.params),
                       error=str(exc))
     dof = len(atom.params) - len(flat)
-    lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held))[2]
+    lp = lr_test(base_fit.cost, fit.cost, dof, _boundary(atom, held), _lr(fit))[2]
     return _row(base_fit, (atom,), fit, held, flat, ((atom.label, lp),), rule)
 
 
@@ -955,8 +974,8 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     # each atom beside the other: the pair against the other alone
     dy = len(y.params) - len([n for n in flat if n in y.params])
     dx = rx.dof
-    beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held))[2]),
-              (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held))[2]))
+    beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held), _lr(fit))[2]),
+              (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held), _lr(fit))[2]))
     ln_n = np.log(6 * fit.n_freq)
     gains = ((x.label, float(2 * (ry.fit.cost - fit.cost) - dx * ln_n)),
              (y.label, float(2 * (rx.fit.cost - fit.cost) - dy * ln_n)))
@@ -1233,10 +1252,11 @@ def least_significant(records, fit, labels, band_hz, hold=None,
         except InputError:
             continue
         b = _boundary(atom, held)
-        lp = lr_test(f.cost, fit.cost, len(free), b)[2]
+        lp = lr_test(f.cost, fit.cost, len(free), b, _lr(fit))[2]
         if lp >= math.log10(rule.alpha):
             # what the statistic's precision (tie) moves log10 p by
-            moved = abs(lr_test(f.cost - rule.tie / 2, fit.cost, len(free), b)[2] - lp)
+            moved = abs(lr_test(f.cost - rule.tie / 2, fit.cost, len(free), b, _lr(fit))[2]
+                        - lp)
             found.append((label, f, lp, moved))
     if not found:
         return None

@@ -52,6 +52,20 @@ def f_sf(x, dfn, dfd):
     return _out(np.where((dfn > 0) & (dfd > 0), out, np.nan))
 
 
+def f_logsf(x, dfn, dfd):
+    """``ln P(F > x)`` (:func:`f_sf`, scalars): the log of the tail where it is
+    above ``1e-290``; below, where ``fdtrc`` underflows, the leading term of the
+    incomplete beta function ``I_z(a, b) ~ z^a (1 - z)^b / (a B(a, b))`` with ``z =
+    dfd / (dfd + dfn x)``, ``a = dfd / 2``, ``b = dfn / 2`` (its relative error
+    ``O(z)``, below 1e-4 there)."""
+    p = float(f_sf(x, dfn, dfd))
+    if p > 1e-290 or not np.isfinite(p):
+        return float(np.log(p)) if p > 0 else -np.inf
+    a, b = 0.5 * dfd, 0.5 * dfn
+    z = dfd / (dfd + dfn * float(x))
+    return float(a * np.log(z) + b * np.log1p(-z) - np.log(a) - special.betaln(a, b))
+
+
 def binom_pmf(k, n, p):
     """``P(K = k)``, ``K`` binomial with ``n`` trials of probability ``p`` (integer
     ``0 <= k <= n``, ``0 <= p <= 1``: the mixture weights of a boundary test), as
@@ -66,4 +80,4 @@ def binom_pmf(k, n, p):
                            np.asarray(p, dtype=float)))
 
 
-__all__ = ["chi2_sf", "chi2_logsf", "f_sf", "binom_pmf"]
+__all__ = ["chi2_sf", "chi2_logsf", "f_sf", "f_logsf", "binom_pmf"]

@@ -174,6 +174,11 @@ class FitResult:
         when the residual keeps structured excess over the noise floor: every
         estimate is then conditional on an incomplete structure, and this is the
         reason, one line; ``None``: not judged, or the residual is at the floor.
+    lr : (float, float)
+        ``(kappa, d)``: a likelihood-ratio statistic ``2 (J_0 - J)`` of ``k``
+        parameters against this fit is read as ``kappa k F(k, d)``
+        (:func:`~inflowsim.identify.estimator.lr_calibration`; ``(1, inf)``,
+        chi-square, where not computed).
     judged : bool
         Whether that test was made (:func:`~inflowsim.identify.identify` alone does
         not make it; the commands, :func:`~inflowsim.diagnose.diagnose` and the
@@ -204,6 +209,7 @@ class FitResult:
     sigma_robust: dict = field(default_factory=dict)
     conditional: str | None = None
     judged: bool = False
+    lr: tuple = (1.0, float("inf"))
 
     @property
     def residuals(self) -> list:
@@ -234,6 +240,9 @@ class FitResult:
             "fit": self.fit,
             "constants": consts,
             "n_freq": int(self.n_freq),
+            "lr_calibration": {"kappa": float(self.lr[0]),
+                               "d": (None if not np.isfinite(self.lr[1])
+                                     else float(self.lr[1]))},
             "records": list(self.records),
             "converged": bool(self.converged),
             "iterations": int(self.iterations),
