@@ -511,7 +511,8 @@ def lr_calibration(prob, st) -> tuple:
     Satterthwaite's combination in proportion to their rows).  On 300 null records
     of the virtual flight test (64 Hz, 37 bins: ``kappa`` 1.19, ``d`` 64) the tested
     atoms' statistics read as chi-square passed ``1e-2`` 2.4 times and ``1e-3`` 4.4
-    times as often as said; read so 1.07 and 1.5 times (``bench/rotor-physics.md``).
+    times as often as said; read so 1.04 and 1.5 times
+    (``bench/studies/lr-calibration.md``).
     A fit whose records do not determine their ``S`` gives ``(1, inf)``:
     chi-square."""
     lost = len(prob.free) + sum(Q.shape[1] for Q in st.bases)
