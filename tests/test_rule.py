@@ -118,7 +118,8 @@ def _random_row(rng, i):
 @pytest.mark.parametrize("seed", range(4))
 def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed):
     rng = np.random.default_rng(seed)
-    rule = Rule(alpha=10 ** -rng.uniform(2, 4), material=rng.uniform(0, 0.3))
+    rule = Rule(alpha=10 ** -rng.uniform(2, 4), material=rng.uniform(0, 0.3),
+                input_familywise=bool(rng.random() < 0.5))
     for trial in range(100):
         rows = [_random_row(rng, i) for i in range(int(rng.integers(0, 12)))]
         d = decide(rows, rule)
@@ -138,7 +139,8 @@ def test_decide_accepts_the_admissible_structure_of_largest_gain_or_nothing(seed
                  and c.excess_after < c.excess_before)
         tried = sum(1 for r in rows if len(r.atoms) == 1 and r.error is None)
         inputs = c.input_before is not None and (
-            all(lp < math.log10(rule.alpha / max(tried, 1)) for _, lp in c.beside)
+            all(lp < math.log10(rule.alpha / (max(tried, 1) if rule.input_familywise
+                                              else 1)) for _, lp in c.beside)
             and c.input_before > c.input_noise and c.input_after < c.input_before
             and (c.input_before - c.input_after) / (c.input_before - c.input_noise)
             >= rule.material)

@@ -122,8 +122,8 @@ def describe(row: Scored, decision: Decision) -> str:
         if {"material", "whiter"} & set(failed) and row.input_share is not None:
             seen = (f"{row.input_before:.1f} -> {row.input_after:.1f} "
                     f"({row.input_noise:.1f} for noise)")
-            lim = rule.alpha / max(row.tried, 1)
-            if any(lp >= math.log10(lim) for _, lp in row.beside):
+            lim = row.input_level(rule)
+            if rule.input_familywise and any(lp >= math.log10(lim) for _, lp in row.beside):
                 words.append(f"its input-correlated excess ({seen}) is read only at p < "
                              f"{lim:.2g} ({rule.alpha:g} over the {row.tried} atoms "
                              f"tried)")

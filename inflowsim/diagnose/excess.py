@@ -37,7 +37,8 @@ the input-correlated excess the same error is concentrated in the ``r`` (14)
 dimensions of the smooth input span, not spread over ``nf`` bins: 44.6 -> 30.8
 against 31.2 for noise on that record.
 The rule (:meth:`~.rule.Scored.takes_input`) lets this view pass a structure only
-where each of its atoms is significant at ``alpha`` over the atoms tried.
+where each of its atoms is significant (at ``alpha``, or over the atoms tried where
+``Rule.input_familywise``).
 """
 from __future__ import annotations
 
