@@ -197,7 +197,7 @@ int ifs_slave_exit_init(IfsSlave *s, const IfsLog *lg, const char *fn)
 static int fresh_ab(IfsSlave *s)
 {
     char msg[8];
-    if (!s->m.ab_stale) return 1;
+    if (!(s->m.stale & IFS_STALE_AB)) return 1;
     if (s->tab && s->tab->state == 1)
         ifs_mu_table_apply_ab(s->tab, &s->v, &s->m);
     else if (ifs_build(&s->m, &s->v, msg, sizeof msg) == 0)
@@ -230,13 +230,56 @@ static int real_ok(const IfsRealVar *var, double x)
  * stores to reach the cache (written value by value, the simulator loop's SetReal +
  * DoStep + GetReal took half as long again).  The inputs are read back one by one
  * from the slave's (just stored: each load from one store).  The step's inputs'
- * part (IfsModel.g) is then stale. */
+ * part (IfsModel.g, and the look-ahead with it) is then stale, unless every input
+ * is as it was to the bit (inputs set again to the values held: the same numbers
+ * as inputs held, the look-ahead kept). */
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+typedef unsigned long long ifs_bits4 __attribute__((vector_size(32), aligned(8), may_alias));
+typedef unsigned long long ifs_bits2 __attribute__((vector_size(16), aligned(8), may_alias));
+#endif
 static IFS_HOT void hold_blocks(IfsSlave *s)
 {
     /* (volatile: one load per value; two values in one load would need two stores) */
     const volatile double *in = ifs_slave_inputs(s);
     double *z = s->m.x;
     int b;
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    ifs_bits4 d = {0, 0, 0, 0};
+#else
+    int d = 0;
+#endif
+    IFS_UNROLL
+    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        double lane[4];
+        ifs_v4 v;
+        int l;
+        IFS_UNROLL
+        for (l = 0; l < 4; l++) {
+            const int k = 4 * b + l;
+            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
+        }
+        v = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
+        d |= (ifs_bits4)v ^ *(const ifs_bits4 *)(z + 4 * b);
+        *(ifs_v4 *)(z + 4 * b) = v;
+#else
+        int l;
+        for (l = 0; l < 4; l++)
+            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) {
+                const double u = in[4 * b + l - IFS_NX];
+                d |= memcmp(&u, z + 4 * b + l, sizeof u) != 0;
+                z[4 * b + l] = u;
+            }
+#endif
+    }
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+    {
+        const ifs_bits2 h = (ifs_bits2){d[0], d[1]} | (ifs_bits2){d[2], d[3]};
+        if (!(h[0] | h[1])) return;
+    }
+#else
+    if (!d) return;
+#endif
     /* g dropped (ifs_slave_drop_g) but gam, if stale, brought by the next step, the
      * general one (slave_step): a call here would give the input frame a stack
      * frame */
@@ -249,23 +292,6 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
         }
     }
     s->m.g_ok = 0;
-    IFS_UNROLL
-    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-        double lane[4];
-        int l;
-        IFS_UNROLL
-        for (l = 0; l < 4; l++) {
-            const int k = 4 * b + l;
-            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
-        }
-        *(ifs_v4 *)(z + 4 * b) = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
-#else
-        int l;
-        for (l = 0; l < 4; l++)
-            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
-#endif
-    }
 }
 
 /* Why value x for value reference vr is refused. */
@@ -763,8 +789,24 @@ static inline int near_now(double t, double now)
         (s)->y_stale = 1;                                                              \
     } while (0)
 
-/* DoStep (ifs_do_step) with the step STEP (ifs_step on the model, or its four-wide
- * twin) and REST for the other steps */
+/* The step that starts the look-ahead (the model's step returned 1: g and [phi gam]
+ * held through the last step; ifs_ahead_start), out of line: once per change of
+ * the inputs or the matrices held */
+#if IFS_COLUMN_STEP
+#define AHEAD_START(m) ifs_ahead_start(m)
+#else
+#define AHEAD_START(m) ((void)(m))
+#endif
+static IFS_NOINLINE int ahead_start(IfsSlave *s)
+{
+    AHEAD_START(&s->m);
+    STEPPED(s);
+    return IFS_OK;
+}
+
+/* DoStep (ifs_do_step) with the step STEP (ifs_step_held on the model, or its
+ * four-wide twin: 1 where the look-ahead starts, ahead_start) and REST for the
+ * other steps */
 #define DO_STEP(instance, t, h, STEP, REST)                                            \
     do {                                                                               \
         IfsInstance *c_ = (IfsInstance *)(instance);                                   \
@@ -772,7 +814,7 @@ static inline int near_now(double t, double now)
         if (!c_) return IFS_ERROR;                                                     \
         s_ = &c_->s;                                                                   \
         if (FAST_OK(s_, t, h)) {                                                       \
-            STEP;                                                                      \
+            if (STEP) return ahead_start(s_);                                          \
             STEPPED(s_);                                                               \
             return IFS_OK;                                                             \
         }                                                                              \
@@ -797,7 +839,7 @@ static inline int near_now(double t, double now)
             ifs_mu_table_apply(s_->tab, &s_->v, &s_->m);                               \
             s_->dirty = 0;                                                             \
             mu_window(s_);                                                             \
-            STEP;                                                                      \
+            if (STEP) AHEAD_START(&s_->m);                                             \
             STEPPED(s_);                                                               \
             s_->fast_h = s_->h_comm;                                                   \
             return IFS_OK;                                                             \
@@ -861,7 +903,7 @@ static int is_state(const void *p, size_t n)
            strncmp(st.guid, IFS_GUID, sizeof st.guid) == 0;
 }
 
-int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
+int ifs_state_get(IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
                   IfsAlloc alloc, void *ctx)
 {
     IfsSavedState *st;
@@ -875,8 +917,8 @@ int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **st
     st->size = (unsigned int)sizeof(IfsSavedState);
     memset(st->guid, 0, sizeof st->guid);
     strncpy(st->guid, IFS_GUID, sizeof st->guid - 1);
+    if (s->m.gq_seg > 0.0) ifs_slave_fresh_gam(s);   /* a state: all [phi gam] */
     st->s = *s;
-    if (st->s.m.gq_seg > 0.0) ifs_slave_fresh_gam(&st->s);   /* a state: all [phi gam] */
     *state = st;
     return IFS_OK;
 }
@@ -886,11 +928,14 @@ int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *sta
     if (!is_state(state, sizeof(IfsSavedState)))
         return ifs_log(lg, IFS_ERROR, "%s: not a state of this FMU", fn);
     IfsMuTable *tab = s->tab;      /* this instance's table, not the saved pointer */
+    int g_ok;
     *s = ((const IfsSavedState *)state)->s;
     s->tab = tab;
     if (tab) tab->state = 0;       /* the saved parameters may differ */
     s->params_changed = 1;         /* the next mu change rebuilds exactly */
+    g_ok = s->m.g_ok;              /* g, [phi gam] and the inputs are the state's */
     ifs_slave_refresh(s);
+    s->m.g_ok = g_ok;
     return IFS_OK;
 }
 
