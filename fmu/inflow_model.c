@@ -203,10 +203,10 @@ int ifs_advance(IfsModel *m, double h)
 void ifs_ahead_start(IfsModel *m)
 {
     const double *pg = m->pg;
-    double *before = m->xs + m->ahead_b * IFS_LD;
+    double *before = m->xs + m->ahead_i;
     int i, j;
     memcpy(before, m->x, NX * sizeof(double));
-    ifs_phi_step_to(pg, m->g, m->x, m->xs + (m->ahead_b ^ 1) * IFS_LD);
+    ifs_phi_step_to(pg, m->g, m->x, m->xs + (m->ahead_i ^ IFS_LD));
     if (m->stale & IFS_STALE_P2) {
         /* column j of phi^2: phi times phi's column j (phi_ik at pg[k IFS_LD + i]) */
         memset(m->p2, 0, sizeof m->p2);

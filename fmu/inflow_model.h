@@ -57,13 +57,13 @@ typedef struct {
      * ifs_step_ahead): x_(k+1) = phi^2 x_(k-1) + c, c = phi g + g, so that the chain
      * from a state to the one computed from it spans two calls.  p2: phi^2 by
      * columns (as pg's phi: IFS_LD each, rows past IFS_NX zero), unless stale
-     * (IFS_STALE_P2: set where phi changes, ifs_build, ifs_mu_table_apply); c2: c for the g and phi held;
-     * xs: the last two states, xs + ahead_b IFS_LD the one before the last step (the
-     * next step's), the other the state now (as x) */
+     * (IFS_STALE_P2: set where phi changes, ifs_build, ifs_mu_table_apply); c2: c for
+     * the g and phi held; xs: the last two states, xs + ahead_i (0 or IFS_LD) the one
+     * before the last step (the next step's), the other the state now (as x) */
     double p2[IFS_NX * IFS_LD];
     double c2[IFS_LD];
     double xs[2 * IFS_LD];
-    int ahead_b, ahead_pad_;
+    long long ahead_i, ahead_pad_[3];   /* (what follows as it was: 32-byte aligned) */
 #endif
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
@@ -423,9 +423,9 @@ void ifs_ahead_start(IfsModel *m);
  * stored as the state x too */
 IFS_INLINE void ifs_step_ahead(IfsModel *m)
 {
-    double *z = m->xs + m->ahead_b * IFS_LD;
+    double *z = m->xs + m->ahead_i;
     ifs_phi_step_to(m->p2, m->c2, z, m->x);
-    m->ahead_b ^= 1;
+    m->ahead_i ^= IFS_LD;
 }
 
 /* The step on the model (its [phi gam] at dt and [x; u]), with g kept (and the
@@ -532,11 +532,11 @@ static inline __attribute__((target("avx2"), always_inline)) void
 ifs_step_ahead_wide(IfsModel *m)
 {
     const double *pg = m->p2;
-    double *z = m->xs + m->ahead_b * IFS_LD;
+    double *z = m->xs + m->ahead_i;
     IFS_WIDE_LOCALS;
     IFS_WIDE_LOAD_G(m->c2);
     IFS_WIDE_PHI(m->x);
-    m->ahead_b ^= 1;
+    m->ahead_i ^= IFS_LD;
 }
 static inline __attribute__((target("avx2"), always_inline)) int ifs_step_wide(IfsModel *m)
 {
