@@ -232,7 +232,9 @@ static int real_ok(const IfsRealVar *var, double x)
  * from the slave's (just stored: each load from one store).  The step's inputs'
  * part (IfsModel.g, and the look-ahead with it) is then stale, unless every input
  * is as it was to the bit (inputs set again to the values held: the same numbers
- * as inputs held, the look-ahead kept). */
+ * as inputs held, the look-ahead kept; the column step's, SAME_KEPT: the row step
+ * keeps neither, and the comparison cost its frame 11 instructions). */
+#define SAME_KEPT IFS_COLUMN_STEP
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
 typedef unsigned long long ifs_bits4 __attribute__((vector_size(32), aligned(8), may_alias));
 typedef unsigned long long ifs_bits2 __attribute__((vector_size(16), aligned(8), may_alias));
@@ -260,14 +262,14 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
             lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
         }
         v = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
-        d |= (ifs_bits4)v ^ *(const ifs_bits4 *)(z + 4 * b);
+        if (SAME_KEPT) d |= (ifs_bits4)v ^ *(const ifs_bits4 *)(z + 4 * b);
         *(ifs_v4 *)(z + 4 * b) = v;
 #else
         int l;
         for (l = 0; l < 4; l++)
             if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) {
                 const double u = in[4 * b + l - IFS_NX];
-                d |= memcmp(&u, z + 4 * b + l, sizeof u) != 0;
+                if (SAME_KEPT) d |= memcmp(&u, z + 4 * b + l, sizeof u) != 0;
                 z[4 * b + l] = u;
             }
 #endif
@@ -275,10 +277,10 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     {
         const ifs_bits2 h = (ifs_bits2){d[0], d[1]} | (ifs_bits2){d[2], d[3]};
-        if (!(h[0] | h[1])) return;
+        if (SAME_KEPT && !(h[0] | h[1])) return;
     }
 #else
-    if (!d) return;
+    if (SAME_KEPT && !d) return;
 #endif
     /* g dropped (ifs_slave_drop_g) but gam, if stale, brought by the next step, the
      * general one (slave_step): a call here would give the input frame a stack
