@@ -230,58 +230,15 @@ static int real_ok(const IfsRealVar *var, double x)
  * stores to reach the cache (written value by value, the simulator loop's SetReal +
  * DoStep + GetReal took half as long again).  The inputs are read back one by one
  * from the slave's (just stored: each load from one store).  The step's inputs'
- * part (IfsModel.g, and the look-ahead with it) is then stale, unless every input
- * is as it was to the bit (inputs set again to the values held: the same numbers
- * as inputs held, the look-ahead kept; the column step's, SAME_KEPT: the row step
- * keeps neither, and the comparison cost its frame 11 instructions). */
-#define SAME_KEPT IFS_COLUMN_STEP
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-typedef unsigned long long ifs_bits4 __attribute__((vector_size(32), aligned(8), may_alias));
-typedef unsigned long long ifs_bits2 __attribute__((vector_size(16), aligned(8), may_alias));
-#endif
+ * part (IfsModel.g) is then stale, and the look-ahead with it (even for inputs set
+ * again to the values held: a comparison cost the frame 11 instructions, and
+ * 1.0 ns with twelve states, bench/fmu_states.md). */
 static IFS_HOT void hold_blocks(IfsSlave *s)
 {
     /* (volatile: one load per value; two values in one load would need two stores) */
     const volatile double *in = ifs_slave_inputs(s);
     double *z = s->m.x;
     int b;
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    ifs_bits4 d = {0, 0, 0, 0};
-#else
-    int d = 0;
-#endif
-    IFS_UNROLL
-    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-        double lane[4];
-        ifs_v4 v;
-        int l;
-        IFS_UNROLL
-        for (l = 0; l < 4; l++) {
-            const int k = 4 * b + l;
-            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
-        }
-        v = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
-        if (SAME_KEPT) d |= (ifs_bits4)v ^ *(const ifs_bits4 *)(z + 4 * b);
-        *(ifs_v4 *)(z + 4 * b) = v;
-#else
-        int l;
-        for (l = 0; l < 4; l++)
-            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) {
-                const double u = in[4 * b + l - IFS_NX];
-                if (SAME_KEPT) d |= memcmp(&u, z + 4 * b + l, sizeof u) != 0;
-                z[4 * b + l] = u;
-            }
-#endif
-    }
-#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
-    {
-        const ifs_bits2 h = (ifs_bits2){d[0], d[1]} | (ifs_bits2){d[2], d[3]};
-        if (SAME_KEPT && !(h[0] | h[1])) return;
-    }
-#else
-    if (SAME_KEPT && !d) return;
-#endif
     /* g dropped (ifs_slave_drop_g) but gam, if stale, brought by the next step, the
      * general one (slave_step): a call here would give the input frame a stack
      * frame */
@@ -294,6 +251,23 @@ static IFS_HOT void hold_blocks(IfsSlave *s)
         }
     }
     s->m.g_ok = 0;
+    IFS_UNROLL
+    for (b = IFS_NX / 4; b < IFS_ZB; b++) {
+#if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
+        double lane[4];
+        int l;
+        IFS_UNROLL
+        for (l = 0; l < 4; l++) {
+            const int k = 4 * b + l;
+            lane[l] = k < IFS_NX ? z[k] : k < IFS_NA ? in[k - IFS_NX] : 0.0;
+        }
+        *(ifs_v4 *)(z + 4 * b) = (ifs_v4){lane[0], lane[1], lane[2], lane[3]};
+#else
+        int l;
+        for (l = 0; l < 4; l++)
+            if (4 * b + l >= IFS_NX && 4 * b + l < IFS_NA) z[4 * b + l] = in[4 * b + l - IFS_NX];
+#endif
+    }
 }
 
 /* Why value x for value reference vr is refused. */

@@ -400,11 +400,15 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
     assert np.array_equal(runs[0], runs[1])
 
 
-def test_inputs_held_or_set_again_give_the_same_numbers(unzipped, guid, record):
+def test_inputs_held_or_set_again_agree_to_rounding(unzipped, guid, record):
     """The step keeps its inputs' part (gam u) while the inputs and the matrices are
-    held, and computes it again after an input or mu is set: a run that sets the same
-    inputs before every step and one that sets them once agree bit for bit, through a
-    mu change (the table's matrices) and after it."""
+    held, and from the second step with them looks ahead (each state from the one two
+    steps before, phi^2 and (phi + I) gam u); an input or mu set computes gam u again
+    and restarts it, even with the values held (a comparison cost the frame more than
+    it saves: bench/fmu_states.md).  So a run that sets the same inputs before every
+    step (one step at a time) and one that sets them once (two interleaved recurrences
+    of phi^2) agree to rounding, 1e-12 of the peak, through a mu change (the table's
+    matrices) and after it."""
     m = model_of("glauert", azimuth_bias=0.05)
     u = full_inputs(m, model_inputs(record, m, find_trim(record)))[:120]
     ins, outs = [VR[n] for n in ALL_INPUTS], [VR[n] for n in OUTPUTS]
@@ -422,7 +426,7 @@ def test_inputs_held_or_set_again_give_the_same_numbers(unzipped, guid, record):
         s.freeInstance()
         runs.append(np.array(y))
     assert np.abs(runs[0]).max() > 1e-4
-    assert np.array_equal(runs[0], runs[1])
+    assert np.abs(runs[0] - runs[1]).max() <= 1e-12 * np.abs(runs[0]).max()
 
 
 # -- one test body against the Python simulator and the FMU ---------------------
