@@ -402,7 +402,7 @@ def test_every_compiled_step_gives_the_same_numbers(flags, unzipped, guid, recor
 
 def test_inputs_held_or_set_again_agree_to_rounding(unzipped, guid, record):
     """The step keeps its inputs' part (gam u) while the inputs and the matrices are
-    held, and from the second step with them looks ahead (each state from the one two
+    held, and from the third step with them looks ahead (each state from the one two
     steps before, phi^2 and (phi + I) gam u); an input or mu set computes gam u again
     and restarts it, even with the values held (a comparison cost the frame more than
     it saves: bench/fmu_states.md).  So a run that sets the same inputs before every
@@ -1280,7 +1280,7 @@ def test_what_reads_gam_after_mu_changes_with_the_inputs_held(unzipped, guid):
 
 
 def test_the_look_ahead_with_the_inputs_held_follows_the_simulator(unzipped, guid):
-    """With the inputs and the matrices held the step looks ahead (from the second
+    """With the inputs and the matrices held the step looks ahead (from the third
     step on, x_(k+1) = phi^2 x_(k-1) + (phi + I) gam u, the state of two steps
     before): over long holds, after new inputs, a step of two internal steps and a mu
     change (each restarting it), it follows the Simulator's one-step recurrence to
