@@ -96,10 +96,12 @@ typedef struct {
      * (a mu change applied from the table updates [phi gam] first, the rest when
      * asked); IFS_STALE_P2 phi^2 (p2, the look-ahead's: where phi changes) */
     int stale;
-    /* g = gam u kept for the inputs and [phi gam] held (0 when either changes: the
-     * slave's ifs_slave_refresh, its inputs' and mu's sets): 0 none; 1 g, no step
-     * taken with it and phi yet; 2 g, the last step x <- phi x + g; 3 the look-ahead
-     * (column step: p2, c2 and xs for g and phi; IFS_G_AHEAD) */
+    /* the kept g = gam u and the look-ahead: 0 none (cleared where the inputs or
+     * [phi gam] change: the slave's input sets, ifs_slave_refresh, a mu change);
+     * 1 g for the inputs and [phi gam] held, no step yet with them (a mu change with
+     * the inputs held: g from the table, ifs_mu_table_apply); 2 (IFS_G_STEPPED) g, and
+     * the last step x <- phi x + g with them; 3 (IFS_G_AHEAD) the look-ahead, p2, c2
+     * and xs for them (the column step) */
     int g_ok;
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
@@ -498,7 +500,8 @@ IFS_INLINE int ifs_step_held(IfsModel *m)
 #define IFS_WIDE_LOAD_G(gm)                                                            \
     do {                                                                               \
         IFS_UNROLL                                                                     \
-        for (q = 0; q < IFS_NX / 4; q++) IFS_WIDE_4(g4[q] = *(const ifs_v4 *)((gm) + 4 * q)); \
+        for (q = 0; q < IFS_NX / 4; q++)                                               \
+            IFS_WIDE_4(g4[q] = *(const ifs_v4 *)((gm) + 4 * q));                       \
         IFS_WIDE_2(g2 = *(const ifs_v2 *)((gm) + IFS_NX / 4 * 4));                     \
         IFS_WIDE_1(g1 = (gm)[IFS_NX - 1]);                                             \
     } while (0)
@@ -513,7 +516,8 @@ IFS_INLINE int ifs_step_held(IfsModel *m)
         IFS_WIDE_1(IFS_PHI_TERMS(double, IFS_NX - 1, g1, IFS_BX1, y1));                \
         IFS_UNROLL                                                                     \
         for (q = 0; q < IFS_NX / 4; q++) {                                             \
-            IFS_WIDE_4(_mm_storeu_pd(z + 4 * q, _mm256_castpd256_pd128((__m256d)y4[q])); \
+            IFS_WIDE_4(_mm_storeu_pd(z + 4 * q,                                        \
+                                     _mm256_castpd256_pd128((__m256d)y4[q]));          \
                        _mm_storeu_pd(z + 4 * q + 2,                                    \
                                      _mm256_extractf128_pd((__m256d)y4[q], 1));        \
                        if (x2) {                                                       \
