@@ -123,7 +123,7 @@ int ifs_build(IfsModel *m, const IfsVariables *v, char *msg, size_t msg_len)
         for (j = 0; j < NX; j++) n.a[i * NX + j] = om * rhs[i * NA + j];
         for (j = 0; j < NU; j++) n.b[i * NU + j] = om * rhs[i * NA + NX + j] * in_scale[j];
     }
-    n.ab_stale = 0;
+    n.stale = IFS_STALE_P2;   /* (phi^2, the look-ahead's, when asked) */
     set_bias(&n, v);
     n.dt = v->dt;
     if (ifs_discretize(&n, n.dt, n.pg) != 0) {
@@ -195,6 +195,35 @@ int ifs_advance(IfsModel *m, double h)
     return advance(m, h);
 }
 
+#if IFS_COLUMN_STEP
+/* The step x <- phi x + g that starts the look-ahead (ifs_step_ahead), the state
+ * before it and after it kept (m->xs), phi^2 where phi is new (stale) and c = phi g
+ * + g: once per change of the inputs or the matrices held, out of line (plain C
+ * where it is not the step: each sum in one order in every build). */
+void ifs_ahead_start(IfsModel *m)
+{
+    const double *pg = m->pg;
+    double *before = m->xs + m->ahead_i;
+    int i, j;
+    memcpy(before, m->x, NX * sizeof(double));
+    ifs_phi_step_to(pg, m->g, m->x, m->xs + (m->ahead_i ^ IFS_LD));
+    if (m->stale & IFS_STALE_P2) {
+        /* column j of phi^2: phi times phi's column j (phi_ik at pg[k IFS_LD + i]) */
+        memset(m->p2, 0, sizeof m->p2);
+        for (j = 0; j < NX; j++)
+            for (i = 0; i < NX; i++)
+                IFS_TREE_SUM(double, NX, pg[i] * pg[j * IFS_LD],
+                             pg[j_ * IFS_LD + i] * pg[j * IFS_LD + j_],
+                             m->p2[j * IFS_LD + i]);
+        m->stale &= ~IFS_STALE_P2;
+    }
+    memset(m->c2, 0, sizeof m->c2);
+    memcpy(m->c2, m->g, NX * sizeof(double));
+    ifs_phi_step(pg, m->g, m->c2);             /* c = phi g + g (the step's sums) */
+    m->g_ok = IFS_G_AHEAD;
+}
+#endif
+
 /* --- mu table --- */
 
 static void mu_entries(IfsModel *m, double out[IFS_MU_NTAB])
@@ -252,5 +281,5 @@ void ifs_mu_table_apply_ab(const IfsMuTable *t, const IfsVariables *v, IfsModel 
         }
     build_loads(m, v);
     set_taylor(m);
-    m->ab_stale = 0;
+    m->stale &= ~IFS_STALE_AB;
 }

@@ -52,6 +52,19 @@ typedef struct {
      * IFS_GQ_STALE: none (new inputs), gam stale */
     double gq[(IFS_MU_DEG + 1) * IFS_LD];
     double gq_seg, gam_mu, gq_pad_[2];
+#if IFS_COLUMN_STEP
+    /* The look-ahead of the step with the inputs and [phi gam] held (g_ok 3,
+     * ifs_step_ahead): x_(k+1) = phi^2 x_(k-1) + c, c = phi g + g, so that the chain
+     * from a state to the one computed from it spans two calls.  p2: phi^2 by
+     * columns (as pg's phi: IFS_LD each, rows past IFS_NX zero), unless stale
+     * (IFS_STALE_P2: set where phi changes, ifs_build, ifs_mu_table_apply); c2: c for
+     * the g and phi held; xs: the last two states, xs + ahead_i (0 or IFS_LD) the one
+     * before the last step (the next step's), the other the state now (as x) */
+    double p2[IFS_NX * IFS_LD];
+    double c2[IFS_LD];
+    double xs[2 * IFS_LD];
+    long long ahead_i, ahead_pad_[3];   /* (what follows as it was: 32-byte aligned) */
+#endif
     /* continuous SI state space, row-major */
     double a[IFS_NX * IFS_NX];
     double b[IFS_NX * IFS_NU];
@@ -79,17 +92,26 @@ typedef struct {
     /* the 1-norms |a| and |[a b]| [1/s]: the Taylor series' term bounds (abc, abr and
      * these from ifs_taylor_prepare, generated from algorithms.taylor_prepare) */
     double norms[2];
-    /* 1: a, b, lc, ld and the norms are not yet for the current mu (a mu change
-     * applied from the table updates [phi gam] first, the rest when asked) */
-    int ab_stale;
-    /* 1: g is gam u for the inputs and [phi gam] held (cleared when either changes:
-     * the slave's ifs_slave_refresh, its inputs' and mu's sets) */
+    /* what is not yet for the matrices now: IFS_STALE_AB a, b, lc, ld and the norms
+     * (a mu change applied from the table updates [phi gam] first, the rest when
+     * asked); IFS_STALE_P2 phi^2 (p2, the look-ahead's: where phi changes) */
+    int stale;
+    /* the kept g = gam u and the look-ahead: 0 none (cleared where the inputs or
+     * [phi gam] change: the slave's input sets, ifs_slave_refresh, a mu change);
+     * 1 g for the inputs and [phi gam] held, no step yet with them (a mu change with
+     * the inputs held: g from the table, ifs_mu_table_apply); 2 (IFS_G_STEPPED) g, and
+     * the last step x <- phi x + g with them; 3 (IFS_G_AHEAD) the look-ahead, p2, c2
+     * and xs for them (the column step) */
     int g_ok;
     /* cached split of the last communication step h = n dt + rem */
     double h_last;
     long long n_last;
     double rem_last;
 } IfsModel;
+#define IFS_STALE_AB 1
+#define IFS_STALE_P2 2
+#define IFS_G_STEPPED 2
+#define IFS_G_AHEAD 3
 #define IFS_GQ_NONE 0.0
 #define IFS_GQ_NEXT (-1.0 - IFS_MU_NSEG)
 #define IFS_GQ_STALE (2.0 + IFS_MU_NSEG)   /* gam stale, no gq (new inputs) */
@@ -113,7 +135,7 @@ int ifs_mu_table_build(IfsMuTable *t, const IfsVariables *v);
  * Horner's rule, generated from inflowsim.simulate.algorithms.mu_eval, straight into
  * m->pg, whose order the table's half 0 is stored in; with the CPU's fused
  * multiply-adds where it has them, t->fma, else the C library's fma: one rounding
- * each, the same numbers), and mark a, b and the loads stale (m->ab_stale): the step
+ * each, the same numbers), and mark a, b and the loads stale (m->stale): the step
  * at dt needs only [phi gam].  With the inputs held since the last mu change (g
  * kept, g_ok, and gq_seg not IFS_GQ_NONE) and the step by columns,
  * ifs_mu_eval_held: phi alone and the step's g = gam u from the segment's
@@ -126,9 +148,10 @@ static inline void ifs_mu_table_apply(const IfsMuTable *t, const IfsVariables *v
 {
     m->rem = 0.0;          /* the remainder caches belong to the old matrices */
     m->rem_prev = 0.0;
-    m->ab_stale = 1;
+    m->stale = IFS_STALE_AB | IFS_STALE_P2;   /* (phi is new: phi^2 with it) */
 #if IFS_COLUMN_STEP
     if (m->g_ok && m->gq_seg != IFS_GQ_NONE) {
+        m->g_ok = 1;       /* g for the new phi (below), no step yet with them */
         IFS_MU_CALL(t, ifs_mu_eval_held, t->edge, &t->q[0][0][0], &t->p[0][0][0], v->mu,
                     m->pg);
         return;
@@ -334,8 +357,9 @@ IFS_INLINE void ifs_gam_rows(const double *pg, const double *z, double *g)
 #endif
 }
 
-/* z[0 .. IFS_NX) <- phi x + g, every sum before any store (each reads all of x) */
-IFS_INLINE void ifs_phi_step(const double *pg, const double *g, double *z)
+/* z[0 .. IFS_NX) <- phi x + g, every sum before any store (each reads all of x); the
+ * new state stored in x2 too where it is not NULL */
+IFS_INLINE void ifs_phi_step_to(const double *pg, const double *g, double *z, double *x2)
 {
 #if defined(__GNUC__) && !defined(IFS_SCALAR_STEP)
     ifs_v2 y[IFS_NX / 2];
@@ -348,16 +372,26 @@ IFS_INLINE void ifs_phi_step(const double *pg, const double *g, double *z)
     IFS_PHI_TERMS(double, IFS_NX - 1, g[IFS_NX - 1], IFS_Z, y1);
 #endif
     IFS_UNROLL
-    for (p = 0; p < IFS_NX / 2; p++) *(ifs_v2 *)(z + 2 * p) = y[p];
+    for (p = 0; p < IFS_NX / 2; p++) {
+        *(ifs_v2 *)(z + 2 * p) = y[p];
+        if (x2) *(ifs_v2 *)(x2 + 2 * p) = y[p];
+    }
 #if IFS_NX % 2
     z[IFS_NX - 1] = y1;
+    if (x2) x2[IFS_NX - 1] = y1;
 #endif
 #else
     double y[IFS_NX];
     int i;
     for (i = 0; i < IFS_NX; i++) IFS_PHI_TERMS(double, i, g[i], IFS_Z, y[i]);
     memcpy(z, y, sizeof y);
+    if (x2) memcpy(x2, y, sizeof y);
 #endif
+}
+
+IFS_INLINE void ifs_phi_step(const double *pg, const double *g, double *z)
+{
+    ifs_phi_step_to(pg, g, z, NULL);
 }
 
 /* the step on [phi gam] pg and z = [x; u; 0] */
@@ -368,14 +402,50 @@ IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
     ifs_phi_step(pg, g, z);
 }
 
-/* the step on the model (its [phi gam] at dt and [x; u]), with g kept */
-IFS_INLINE void ifs_step_held(IfsModel *m)
+/*
+ * The look-ahead (m->g_ok IFS_G_AHEAD).  With the inputs and [phi gam] held, g = gam u
+ * is constant, so two steps are one with phi^2 (the standard look-ahead of an IIR
+ * filter's recurrence):
+ *
+ *     x_(k+1) = phi^2 x_(k-1) + c,    c = phi g + g
+ *
+ * each step computed from the state before the last one (m->xs, the two last states
+ * one after the other): the chain from a state to the one computed from it spans two
+ * calls, so that consecutive calls overlap in the machine instead of each waiting for
+ * the last one's state (bench/fmu_states.md); the same NX^2 products a step.  The
+ * numbers differ from the one-step recurrence's by rounding alone (two interleaved
+ * recurrences of phi^2; phi^2 and c rounded once).  The sums as the step's (g first,
+ * IFS_PHI_TERMS), so every build gives the same numbers.  Started by
+ * ifs_ahead_start at the second step with the same g and phi (g_ok IFS_G_STEPPED):
+ * that step is x <- phi x + g, then phi^2 where phi is new and c.
+ */
+void ifs_ahead_start(IfsModel *m);
+
+/* the look-ahead step: xs_b <- phi^2 xs_b + c (xs_b the state before the last step),
+ * stored as the state x too */
+IFS_INLINE void ifs_step_ahead(IfsModel *m)
+{
+    double *z = m->xs + m->ahead_i;
+    ifs_phi_step_to(m->p2, m->c2, z, m->x);
+    m->ahead_i ^= IFS_LD;
+}
+
+/* The step on the model (its [phi gam] at dt and [x; u]), with g kept (and the
+ * look-ahead where g and phi were held through the last step).  Returns 1, nothing
+ * done, where the look-ahead starts (g_ok IFS_G_STEPPED): the caller's
+ * ifs_ahead_start then takes the step, out of line. */
+IFS_INLINE int ifs_step_held(IfsModel *m)
 {
     if (!m->g_ok) {
         ifs_gam_rows(m->pg, m->x, m->g);
-        m->g_ok = 1;
+    } else if (m->g_ok & IFS_G_STEPPED) {
+        if (m->g_ok == IFS_G_STEPPED) return 1;
+        ifs_step_ahead(m);
+        return 0;
     }
+    m->g_ok = IFS_G_STEPPED;
     ifs_phi_step(m->pg, m->g, m->x);
+    return 0;
 }
 
 /* The same step on the model four rows at a time, for the AVX2 variant of DoStep
@@ -385,7 +455,7 @@ IFS_INLINE void ifs_step_held(IfsModel *m)
  * u_k broadcast once for all; the new states stored in 16-byte halves (the next
  * step's broadcasts each load from one store, forwarded a cycle sooner from a
  * 16-byte store than from a 32-byte one on AMD Zen 4).  The same operations in the
- * same order as ifs_step, so the same numbers. */
+ * same order as ifs_step_held, so the same numbers. */
 #if defined(IFS_HOT_CLONES) && !defined(IFS_SCALAR_STEP)
 #define IFS_WIDE_STEP 1
 #include <immintrin.h>
@@ -405,68 +475,99 @@ IFS_INLINE void ifs_step_held(IfsModel *m)
 #define IFS_BU4(j) ((ifs_v4)IFS_BU(j))
 #define IFS_BU2(j) ((ifs_v2)_mm256_castpd256_pd128(IFS_BU(j)))
 #define IFS_BU1(j) _mm256_cvtsd_f64(IFS_BU(j))
-static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(IfsModel *m)
+/* the locals of the four-wide step: g (g4, g2, g1) and the new state (y4, y2, y1) */
+#if IFS_NX >= 4
+#define IFS_WIDE_4(d) d
+#else
+#define IFS_WIDE_4(d)
+#endif
+#if IFS_NX % 4 >= 2
+#define IFS_WIDE_2(d) d
+#else
+#define IFS_WIDE_2(d)
+#endif
+#if IFS_NX % 2
+#define IFS_WIDE_1(d) d
+#else
+#define IFS_WIDE_1(d)
+#endif
+#define IFS_WIDE_LOCALS                                                                \
+    IFS_WIDE_4(ifs_v4 g4[IFS_NX / 4]; ifs_v4 y4[IFS_NX / 4];)                          \
+    IFS_WIDE_2(ifs_v2 g2; ifs_v2 y2;)                                                  \
+    IFS_WIDE_1(double g1; double y1;)                                                  \
+    int q
+/* g's rows from memory (gm) */
+#define IFS_WIDE_LOAD_G(gm)                                                            \
+    do {                                                                               \
+        IFS_UNROLL                                                                     \
+        for (q = 0; q < IFS_NX / 4; q++)                                               \
+            IFS_WIDE_4(g4[q] = *(const ifs_v4 *)((gm) + 4 * q));                       \
+        IFS_WIDE_2(g2 = *(const ifs_v2 *)((gm) + IFS_NX / 4 * 4));                     \
+        IFS_WIDE_1(g1 = (gm)[IFS_NX - 1]);                                             \
+    } while (0)
+/* the new state from pg's first IFS_NX columns, g and the state at z, stored at z
+ * and, unless NULL, at x2 (in 16-byte halves) */
+#define IFS_WIDE_PHI(x2)                                                               \
+    do {                                                                               \
+        IFS_UNROLL                                                                     \
+        for (q = 0; q < IFS_NX / 4; q++)                                               \
+            IFS_WIDE_4(IFS_PHI_TERMS(ifs_v4, 4 * q, g4[q], IFS_BX4, y4[q]));           \
+        IFS_WIDE_2(IFS_PHI_TERMS(ifs_v2, IFS_NX / 4 * 4, g2, IFS_BX2, y2));            \
+        IFS_WIDE_1(IFS_PHI_TERMS(double, IFS_NX - 1, g1, IFS_BX1, y1));                \
+        IFS_UNROLL                                                                     \
+        for (q = 0; q < IFS_NX / 4; q++) {                                             \
+            IFS_WIDE_4(_mm_storeu_pd(z + 4 * q,                                        \
+                                     _mm256_castpd256_pd128((__m256d)y4[q]));          \
+                       _mm_storeu_pd(z + 4 * q + 2,                                    \
+                                     _mm256_extractf128_pd((__m256d)y4[q], 1));        \
+                       if (x2) {                                                       \
+                           _mm_storeu_pd((x2) + 4 * q,                                 \
+                                         _mm256_castpd256_pd128((__m256d)y4[q]));      \
+                           _mm_storeu_pd((x2) + 4 * q + 2,                             \
+                                         _mm256_extractf128_pd((__m256d)y4[q], 1));    \
+                       })                                                              \
+        }                                                                              \
+        IFS_WIDE_2(*(ifs_v2 *)(z + IFS_NX / 4 * 4) = y2;                               \
+                   if (x2) *(ifs_v2 *)((x2) + IFS_NX / 4 * 4) = y2;)                   \
+        IFS_WIDE_1(z[IFS_NX - 1] = y1; if (x2) (x2)[IFS_NX - 1] = y1;)                  \
+    } while (0)
+/* the look-ahead step four rows at a time (ifs_step_ahead) */
+static inline __attribute__((target("avx2"), always_inline)) void
+ifs_step_ahead_wide(IfsModel *m)
+{
+    const double *pg = m->p2;
+    double *z = m->xs + m->ahead_i;
+    IFS_WIDE_LOCALS;
+    IFS_WIDE_LOAD_G(m->c2);
+    IFS_WIDE_PHI(m->x);
+    m->ahead_i ^= IFS_LD;
+}
+static inline __attribute__((target("avx2"), always_inline)) int ifs_step_wide(IfsModel *m)
 {
     const double *pg = m->pg;
     double *z = m->x;
     double *g = m->g;
-    int q;
-#if IFS_NX >= 4
-    ifs_v4 g4[IFS_NX / 4], y4[IFS_NX / 4];
-#endif
-#if IFS_NX % 4 >= 2
-    ifs_v2 g2, y2;
-#endif
-#if IFS_NX % 2
-    double g1, y1;
-#endif
+    IFS_WIDE_LOCALS;
     if (!m->g_ok) {
         IFS_UNROLL
-        for (q = 0; q < IFS_NX / 4; q++) IFS_GAM_TERMS(ifs_v4, 4 * q, IFS_BU4, g4[q]);
-#if IFS_NX % 4 >= 2
-        IFS_GAM_TERMS(ifs_v2, IFS_NX / 4 * 4, IFS_BU2, g2);
-#endif
-#if IFS_NX % 2
-        IFS_GAM_TERMS(double, IFS_NX - 1, IFS_BU1, g1);
-#endif
+        for (q = 0; q < IFS_NX / 4; q++)
+            IFS_WIDE_4(IFS_GAM_TERMS(ifs_v4, 4 * q, IFS_BU4, g4[q]));
+        IFS_WIDE_2(IFS_GAM_TERMS(ifs_v2, IFS_NX / 4 * 4, IFS_BU2, g2));
+        IFS_WIDE_1(IFS_GAM_TERMS(double, IFS_NX - 1, IFS_BU1, g1));
         IFS_UNROLL
-        for (q = 0; q < IFS_NX / 4; q++) *(ifs_v4 *)(g + 4 * q) = g4[q];
-#if IFS_NX % 4 >= 2
-        *(ifs_v2 *)(g + IFS_NX / 4 * 4) = g2;
-#endif
-#if IFS_NX % 2
-        g[IFS_NX - 1] = g1;
-#endif
-        m->g_ok = 1;
+        for (q = 0; q < IFS_NX / 4; q++) IFS_WIDE_4(*(ifs_v4 *)(g + 4 * q) = g4[q]);
+        IFS_WIDE_2(*(ifs_v2 *)(g + IFS_NX / 4 * 4) = g2);
+        IFS_WIDE_1(g[IFS_NX - 1] = g1);
+    } else if (m->g_ok & IFS_G_STEPPED) {   /* (2 or 3; 1: g, no step yet with it) */
+        if (m->g_ok == IFS_G_STEPPED) return 1;
+        ifs_step_ahead_wide(m);
+        return 0;
     } else {
-        IFS_UNROLL
-        for (q = 0; q < IFS_NX / 4; q++) g4[q] = *(const ifs_v4 *)(g + 4 * q);
-#if IFS_NX % 4 >= 2
-        g2 = *(const ifs_v2 *)(g + IFS_NX / 4 * 4);
-#endif
-#if IFS_NX % 2
-        g1 = g[IFS_NX - 1];
-#endif
+        IFS_WIDE_LOAD_G(g);
     }
-    IFS_UNROLL
-    for (q = 0; q < IFS_NX / 4; q++) IFS_PHI_TERMS(ifs_v4, 4 * q, g4[q], IFS_BX4, y4[q]);
-#if IFS_NX % 4 >= 2
-    IFS_PHI_TERMS(ifs_v2, IFS_NX / 4 * 4, g2, IFS_BX2, y2);
-#endif
-#if IFS_NX % 2
-    IFS_PHI_TERMS(double, IFS_NX - 1, g1, IFS_BX1, y1);
-#endif
-    IFS_UNROLL
-    for (q = 0; q < IFS_NX / 4; q++) {
-        _mm_storeu_pd(z + 4 * q, _mm256_castpd256_pd128((__m256d)y4[q]));
-        _mm_storeu_pd(z + 4 * q + 2, _mm256_extractf128_pd((__m256d)y4[q], 1));
-    }
-#if IFS_NX % 4 >= 2
-    *(ifs_v2 *)(z + IFS_NX / 4 * 4) = y2;
-#endif
-#if IFS_NX % 2
-    z[IFS_NX - 1] = y1;
-#endif
+    m->g_ok = IFS_G_STEPPED;
+    IFS_WIDE_PHI((double *)NULL);
+    return 0;
 }
 #endif
 
@@ -488,9 +589,10 @@ IFS_INLINE void ifs_step(const double *pg, double z[IFS_RL])
     memcpy(z, y, sizeof y);
 }
 
-IFS_INLINE void ifs_step_held(IfsModel *m)
+IFS_INLINE int ifs_step_held(IfsModel *m)
 {
     ifs_step(m->pg, m->x);
+    return 0;
 }
 
 /* The same step four lanes at a time, for the AVX2 variant of DoStep (IFS_WIDE_STEP;
@@ -529,7 +631,7 @@ IFS_INLINE void ifs_step_held(IfsModel *m)
         }                                                                              \
         out = v_;                                                                      \
     } while (0)
-static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(IfsModel *m)
+static inline __attribute__((target("avx2"), always_inline)) int ifs_step_wide(IfsModel *m)
 {
     const double *pg = m->pg;
     double *z = m->x;
@@ -544,6 +646,7 @@ static inline __attribute__((target("avx2"), always_inline)) void ifs_step_wide(
 #endif
     IFS_UNROLL
     for (g = 0; g < IFS_XB; g++) *(__m256d *)(z + 4 * g) = y[g];
+    return 0;
 }
 #endif
 #endif /* IFS_COLUMN_STEP */

@@ -21,6 +21,7 @@
 #define ifs_absdiffmax IFS_NAME(ifs_absdiffmax)
 #define ifs_absmax IFS_NAME(ifs_absmax)
 #define ifs_advance IFS_NAME(ifs_advance)
+#define ifs_ahead_start IFS_NAME(ifs_ahead_start)
 #define ifs_bias_of IFS_NAME(ifs_bias_of)
 #define ifs_build IFS_NAME(ifs_build)
 #define ifs_cheb_matrices IFS_NAME(ifs_cheb_matrices)

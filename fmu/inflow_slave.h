@@ -289,10 +289,14 @@ typedef struct {
 
 typedef void *(*IfsAlloc)(void *ctx, size_t n);
 
-/* Copy the slave into *state, allocating it with alloc(ctx, n) if it is NULL. */
-int ifs_state_get(const IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
+/* Copy the slave into *state, allocating it with alloc(ctx, n) if it is NULL; gam
+ * brought up to date first where a mu change left it stale (the slave's too, so that
+ * it steps on as the state restored will: the same numbers). */
+int ifs_state_get(IfsSlave *s, const IfsLog *lg, const char *fn, void **state,
                   IfsAlloc alloc, void *ctx);
-/* Restore the slave from a state of this FMU. */
+/* Restore the slave from a state of this FMU, its kept g and look-ahead with it
+ * (IfsModel.g_ok: the steps after a restore give the numbers they gave after the
+ * state was taken). */
 int ifs_state_set(IfsSlave *s, const IfsLog *lg, const char *fn, const void *state);
 int ifs_state_serialize(const IfsLog *lg, const char *fn, const void *state,
                         unsigned char bytes[], size_t size);
