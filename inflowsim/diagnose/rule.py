@@ -183,9 +183,10 @@ class Rule:
         It did while the likelihood-ratio statistics were read as chi-square,
         which passed ``alpha`` 4.4 times as often as it said (``model.md`` section
         7); read for ``S`` estimated from the bins, the null record it guarded
-        against is not significant (p 1.5e-3), and over the 576 null records of
-        ``bench/rotor-physics.md`` neither setting names anything.  Kept for
-        studies (``bench/redecide.py --set input_familywise=true``).
+        against is not significant (p 1.2e-3), and on the 576 null records of
+        ``bench/rotor-physics.md`` both settings decide the same; of its 312
+        hidden ones, this one names the 2/rev flap on two more.  Kept for studies
+        (``bench/redecide.py --set input_familywise=true``).
     coloured : float
         In-band sensor noise this many times the floor or more makes the excess the
         input-correlated one (0: every record) [-].  Over the 136 white-noise
