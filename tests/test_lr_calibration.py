@@ -122,3 +122,14 @@ def test_null_records_statistics_read_so_are_calibrated(rotor, monkeypatch):
             small += lp < -1
     assert 0.6 < np.mean(scaled) < 1.45, np.mean(scaled)
     assert 3 <= small <= 24, small
+
+
+def test_the_rule_reads_chi_square_unless_it_is_calibrated():
+    """``Rule.calibrated`` chooses the reading; the default is chi-square (line 2's
+    pairing rests on single atoms' significance: ``bench/studies/lr-calibration.md``)."""
+    from types import SimpleNamespace
+    from inflowsim.diagnose.rule import DEFAULT_RULE, Rule, _lr
+    fit = SimpleNamespace(lr=(1.2, 60.0))
+    assert _lr(fit, DEFAULT_RULE) is None and not DEFAULT_RULE.calibrated
+    assert _lr(fit, Rule(calibrated=True)) == (1.2, 60.0)
+    assert _lr(object(), Rule(calibrated=True)) is None
