@@ -1006,8 +1006,9 @@ def _pair(records, base_fit, a, b, ra, rb, band_hz, fit_fn, rule) -> Scored | No
     # each atom beside the other: the pair against the other alone
     dy = len(y.params) - len([n for n in flat if n in y.params])
     dx = rx.dof
-    beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held), _lr(fit, rule))[2]),
-              (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held), _lr(fit, rule))[2]))
+    cal = _lr(fit, rule)
+    beside = ((x.label, lr_test(ry.fit.cost, fit.cost, dx, _boundary(x, held), cal)[2]),
+              (y.label, lr_test(rx.fit.cost, fit.cost, dy, _boundary(y, held), cal)[2]))
     ln_n = np.log(6 * fit.n_freq)
     gains = ((x.label, float(2 * (ry.fit.cost - fit.cost) - dx * ln_n)),
              (y.label, float(2 * (rx.fit.cost - fit.cost) - dy * ln_n)))
@@ -1259,6 +1260,7 @@ def least_significant(records, fit, labels, band_hz, hold=None,
     from ..identify import identify
     found = []
     held = set(fit.fixed or ())
+    cal = _lr(fit, rule)
     for label in dict.fromkeys(labels):
         atom = atom_of(label)
         if atom.effect not in fit.structure.effects:
@@ -1284,11 +1286,10 @@ def least_significant(records, fit, labels, band_hz, hold=None,
         except InputError:
             continue
         b = _boundary(atom, held)
-        lp = lr_test(f.cost, fit.cost, len(free), b, _lr(fit, rule))[2]
+        lp = lr_test(f.cost, fit.cost, len(free), b, cal)[2]
         if lp >= math.log10(rule.alpha):
             # what the statistic's precision (tie) moves log10 p by
-            moved = abs(lr_test(f.cost - rule.tie / 2, fit.cost, len(free), b, _lr(fit, rule))[2]
-                        - lp)
+            moved = abs(lr_test(f.cost - rule.tie / 2, fit.cost, len(free), b, cal)[2] - lp)
             found.append((label, f, lp, moved))
     if not found:
         return None

@@ -38,7 +38,6 @@ structure converges to, not the bias an incomplete structure adds to it
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
 
 import numpy as np
@@ -495,6 +494,15 @@ def finite_sample_covariance(Ms, factors):
     return Ai @ B @ Ai
 
 
+def _record_rows(prob, st):
+    """``(rows, lost)`` of a fit's state for :func:`weight_dof`: each record's real
+    residual rows (``2 m n``) and the real dimensions the fit took (its free
+    parameters and the end-effect nuisance)."""
+    lost = len(prob.free) + sum(Q.shape[1] for Q in st.bases)
+    rows = [2 * np.asarray(s).shape[0] * sp.f_hz.size for sp, s in zip(prob.spectra, st.S)]
+    return rows, lost
+
+
 def lr_calibration(prob, st) -> tuple:
     """``(kappa, d)``: how a likelihood-ratio statistic against this fit is read
     (``model.md`` section 7): ``2 (J_0 - J) / (kappa k)`` as ``F(k, d)``, ``k`` the
@@ -515,8 +523,7 @@ def lr_calibration(prob, st) -> tuple:
     (``bench/studies/lr-calibration.md``).
     A fit whose records do not determine their ``S`` gives ``(1, inf)``:
     chi-square."""
-    lost = len(prob.free) + sum(Q.shape[1] for Q in st.bases)
-    rows = [2 * np.asarray(s).shape[0] * sp.f_hz.size for sp, s in zip(prob.spectra, st.S)]
+    rows, lost = _record_rows(prob, st)
     return lr_calibration_of(rows, st.S, lost)
 
 
@@ -525,12 +532,14 @@ def lr_calibration_of(rows, S, lost) -> tuple:
     its ``S`` and the real dimensions ``lost`` to the fit (:func:`weight_dof`)."""
     n_data = sum(rows)
     dofs = weight_dof(rows, S, lost)
-    used = [(r, nu, m) for r, (nu, m) in zip(rows, dofs) if nu > m]
+    # the records that determine their S (c > 0), each with its g
+    used = [(r, nu, m, g) for r, (nu, m), (c, g) in zip(rows, dofs, weight_factors(dofs))
+            if c > 0.0]
     if not used:
         return 1.0, math.inf
-    a = sum(r for r, _, _ in used)
-    g = sum(r * (1.0 + m / nu) for r, nu, m in used) / a
-    d = a * a / sum(r * r / (2.0 * (nu - m + 1)) for r, nu, m in used)
+    a = sum(r for r, _, _, _ in used)
+    g = sum(r * gr for r, _, _, gr in used) / a
+    d = a * a / sum(r * r / (2.0 * (nu - m + 1)) for r, nu, m, _ in used)
     return float(n_data / max(n_data - lost, 1) * g), float(d)
 
 
@@ -640,8 +649,7 @@ def _few_bins(prob, st) -> list:
     """Records whose bins leave few degrees of freedom for their ``S``: the bounds
     are widened for it (:func:`weight_factors`), or, at ``nu <= m``, the record's
     information is not counted."""
-    lost = len(prob.free) + sum(Q.shape[1] for Q in st.bases)
-    rows = [2 * np.asarray(s).shape[0] * sp.f_hz.size for sp, s in zip(prob.spectra, st.S)]
+    rows, lost = _record_rows(prob, st)
     out = []
     for sp, (nu, m) in zip(prob.spectra, weight_dof(rows, st.S, lost)):
         if nu <= m:
@@ -987,6 +995,7 @@ def evaluate(records, structure, params, band_hz=DEFAULT_BAND, grid_hz=None,
 
 __all__ = ["SHORT_RUN", "NEAR", "HALF_WINDOW", "CORRELATION_LIMIT", "RANK_TOL",
            "S_CONDITION_LIMIT", "S_ROUNDING", "FEW_DOF", "null_directions",
-           "weight_dof", "weight_factors", "finite_sample_covariance", "lr_calibration", "lr_calibration_of", "identify", "Evaluation",
+           "weight_dof", "weight_factors", "finite_sample_covariance", "lr_calibration",
+           "lr_calibration_of", "identify", "Evaluation",
            "evaluate", "fit_state", "fit_from", "as_records", "spectra_of",
            "covariances"]
