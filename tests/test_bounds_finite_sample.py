@@ -17,6 +17,27 @@ from inflowsim.identify.estimator import (finite_sample_covariance, weight_dof,
                                           weight_factors)
 
 
+def relaxed_gls(Z, X, iters):
+    """The estimator on a linear complex regression ``Z = X theta + v`` (per draw
+    ``Z`` ``(reps, n, m)``, ``X`` ``(n, m, p)``): ``iters`` rounds of weighted least
+    squares, each weighted by the inverse of the last round's residual covariance
+    (the first by identity).  Returns the last round's ``(theta, A, S)``: ``A`` its
+    information ``2 Re X^H W X`` (``W`` the weights it used), ``S`` its residual's
+    covariance."""
+    reps, n, m = Z.shape
+    XH = np.conj(np.swapaxes(X, 1, 2))
+    W = np.broadcast_to(np.eye(m), (reps, m, m))
+    for _ in range(iters):
+        WX = W[:, None] @ X[None]
+        A = 2 * np.real(np.sum(XH[None] @ WX, axis=1))
+        b = 2 * np.real(np.sum(np.conj(WX) * Z[..., None], axis=(1, 2)))
+        th = np.linalg.solve(A, b[..., None])[..., 0]
+        e = Z - np.einsum("kmp,rp->rkm", X, th)
+        S = np.swapaxes(e, 1, 2) @ e.conj() / n
+        W = np.linalg.inv(S)
+    return th, A, S
+
+
 def test_the_finite_sample_factor_matches_a_monte_carlo_of_the_estimator():
     """Plain ``M^-1`` (with the residual's degrees of freedom) is 13 % narrow at 24
     bins (the spread of ``(estimate - truth) / sigma`` over 3000 draws: 1.13), the
@@ -29,20 +50,8 @@ def test_the_finite_sample_factor_matches_a_monte_carlo_of_the_estimator():
     L = np.array([[1.0, 0, 0], [0.5, 1, 0], [0.2, -0.3, 0.6]])   # correlated channels
     v = (rng.normal(size=(reps, n, m)) + 1j * rng.normal(size=(reps, n, m))) / np.sqrt(2)
     Z = (X @ theta)[None] + v @ L.T
-    XH = np.conj(np.swapaxes(X, 1, 2))
-
-    def gls(W):
-        WX = W[:, None] @ X[None]
-        A = 2 * np.real(np.sum(XH[None] @ WX, axis=1))
-        b = 2 * np.real(np.sum(np.conj(WX) * Z[..., None], axis=(1, 2)))
-        return np.linalg.solve(A, b[..., None])[..., 0], A
-
-    W = np.broadcast_to(np.eye(m), (reps, m, m))
-    for _ in range(8):                   # relaxation: S from the residuals, then GLS
-        th, A = gls(W)
-        e = Z - np.einsum("kmp,rp->rkm", X, th)
-        W = np.linalg.inv(np.swapaxes(e, 1, 2) @ e.conj() / n)
-    th, A = gls(W)
+    # relaxation: S from the residuals, then GLS, eight times; the ninth GLS the estimate
+    th, A, _ = relaxed_gls(Z, X, 9)
     rows = 2 * m * n
     dof = rows / (rows - p)
     (nu, mm), = weight_dof([rows], [L @ L.T], p)
