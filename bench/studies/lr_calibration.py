@@ -49,10 +49,15 @@ def _rows(paths):
     return out
 
 
-def _calibration(key, structure, cache={}):
+#: ``(kappa, d)`` by configuration and structure, fitted once a run
+_FITTED: dict = {}
+
+
+def _calibration(key, structure):
     """``(kappa, d)`` of ``structure`` fitted to the configuration's record."""
     effect, hold, rate, noise, seed, rotor = key
     k = (effect, hold, rate, noise, rotor, structure)
+    cache = _FITTED
     if k not in cache:
         os.environ["INFLOWSIM_STUDY_ROTOR"] = rotor
         from detection import record_for
