@@ -115,12 +115,14 @@ def test_null_records_statistics_read_so_are_calibrated(rotor, monkeypatch):
     assert 3 <= small <= 24, small
 
 
-def test_the_rule_reads_chi_square_unless_it_is_calibrated():
-    """``Rule.calibrated`` chooses the reading; the default is chi-square (line 2's
-    pairing rests on single atoms' significance: ``bench/studies/lr-calibration.md``)."""
+def test_the_rule_reads_calibrated_unless_asked_for_chi_square():
+    """``Rule.calibrated`` chooses the reading; the default reads the fit's
+    calibration (line 2's screen reads chi-square either way: ``tests/test_rule.py``),
+    ``calibrated=False`` chi-square; a fit without one (a study's own ``fit_fn``) is
+    read as chi-square."""
     from types import SimpleNamespace
     from inflowsim.diagnose.rule import DEFAULT_RULE, Rule, _lr
     fit = SimpleNamespace(lr=(1.2, 60.0))
-    assert _lr(fit, DEFAULT_RULE) is None and not DEFAULT_RULE.calibrated
-    assert _lr(fit, Rule(calibrated=True)) == (1.2, 60.0)
-    assert _lr(object(), Rule(calibrated=True)) is None
+    assert DEFAULT_RULE.calibrated and _lr(fit, DEFAULT_RULE) == (1.2, 60.0)
+    assert _lr(fit, Rule(calibrated=False)) is None
+    assert _lr(object(), DEFAULT_RULE) is None

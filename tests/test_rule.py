@@ -19,7 +19,7 @@ from inflowsim.diagnose import diagnose
 from inflowsim.diagnose.candidates import candidates_of, describe
 from inflowsim.diagnose.rule import (DEFAULT_RULE, STATEMENT, TESTS, Decision, Rule,
                                      Scored, atom_order, atoms, decide, lattice, paired,
-                                     row_order)
+                                     row_order, screen)
 from inflowsim.errors import InputError
 from inflowsim.flighttest.virtual import VirtualTest, virtual_record
 from inflowsim.model.presets import theory_parameters, truth_parameters
@@ -165,6 +165,7 @@ def _row(atoms, gain, lps, before=100.0, after=50.0, noise=10.0, implausible=())
 
 def _tied(atoms, gain, dof, flat=(), gains=None):
     return replace(_row(atoms, gain, [-9.0] * len(atoms)), dof=dof, flat=tuple(flat),
+                   statistic=gain + dof * LN_N,
                    beside_gain=tuple(zip(atoms, gains or [gain] * len(atoms))))
 
 
@@ -310,9 +311,10 @@ BASE_FIT = SimpleNamespace(structure=BASE, cost=100.0, fixed=(), n_freq=NF,
                            parameters=theory_parameters(BASE, K), constants=(K,))
 
 
-def _stub(gain_of, flat=()):
+def _stub(gain_of, flat=(), lr=None):
     """Fits whose cost gives a Schwarz gain ``gain_of[frozenset of free added
-    parameters]`` (absent: no gain); ``flat`` parameters get no bound."""
+    parameters]`` (absent: no gain); ``flat`` parameters get no bound; ``lr`` each
+    fit's calibration ``(kappa, d)`` (``None``: none, read as chi-square)."""
     calls = []
 
     def fit_fn(records, s, band_hz, start, fixed=None):
@@ -324,14 +326,14 @@ def _stub(gain_of, flat=()):
         cost = 100.0 if g is None else 100.0 - (g + len(free) * LN_N) / 2
         params = {**start, **fixed}
         return SimpleNamespace(structure=s, cost=cost, fixed=tuple(fixed), n_freq=NF,
-                               parameters=params, constants=(K,),
+                               parameters=params, constants=(K,), lr=lr,
                                sigma={n: (None if n in flat or n in fixed else 1e-3)
                                       for n in params})
     return fit_fn, calls
 
 
-def _lat(gains, pool, rule=DEFAULT_RULE, flat=()):
-    fn, calls = _stub({frozenset(k): v for k, v in gains.items()}, flat)
+def _lat(gains, pool, rule=DEFAULT_RULE, flat=(), lr=None):
+    fn, calls = _stub({frozenset(k): v for k, v in gains.items()}, flat, lr)
     return decide(lattice(None, BASE_FIT, (0.2, 1.6), fn, pool, rule=rule), rule), calls
 
 
@@ -414,6 +416,32 @@ def test_an_implausible_atom_takes_no_plausible_ones_pairing_place(fi_gain, pair
     assert d.chosen.atoms == ("azimuth-bias", "skewed-wake") and d.accepted
 
 
+@pytest.mark.parametrize("calibrated", [True, False])
+def test_the_screen_pairs_what_passes_alone_as_chi_square_and_the_pair_decides(calibrated):
+    """Line 2 (``tests/test_single_axis.py``, ``theta0`` seed 0): a delay at statistic
+    12 alone passes 1e-3 as chi-square (5.3e-4) but not read for ``S`` estimated
+    (``kappa`` 1.3, ``d`` 60: 3.5e-3).  It is paired either way, and beside the
+    azimuth bias (statistic 40 + ln n) it is significant both ways: the pair is
+    accepted whichever reading decides.  Screened by the calibrated reading, the
+    pair would never be fitted."""
+    gains = {("azimuth_bias",): 50.0, ("delay",): 12.0 - LN_N,
+             ("azimuth_bias", "delay"): 90.0}
+    rule = Rule(calibrated=calibrated)
+    d, calls = _lat(gains, ["azimuth-bias", "time-delay"], rule, lr=(1.3, 60.0))
+    delay = next(r for r in d.rows if r.atoms == ("time-delay",))
+    assert screen(delay) == pytest.approx(stats.chi2.logsf(12.0, 1) / np.log(10))
+    lp = delay.beside[0][1]
+    assert (lp < -3) is (not calibrated) and screen(delay) < -3
+    if calibrated:
+        f = stats.f.logsf(12.0 / 1.3, 1, 60.0) / np.log(10)
+        assert lp == pytest.approx(f) and lp > -3
+        assert "significant" in delay.failed(rule)
+    else:
+        assert lp == screen(delay)
+    assert len(calls) == 3
+    assert d.accepted and d.chosen.atoms == ("azimuth-bias", "time-delay")
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_the_paired_atoms_are_the_width_best_and_a_plausible_one_per_implausible(seed):
     """Over random single rows: the paired atoms are, by gain, the ``width``
@@ -424,12 +452,15 @@ def test_the_paired_atoms_are_the_width_best_and_a_plausible_one_per_implausible
     lim = math.log10(DEFAULT_RULE.alpha)
     for _ in range(50):
         rows = [_random_row(rng, i) for i in range(int(rng.integers(0, 12)))]
-        rows = [replace(r, atoms=r.atoms[:1], beside=r.beside[:1]) for r in rows]
+        # the screen reads the statistic alone as chi-square, not the row's p-value
+        rows = [replace(r, atoms=r.atoms[:1], beside=r.beside[:1],
+                        statistic=float(rng.uniform(0.0, 40.0))) for r in rows]
         found = [(r.atoms[0], r) for r in rows]
         width = int(rng.integers(0, 5))
         got = [a for a, _ in paired(found, Rule(width=width))]
         ranked = [a for a, r in sorted(found, key=lambda t: -t[1].schwarz_gain)
-                  if r.error is None and r.beside[0][1] < lim]
+                  if r.error is None
+                  and stats.chi2.logsf(r.statistic, r.dof) / np.log(10) < lim]
         plausible = [a for a in ranked if not dict(found)[a].implausible]
         assert got == [a for a in ranked if a in got]
         assert [a for a in got if a not in plausible] == [

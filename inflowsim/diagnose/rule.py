@@ -188,16 +188,13 @@ class Rule:
         is not significant (p 1.2e-3) and on the 576 null records of
         ``bench/rotor-physics.md`` both settings decide the same.
     calibrated : bool
-        Read every likelihood-ratio statistic for ``S`` estimated from the
-        record's own bins (the fit's ``lr``: over ``kappa k`` as ``F(k, d)``,
-        ``model.md`` section 7) instead of as chi-square.  Not the default yet:
-        line 2 pairs only atoms significant alone, and on a collective-only
-        record (``tests/test_single_axis.py``, ``theta0`` seed 0) the separate
-        time constants, p 1.7e-4 alone as chi-square and 1.4e-3 calibrated, are
-        then never paired with the azimuth bias (the pair's ``G`` 462), and the
-        ladder names a wake skew and a delay instead
-        (``bench/studies/lr-calibration.md``).  A stored table's p-values are
-        those it was fitted with: :func:`decide` does not change the reading.
+        Read every likelihood-ratio statistic that decides (lines 3 to 5) for ``S``
+        estimated from the record's own bins (the fit's ``lr``: over ``kappa k`` as
+        ``F(k, d)``, ``model.md`` section 7); ``False``: as chi-square, which on
+        null records passes 1e-2 2.4 times and 1e-3 4.4 times as often as it says
+        (``bench/studies/lr-calibration.md``).  Line 2's screen (:func:`screen`)
+        reads chi-square either way.  A stored table's p-values are those it was
+        fitted with: :func:`decide` does not change the reading.
     coloured : float
         In-band sensor noise this many times the floor or more makes the excess the
         input-correlated one (0: every record) [-].  Over the 136 white-noise
