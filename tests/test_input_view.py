@@ -60,28 +60,38 @@ def _others(n):
             for i in range(n)]
 
 
-def test_the_second_view_asks_significance_over_every_atom_tried():
+def test_the_second_view_asks_significance_over_every_atom_tried_where_familywise():
     """A null record (``glauert`` truth, 64 Hz, white, seed 5, continuous): a delay
-    significant at p = 1.6e-4 (G 8.8) with the level at the noise (1.17 against
-    1.51: nothing to explain), its input-correlated excess 46.4 -> 40.9 (37.8 for
-    noise).  Of the nine atoms tried alone the best passes ``alpha`` by chance
-    nine times as often: the second view asks ``alpha / 9`` (Bonferroni), which the
-    delay misses and the hingeless lag (p = 6e-6 on its weakest record) meets."""
-    delay = replace(_row(level=(1.17, 0.67, 1.51), inputs=(46.4, 40.9, 37.8), gain=8.85),
-                    atoms=("time-delay",), effects=("time-delay",),
-                    beside=(("time-delay", -3.80),), beside_gain=(("time-delay", 8.85),))
-    d = decide([delay] + _others(8))
+    at p = 1.6e-4 read as chi-square (G 8.8), 1.2e-3 read for ``S`` estimated, with
+    the level at the noise (1.17 against 1.51: nothing to explain), its
+    input-correlated excess 46.4 -> 40.9 (37.8 for noise).  Read calibrated (the
+    default) it is not significant and nothing is named.  Read as chi-square, the
+    best of nine atoms passes ``alpha`` by chance far more often than ``alpha``:
+    ``input_familywise`` asks ``alpha / 9`` (Bonferroni), which the delay misses and
+    the hingeless lag (p = 6e-6 on its weakest record) meets; without it the second
+    view took the delay."""
+    chi2 = replace(_row(level=(1.17, 0.67, 1.51), inputs=(46.4, 40.9, 37.8), gain=8.85),
+                   atoms=("time-delay",), effects=("time-delay",),
+                   beside=(("time-delay", -3.80),), beside_gain=(("time-delay", 8.85),))
+    calibrated = replace(chi2, beside=(("time-delay", -2.92),))
+    d = decide([calibrated] + _others(8))
+    assert d.chosen is None and not d.accepted and "significant" in calibrated.failed()
+    assert not decide([calibrated] + _others(8), Rule(input_familywise=True)).accepted
+    familywise = Rule(calibrated=False, input_familywise=True)
+    d = decide([chi2] + _others(8), familywise)
     assert d.chosen.atoms == ("time-delay",) and d.chosen.tried == 9
-    assert not d.accepted and d.chosen.failed() == ("material",)
+    assert not d.accepted and d.chosen.failed(familywise) == ("material",)
     assert "nothing to explain" in describe(d.chosen, d)
     assert ("its input-correlated excess (46.4 -> 40.9 (37.8 for noise)) is read only "
             "at p < 0.00011 (0.001 over the 9 atoms tried)") in describe(d.chosen, d)
     # alone on its lattice, or far more significant, the second view takes it
-    assert decide([delay]).accepted
-    assert decide([replace(delay, beside=(("time-delay", -5.19),))] + _others(8)).accepted
-    assert decide([_row()] + _others(7)).accepted
-    # at alpha (input_familywise false) the second view takes what it measures
-    assert decide([delay] + _others(8), Rule(input_familywise=False)).accepted
+    assert decide([chi2], familywise).accepted
+    assert decide([replace(chi2, beside=(("time-delay", -5.19),))] + _others(8),
+                  familywise).accepted
+    assert decide([_row()] + _others(7), familywise).accepted
+    # at alpha the second view takes what it measures: the guard the chi-square
+    # reading needs
+    assert decide([chi2] + _others(8), Rule(calibrated=False)).accepted
 
 
 @pytest.mark.parametrize("inputs, why", [
