@@ -107,3 +107,16 @@ def test_the_eq14_structure_is_the_eq14_truth_at_one_trim_inflow(mu, monkeypatch
     monkeypatch.setattr(mse, "_coupling", lambda mu_, a0s, v, theta, beta, muz: (
         *ms.speed_coupling(mu_, a0s, theta, beta, muz, truth_lam[:, 0], v=v), truth_lam))
     assert np.max(error()) < 2e-6
+
+
+def test_a_key_that_cannot_be_hashed_is_made_and_not_remembered_also_when_empty():
+    """Code generation asks with constants holding symbols: an unhashable key.  On an
+    empty memo ``dict.pop`` returns its default without hashing the key, and storing
+    it raised ``TypeError`` (the first advance-ratio code generation in a process)."""
+    from inflowsim.model.recent import Recent
+    memo, calls = Recent(2), []
+    for _ in range(2):
+        assert memo.get([1, 2], lambda: calls.append(1) or "made") == "made"
+    assert len(calls) == 2 and memo._made == {}
+    assert memo.get((1, 2), lambda: calls.append(1) or "kept") == "kept"
+    assert memo.get((1, 2), lambda: "again") == "kept" and len(calls) == 3

@@ -15,9 +15,11 @@ class Recent:
         holding symbols, in code generation) is made and not remembered."""
         made = self._made
         try:
-            out = made.pop(key, None)
+            # an empty dict's pop returns the default without hashing the key
+            hash(key)
         except TypeError:
             return make()
+        out = made.pop(key, None)
         if out is None:
             out = make()
             if len(made) >= self.size:
