@@ -92,14 +92,12 @@ def _objects_link_to_the_bytes_of_one_compile(tmp_path, calls):
     assert len(list(pch.glob("*/*.gch"))) == 1       # made by the builds above
     assert split(0) == sorted(files)                 # with the header precompiled
     assert split(1) == []                            # from the cache
-    for o in (tmp_path / "cache" / "objects").iterdir():
-        o.write_bytes(b"not an object")
-    assert split(2) == sorted(files)                 # compiled past
+    # garbage in the cached objects, the precompiled header cut short: compiled past
     for o in (tmp_path / "cache" / "objects").iterdir():
         o.write_bytes(b"not an object")
     gch = next(pch.glob("*/*.gch"))
     gch.write_bytes(gch.read_bytes()[:100000])
-    assert split(3) == sorted(files)                 # compiled without, and dropped
+    assert split(3) == sorted(files)                 # compiled without it, dropped
     assert list(pch.glob("*/*.gch")) == []
 
 

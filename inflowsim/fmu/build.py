@@ -350,6 +350,12 @@ def _cached_object(cc: str, flags, src: Path, name: str) -> Path | None:
     return folder / "objects" / f"{h.hexdigest()}.o"
 
 
+#: The cache folder of each compiler's precompiled header this process found (or
+#: None: it cannot be made), by compiler, flags and cache: the system headers are
+#: preprocessed for its key once a process.
+_PCH_SEEN: dict = {}
+
+
 def _pch(cc: str, flags: list, work: Path) -> Path | None:
     """:data:`PCH_HEADER` precompiled by ``cc`` with ``flags`` (``-include`` the path
     returned; its ``.gch`` lies beside): from the cache if made before by the same
@@ -358,17 +364,23 @@ def _pch(cc: str, flags: list, work: Path) -> Path | None:
     (another compiler than gcc)."""
     hdr = work / _PCH_NAME
     hdr.write_text(PCH_HEADER, encoding="utf-8")
-    res = subprocess.run([cc, *flags, "-E", str(hdr)], capture_output=True)
-    if res.returncode != 0:
-        return None
     folder = cache_dir()
-    h = None if folder is None else _hash("inflowsim fmu pch 1", cc)
-    if h is None:
-        return hdr if _make_pch(cc, flags, hdr) else None
-    for arg in flags:
-        h.update(arg.encode() + b"\0")
-    h.update(res.stdout.replace(str(work).encode(), b"<work>"))
-    final = folder / "pch" / h.hexdigest()
+    seen = (_compiler_id(cc), cc, tuple(flags), str(folder), PCH_HEADER)
+    final = _PCH_SEEN.get(seen, False)
+    if final is False:
+        res = subprocess.run([cc, *flags, "-E", str(hdr)], capture_output=True)
+        if res.returncode != 0:                    # not gcc
+            _PCH_SEEN[seen] = None
+            return None
+        h = None if folder is None else _hash("inflowsim fmu pch 1", cc)
+        if h is None:                              # no cache: made for this build
+            return hdr if _make_pch(cc, flags, hdr) else None
+        for arg in flags:
+            h.update(arg.encode() + b"\0")
+        h.update(res.stdout.replace(str(work).encode(), b"<work>"))
+        final = _PCH_SEEN[seen] = folder / "pch" / h.hexdigest()
+    if final is None:
+        return None
     if (final / (_PCH_NAME + ".gch")).is_file():
         _touch(final)
         return final / _PCH_NAME
