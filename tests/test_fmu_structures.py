@@ -21,7 +21,8 @@ from fmpy.fmi2 import FMU2Slave  # noqa: E402
 from fmpy.fmi3 import FMU3Slave  # noqa: E402
 
 from inflowsim.errors import InputError  # noqa: E402
-from inflowsim.fmu import apply_parameters, build_fmu, description_for  # noqa: E402
+from inflowsim.fmu import (apply_parameters, build_fmu, description_for,  # noqa: E402
+                           start_values)
 from inflowsim.fmu.codegen import traced  # noqa: E402
 from inflowsim.model.structure import needs_trim  # noqa: E402
 from inflowsim.fmu.generate import guid  # noqa: E402
@@ -216,6 +217,10 @@ def test_generated_fmi3_fmu_equals_the_simulator(structure, record, tmp_path_fac
     np.testing.assert_allclose(l_fmu, l_py, rtol=0, atol=1e-10)
 
 
+#: advance-ratio-perturbation (about the trim) with the skewed wake: the new trim's and
+#: the hover's tests share one FMU of it.
+ARP_SKEW = "basic+advance-ratio-perturbation+skewed-wake"
+
 #: The nine-state structure the tests below share one FMU of (its start values those
 #: of :func:`nine_state_model`): one compile for all of them with a cold binary cache.
 NINE = "glauert+flap-inertia+skewed-wake"
@@ -244,8 +249,9 @@ def test_parameters_stay_tunable_in_a_generated_fmu(record, tmp_path_factory):
 def test_a_new_trim_is_a_parameter_change(record, tmp_path_factory):
     """advance-ratio-perturbation is linearised about the trim: the generated FMU
     takes the trim totals as tunable parameters trim_theta0 ... trim_muz (its trim
-    inflow solved in the generated C), so one FMU serves any trim."""
-    structure = "basic+advance-ratio-perturbation"
+    inflow solved in the generated C), so one FMU serves any trim (the one the hover
+    test below sets its values in)."""
+    structure = ARP_SKEW
     unzipped, d = built(tmp_path_factory, structure)          # start trim: zeros
     trim = {"theta0": 0.2, "theta1c": -0.01, "theta1s": -0.07, "beta0": 0.07,
             "beta1c": 0.02, "beta1s": 0.003, "muz": -0.03}
@@ -281,9 +287,9 @@ def test_an_identified_parameter_file_builds_and_runs(record, tmp_path, capsys):
     (estimate and sigma per parameter) becomes the FMU's start values; fmpy's
     simulate_fmu with no start values then gives the Simulator's outputs."""
     from inflowsim.cli import main
-    structure = "glauert+flap-inertia+delay-beta1s"
+    structure = NINE          # the values of nine_state_model: its FMU, from the cache
     p = parameters(structure)
-    doc = {"structure": structure, "constants": PUMA.with_mu(0.25).as_dict(),
+    doc = {"structure": structure, "constants": constants_for(structure).as_dict(),
            "parameters": {n: {"estimate": v, "sigma": 0.01} for n, v in p.items()}}
     fit = tmp_path / "fit.json"
     fit.write_text(json.dumps(doc))
@@ -507,7 +513,7 @@ def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory
         assert np.array_equal(r_v, realtime_run(str(other), d, u[:400])), flag
 
 
-@pytest.mark.parametrize("structure", ["basic+advance-ratio-perturbation+skewed-wake",
+@pytest.mark.parametrize("structure", [ARP_SKEW,
                                        "basic+separate-time-constants+momentum-speed"])
 def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(structure, record,
                                                                tmp_path_factory):
@@ -527,9 +533,10 @@ def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(structure, record
         assert m.is_stable()
         u = inputs_of(m, record)
         y_py, _ = python_run(m, u)
-        if unzipped is None:         # one FMU: mu, the speed and ct are its variables
-            unzipped, d = built(tmp_path_factory, structure, model=m)
-        y_fmu, _ = fmu_run(unzipped, d, {"structure": 0, "inflow_speed": 1, "ct": ct,
-                                         "mu": mu}, u, 2)
+        if unzipped is None:   # one FMU: the parameters, trim, mu, speed, ct its variables
+            unzipped, d = built(tmp_path_factory, structure)
+        values = start_values(m, description=d)
+        assert values["inflow_speed"] == 1 and values["ct"] == ct and values["mu"] == mu
+        y_fmu, _ = fmu_run(unzipped, d, {**values, "structure": 0}, u, 2)
         assert np.abs(y_py).max() > 1e-3
         np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
