@@ -118,12 +118,12 @@ def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
     (:func:`cache_dir`) instead of compiled again; ``say`` is told which.  Else the
     native binary is linked from one object file per source, each reused from the
     cache when compiled before from the same source, the same headers it includes
-    (:func:`_included`), compiler and flags (an FMI 3.0 build of a structure
-    compiles only its layer after the FMI 2.0 one; another parameter set compiles
-    only the variable table), and each compiled with the system headers
-    precompiled once (:data:`PCH_HEADER`, gcc): the same bytes as one ``cc`` over
-    all the sources.  Builds of one binary or object wait for each other instead
-    of compiling it twice.
+    (:func:`_included`), compiler and flags (an FMI 3.0 build of a description
+    compiles only its layer after the FMI 2.0 one: every other source and header
+    is the same), and each compiled with the system headers precompiled once
+    (:data:`PCH_HEADER`, gcc; not with ``extra_flags``): the same bytes as one
+    ``cc`` over all the sources.  Builds of one binary, object or header wait for
+    each other instead of making it twice.
     """
     if target is None:
         cc, flags = compiler(), CFLAGS
