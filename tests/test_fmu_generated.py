@@ -122,12 +122,11 @@ int table_at(double dt, int inflow_speed, double ct, const double *mus, int nmu,
 """
 
 
-@pytest.mark.parametrize("ct", [None, 0.008])
-def test_the_c_table_and_the_simulators_agree(tmp_path, ct):
-    """The presets' FMU (glauert at its start values, the Puma; with ct the mass-flow
-    speed) tabulates [phi gam] in C; the Simulator in Python from the same
-    description: both within 1e-12 of each other (and of expm, tested in
-    test_simulator_fast)."""
+@pytest.fixture(scope="module")
+def table_lib(tmp_path_factory):
+    """The presets' model and slave with :data:`HARNESS`, compiled once (ct is an
+    argument)."""
+    tmp_path = tmp_path_factory.mktemp("table")
     src = source_dir()
     h = tmp_path / "harness.c"
     h.write_text(HARNESS)
@@ -137,7 +136,16 @@ def test_the_c_table_and_the_simulators_agree(tmp_path, ct):
     flags = [f for f in CFLAGS if f != "-fvisibility=hidden"]
     subprocess.run([compiler(), *flags, f"-I{src}", "-o", str(so), str(h),
                     *map(str, files), "-lm"], check=True)
-    lib = ctypes.CDLL(str(so))
+    return ctypes.CDLL(str(so))
+
+
+@pytest.mark.parametrize("ct", [None, 0.008])
+def test_the_c_table_and_the_simulators_agree(table_lib, ct):
+    """The presets' FMU (glauert at its start values, the Puma; with ct the mass-flow
+    speed) tabulates [phi gam] in C; the Simulator in Python from the same
+    description: both within 1e-12 of each other (and of expm, tested in
+    test_simulator_fast)."""
+    lib = table_lib
     dt = 0.01
     mus = np.array([0.1, 0.17, 0.249, 0.3333, 0.41, 0.5])
     out = np.zeros((len(mus), 16 * 6))

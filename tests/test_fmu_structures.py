@@ -21,7 +21,8 @@ from fmpy.fmi2 import FMU2Slave  # noqa: E402
 from fmpy.fmi3 import FMU3Slave  # noqa: E402
 
 from inflowsim.errors import InputError  # noqa: E402
-from inflowsim.fmu import apply_parameters, build_fmu, description_for  # noqa: E402
+from inflowsim.fmu import (apply_parameters, build_fmu, description_for,  # noqa: E402
+                           start_values)
 from inflowsim.fmu.codegen import traced  # noqa: E402
 from inflowsim.model.structure import needs_trim  # noqa: E402
 from inflowsim.fmu.generate import guid  # noqa: E402
@@ -195,9 +196,11 @@ def test_generated_fmu_equals_the_simulator(structure, record, tmp_path_factory)
     np.testing.assert_allclose(l_fmu, l_py, rtol=0, atol=1e-10)
 
 
-#: FMI 3.0 shares the generated model with FMI 2.0: by default nine states and output
-#: delays; every structure is slow.
-FMI3_DEFAULT = ("basic+flap-inertia", "glauert+delay-beta1s", "glauert+servo-actuators")
+#: FMI 3.0 shares the generated model with FMI 2.0: by default nine states, output
+#: delays and the servos, three of FMI2_DEFAULT (the same C but the layer: a cold
+#: binary cache compiles only inflow_fmi3.c for them); every structure is slow.
+FMI3_DEFAULT = ("glauert+flap-inertia+skewed-wake+time-delay", "glauert+delay-beta1s",
+                "glauert+flap-inertia+azimuth-bias+servo-actuators+time-delay")
 
 
 @pytest.mark.parametrize("structure", [
@@ -214,11 +217,24 @@ def test_generated_fmi3_fmu_equals_the_simulator(structure, record, tmp_path_fac
     np.testing.assert_allclose(l_fmu, l_py, rtol=0, atol=1e-10)
 
 
+#: advance-ratio-perturbation (about the trim) with the skewed wake: the new trim's and
+#: the hover's tests share one FMU of it.
+ARP_SKEW = "basic+advance-ratio-perturbation+skewed-wake"
+
+#: The nine-state structure the tests below share one FMU of (its start values those
+#: of :func:`nine_state_model`): one compile for all of them with a cold binary cache.
+NINE = "glauert+flap-inertia+skewed-wake"
+
+
+def nine_state_model():
+    return build_model(NINE, parameters(NINE), constants_for(NINE))
+
+
 def test_parameters_stay_tunable_in_a_generated_fmu(record, tmp_path_factory):
     """A generated FMU takes any values of its structure's parameters (they are
     variables of the C, not numbers baked in): set others than the start values."""
-    structure = "glauert+flap-inertia+skewed-wake"
-    unzipped, d = built(tmp_path_factory, structure)
+    structure = NINE
+    unzipped, d = built(tmp_path_factory, structure, model=nine_state_model())
     p = parameters(structure)
     p.update(k_skew=0.3, flap_inertia=0.8, n_beta=p["n_beta"] * 1.1, c2=0.2)
     m = build_model(structure, p, PUMA.with_mu(0.3))
@@ -233,8 +249,9 @@ def test_parameters_stay_tunable_in_a_generated_fmu(record, tmp_path_factory):
 def test_a_new_trim_is_a_parameter_change(record, tmp_path_factory):
     """advance-ratio-perturbation is linearised about the trim: the generated FMU
     takes the trim totals as tunable parameters trim_theta0 ... trim_muz (its trim
-    inflow solved in the generated C), so one FMU serves any trim."""
-    structure = "basic+advance-ratio-perturbation"
+    inflow solved in the generated C), so one FMU serves any trim (the one the hover
+    test below sets its values in)."""
+    structure = ARP_SKEW
     unzipped, d = built(tmp_path_factory, structure)          # start trim: zeros
     trim = {"theta0": 0.2, "theta1c": -0.01, "theta1s": -0.07, "beta0": 0.07,
             "beta1c": 0.02, "beta1s": 0.003, "muz": -0.03}
@@ -250,16 +267,18 @@ def test_a_new_trim_is_a_parameter_change(record, tmp_path_factory):
 
 
 def test_mass_flow_speed_in_a_generated_fmu(record, tmp_path_factory):
-    """Hover to top speed for a generated structure too: the mass-flow speed."""
-    structure = "glauert+skewed-wake"
+    """Hover to top speed for a generated structure too: the mass-flow speed (set in
+    the shared nine-state FMU, as its mu and ct)."""
+    structure = NINE
     k = Constants(mu=0.15, a0=PUMA.a0, solidity=PUMA.solidity, omega=PUMA.omega,
                   inflow_speed="mass-flow", ct=0.0064)
     p = parameters(structure)
     m = build_model(structure, p, k)
     u = inputs_of(m, record)
     y_py, l_py = python_run(m, u)
-    unzipped, d = built(tmp_path_factory, structure, model=m)
-    y_fmu, l_fmu = fmu_run(unzipped, d, {"structure": 0}, u, 2)
+    unzipped, d = built(tmp_path_factory, structure, model=nine_state_model())
+    y_fmu, l_fmu = fmu_run(unzipped, d, {"structure": 0, "mu": 0.15, "inflow_speed": 1,
+                                         "ct": 0.0064}, u, 2)
     np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)
 
 
@@ -268,9 +287,9 @@ def test_an_identified_parameter_file_builds_and_runs(record, tmp_path, capsys):
     (estimate and sigma per parameter) becomes the FMU's start values; fmpy's
     simulate_fmu with no start values then gives the Simulator's outputs."""
     from inflowsim.cli import main
-    structure = "glauert+flap-inertia+delay-beta1s"
+    structure = NINE          # the values of nine_state_model: its FMU, from the cache
     p = parameters(structure)
-    doc = {"structure": structure, "constants": PUMA.with_mu(0.25).as_dict(),
+    doc = {"structure": structure, "constants": constants_for(structure).as_dict(),
            "parameters": {n: {"estimate": v, "sigma": 0.01} for n, v in p.items()}}
     fit = tmp_path / "fit.json"
     fit.write_text(json.dumps(doc))
@@ -385,7 +404,7 @@ def test_loads_use_the_structure_generated_load_matrices():
 
 
 @pytest.mark.parametrize("structure", [
-    "glauert+flap-inertia+skewed-wake",
+    NINE,
     pytest.param("glauert+peters-he-6", marks=pytest.mark.slow),
     pytest.param("basic+separate-time-constants+peters-he-10", marks=pytest.mark.slow),
     pytest.param("glauert+flap-inertia+azimuth-bias+peters-he-15", marks=pytest.mark.slow)])
@@ -474,9 +493,8 @@ def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory
     import shutil
     from pathlib import Path
     from inflowsim.fmu.build import compile_library
-    structure = "glauert+flap-inertia"
-    p = parameters(structure)
-    m = build_model(structure, p, PUMA)
+    structure = NINE
+    m = nine_state_model()
     unzipped, d = built(tmp_path_factory, structure, model=m)
     u = inputs_of(m, record)
     y_v, l_v = fmu_run(unzipped, d, {"structure": 0}, u, 2)
@@ -495,7 +513,7 @@ def test_nine_state_step_rounds_alike_vector_and_scalar(record, tmp_path_factory
         assert np.array_equal(r_v, realtime_run(str(other), d, u[:400])), flag
 
 
-@pytest.mark.parametrize("structure", ["basic+advance-ratio-perturbation+skewed-wake",
+@pytest.mark.parametrize("structure", [ARP_SKEW,
                                        "basic+separate-time-constants+momentum-speed"])
 def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(structure, record,
                                                                tmp_path_factory):
@@ -515,9 +533,10 @@ def test_the_trim_effects_reach_hover_with_the_mass_flow_speed(structure, record
         assert m.is_stable()
         u = inputs_of(m, record)
         y_py, _ = python_run(m, u)
-        if unzipped is None:         # one FMU: mu, the speed and ct are its variables
-            unzipped, d = built(tmp_path_factory, structure, model=m)
-        y_fmu, _ = fmu_run(unzipped, d, {"structure": 0, "inflow_speed": 1, "ct": ct,
-                                         "mu": mu}, u, 2)
+        if unzipped is None:   # one FMU: the parameters, trim, mu, speed, ct its variables
+            unzipped, d = built(tmp_path_factory, structure)
+        values = start_values(m, description=d)
+        assert values["inflow_speed"] == 1 and values["ct"] == ct and values["mu"] == mu
+        y_fmu, _ = fmu_run(unzipped, d, {**values, "structure": 0}, u, 2)
         assert np.abs(y_py).max() > 1e-3
         np.testing.assert_allclose(y_fmu, y_py, rtol=0, atol=1e-10)

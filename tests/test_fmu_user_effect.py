@@ -36,8 +36,10 @@ def example():
         unregister(n)
 
 
-@pytest.mark.parametrize("structure", ["basic+pitch-flap-coupling",
-                                       "glauert+pitch-flap-coupling"])
+@pytest.mark.parametrize("structure", [
+    "basic+pitch-flap-coupling",
+    # another structure to compile (a few seconds of CPU with a cold binary cache)
+    pytest.param("glauert+pitch-flap-coupling", marks=pytest.mark.slow)])
 def test_a_user_effect_in_the_fmu_equals_the_simulator(structure, example, record,
                                                        tmp_path, capsys):
     p = truth_parameters(structure, PUMA) | {"k3": 0.35}

@@ -13,12 +13,18 @@ from __future__ import annotations
 import hashlib
 import os
 import platform
+import re
 import shutil
 import subprocess
 import tempfile
 import zipfile
 from contextlib import contextmanager
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:                                # not POSIX: builds never wait
+    fcntl = None
 
 from ..fileio import atomic_path, check_output
 from ..errors import InputError
@@ -109,38 +115,143 @@ def compile_library(src: Path, out_so: Path, extra_flags=(), fmi_version=2,
     A binary compiled before from the same files of ``src`` (every source and
     header, byte for byte), the same compiler (its resolved path, size and time) and
     the same flags, for this platform, is copied from the cache
-    (:func:`cache_dir`) instead of compiled again; ``say`` is told which.
+    (:func:`cache_dir`) instead of compiled again; ``say`` is told which.  Else the
+    native binary is linked from one object file per source, each reused from the
+    cache when compiled before from the same source, the same headers it includes
+    (:func:`_included`), compiler and flags (an FMI 3.0 build of a description
+    compiles only its layer after the FMI 2.0 one: every other source and header
+    is the same), and each compiled with the system headers precompiled once
+    (:data:`PCH_HEADER`, gcc; not with ``extra_flags``): the same bytes as one
+    ``cc`` over all the sources.  Builds of one binary, object or header wait for
+    each other instead of making it twice.
     """
     if target is None:
         cc, flags = compiler(), CFLAGS
     else:
         cc, flags = require_cross_compiler(target), CROSS_CFLAGS
+    files = sources(fmi_version)
     cmd = [cc, *flags, *extra_flags, f"-I{src}", "-o", str(out_so),
-           *(str(src / f) for f in sources(fmi_version)), "-lm"]
+           *(str(src / f) for f in files), "-lm"]
     cached = _cached_binary(src, cmd, out_so.suffix)
-    if cached is not None and cached.is_file():
-        try:
-            shutil.copyfile(cached, out_so)
-            os.utime(cached)                       # recently used: kept by _prune
-            if say:
-                say(f"reusing the {out_so.name} compiled before from the same sources "
-                    f"({cached.parent})")
+    if _reuse(cached, out_so, say):
+        return out_so
+    with _locked(cached):
+        if _reuse(cached, out_so, say):          # a concurrent build made it meanwhile
             return out_so
-        except OSError:
-            pass                                   # a cache that fails is compiled past
+        if say:
+            say(f"compiling {out_so.name} with {cc} ...")
+        if target is None:
+            _compile_and_link(cc, list(flags), list(extra_flags), src, files, out_so)
+        else:
+            _run(cmd)
+        if cached is not None:
+            _store(out_so, cached)
+    return out_so
+
+
+def _reuse(cached: Path | None, out: Path, say=None) -> bool:
+    """Copy the cache file ``cached`` to ``out`` if it is there (True)."""
+    if cached is None or not cached.is_file():
+        return False
+    try:
+        shutil.copyfile(cached, out)
+        os.utime(cached)                           # recently used: kept by _prune
+    except OSError:
+        return False                               # a cache that fails is compiled past
     if say:
-        say(f"compiling {out_so.name} with {cc} ...")
+        say(f"reusing the {out.name} compiled before from the same sources "
+            f"({cached.parent})")
+    return True
+
+
+def _run(cmd) -> None:
+    """Run the compiler; its first line of complaint is the error."""
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
         raise InputError(f"FMU build: the C compiler failed: {first}")
-    if cached is not None:
-        _store(out_so, cached)
-    return out_so
+
+
+def _compile_and_link(cc: str, flags: list, extra: list, src: Path, files,
+                      out: Path) -> None:
+    """``cc flags extra -c`` each of ``files`` in ``src`` (or reuse its object from
+    the cache), then link them in that order into ``out``: the bytes one ``cc`` over
+    all the sources gives.  Objects that do not link (a corrupt cache entry) are
+    compiled again; a precompiled header gcc refuses is thrown away."""
+    with tempfile.TemporaryDirectory(prefix="inflowsim-obj-") as tmp:
+        work = Path(tmp)
+        # the header made and used with the same flags, gcc's safe choice (the
+        # variants' -D flags mostly leave out immintrin.h: no faster with it)
+        pch = _pch(cc, flags, work) if PCH_HEADER and not extra else None
+        for fresh in (False, True):
+            objs = [_object(cc, [*flags, *extra], src, f, work, pch, fresh) for f in files]
+            if pch is not None and any(refused for _, refused in objs):
+                if pch.parent != work:
+                    shutil.rmtree(pch.parent, ignore_errors=True)
+                pch = None
+            res = subprocess.run([cc, *flags, *extra, "-o", str(out),
+                                  *(str(o) for o, _ in objs), "-lm"],
+                                 capture_output=True, text=True)
+            if res.returncode == 0:
+                return
+        first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
+        raise InputError(f"FMU build: the C compiler failed: {first}")
+
+
+def _object(cc: str, flags: list, src: Path, name: str, work: Path, pch: Path | None,
+            fresh: bool = False) -> tuple:
+    """The object file of ``src/name``, in ``work``: from the cache (unless
+    ``fresh``), else compiled (with the precompiled header ``pch`` if given, without
+    it if that fails) and stored; and whether ``pch`` failed where the source
+    compiled without it."""
+    out = work / (Path(name).stem + ".o")
+    cached = _cached_object(cc, flags, src, name)
+    if not fresh and _reuse(cached, out):
+        return out, False
+    with _locked(cached):
+        if not fresh and _reuse(cached, out):
+            return out, False
+        cmd = [cc, *flags, f"-I{src}", "-c", "-o", str(out), str(src / name)]
+        refused = pch is not None and subprocess.run(
+            cmd[:-1] + ["-include", str(pch), cmd[-1]], capture_output=True).returncode != 0
+        if pch is None or refused:
+            _run(cmd)
+        if cached is not None:
+            _store(out, cached, OBJECT_CACHE_SIZE)
+    return out, refused
 
 
 #: Binaries the cache keeps (the most recently used).
 CACHE_SIZE = 64
+#: Object files the cache keeps (in ``objects/``: eight a binary).
+OBJECT_CACHE_SIZE = 8 * CACHE_SIZE
+#: Precompiled system headers the cache keeps (in ``pch/``: one a compiler and its
+#: flags; some 25 MB each).
+PCH_CACHE_SIZE = 2
+#: The system headers the FMU's sources include, precompiled once per compiler and
+#: flags and given to each source's compile (``-include``): parsing them (mostly
+#: ``immintrin.h``) is most of the time of a source's compile at -O2.  Declarations
+#: only, so each object is the same bytes as without (tests/test_fmu_cache.py checks);
+#: gcc only (another compiler stops at the ``#error`` and compiles without), and gcc
+#: uses it only where the flags and macros agree with those it was made with.
+PCH_HEADER = """\
+/* inflowsim: the FMU sources' system headers, precompiled (inflowsim/fmu/build.py) */
+#if defined(__clang__) || !defined(__GNUC__)
+#error "a precompiled header for gcc only"
+#endif
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+"""
+_PCH_NAME = "inflowsim_system.h"
 
 
 def cache_dir() -> Path | None:
@@ -153,21 +264,36 @@ def cache_dir() -> Path | None:
     return Path(base) / "inflowsim" / "fmu"
 
 
+def _compiler_id(exe: str) -> bytes | None:
+    """The compiler's resolved path, size and modification time (None: not found)."""
+    exe = shutil.which(exe) or exe
+    try:
+        st = os.stat(exe)
+    except OSError:
+        return None
+    return f"{os.path.realpath(exe)}\0{st.st_size}\0{st.st_mtime_ns}\0".encode()
+
+
+def _hash(tag: str, cc: str):
+    """A SHA-256 begun with ``tag``, the platform and the compiler ``cc`` (None if
+    the compiler is not found)."""
+    ident = _compiler_id(cc)
+    if ident is None:
+        return None
+    h = hashlib.sha256(tag.encode() + b"\0")
+    for part in (platform.system(), platform.machine()):
+        h.update(part.encode() + b"\0")
+    h.update(ident)
+    return h
+
+
 def _cached_binary(src: Path, cmd, suffix: str) -> Path | None:
     """The cache file of this compilation: named by a SHA-256 of the platform, the
     compiler (resolved path, size, modification time), the command with ``src``
     written as a placeholder, and every file under ``src`` (name and bytes)."""
     folder = cache_dir()
-    if folder is None:
-        return None
-    h = hashlib.sha256(b"inflowsim fmu binary 1\0")
-    for part in (platform.system(), platform.machine()):
-        h.update(part.encode() + b"\0")
-    exe = shutil.which(cmd[0]) or cmd[0]
-    try:
-        st = os.stat(exe)
-        h.update(f"{os.path.realpath(exe)}\0{st.st_size}\0{st.st_mtime_ns}\0".encode())
-    except OSError:
+    h = None if folder is None else _hash("inflowsim fmu binary 1", cmd[0])
+    if h is None:
         return None
     root, out = str(src), cmd[cmd.index("-o") + 1]
     for arg in cmd[1:]:
@@ -180,7 +306,147 @@ def _cached_binary(src: Path, cmd, suffix: str) -> Path | None:
     return folder / f"{h.hexdigest()}{suffix}"
 
 
-def _store(binary: Path, cached: Path) -> None:
+_INCLUDE = re.compile(r"^[ \t]*#[ \t]*include\b[ \t]*(.*)$", re.M)
+
+
+def _included(src: Path, name: str) -> list | None:
+    """``name`` and the files of ``src`` it includes, directly or through them
+    (``#include "f"`` or ``<f>`` found in ``src``; every such line, whatever ``#if``
+    or comment it stands in), sorted; None when an include is not a plain name (a
+    macro): then every file of ``src`` counts."""
+    seen, todo = {name}, [name]
+    while todo:
+        text = (src / todo.pop()).read_text(encoding="utf-8", errors="replace")
+        for m in _INCLUDE.finditer(text):
+            arg = m.group(1).strip()
+            close = {'"': '"', "<": ">"}.get(arg[:1])
+            if close is None or close not in arg[1:]:
+                return None
+            inc = arg[1:arg.index(close, 1)]
+            if inc not in seen and (src / inc).is_file():
+                seen.add(inc)
+                todo.append(inc)
+    return sorted(seen)
+
+
+def _cached_object(cc: str, flags, src: Path, name: str) -> Path | None:
+    """The cache file of ``src/name``'s object: named by a SHA-256 of the platform,
+    the compiler, the flags and the names and bytes of the source and of every file
+    of ``src`` it includes (:func:`_included`; all files of ``src`` if that cannot
+    tell)."""
+    folder = cache_dir()
+    h = None if folder is None else _hash("inflowsim fmu object 1", cc)
+    if h is None:
+        return None
+    for arg in (*flags, "-I<src>", "-c", name):
+        h.update(arg.replace(str(src), "<src>").encode() + b"\0")
+    deps = _included(src, name)
+    if deps is None:
+        deps = sorted(p.relative_to(src).as_posix() for p in src.rglob("*") if p.is_file())
+    for f in deps:
+        h.update(f.encode() + b"\0")
+        h.update((src / f).read_bytes())
+        h.update(b"\0")
+    return folder / "objects" / f"{h.hexdigest()}.o"
+
+
+#: The cache folder of each compiler's precompiled header this process found (or
+#: None: it cannot be made), by compiler, flags and cache: the system headers are
+#: preprocessed for its key once a process.
+_PCH_SEEN: dict = {}
+
+
+def _pch(cc: str, flags: list, work: Path) -> Path | None:
+    """:data:`PCH_HEADER` precompiled by ``cc`` with ``flags`` (``-include`` the path
+    returned; its ``.gch`` lies beside): from the cache if made before by the same
+    compiler, flags and system headers (the header preprocessed, byte for byte),
+    else made (in ``work`` if there is no cache).  None where it cannot be made
+    (another compiler than gcc)."""
+    hdr = work / _PCH_NAME
+    hdr.write_text(PCH_HEADER, encoding="utf-8")
+    folder = cache_dir()
+    seen = (_compiler_id(cc), cc, tuple(flags), str(folder), PCH_HEADER)
+    final = _PCH_SEEN.get(seen, False)
+    if final is False:
+        res = subprocess.run([cc, *flags, "-E", str(hdr)], capture_output=True)
+        if res.returncode != 0:                    # not gcc
+            _PCH_SEEN[seen] = None
+            return None
+        h = None if folder is None else _hash("inflowsim fmu pch 1", cc)
+        if h is None:                              # no cache: made for this build
+            return hdr if _make_pch(cc, flags, hdr) else None
+        for arg in flags:
+            h.update(arg.encode() + b"\0")
+        h.update(res.stdout.replace(str(work).encode(), b"<work>"))
+        final = _PCH_SEEN[seen] = folder / "pch" / h.hexdigest()
+    if final is None:
+        return None
+    if (final / (_PCH_NAME + ".gch")).is_file():
+        _touch(final)
+        return final / _PCH_NAME
+    with _locked(final):
+        if (final / (_PCH_NAME + ".gch")).is_file():
+            return final / _PCH_NAME
+        if not _make_pch(cc, flags, hdr):
+            return None
+        part = None
+        try:                  # a complete folder renamed into place, as _store does
+            final.parent.mkdir(parents=True, exist_ok=True)
+            part = Path(tempfile.mkdtemp(prefix=".part-", dir=final.parent))
+            for f in (hdr, hdr.with_name(_PCH_NAME + ".gch")):
+                shutil.copyfile(f, part / f.name)
+            os.replace(part, final)
+        except OSError:       # no cache (or another build's already there): work's
+            if part is not None:
+                shutil.rmtree(part, ignore_errors=True)
+            return hdr
+        _prune_dirs(final.parent, PCH_CACHE_SIZE)
+    return final / _PCH_NAME
+
+
+def _make_pch(cc: str, flags: list, hdr: Path) -> bool:
+    """Precompile ``hdr`` into ``hdr.gch`` beside it."""
+    return subprocess.run([cc, *flags, "-x", "c-header", "-o",
+                           str(hdr.with_name(hdr.name + ".gch")), str(hdr)],
+                          capture_output=True).returncode == 0
+
+
+def _touch(path: Path) -> None:
+    try:
+        os.utime(path)
+    except OSError:
+        pass
+
+
+@contextmanager
+def _locked(path: Path | None):
+    """Hold an exclusive lock beside ``path`` (a cache file about to be made): a
+    concurrent build of the same file waits, then finds it made.  Only saves work:
+    without locks (no ``fcntl``, a folder that cannot take them) each build makes
+    its own copy, the same bytes."""
+    fd = None
+    if path is not None and fcntl is not None:
+        lock = path.parent / f".lock-{path.name}"
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            if fd is not None:
+                os.close(fd)
+            fd = None
+    try:
+        yield
+    finally:
+        if fd is not None:
+            try:
+                os.unlink(lock)                    # made or failed: none to wait for
+            except OSError:
+                pass
+            os.close(fd)
+
+
+def _store(binary: Path, cached: Path, keep: int = CACHE_SIZE) -> None:
     """Put a fresh binary into the cache: written beside under a name of its own,
     then renamed into place (atomic: a concurrent build reads the old file, the new
     one or none, never a part; two builds of one key write the same bytes)."""
@@ -197,22 +463,33 @@ def _store(binary: Path, cached: Path) -> None:
             except OSError:
                 pass
             raise
-        _prune(cached.parent)
+        _prune(cached.parent, keep)
     except OSError:
         pass                                       # no cache: the build stands
 
 
-def _prune(folder: Path) -> None:
-    """Keep the :data:`CACHE_SIZE` most recently used binaries."""
+def _prune(folder: Path, keep: int = CACHE_SIZE) -> None:
+    """Keep the ``keep`` most recently used files of ``folder``."""
     files = [p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")]
-    if len(files) <= CACHE_SIZE:
+    if len(files) <= keep:
         return
     files.sort(key=lambda p: p.stat().st_mtime)
-    for p in files[:-CACHE_SIZE]:
+    for p in files[:-keep]:
         try:
             p.unlink()
         except OSError:
             pass
+
+
+def _prune_dirs(folder: Path, keep: int) -> None:
+    """Keep the ``keep`` most recently used folders of ``folder``."""
+    try:
+        dirs = [p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")]
+        dirs.sort(key=lambda p: p.stat().st_mtime)
+    except OSError:
+        return
+    for p in dirs[:-keep] if len(dirs) > keep else ():
+        shutil.rmtree(p, ignore_errors=True)
 
 
 def description_for(model=None) -> Description:
