@@ -487,6 +487,7 @@ def main(argv=None):
     # in the output files skipped: the study can be stopped and resumed
     todo = [(e, c, s, not a.no_size) for s in _seeds(a.seeds) for e in effects
             for c in cases if (e, c, s) not in have]
+    Path(a.out_dir).mkdir(parents=True, exist_ok=True)
     outs = {e: open(Path(a.out_dir) / f"done-{e}.jsonl", "a") for e in effects}
     with ProcessPoolExecutor(a.workers) as ex:
         for res in ex.map(run_one, todo):
