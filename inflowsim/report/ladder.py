@@ -230,8 +230,8 @@ def worse_channels(ladder, tolerance=0.5):
 
 
 def candidate_plot(diagnosis, path=None):
-    """Cost reduction of every candidate effect, accepted ones filled, with the
-    chi-square threshold of its significance level."""
+    """Cost reduction of every candidate effect, accepted ones filled (the tests that
+    decide are in the decision's table, :mod:`inflowsim.diagnose.rule`)."""
     from .plots import new_figure, save_png
     cands = list(diagnosis.candidates)
     fig, ax = new_figure(1, 1, size=(8.0, 0.45 * max(len(cands), 3) + 1.5))
