@@ -120,3 +120,22 @@ def test_a_key_that_cannot_be_hashed_is_made_and_not_remembered_also_when_empty(
     assert len(calls) == 2 and memo._made == {}
     assert memo.get((1, 2), lambda: calls.append(1) or "kept") == "kept"
     assert memo.get((1, 2), lambda: "again") == "kept" and len(calls) == 3
+
+
+def test_the_first_advance_ratio_code_generation_in_a_process_runs(tmp_path):
+    """``inflowsim fmu build --model basic+advance-ratio-perturbation`` ended in that
+    ``TypeError`` traceback when its trim memo was empty: a fresh process each time."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+    import inflowsim
+    root = str(Path(inflowsim.__file__).resolve().parents[1])    # the tree under test
+    code = ("import inflowsim\n"
+            f"assert inflowsim.__file__.startswith({root!r})\n"
+            "from inflowsim.fmu.codegen import traced\n"
+            "from inflowsim.model.structure import Structure\n"
+            "traced(Structure.parse('basic+advance-ratio-perturbation'))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, env={**os.environ, "PYTHONPATH": root})
+    assert res.returncode == 0, res.stderr[-2000:]
