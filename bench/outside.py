@@ -454,7 +454,20 @@ def rejudged(rows):
     return rows
 
 
+def _kinds(names) -> tuple:
+    """The kinds asked for (all where none), or exit 2 naming one that is not."""
+    for name in names:
+        if name not in TRUTHS:
+            print(f"outside.py: no kind {name!r} (kinds: {', '.join(KINDS)}; "
+                  "--help for the options)", file=sys.stderr)
+            sys.exit(2)
+    return tuple(names) or KINDS
+
+
 def main(argv):
+    if argv[:1] in (["-h"], ["--help"]):
+        print(__doc__)
+        return
     if argv[:1] == ["--ablation"]:
         rows = ablation()
         (HERE / "results").mkdir(exist_ok=True)
@@ -469,14 +482,14 @@ def main(argv):
         return
     if argv[:1] == ["--seeds"]:
         seeds = tuple(int(x) for x in argv[1].split(","))
-        kinds = tuple(argv[2:]) or KINDS
+        kinds = _kinds(argv[2:])
         rows = run(kinds, seeds=seeds)
         name = "outside_seeds-" + "-".join(map(str, seeds)) + ".json"
         (HERE / "results").mkdir(exist_ok=True)
         (HERE / "results" / name).write_text(json.dumps(rows, indent=1))
         print("\n".join(summary(rows) + [""] + verdict_lines(rows)))
         return
-    kinds = tuple(argv) or KINDS
+    kinds = _kinds(argv)
     t0 = time.time()
     if argv:
         rows = run(kinds)
