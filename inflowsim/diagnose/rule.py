@@ -21,10 +21,11 @@ What the terms mean, and why:
   held at neutral and said (``held``); an atom with no direction determined is not
   tried.  Holding a flat direction biases nothing else.
 - *Significant beside the others*: the likelihood-ratio statistic of the structure
-  against the same structure without that atom, chi-square with the atom's ``k``
-  degrees of freedom (``model.md`` section 7; ``Rule.calibrated``: over the larger
-  fit's ``kappa k`` as ``F(k, d)``, for ``S`` estimated from the record's bins: read
-  as chi-square, 1e-3 passes 4.4 times as often as said on null records); for a
+  against the same structure without that atom, over the larger fit's ``kappa k``
+  read as ``F(k, d)`` (:func:`lr_test`; ``k`` the atom's degrees of freedom,
+  ``kappa`` and ``d`` for ``S`` estimated from the record's bins, ``model.md``
+  section 7; ``Rule(calibrated=False)``: chi-square, which passes 1e-3 4.4 times as
+  often as said on null records); for a
   parameter whose neutral value is its range's edge (``flap_inertia = 0``) the 50:50
   mixture of Self and Liang (1987).
   A single atom is tested against the base.  A flexible atom that a simpler one
@@ -38,7 +39,8 @@ What the terms mean, and why:
   a partner's part of the residual can hide it).
 - *Paired*: the pairs are those of the ``width`` atoms of largest gain that pass
   ``alpha`` alone read as chi-square (:func:`screen`: a screen, looser than the
-  calibrated reading, so that what only a pair makes significant is fitted) and, for each implausible one among them, the next plausible one.  An implausible
+  calibrated reading, so that what only a pair makes significant is fitted) and, for
+  each implausible one among them, the next plausible one.  An implausible
   atom takes no plausible one's place: alone it is never admissible and only a pair
   can make it plausible, so it is paired, and its place is given to the next
   plausible atom too (a collective-only record's lag coupling, significant at -0.03
@@ -184,7 +186,7 @@ class Rule:
         ``alpha``, as every other test.  The guard the chi-square reading
         (``calibrated`` false) needs: so read, a null record's delay is p 1.6e-4
         of nine atoms and its input-correlated excess takes it; read calibrated it
-        is 1.2e-3, not significant.  On the 768 null and 312 hidden records of
+        is 1.2e-3, not significant.  On the 576 null and 312 hidden records of
         ``bench/rotor-physics.md`` read calibrated, the two settings differ on two
         records: the 2/rev flap hidden on the hingeless rotor (64 Hz white, p
         1.6e-4 and 2.0e-4 of 14 atoms), named at ``alpha`` only.
@@ -663,19 +665,20 @@ def atoms(base_fit, pool=None) -> list[Atom]:
 # -- 2. Lattice -------------------------------------------------------------------------
 def lattice(records, base_fit, band_hz, fit_fn, pool=None, judge=None,
             rule: Rule = DEFAULT_RULE, progress=None) -> tuple:
-    """**Lattice.** Base + one atom, and base + each pair of the ``width`` atoms of largest
-    gain passing ``alpha`` alone as chi-square and, for each implausible one among them (only a pair can make it
-    plausible), the next plausible one, each scored by one criterion:
-    ``G = 2 (J_base - J) - k ln n``.
+    """**Lattice.** Base + one atom, and base + each pair of the ``width`` atoms of
+    largest gain passing ``alpha`` alone as chi-square and, for each implausible one
+    among them (only a pair can make it plausible), the next plausible one, each
+    scored by one criterion: ``G = 2 (J_base - J) - k ln n``.
 
     Every atom of :func:`atoms` is fitted alone from the base estimates (every
     structure nests the base: the start reproduces its fit), holding the directions
     the record leaves flat (:func:`inflowsim.identify.estimator.null_directions`: no
     information, so holding them biases nothing else), then each pair of the
-    ``rule.width`` atoms of largest gain passing :func:`screen` and, for each implausible one
-    among them, the next plausible one (:func:`paired`), from the better of the two
-    alone.  Each structure is a :class:`Scored` row; where it is admissible (a
-    single atom: always) ``judge(fit)`` measures its residual's excess for line 4.
+    ``rule.width`` atoms of largest gain passing :func:`screen` and, for each
+    implausible one among them, the next plausible one (:func:`paired`), from the
+    better of the two alone.  Each structure is a :class:`Scored` row; where it is
+    admissible (a single atom: always) ``judge(fit)`` measures its residual's excess
+    for line 4.
 
     Parameters
     ----------
@@ -1369,5 +1372,5 @@ __all__ = ["WHITE_MEASURES", "TESTS", "Rule", "DEFAULT_RULE", "LEGACY", "rule_wi
            "atoms", "nested_start", "lr_test", "schwarz_gain", "lattice", "paired",
            "explained_pairs", "admissible", "accepted", "added", "atom_of",
            "offered_effects", "least_significant", "decide", "select", "ranked",
-           "row_order", "atom_order", "screen", "STEPS", "STATEMENT", "vuong_of", "bin_costs",
-           "vuong_z", "vuong_critical"]
+           "row_order", "atom_order", "screen", "STEPS", "STATEMENT", "vuong_of",
+           "bin_costs", "vuong_z", "vuong_critical"]
