@@ -169,6 +169,23 @@ def test_an_objects_key_follows_its_source_and_the_headers_it_includes(tmp_path,
     assert build._cached_object(cc, flags, src, "inflow_vars.c") is None
 
 
+def test_a_link_that_fails_with_fresh_objects_is_one_line(tmp_path, monkeypatch):
+    """Objects that do not link are compiled again and linked once more (a corrupt
+    cache entry); a link that fails with fresh objects too is the compiler's first
+    line of complaint, an :class:`InputError`."""
+    from inflowsim.errors import InputError
+    monkeypatch.setenv("INFLOWSIM_CACHE_DIR", str(tmp_path / "cache"))
+    (tmp_path / "one.c").write_text("int inflowsim_one(void) { return 1; }\n")
+    calls = _spy(monkeypatch)
+    with pytest.raises(InputError, match="^FMU build: the C compiler failed: .*"
+                       "no_such_library_here"):
+        build._compile_and_link(build.compiler(), list(build.CFLAGS),
+                                ["-lno_such_library_here"], tmp_path, ["one.c"],
+                                tmp_path / "one.so")
+    links = [c for c in calls if "-c" not in c]
+    assert len(links) == 2 and _compiled(calls) == ["one.c", "one.c"]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("flags", [(), ("-DIFS_NO_CLONES",)], ids=["default", "no-clones"])
 def test_one_compile_and_the_objects_give_the_same_binary(flags, tmp_path, monkeypatch):

@@ -164,12 +164,13 @@ def _reuse(cached: Path | None, out: Path, say=None) -> bool:
     return True
 
 
-def _run(cmd) -> None:
-    """Run the compiler; its first line of complaint is the error."""
+def _run(cmd, check: bool = True) -> subprocess.CompletedProcess:
+    """Run the compiler; where ``check``, its first line of complaint is the error."""
     res = subprocess.run(cmd, capture_output=True, text=True)
-    if res.returncode != 0:
+    if check and res.returncode != 0:
         first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
         raise InputError(f"FMU build: the C compiler failed: {first}")
+    return res
 
 
 def _compile_and_link(cc: str, flags: list, extra: list, src: Path, files,
@@ -189,13 +190,10 @@ def _compile_and_link(cc: str, flags: list, extra: list, src: Path, files,
                 if pch.parent != work:
                     shutil.rmtree(pch.parent, ignore_errors=True)
                 pch = None
-            res = subprocess.run([cc, *flags, *extra, "-o", str(out),
-                                  *(str(o) for o, _ in objs), "-lm"],
-                                 capture_output=True, text=True)
-            if res.returncode == 0:
+            # the second link, of fresh objects, fails as the compiler says
+            if _run([cc, *flags, *extra, "-o", str(out), *(str(o) for o, _ in objs),
+                     "-lm"], check=fresh).returncode == 0:
                 return
-        first = (res.stderr.strip().splitlines() or ["(no message)"])[0]
-        raise InputError(f"FMU build: the C compiler failed: {first}")
 
 
 def _object(cc: str, flags: list, src: Path, name: str, work: Path, pch: Path | None,
@@ -400,7 +398,7 @@ def _pch(cc: str, flags: list, work: Path) -> Path | None:
             if part is not None:
                 shutil.rmtree(part, ignore_errors=True)
             return hdr
-        _prune_dirs(final.parent, PCH_CACHE_SIZE)
+        _prune(final.parent, PCH_CACHE_SIZE, dirs=True)
     return final / _PCH_NAME
 
 
@@ -468,28 +466,22 @@ def _store(binary: Path, cached: Path, keep: int = CACHE_SIZE) -> None:
         pass                                       # no cache: the build stands
 
 
-def _prune(folder: Path, keep: int = CACHE_SIZE) -> None:
-    """Keep the ``keep`` most recently used files of ``folder``."""
-    files = [p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")]
-    if len(files) <= keep:
+def _prune(folder: Path, keep: int = CACHE_SIZE, dirs: bool = False) -> None:
+    """Keep the ``keep`` most recently used files (``dirs``: folders) of ``folder``."""
+    try:
+        items = [p for p in folder.iterdir() if not p.name.startswith(".")
+                 and (p.is_dir() if dirs else p.is_file())]
+        items.sort(key=lambda p: p.stat().st_mtime)
+    except OSError:
         return
-    files.sort(key=lambda p: p.stat().st_mtime)
-    for p in files[:-keep]:
+    for p in items[:-keep] if len(items) > keep else ():
+        if dirs:
+            shutil.rmtree(p, ignore_errors=True)
+            continue
         try:
             p.unlink()
         except OSError:
             pass
-
-
-def _prune_dirs(folder: Path, keep: int) -> None:
-    """Keep the ``keep`` most recently used folders of ``folder``."""
-    try:
-        dirs = [p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")]
-        dirs.sort(key=lambda p: p.stat().st_mtime)
-    except OSError:
-        return
-    for p in dirs[:-keep] if len(dirs) > keep else ():
-        shutil.rmtree(p, ignore_errors=True)
 
 
 def description_for(model=None) -> Description:
